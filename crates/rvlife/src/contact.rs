@@ -1,0 +1,594 @@
+//! Loaded tooth contact between the cycloid disc and the pins.
+//!
+//! - Hertz line contact of a pin (radius `rrp`) on the disc flank (curvature from the actual
+//!   profile): half-width, maximum pressure (Johnson, *Contact Mechanics*, 1985, eq 4.43) and the
+//!   approach laws of physics-notes section 4 (paper eqs 6-7 with the Hertz half-width, or
+//!   Johnson's eq 5.38-style form), or a linear spring for checks against Li's closed form.
+//! - The gap of every pin measured from the actual (modified, worn) profile, exactly, by
+//!   projecting the pin centre on the profile ([`pin_geometry`]).
+//! - The disc rotation that balances the disc's torque share ([`solve`]): the extra rotation
+//!   beyond the nominal `-phi / Zc` that takes up the backlash and compresses the contacts
+//!   until `sum_j F_j l_j = T_disc` (physics-notes section 4, done on true gaps instead of Li's
+//!   `delta_i = l_i beta - gap_i` linearisation).
+//!
+//! Sign conventions: a positive disc torque `T_disc` turns the disc counter-clockwise against
+//! the pins of the flank `0 < mesh angle < pi`; the solved `disc_rotation` is then positive.
+//! The lever arm `l_j = (p_c x n)_z` of pin `j` (contact point `p_c` from the disc centre,
+//! outward normal `n`) is positive on that flank; the pin pushes on the disc with the moment
+//! `-F_j l_j`.
+
+use argmin::core::{CostFunction, Executor};
+use argmin::solver::brent::BrentRoot;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::geometry::{cross, mesh_angle, rotate, Profile, Vec2};
+
+/// Elastic constants of the disc and the pins, Pa (paper Table 2).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Materials {
+    /// Young's modulus of the disc `E1`, Pa.
+    pub disc_youngs_modulus: f64,
+    /// Poisson's ratio of the disc `nu1`.
+    pub disc_poisson_ratio: f64,
+    /// Young's modulus of the pins `E2`, Pa.
+    pub pin_youngs_modulus: f64,
+    /// Poisson's ratio of the pins `nu2`.
+    pub pin_poisson_ratio: f64,
+}
+
+impl Materials {
+    /// Compliances `(1 - nu1^2)/E1`, `(1 - nu2^2)/E2`, 1/Pa.
+    pub fn compliances(&self) -> (f64, f64) {
+        (
+            (1.0 - self.disc_poisson_ratio.powi(2)) / self.disc_youngs_modulus,
+            (1.0 - self.pin_poisson_ratio.powi(2)) / self.pin_youngs_modulus,
+        )
+    }
+
+    /// Contact modulus `E*` with `1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2` (paper eq 13), Pa.
+    pub fn contact_modulus(&self) -> f64 {
+        let (c1, c2) = self.compliances();
+        1.0 / (c1 + c2)
+    }
+}
+
+/// The approach (normal compliance) law of one pin-tooth line contact.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ApproachLaw {
+    /// Paper eq 6 with the Hertz half-width of eq 11 (default):
+    /// `delta = 2F/(pi B) [C1 (1/3 + ln(4 rho/b)) + C2 (1/3 + ln(4 rrp/b))]`.
+    Paper,
+    /// Johnson's form: `delta = F/(pi B) sum_k C_k (2 ln(4 R_k / b) - 1)`, about 11 % stiffer.
+    Johnson,
+    /// A linear spring `F = k delta` (stiffness in N/m), for checks against Li's closed form.
+    Linear {
+        /// Stiffness, N/m.
+        stiffness: f64,
+    },
+}
+
+/// Hertz line-contact model of a pin on the disc flank.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactModel {
+    /// The approach law.
+    pub law: ApproachLaw,
+    /// The materials.
+    pub materials: Materials,
+    /// Contact length (disc width) `B`, m.
+    pub width: f64,
+    /// Pin radius `rrp`, m.
+    pub pin_radius: f64,
+    /// Cap on the disc's radius of curvature in the approach law and the reduced radius, m.
+    /// Near the inflection of the profile (mesh angle about 35 deg) the flank is nearly flat and
+    /// the 2D approach `ln(4 rho / b)` has no finite limit; the cap (default: the pin circle
+    /// radius, the size of the disc) stands for the finite body.
+    pub max_radius: f64,
+}
+
+/// Hertz quantities of one loaded contact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HertzState {
+    /// Normal force, N.
+    pub force: f64,
+    /// Contact half-width `b`, m (paper eq 11).
+    pub half_width: f64,
+    /// Maximum Hertz pressure `p0 = 2F/(pi b B)`, Pa.
+    pub max_pressure: f64,
+    /// Mean pressure `F/(2 b B)`, Pa (paper eq 19).
+    pub mean_pressure: f64,
+}
+
+impl ContactModel {
+    /// Reduced radius `R*` with `1/R* = 1/rrp + k` (`k` the disc curvature, negative where the
+    /// flank is concave), capped at `max_radius`; m.
+    pub fn reduced_radius(&self, disc_curvature: f64) -> f64 {
+        let inv = 1.0 / self.pin_radius + disc_curvature;
+        if inv <= 1.0 / self.max_radius {
+            self.max_radius
+        } else {
+            (1.0 / inv).min(self.max_radius)
+        }
+    }
+
+    /// Hertz half-width, maximum and mean pressure of force `force` (N) on a flank of
+    /// curvature `disc_curvature` (1/m). Zero force gives zeros.
+    pub fn hertz(&self, force: f64, disc_curvature: f64) -> HertzState {
+        if force <= 0.0 {
+            return HertzState {
+                force: 0.0,
+                half_width: 0.0,
+                max_pressure: 0.0,
+                mean_pressure: 0.0,
+            };
+        }
+        let r = self.reduced_radius(disc_curvature);
+        let e = self.materials.contact_modulus();
+        let b = (4.0 * force * r / (std::f64::consts::PI * self.width * e)).sqrt();
+        HertzState {
+            force,
+            half_width: b,
+            max_pressure: 2.0 * force / (std::f64::consts::PI * b * self.width),
+            mean_pressure: force / (2.0 * b * self.width),
+        }
+    }
+
+    /// Constant `c0` and the two radii of the logarithmic laws.
+    fn log_law_terms(&self, disc_curvature: f64) -> (f64, f64, f64) {
+        let c0 = match self.law {
+            ApproachLaw::Johnson => -0.5,
+            _ => 1.0 / 3.0,
+        };
+        let rho = if disc_curvature.abs() < 1.0 / self.max_radius {
+            self.max_radius
+        } else {
+            1.0 / disc_curvature.abs()
+        };
+        (c0, rho, self.pin_radius)
+    }
+
+    /// Approach `delta` (m) of the force `force` (N) on a flank of curvature `disc_curvature`.
+    pub fn approach(&self, force: f64, disc_curvature: f64) -> f64 {
+        if force <= 0.0 {
+            return 0.0;
+        }
+        if let ApproachLaw::Linear { stiffness } = self.law {
+            return force / stiffness;
+        }
+        let (c0, rho, rp) = self.log_law_terms(disc_curvature);
+        let (c1, c2) = self.materials.compliances();
+        let b = self.hertz(force, disc_curvature).half_width;
+        2.0 * force / (std::f64::consts::PI * self.width)
+            * (c1 * (c0 + (4.0 * rho / b).ln()) + c2 * (c0 + (4.0 * rp / b).ln()))
+    }
+
+    /// Force (N) and contact stiffness `dF/ddelta` (N/m) at approach `delta` (m): the inverse of
+    /// [`ContactModel::approach`], by Newton's method in `ln F` (the law is `F` times a function
+    /// linear in `ln F`).
+    ///
+    /// # Errors
+    /// [`Error::Numerical`] if the approach is beyond the range where the logarithmic law
+    /// increases with force (half-width comparable with the radii).
+    pub fn force(&self, delta: f64, disc_curvature: f64) -> Result<(f64, f64)> {
+        if delta <= 0.0 {
+            return Ok((0.0, 0.0));
+        }
+        if let ApproachLaw::Linear { stiffness } = self.law {
+            return Ok((stiffness * delta, stiffness));
+        }
+        let pi = std::f64::consts::PI;
+        let (c0, rho, rp) = self.log_law_terms(disc_curvature);
+        let (c1, c2) = self.materials.compliances();
+        let r = self.reduced_radius(disc_curvature);
+        let e = self.materials.contact_modulus();
+        // b = sqrt(cb F); ln(4R/b) = ln(4R) - ln(cb)/2 - u/2 with u = ln F.
+        let cb = 4.0 * r / (pi * self.width * e);
+        let k = 2.0 / (pi * self.width);
+        let g0 = k
+            * (c1 * (c0 + (4.0 * rho).ln() - 0.5 * cb.ln())
+                + c2 * (c0 + (4.0 * rp).ln() - 0.5 * cb.ln()));
+        let g1 = 0.5 * k * (c1 + c2);
+        // delta = e^u (g0 - g1 u); solve ln delta = u + ln(g0 - g1 u).
+        let target = delta.ln();
+        let mut u = (delta / (g0 - g1 * 10.0_f64.ln()).max(1e-30)).ln();
+        for _ in 0..60 {
+            let g = g0 - g1 * u;
+            if g <= g1 {
+                return Err(Error::numerical(
+                    "contact law",
+                    format!(
+                        "approach {:.3e} m is beyond the validity of the line-contact law",
+                        delta
+                    ),
+                ));
+            }
+            let f = u + g.ln() - target;
+            let fp = 1.0 - g1 / g;
+            let step = f / fp;
+            u -= step;
+            if step.abs() < 1e-14 {
+                let force = u.exp();
+                let g = g0 - g1 * u;
+                let stiffness = 1.0 / (g - g1);
+                return Ok((force, stiffness));
+            }
+        }
+        Err(Error::numerical(
+            "contact law",
+            format!("force for approach {delta:e} m did not converge"),
+        ))
+    }
+}
+
+/// Geometry of one pin against the actual profile at one disc pose.
+#[derive(Debug, Clone, Copy)]
+pub struct PinGeometry {
+    /// Pin index `j`.
+    pub pin: usize,
+    /// Profile parameter of the closest profile point, rad.
+    pub t: f64,
+    /// Gap between pin and flank along the normal, m (negative: penetration).
+    pub gap: f64,
+    /// Lever arm `l = (p_c x n)_z` about the disc centre, m.
+    pub lever_arm: f64,
+    /// Contact point in the disc frame, m.
+    pub point: Vec2,
+    /// Outward unit normal of the flank at the contact point (disc frame).
+    pub normal: Vec2,
+    /// Flank curvature at the contact point, 1/m (negative: concave).
+    pub curvature: f64,
+}
+
+/// Disc pose: centre at `a (cos phi, sin phi)`, rotation `-phi/Zc + beta` (rad).
+fn pin_centre_in_disc(profile: &Profile, j: usize, phi: f64, beta: f64) -> (Vec2, f64) {
+    let g = profile.geometry();
+    let zc = g.disc_teeth() as f64;
+    let psi = -phi / zc + beta;
+    let centre = Vec2::new(g.eccentricity * phi.cos(), g.eccentricity * phi.sin());
+    let q = rotate(&(g.pin_centre(j) - centre), -psi);
+    (q, psi)
+}
+
+/// Measures pin `j` against the actual profile for crank angle `phi` (rad, direction of the
+/// eccentric in the pin-ring frame) and extra disc rotation `beta` (rad); `t0` is a warm start
+/// for the projection (pass `None` to use the kinematic guess).
+///
+/// # Errors
+/// [`Error::Numerical`] if the projection fails.
+pub fn pin_geometry(
+    profile: &Profile,
+    j: usize,
+    phi: f64,
+    beta: f64,
+    t0: Option<f64>,
+) -> Result<PinGeometry> {
+    let (q, psi) = pin_centre_in_disc(profile, j, phi, beta);
+    let t0 = t0.unwrap_or_else(|| profile.contact_parameter_guess(j, phi, psi));
+    let proj = profile.project(&q, t0)?;
+    let pt = proj.point;
+    Ok(PinGeometry {
+        pin: j,
+        t: pt.t,
+        gap: proj.distance - profile.geometry().pin_radius,
+        lever_arm: cross(&pt.p, &pt.normal),
+        point: pt.p,
+        normal: pt.normal,
+        curvature: pt.curvature,
+    })
+}
+
+/// Geometry of every pin at one pose (see [`pin_geometry`]); `warm` holds one warm start per
+/// pin (updated in place) or is empty.
+pub fn pin_geometries(
+    profile: &Profile,
+    phi: f64,
+    beta: f64,
+    warm: &mut Vec<f64>,
+) -> Result<Vec<PinGeometry>> {
+    let zp = profile.geometry().pins;
+    let mut out = Vec::with_capacity(zp);
+    for j in 0..zp {
+        let t0 = warm.get(j).copied();
+        let g = pin_geometry(profile, j, phi, beta, t0)?;
+        out.push(g);
+    }
+    warm.clear();
+    warm.extend(out.iter().map(|g| g.t));
+    Ok(out)
+}
+
+/// Smallest lever arm (relative to `a Zc`) for which a pin is taken to drive in a direction.
+const MIN_RELATIVE_LEVER: f64 = 1e-4;
+
+/// Extra disc rotation (rad) at which the disc first touches a pin when turned from the nominal
+/// position in direction `direction` (+1: counter-clockwise, the flank `0 < mesh angle < pi`;
+/// -1: clockwise), for crank angle `phi`. Zero for an unmodified, unworn disc.
+///
+/// Solved exactly on the actual profile: start from the linear estimate `min gap_j / l_j`, then
+/// Newton on the largest penetration.
+///
+/// # Errors
+/// [`Error::Invalid`] if no pin can stop the disc; [`Error::Numerical`] on non-convergence.
+pub fn first_contact(profile: &Profile, phi: f64, direction: f64) -> Result<f64> {
+    let mut warm = Vec::new();
+    first_contact_warm(profile, phi, direction, &mut warm)
+}
+
+fn first_contact_warm(
+    profile: &Profile,
+    phi: f64,
+    direction: f64,
+    warm: &mut Vec<f64>,
+) -> Result<f64> {
+    let s = direction.signum();
+    let lmin = MIN_RELATIVE_LEVER * profile.geometry().disc_pitch_radius();
+    let geoms = pin_geometries(profile, phi, 0.0, warm)?;
+    let mut beta = geoms
+        .iter()
+        .filter(|g| s * g.lever_arm > lmin)
+        .map(|g| g.gap / g.lever_arm)
+        .min_by(|a, b| (s * a).total_cmp(&(s * b)))
+        .ok_or_else(|| Error::numerical("first contact", "no pin on the driving flank"))?;
+    // Candidates: pins whose linear estimate is within reach of the minimum.
+    for _ in 0..30 {
+        let mut worst: Option<(f64, f64)> = None;
+        for (j, g0) in geoms.iter().enumerate() {
+            if s * g0.lever_arm <= lmin {
+                continue;
+            }
+            let est = g0.gap / g0.lever_arm;
+            if s * (est - beta) > 1e-3 {
+                continue;
+            }
+            let g = pin_geometry(profile, j, phi, beta, Some(warm[j]))?;
+            warm[j] = g.t;
+            let pen = -g.gap;
+            if worst.is_none_or(|(p, _)| pen > p) {
+                worst = Some((pen, g.lever_arm));
+            }
+        }
+        let (pen, lever) = worst.expect("at least one candidate");
+        if pen.abs() < 1e-15 {
+            return Ok(beta);
+        }
+        beta -= pen / lever;
+    }
+    Ok(beta)
+}
+
+/// One pin's share of a loaded contact solution.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct PinLoad {
+    /// Pin index `j`.
+    pub pin: usize,
+    /// Mesh angle of the contact point on the disc, rad.
+    pub mesh_angle: f64,
+    /// Gap at the solved pose, m (negative: compressed).
+    pub gap: f64,
+    /// Normal force, N.
+    pub force: f64,
+    /// Lever arm about the disc centre, m.
+    pub lever_arm: f64,
+    /// Contact half-width, m.
+    pub half_width: f64,
+    /// Maximum Hertz pressure, Pa.
+    pub max_pressure: f64,
+    /// Flank curvature at the contact, 1/m.
+    pub curvature: f64,
+    /// Contact stiffness `dF/ddelta`, N/m (0 when open).
+    pub stiffness: f64,
+}
+
+/// Solution of the loaded tooth contact at one crank angle.
+#[derive(Debug, Clone, Serialize)]
+pub struct ContactSolution {
+    /// Crank angle `phi`, rad.
+    pub crank_angle: f64,
+    /// Torque on this disc, N m.
+    pub disc_torque: f64,
+    /// Extra disc rotation beyond nominal (backlash take-up plus contact compliance), rad.
+    pub disc_rotation: f64,
+    /// Extra rotation at first contact (no load), rad.
+    pub first_contact_rotation: f64,
+    /// Every pin, in index order (`Zp` entries).
+    pub pins: Vec<PinLoad>,
+}
+
+impl ContactSolution {
+    /// Largest pin force, N.
+    pub fn max_force(&self) -> f64 {
+        self.pins.iter().map(|p| p.force).fold(0.0, f64::max)
+    }
+    /// Largest Hertz pressure, Pa.
+    pub fn max_pressure(&self) -> f64 {
+        self.pins.iter().map(|p| p.max_pressure).fold(0.0, f64::max)
+    }
+    /// Number of pins carrying a force.
+    pub fn pins_in_contact(&self) -> usize {
+        self.pins.iter().filter(|p| p.force > 0.0).count()
+    }
+    /// Sum of the pins' moments on the disc, `sum F_j l_j`, N m (equals the disc torque).
+    pub fn pin_moment(&self) -> f64 {
+        self.pins.iter().map(|p| p.force * p.lever_arm).sum()
+    }
+    /// Torsional stiffness of the stage at this pose, `sum k_j l_j^2`, N m/rad.
+    pub fn torsional_stiffness(&self) -> f64 {
+        self.pins
+            .iter()
+            .map(|p| p.stiffness * p.lever_arm * p.lever_arm)
+            .sum()
+    }
+}
+
+struct Residual<'a> {
+    profile: &'a Profile,
+    model: &'a ContactModel,
+    phi: f64,
+    torque: f64,
+    active: &'a [usize],
+    warm: std::cell::RefCell<Vec<f64>>,
+}
+
+impl Residual<'_> {
+    fn moment(&self, beta: f64) -> Result<f64> {
+        let mut sum = 0.0;
+        let mut warm = self.warm.borrow_mut();
+        for &j in self.active {
+            let g = pin_geometry(self.profile, j, self.phi, beta, Some(warm[j]))?;
+            warm[j] = g.t;
+            let (f, _) = self.model.force(-g.gap, g.curvature)?;
+            sum += f * g.lever_arm;
+        }
+        Ok(sum)
+    }
+}
+
+impl CostFunction for Residual<'_> {
+    type Param = f64;
+    type Output = f64;
+    fn cost(&self, beta: &f64) -> std::result::Result<f64, argmin::core::Error> {
+        Ok(self.moment(*beta)? - self.torque)
+    }
+}
+
+/// Solves the loaded tooth contact of one disc at crank angle `phi` (rad) under the disc torque
+/// `disc_torque` (N m, = load share x output torque; sign gives the flank): finds the extra
+/// rotation `beta` with `sum_j F_j(delta_j(beta)) l_j(beta) = T_disc`, `delta_j = -gap_j`
+/// measured exactly on the actual profile (physics-notes section 4), by Brent's method
+/// (argmin `BrentRoot`) between first contact and a bracketing rotation.
+///
+/// A zero torque returns the first-contact pose (counter-clockwise) with zero forces.
+///
+/// # Errors
+/// [`Error::Numerical`] if the contact law leaves its range or the solver fails.
+pub fn solve(
+    profile: &Profile,
+    model: &ContactModel,
+    phi: f64,
+    disc_torque: f64,
+) -> Result<ContactSolution> {
+    if !disc_torque.is_finite() || !phi.is_finite() {
+        return Err(Error::invalid(
+            "contact input",
+            format!("crank {phi}, torque {disc_torque}"),
+            "must be finite",
+        ));
+    }
+    let s = if disc_torque < 0.0 { -1.0 } else { 1.0 };
+    let zp = profile.geometry().pins;
+    let mut warm = Vec::with_capacity(zp);
+    let beta0 = first_contact_warm(profile, phi, s, &mut warm)?;
+    let geoms0 = pin_geometries(profile, phi, beta0, &mut warm)?;
+    let beta = if disc_torque == 0.0 {
+        beta0
+    } else {
+        // Bracket: grow the rotation until the pins carry more than the torque.
+        let all: Vec<usize> = (0..zp).collect();
+        let res_all = Residual {
+            profile,
+            model,
+            phi,
+            torque: disc_torque,
+            active: &all,
+            warm: std::cell::RefCell::new(warm.clone()),
+        };
+        let mut step = 1e-5;
+        let mut hi = beta0 + s * step;
+        let mut it = 0;
+        while s * (res_all.moment(hi)? - disc_torque) <= 0.0 {
+            step *= 2.0;
+            hi = beta0 + s * step;
+            it += 1;
+            if it > 40 {
+                return Err(Error::numerical("loaded contact", "could not bracket the rotation"));
+            }
+        }
+        // Pins that can touch within the bracket.
+        let reach = (hi - beta0).abs();
+        let active: Vec<usize> = geoms0
+            .iter()
+            .filter(|g| g.gap - g.lever_arm.abs() * reach * 1.5 < 1e-9)
+            .map(|g| g.pin)
+            .collect();
+        let res = Residual {
+            profile,
+            model,
+            phi,
+            torque: disc_torque,
+            active: &active,
+            warm: std::cell::RefCell::new(warm.clone()),
+        };
+        let (lo, hi) = if s > 0.0 { (beta0, hi) } else { (hi, beta0) };
+        let solver = BrentRoot::new(lo, hi, 1e-14);
+        let result = Executor::new(res, solver)
+            .configure(|st| st.max_iters(200))
+            .timer(false)
+            .run()
+            .map_err(|e| Error::numerical("loaded contact", e.to_string()))?;
+        result
+            .state
+            .best_param
+            .ok_or_else(|| Error::numerical("loaded contact", "Brent returned no rotation"))?
+    };
+    let geoms = pin_geometries(profile, phi, beta, &mut warm)?;
+    let mut pins = Vec::with_capacity(zp);
+    for g in &geoms {
+        let (f, k) = if disc_torque == 0.0 {
+            (0.0, 0.0)
+        } else {
+            model.force(-g.gap, g.curvature)?
+        };
+        let h = model.hertz(f, g.curvature);
+        pins.push(PinLoad {
+            pin: g.pin,
+            mesh_angle: mesh_angle(g.t),
+            gap: g.gap,
+            force: f,
+            lever_arm: g.lever_arm,
+            half_width: h.half_width,
+            max_pressure: h.max_pressure,
+            curvature: g.curvature,
+            stiffness: k,
+        });
+    }
+    Ok(ContactSolution {
+        crank_angle: phi,
+        disc_torque,
+        disc_rotation: beta,
+        first_contact_rotation: beta0,
+        pins,
+    })
+}
+
+/// Li Lixing's closed-form load distribution (physics-notes section 4, paper eqs 5, 9, 10) for
+/// an unmodified rigid disc with linear springs: `l_j = a Zc sin(t_j) / S(t_j)` with mesh angle
+/// `t_j = 2 pi j / Zp - phi`, `F_j = T_disc l_j / sum l^2` over the pins with `l_j > 0`.
+/// Returns `Zp` forces, N (zero on the unloaded flank); negative torques load the other flank.
+pub fn li_load_distribution(
+    geo: &crate::geometry::CycloidGeometry,
+    phi: f64,
+    disc_torque: f64,
+) -> Vec<f64> {
+    let zp = geo.pins as f64;
+    let k1 = geo.k1();
+    let s = disc_torque.signum();
+    let levers: Vec<f64> = (0..geo.pins)
+        .map(|j| {
+            let t = std::f64::consts::TAU * j as f64 / zp - phi;
+            let sq = (1.0 + k1 * k1 - 2.0 * k1 * t.cos()).sqrt();
+            geo.disc_pitch_radius() * t.sin() / sq
+        })
+        .collect();
+    let sum2: f64 = levers.iter().filter(|l| s * **l > 0.0).map(|l| l * l).sum();
+    levers
+        .iter()
+        .map(|l| {
+            if s * l > 0.0 {
+                disc_torque * l / sum2
+            } else {
+                0.0
+            }
+        })
+        .collect()
+}
