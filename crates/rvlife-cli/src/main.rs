@@ -1,1 +1,409 @@
-fn main(){}
+//! `rvlife`: command-line front end of the rvlife library.
+//!
+//! Exit codes: 0 success; 2 bad input (invalid value, bad or missing config, bad arguments);
+//! 1 any other failure.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rvlife::config::{Config, Model, EXAMPLE_TOML};
+use rvlife::contact::solve;
+use rvlife::export::{write_profile, ProfileFormat};
+use rvlife::geometry::{Profile, WearMap};
+use rvlife::te::{loaded_te, over_revolution, static_te, ARCMIN_PER_RAD};
+use rvlife::{Error, Result};
+use serde_json::json;
+
+#[derive(Parser)]
+#[command(
+    name = "rvlife",
+    version,
+    about = "Accuracy-life prediction of RV reducers: cycloid profile, loaded contact, Archard wear, transmission error"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Print the built-in example config (the paper's RV-40E-class reducer), fully commented.
+    Example,
+    /// Run the accuracy-life study and write the results directory.
+    Run {
+        /// Config file (default: the built-in example).
+        config: Option<PathBuf>,
+        /// Results directory (created; must not exist or be empty unless --force).
+        #[arg(long, default_value = "rvlife-results")]
+        out: PathBuf,
+        /// Replace an existing results directory.
+        #[arg(long)]
+        force: bool,
+    },
+    /// Export the disc profile (nominal, modified or worn) to CSV, DXF or SVG.
+    Profile {
+        /// Config file (default: the built-in example).
+        config: Option<PathBuf>,
+        /// Output file; the format follows the extension (.csv, .dxf, .svg).
+        #[arg(long)]
+        out: PathBuf,
+        /// Ignore the config's modifications (the nominal profile).
+        #[arg(long)]
+        nominal: bool,
+        #[command(flatten)]
+        wear: WearArgs,
+    },
+    /// Solve the loaded tooth contact at one crank angle.
+    Contact {
+        /// Config file (default: the built-in example).
+        config: Option<PathBuf>,
+        /// Crank angle, degrees (0: eccentric towards pin 0).
+        #[arg(long, allow_hyphen_values = true)]
+        crank_deg: f64,
+        /// Output torque of the reducer, N m (the disc carries load_share of it).
+        #[arg(long, allow_hyphen_values = true)]
+        torque_nm: f64,
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        wear: WearArgs,
+    },
+    /// Static transmission error and lost motion (and loaded TE with --torque-nm).
+    Te {
+        /// Config file (default: the built-in example).
+        config: Option<PathBuf>,
+        /// Also the loaded TE at this output torque, N m.
+        #[arg(long, allow_hyphen_values = true)]
+        torque_nm: Option<f64>,
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        wear: WearArgs,
+    },
+    /// Find the Archard coefficient that gives a target maximum wear at the last stage.
+    Calibrate {
+        /// Config file (default: the built-in example).
+        config: Option<PathBuf>,
+        /// Target maximum wear depth at the last stage, um.
+        #[arg(long, default_value_t = 60.0)]
+        target_wear_um: f64,
+    },
+}
+
+#[derive(Args)]
+struct WearArgs {
+    /// Uniform wear depth along the whole profile, um (the paper's conservative model).
+    #[arg(long, conflicts_with = "hours", allow_hyphen_values = true)]
+    wear_um: Option<f64>,
+    /// Wear map from the config's wear model after this many working hours.
+    #[arg(long, allow_hyphen_values = true)]
+    hours: Option<f64>,
+}
+
+fn load_config(path: Option<&Path>) -> Result<Config> {
+    match path {
+        Some(p) => Config::from_file(p),
+        None => Ok(Config::example()),
+    }
+}
+
+/// The profile for the wear arguments: uniform depth, or the wear map after some hours.
+fn profile_for(model: &Model, wear: &WearArgs, nominal: bool) -> Result<Profile> {
+    let mut model = model.clone();
+    if nominal {
+        model.modification = Default::default();
+    }
+    let n = rvlife::wear::grid_points(&model);
+    let map = match (wear.wear_um, wear.hours) {
+        (Some(w), _) => {
+            if !w.is_finite() || w < 0.0 {
+                return Err(Error::invalid("--wear-um", w, "must be a finite number >= 0"));
+            }
+            (w > 0.0).then(|| WearMap::uniform(n, w * 1e-6)).transpose()?
+        }
+        (None, Some(h)) => {
+            if !h.is_finite() || h < 0.0 {
+                return Err(Error::invalid("--hours", h, "must be a finite number >= 0"));
+            }
+            let mut m = model.clone();
+            m.stage_hours = vec![h];
+            let hist = rvlife::wear::integrate(&m, &|_, _| {})?;
+            let map = hist.maps.into_iter().next().unwrap_or_default();
+            if map.iter().any(|&x| x > 0.0) {
+                Some(WearMap::new(map)?)
+            } else {
+                None
+            }
+        }
+        (None, None) => None,
+    };
+    model.profile(map)
+}
+
+fn progress_bar(len: u64) -> ProgressBar {
+    let pb = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
+    pb.set_style(
+        ProgressStyle::with_template("{spinner} {msg:12} [{bar:40}] {pos}/{len} {elapsed}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    pb.set_message("study");
+    pb
+}
+
+fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Example => {
+            print!("{EXAMPLE_TOML}");
+        }
+        Command::Run { config, out, force } => {
+            let cfg = load_config(config.as_deref())?;
+            let model = cfg.validate()?;
+            rvlife::report::check_output_dir(&out, force)?;
+            let pb = progress_bar(1);
+            let start = std::time::Instant::now();
+            let study = rvlife::study::run(&model, &|done, total| {
+                pb.set_length(total as u64);
+                pb.set_position(done as u64);
+            })?;
+            pb.set_message("writing");
+            rvlife::report::write_study(&study, &out, force)?;
+            pb.finish_and_clear();
+            let s = study.summary();
+            println!(
+                "rvlife study: i_H = {:.2}, {} stages, {} wear-rate evaluations, {:.2} s; results in {}",
+                s.ratio,
+                s.stages.len(),
+                s.wear_rate_evaluations,
+                start.elapsed().as_secs_f64(),
+                out.display()
+            );
+            println!(
+                "{:>8} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9} {:>5}",
+                "hours", "wear_um", "STE'", "STE_pp'", "LM'", "loadTE'", "Fmax_N", "pmax_MPa", "pins"
+            );
+            for st in &s.stages {
+                println!(
+                    "{:>8.0} {:>9.2} {:>9.4} {:>9.4} {:>9.4} {:>10.4} {:>9.1} {:>9.1} {:>5}",
+                    st.hours,
+                    st.max_wear_um,
+                    st.ste_mean_arcmin,
+                    st.ste_peak_to_peak_arcmin,
+                    st.lost_motion_arcmin,
+                    st.loaded_te_mean_arcmin,
+                    st.max_force_n,
+                    st.max_pressure_mpa,
+                    st.pins_in_contact
+                );
+            }
+            println!(
+                "STE {:.4} arcmin per 10 um of wear (paper, rigid Adams model: 0.5351 at 10 um)",
+                s.paper_comparison.ste_per_10um_arcmin
+            );
+        }
+        Command::Profile {
+            config,
+            out,
+            nominal,
+            wear,
+        } => {
+            let format = ProfileFormat::from_path(&out)?;
+            let model = load_config(config.as_deref())?.validate()?;
+            let profile = profile_for(&model, &wear, nominal)?;
+            // Write beside, then rename: no half-written file.
+            let tmp = out.with_extension(format!(
+                "{}.tmp",
+                out.extension().and_then(|e| e.to_str()).unwrap_or("")
+            ));
+            write_profile(&profile, &tmp, format)?;
+            std::fs::rename(&tmp, &out).map_err(|e| Error::io(&out, e))?;
+            eprintln!("wrote {}", out.display());
+        }
+        Command::Contact {
+            config,
+            crank_deg,
+            torque_nm,
+            json,
+            wear,
+        } => {
+            for (f, v) in [("--crank-deg", crank_deg), ("--torque-nm", torque_nm)] {
+                if !v.is_finite() {
+                    return Err(Error::invalid(f, v, "must be a finite number"));
+                }
+            }
+            let model = load_config(config.as_deref())?.validate()?;
+            let profile = profile_for(&model, &wear, false)?;
+            let sol = solve(
+                &profile,
+                &model.contact,
+                crank_deg.to_radians(),
+                model.load_share * torque_nm,
+            )?;
+            let forces: Vec<f64> = sol.pins.iter().map(|p| p.force).collect();
+            let pins: Vec<_> = sol
+                .pins
+                .iter()
+                .map(|p| {
+                    json!({
+                        "pin": p.pin,
+                        "mesh_angle_deg": p.mesh_angle.to_degrees(),
+                        "gap_um": p.gap * 1e6,
+                        "force_n": p.force,
+                        "lever_arm_mm": p.lever_arm * 1e3,
+                        "half_width_um": p.half_width * 1e6,
+                        "max_pressure_mpa": p.max_pressure * 1e-6,
+                    })
+                })
+                .collect();
+            let v = json!({
+                "crank_deg": crank_deg,
+                "torque_nm": torque_nm,
+                "disc_torque_nm": sol.disc_torque,
+                "disc_rotation_arcmin": sol.disc_rotation * ARCMIN_PER_RAD,
+                "first_contact_arcmin": sol.first_contact_rotation * ARCMIN_PER_RAD,
+                "pin_forces_n": forces,
+                "max_force_n": sol.max_force(),
+                "pins_in_contact": sol.pins_in_contact(),
+                "max_pressure_mpa": sol.max_pressure() * 1e-6,
+                "pin_moment_nm": sol.pin_moment(),
+                "torsional_stiffness_nm_per_arcmin":
+                    sol.torsional_stiffness() / model.load_share / ARCMIN_PER_RAD,
+                "max_wear_um": profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
+                "pins": pins,
+            });
+            if json {
+                println!("{v}");
+            } else {
+                println!(
+                    "crank {crank_deg} deg, output torque {torque_nm} N m (disc {:.2} N m)",
+                    sol.disc_torque
+                );
+                println!(
+                    "disc rotation {:.5} arcmin (first contact {:.5}), {} pins in contact, max force {:.1} N, max pressure {:.1} MPa",
+                    sol.disc_rotation * ARCMIN_PER_RAD,
+                    sol.first_contact_rotation * ARCMIN_PER_RAD,
+                    sol.pins_in_contact(),
+                    sol.max_force(),
+                    sol.max_pressure() * 1e-6
+                );
+                println!(
+                    "{:>4} {:>10} {:>10} {:>10} {:>10} {:>10}",
+                    "pin", "mesh_deg", "gap_um", "force_N", "b_um", "p0_MPa"
+                );
+                for p in sol.pins.iter().filter(|p| p.force > 0.0) {
+                    println!(
+                        "{:>4} {:>10.3} {:>10.4} {:>10.2} {:>10.3} {:>10.1}",
+                        p.pin,
+                        p.mesh_angle.to_degrees(),
+                        p.gap * 1e6,
+                        p.force,
+                        p.half_width * 1e6,
+                        p.max_pressure * 1e-6
+                    );
+                }
+            }
+        }
+        Command::Te {
+            config,
+            torque_nm,
+            json,
+            wear,
+        } => {
+            if let Some(t) = torque_nm {
+                if !t.is_finite() {
+                    return Err(Error::invalid("--torque-nm", t, "must be a finite number"));
+                }
+            }
+            let model = load_config(config.as_deref())?.validate()?;
+            let profile = profile_for(&model, &wear, false)?;
+            let ste = static_te(&profile, model.te_samples)?;
+            let st = ste.stats();
+            let lm = ste.lost_motion_stats();
+            let (input_deg, te) = over_revolution(
+                &ste.crank_angle,
+                &ste.forward,
+                model.geometry.pins,
+                model.ratio,
+            );
+            let te_arcmin: Vec<f64> = te.iter().map(|v| v * ARCMIN_PER_RAD).collect();
+            let mut v = json!({
+                "max_wear_um": profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
+                "te_mean_arcmin": st.mean * ARCMIN_PER_RAD,
+                "te_peak_to_peak_arcmin": st.peak_to_peak * ARCMIN_PER_RAD,
+                "te_reverse_mean_arcmin":
+                    rvlife::te::CurveStats::of(&ste.reverse).mean * ARCMIN_PER_RAD,
+                "lost_motion_arcmin": lm.max * ARCMIN_PER_RAD,
+                "lost_motion_mean_arcmin": lm.mean * ARCMIN_PER_RAD,
+                "samples_per_mesh_cycle": model.te_samples,
+            });
+            let mut loaded_summary = None;
+            if let Some(t) = torque_nm {
+                let l = loaded_te(&profile, &model.contact, model.load_share, t, model.te_samples)?;
+                let ls = l.stats();
+                let (_, lte) =
+                    over_revolution(&l.crank_angle, &l.te, model.geometry.pins, model.ratio);
+                v["torque_nm"] = json!(t);
+                v["loaded_te_mean_arcmin"] = json!(ls.mean * ARCMIN_PER_RAD);
+                v["loaded_te_peak_to_peak_arcmin"] = json!(ls.peak_to_peak * ARCMIN_PER_RAD);
+                v["max_force_n"] = json!(l.max_force());
+                v["pins_in_contact"] = json!(l.pins_in_contact().0);
+                v["loaded_te_arcmin"] =
+                    json!(lte.iter().map(|x| x * ARCMIN_PER_RAD).collect::<Vec<_>>());
+                loaded_summary = Some(ls);
+            }
+            if json {
+                v["input_deg"] = json!(input_deg);
+                v["te_arcmin"] = json!(te_arcmin);
+                println!("{v}");
+            } else {
+                println!(
+                    "STE mean {:.5} arcmin, peak-to-peak {:.5} arcmin; lost motion {:.5} arcmin (mean {:.5})",
+                    st.mean * ARCMIN_PER_RAD,
+                    st.peak_to_peak * ARCMIN_PER_RAD,
+                    lm.max * ARCMIN_PER_RAD,
+                    lm.mean * ARCMIN_PER_RAD
+                );
+                if let (Some(ls), Some(t)) = (loaded_summary, torque_nm) {
+                    println!(
+                        "loaded TE at {t} N m: mean {:.5} arcmin, peak-to-peak {:.5} arcmin",
+                        ls.mean * ARCMIN_PER_RAD,
+                        ls.peak_to_peak * ARCMIN_PER_RAD
+                    );
+                }
+            }
+        }
+        Command::Calibrate {
+            config,
+            target_wear_um,
+        } => {
+            let model = load_config(config.as_deref())?.validate()?;
+            let (k, achieved) = rvlife::wear::calibrate(&model, target_wear_um * 1e-6)?;
+            println!(
+                "archard_coefficient_mm3_per_n_m = {:.6e}   # max wear {:.4} um at {} h",
+                k * 1e9,
+                achieved * 1e6,
+                model.stage_hours.last().copied().unwrap_or(0.0)
+            );
+        }
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            if e.is_input_error() {
+                ExitCode::from(2)
+            } else {
+                ExitCode::from(1)
+            }
+        }
+    }
+}

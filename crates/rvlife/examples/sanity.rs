@@ -5,7 +5,7 @@ fn main() {
     let prof = Profile::new(g.clone(), Modification::default(), None).unwrap();
     let phi = 0.3;
     let mut w = vec![];
-    let gs = pin_geometries(&prof, phi, 0.0, &mut w).unwrap();
+    let gs = pin_geometries(&prof, phi, 0.0).unwrap();
     let k1 = g.k1();
     for pg in gs.iter().take(40) {
         let t = std::f64::consts::TAU * pg.pin as f64 / 40.0 - phi;

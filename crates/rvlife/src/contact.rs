@@ -22,7 +22,7 @@ use argmin::solver::brent::BrentRoot;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::geometry::{cross, mesh_angle, rotate, Profile, Vec2};
+use crate::geometry::{cross, mesh_angle, rotate, CycloidGeometry, Profile, Vec2};
 
 /// Elastic constants of the disc and the pins, Pa (paper Table 2).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -240,19 +240,25 @@ pub struct PinGeometry {
     pub curvature: f64,
 }
 
-/// Disc pose: centre at `a (cos phi, sin phi)`, rotation `-phi/Zc + beta` (rad).
+/// Disc pose for crank angle `phi` and extra rotation `beta` (rad): the disc centre
+/// `a (cos phi, sin phi)` (m, pin-ring frame) and the disc rotation `psi = -phi/Zc + beta` (rad)
+/// (physics-notes section 3).
+pub fn disc_pose(geo: &CycloidGeometry, phi: f64, beta: f64) -> (Vec2, f64) {
+    let zc = geo.disc_teeth() as f64;
+    let centre = Vec2::new(geo.eccentricity * phi.cos(), geo.eccentricity * phi.sin());
+    (centre, -phi / zc + beta)
+}
+
 fn pin_centre_in_disc(profile: &Profile, j: usize, phi: f64, beta: f64) -> (Vec2, f64) {
     let g = profile.geometry();
-    let zc = g.disc_teeth() as f64;
-    let psi = -phi / zc + beta;
-    let centre = Vec2::new(g.eccentricity * phi.cos(), g.eccentricity * phi.sin());
+    let (centre, psi) = disc_pose(g, phi, beta);
     let q = rotate(&(g.pin_centre(j) - centre), -psi);
     (q, psi)
 }
 
 /// Measures pin `j` against the actual profile for crank angle `phi` (rad, direction of the
-/// eccentric in the pin-ring frame) and extra disc rotation `beta` (rad); `t0` is a warm start
-/// for the projection (pass `None` to use the kinematic guess).
+/// eccentric in the pin-ring frame) and extra disc rotation `beta` (rad). The projection starts
+/// from the kinematic guess of the contact parameter, so the result depends on the pose only.
 ///
 /// # Errors
 /// [`Error::Numerical`] if the projection fails.
@@ -261,10 +267,9 @@ pub fn pin_geometry(
     j: usize,
     phi: f64,
     beta: f64,
-    t0: Option<f64>,
 ) -> Result<PinGeometry> {
     let (q, psi) = pin_centre_in_disc(profile, j, phi, beta);
-    let t0 = t0.unwrap_or_else(|| profile.contact_parameter_guess(j, phi, psi));
+    let t0 = profile.contact_parameter_guess(j, phi, psi);
     let proj = profile.project(&q, t0)?;
     let pt = proj.point;
     Ok(PinGeometry {
@@ -278,28 +283,19 @@ pub fn pin_geometry(
     })
 }
 
-/// Geometry of every pin at one pose (see [`pin_geometry`]); `warm` holds one warm start per
-/// pin (updated in place) or is empty.
-pub fn pin_geometries(
-    profile: &Profile,
-    phi: f64,
-    beta: f64,
-    warm: &mut Vec<f64>,
-) -> Result<Vec<PinGeometry>> {
-    let zp = profile.geometry().pins;
-    let mut out = Vec::with_capacity(zp);
-    for j in 0..zp {
-        let t0 = warm.get(j).copied();
-        let g = pin_geometry(profile, j, phi, beta, t0)?;
-        out.push(g);
-    }
-    warm.clear();
-    warm.extend(out.iter().map(|g| g.t));
-    Ok(out)
+/// Geometry of every pin at one pose (see [`pin_geometry`]), in pin order.
+pub fn pin_geometries(profile: &Profile, phi: f64, beta: f64) -> Result<Vec<PinGeometry>> {
+    (0..profile.geometry().pins)
+        .map(|j| pin_geometry(profile, j, phi, beta))
+        .collect()
 }
 
-/// Smallest lever arm (relative to `a Zc`) for which a pin is taken to drive in a direction.
-const MIN_RELATIVE_LEVER: f64 = 1e-4;
+/// Smallest lever arm (relative to `a Zc`) for which a pin can stop the disc in the first-contact
+/// (STE) search. A pin at the very tooth root or tip (lever below 2 % of `a Zc`, mesh angle within
+/// about 1 degree of 0 or 180) meets the flank almost radially: rigidly it would block at a
+/// penetration of order `l^2 / R`, far below any elastic approach, so it cannot hold the disc.
+/// The loaded contact includes these pins with their (tiny) moments.
+const MIN_RELATIVE_LEVER: f64 = 0.02;
 
 /// Extra disc rotation (rad) at which the disc first touches a pin when turned from the nominal
 /// position in direction `direction` (+1: counter-clockwise, the flank `0 < mesh angle < pi`;
@@ -311,50 +307,89 @@ const MIN_RELATIVE_LEVER: f64 = 1e-4;
 /// # Errors
 /// [`Error::Invalid`] if no pin can stop the disc; [`Error::Numerical`] on non-convergence.
 pub fn first_contact(profile: &Profile, phi: f64, direction: f64) -> Result<f64> {
-    let mut warm = Vec::new();
-    first_contact_warm(profile, phi, direction, &mut warm)
-}
-
-fn first_contact_warm(
-    profile: &Profile,
-    phi: f64,
-    direction: f64,
-    warm: &mut Vec<f64>,
-) -> Result<f64> {
     let s = direction.signum();
     let lmin = MIN_RELATIVE_LEVER * profile.geometry().disc_pitch_radius();
-    let geoms = pin_geometries(profile, phi, 0.0, warm)?;
+    let geoms = pin_geometries(profile, phi, 0.0)?;
     let mut beta = geoms
         .iter()
         .filter(|g| s * g.lever_arm > lmin)
         .map(|g| g.gap / g.lever_arm)
         .min_by(|a, b| (s * a).total_cmp(&(s * b)))
         .ok_or_else(|| Error::numerical("first contact", "no pin on the driving flank"))?;
-    // Candidates: pins whose linear estimate is within reach of the minimum.
-    for _ in 0..30 {
-        let mut worst: Option<(f64, f64)> = None;
-        for (j, g0) in geoms.iter().enumerate() {
-            if s * g0.lever_arm <= lmin {
-                continue;
-            }
-            let est = g0.gap / g0.lever_arm;
-            if s * (est - beta) > 1e-3 {
-                continue;
-            }
-            let g = pin_geometry(profile, j, phi, beta, Some(warm[j]))?;
-            warm[j] = g.t;
-            let pen = -g.gap;
-            if worst.is_none_or(|(p, _)| pen > p) {
-                worst = Some((pen, g.lever_arm));
-            }
+    // Candidates: pins whose linear estimate is near the minimum; each is solved exactly for
+    // its own touching rotation (Newton on gap_j(beta) = 0, d gap_j / d beta = -l_j).
+    let margin = 0.25 * beta.abs() + 1e-6;
+    let mut best = f64::INFINITY;
+    for (j, g0) in geoms.iter().enumerate() {
+        if s * g0.lever_arm <= lmin {
+            continue;
         }
-        let (pen, lever) = worst.expect("at least one candidate");
-        if pen.abs() < 1e-15 {
-            return Ok(beta);
+        let est = g0.gap / g0.lever_arm;
+        if s * (est - beta) > margin {
+            continue;
         }
-        beta -= pen / lever;
+        if let Some(b) = touching_rotation(profile, j, phi, est, s)? {
+            best = best.min(s * b);
+        }
+    }
+    beta = s * best;
+    if !beta.is_finite() {
+        return Err(Error::numerical(
+            "first contact",
+            format!("no pin stops the disc at crank angle {phi} rad"),
+        ));
     }
     Ok(beta)
+}
+
+/// Rotation (rad) at which pin `j` touches the flank, near the linear estimate `est`, turning in
+/// direction `s`: Newton on `gap_j(beta) = 0` (`d gap / d beta = -l_j`); where the gap has a kink
+/// (the foot jumps across a worn dent) and Newton cycles, Brent's method on a bracket.
+fn touching_rotation(
+    profile: &Profile,
+    j: usize,
+    phi: f64,
+    est: f64,
+    s: f64,
+) -> Result<Option<f64>> {
+    let mut b = est;
+    for _ in 0..12 {
+        let g = pin_geometry(profile, j, phi, b)?;
+        if s * g.lever_arm <= 0.0 {
+            return Ok(None);
+        }
+        if g.gap.abs() < 1e-14 {
+            return Ok(Some(b));
+        }
+        b += g.gap / g.lever_arm;
+    }
+    struct Gap<'a>(&'a Profile, usize, f64);
+    impl CostFunction for Gap<'_> {
+        type Param = f64;
+        type Output = f64;
+        fn cost(&self, b: &f64) -> std::result::Result<f64, argmin::core::Error> {
+            Ok(pin_geometry(self.0, self.1, self.2, *b)?.gap)
+        }
+    }
+    // gap decreases with s * beta: bracket from the open side to the closed side.
+    let mut w = 1e-7 + 0.1 * est.abs();
+    for _ in 0..40 {
+        let (lo, hi) = (est - w, est + w);
+        let (glo, ghi) = (
+            pin_geometry(profile, j, phi, lo)?.gap,
+            pin_geometry(profile, j, phi, hi)?.gap,
+        );
+        if glo * ghi < 0.0 {
+            let res = Executor::new(Gap(profile, j, phi), BrentRoot::new(lo, hi, 1e-16))
+                .configure(|st| st.max_iters(200))
+                .timer(false)
+                .run()
+                .map_err(|e| Error::numerical("first contact", e.to_string()))?;
+            return Ok(res.state.best_param);
+        }
+        w *= 2.0;
+    }
+    Ok(None)
 }
 
 /// One pin's share of a loaded contact solution.
@@ -362,6 +397,8 @@ fn first_contact_warm(
 pub struct PinLoad {
     /// Pin index `j`.
     pub pin: usize,
+    /// Profile parameter of the contact point (global, rad).
+    pub profile_parameter: f64,
     /// Mesh angle of the contact point on the disc, rad.
     pub mesh_angle: f64,
     /// Gap at the solved pose, m (negative: compressed).
@@ -427,16 +464,13 @@ struct Residual<'a> {
     phi: f64,
     torque: f64,
     active: &'a [usize],
-    warm: std::cell::RefCell<Vec<f64>>,
 }
 
 impl Residual<'_> {
     fn moment(&self, beta: f64) -> Result<f64> {
         let mut sum = 0.0;
-        let mut warm = self.warm.borrow_mut();
         for &j in self.active {
-            let g = pin_geometry(self.profile, j, self.phi, beta, Some(warm[j]))?;
-            warm[j] = g.t;
+            let g = pin_geometry(self.profile, j, self.phi, beta)?;
             let (f, _) = self.model.force(-g.gap, g.curvature)?;
             sum += f * g.lever_arm;
         }
@@ -477,9 +511,8 @@ pub fn solve(
     }
     let s = if disc_torque < 0.0 { -1.0 } else { 1.0 };
     let zp = profile.geometry().pins;
-    let mut warm = Vec::with_capacity(zp);
-    let beta0 = first_contact_warm(profile, phi, s, &mut warm)?;
-    let geoms0 = pin_geometries(profile, phi, beta0, &mut warm)?;
+    let beta0 = first_contact(profile, phi, s)?;
+    let geoms0 = pin_geometries(profile, phi, beta0)?;
     let beta = if disc_torque == 0.0 {
         beta0
     } else {
@@ -491,7 +524,6 @@ pub fn solve(
             phi,
             torque: disc_torque,
             active: &all,
-            warm: std::cell::RefCell::new(warm.clone()),
         };
         let mut step = 1e-5;
         let mut hi = beta0 + s * step;
@@ -517,21 +549,33 @@ pub fn solve(
             phi,
             torque: disc_torque,
             active: &active,
-            warm: std::cell::RefCell::new(warm.clone()),
         };
+        // The active set must bracket too; otherwise keep every pin.
+        let use_all = s * (res.moment(hi)? - disc_torque) <= 0.0
+            || s * (res.moment(beta0)? - disc_torque) >= 0.0;
+        let res = if use_all { res_all } else { res };
+        if s * (res.moment(beta0)? - disc_torque) >= 0.0 {
+            return Err(Error::numerical(
+                "loaded contact",
+                format!(
+                    "pins already carry the torque at first contact (crank {phi} rad, \
+                     first contact {beta0} rad)"
+                ),
+            ));
+        }
         let (lo, hi) = if s > 0.0 { (beta0, hi) } else { (hi, beta0) };
         let solver = BrentRoot::new(lo, hi, 1e-14);
         let result = Executor::new(res, solver)
             .configure(|st| st.max_iters(200))
             .timer(false)
             .run()
-            .map_err(|e| Error::numerical("loaded contact", e.to_string()))?;
+            .map_err(|e| Error::numerical("loaded contact", format!("{e} [phi {phi}, bracket {lo}..{hi}]")))?;
         result
             .state
             .best_param
             .ok_or_else(|| Error::numerical("loaded contact", "Brent returned no rotation"))?
     };
-    let geoms = pin_geometries(profile, phi, beta, &mut warm)?;
+    let geoms = pin_geometries(profile, phi, beta)?;
     let mut pins = Vec::with_capacity(zp);
     for g in &geoms {
         let (f, k) = if disc_torque == 0.0 {
@@ -542,6 +586,7 @@ pub fn solve(
         let h = model.hertz(f, g.curvature);
         pins.push(PinLoad {
             pin: g.pin,
+            profile_parameter: g.t,
             mesh_angle: mesh_angle(g.t),
             gap: g.gap,
             force: f,
@@ -566,7 +611,7 @@ pub fn solve(
 /// `t_j = 2 pi j / Zp - phi`, `F_j = T_disc l_j / sum l^2` over the pins with `l_j > 0`.
 /// Returns `Zp` forces, N (zero on the unloaded flank); negative torques load the other flank.
 pub fn li_load_distribution(
-    geo: &crate::geometry::CycloidGeometry,
+    geo: &CycloidGeometry,
     phi: f64,
     disc_torque: f64,
 ) -> Vec<f64> {

@@ -12,8 +12,8 @@
 //!   tooth tip. The flank `0 < t < pi` carries a positive (counter-clockwise) disc torque; the
 //!   flank `pi < t < 2 pi` carries a negative one;
 //! - a wear map is a depth `h(t)` (metres, >= 0) along the inward normal, the same on every
-//!   tooth, stored on a uniform grid of mesh angles and interpolated with a periodic
-//!   Catmull-Rom cubic (C1, so closest-point searches see a continuous tangent).
+//!   tooth, stored on a uniform grid of mesh angles and interpolated with a periodic monotone
+//!   cubic (C1, so closest-point searches see a continuous tangent; no overshoot).
 
 use std::f64::consts::{PI, TAU};
 
@@ -192,6 +192,10 @@ impl WearMap {
     }
 
     /// Depth `h` (m) and its derivative `dh/dt` (m/rad) at mesh angle `t` (any real; wrapped).
+    ///
+    /// Periodic monotone cubic Hermite interpolation (Fritsch and Carlson, SIAM J. Numer. Anal.
+    /// 17, 1980): C1, and never below the smaller neighbouring node, so a map of non-negative
+    /// depths never adds material.
     pub fn eval(&self, t: f64) -> (f64, f64) {
         let n = self.depth.len();
         let dt = TAU / n as f64;
@@ -200,11 +204,28 @@ impl WearMap {
         let u = s - i as f64;
         let p = |k: isize| self.depth[(i as isize + k).rem_euclid(n as isize) as usize];
         let (p0, p1, p2, p3) = (p(-1), p(0), p(1), p(2));
-        let c1 = -p0 + p2;
-        let c2 = 2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3;
-        let c3 = -p0 + 3.0 * p1 - 3.0 * p2 + p3;
-        let h = 0.5 * (2.0 * p1 + u * (c1 + u * (c2 + u * c3)));
-        let dh = 0.5 * (c1 + u * (2.0 * c2 + 3.0 * u * c3)) / dt;
+        // Node slopes (per grid step) by the harmonic mean of the neighbouring secants.
+        let slope = |a: f64, b: f64| {
+            if a * b <= 0.0 {
+                0.0
+            } else {
+                2.0 * a * b / (a + b)
+            }
+        };
+        let (d0, d1, d2) = (p1 - p0, p2 - p1, p3 - p2);
+        let m1 = slope(d0, d1);
+        let m2 = slope(d1, d2);
+        let (u2, u3) = (u * u, u * u * u);
+        let h00 = 2.0 * u3 - 3.0 * u2 + 1.0;
+        let h10 = u3 - 2.0 * u2 + u;
+        let h01 = -2.0 * u3 + 3.0 * u2;
+        let h11 = u3 - u2;
+        let h = h00 * p1 + h10 * m1 + h01 * p2 + h11 * m2;
+        let dh = ((6.0 * u2 - 6.0 * u) * p1
+            + (3.0 * u2 - 4.0 * u + 1.0) * m1
+            + (-6.0 * u2 + 6.0 * u) * p2
+            + (3.0 * u2 - 2.0 * u) * m2)
+            / dt;
         (h, dh)
     }
 }
@@ -411,31 +432,120 @@ impl Profile {
         let k = (t0 / TAU).floor();
         let turn = TAU * k / self.zc;
         let ql = rotate(q, turn);
-        let mut t = t0 - TAU * k;
-        for _ in 0..60 {
-            let (p, dp, ddp) = self.eval_d1(t);
-            let d = p - ql;
-            let f = d.dot(&dp);
-            let mut fp = dp.norm_squared() + d.dot(&ddp);
-            if fp <= 1e-6 * dp.norm_squared() {
-                // Not a minimum here (or degenerate): fall back to a gradient step.
-                fp = dp.norm_squared();
+        let tl = t0 - TAU * k;
+        let mut t = match self.newton_foot(&ql, tl) {
+            Some(t) => t,
+            None => self.bracketed_foot(&ql, tl)?,
+        };
+        if self.wear.is_some() {
+            t = self.global_foot(&ql, t)?;
+        }
+        let mut point = self.point(t);
+        let distance = (ql - point.p).dot(&point.normal);
+        point.t = t + TAU * k;
+        point.p = rotate(&point.p, -turn);
+        point.dp = rotate(&point.dp, -turn);
+        point.normal = rotate(&point.normal, -turn);
+        Ok(Projection { point, distance })
+    }
+
+    /// A worn flank can be concave with a radius below the pin's (a wear dent the pin cannot
+    /// enter); the distance from `q` then has several local minima. Where the foot found at `t`
+    /// lies on a concave stretch, scan +-0.3 rad around it and keep the nearest foot.
+    fn global_foot(&self, q: &Vec2, t: f64) -> Result<f64> {
+        let pt = self.point(t);
+        if pt.curvature > -0.5 / self.geo.pin_radius {
+            return Ok(t);
+        }
+        let dist2 = |t: f64| (self.eval_d1(t).0 - q).norm_squared();
+        let mut best = (dist2(t), t);
+        let n = 60;
+        let mut candidates = Vec::new();
+        let samples: Vec<(f64, f64)> = (0..=n)
+            .map(|i| {
+                let ti = t - 0.3 + 0.6 * i as f64 / n as f64;
+                (ti, dist2(ti))
+            })
+            .collect();
+        for w in samples.windows(3) {
+            if w[1].1 <= w[0].1 && w[1].1 <= w[2].1 {
+                candidates.push(w[1].0);
             }
-            let step = (f / fp).clamp(-0.3, 0.3);
+        }
+        for c in candidates {
+            let tc = match self.newton_foot(q, c) {
+                Some(tc) => tc,
+                None => self.bracketed_foot(q, c)?,
+            };
+            let d = dist2(tc);
+            if d < best.0 - 1e-24 {
+                best = (d, tc);
+            }
+        }
+        Ok(best.1)
+    }
+
+    /// `d/dt |p(t) - q|^2 / 2`.
+    fn foot_residual(&self, q: &Vec2, t: f64) -> f64 {
+        let (p, dp, _) = self.eval_d1(t);
+        (p - q).dot(&dp)
+    }
+
+    /// Newton's method for the foot of the normal from `q`; `None` if it does not settle in
+    /// 25 steps (it can cycle at the tooth root, where the pin-centre path turns sharply).
+    fn newton_foot(&self, q: &Vec2, t0: f64) -> Option<f64> {
+        let mut t = t0;
+        for _ in 0..25 {
+            let (p, dp, ddp) = self.eval_d1(t);
+            let d = p - q;
+            let f = d.dot(&dp);
+            let fp = dp.norm_squared() + d.dot(&ddp);
+            if fp <= 1e-6 * dp.norm_squared() {
+                return None;
+            }
+            let step = f / fp;
+            if step.abs() > 0.3 {
+                return None;
+            }
             t -= step;
             if step.abs() < 1e-12 {
-                let mut point = self.point(t);
-                let distance = (ql - point.p).dot(&point.normal);
-                point.t = t + TAU * k;
-                point.p = rotate(&point.p, -turn);
-                point.dp = rotate(&point.dp, -turn);
-                point.normal = rotate(&point.normal, -turn);
-                return Ok(Projection { point, distance });
+                return Some(t);
             }
+        }
+        None
+    }
+
+    /// Robust fallback: bracket the sign change of the foot residual around `t0` and solve it
+    /// with Brent's method (argmin `BrentRoot`).
+    fn bracketed_foot(&self, q: &Vec2, t0: f64) -> Result<f64> {
+        use argmin::core::{CostFunction, Executor};
+        use argmin::solver::brent::BrentRoot;
+        struct Foot<'a>(&'a Profile, Vec2);
+        impl CostFunction for Foot<'_> {
+            type Param = f64;
+            type Output = f64;
+            fn cost(&self, t: &f64) -> std::result::Result<f64, argmin::core::Error> {
+                Ok(self.0.foot_residual(&self.1, *t))
+            }
+        }
+        let mut w = 0.02;
+        while w < PI {
+            let (lo, hi) = (t0 - w, t0 + w);
+            if self.foot_residual(q, lo) < 0.0 && self.foot_residual(q, hi) > 0.0 {
+                let res = Executor::new(Foot(self, *q), BrentRoot::new(lo, hi, 1e-13))
+                    .configure(|s| s.max_iters(200))
+                    .timer(false)
+                    .run()
+                    .map_err(|e| Error::numerical("profile projection", e.to_string()))?;
+                return res.state.best_param.ok_or_else(|| {
+                    Error::numerical("profile projection", "Brent returned no parameter")
+                });
+            }
+            w *= 1.6;
         }
         Err(Error::numerical(
             "profile projection",
-            format!("Newton did not converge from t0 = {t0} for point ({}, {})", q.x, q.y),
+            format!("no closest point near t0 = {t0} for point ({}, {})", q.x, q.y),
         ))
     }
 

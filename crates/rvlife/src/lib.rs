@@ -1,6 +1,24 @@
-//! rvlife: accuracy-life prediction of RV reducers and cycloid drives.
+//! # rvlife
+//!
+//! Accuracy-life prediction of RV reducers and cycloid drives: the cycloid disc profile
+//! ([`geometry`]), the loaded contact between disc and pins ([`contact`]), Archard wear over
+//! working hours with profile updates ([`wear`]), static and loaded transmission error and lost
+//! motion ([`te`]), and the study that strings them together ([`study`]), configured by TOML
+//! ([`config`]) and reported as JSON, CSV, DXF and plots ([`report`], [`export`], [`plot`]).
+//!
+//! SI units inside; engineering units only in config keys and output columns. The method follows
+//! Tao et al., Machines 2024, 12(8), 511 (the "paper"), restated in `physics-notes.md`, with
+//! true gaps from geometry and wear with profile updates as the defaults.
+
+pub mod config;
 pub mod contact;
 pub mod error;
+pub mod export;
 pub mod geometry;
+pub mod plot;
+pub mod report;
+pub mod study;
+pub mod te;
+pub mod wear;
 
 pub use error::{Error, Result};

@@ -1,0 +1,278 @@
+//! Plots of a study (SVG and PNG, via plotters with the DejaVu Sans font embedded, so no system
+//! fonts are needed).
+
+use std::path::Path;
+use std::sync::Once;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::error::{Error, Result};
+use crate::geometry::{rotate, Vec2};
+use crate::study::Study;
+use crate::te::{over_revolution, ARCMIN_PER_RAD};
+
+const SIZE: (u32, u32) = (1000, 640);
+
+fn register_fonts() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        // The embedded font is valid; registration cannot fail for it.
+        let _ = plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            dejavu::sans::regular(),
+        );
+    });
+}
+
+fn stage_color(i: usize, n: usize) -> RGBColor {
+    let c = ViridisRGB::get_color_normalized(i as f64, 0.0, (n.max(2) - 1) as f64 * 1.1);
+    RGBColor(c.0, c.1, c.2)
+}
+
+fn plot_err<E: std::fmt::Display>(path: &Path) -> impl Fn(E) -> Error + '_ {
+    move |e| Error::io(path, std::io::Error::other(e.to_string()))
+}
+
+type Draw<'a> = dyn Fn(&DrawingArea<SVGBackend, Shift>) -> std::result::Result<(), String> + 'a;
+type DrawPng<'a> =
+    dyn Fn(&DrawingArea<BitMapBackend, Shift>) -> std::result::Result<(), String> + 'a;
+
+/// Draws one figure to `<stem>.svg` and `<stem>.png` in `dir`.
+fn both(dir: &Path, stem: &str, svg: &Draw, png: &DrawPng) -> Result<()> {
+    register_fonts();
+    let p = dir.join(format!("{stem}.svg"));
+    {
+        let root = SVGBackend::new(&p, SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_err(&p))?;
+        svg(&root).map_err(plot_err(&p))?;
+        root.present().map_err(plot_err(&p))?;
+    }
+    let p = dir.join(format!("{stem}.png"));
+    let root = BitMapBackend::new(&p, SIZE).into_drawing_area();
+    root.fill(&WHITE).map_err(plot_err(&p))?;
+    png(&root).map_err(plot_err(&p))?;
+    root.present().map_err(plot_err(&p))?;
+    Ok(())
+}
+
+macro_rules! figure {
+    ($dir:expr, $stem:expr, $f:expr) => {
+        both(
+            $dir,
+            $stem,
+            &|r: &DrawingArea<SVGBackend, Shift>| $f(r).map_err(|e| e.to_string()),
+            &|r: &DrawingArea<BitMapBackend, Shift>| $f(r).map_err(|e| e.to_string()),
+        )
+    };
+}
+
+fn series_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+        (a.min(v), b.max(v))
+    });
+    if !lo.is_finite() {
+        return (0.0, 1.0);
+    }
+    let pad = ((hi - lo) * 0.08).max(1e-6);
+    (lo - pad, hi + pad)
+}
+
+/// Writes every plot of the study into `dir`: `profile_wear`, `wear`, `load`, `te`,
+/// `te_hours` (each as SVG and PNG).
+///
+/// # Errors
+/// [`Error::Io`] if a file cannot be written.
+pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
+    let n = study.stages.len();
+    let hours: Vec<f64> = study.stages.iter().map(|s| s.hours).collect();
+
+    // 1. Wear depth along the profile.
+    let angles: Vec<f64> = study.wear.angles().iter().map(|a| a.to_degrees()).collect();
+    let wear_max = study
+        .wear
+        .max_depths()
+        .into_iter()
+        .fold(0.0, f64::max)
+        .max(1e-9)
+        * 1e6;
+    figure!(dir, "wear", |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+        let mut chart = ChartBuilder::on(root)
+            .caption("Wear depth along the tooth profile", ("sans-serif", 26))
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(65)
+            .build_cartesian_2d(0.0..360.0, 0.0..wear_max * 1.08)?;
+        chart
+            .configure_mesh()
+            .x_desc("mesh angle (deg): 0 root, 180 tip; 0-180 flank loaded by positive torque")
+            .y_desc("wear depth (um)")
+            .draw()?;
+        for (i, map) in study.wear.maps.iter().enumerate() {
+            let c = stage_color(i, n);
+            chart
+                .draw_series(LineSeries::new(
+                    angles.iter().zip(map).map(|(a, h)| (*a, h * 1e6)),
+                    c.stroke_width(2),
+                ))?
+                .label(format!("{:.0} h", hours[i]))
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+        }
+        chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
+        Ok(())
+    })?;
+
+    // 2. Profile with magnified wear: three teeth around the top of the disc.
+    let last = study.stages.last().expect("at least one stage");
+    let max_wear = study.wear.max_depths().into_iter().fold(0.0, f64::max);
+    let magnify = if max_wear > 0.0 { (0.25e-3 / max_wear).round().max(1.0) } else { 1.0 };
+    let geo = last.profile.geometry().clone();
+    let nominal = study.model.profile(None)?;
+    let zc = geo.disc_teeth() as f64;
+    let tooth_profiles: Vec<(String, Vec<(f64, f64)>, RGBColor)> = {
+        let mut v = Vec::new();
+        let pts = |wear: Option<&crate::geometry::WearMap>| -> Vec<(f64, f64)> {
+            let k = 600;
+            (0..=k)
+                .map(|i| {
+                    // Teeth around the +y axis: t in [-1.5, 1.5] teeth about the tooth at 90 deg.
+                    let t = std::f64::consts::TAU * (-1.5 + 3.0 * i as f64 / k as f64);
+                    let pt = nominal.point(t);
+                    let h = wear.map_or(0.0, |w| w.eval(t).0) * magnify;
+                    let p: Vec2 = pt.p - pt.normal * h;
+                    let r = rotate(&p, std::f64::consts::FRAC_PI_2);
+                    (r.x * 1e3, r.y * 1e3)
+                })
+                .collect()
+        };
+        v.push(("nominal".to_string(), pts(None), BLACK));
+        for (i, s) in study.stages.iter().enumerate().skip(1) {
+            v.push((format!("{:.0} h", s.hours), pts(s.wear.as_ref()), stage_color(i, n)));
+        }
+        v
+    };
+    let _ = zc;
+    let (x0, x1) = series_range(tooth_profiles[0].1.iter().map(|p| p.0));
+    let (y0, y1) = series_range(tooth_profiles.iter().flat_map(|t| t.1.iter().map(|p| p.1)));
+    let span = (x1 - x0).max((y1 - y0) * SIZE.0 as f64 / SIZE.1 as f64);
+    let xc = 0.5 * (x0 + x1);
+    figure!(dir, "profile_wear", |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+        let mut chart = ChartBuilder::on(root)
+            .caption(format!("Tooth profile, wear magnified x{magnify:.0}"), ("sans-serif", 26))
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(65)
+            .build_cartesian_2d(xc - span / 2.0..xc + span / 2.0, y0..y0 + span * SIZE.1 as f64 / SIZE.0 as f64)?;
+        chart.configure_mesh().x_desc("x (mm)").y_desc("y (mm)").draw()?;
+        for (label, pts, c) in &tooth_profiles {
+            let c = *c;
+            chart
+                .draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?
+                .label(label.clone())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+        }
+        chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
+        Ok(())
+    })?;
+
+    // 3. Load distribution at the crank angle of the largest force.
+    let fmax = study.stages.iter().map(|s| s.summary.max_force_n).fold(0.0, f64::max).max(1.0);
+    let zp = geo.pins;
+    figure!(dir, "load", |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+        let mut chart = ChartBuilder::on(root)
+            .caption(
+                format!("Pin forces at {:.0} N m, crank angle of the largest force", study.model.loaded_torque),
+                ("sans-serif", 26),
+            )
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(65)
+            .build_cartesian_2d(-0.5..zp as f64 - 0.5, 0.0..fmax * 1.1)?;
+        chart.configure_mesh().x_desc("pin j").y_desc("force (N)").draw()?;
+        for (i, s) in study.stages.iter().enumerate() {
+            let c = stage_color(i, n);
+            let w = s.loaded.worst();
+            chart
+                .draw_series(LineSeries::new(
+                    w.pins.iter().map(|p| (p.pin as f64, p.force)),
+                    c.stroke_width(2),
+                ))?
+                .label(format!("{:.0} h, crank {:.2} deg", s.hours, w.crank_angle.to_degrees()))
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+            chart.draw_series(w.pins.iter().map(|p| Circle::new((p.pin as f64, p.force), 3, c.filled())))?;
+        }
+        chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
+        Ok(())
+    })?;
+
+    // 4. STE over one output revolution.
+    let curves: Vec<(Vec<f64>, Vec<f64>)> = study
+        .stages
+        .iter()
+        .map(|s| {
+            let (x, y) = over_revolution(&s.ste.crank_angle, &s.ste.forward, zp, study.model.ratio);
+            (
+                x.iter().map(|v| v / study.model.ratio).collect(),
+                y.iter().map(|v| v * ARCMIN_PER_RAD).collect(),
+            )
+        })
+        .collect();
+    let (t0, t1) = series_range(curves.iter().flat_map(|c| c.1.iter().copied()));
+    figure!(dir, "te", |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+        let mut chart = ChartBuilder::on(root)
+            .caption("Static transmission error over one output revolution", ("sans-serif", 26))
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(65)
+            .build_cartesian_2d(0.0..360.0, t0.min(0.0)..t1)?;
+        chart
+            .configure_mesh()
+            .x_desc(format!("output angle (deg) = input angle / {:.0}", study.model.ratio))
+            .y_desc("STE (arcmin), output lag")
+            .draw()?;
+        for (i, (x, y)) in curves.iter().enumerate() {
+            let c = stage_color(i, n);
+            chart
+                .draw_series(LineSeries::new(x.iter().copied().zip(y.iter().copied()), c.stroke_width(1)))?
+                .label(format!("{:.0} h", hours[i]))
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+        }
+        chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
+        Ok(())
+    })?;
+
+    // 5. TE and lost motion against working hours.
+    let sums: Vec<_> = study.stages.iter().map(|s| s.summary.clone()).collect();
+    let ymax = sums
+        .iter()
+        .flat_map(|s| [s.ste_mean_arcmin, s.lost_motion_arcmin, s.loaded_te_mean_arcmin, s.ste_mean_arcmin + s.ste_peak_to_peak_arcmin])
+        .fold(0.0, f64::max)
+        .max(0.1);
+    let hmax = hours.last().copied().unwrap_or(1.0).max(1.0);
+    figure!(dir, "te_hours", |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+        let mut chart = ChartBuilder::on(root)
+            .caption("Transmission error and lost motion against working hours", ("sans-serif", 26))
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(65)
+            .build_cartesian_2d(0.0..hmax * 1.02, 0.0..ymax * 1.1)?;
+        chart.configure_mesh().x_desc("working hours (h)").y_desc("arcmin").draw()?;
+        let lines: [(&str, RGBColor, Box<dyn Fn(&crate::study::StageSummary) -> f64>); 3] = [
+            ("STE mean", BLUE, Box::new(|s| s.ste_mean_arcmin)),
+            ("lost motion", RED, Box::new(|s| s.lost_motion_arcmin)),
+            ("loaded TE mean", GREEN, Box::new(|s| s.loaded_te_mean_arcmin)),
+        ];
+        for (label, c, f) in &lines {
+            let c = *c;
+            chart
+                .draw_series(LineSeries::new(sums.iter().map(|s| (s.hours, f(s))), c.stroke_width(2)))?
+                .label(*label)
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+            chart.draw_series(sums.iter().map(|s| Circle::new((s.hours, f(s)), 4, c.filled())))?;
+        }
+        chart.configure_series_labels().position(SeriesLabelPosition::UpperLeft).background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
+        Ok(())
+    })?;
+    Ok(())
+}

@@ -1,0 +1,283 @@
+//! Writing a study's results directory, all-or-nothing: everything is written into a temporary
+//! directory beside the target, which is renamed onto the target only when complete.
+//!
+//! Contents:
+//! - `summary.json`: [`crate::study::Summary`] (a `stages` array and the paper comparison);
+//! - `stages.csv`: one row per stage with the summary numbers;
+//! - `wear.csv`: `mesh_angle_deg` and `wear_um_<H>h` for every stage;
+//! - `te_mesh_cycle.csv`: per stage and crank angle, forward and reverse STE, lost motion and
+//!   loaded TE (arcmin) over one mesh cycle;
+//! - `te_revolution.csv`: `input_deg` and `ste_arcmin_<H>h` for every stage over one output
+//!   revolution;
+//! - `load.csv`: per stage, the pin forces, pressures and half-widths at the crank angle of the
+//!   largest force;
+//! - `profiles/worn_<H>h.dxf` (and `.csv`): the profile used for TE at every stage;
+//! - `plots/*.svg`, `plots/*.png`: see [`crate::plot`].
+
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+use crate::export::{write_profile, ProfileFormat};
+use crate::study::Study;
+use crate::te::{over_revolution, ARCMIN_PER_RAD};
+
+fn csv_err(path: &Path) -> impl Fn(csv::Error) -> Error + '_ {
+    move |e| Error::io(path, std::io::Error::other(e.to_string()))
+}
+
+fn write_rows(path: &Path, header: &[String], rows: &[Vec<String>]) -> Result<()> {
+    let mut w = csv::Writer::from_path(path).map_err(csv_err(path))?;
+    w.write_record(header).map_err(csv_err(path))?;
+    for r in rows {
+        w.write_record(r).map_err(csv_err(path))?;
+    }
+    w.flush().map_err(|e| Error::io(path, e))
+}
+
+fn f(v: f64) -> String {
+    format!("{v:.6}")
+}
+
+fn hours_tag(h: f64) -> String {
+    if h.fract() == 0.0 {
+        format!("{h:.0}h")
+    } else {
+        format!("{h}h").replace('.', "p")
+    }
+}
+
+/// Writes all result files of `study` into the existing, empty directory `dir`.
+///
+/// # Errors
+/// [`Error::Io`] on any write failure.
+pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
+    let summary = study.summary();
+    let p = dir.join("summary.json");
+    let text = serde_json::to_string_pretty(&summary)
+        .map_err(|e| Error::io(&p, std::io::Error::other(e.to_string())))?;
+    std::fs::write(&p, text + "\n").map_err(|e| Error::io(&p, e))?;
+
+    // stages.csv
+    let header: Vec<String> = [
+        "hours",
+        "max_wear_um",
+        "ste_mean_arcmin",
+        "ste_peak_to_peak_arcmin",
+        "ste_reverse_mean_arcmin",
+        "lost_motion_arcmin",
+        "lost_motion_mean_arcmin",
+        "loaded_te_mean_arcmin",
+        "loaded_te_peak_to_peak_arcmin",
+        "max_force_n",
+        "max_pressure_mpa",
+        "pins_in_contact",
+        "pins_in_contact_max",
+        "torsional_stiffness_nm_per_arcmin",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let rows: Vec<Vec<String>> = summary
+        .stages
+        .iter()
+        .map(|s| {
+            vec![
+                f(s.hours),
+                f(s.max_wear_um),
+                f(s.ste_mean_arcmin),
+                f(s.ste_peak_to_peak_arcmin),
+                f(s.ste_reverse_mean_arcmin),
+                f(s.lost_motion_arcmin),
+                f(s.lost_motion_mean_arcmin),
+                f(s.loaded_te_mean_arcmin),
+                f(s.loaded_te_peak_to_peak_arcmin),
+                f(s.max_force_n),
+                f(s.max_pressure_mpa),
+                s.pins_in_contact.to_string(),
+                s.pins_in_contact_max.to_string(),
+                f(s.torsional_stiffness_nm_per_arcmin),
+            ]
+        })
+        .collect();
+    write_rows(&dir.join("stages.csv"), &header, &rows)?;
+
+    // wear.csv
+    let tags: Vec<String> = study.stages.iter().map(|s| hours_tag(s.hours)).collect();
+    let mut header = vec!["mesh_angle_deg".to_string()];
+    header.extend(tags.iter().map(|t| format!("wear_um_{t}")));
+    let angles = study.wear.angles();
+    let rows: Vec<Vec<String>> = angles
+        .iter()
+        .enumerate()
+        .map(|(m, a)| {
+            let mut r = vec![f(a.to_degrees())];
+            r.extend(study.wear.maps.iter().map(|map| f(map[m] * 1e6)));
+            r
+        })
+        .collect();
+    write_rows(&dir.join("wear.csv"), &header, &rows)?;
+
+    // te_mesh_cycle.csv
+    let header: Vec<String> = [
+        "hours",
+        "crank_deg",
+        "input_deg",
+        "ste_forward_arcmin",
+        "ste_reverse_arcmin",
+        "lost_motion_arcmin",
+        "loaded_te_arcmin",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let ratio = study.model.ratio;
+    let zc = study.model.geometry.disc_teeth() as f64;
+    let mut rows = Vec::new();
+    for s in &study.stages {
+        for k in 0..s.ste.crank_angle.len() {
+            let phi = s.ste.crank_angle[k];
+            rows.push(vec![
+                f(s.hours),
+                f(phi.to_degrees()),
+                f((ratio * phi / zc).to_degrees()),
+                f(s.ste.forward[k] * ARCMIN_PER_RAD),
+                f(s.ste.reverse[k] * ARCMIN_PER_RAD),
+                f((s.ste.forward[k] + s.ste.reverse[k]) * ARCMIN_PER_RAD),
+                f(s.loaded.te[k] * ARCMIN_PER_RAD),
+            ]);
+        }
+    }
+    write_rows(&dir.join("te_mesh_cycle.csv"), &header, &rows)?;
+
+    // te_revolution.csv
+    let pins = study.model.geometry.pins;
+    let curves: Vec<(Vec<f64>, Vec<f64>)> = study
+        .stages
+        .iter()
+        .map(|s| over_revolution(&s.ste.crank_angle, &s.ste.forward, pins, ratio))
+        .collect();
+    let mut header = vec!["input_deg".to_string()];
+    header.extend(tags.iter().map(|t| format!("ste_arcmin_{t}")));
+    let rows: Vec<Vec<String>> = (0..curves[0].0.len())
+        .map(|i| {
+            let mut r = vec![format!("{:.4}", curves[0].0[i])];
+            r.extend(curves.iter().map(|c| format!("{:.5}", c.1[i] * ARCMIN_PER_RAD)));
+            r
+        })
+        .collect();
+    write_rows(&dir.join("te_revolution.csv"), &header, &rows)?;
+
+    // load.csv
+    let header: Vec<String> = [
+        "hours",
+        "crank_deg",
+        "pin",
+        "mesh_angle_deg",
+        "gap_um",
+        "force_n",
+        "lever_arm_mm",
+        "half_width_um",
+        "max_pressure_mpa",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let mut rows = Vec::new();
+    for s in &study.stages {
+        let w = s.loaded.worst();
+        for p in &w.pins {
+            rows.push(vec![
+                f(s.hours),
+                f(w.crank_angle.to_degrees()),
+                p.pin.to_string(),
+                f(p.mesh_angle.to_degrees()),
+                f(p.gap * 1e6),
+                f(p.force),
+                f(p.lever_arm * 1e3),
+                f(p.half_width * 1e6),
+                f(p.max_pressure * 1e-6),
+            ]);
+        }
+    }
+    write_rows(&dir.join("load.csv"), &header, &rows)?;
+
+    // profiles
+    let pdir = dir.join("profiles");
+    std::fs::create_dir(&pdir).map_err(|e| Error::io(&pdir, e))?;
+    for (s, tag) in study.stages.iter().zip(&tags) {
+        write_profile(&s.profile, &pdir.join(format!("worn_{tag}.dxf")), ProfileFormat::Dxf)?;
+        write_profile(&s.profile, &pdir.join(format!("worn_{tag}.csv")), ProfileFormat::Csv)?;
+    }
+
+    // plots
+    let plots = dir.join("plots");
+    std::fs::create_dir(&plots).map_err(|e| Error::io(&plots, e))?;
+    crate::plot::write_all(study, &plots)?;
+    Ok(())
+}
+
+/// Writes the results of `study` to `out` atomically: into a temporary directory beside `out`,
+/// then renamed. If `out` exists it must be empty, unless `replace` is set, in which case the old
+/// directory is replaced only after the new one is complete.
+///
+/// # Errors
+/// [`Error::Invalid`] if `out` exists (non-empty) and `replace` is false; [`Error::Io`] on write
+/// failures (the temporary directory is removed, `out` is untouched).
+pub fn write_study(study: &Study, out: &Path, replace: bool) -> Result<PathBuf> {
+    check_output_dir(out, replace)?;
+    let parent = match out.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    std::fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
+    let tmp = tempfile::Builder::new()
+        .prefix(".rvlife-tmp-")
+        .tempdir_in(&parent)
+        .map_err(|e| Error::io(&parent, e))?;
+    write_files(study, tmp.path())?;
+    let staged = tmp.keep();
+    if out.exists() {
+        let old = parent.join(format!(
+            ".rvlife-old-{}",
+            std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(0, |d| d.as_nanos())
+        ));
+        std::fs::rename(out, &old).map_err(|e| Error::io(out, e))?;
+        std::fs::rename(&staged, out).map_err(|e| Error::io(out, e))?;
+        std::fs::remove_dir_all(&old).map_err(|e| Error::io(&old, e))?;
+    } else if let Err(e) = std::fs::rename(&staged, out) {
+        let _ = std::fs::remove_dir_all(&staged);
+        return Err(Error::io(out, e));
+    }
+    Ok(out.to_path_buf())
+}
+
+/// Checks that `out` can receive results: absent, an empty directory, or (with `replace`) any
+/// directory.
+///
+/// # Errors
+/// [`Error::Invalid`] naming `--out`.
+pub fn check_output_dir(out: &Path, replace: bool) -> Result<()> {
+    if out.exists() {
+        if !out.is_dir() {
+            return Err(Error::invalid(
+                "--out",
+                out.display(),
+                "exists and is not a directory",
+            ));
+        }
+        let empty = std::fs::read_dir(out)
+            .map_err(|e| Error::io(out, e))?
+            .next()
+            .is_none();
+        if !empty && !replace {
+            return Err(Error::invalid(
+                "--out",
+                out.display(),
+                "exists and is not empty; pass --force to replace it",
+            ));
+        }
+    }
+    Ok(())
+}

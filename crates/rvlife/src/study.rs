@@ -1,0 +1,244 @@
+//! The accuracy-life study: wear over working hours, and at every stage the worn profile, the
+//! static TE and lost motion, the loaded TE at the rated torque, and the contact loads.
+//!
+//! Pipeline (issue 2): [`crate::wear::integrate`] gives the wear map at each stage; each stage's
+//! profile is the modified profile with that map (or, in the paper's model, with a uniform
+//! equidistant offset equal to the maximum wear, paper section 3.1); [`crate::te`] gives STE,
+//! lost motion and loaded TE on it.
+
+use serde::Serialize;
+
+use crate::config::{Model, WearModelKind};
+use crate::error::Result;
+use crate::geometry::{Profile, WearMap};
+use crate::te::{loaded_te, static_te, LoadedTe, StaticTe, ARCMIN_PER_RAD};
+use crate::wear::{integrate, WearHistory};
+
+/// One stage of `summary.json` (engineering units in the names).
+#[derive(Debug, Clone, Serialize)]
+pub struct StageSummary {
+    /// Working hours, h.
+    pub hours: f64,
+    /// Maximum wear depth along the profile, um.
+    pub max_wear_um: f64,
+    /// Mean forward STE over a revolution, arcmin.
+    pub ste_mean_arcmin: f64,
+    /// Peak-to-peak forward STE, arcmin.
+    pub ste_peak_to_peak_arcmin: f64,
+    /// Mean reverse-direction STE, arcmin.
+    pub ste_reverse_mean_arcmin: f64,
+    /// Lost motion (largest play between the two directions over a revolution), arcmin.
+    pub lost_motion_arcmin: f64,
+    /// Mean lost motion over a revolution, arcmin.
+    pub lost_motion_mean_arcmin: f64,
+    /// Mean loaded TE at the loaded-TE torque, arcmin.
+    pub loaded_te_mean_arcmin: f64,
+    /// Peak-to-peak loaded TE, arcmin.
+    pub loaded_te_peak_to_peak_arcmin: f64,
+    /// Largest pin force over a mesh cycle at that torque, N.
+    pub max_force_n: f64,
+    /// Largest Hertz pressure, MPa.
+    pub max_pressure_mpa: f64,
+    /// Fewest pins in contact over a mesh cycle.
+    pub pins_in_contact: usize,
+    /// Most pins in contact over a mesh cycle.
+    pub pins_in_contact_max: usize,
+    /// Mean torsional (contact) stiffness of the stage, N m/arcmin.
+    pub torsional_stiffness_nm_per_arcmin: f64,
+}
+
+/// Full results of one stage.
+#[derive(Debug, Clone)]
+pub struct Stage {
+    /// Working hours, h.
+    pub hours: f64,
+    /// Wear map at this stage (None when unworn).
+    pub wear: Option<WearMap>,
+    /// Profile used for TE (worn; uniform-max in the paper's model).
+    pub profile: Profile,
+    /// Static TE over a mesh cycle.
+    pub ste: StaticTe,
+    /// Loaded TE over a mesh cycle.
+    pub loaded: LoadedTe,
+    /// Summary numbers.
+    pub summary: StageSummary,
+}
+
+/// Results of the whole study.
+#[derive(Debug, Clone)]
+pub struct Study {
+    /// The model it ran.
+    pub model: Model,
+    /// The wear history.
+    pub wear: WearHistory,
+    /// Stages.
+    pub stages: Vec<Stage>,
+}
+
+/// Comparison with the paper's headline numbers (physics-notes section 7).
+#[derive(Debug, Clone, Serialize)]
+pub struct PaperComparison {
+    /// Slope of the mean STE against the maximum wear, arcmin per 10 um (least squares through
+    /// the origin over the stages).
+    pub ste_per_10um_arcmin: f64,
+    /// Mean STE at the last stage, arcmin.
+    pub ste_last_stage_arcmin: f64,
+    /// Paper: rigid-body STE mean at 10 um wear (Adams), arcmin.
+    pub paper_ste_at_10um_arcmin: f64,
+    /// Paper: largest rigid STE over the study (6450 h), arcmin.
+    pub paper_ste_max_arcmin: f64,
+    /// Uniform-offset estimate per side, `10 um / (a Zc)`, arcmin (physics-notes section 6).
+    pub uniform_offset_per_10um_arcmin: f64,
+}
+
+/// `summary.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    /// rvlife version.
+    pub rvlife_version: &'static str,
+    /// Overall ratio `i_H`.
+    pub ratio: f64,
+    /// Wear model.
+    pub wear_model: WearModelKind,
+    /// Archard coefficient, mm^3/(N m).
+    pub archard_coefficient_mm3_per_n_m: f64,
+    /// Rated torque, N m.
+    pub rated_torque_nm: f64,
+    /// Torque of the loaded TE, N m.
+    pub loaded_te_torque_nm: f64,
+    /// Mesh cycles per working hour of each tooth at the nominal input speed.
+    pub mesh_cycles_per_hour: f64,
+    /// Wear-rate evaluations (profile updates + 1).
+    pub wear_rate_evaluations: usize,
+    /// Stages.
+    pub stages: Vec<StageSummary>,
+    /// Against the paper.
+    pub paper_comparison: PaperComparison,
+}
+
+/// Analyses one profile: static TE, lost motion and loaded TE at the model's loaded-TE torque.
+///
+/// # Errors
+/// Solver failures; interference of the modifications.
+pub fn analyse_profile(
+    model: &Model,
+    profile: &Profile,
+    hours: f64,
+) -> Result<(StaticTe, LoadedTe, StageSummary)> {
+    let ste = static_te(profile, model.te_samples)?;
+    let loaded = loaded_te(
+        profile,
+        &model.contact,
+        model.load_share,
+        model.loaded_torque,
+        model.te_samples,
+    )?;
+    let s = ste.stats();
+    let lm = ste.lost_motion_stats();
+    let l = loaded.stats();
+    let (pmin, pmax) = loaded.pins_in_contact();
+    let stiffness = loaded
+        .solutions
+        .iter()
+        .map(|x| x.torsional_stiffness())
+        .sum::<f64>()
+        / loaded.solutions.len() as f64
+        / model.load_share;
+    let max_wear_um = profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6;
+    let summary = StageSummary {
+        hours,
+        max_wear_um,
+        ste_mean_arcmin: s.mean * ARCMIN_PER_RAD,
+        ste_peak_to_peak_arcmin: s.peak_to_peak * ARCMIN_PER_RAD,
+        ste_reverse_mean_arcmin: crate::te::CurveStats::of(&ste.reverse).mean * ARCMIN_PER_RAD,
+        lost_motion_arcmin: lm.max * ARCMIN_PER_RAD,
+        lost_motion_mean_arcmin: lm.mean * ARCMIN_PER_RAD,
+        loaded_te_mean_arcmin: l.mean * ARCMIN_PER_RAD,
+        loaded_te_peak_to_peak_arcmin: l.peak_to_peak * ARCMIN_PER_RAD,
+        max_force_n: loaded.max_force(),
+        max_pressure_mpa: loaded.max_pressure() * 1e-6,
+        pins_in_contact: pmin,
+        pins_in_contact_max: pmax,
+        torsional_stiffness_nm_per_arcmin: stiffness / ARCMIN_PER_RAD,
+    };
+    Ok((ste, loaded, summary))
+}
+
+/// Runs the study. `progress(done, total)` reports the work in steps (wear-rate evaluations,
+/// then stages).
+///
+/// # Errors
+/// Solver failures; a worn profile that folds over itself; interfering modifications.
+pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Study> {
+    let n_stages = model.stage_hours.len();
+    let wear_total = if model.wear_model == WearModelKind::Paper || model.update_hours <= 0.0 {
+        1
+    } else {
+        (model.stage_hours.last().copied().unwrap_or(0.0) / model.update_hours)
+            .ceil()
+            .max(1.0) as usize
+    };
+    let total = wear_total + n_stages;
+    let wear = integrate(model, &|d, _| progress(d, total))?;
+    let mut stages = Vec::with_capacity(n_stages);
+    for (i, (hours, map)) in wear.hours.iter().zip(&wear.maps).enumerate() {
+        let max = map.iter().copied().fold(0.0, f64::max);
+        let wear_map = if max > 0.0 {
+            Some(WearMap::new(map.clone())?)
+        } else {
+            None
+        };
+        let te_map = match (&wear_map, model.wear_model) {
+            (Some(_), WearModelKind::Paper) => Some(WearMap::uniform(map.len(), max)?),
+            (w, _) => w.clone(),
+        };
+        let profile = model.profile(te_map)?;
+        let (ste, loaded, mut summary) = analyse_profile(model, &profile, *hours)?;
+        summary.max_wear_um = max * 1e6;
+        stages.push(Stage {
+            hours: *hours,
+            wear: wear_map,
+            profile,
+            ste,
+            loaded,
+            summary,
+        });
+        progress(wear_total + i + 1, total);
+    }
+    Ok(Study {
+        model: model.clone(),
+        wear,
+        stages,
+    })
+}
+
+impl Study {
+    /// The `summary.json` content.
+    pub fn summary(&self) -> Summary {
+        let m = &self.model;
+        let stages: Vec<StageSummary> = self.stages.iter().map(|s| s.summary.clone()).collect();
+        let (sxy, sxx) = stages.iter().fold((0.0, 0.0), |(a, b), s| {
+            (a + s.max_wear_um * s.ste_mean_arcmin, b + s.max_wear_um.powi(2))
+        });
+        let slope = if sxx > 0.0 { sxy / sxx } else { 0.0 };
+        Summary {
+            rvlife_version: env!("CARGO_PKG_VERSION"),
+            ratio: m.ratio,
+            wear_model: m.wear_model,
+            archard_coefficient_mm3_per_n_m: m.archard * 1e9,
+            rated_torque_nm: m.rated_torque,
+            loaded_te_torque_nm: m.loaded_torque,
+            mesh_cycles_per_hour: m.mesh_cycles_per_hour(m.input_speed_rpm),
+            wear_rate_evaluations: self.wear.rate_evaluations,
+            paper_comparison: PaperComparison {
+                ste_per_10um_arcmin: slope * 10.0,
+                ste_last_stage_arcmin: stages.last().map_or(0.0, |s| s.ste_mean_arcmin),
+                paper_ste_at_10um_arcmin: 0.5351,
+                paper_ste_max_arcmin: 4.11,
+                uniform_offset_per_10um_arcmin: 10e-6 / m.geometry.disc_pitch_radius()
+                    * ARCMIN_PER_RAD,
+            },
+            stages,
+        }
+    }
+}

@@ -1,0 +1,308 @@
+//! Archard wear of the disc flanks over working hours (physics-notes section 5).
+//!
+//! Default model (`flodin`): over one mesh cycle every point of a tooth is swept once by the
+//! contact band of whichever pin passes it. A point at mesh angle `t` loses, per pass,
+//! `dh = k p s` with mean pressure `p = F/(2 b B)` (paper eq 19) and sliding distance
+//! `s = 2 b |v_s| / v_d` (Flodin and Andersson, Wear 207, 1997): `v_s` the sliding speed at the
+//! contact (disc material against a pin that does not turn in its groove, scaled by
+//! `1 - pin_rolling_fraction`), `v_d` the speed of the contact point along the disc flank. The
+//! half-width cancels: `dh = k F |v_s| / (B v_d)`. Forces come from the loaded-contact solution
+//! on the actual (worn) profile at `crank_steps_per_mesh_cycle` crank angles; each pin of each
+//! solve samples `dh` at its actual contact mesh angle, and the samples are interpolated onto the
+//! wear-map grid. Mesh cycles per hour are `60 n_in Zp / i_H` (one per crank revolution relative
+//! to the carrier, physics-notes section 1). The wear rate is recomputed from the worn profile
+//! every `profile_update_hours` (explicit Euler in hours), so wear feeds back into the load
+//! sharing.
+//!
+//! Paper model (`paper`): eqs 11-20 as printed, with Li's closed-form forces (eqs 5, 9, 10) on the
+//! unworn profile, sliding `S = 2 a_H |1 - u1 cos(alpha)/u2|` with `u1 = omega r_i` (`r_i` the
+//! contact radius), `u2 = omega l_i / i_H` read with `i_H = Zp/Zc` as in the profile equations,
+//! `alpha` from eq 1, total distance `X = S n1 t eps_a` (eq 19, input revolutions times the
+//! overlap ratio), `h = k X P` (eq 20); no profile update.
+
+use std::f64::consts::TAU;
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::config::{Model, WearModelKind};
+use crate::contact::{disc_pose, li_load_distribution, solve};
+use crate::error::{Error, Result};
+use crate::geometry::{mesh_angle, rotate, Profile, Vec2, WearMap};
+
+/// Number of wear-map grid points per tooth: `Zp x crank_steps_per_mesh_cycle`.
+pub fn grid_points(model: &Model) -> usize {
+    model.geometry.pins * model.wear_steps
+}
+
+/// Periodic linear interpolation of samples `(angle, value)` (angles in rad, any order) onto
+/// `n` uniform grid points over `[0, 2 pi)`.
+fn resample_periodic(mut samples: Vec<(f64, f64)>, n: usize) -> Vec<f64> {
+    samples.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let m = samples.len();
+    let mut out = vec![0.0; n];
+    let mut i = 0; // samples[i] is the last sample with angle <= grid angle
+    for (g, o) in out.iter_mut().enumerate() {
+        let t = TAU * g as f64 / n as f64;
+        while i + 1 < m && samples[i + 1].0 <= t {
+            i += 1;
+        }
+        let (lo, hi) = if samples[0].0 > t {
+            // before the first sample: wrap from the last
+            let (a, va) = samples[m - 1];
+            ((a - TAU, va), samples[0])
+        } else if i + 1 < m {
+            (samples[i], samples[i + 1])
+        } else {
+            let (b, vb) = samples[0];
+            (samples[m - 1], (b + TAU, vb))
+        };
+        let w = if hi.0 > lo.0 {
+            (t - lo.0) / (hi.0 - lo.0)
+        } else {
+            0.0
+        };
+        *o = lo.1 + w * (hi.1 - lo.1);
+    }
+    out
+}
+
+/// Wear depth per mesh cycle (m) on the wear-map grid, for the output torque `torque` (N m),
+/// on the actual profile `profile` (default model, see the module docs).
+///
+/// # Errors
+/// Propagates contact-solver failures.
+pub fn wear_per_mesh_cycle(profile: &Profile, model: &Model, torque: f64) -> Result<Vec<f64>> {
+    let n = grid_points(model);
+    if torque == 0.0 {
+        return Ok(vec![0.0; n]);
+    }
+    let geo = profile.geometry();
+    let zp = geo.pins as f64;
+    let zc = geo.disc_teeth() as f64;
+    let steps = model.wear_steps;
+    let slide_scale = 1.0 - model.pin_rolling_fraction;
+    let per_step: Vec<Vec<(f64, f64)>> = (0..steps)
+        .into_par_iter()
+        .map(|k| -> Result<Vec<(f64, f64)>> {
+            let phi = TAU * k as f64 / (zp * steps as f64);
+            let sol = solve(profile, &model.contact, phi, model.load_share * torque)?;
+            let (centre, psi) = disc_pose(geo, phi, sol.disc_rotation);
+            let mut out = Vec::with_capacity(sol.pins.len());
+            for p in &sol.pins {
+                if p.force <= 0.0 {
+                    out.push((p.mesh_angle, 0.0));
+                    continue;
+                }
+                let pt = profile.point(p.profile_parameter);
+                // Disc material velocity at the contact per unit crank angle (ground frame):
+                // v = dO/dphi + dpsi/dphi x (x - O), dpsi/dphi = -1/Zc; pins at rest.
+                let r = rotate(&pt.p, psi);
+                let v_centre = Vec2::new(-centre.y, centre.x);
+                let v = v_centre + Vec2::new(-r.y, r.x) * (-1.0 / zc);
+                let tangent = rotate(&(pt.dp / pt.dp.norm()), psi);
+                let v_slide = (v.dot(&tangent) * slide_scale).abs();
+                let v_disc = pt.dp.norm();
+                let dh = model.archard * p.force * v_slide / (geo.width * v_disc);
+                out.push((p.mesh_angle, dh));
+            }
+            Ok(out)
+        })
+        .collect::<Result<_>>()?;
+    let samples: Vec<(f64, f64)> = per_step.into_iter().flatten().collect();
+    Ok(resample_periodic(samples, n))
+}
+
+/// Wear rate (m/h) on the grid for the model's load spectrum on the actual profile.
+///
+/// # Errors
+/// Propagates contact-solver failures.
+pub fn wear_rate(profile: &Profile, model: &Model) -> Result<Vec<f64>> {
+    let n = grid_points(model);
+    let mut rate = vec![0.0; n];
+    for level in &model.spectrum {
+        let per_cycle = match model.wear_model {
+            WearModelKind::Flodin => wear_per_mesh_cycle(profile, model, level.torque)?,
+            WearModelKind::Paper => paper_wear_per_input_rev(profile, model, level.torque)?,
+        };
+        let cycles = match model.wear_model {
+            WearModelKind::Flodin => model.mesh_cycles_per_hour(level.speed_rpm),
+            // Eq 19: X = S n1 t eps_a, n1 the input speed.
+            WearModelKind::Paper => 60.0 * level.speed_rpm * model.overlap_ratio,
+        };
+        for (r, d) in rate.iter_mut().zip(&per_cycle) {
+            *r += level.fraction * cycles * d;
+        }
+    }
+    Ok(rate)
+}
+
+/// The paper's wear per input revolution and unit overlap (eqs 11-20 as printed), m, on the grid.
+fn paper_wear_per_input_rev(profile: &Profile, model: &Model, torque: f64) -> Result<Vec<f64>> {
+    let n = grid_points(model);
+    if torque == 0.0 {
+        return Ok(vec![0.0; n]);
+    }
+    let geo = profile.geometry();
+    let zp = geo.pins as f64;
+    let zc = geo.disc_teeth() as f64;
+    let k1 = geo.k1();
+    let steps = model.wear_steps;
+    let mut samples = Vec::with_capacity(n);
+    for k in 0..steps {
+        let phi = TAU * k as f64 / (zp * steps as f64);
+        let forces = li_load_distribution(geo, phi, model.load_share * torque);
+        for (j, &f) in forces.iter().enumerate() {
+            let t = mesh_angle(TAU * j as f64 / zp - phi);
+            if f == 0.0 {
+                samples.push((t, 0.0));
+                continue;
+            }
+            let f = f.abs();
+            let sq = (1.0 + k1 * k1 - 2.0 * k1 * t.cos()).sqrt();
+            let lever = (geo.disc_pitch_radius() * t.sin() / sq).abs();
+            let pt = profile.point(t);
+            let r_i = pt.p.norm();
+            // Eq 1: contact force angle.
+            let alpha = (k1 * t.sin()).atan2(1.0 - k1 * t.cos()).abs();
+            let ratio = r_i * alpha.cos() * (zp / zc) / lever;
+            let hz = model.contact.hertz(f, pt.curvature);
+            let s = 2.0 * hz.half_width * (1.0 - ratio).abs();
+            samples.push((t, model.archard * s * hz.mean_pressure));
+        }
+    }
+    Ok(resample_periodic(samples, n))
+}
+
+/// Wear maps at the model's stages.
+#[derive(Debug, Clone, Serialize)]
+pub struct WearHistory {
+    /// Stage working hours, h.
+    pub hours: Vec<f64>,
+    /// Wear depth on the grid at each stage, m (`maps[s][m]` at mesh angle `2 pi m / n`).
+    pub maps: Vec<Vec<f64>>,
+    /// Number of wear-rate evaluations (profile updates + 1).
+    pub rate_evaluations: usize,
+}
+
+impl WearHistory {
+    /// Mesh angles of the grid, rad.
+    pub fn angles(&self) -> Vec<f64> {
+        let n = self.maps.first().map_or(0, Vec::len);
+        (0..n).map(|m| TAU * m as f64 / n as f64).collect()
+    }
+    /// Maximum wear depth at each stage, m.
+    pub fn max_depths(&self) -> Vec<f64> {
+        self.maps
+            .iter()
+            .map(|m| m.iter().copied().fold(0.0, f64::max))
+            .collect()
+    }
+}
+
+/// Integrates Archard wear over the working hours with profile updates (see module docs).
+/// `progress(done, total)` is called after each wear-rate evaluation.
+///
+/// # Errors
+/// Propagates solver failures; [`Error::Invalid`] if the wear grows so deep that the worn
+/// profile folds over itself.
+pub fn integrate(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<WearHistory> {
+    let n = grid_points(model);
+    let last = *model.stage_hours.last().expect("validated: at least one stage");
+    let step = if model.wear_model == WearModelKind::Paper || model.update_hours <= 0.0 {
+        f64::INFINITY
+    } else {
+        model.update_hours
+    };
+    let total = if step.is_finite() {
+        (last / step).ceil().max(1.0) as usize
+    } else {
+        1
+    };
+    let stages = &model.stage_hours;
+    let eps = 1e-9;
+    let mut h = vec![0.0; n];
+    let mut t = 0.0;
+    let mut maps = Vec::with_capacity(stages.len());
+    let mut evaluations = 0;
+    let mut si = 0;
+    while si < stages.len() {
+        if stages[si] <= t + eps {
+            maps.push(h.clone());
+            si += 1;
+            continue;
+        }
+        // Rate from the current worn profile, held until the next update.
+        let wear = if h.iter().any(|&x| x > 0.0) {
+            Some(WearMap::new(h.clone())?)
+        } else {
+            None
+        };
+        let rate = wear_rate(&model.profile(wear)?, model)?;
+        evaluations += 1;
+        progress(evaluations.min(total), total);
+        let seg_end = if step.is_finite() {
+            (((t / step + eps).floor() + 1.0) * step).min(last)
+        } else {
+            last
+        };
+        let advance = |h: &mut Vec<f64>, to: f64, t: &mut f64| {
+            for (x, r) in h.iter_mut().zip(&rate) {
+                *x += r * (to - *t);
+            }
+            *t = to;
+        };
+        while si < stages.len() && stages[si] <= seg_end + eps {
+            advance(&mut h, stages[si], &mut t);
+            maps.push(h.clone());
+            si += 1;
+        }
+        if t < seg_end - eps {
+            advance(&mut h, seg_end, &mut t);
+        }
+        if h.iter().any(|x| !x.is_finite()) {
+            return Err(Error::numerical("wear integration", "non-finite wear depth"));
+        }
+    }
+    Ok(WearHistory {
+        hours: model.stage_hours.clone(),
+        maps,
+        rate_evaluations: evaluations,
+    })
+}
+
+/// Finds the Archard coefficient (m^2/N) that makes the maximum wear at the last stage equal
+/// `target_depth` (m), by fixed-point iteration `k <- k target / h_max(k)` (wear depth is
+/// proportional to `k` without profile updates and nearly so with them). Returns the coefficient
+/// and the achieved maximum depth.
+///
+/// # Errors
+/// [`Error::Invalid`] if the target is not positive or the model gives no wear.
+pub fn calibrate(model: &Model, target_depth: f64) -> Result<(f64, f64)> {
+    if !(target_depth.is_finite() && target_depth > 0.0) {
+        return Err(Error::invalid(
+            "--target-wear-um",
+            target_depth * 1e6,
+            "must be a finite number > 0",
+        ));
+    }
+    let mut m = model.clone();
+    let mut achieved = 0.0;
+    for _ in 0..30 {
+        let hist = integrate(&m, &|_, _| {})?;
+        achieved = *hist.max_depths().last().unwrap_or(&0.0);
+        if achieved <= 0.0 {
+            return Err(Error::invalid(
+                "load",
+                "zero",
+                "the load spectrum produces no wear; nothing to calibrate",
+            ));
+        }
+        let ratio = target_depth / achieved;
+        if (ratio - 1.0).abs() < 1e-6 {
+            break;
+        }
+        m.archard *= ratio;
+    }
+    Ok((m.archard, achieved))
+}
