@@ -188,6 +188,10 @@ pub struct WearConfig {
     /// Profile update step, h (0: wear rate from the new profile only).
     #[serde(default)]
     pub profile_update_hours: f64,
+    /// Largest wear increment between profile updates, um: the update step is shortened so that
+    /// no point wears more than this between two rebuilds of the load sharing.
+    #[serde(default = "default_max_step")]
+    pub max_wear_step_um: f64,
     /// Crank angles solved per mesh cycle (wear map resolution = pins x this).
     #[serde(default = "default_steps")]
     pub crank_steps_per_mesh_cycle: i64,
@@ -202,6 +206,9 @@ pub struct WearConfig {
 
 fn default_wear_model() -> String {
     "flodin".into()
+}
+fn default_max_step() -> f64 {
+    0.5
 }
 fn default_steps() -> i64 {
     18
@@ -284,6 +291,8 @@ pub struct Model {
     pub stage_hours: Vec<f64>,
     /// Profile update step, h (0 = off).
     pub update_hours: f64,
+    /// Largest wear increment between updates, m.
+    pub max_wear_step: f64,
     /// Crank steps per mesh cycle for wear.
     pub wear_steps: usize,
     /// Pin rolling fraction.
@@ -546,6 +555,13 @@ impl Config {
                 "would need more than 100000 profile updates; use a larger step",
             ));
         }
+        let max_wear_step = in_range(
+            "wear.max_wear_step_um",
+            w.max_wear_step_um,
+            0.01,
+            1000.0,
+            "must be in [0.01, 1000] um",
+        )? * 1e-6;
         let wear_steps = count(
             "wear.crank_steps_per_mesh_cycle",
             w.crank_steps_per_mesh_cycle,
@@ -578,6 +594,7 @@ impl Config {
             archard,
             stage_hours: w.stage_hours.clone(),
             update_hours,
+            max_wear_step,
             wear_steps,
             pin_rolling_fraction,
             overlap_ratio,

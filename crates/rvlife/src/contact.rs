@@ -236,7 +236,8 @@ pub struct PinGeometry {
     pub point: Vec2,
     /// Outward unit normal of the flank at the contact point (disc frame).
     pub normal: Vec2,
-    /// Flank curvature at the contact point, 1/m (negative: concave).
+    /// Flank curvature at the contact point for the contact law, 1/m (negative: concave): that
+    /// of the modified profile ([`Profile::macro_curvature`]).
     pub curvature: f64,
 }
 
@@ -279,7 +280,7 @@ pub fn pin_geometry(
         lever_arm: cross(&pt.p, &pt.normal),
         point: pt.p,
         normal: pt.normal,
-        curvature: pt.curvature,
+        curvature: profile.macro_curvature(pt.t),
     })
 }
 
@@ -458,32 +459,98 @@ impl ContactSolution {
     }
 }
 
-struct Residual<'a> {
-    profile: &'a Profile,
-    model: &'a ContactModel,
+/// Moment `sum F_j l_j` (N m) and its derivative `sum k_j l_j^2` (N m/rad) over the pins in
+/// `active` at rotation `beta`.
+fn moment_and_stiffness(
+    profile: &Profile,
+    model: &ContactModel,
     phi: f64,
-    torque: f64,
-    active: &'a [usize],
+    beta: f64,
+    active: &[usize],
+) -> Result<(f64, f64)> {
+    let mut m = 0.0;
+    let mut k = 0.0;
+    for &j in active {
+        let g = pin_geometry(profile, j, phi, beta)?;
+        let (f, kj) = model.force(-g.gap, g.curvature)?;
+        m += f * g.lever_arm;
+        k += kj * g.lever_arm * g.lever_arm;
+    }
+    Ok((m, k))
 }
 
-impl Residual<'_> {
-    fn moment(&self, beta: f64) -> Result<f64> {
-        let mut sum = 0.0;
-        for &j in self.active {
-            let g = pin_geometry(self.profile, j, self.phi, beta)?;
-            let (f, _) = self.model.force(-g.gap, g.curvature)?;
-            sum += f * g.lever_arm;
+/// The rotation that balances `disc_torque`: safeguarded Newton on `R(beta) = sum F_j l_j - T`
+/// with the tangent stiffness `sum k_j l_j^2`, bisecting whenever a step leaves the bracket;
+/// Brent's method (argmin) if that has not converged in 60 steps.
+fn equilibrium(
+    profile: &Profile,
+    model: &ContactModel,
+    phi: f64,
+    disc_torque: f64,
+    beta0: f64,
+    geoms0: &[PinGeometry],
+) -> Result<f64> {
+    let s = disc_torque.signum();
+    // Pins that can touch within 2e-3 rad of rotation (far beyond any elastic take-up).
+    let active: Vec<usize> = geoms0
+        .iter()
+        .filter(|g| g.gap - s * g.lever_arm * 2e-3 < 0.0)
+        .map(|g| g.pin)
+        .collect();
+    let r = |b: f64| -> Result<(f64, f64)> {
+        let (m, k) = moment_and_stiffness(profile, model, phi, b, &active)?;
+        Ok((s * (m - disc_torque), k))
+    };
+    // In the signed variable x = s (beta - beta0) >= 0 the residual rises from -|T|.
+    let tol = 1e-11 * disc_torque.abs();
+    let mut lo = 0.0;
+    let mut hi = f64::INFINITY;
+    let mut x = 2e-5;
+    for _ in 0..60 {
+        let (res, k) = r(beta0 + s * x)?;
+        if res.abs() <= tol {
+            return Ok(beta0 + s * x);
         }
-        Ok(sum)
+        if res > 0.0 {
+            hi = x;
+        } else {
+            lo = x;
+        }
+        let newton = x - res / k.max(1e-300);
+        let next = if k > 0.0 && newton > lo && newton < hi.min(4.0 * x) {
+            newton
+        } else if hi.is_finite() {
+            0.5 * (lo + hi)
+        } else {
+            2.0 * x
+        };
+        if (next - x).abs() <= 1e-15 * (1.0 + x.abs()) {
+            return Ok(beta0 + s * next);
+        }
+        x = next;
     }
-}
-
-impl CostFunction for Residual<'_> {
-    type Param = f64;
-    type Output = f64;
-    fn cost(&self, beta: &f64) -> std::result::Result<f64, argmin::core::Error> {
-        Ok(self.moment(*beta)? - self.torque)
+    if !hi.is_finite() {
+        return Err(Error::numerical("loaded contact", "could not bracket the rotation"));
     }
+    struct Res<'a>(&'a dyn Fn(f64) -> Result<(f64, f64)>);
+    impl CostFunction for Res<'_> {
+        type Param = f64;
+        type Output = f64;
+        fn cost(&self, x: &f64) -> std::result::Result<f64, argmin::core::Error> {
+            Ok((self.0)(*x)?.0)
+        }
+    }
+    let f = |x: f64| r(beta0 + s * x);
+    let result = Executor::new(Res(&f), BrentRoot::new(lo, hi, 1e-15))
+        .configure(|st| st.max_iters(200))
+        .timer(false)
+        .run()
+        .map_err(|e| Error::numerical("loaded contact", e.to_string()))?;
+    let x = result
+        .state
+        .best_param
+        .ok_or_else(|| Error::numerical("loaded contact", "Brent returned no rotation"))?;
+    Ok(beta0 + s * x)
 }
 
 /// Solves the loaded tooth contact of one disc at crank angle `phi` (rad) under the disc torque
@@ -516,64 +583,7 @@ pub fn solve(
     let beta = if disc_torque == 0.0 {
         beta0
     } else {
-        // Bracket: grow the rotation until the pins carry more than the torque.
-        let all: Vec<usize> = (0..zp).collect();
-        let res_all = Residual {
-            profile,
-            model,
-            phi,
-            torque: disc_torque,
-            active: &all,
-        };
-        let mut step = 1e-5;
-        let mut hi = beta0 + s * step;
-        let mut it = 0;
-        while s * (res_all.moment(hi)? - disc_torque) <= 0.0 {
-            step *= 2.0;
-            hi = beta0 + s * step;
-            it += 1;
-            if it > 40 {
-                return Err(Error::numerical("loaded contact", "could not bracket the rotation"));
-            }
-        }
-        // Pins that can touch within the bracket.
-        let reach = (hi - beta0).abs();
-        let active: Vec<usize> = geoms0
-            .iter()
-            .filter(|g| g.gap - g.lever_arm.abs() * reach * 1.5 < 1e-9)
-            .map(|g| g.pin)
-            .collect();
-        let res = Residual {
-            profile,
-            model,
-            phi,
-            torque: disc_torque,
-            active: &active,
-        };
-        // The active set must bracket too; otherwise keep every pin.
-        let use_all = s * (res.moment(hi)? - disc_torque) <= 0.0
-            || s * (res.moment(beta0)? - disc_torque) >= 0.0;
-        let res = if use_all { res_all } else { res };
-        if s * (res.moment(beta0)? - disc_torque) >= 0.0 {
-            return Err(Error::numerical(
-                "loaded contact",
-                format!(
-                    "pins already carry the torque at first contact (crank {phi} rad, \
-                     first contact {beta0} rad)"
-                ),
-            ));
-        }
-        let (lo, hi) = if s > 0.0 { (beta0, hi) } else { (hi, beta0) };
-        let solver = BrentRoot::new(lo, hi, 1e-14);
-        let result = Executor::new(res, solver)
-            .configure(|st| st.max_iters(200))
-            .timer(false)
-            .run()
-            .map_err(|e| Error::numerical("loaded contact", format!("{e} [phi {phi}, bracket {lo}..{hi}]")))?;
-        result
-            .state
-            .best_param
-            .ok_or_else(|| Error::numerical("loaded contact", "Brent returned no rotation"))?
+        equilibrium(profile, model, phi, disc_torque, beta0, &geoms0)?
     };
     let geoms = pin_geometries(profile, phi, beta)?;
     let mut pins = Vec::with_capacity(zp);

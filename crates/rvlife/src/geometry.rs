@@ -266,6 +266,9 @@ pub struct Profile {
     r_mod: f64,
     alpha: f64,
     beta: f64,
+    /// Mesh-angle intervals (rad, within one tooth) where the worn flank is concave with a radius
+    /// below 1.02 pin radii: only there can a pin meet the flank at two points.
+    dents: Vec<(f64, f64)>,
 }
 
 impl Profile {
@@ -321,8 +324,11 @@ impl Profile {
             r_mod,
             alpha: 1.0 - zp / zc,
             beta: zp / zc,
+            dents: Vec::new(),
         };
+        let mut profile = profile;
         profile.check_undercut()?;
+        profile.dents = profile.find_dents();
         Ok(profile)
     }
 
@@ -422,6 +428,15 @@ impl Profile {
         }
     }
 
+    /// Curvature (1/m, positive convex) of the modified profile without wear at parameter `t`:
+    /// the macro-geometry that sets the Hertz contact. Wear changes depths by microns over
+    /// millimetres of flank; the curvature of the wear map itself is grid-scale roughness finer
+    /// than the contact band and is left out of the contact law.
+    pub fn macro_curvature(&self, t: f64) -> f64 {
+        let (_, dp, ddp) = self.closed_form(t, self.r_mod);
+        -cross(&dp, &ddp) / dp.norm().powi(3)
+    }
+
     /// Closest point of the profile to `q` (disc frame, m), searched by Newton's method from
     /// parameter `t0`, which must lie within about a quarter tooth of the answer.
     ///
@@ -449,17 +464,47 @@ impl Profile {
         Ok(Projection { point, distance })
     }
 
+    fn find_dents(&self) -> Vec<(f64, f64)> {
+        let Some(w) = &self.wear else {
+            return Vec::new();
+        };
+        let n = 8 * w.depths().len();
+        let limit = -1.0 / (1.02 * self.geo.pin_radius);
+        let dt = TAU / n as f64;
+        let mut out: Vec<(f64, f64)> = Vec::new();
+        for i in 0..n {
+            let t = i as f64 * dt;
+            if self.point(t).curvature < limit {
+                let (lo, hi) = (t - dt, t + dt);
+                match out.last_mut() {
+                    Some(last) if last.1 >= lo => last.1 = hi,
+                    _ => out.push((lo, hi)),
+                }
+            }
+        }
+        out
+    }
+
+    /// True if the mesh-angle window `[t - w, t + w]` meets a dent zone.
+    fn near_dent(&self, t: f64, w: f64) -> bool {
+        let m = mesh_angle(t);
+        self.dents.iter().any(|&(lo, hi)| {
+            [-TAU, 0.0, TAU]
+                .iter()
+                .any(|off| m + w >= lo + off && m - w <= hi + off)
+        })
+    }
+
     /// A worn flank can be concave with a radius below the pin's (a wear dent the pin cannot
     /// enter); the distance from `q` then has several local minima. Where the foot found at `t`
-    /// lies on a concave stretch, scan +-0.3 rad around it and keep the nearest foot.
+    /// is near such a stretch, scan +-0.3 rad around it and keep the nearest foot.
     fn global_foot(&self, q: &Vec2, t: f64) -> Result<f64> {
-        let pt = self.point(t);
-        if pt.curvature > -0.5 / self.geo.pin_radius {
+        if !self.near_dent(t, 0.3) {
             return Ok(t);
         }
         let dist2 = |t: f64| (self.eval_d1(t).0 - q).norm_squared();
         let mut best = (dist2(t), t);
-        let n = 60;
+        let n = 30;
         let mut candidates = Vec::new();
         let samples: Vec<(f64, f64)> = (0..=n)
             .map(|i| {
