@@ -208,7 +208,7 @@ fn default_wear_model() -> String {
     "flodin".into()
 }
 fn default_max_step() -> f64 {
-    0.5
+    1.0
 }
 fn default_steps() -> i64 {
     18

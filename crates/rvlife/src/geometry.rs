@@ -228,6 +228,32 @@ impl WearMap {
             / dt;
         (h, dh)
     }
+
+    /// Second derivative `d2h/dt2` (m/rad^2) of the interpolant at `t` (piecewise linear).
+    pub fn second_derivative(&self, t: f64) -> f64 {
+        let n = self.depth.len();
+        let dt = TAU / n as f64;
+        let s = t.rem_euclid(TAU) / dt;
+        let i = (s.floor() as usize).min(n - 1);
+        let u = s - i as f64;
+        let p = |k: isize| self.depth[(i as isize + k).rem_euclid(n as isize) as usize];
+        let (p0, p1, p2, p3) = (p(-1), p(0), p(1), p(2));
+        let slope = |a: f64, b: f64| {
+            if a * b <= 0.0 {
+                0.0
+            } else {
+                2.0 * a * b / (a + b)
+            }
+        };
+        let (d0, d1, d2) = (p1 - p0, p2 - p1, p3 - p2);
+        let m1 = slope(d0, d1);
+        let m2 = slope(d1, d2);
+        ((12.0 * u - 6.0) * p1
+            + (6.0 * u - 4.0) * m1
+            + (-12.0 * u + 6.0) * p2
+            + (6.0 * u - 2.0) * m2)
+            / (dt * dt)
+    }
 }
 
 /// One evaluated point of a profile, in the disc frame.
@@ -267,7 +293,8 @@ pub struct Profile {
     alpha: f64,
     beta: f64,
     /// Mesh-angle intervals (rad, within one tooth) where the worn flank is concave with a radius
-    /// below 1.02 pin radii: only there can a pin meet the flank at two points.
+    /// below 1.02 pin radii and deeper than the pin can reach by more than 1 nm: only there can a
+    /// pin meet the flank at two points.
     dents: Vec<(f64, f64)>,
 }
 
@@ -401,7 +428,11 @@ impl Profile {
                 // Worn point moved inward by h along the normal; dn/dt = k dp/dt.
                 let pw = p - normal * h;
                 let dpw = dp * (1.0 - h * k) - normal * dh;
-                (pw, dpw, ddp * (1.0 - h * k))
+                // d2/dt2 of p - h n with dn/dt = k dp/dt; the dk/dt term (h k' ~ 1e-2 |dp|) is
+                // dropped: this derivative only steers Newton steps.
+                let ddh = w.second_derivative(t);
+                let ddpw = ddp * (1.0 - h * k) - dp * (2.0 * dh * k) - normal * ddh;
+                (pw, dpw, ddpw)
             }
         }
     }
@@ -417,6 +448,21 @@ impl Profile {
         } else {
             ddp_exact
         };
+        let speed = dp.norm();
+        let tangent = dp / speed;
+        ProfilePoint {
+            t,
+            p,
+            dp,
+            normal: Vec2::new(-tangent.y, tangent.x),
+            curvature: -cross(&dp, &ddp) / speed.powi(3),
+        }
+    }
+
+    /// Like [`Profile::point`] but, for a worn profile, with the curvature of the modified
+    /// profile scaled for the offset (`k / (1 - h k)`), which skips the finite difference.
+    fn point_approx(&self, t: f64) -> ProfilePoint {
+        let (p, dp, ddp) = self.eval_d1(t);
         let speed = dp.norm();
         let tangent = dp / speed;
         ProfilePoint {
@@ -455,7 +501,7 @@ impl Profile {
         if self.wear.is_some() {
             t = self.global_foot(&ql, t)?;
         }
-        let mut point = self.point(t);
+        let mut point = self.point_approx(t);
         let distance = (ql - point.p).dot(&point.normal);
         point.t = t + TAU * k;
         point.p = rotate(&point.p, -turn);
@@ -482,7 +528,33 @@ impl Profile {
                 }
             }
         }
+        // Keep only dents deeper than 1 nm beyond what the pin can reach: shallower ones change
+        // a gap by less than a nanometre, far below any contact approach.
+        let r = self.geo.pin_radius;
+        out.retain(|&(lo, hi)| {
+            let (a, b) = (self.eval_d1(lo).0, self.eval_d1(hi).0);
+            let chord = b - a;
+            let c = chord.norm();
+            if c == 0.0 || c >= 2.0 * r {
+                return true;
+            }
+            let dir = chord / c;
+            let depth = (0..=16)
+                .map(|i| {
+                    let p = self.eval_d1(lo + (hi - lo) * i as f64 / 16.0).0;
+                    cross(&dir, &(p - a)).abs()
+                })
+                .fold(0.0, f64::max);
+            let pin_sagitta = r - (r * r - 0.25 * c * c).sqrt();
+            depth - pin_sagitta > 1e-9
+        });
         out
+    }
+
+    /// Mesh-angle intervals (rad) where the worn flank is concave with a radius below 1.02 pin
+    /// radii (wear dents a pin cannot enter), where closest points are searched globally.
+    pub fn dent_zones(&self) -> &[(f64, f64)] {
+        &self.dents
     }
 
     /// True if the mesh-angle window `[t - w, t + w]` meets a dent zone.
@@ -497,18 +569,20 @@ impl Profile {
 
     /// A worn flank can be concave with a radius below the pin's (a wear dent the pin cannot
     /// enter); the distance from `q` then has several local minima. Where the foot found at `t`
-    /// is near such a stretch, scan +-0.3 rad around it and keep the nearest foot.
+    /// is near such a stretch, scan +-0.06 rad (about 3.4 degrees of mesh angle, several wear
+    /// grid cells) around it and keep the nearest foot.
     fn global_foot(&self, q: &Vec2, t: f64) -> Result<f64> {
-        if !self.near_dent(t, 0.3) {
+        const WINDOW: f64 = 0.06;
+        if !self.near_dent(t, WINDOW) {
             return Ok(t);
         }
         let dist2 = |t: f64| (self.eval_d1(t).0 - q).norm_squared();
         let mut best = (dist2(t), t);
-        let n = 30;
+        let n = 16;
         let mut candidates = Vec::new();
         let samples: Vec<(f64, f64)> = (0..=n)
             .map(|i| {
-                let ti = t - 0.3 + 0.6 * i as f64 / n as f64;
+                let ti = t - WINDOW + 2.0 * WINDOW * i as f64 / n as f64;
                 (ti, dist2(ti))
             })
             .collect();

@@ -221,12 +221,67 @@ fn paper_wear_per_input_rev(profile: &Profile, model: &Model, torque: f64) -> Re
     Ok(resample_periodic(samples, n))
 }
 
+/// Filters a wear map at the scale of the Hertz band. The flank a pin meets is the worn flank
+/// averaged over the contact band: waviness shorter than the band (grid-scale noise of the
+/// sampled wear) is flattened elastically and does not steer the load, and left in the geometry
+/// it feeds back into the load sharing and grows. Each node becomes the semi-elliptic average
+/// over `+-b` of arc length, `b` the Hertz half-width of Li's peak force at the loaded-TE torque
+/// on the unworn flank there.
+struct BandSmoother {
+    /// For every node: (neighbour index, weight), weights summing to 1.
+    weights: Vec<Vec<(usize, f64)>>,
+}
+
+impl BandSmoother {
+    fn new(model: &Model) -> Result<Self> {
+        let n = grid_points(model);
+        let profile = model.profile(None)?;
+        let geo = &model.geometry;
+        let f_peak = 4.0 * model.load_share * model.loaded_torque.abs().max(1e-9)
+            / (geo.eccentricity * (geo.disc_teeth() * geo.pins) as f64);
+        let dt = TAU / n as f64;
+        let pts: Vec<_> = (0..n).map(|m| profile.point(m as f64 * dt)).collect();
+        let ds: Vec<f64> = pts.iter().map(|p| p.dp.norm() * dt).collect();
+        let weights = (0..n)
+            .map(|m| {
+                let b = model.contact.hertz(f_peak, pts[m].curvature).half_width;
+                let mut w = vec![(m, ds[m])];
+                for dir in [-1isize, 1] {
+                    let mut dist = 0.0;
+                    let mut k = m as isize;
+                    loop {
+                        let next = (k + dir).rem_euclid(n as isize);
+                        dist += 0.5 * (ds[k as usize] + ds[next as usize]);
+                        if dist >= b || w.len() >= n {
+                            break;
+                        }
+                        let x = dist / b;
+                        w.push((next as usize, (1.0 - x * x).sqrt() * ds[next as usize]));
+                        k = next;
+                    }
+                }
+                let total: f64 = w.iter().map(|x| x.1).sum();
+                w.iter().map(|&(i, x)| (i, x / total)).collect()
+            })
+            .collect();
+        Ok(BandSmoother { weights })
+    }
+
+    fn apply(&self, h: &[f64]) -> Vec<f64> {
+        self.weights
+            .iter()
+            .map(|w| w.iter().map(|&(i, x)| x * h[i]).sum())
+            .collect()
+    }
+}
+
 /// Wear maps at the model's stages.
 #[derive(Debug, Clone, Serialize)]
 pub struct WearHistory {
     /// Stage working hours, h.
     pub hours: Vec<f64>,
-    /// Wear depth on the grid at each stage, m (`maps[s][m]` at mesh angle `2 pi m / n`).
+    /// Wear depth on the grid at each stage, m (`maps[s][m]` at mesh angle `2 pi m / n`),
+    /// filtered at the Hertz band scale (the flank the pins meet).
     pub maps: Vec<Vec<f64>>,
     /// Number of wear-rate evaluations (profile updates + 1).
     pub rate_evaluations: usize,
@@ -269,6 +324,7 @@ pub fn integrate(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
     let total = total.max(1);
     let stages = &model.stage_hours;
     let eps = 1e-9;
+    let smoother = BandSmoother::new(model)?;
     let mut h = vec![0.0; n];
     let mut t = 0.0;
     let mut maps = Vec::with_capacity(stages.len());
@@ -276,13 +332,13 @@ pub fn integrate(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
     let mut si = 0;
     while si < stages.len() {
         if stages[si] <= t + eps {
-            maps.push(h.clone());
+            maps.push(smoother.apply(&h));
             si += 1;
             continue;
         }
         // Rate from the current worn profile, held until the next update.
         let wear = if h.iter().any(|&x| x > 0.0) {
-            Some(WearMap::new(h.clone())?)
+            Some(WearMap::new(smoother.apply(&h))?)
         } else {
             None
         };
@@ -308,7 +364,7 @@ pub fn integrate(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
         };
         while si < stages.len() && stages[si] <= seg_end + eps {
             advance(&mut h, stages[si], &mut t);
-            maps.push(h.clone());
+            maps.push(smoother.apply(&h));
             si += 1;
         }
         if t < seg_end - eps {
