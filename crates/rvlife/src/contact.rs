@@ -319,18 +319,23 @@ pub fn first_contact(profile: &Profile, phi: f64, direction: f64) -> Result<f64>
         .ok_or_else(|| Error::numerical("first contact", "no pin on the driving flank"))?;
     // Candidates: pins whose linear estimate is near the minimum; each is solved exactly for
     // its own touching rotation (Newton on gap_j(beta) = 0, d gap_j / d beta = -l_j).
-    let margin = 0.25 * beta.abs() + 1e-6;
     let mut best = f64::INFINITY;
-    for (j, g0) in geoms.iter().enumerate() {
-        if s * g0.lever_arm <= lmin {
-            continue;
+    // Near candidates first; if none of them can be solved, every driving pin.
+    for margin in [0.25 * beta.abs() + 1e-6, f64::INFINITY] {
+        for (j, g0) in geoms.iter().enumerate() {
+            if s * g0.lever_arm <= lmin {
+                continue;
+            }
+            let est = g0.gap / g0.lever_arm;
+            if s * (est - beta) > margin {
+                continue;
+            }
+            if let Some(b) = touching_rotation(profile, j, phi, est, s)? {
+                best = best.min(s * b);
+            }
         }
-        let est = g0.gap / g0.lever_arm;
-        if s * (est - beta) > margin {
-            continue;
-        }
-        if let Some(b) = touching_rotation(profile, j, phi, est, s)? {
-            best = best.min(s * b);
+        if best.is_finite() {
+            break;
         }
     }
     beta = s * best;

@@ -498,11 +498,17 @@ impl Profile {
             Some(t) => t,
             None => self.bracketed_foot(&ql, tl)?,
         };
-        if self.wear.is_some() {
-            t = self.global_foot(&ql, t)?;
-        }
         let mut point = self.point_approx(t);
-        let distance = (ql - point.p).dot(&point.normal);
+        let mut distance = (ql - point.p).dot(&point.normal);
+        // A dent can only matter for a pin within a dent depth of touching: scan near contact.
+        if !self.dents.is_empty() && (distance - self.geo.pin_radius).abs() < 2e-6 {
+            let tg = self.global_foot(&ql, t)?;
+            if tg != t {
+                t = tg;
+                point = self.point_approx(t);
+                distance = (ql - point.p).dot(&point.normal);
+            }
+        }
         point.t = t + TAU * k;
         point.p = rotate(&point.p, -turn);
         point.dp = rotate(&point.dp, -turn);
@@ -568,7 +574,8 @@ impl Profile {
     }
 
     /// A worn flank can be concave with a radius below the pin's (a wear dent the pin cannot
-    /// enter); the distance from `q` then has several local minima. Where the foot found at `t`
+    /// enter); the distance from `q` then has several local minima, differing by less than the
+    /// dent depth, so only pins within 2 um of touching are checked. Where the foot found at `t`
     /// is near such a stretch, scan +-0.06 rad (about 3.4 degrees of mesh angle, several wear
     /// grid cells) around it and keep the nearest foot.
     fn global_foot(&self, q: &Vec2, t: f64) -> Result<f64> {
@@ -604,68 +611,78 @@ impl Profile {
         Ok(best.1)
     }
 
-    /// `d/dt |p(t) - q|^2 / 2`.
-    fn foot_residual(&self, q: &Vec2, t: f64) -> f64 {
-        let (p, dp, _) = self.eval_d1(t);
-        (p - q).dot(&dp)
-    }
-
-    /// Newton's method for the foot of the normal from `q`; `None` if it does not settle in
-    /// 25 steps (it can cycle at the tooth root, where the pin-centre path turns sharply).
+    /// Newton's method for the foot of the normal from `q`, with gradient steps where the
+    /// distance is not convex (a pin near the centre of a concave root); `None` if it does not
+    /// settle in 30 steps.
+    ///
     fn newton_foot(&self, q: &Vec2, t0: f64) -> Option<f64> {
+        // Converged when the step is below 1e-10 rad: the foot moves by ~1e-13 m along the
+        // flank and the distance by (1e-13 m)^2 / rho, nothing. The wear map's second derivative
+        // jumps at its nodes, where Newton can settle into a tiny two-cycle: accept that too.
         let mut t = t0;
-        for _ in 0..25 {
+        let mut last = f64::INFINITY;
+        for _ in 0..30 {
             let (p, dp, ddp) = self.eval_d1(t);
             let d = p - q;
             let f = d.dot(&dp);
-            let fp = dp.norm_squared() + d.dot(&ddp);
-            if fp <= 1e-6 * dp.norm_squared() {
-                return None;
+            let g = dp.norm_squared();
+            let mut fp = g + d.dot(&ddp);
+            if fp <= 1e-6 * g {
+                fp = g;
             }
             let step = f / fp;
             if step.abs() > 0.3 {
                 return None;
             }
             t -= step;
-            if step.abs() < 1e-12 {
+            last = step.abs();
+            if last < 1e-10 {
                 return Some(t);
             }
         }
-        None
+        (last < 1e-8).then_some(t)
     }
 
-    /// Robust fallback: bracket the sign change of the foot residual around `t0` and solve it
-    /// with Brent's method (argmin `BrentRoot`).
+    /// Robust fallback: the nearest of 25 samples over +-0.1 rad around `t0`, refined by
+    /// golden-section search (argmin `GoldenSectionSearch`) on the distance between its
+    /// neighbours.
     fn bracketed_foot(&self, q: &Vec2, t0: f64) -> Result<f64> {
         use argmin::core::{CostFunction, Executor};
-        use argmin::solver::brent::BrentRoot;
-        struct Foot<'a>(&'a Profile, Vec2);
-        impl CostFunction for Foot<'_> {
+        use argmin::solver::goldensectionsearch::GoldenSectionSearch;
+        struct Dist<'a>(&'a Profile, Vec2);
+        impl CostFunction for Dist<'_> {
             type Param = f64;
             type Output = f64;
             fn cost(&self, t: &f64) -> std::result::Result<f64, argmin::core::Error> {
-                Ok(self.0.foot_residual(&self.1, *t))
+                Ok((self.0.eval_d1(*t).0 - self.1).norm_squared())
             }
         }
-        let mut w = 0.02;
-        while w < PI {
-            let (lo, hi) = (t0 - w, t0 + w);
-            if self.foot_residual(q, lo) < 0.0 && self.foot_residual(q, hi) > 0.0 {
-                let res = Executor::new(Foot(self, *q), BrentRoot::new(lo, hi, 1e-13))
-                    .configure(|s| s.max_iters(200))
-                    .timer(false)
-                    .run()
-                    .map_err(|e| Error::numerical("profile projection", e.to_string()))?;
-                return res.state.best_param.ok_or_else(|| {
-                    Error::numerical("profile projection", "Brent returned no parameter")
-                });
+        let (w, n) = (0.1, 24);
+        let h = 2.0 * w / n as f64;
+        let best = (0..=n)
+            .map(|i| t0 - w + h * i as f64)
+            .min_by(|a, b| {
+                let da = (self.eval_d1(*a).0 - q).norm_squared();
+                let db = (self.eval_d1(*b).0 - q).norm_squared();
+                da.total_cmp(&db)
+            })
+            .unwrap_or(t0);
+        if let Some(t) = self.newton_foot(q, best) {
+            if (t - best).abs() <= h {
+                return Ok(t);
             }
-            w *= 1.6;
         }
-        Err(Error::numerical(
-            "profile projection",
-            format!("no closest point near t0 = {t0} for point ({}, {})", q.x, q.y),
-        ))
+        let solver = GoldenSectionSearch::new(best - h, best + h)
+            .and_then(|s| s.with_tolerance(1e-10))
+            .map_err(|e| Error::numerical("profile projection", e.to_string()))?;
+        let res = Executor::new(Dist(self, *q), solver)
+            .configure(|s| s.param(best).max_iters(200))
+            .timer(false)
+            .run()
+            .map_err(|e| Error::numerical("profile projection", e.to_string()))?;
+        res.state
+            .best_param
+            .ok_or_else(|| Error::numerical("profile projection", "no closest point found"))
     }
 
     /// Samples the closed profile: `points_per_tooth` points per tooth, `Zc` teeth, in the
