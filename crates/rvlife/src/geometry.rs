@@ -636,7 +636,10 @@ impl Profile {
             }
             t -= step;
             last = step.abs();
-            if last < 1e-10 {
+            // Or when the distance no longer changes: |d D| = |f dt| with D = |p - q|^2 / 2, so
+            // the distance moves by |f dt| / |p - q| < 1e-15 m (a pin in a worn, conformal root
+            // where the foot is ill-defined but the gap is not).
+            if last < 1e-10 || (f * step).abs() < 1e-15 * d.norm() {
                 return Some(t);
             }
         }

@@ -268,10 +268,13 @@ impl BandSmoother {
     }
 
     fn apply(&self, h: &[f64]) -> Vec<f64> {
-        self.weights
-            .iter()
-            .map(|w| w.iter().map(|&(i, x)| x * h[i]).sum())
-            .collect()
+        let pass = |h: &[f64]| -> Vec<f64> {
+            self.weights
+                .iter()
+                .map(|w| w.iter().map(|&(i, x)| x * h[i]).sum())
+                .collect()
+        };
+        pass(&pass(h))
     }
 }
 
