@@ -576,7 +576,12 @@ impl Config {
             "must be in [0, 1]",
         )?;
         let overlap_ratio = positive("wear.overlap_ratio", w.overlap_ratio)?;
-        let te_samples = count("te.samples_per_mesh_cycle", self.te.samples_per_mesh_cycle, 2, 10_000)?;
+        let te_samples = count(
+            "te.samples_per_mesh_cycle",
+            self.te.samples_per_mesh_cycle,
+            2,
+            10_000,
+        )?;
         let loaded_torque = match self.te.loaded_torque_nm {
             Some(t) => finite("te.loaded_torque_nm", t)?,
             None => rated_torque,
@@ -658,7 +663,11 @@ impl Config {
                 unused("torque_nm", l.torque_nm.is_some())?;
                 unused("amplitude_nm", l.amplitude_nm.is_some())?;
                 let file = l.file.as_ref().ok_or_else(|| {
-                    Error::invalid("load.file", "missing", "required with kind = \"duty_cycle\"")
+                    Error::invalid(
+                        "load.file",
+                        "missing",
+                        "required with kind = \"duty_cycle\"",
+                    )
                 })?;
                 let path = match &self.base_dir {
                     Some(d) if file.is_relative() => d.join(file),
@@ -754,16 +763,25 @@ mod tests {
 
     #[test]
     fn unknown_key_is_named_with_its_path() {
-        let text = EXAMPLE_TOML.replace("[cycloid.modification]", "[cycloid.modification]\nbogus = 1");
+        let text = EXAMPLE_TOML.replace(
+            "[cycloid.modification]",
+            "[cycloid.modification]\nbogus = 1",
+        );
         let e = Config::from_toml_str(&text, "x.toml").unwrap_err();
         let s = e.to_string();
-        assert!(s.contains("bogus") && s.contains("cycloid.modification"), "{s}");
+        assert!(
+            s.contains("bogus") && s.contains("cycloid.modification"),
+            "{s}"
+        );
     }
 
     #[test]
     fn nan_is_rejected() {
         let text = EXAMPLE_TOML.replace("pin_radius_mm = 3.0", "pin_radius_mm = nan");
-        let e = Config::from_toml_str(&text, "x").unwrap().validate().unwrap_err();
+        let e = Config::from_toml_str(&text, "x")
+            .unwrap()
+            .validate()
+            .unwrap_err();
         assert!(e.to_string().contains("cycloid.pin_radius_mm"), "{e}");
     }
 }

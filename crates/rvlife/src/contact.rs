@@ -263,12 +263,7 @@ fn pin_centre_in_disc(profile: &Profile, j: usize, phi: f64, beta: f64) -> (Vec2
 ///
 /// # Errors
 /// [`Error::Numerical`] if the projection fails.
-pub fn pin_geometry(
-    profile: &Profile,
-    j: usize,
-    phi: f64,
-    beta: f64,
-) -> Result<PinGeometry> {
+pub fn pin_geometry(profile: &Profile, j: usize, phi: f64, beta: f64) -> Result<PinGeometry> {
     let (q, psi) = pin_centre_in_disc(profile, j, phi, beta);
     let t0 = profile.contact_parameter_guess(j, phi, psi);
     let proj = profile.project(&q, t0)?;
@@ -496,10 +491,12 @@ fn equilibrium(
     geoms0: &[PinGeometry],
 ) -> Result<f64> {
     let s = disc_torque.signum();
-    // Pins that can touch within 2e-3 rad of rotation (far beyond any elastic take-up).
+    // Pins that can touch within 2e-3 rad of rotation (far beyond any elastic take-up), with
+    // 1 um to spare for the second-order closing of a pin in a near-conformal root (the groove
+    // turns about a centre offset from the pin's: gap falls as (beta R)^2 / (2 rho_c)).
     let active: Vec<usize> = geoms0
         .iter()
-        .filter(|g| g.gap - s * g.lever_arm * 2e-3 < 0.0)
+        .filter(|g| g.gap - s * g.lever_arm * 2e-3 < 1e-6)
         .map(|g| g.pin)
         .collect();
     let r = |b: f64| -> Result<(f64, f64)> {
@@ -535,7 +532,10 @@ fn equilibrium(
         x = next;
     }
     if !hi.is_finite() {
-        return Err(Error::numerical("loaded contact", "could not bracket the rotation"));
+        return Err(Error::numerical(
+            "loaded contact",
+            "could not bracket the rotation",
+        ));
     }
     struct Res<'a>(&'a dyn Fn(f64) -> Result<(f64, f64)>);
     impl CostFunction for Res<'_> {
@@ -625,11 +625,7 @@ pub fn solve(
 /// an unmodified rigid disc with linear springs: `l_j = a Zc sin(t_j) / S(t_j)` with mesh angle
 /// `t_j = 2 pi j / Zp - phi`, `F_j = T_disc l_j / sum l^2` over the pins with `l_j > 0`.
 /// Returns `Zp` forces, N (zero on the unloaded flank); negative torques load the other flank.
-pub fn li_load_distribution(
-    geo: &CycloidGeometry,
-    phi: f64,
-    disc_torque: f64,
-) -> Vec<f64> {
+pub fn li_load_distribution(geo: &CycloidGeometry, phi: f64, disc_torque: f64) -> Vec<f64> {
     let zp = geo.pins as f64;
     let k1 = geo.k1();
     let s = disc_torque.signum();

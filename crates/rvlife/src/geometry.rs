@@ -62,7 +62,11 @@ impl CycloidGeometry {
     /// [`Error::Invalid`] naming the config key (`cycloid.*`), the value and the allowed range.
     pub fn validate(&self) -> Result<()> {
         if self.pins < 3 {
-            return Err(Error::invalid("cycloid.pins", self.pins, "must be at least 3"));
+            return Err(Error::invalid(
+                "cycloid.pins",
+                self.pins,
+                "must be at least 3",
+            ));
         }
         for (field, v) in [
             ("cycloid.eccentricity_mm", self.eccentricity),
@@ -71,7 +75,11 @@ impl CycloidGeometry {
             ("cycloid.width_mm", self.width),
         ] {
             if !v.is_finite() || v <= 0.0 {
-                return Err(Error::invalid(field, v * 1e3, "must be a finite number > 0"));
+                return Err(Error::invalid(
+                    field,
+                    v * 1e3,
+                    "must be a finite number > 0",
+                ));
             }
         }
         let k1 = self.k1();
@@ -115,7 +123,10 @@ impl CycloidGeometry {
     /// Centre of pin `j` in the fixed frame, m (physics-notes section 3).
     pub fn pin_centre(&self, j: usize) -> Vec2 {
         let g = TAU * j as f64 / self.pins as f64;
-        Vec2::new(self.pin_circle_radius * g.cos(), self.pin_circle_radius * g.sin())
+        Vec2::new(
+            self.pin_circle_radius * g.cos(),
+            self.pin_circle_radius * g.sin(),
+        )
     }
 
     /// Disc pitch radius `r_c = a Zc`, m: the lever arm scale of Li's method (physics-notes 4).
@@ -312,9 +323,15 @@ impl Profile {
     ) -> Result<Self> {
         geo.validate()?;
         for (field, v) in [
-            ("cycloid.modification.equidistant_mm", modification.equidistant * 1e3),
+            (
+                "cycloid.modification.equidistant_mm",
+                modification.equidistant * 1e3,
+            ),
             ("cycloid.modification.offset_mm", modification.offset * 1e3),
-            ("cycloid.modification.rotation_deg", modification.rotation.to_degrees()),
+            (
+                "cycloid.modification.rotation_deg",
+                modification.rotation.to_degrees(),
+            ),
         ] {
             if !v.is_finite() {
                 return Err(Error::invalid(field, v, "must be a finite number"));
@@ -739,11 +756,7 @@ impl Profile {
                 if dpw.dot(&dp0) <= 0.0 {
                     return Err(Error::invalid(
                         "wear map",
-                        format!(
-                            "{:.2} um at mesh angle {:.2} deg",
-                            h * 1e6,
-                            t.to_degrees()
-                        ),
+                        format!("{:.2} um at mesh angle {:.2} deg", h * 1e6, t.to_degrees()),
                         "the worn profile folds over itself: wear deeper than the local convex \
                          radius or too steep along the profile",
                     ));
@@ -793,7 +806,11 @@ mod tests {
             let pt = prof.point(t);
             let (c, _, _) = prof.closed_form(t, 0.0);
             let back = pt.p + pt.normal * 3e-3;
-            assert!((back - c).norm() < 1e-15, "t = {t}: {:e}", (back - c).norm());
+            assert!(
+                (back - c).norm() < 1e-15,
+                "t = {t}: {:e}",
+                (back - c).norm()
+            );
         }
     }
 
@@ -857,7 +874,9 @@ mod tests {
 
     #[test]
     fn wear_map_interpolates_nodes_and_is_periodic() {
-        let d: Vec<f64> = (0..36).map(|m| (m as f64 * 0.3).sin().abs() * 1e-5).collect();
+        let d: Vec<f64> = (0..36)
+            .map(|m| (m as f64 * 0.3).sin().abs() * 1e-5)
+            .collect();
         let w = WearMap::new(d.clone()).unwrap();
         for (m, &v) in d.iter().enumerate() {
             let t = TAU * m as f64 / 36.0;

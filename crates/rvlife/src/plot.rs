@@ -97,36 +97,50 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
         .fold(0.0, f64::max)
         .max(1e-9)
         * 1e6;
-    figure!(dir, "wear", |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-        let mut chart = ChartBuilder::on(root)
-            .caption("Wear depth along the tooth profile", ("sans-serif", 26))
-            .margin(15)
-            .x_label_area_size(45)
-            .y_label_area_size(65)
-            .build_cartesian_2d(0.0..360.0, 0.0..wear_max * 1.08)?;
-        chart
-            .configure_mesh()
-            .x_desc("mesh angle (deg): 0 root, 180 tip; 0-180 flank loaded by positive torque")
-            .y_desc("wear depth (um)")
-            .draw()?;
-        for (i, map) in study.wear.maps.iter().enumerate() {
-            let c = stage_color(i, n);
+    figure!(
+        dir,
+        "wear",
+        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+            let mut chart = ChartBuilder::on(root)
+                .caption("Wear depth along the tooth profile", ("sans-serif", 26))
+                .margin(15)
+                .x_label_area_size(45)
+                .y_label_area_size(65)
+                .build_cartesian_2d(0.0..360.0, 0.0..wear_max * 1.08)?;
             chart
-                .draw_series(LineSeries::new(
-                    angles.iter().zip(map).map(|(a, h)| (*a, h * 1e6)),
-                    c.stroke_width(2),
-                ))?
-                .label(format!("{:.0} h", hours[i]))
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+                .configure_mesh()
+                .x_desc("mesh angle (deg): 0 root, 180 tip; 0-180 flank loaded by positive torque")
+                .y_desc("wear depth (um)")
+                .draw()?;
+            for (i, map) in study.wear.maps.iter().enumerate() {
+                let c = stage_color(i, n);
+                chart
+                    .draw_series(LineSeries::new(
+                        angles.iter().zip(map).map(|(a, h)| (*a, h * 1e6)),
+                        c.stroke_width(2),
+                    ))?
+                    .label(format!("{:.0} h", hours[i]))
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+                    });
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .draw()?;
+            Ok(())
         }
-        chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
-        Ok(())
-    })?;
+    )?;
 
     // 2. Profile with magnified wear: three teeth around the top of the disc.
     let last = study.stages.last().expect("at least one stage");
     let max_wear = study.wear.max_depths().into_iter().fold(0.0, f64::max);
-    let magnify = if max_wear > 0.0 { (0.25e-3 / max_wear).round().max(1.0) } else { 1.0 };
+    let magnify = if max_wear > 0.0 {
+        (0.25e-3 / max_wear).round().max(1.0)
+    } else {
+        1.0
+    };
     let geo = last.profile.geometry().clone();
     let nominal = study.model.profile(None)?;
     let zc = geo.disc_teeth() as f64;
@@ -148,7 +162,11 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
         };
         v.push(("nominal".to_string(), pts(None), BLACK));
         for (i, s) in study.stages.iter().enumerate().skip(1) {
-            v.push((format!("{:.0} h", s.hours), pts(s.wear.as_ref()), stage_color(i, n)));
+            v.push((
+                format!("{:.0} h", s.hours),
+                pts(s.wear.as_ref()),
+                stage_color(i, n),
+            ));
         }
         v
     };
@@ -157,54 +175,104 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
     let (y0, y1) = series_range(tooth_profiles.iter().flat_map(|t| t.1.iter().map(|p| p.1)));
     let span = (x1 - x0).max((y1 - y0) * SIZE.0 as f64 / SIZE.1 as f64);
     let xc = 0.5 * (x0 + x1);
-    figure!(dir, "profile_wear", |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-        let mut chart = ChartBuilder::on(root)
-            .caption(format!("Tooth profile, wear magnified x{magnify:.0}"), ("sans-serif", 26))
-            .margin(15)
-            .x_label_area_size(45)
-            .y_label_area_size(65)
-            .build_cartesian_2d(xc - span / 2.0..xc + span / 2.0, y0..y0 + span * SIZE.1 as f64 / SIZE.0 as f64)?;
-        chart.configure_mesh().x_desc("x (mm)").y_desc("y (mm)").draw()?;
-        for (label, pts, c) in &tooth_profiles {
-            let c = *c;
+    figure!(
+        dir,
+        "profile_wear",
+        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+            let mut chart = ChartBuilder::on(root)
+                .caption(
+                    format!("Tooth profile, wear magnified x{magnify:.0}"),
+                    ("sans-serif", 26),
+                )
+                .margin(15)
+                .x_label_area_size(45)
+                .y_label_area_size(65)
+                .build_cartesian_2d(
+                    xc - span / 2.0..xc + span / 2.0,
+                    y0..y0 + span * SIZE.1 as f64 / SIZE.0 as f64,
+                )?;
             chart
-                .draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?
-                .label(label.clone())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+                .configure_mesh()
+                .x_desc("x (mm)")
+                .y_desc("y (mm)")
+                .draw()?;
+            for (label, pts, c) in &tooth_profiles {
+                let c = *c;
+                chart
+                    .draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?
+                    .label(label.clone())
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+                    });
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .draw()?;
+            Ok(())
         }
-        chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
-        Ok(())
-    })?;
+    )?;
 
     // 3. Load distribution at the crank angle of the largest force.
-    let fmax = study.stages.iter().map(|s| s.summary.max_force_n).fold(0.0, f64::max).max(1.0);
+    let fmax = study
+        .stages
+        .iter()
+        .map(|s| s.summary.max_force_n)
+        .fold(0.0, f64::max)
+        .max(1.0);
     let zp = geo.pins;
-    figure!(dir, "load", |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-        let mut chart = ChartBuilder::on(root)
-            .caption(
-                format!("Pin forces at {:.0} N m, crank angle of the largest force", study.model.loaded_torque),
-                ("sans-serif", 26),
-            )
-            .margin(15)
-            .x_label_area_size(45)
-            .y_label_area_size(65)
-            .build_cartesian_2d(-0.5..zp as f64 - 0.5, 0.0..fmax * 1.1)?;
-        chart.configure_mesh().x_desc("pin j").y_desc("force (N)").draw()?;
-        for (i, s) in study.stages.iter().enumerate() {
-            let c = stage_color(i, n);
-            let w = s.loaded.worst();
+    figure!(
+        dir,
+        "load",
+        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+            let mut chart = ChartBuilder::on(root)
+                .caption(
+                    format!(
+                        "Pin forces at {:.0} N m, crank angle of the largest force",
+                        study.model.loaded_torque
+                    ),
+                    ("sans-serif", 26),
+                )
+                .margin(15)
+                .x_label_area_size(45)
+                .y_label_area_size(65)
+                .build_cartesian_2d(-0.5..zp as f64 - 0.5, 0.0..fmax * 1.1)?;
             chart
-                .draw_series(LineSeries::new(
-                    w.pins.iter().map(|p| (p.pin as f64, p.force)),
-                    c.stroke_width(2),
-                ))?
-                .label(format!("{:.0} h, crank {:.2} deg", s.hours, w.crank_angle.to_degrees()))
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
-            chart.draw_series(w.pins.iter().map(|p| Circle::new((p.pin as f64, p.force), 3, c.filled())))?;
+                .configure_mesh()
+                .x_desc("pin j")
+                .y_desc("force (N)")
+                .draw()?;
+            for (i, s) in study.stages.iter().enumerate() {
+                let c = stage_color(i, n);
+                let w = s.loaded.worst();
+                chart
+                    .draw_series(LineSeries::new(
+                        w.pins.iter().map(|p| (p.pin as f64, p.force)),
+                        c.stroke_width(2),
+                    ))?
+                    .label(format!(
+                        "{:.0} h, crank {:.2} deg",
+                        s.hours,
+                        w.crank_angle.to_degrees()
+                    ))
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+                    });
+                chart.draw_series(
+                    w.pins
+                        .iter()
+                        .map(|p| Circle::new((p.pin as f64, p.force), 3, c.filled())),
+                )?;
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .draw()?;
+            Ok(())
         }
-        chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
-        Ok(())
-    })?;
+    )?;
 
     // 4. STE over one output revolution.
     let curves: Vec<(Vec<f64>, Vec<f64>)> = study
@@ -219,60 +287,118 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
         })
         .collect();
     let (t0, t1) = series_range(curves.iter().flat_map(|c| c.1.iter().copied()));
-    figure!(dir, "te", |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-        let mut chart = ChartBuilder::on(root)
-            .caption("Static transmission error over one output revolution", ("sans-serif", 26))
-            .margin(15)
-            .x_label_area_size(45)
-            .y_label_area_size(65)
-            .build_cartesian_2d(0.0..360.0, t0.min(0.0)..t1)?;
-        chart
-            .configure_mesh()
-            .x_desc(format!("output angle (deg) = input angle / {:.0}", study.model.ratio))
-            .y_desc("STE (arcmin), output lag")
-            .draw()?;
-        for (i, (x, y)) in curves.iter().enumerate() {
-            let c = stage_color(i, n);
+    figure!(
+        dir,
+        "te",
+        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+            let mut chart = ChartBuilder::on(root)
+                .caption(
+                    "Static transmission error over one output revolution",
+                    ("sans-serif", 26),
+                )
+                .margin(15)
+                .x_label_area_size(45)
+                .y_label_area_size(65)
+                .build_cartesian_2d(0.0..360.0, t0.min(0.0)..t1)?;
             chart
-                .draw_series(LineSeries::new(x.iter().copied().zip(y.iter().copied()), c.stroke_width(1)))?
-                .label(format!("{:.0} h", hours[i]))
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+                .configure_mesh()
+                .x_desc(format!(
+                    "output angle (deg) = input angle / {:.0}",
+                    study.model.ratio
+                ))
+                .y_desc("STE (arcmin), output lag")
+                .draw()?;
+            for (i, (x, y)) in curves.iter().enumerate() {
+                let c = stage_color(i, n);
+                chart
+                    .draw_series(LineSeries::new(
+                        x.iter().copied().zip(y.iter().copied()),
+                        c.stroke_width(1),
+                    ))?
+                    .label(format!("{:.0} h", hours[i]))
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+                    });
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .draw()?;
+            Ok(())
         }
-        chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
-        Ok(())
-    })?;
+    )?;
 
     // 5. TE and lost motion against working hours.
     let sums: Vec<_> = study.stages.iter().map(|s| s.summary.clone()).collect();
     let ymax = sums
         .iter()
-        .flat_map(|s| [s.ste_mean_arcmin, s.lost_motion_arcmin, s.loaded_te_mean_arcmin, s.ste_mean_arcmin + s.ste_peak_to_peak_arcmin])
+        .flat_map(|s| {
+            [
+                s.ste_mean_arcmin,
+                s.lost_motion_arcmin,
+                s.loaded_te_mean_arcmin,
+                s.ste_mean_arcmin + s.ste_peak_to_peak_arcmin,
+            ]
+        })
         .fold(0.0, f64::max)
         .max(0.1);
     let hmax = hours.last().copied().unwrap_or(1.0).max(1.0);
-    figure!(dir, "te_hours", |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-        let mut chart = ChartBuilder::on(root)
-            .caption("Transmission error and lost motion against working hours", ("sans-serif", 26))
-            .margin(15)
-            .x_label_area_size(45)
-            .y_label_area_size(65)
-            .build_cartesian_2d(0.0..hmax * 1.02, 0.0..ymax * 1.1)?;
-        chart.configure_mesh().x_desc("working hours (h)").y_desc("arcmin").draw()?;
-        let lines: [(&str, RGBColor, Box<dyn Fn(&crate::study::StageSummary) -> f64>); 3] = [
-            ("STE mean", BLUE, Box::new(|s| s.ste_mean_arcmin)),
-            ("lost motion", RED, Box::new(|s| s.lost_motion_arcmin)),
-            ("loaded TE mean", GREEN, Box::new(|s| s.loaded_te_mean_arcmin)),
-        ];
-        for (label, c, f) in &lines {
-            let c = *c;
+    figure!(
+        dir,
+        "te_hours",
+        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+            let mut chart = ChartBuilder::on(root)
+                .caption(
+                    "Transmission error and lost motion against working hours",
+                    ("sans-serif", 26),
+                )
+                .margin(15)
+                .x_label_area_size(45)
+                .y_label_area_size(65)
+                .build_cartesian_2d(0.0..hmax * 1.02, 0.0..ymax * 1.1)?;
             chart
-                .draw_series(LineSeries::new(sums.iter().map(|s| (s.hours, f(s))), c.stroke_width(2)))?
-                .label(*label)
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
-            chart.draw_series(sums.iter().map(|s| Circle::new((s.hours, f(s)), 4, c.filled())))?;
+                .configure_mesh()
+                .x_desc("working hours (h)")
+                .y_desc("arcmin")
+                .draw()?;
+            let lines: [(
+                &str,
+                RGBColor,
+                Box<dyn Fn(&crate::study::StageSummary) -> f64>,
+            ); 3] = [
+                ("STE mean", BLUE, Box::new(|s| s.ste_mean_arcmin)),
+                ("lost motion", RED, Box::new(|s| s.lost_motion_arcmin)),
+                (
+                    "loaded TE mean",
+                    GREEN,
+                    Box::new(|s| s.loaded_te_mean_arcmin),
+                ),
+            ];
+            for (label, c, f) in &lines {
+                let c = *c;
+                chart
+                    .draw_series(LineSeries::new(
+                        sums.iter().map(|s| (s.hours, f(s))),
+                        c.stroke_width(2),
+                    ))?
+                    .label(*label)
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+                    });
+                chart.draw_series(
+                    sums.iter()
+                        .map(|s| Circle::new((s.hours, f(s)), 4, c.filled())),
+                )?;
+            }
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperLeft)
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .draw()?;
+            Ok(())
         }
-        chart.configure_series_labels().position(SeriesLabelPosition::UpperLeft).background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
-        Ok(())
-    })?;
+    )?;
     Ok(())
 }

@@ -161,7 +161,11 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
     let rows: Vec<Vec<String>> = (0..curves[0].0.len())
         .map(|i| {
             let mut r = vec![format!("{:.4}", curves[0].0[i])];
-            r.extend(curves.iter().map(|c| format!("{:.5}", c.1[i] * ARCMIN_PER_RAD)));
+            r.extend(
+                curves
+                    .iter()
+                    .map(|c| format!("{:.5}", c.1[i] * ARCMIN_PER_RAD)),
+            );
             r
         })
         .collect();
@@ -205,8 +209,16 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
     let pdir = dir.join("profiles");
     std::fs::create_dir(&pdir).map_err(|e| Error::io(&pdir, e))?;
     for (s, tag) in study.stages.iter().zip(&tags) {
-        write_profile(&s.profile, &pdir.join(format!("worn_{tag}.dxf")), ProfileFormat::Dxf)?;
-        write_profile(&s.profile, &pdir.join(format!("worn_{tag}.csv")), ProfileFormat::Csv)?;
+        write_profile(
+            &s.profile,
+            &pdir.join(format!("worn_{tag}.dxf")),
+            ProfileFormat::Dxf,
+        )?;
+        write_profile(
+            &s.profile,
+            &pdir.join(format!("worn_{tag}.csv")),
+            ProfileFormat::Csv,
+        )?;
     }
 
     // plots

@@ -218,7 +218,10 @@ impl Study {
         let m = &self.model;
         let stages: Vec<StageSummary> = self.stages.iter().map(|s| s.summary.clone()).collect();
         let (sxy, sxx) = stages.iter().fold((0.0, 0.0), |(a, b), s| {
-            (a + s.max_wear_um * s.ste_mean_arcmin, b + s.max_wear_um.powi(2))
+            (
+                a + s.max_wear_um * s.ste_mean_arcmin,
+                b + s.max_wear_um.powi(2),
+            )
         });
         let slope = if sxx > 0.0 { sxy / sxx } else { 0.0 };
         Summary {

@@ -106,7 +106,12 @@ pub fn static_te(profile: &Profile, samples: usize) -> Result<StaticTe> {
     let phis = mesh_cycle_angles(profile.geometry().pins, samples);
     let pairs: Vec<(f64, f64)> = phis
         .par_iter()
-        .map(|&phi| Ok((first_contact(profile, phi, 1.0)?, first_contact(profile, phi, -1.0)?)))
+        .map(|&phi| {
+            Ok((
+                first_contact(profile, phi, 1.0)?,
+                first_contact(profile, phi, -1.0)?,
+            ))
+        })
         .collect::<Result<_>>()?;
     let forward: Vec<f64> = pairs.iter().map(|p| p.0).collect();
     let reverse: Vec<f64> = pairs.iter().map(|p| -p.1).collect();
@@ -149,7 +154,10 @@ impl LoadedTe {
     }
     /// Largest pin force over the cycle, N.
     pub fn max_force(&self) -> f64 {
-        self.solutions.iter().map(|s| s.max_force()).fold(0.0, f64::max)
+        self.solutions
+            .iter()
+            .map(|s| s.max_force())
+            .fold(0.0, f64::max)
     }
     /// Largest Hertz pressure over the cycle, Pa.
     pub fn max_pressure(&self) -> f64 {

@@ -313,7 +313,10 @@ impl WearHistory {
 /// profile folds over itself.
 pub fn integrate(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<WearHistory> {
     let n = grid_points(model);
-    let last = *model.stage_hours.last().expect("validated: at least one stage");
+    let last = *model
+        .stage_hours
+        .last()
+        .expect("validated: at least one stage");
     let step = if model.wear_model == WearModelKind::Paper || model.update_hours <= 0.0 {
         f64::INFINITY
     } else {
@@ -374,7 +377,10 @@ pub fn integrate(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
             advance(&mut h, seg_end, &mut t);
         }
         if h.iter().any(|x| !x.is_finite()) {
-            return Err(Error::numerical("wear integration", "non-finite wear depth"));
+            return Err(Error::numerical(
+                "wear integration",
+                "non-finite wear depth",
+            ));
         }
     }
     Ok(WearHistory {
@@ -437,7 +443,9 @@ mod tests {
         let b = vec![30e-6; n];
         let out = spread_over_band(&profile, &depth, &b);
         let dt = TAU / n as f64;
-        let ds: Vec<f64> = (0..n).map(|m| profile.point(m as f64 * dt).dp.norm() * dt).collect();
+        let ds: Vec<f64> = (0..n)
+            .map(|m| profile.point(m as f64 * dt).dp.norm() * dt)
+            .collect();
         let before = depth[90] * ds[90];
         let after: f64 = out.iter().zip(&ds).map(|(h, s)| h * s).sum();
         assert!((before - after).abs() < 1e-12 * before, "{before} {after}");
