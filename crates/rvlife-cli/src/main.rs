@@ -121,9 +121,15 @@ fn profile_for(model: &Model, wear: &WearArgs, nominal: bool) -> Result<Profile>
     let map = match (wear.wear_um, wear.hours) {
         (Some(w), _) => {
             if !w.is_finite() || w < 0.0 {
-                return Err(Error::invalid("--wear-um", w, "must be a finite number >= 0"));
+                return Err(Error::invalid(
+                    "--wear-um",
+                    w,
+                    "must be a finite number >= 0",
+                ));
             }
-            (w > 0.0).then(|| WearMap::uniform(n, w * 1e-6)).transpose()?
+            (w > 0.0)
+                .then(|| WearMap::uniform(n, w * 1e-6))
+                .transpose()?
         }
         (None, Some(h)) => {
             if !h.is_finite() || h < 0.0 {
@@ -184,7 +190,15 @@ fn run(cli: Cli) -> Result<()> {
             );
             println!(
                 "{:>8} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9} {:>5}",
-                "hours", "wear_um", "STE'", "STE_pp'", "LM'", "loadTE'", "Fmax_N", "pmax_MPa", "pins"
+                "hours",
+                "wear_um",
+                "STE'",
+                "STE_pp'",
+                "LM'",
+                "loadTE'",
+                "Fmax_N",
+                "pmax_MPa",
+                "pins"
             );
             for st in &s.stages {
                 println!(
@@ -342,7 +356,13 @@ fn run(cli: Cli) -> Result<()> {
             });
             let mut loaded_summary = None;
             if let Some(t) = torque_nm {
-                let l = loaded_te(&profile, &model.contact, model.load_share, t, model.te_samples)?;
+                let l = loaded_te(
+                    &profile,
+                    &model.contact,
+                    model.load_share,
+                    t,
+                    model.te_samples,
+                )?;
                 let ls = l.stats();
                 let (_, lte) =
                     over_revolution(&l.crank_angle, &l.te, model.geometry.pins, model.ratio);

@@ -1,1 +1,44 @@
-fn main() {}
+//! Speed of the pieces the issue sets targets for: the built-in study (7 stages, profile
+//! updates, full mesh cycles), one loaded contact solve (new and worn disc), and the static TE
+//! of one stage. Run with `cargo bench -p rvlife`.
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use rvlife::config::Config;
+use rvlife::contact::solve;
+use rvlife::geometry::WearMap;
+
+fn benches(c: &mut Criterion) {
+    let model = Config::example().validate().expect("example validates");
+    let new = model.profile(None).expect("profile");
+    let mut worn_model = model.clone();
+    worn_model.stage_hours = vec![7500.0];
+    let hist = rvlife::wear::integrate(&worn_model, &|_, _| {}).expect("wear");
+    let worn = model
+        .profile(Some(WearMap::new(hist.maps[0].clone()).expect("map")))
+        .expect("worn profile");
+    let t_disc = model.load_share * model.rated_torque;
+
+    c.bench_function("contact_solve_new_disc", |b| {
+        b.iter(|| solve(black_box(&new), &model.contact, black_box(0.05), t_disc).unwrap())
+    });
+    c.bench_function("contact_solve_worn_7500h", |b| {
+        b.iter(|| solve(black_box(&worn), &model.contact, black_box(0.05), t_disc).unwrap())
+    });
+    c.bench_function("static_te_worn_7500h", |b| {
+        b.iter(|| rvlife::te::static_te(black_box(&worn), model.te_samples).unwrap())
+    });
+    let mut group = c.benchmark_group("study");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(40));
+    group.bench_function("builtin_study", |b| {
+        b.iter(|| rvlife::study::run(black_box(&model), &|_, _| {}).unwrap())
+    });
+    group.finish();
+}
+
+criterion_group!(study, benches);
+criterion_main!(study);

@@ -14,6 +14,11 @@ use crate::te::{over_revolution, ARCMIN_PER_RAD};
 
 const SIZE: (u32, u32) = (1000, 640);
 
+/// A labelled, coloured polyline in plot coordinates.
+type Curve = (String, Vec<(f64, f64)>, RGBColor);
+/// One number of a stage summary, for the against-hours plot.
+type StageValue = fn(&crate::study::StageSummary) -> f64;
+
 fn register_fonts() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
@@ -144,7 +149,7 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
     let geo = last.profile.geometry().clone();
     let nominal = study.model.profile(None)?;
     let zc = geo.disc_teeth() as f64;
-    let tooth_profiles: Vec<(String, Vec<(f64, f64)>, RGBColor)> = {
+    let tooth_profiles: Vec<Curve> = {
         let mut v = Vec::new();
         let pts = |wear: Option<&crate::geometry::WearMap>| -> Vec<(f64, f64)> {
             let k = 600;
@@ -362,18 +367,10 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
                 .x_desc("working hours (h)")
                 .y_desc("arcmin")
                 .draw()?;
-            let lines: [(
-                &str,
-                RGBColor,
-                Box<dyn Fn(&crate::study::StageSummary) -> f64>,
-            ); 3] = [
-                ("STE mean", BLUE, Box::new(|s| s.ste_mean_arcmin)),
-                ("lost motion", RED, Box::new(|s| s.lost_motion_arcmin)),
-                (
-                    "loaded TE mean",
-                    GREEN,
-                    Box::new(|s| s.loaded_te_mean_arcmin),
-                ),
+            let lines: [(&str, RGBColor, StageValue); 3] = [
+                ("STE mean", BLUE, |s| s.ste_mean_arcmin),
+                ("lost motion", RED, |s| s.lost_motion_arcmin),
+                ("loaded TE mean", GREEN, |s| s.loaded_te_mean_arcmin),
             ];
             for (label, c, f) in &lines {
                 let c = *c;

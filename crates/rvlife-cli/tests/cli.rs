@@ -1,0 +1,941 @@
+//! Integration tests of the `rvlife` command-line binary.
+//!
+//! Every test runs the release binary as a separate process, on the built-in example config
+//! (`rvlife example`) or an edited copy of it written to a temporary directory.
+
+use std::collections::BTreeMap;
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+/// Arc minutes per radian.
+const ARCMIN_PER_RAD: f64 = 180.0 * 60.0 / PI;
+/// Example reducer: eccentricity (m), disc teeth, pins, overall ratio, load share, rated torque.
+const ECCENTRICITY_M: f64 = 1.3e-3;
+const DISC_TEETH: f64 = 39.0;
+const PINS: usize = 40;
+const RATIO: f64 = 81.0;
+const LOAD_SHARE: f64 = 0.55;
+const RATED_TORQUE_NM: f64 = 412.0;
+
+fn rvlife<I, S>(args: I) -> Output
+where
+    I: IntoIterator<Item = S>,
+    S: AsRef<std::ffi::OsStr>,
+{
+    Command::new(env!("CARGO_BIN_EXE_rvlife"))
+        .args(args)
+        .output()
+        .expect("cannot start the rvlife binary")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Asserts success and returns stdout.
+fn ok(o: &Output, what: &str) -> String {
+    assert!(
+        o.status.success(),
+        "{what}: expected success, got {:?}\nstdout:\n{}\nstderr:\n{}",
+        o.status.code(),
+        stdout(o),
+        stderr(o)
+    );
+    stdout(o)
+}
+
+fn json_ok(o: &Output, what: &str) -> Value {
+    let out = ok(o, what);
+    serde_json::from_str(&out)
+        .unwrap_or_else(|e| panic!("{what}: stdout is not JSON ({e}):\n{out}"))
+}
+
+/// Asserts exit code 2 and that stderr contains every needle.
+fn assert_input_error(o: &Output, what: &str, needles: &[&str]) {
+    let err = stderr(o);
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{what}: expected exit code 2\nstdout:\n{}\nstderr:\n{err}",
+        stdout(o)
+    );
+    assert!(
+        err.contains("error"),
+        "{what}: stderr has no error message:\n{err}"
+    );
+    for n in needles {
+        assert!(
+            err.contains(n),
+            "{what}: stderr does not mention {n:?}:\n{err}"
+        );
+    }
+}
+
+fn example_text() -> String {
+    let out = ok(&rvlife(["example"]), "rvlife example");
+    assert!(
+        out.contains("[cycloid]"),
+        "example has no [cycloid] table:\n{out}"
+    );
+    out
+}
+
+fn write_config(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).expect("cannot write config");
+    p
+}
+
+/// Name of the TOML table a line opens (`[cycloid]` -> `cycloid`), if it is a header.
+fn table_header(line: &str) -> Option<&str> {
+    let code = line.split('#').next().unwrap_or("").trim();
+    code.strip_prefix('[')
+        .and_then(|s| s.strip_suffix(']'))
+        .map(str::trim)
+}
+
+/// Replaces the value of `key` in table `table` (the first `key = ...` line there), keeping
+/// the rest of the text. Panics if the key is not found, so that a changed example cannot make
+/// a test silently check nothing.
+fn set_key(text: &str, table: &str, key: &str, value: &str) -> String {
+    let mut current = String::new();
+    let mut done = false;
+    let mut out = Vec::new();
+    for line in text.lines() {
+        if let Some(t) = table_header(line) {
+            current = t.to_string();
+        }
+        let is_key = line
+            .split_once('=')
+            .is_some_and(|(k, _)| k.trim() == key && !line.trim_start().starts_with('#'));
+        if !done && current == table && is_key {
+            out.push(format!("{key} = {value}"));
+            done = true;
+        } else {
+            out.push(line.to_string());
+        }
+    }
+    assert!(done, "key {table}.{key} not found in the example config");
+    out.join("\n") + "\n"
+}
+
+/// Replaces the body of table `table` (everything up to the next header) by `body`.
+fn replace_table(text: &str, table: &str, body: &str) -> String {
+    let mut current = String::new();
+    let mut found = false;
+    let mut out = Vec::new();
+    for line in text.lines() {
+        if let Some(t) = table_header(line) {
+            current = t.to_string();
+            out.push(line.to_string());
+            if t == table {
+                found = true;
+                out.push(body.to_string());
+            }
+            continue;
+        }
+        if current != table {
+            out.push(line.to_string());
+        }
+    }
+    assert!(found, "table [{table}] not found in the example config");
+    out.join("\n") + "\n"
+}
+
+/// Inserts `line` right after the header of table `table`.
+fn add_line(text: &str, table: &str, line: &str) -> String {
+    let mut found = false;
+    let mut out = Vec::new();
+    for l in text.lines() {
+        out.push(l.to_string());
+        if table_header(l) == Some(table) {
+            out.push(line.to_string());
+            found = true;
+        }
+    }
+    assert!(found, "table [{table}] not found in the example config");
+    out.join("\n") + "\n"
+}
+
+/// The example with a short wear study: 500 h in two stages (fast: well under a second).
+fn short_study_text() -> String {
+    let t = set_key(
+        &example_text(),
+        "wear",
+        "stage_hours",
+        "[0.0, 250.0, 500.0]",
+    );
+    set_key(&t, "wear", "profile_update_hours", "250.0")
+}
+
+fn num(v: &Value, key: &str) -> f64 {
+    v.get(key)
+        .and_then(Value::as_f64)
+        .unwrap_or_else(|| panic!("missing or non-numeric key {key:?} in {v}"))
+}
+
+fn num_array(v: &Value, key: &str) -> Vec<f64> {
+    v.get(key)
+        .and_then(Value::as_array)
+        .unwrap_or_else(|| panic!("missing array {key:?}"))
+        .iter()
+        .map(|x| {
+            x.as_f64()
+                .unwrap_or_else(|| panic!("non-numeric entry in {key:?}: {x}"))
+        })
+        .collect()
+}
+
+fn assert_rel(actual: f64, expected: f64, rel: f64, what: &str) {
+    let err = (actual - expected).abs();
+    assert!(
+        err <= rel * expected.abs(),
+        "{what}: {actual} vs expected {expected} (relative error {:.3e} > {rel:e})",
+        err / expected.abs()
+    );
+}
+
+fn contact_json(config: &Path, crank_deg: &str, torque_nm: &str) -> Value {
+    json_ok(
+        &rvlife([
+            "contact".as_ref(),
+            config.as_os_str(),
+            "--crank-deg".as_ref(),
+            crank_deg.as_ref(),
+            "--torque-nm".as_ref(),
+            torque_nm.as_ref(),
+            "--json".as_ref(),
+        ]),
+        "rvlife contact --json",
+    )
+}
+
+/// Every file under `dir` (relative path -> contents).
+fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+    fn walk(root: &Path, dir: &Path, out: &mut BTreeMap<PathBuf, Vec<u8>>) {
+        for e in std::fs::read_dir(dir).expect("read_dir") {
+            let p = e.expect("dir entry").path();
+            if p.is_dir() {
+                walk(root, &p, out);
+            } else {
+                let rel = p.strip_prefix(root).expect("prefix").to_path_buf();
+                out.insert(rel, std::fs::read(&p).expect("read"));
+            }
+        }
+    }
+    let mut out = BTreeMap::new();
+    walk(dir, dir, &mut out);
+    out
+}
+
+/// Entries of `dir` whose name starts with `.rvlife-tmp-`.
+fn leftover_tmp_dirs(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .expect("read_dir")
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(".rvlife-tmp-"))
+        .collect()
+}
+
+/// Walks a JSON tree and fails on any null (serde_json writes non-finite floats as null) or
+/// non-finite number.
+fn assert_all_finite(v: &Value, path: &str) {
+    match v {
+        Value::Null => panic!("null (NaN or infinity?) at {path}"),
+        Value::Number(n) => {
+            let x = n.as_f64().unwrap_or(f64::NAN);
+            assert!(x.is_finite(), "non-finite number at {path}: {n}");
+        }
+        Value::String(s) => {
+            let l = s.to_ascii_lowercase();
+            assert!(
+                l != "nan" && !l.contains("inf"),
+                "non-finite string at {path}: {s}"
+            );
+        }
+        Value::Array(a) => {
+            for (i, x) in a.iter().enumerate() {
+                assert_all_finite(x, &format!("{path}[{i}]"));
+            }
+        }
+        Value::Object(o) => {
+            for (k, x) in o {
+                assert_all_finite(x, &format!("{path}.{k}"));
+            }
+        }
+        Value::Bool(_) => {}
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 1. The example config parses back; the contact JSON.
+
+#[test]
+fn example_parses_back_and_contact_json_has_the_documented_keys() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "example.toml", &example_text());
+    let v = contact_json(&cfg, "0", "412");
+    for key in [
+        "disc_rotation_arcmin",
+        "pin_forces_n",
+        "max_force_n",
+        "pins_in_contact",
+        "max_pressure_mpa",
+        "pin_moment_nm",
+        "pins",
+    ] {
+        assert!(v.get(key).is_some(), "contact JSON lacks {key:?}: {v}");
+    }
+    let forces = num_array(&v, "pin_forces_n");
+    assert_eq!(forces.len(), PINS);
+    assert!(
+        forces.iter().all(|f| f.is_finite() && *f >= 0.0),
+        "{forces:?}"
+    );
+    let max = forces.iter().copied().fold(0.0, f64::max);
+    assert_rel(
+        num(&v, "max_force_n"),
+        max,
+        1e-12,
+        "max_force_n = max of pin_forces_n",
+    );
+    let in_contact = forces.iter().filter(|f| **f > 0.0).count();
+    assert_eq!(v["pins_in_contact"].as_u64(), Some(in_contact as u64));
+    // About half the pins carry load on one flank (Li: Zp/2 for an unmodified disc).
+    assert!(
+        (10..=PINS / 2 + 1).contains(&in_contact),
+        "pins in contact: {in_contact}"
+    );
+    assert!(num(&v, "disc_rotation_arcmin") > 0.0);
+    assert!(num(&v, "max_pressure_mpa") > 0.0);
+    let pins = v["pins"].as_array().expect("pins array");
+    assert_eq!(pins.len(), PINS);
+    for (j, p) in pins.iter().enumerate() {
+        assert_eq!(p["pin"].as_u64(), Some(j as u64), "pins[] in pin order");
+        assert_eq!(
+            num(p, "force_n"),
+            forces[j],
+            "pins[{j}].force_n = pin_forces_n[{j}]"
+        );
+    }
+    // The built-in config (no CONFIG argument) is the same as the printed example.
+    let builtin = json_ok(
+        &rvlife([
+            "contact",
+            "--crank-deg",
+            "0",
+            "--torque-nm",
+            "412",
+            "--json",
+        ]),
+        "contact on the built-in example",
+    );
+    assert_eq!(builtin["pin_forces_n"], v["pin_forces_n"]);
+}
+
+/// Moment balance `sum F_j l_j = load_share T` (from the `pins` array and `pin_moment_nm`).
+/// Crank 0 with 412 N m is the case where a pin at the tooth root (pin 0, mesh angle 0.39 deg)
+/// carries a small force: it must be part of the equilibrium as well as of the reported forces.
+#[test]
+fn contact_pin_moments_balance_the_disc_torque() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "example.toml", &example_text());
+    for (crank, torque) in [
+        ("0", RATED_TORQUE_NM),
+        ("0", -RATED_TORQUE_NM),
+        ("0.75", RATED_TORQUE_NM),
+        ("4.5", 50.0),
+    ] {
+        let v = contact_json(&cfg, crank, &torque.to_string());
+        let disc_torque = LOAD_SHARE * torque;
+        assert_rel(
+            num(&v, "disc_torque_nm"),
+            disc_torque,
+            1e-12,
+            "disc_torque_nm",
+        );
+        let pins = v["pins"].as_array().expect("pins array");
+        let moment: f64 = pins
+            .iter()
+            .map(|p| num(p, "force_n") * num(p, "lever_arm_mm") / 1000.0)
+            .sum();
+        let what = format!("crank {crank} deg, {torque} N m");
+        assert_rel(
+            moment,
+            disc_torque,
+            1e-6,
+            &format!("sum F l from pins[], {what}"),
+        );
+        assert_rel(
+            num(&v, "pin_moment_nm"),
+            disc_torque,
+            1e-6,
+            &format!("pin_moment_nm, {what}"),
+        );
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 2. Negative torque loads the other flank.
+
+#[test]
+fn contact_negative_torque_mirrors_the_forces() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "example.toml", &example_text());
+    let pos = contact_json(&cfg, "0", "412");
+    let neg = contact_json(&cfg, "0", "-412");
+    let rp = num(&pos, "disc_rotation_arcmin");
+    let rn = num(&neg, "disc_rotation_arcmin");
+    assert!(rp > 0.0, "positive torque: rotation {rp}");
+    assert!(rn < 0.0, "negative torque: rotation {rn}");
+    assert_rel(rn, -rp, 1e-6, "mirrored disc rotation");
+    let fp = num_array(&pos, "pin_forces_n");
+    let fn_ = num_array(&neg, "pin_forces_n");
+    assert_eq!(fp.len(), PINS);
+    assert_eq!(fn_.len(), PINS);
+    let fmax = fp.iter().copied().fold(0.0, f64::max);
+    assert!(fmax > 0.0);
+    for j in 0..PINS {
+        let a = fp[j];
+        let b = fn_[(PINS - j) % PINS];
+        assert!(
+            (a - b).abs() <= 1e-6 * a.abs().max(b.abs()),
+            "pin {j} at +412 N m: {a} N; pin {} at -412 N m: {b} N",
+            (PINS - j) % PINS
+        );
+    }
+    assert_eq!(pos["pins_in_contact"], neg["pins_in_contact"]);
+    assert_rel(
+        num(&neg, "max_force_n"),
+        num(&pos, "max_force_n"),
+        1e-6,
+        "max force",
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3. Static transmission error and lost motion.
+
+/// Uniform wear `w` (m) turns the disc back by `w / (a Zc)`; in arcmin.
+fn uniform_offset_arcmin(w: f64) -> f64 {
+    w / (ECCENTRICITY_M * DISC_TEETH) * ARCMIN_PER_RAD
+}
+
+fn check_te_arrays(v: &Value) {
+    let input = num_array(v, "input_deg");
+    let te = num_array(v, "te_arcmin");
+    assert_eq!(input.len(), te.len(), "input_deg and te_arcmin lengths");
+    let n = input.len();
+    assert!(n >= 39 * 40, "only {n} samples over a revolution");
+    assert!(te.iter().all(|x| x.is_finite()));
+    assert!(input[0].abs() < 1e-9, "input_deg starts at {}", input[0]);
+    let end = 360.0 * RATIO * (1.0 - 1.0 / n as f64);
+    assert!(
+        input[n - 1] >= end - 1e-6,
+        "input_deg ends at {} < {end}",
+        input[n - 1]
+    );
+    assert!(
+        input.windows(2).all(|w| w[1] > w[0]),
+        "input_deg is not increasing"
+    );
+}
+
+#[test]
+fn te_json_unworn_is_zero() {
+    let v = json_ok(&rvlife(["te", "--json"]), "rvlife te --json");
+    let te = num(&v, "te_mean_arcmin");
+    let lm = num(&v, "lost_motion_arcmin");
+    assert!(te.abs() < 1e-6, "unworn STE mean {te} arcmin");
+    assert!(lm.abs() < 1e-6, "unworn lost motion {lm} arcmin");
+    check_te_arrays(&v);
+}
+
+#[test]
+fn te_json_uniform_wear_offsets_by_w_over_a_zc() {
+    let v = json_ok(
+        &rvlife(["te", "--json", "--wear-um", "10"]),
+        "rvlife te --json --wear-um 10",
+    );
+    let expected = uniform_offset_arcmin(10e-6);
+    assert!((expected - 0.678).abs() < 1e-3, "{expected}");
+    assert_rel(
+        num(&v, "te_mean_arcmin"),
+        expected,
+        0.01,
+        "STE mean at 10 um",
+    );
+    assert_rel(
+        num(&v, "lost_motion_arcmin"),
+        2.0 * expected,
+        0.01,
+        "lost motion at 10 um",
+    );
+    assert_rel(num(&v, "max_wear_um"), 10.0, 1e-9, "max_wear_um");
+    check_te_arrays(&v);
+}
+
+#[test]
+fn te_json_with_torque_reports_loaded_te() {
+    let v = json_ok(
+        &rvlife(["te", "--json", "--torque-nm", "412"]),
+        "rvlife te --json --torque-nm 412",
+    );
+    let lte = num(&v, "loaded_te_mean_arcmin");
+    // The contact compliance alone: the same order as the contact disc rotation (~0.11').
+    assert!(lte > 0.01 && lte < 1.0, "loaded TE mean {lte} arcmin");
+    let arr = num_array(&v, "loaded_te_arcmin");
+    assert_eq!(arr.len(), num_array(&v, "te_arcmin").len());
+    assert!(num(&v, "max_force_n") > 0.0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 4. Equidistant modification: backlash.
+
+#[test]
+fn te_equidistant_modification_gives_lost_motion() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = set_key(
+        &example_text(),
+        "cycloid.modification",
+        "equidistant_mm",
+        "0.01",
+    );
+    let cfg = write_config(dir.path(), "equidistant.toml", &text);
+    let v = json_ok(
+        &rvlife(["te".as_ref(), cfg.as_os_str(), "--json".as_ref()]),
+        "rvlife te (equidistant 0.01 mm)",
+    );
+    let expected = 2.0 * uniform_offset_arcmin(0.01e-3);
+    assert_rel(
+        num(&v, "lost_motion_arcmin"),
+        expected,
+        0.01,
+        "lost motion with equidistant_mm = 0.01",
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// 5. Bad input: exit code 2, a message naming the key, no results directory.
+
+/// Writes `text` as a config and checks that `run`, `contact` and `te` all reject it with exit
+/// code 2 and a message containing every needle, and that `run` leaves nothing behind.
+fn check_bad_config(text: &str, needles: &[&str]) {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "bad.toml", text);
+    let out = dir.path().join("results");
+    let o = rvlife([
+        "run".as_ref(),
+        cfg.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_input_error(&o, "run", needles);
+    assert!(!out.exists(), "run left {} behind", out.display());
+    assert_eq!(leftover_tmp_dirs(dir.path()), Vec::<String>::new());
+    let o = rvlife([
+        "contact".as_ref(),
+        cfg.as_os_str(),
+        "--crank-deg".as_ref(),
+        "0".as_ref(),
+        "--torque-nm".as_ref(),
+        "412".as_ref(),
+    ]);
+    assert_input_error(&o, "contact", needles);
+    let o = rvlife(["te".as_ref(), cfg.as_os_str()]);
+    assert_input_error(&o, "te", needles);
+}
+
+fn bad_key(table: &str, key: &str, value: &str, needles: &[&str]) {
+    check_bad_config(&set_key(&example_text(), table, key, value), needles);
+}
+
+#[test]
+fn bad_eccentricity_k1_above_one() {
+    bad_key("cycloid", "eccentricity_mm", "1.7", &["eccentricity_mm"]);
+}
+
+#[test]
+fn bad_too_few_pins() {
+    bad_key("cycloid", "pins", "2", &["pins"]);
+}
+
+#[test]
+fn bad_negative_pin_radius() {
+    bad_key("cycloid", "pin_radius_mm", "-3.0", &["pin_radius_mm"]);
+}
+
+#[test]
+fn bad_zero_width() {
+    bad_key("cycloid", "width_mm", "0.0", &["width_mm"]);
+}
+
+#[test]
+fn bad_undercut_profile() {
+    bad_key(
+        "cycloid",
+        "pin_radius_mm",
+        "5.0",
+        &["pin_radius_mm", "undercut"],
+    );
+}
+
+#[test]
+fn bad_nan_pin_radius() {
+    bad_key("cycloid", "pin_radius_mm", "nan", &["pin_radius_mm"]);
+}
+
+#[test]
+fn bad_infinite_eccentricity() {
+    bad_key("cycloid", "eccentricity_mm", "inf", &["eccentricity_mm"]);
+}
+
+#[test]
+fn bad_unknown_key() {
+    check_bad_config(
+        &add_line(&example_text(), "cycloid", "bogus = 1"),
+        &["bogus"],
+    );
+}
+
+#[test]
+fn bad_negative_sinusoidal_amplitude() {
+    let text = replace_table(
+        &example_text(),
+        "load",
+        "kind = \"sinusoidal\"\namplitude_nm = -5.0",
+    );
+    check_bad_config(&text, &["amplitude_nm"]);
+}
+
+#[test]
+fn bad_stage_hours_not_increasing() {
+    bad_key(
+        "wear",
+        "stage_hours",
+        "[0.0, 2500.0, 1250.0]",
+        &["stage_hours"],
+    );
+}
+
+#[test]
+fn bad_load_share_above_one() {
+    bad_key("cycloid", "load_share", "1.5", &["load_share"]);
+}
+
+#[test]
+fn bad_poisson_ratio() {
+    bad_key("materials.disc", "poisson_ratio", "0.6", &["poisson_ratio"]);
+}
+
+#[test]
+fn bad_unparsable_toml() {
+    check_bad_config("[cycloid\npins = 40\n", &[]);
+}
+
+#[test]
+fn bad_missing_config_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("no-such-config.toml");
+    let out = dir.path().join("results");
+    let o = rvlife([
+        "run".as_ref(),
+        cfg.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_input_error(&o, "run with a missing config", &["no-such-config.toml"]);
+    assert!(!out.exists(), "run left {} behind", out.display());
+    assert_eq!(leftover_tmp_dirs(dir.path()), Vec::<String>::new());
+    let o = rvlife(["te".as_ref(), cfg.as_os_str()]);
+    assert_input_error(&o, "te with a missing config", &["no-such-config.toml"]);
+}
+
+#[test]
+fn bad_contact_arguments() {
+    let o = rvlife(["contact", "--crank-deg", "nan", "--torque-nm", "412"]);
+    assert_input_error(&o, "contact --crank-deg nan", &["--crank-deg"]);
+    let o = rvlife(["contact", "--crank-deg", "0", "--torque-nm", "inf"]);
+    assert_input_error(&o, "contact --torque-nm inf", &["--torque-nm"]);
+    let o = rvlife([
+        "contact",
+        "--crank-deg",
+        "0",
+        "--torque-nm",
+        "412",
+        "--wear-um",
+        "-1",
+    ]);
+    assert_input_error(&o, "contact --wear-um -1", &["--wear-um"]);
+    // Missing required argument and conflicting wear options: clap's usage errors, also code 2.
+    let o = rvlife(["contact", "--crank-deg", "0"]);
+    assert_input_error(&o, "contact without --torque-nm", &["--torque-nm"]);
+    let o = rvlife(["te", "--wear-um", "5", "--hours", "100"]);
+    assert_input_error(&o, "te --wear-um with --hours", &[]);
+    let o = rvlife(["te", "--torque-nm", "nan"]);
+    assert_input_error(&o, "te --torque-nm nan", &["--torque-nm"]);
+    let o = rvlife(["no-such-subcommand"]);
+    assert_input_error(&o, "unknown subcommand", &[]);
+}
+
+#[test]
+fn bad_profile_extension() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.txt");
+    let o = rvlife(["profile".as_ref(), "--out".as_ref(), out.as_os_str()]);
+    assert_input_error(&o, "profile --out x.txt", &["--out"]);
+    let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+    assert!(
+        left.is_empty(),
+        "profile with a bad extension wrote {left:?}"
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// 6. The study: results directory.
+
+const STAGE_KEYS: [&str; 8] = [
+    "hours",
+    "max_wear_um",
+    "ste_mean_arcmin",
+    "ste_peak_to_peak_arcmin",
+    "lost_motion_arcmin",
+    "loaded_te_mean_arcmin",
+    "max_force_n",
+    "pins_in_contact",
+];
+
+#[test]
+fn run_writes_the_results_directory() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "short.toml", &short_study_text());
+    let out = dir.path().join("results");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "run".as_ref(),
+            cfg.as_os_str(),
+            "--out".as_ref(),
+            out.as_os_str(),
+        ];
+        args.extend(extra.iter().map(|s| std::ffi::OsStr::new(*s)));
+        rvlife(args)
+    };
+
+    let text = ok(&run(&[]), "rvlife run (short study)");
+    assert!(text.contains("3 stages"), "stdout:\n{text}");
+    assert_eq!(leftover_tmp_dirs(dir.path()), Vec::<String>::new());
+
+    // summary.json
+    let raw = std::fs::read_to_string(out.join("summary.json")).expect("summary.json");
+    assert!(!raw.contains("NaN"), "summary.json contains NaN");
+    let summary: Value = serde_json::from_str(&raw).expect("summary.json is JSON");
+    assert_all_finite(&summary, "summary");
+    let stages = summary["stages"].as_array().expect("stages array");
+    assert_eq!(stages.len(), 3);
+    for (i, st) in stages.iter().enumerate() {
+        for key in STAGE_KEYS {
+            assert!(
+                st.get(key).is_some_and(Value::is_number),
+                "stage {i} lacks numeric {key:?}: {st}"
+            );
+        }
+    }
+    let hours: Vec<f64> = stages.iter().map(|s| num(s, "hours")).collect();
+    assert_eq!(hours, vec![0.0, 250.0, 500.0]);
+    let wear: Vec<f64> = stages.iter().map(|s| num(s, "max_wear_um")).collect();
+    assert_eq!(wear[0], 0.0, "wear at 0 h");
+    assert!(
+        wear.windows(2).all(|w| w[1] > w[0]),
+        "max_wear_um does not grow with hours: {wear:?}"
+    );
+    // Wear opens backlash: lost motion grows too.
+    let lm: Vec<f64> = stages
+        .iter()
+        .map(|s| num(s, "lost_motion_arcmin"))
+        .collect();
+    assert!(lm[0].abs() < 1e-6 && lm[2] > lm[0], "lost motion {lm:?}");
+
+    // Files.
+    for f in [
+        "summary.json",
+        "stages.csv",
+        "wear.csv",
+        "te_revolution.csv",
+        "load.csv",
+        "plots/wear.svg",
+        "plots/wear.png",
+        "plots/te_hours.png",
+    ] {
+        let p = out.join(f);
+        let len = std::fs::metadata(&p)
+            .unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+            .len();
+        assert!(len > 0, "{f} is empty");
+    }
+    let dxf: Vec<_> = std::fs::read_dir(out.join("profiles"))
+        .expect("profiles/")
+        .filter_map(|e| e.ok())
+        .filter(|e| e.path().extension().is_some_and(|x| x == "dxf"))
+        .collect();
+    assert!(!dxf.is_empty(), "no profiles/*.dxf");
+    let png = std::fs::read(out.join("plots/wear.png")).unwrap();
+    assert!(png.starts_with(b"\x89PNG"), "plots/wear.png is not a PNG");
+    let svg = std::fs::read_to_string(out.join("plots/wear.svg")).unwrap();
+    assert!(svg.contains("<svg"), "plots/wear.svg is not an SVG");
+    let stages_csv = std::fs::read_to_string(out.join("stages.csv")).unwrap();
+    assert!(stages_csv.starts_with("hours,"), "stages.csv header");
+    assert_eq!(
+        stages_csv.lines().count(),
+        4,
+        "stages.csv: header + 3 stages"
+    );
+
+    // Second run into the non-empty directory without --force: refused, nothing touched.
+    let before = snapshot(&out);
+    let o = run(&[]);
+    assert_input_error(&o, "second run without --force", &["--force"]);
+    assert_eq!(
+        snapshot(&out),
+        before,
+        "refused run changed the results directory"
+    );
+    assert_eq!(leftover_tmp_dirs(dir.path()), Vec::<String>::new());
+
+    // With --force: replaced (a stray file disappears).
+    std::fs::write(out.join("stray.txt"), "x").unwrap();
+    ok(&run(&["--force"]), "rvlife run --force");
+    assert!(out.join("summary.json").is_file());
+    assert!(!out.join("stray.txt").exists(), "--force kept an old file");
+    assert_eq!(leftover_tmp_dirs(dir.path()), Vec::<String>::new());
+}
+
+#[test]
+fn run_refuses_an_existing_file_as_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "short.toml", &short_study_text());
+    let out = dir.path().join("file");
+    std::fs::write(&out, "keep me").unwrap();
+    let o = rvlife([
+        "run".as_ref(),
+        cfg.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_input_error(&o, "run --out FILE", &[]);
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "keep me");
+    assert_eq!(leftover_tmp_dirs(dir.path()), Vec::<String>::new());
+}
+
+// ---------------------------------------------------------------------------------------------
+// 7. Profile export.
+
+fn profile(dir: &Path, name: &str, extra: &[&str]) -> PathBuf {
+    let out = dir.join(name);
+    let mut args = vec!["profile".as_ref(), "--out".as_ref(), out.as_os_str()];
+    args.extend(extra.iter().map(|s| std::ffi::OsStr::new(*s)));
+    ok(&rvlife(args), &format!("rvlife profile --out {name}"));
+    out
+}
+
+/// Reads a profile CSV: (x, y, mesh angle, wear) per point.
+fn read_profile_csv(path: &Path) -> Vec<[f64; 4]> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().map(str::trim),
+        Some("x_mm,y_mm,mesh_angle_deg,wear_um"),
+        "CSV header"
+    );
+    lines
+        .map(|l| {
+            let v: Vec<f64> = l
+                .split(',')
+                .map(|x| {
+                    x.trim()
+                        .parse()
+                        .unwrap_or_else(|_| panic!("bad CSV line {l:?}"))
+                })
+                .collect();
+            assert_eq!(v.len(), 4, "CSV line {l:?}");
+            [v[0], v[1], v[2], v[3]]
+        })
+        .collect()
+}
+
+#[test]
+fn profile_dxf_is_r2000_polyline() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = profile(dir.path(), "disc.dxf", &[]);
+    let text = std::fs::read_to_string(&p).unwrap();
+    assert!(text.contains("LWPOLYLINE"), "no LWPOLYLINE in the DXF");
+    assert!(text.contains("AC1015"), "DXF is not R2000 (AC1015)");
+    assert!(
+        text.trim_end().ends_with("EOF"),
+        "DXF does not end with EOF"
+    );
+    let names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(
+        names,
+        vec![std::ffi::OsString::from("disc.dxf")],
+        "temporary file left"
+    );
+}
+
+#[test]
+fn profile_csv_nominal_radii_between_root_and_tip() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = profile(dir.path(), "disc.csv", &["--nominal"]);
+    let pts = read_profile_csv(&p);
+    assert!(pts.len() >= 39 * 10, "only {} points", pts.len());
+    // Root Rp - rrp - a = 59.7 mm, tip Rp - rrp + a = 62.3 mm.
+    let (lo, hi) = (59.7 - 1e-6, 62.3 + 1e-6);
+    let mut rmin = f64::INFINITY;
+    let mut rmax = 0.0_f64;
+    for [x, y, _, w] in &pts {
+        let r = x.hypot(*y);
+        assert!((lo..=hi).contains(&r), "point ({x}, {y}) at radius {r} mm");
+        assert_eq!(*w, 0.0, "nominal profile has wear");
+        rmin = rmin.min(r);
+        rmax = rmax.max(r);
+    }
+    // The profile reaches (close to) both the root and the tip circles.
+    assert!(
+        rmin < 59.7 + 1e-3 && rmax > 62.3 - 1e-3,
+        "radii {rmin}..{rmax}"
+    );
+}
+
+#[test]
+fn profile_csv_uniform_wear_moves_the_flank_in() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = profile(dir.path(), "worn.csv", &["--wear-um", "5"]);
+    let pts = read_profile_csv(&p);
+    for [x, y, _, w] in &pts {
+        assert!((w - 5.0).abs() < 1e-6, "wear column {w}");
+        let r = x.hypot(*y);
+        assert!(
+            (59.7 - 5e-3 - 1e-6..=62.3 - 5e-3 + 1e-6).contains(&r),
+            "worn point at radius {r} mm"
+        );
+    }
+}
+
+#[test]
+fn profile_svg() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = profile(dir.path(), "disc.svg", &[]);
+    let text = std::fs::read_to_string(&p).unwrap();
+    assert!(text.contains("<svg"), "no <svg> element");
+    assert!(text.trim_end().ends_with("</svg>"), "SVG not closed");
+}
