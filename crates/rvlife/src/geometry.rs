@@ -202,12 +202,9 @@ impl WearMap {
         self.depth.iter().copied().fold(0.0, f64::max)
     }
 
-    /// Depth `h` (m) and its derivative `dh/dt` (m/rad) at mesh angle `t` (any real; wrapped).
-    ///
-    /// Periodic monotone cubic Hermite interpolation (Fritsch and Carlson, SIAM J. Numer. Anal.
-    /// 17, 1980): C1, and never below the smaller neighbouring node, so a map of non-negative
-    /// depths never adds material.
-    pub fn eval(&self, t: f64) -> (f64, f64) {
+    /// The Hermite cell of mesh angle `t`: node depths `p1`, `p2`, node slopes `m1`, `m2` (per
+    /// grid step), local coordinate `u` in `[0, 1)` and the grid step `dt` (rad).
+    fn cell(&self, t: f64) -> (f64, f64, f64, f64, f64, f64) {
         let n = self.depth.len();
         let dt = TAU / n as f64;
         let s = t.rem_euclid(TAU) / dt;
@@ -215,7 +212,7 @@ impl WearMap {
         let u = s - i as f64;
         let p = |k: isize| self.depth[(i as isize + k).rem_euclid(n as isize) as usize];
         let (p0, p1, p2, p3) = (p(-1), p(0), p(1), p(2));
-        // Node slopes (per grid step) by the harmonic mean of the neighbouring secants.
+        // Node slopes by the harmonic mean of the neighbouring secants (zero at extrema).
         let slope = |a: f64, b: f64| {
             if a * b <= 0.0 {
                 0.0
@@ -224,14 +221,21 @@ impl WearMap {
             }
         };
         let (d0, d1, d2) = (p1 - p0, p2 - p1, p3 - p2);
-        let m1 = slope(d0, d1);
-        let m2 = slope(d1, d2);
+        (p1, slope(d0, d1), p2, slope(d1, d2), u, dt)
+    }
+
+    /// Depth `h` (m) and its derivative `dh/dt` (m/rad) at mesh angle `t` (any real; wrapped).
+    ///
+    /// Periodic monotone cubic Hermite interpolation (Fritsch and Carlson, SIAM J. Numer. Anal.
+    /// 17, 1980): C1, and never below the smaller neighbouring node, so a map of non-negative
+    /// depths never adds material.
+    pub fn eval(&self, t: f64) -> (f64, f64) {
+        let (p1, m1, p2, m2, u, dt) = self.cell(t);
         let (u2, u3) = (u * u, u * u * u);
-        let h00 = 2.0 * u3 - 3.0 * u2 + 1.0;
-        let h10 = u3 - 2.0 * u2 + u;
-        let h01 = -2.0 * u3 + 3.0 * u2;
-        let h11 = u3 - u2;
-        let h = h00 * p1 + h10 * m1 + h01 * p2 + h11 * m2;
+        let h = (2.0 * u3 - 3.0 * u2 + 1.0) * p1
+            + (u3 - 2.0 * u2 + u) * m1
+            + (-2.0 * u3 + 3.0 * u2) * p2
+            + (u3 - u2) * m2;
         let dh = ((6.0 * u2 - 6.0 * u) * p1
             + (3.0 * u2 - 4.0 * u + 1.0) * m1
             + (-6.0 * u2 + 6.0 * u) * p2
@@ -242,23 +246,7 @@ impl WearMap {
 
     /// Second derivative `d2h/dt2` (m/rad^2) of the interpolant at `t` (piecewise linear).
     pub fn second_derivative(&self, t: f64) -> f64 {
-        let n = self.depth.len();
-        let dt = TAU / n as f64;
-        let s = t.rem_euclid(TAU) / dt;
-        let i = (s.floor() as usize).min(n - 1);
-        let u = s - i as f64;
-        let p = |k: isize| self.depth[(i as isize + k).rem_euclid(n as isize) as usize];
-        let (p0, p1, p2, p3) = (p(-1), p(0), p(1), p(2));
-        let slope = |a: f64, b: f64| {
-            if a * b <= 0.0 {
-                0.0
-            } else {
-                2.0 * a * b / (a + b)
-            }
-        };
-        let (d0, d1, d2) = (p1 - p0, p2 - p1, p3 - p2);
-        let m1 = slope(d0, d1);
-        let m2 = slope(d1, d2);
+        let (p1, m1, p2, m2, u, dt) = self.cell(t);
         ((12.0 * u - 6.0) * p1
             + (6.0 * u - 4.0) * m1
             + (-12.0 * u + 6.0) * p2

@@ -115,6 +115,29 @@ pub fn wear_per_mesh_cycle(profile: &Profile, model: &Model, torque: f64) -> Res
     Ok(spread_over_band(profile, &depth, &half_width))
 }
 
+/// Grid nodes within half-width `b` (m of arc length) of node `centre`, with the semi-elliptic
+/// weight `sqrt(1 - (x/b)^2)` of the Hertz pressure (1 at the centre); `ds` is the arc length of
+/// each grid step, periodic.
+fn band_shape(ds: &[f64], centre: usize, b: f64) -> Vec<(usize, f64)> {
+    let n = ds.len();
+    let mut weights = vec![(centre, 1.0)];
+    for dir in [-1isize, 1] {
+        let mut dist = 0.0;
+        let mut k = centre as isize;
+        loop {
+            let next = (k + dir).rem_euclid(n as isize);
+            dist += 0.5 * (ds[k as usize] + ds[next as usize]);
+            if dist >= b || weights.len() >= n {
+                break;
+            }
+            let x = dist / b;
+            weights.push((next as usize, (1.0 - x * x).sqrt()));
+            k = next;
+        }
+    }
+    weights
+}
+
 /// Spreads the wear of each contact position over its Hertz band: a pass deposits the wear of
 /// its centre position over `+-b` of arc length with the semi-elliptic weight of the Hertz
 /// pressure, conserving the worn area. Features narrower than the contact band cannot be worn
@@ -127,29 +150,11 @@ fn spread_over_band(profile: &Profile, depth: &[f64], half_width: &[f64]) -> Vec
         .map(|m| profile.point(m as f64 * dt).dp.norm() * dt)
         .collect();
     let mut out = vec![0.0; n];
-    let mut weights = Vec::new();
     for src in 0..n {
         if depth[src] == 0.0 {
             continue;
         }
-        let b = half_width[src];
-        weights.clear();
-        weights.push((src, 1.0));
-        // Walk both ways while inside the band.
-        for dir in [-1isize, 1] {
-            let mut dist = 0.0;
-            let mut k = src as isize;
-            loop {
-                let next = (k + dir).rem_euclid(n as isize);
-                dist += 0.5 * (ds[k as usize] + ds[next as usize]);
-                if dist >= b || weights.len() >= n {
-                    break;
-                }
-                let x = dist / b;
-                weights.push((next as usize, (1.0 - x * x).sqrt()));
-                k = next;
-            }
-        }
+        let weights = band_shape(&ds, src, half_width[src]);
         // Conserve the worn area: sum_m h_m ds_m = depth_src ds_src.
         let norm: f64 = weights.iter().map(|(m, w)| w * ds[*m]).sum();
         let scale = depth[src] * ds[src] / norm;
@@ -245,23 +250,9 @@ impl BandSmoother {
         let weights = (0..n)
             .map(|m| {
                 let b = model.contact.hertz(f_peak, pts[m].curvature).half_width;
-                let mut w = vec![(m, ds[m])];
-                for dir in [-1isize, 1] {
-                    let mut dist = 0.0;
-                    let mut k = m as isize;
-                    loop {
-                        let next = (k + dir).rem_euclid(n as isize);
-                        dist += 0.5 * (ds[k as usize] + ds[next as usize]);
-                        if dist >= b || w.len() >= n {
-                            break;
-                        }
-                        let x = dist / b;
-                        w.push((next as usize, (1.0 - x * x).sqrt() * ds[next as usize]));
-                        k = next;
-                    }
-                }
-                let total: f64 = w.iter().map(|x| x.1).sum();
-                w.iter().map(|&(i, x)| (i, x / total)).collect()
+                let w = band_shape(&ds, m, b);
+                let total: f64 = w.iter().map(|&(i, x)| x * ds[i]).sum();
+                w.iter().map(|&(i, x)| (i, x * ds[i] / total)).collect()
             })
             .collect();
         Ok(BandSmoother { weights })
