@@ -333,13 +333,36 @@ pub fn first_contact(profile: &Profile, phi: f64, direction: f64) -> Result<f64>
             break;
         }
     }
-    beta = s * best;
-    if !beta.is_finite() {
+    if !best.is_finite() {
         return Err(Error::numerical(
             "first contact",
             format!("no pin stops the disc at crank angle {phi} rad"),
         ));
     }
+    // A pin whose gap closes faster than its linear estimate can touch earlier than the
+    // candidates: check every driving pin at the result and take any that already penetrates.
+    for _ in 0..10 {
+        beta = s * best;
+        let mut improved = false;
+        for (j, g0) in geoms.iter().enumerate() {
+            if s * g0.lever_arm <= lmin {
+                continue;
+            }
+            let g = pin_geometry(profile, j, phi, beta)?;
+            if g.gap < -1e-12 {
+                if let Some(b) = touching_rotation(profile, j, phi, beta, s)? {
+                    if s * b < best {
+                        best = s * b;
+                        improved = true;
+                    }
+                }
+            }
+        }
+        if !improved {
+            break;
+        }
+    }
+    beta = s * best;
     Ok(beta)
 }
 
@@ -488,26 +511,32 @@ fn equilibrium(
     phi: f64,
     disc_torque: f64,
     beta0: f64,
-    geoms0: &[PinGeometry],
+    active: &[usize],
 ) -> Result<f64> {
     let s = disc_torque.signum();
-    // Pins that can touch within 2e-3 rad of rotation (far beyond any elastic take-up), with
-    // 1 um to spare for the second-order closing of a pin in a near-conformal root (the groove
-    // turns about a centre offset from the pin's: gap falls as (beta R)^2 / (2 rho_c)).
-    let active: Vec<usize> = geoms0
-        .iter()
-        .filter(|g| g.gap - s * g.lever_arm * 2e-3 < 1e-6)
-        .map(|g| g.pin)
-        .collect();
     let r = |b: f64| -> Result<(f64, f64)> {
-        let (m, k) = moment_and_stiffness(profile, model, phi, b, &active)?;
+        let (m, k) = moment_and_stiffness(profile, model, phi, b, active)?;
         Ok((s * (m - disc_torque), k))
     };
     // In the signed variable x = s (beta - beta0) >= 0 the residual rises from -|T|.
     let tol = 1e-11 * disc_torque.abs();
+    // Lower bracket: first contact, or below it if pins that cannot stop the disc on their own
+    // (root and tip pins) already push it there.
     let mut lo = 0.0;
+    let mut down = 2e-5;
+    while r(beta0 + s * lo)?.0 > 0.0 {
+        lo -= down;
+        down *= 2.0;
+        if down > 1.0 {
+            return Err(Error::numerical(
+                "loaded contact",
+                "could not bracket the rotation",
+            ));
+        }
+    }
+    let origin = lo;
     let mut hi = f64::INFINITY;
-    let mut x = 2e-5;
+    let mut x = lo + 2e-5;
     for _ in 0..60 {
         let (res, k) = r(beta0 + s * x)?;
         if res.abs() <= tol {
@@ -519,12 +548,12 @@ fn equilibrium(
             lo = x;
         }
         let newton = x - res / k.max(1e-300);
-        let next = if k > 0.0 && newton > lo && newton < hi.min(4.0 * x) {
+        let next = if k > 0.0 && newton > lo && newton < hi.min(origin + 4.0 * (x - origin)) {
             newton
         } else if hi.is_finite() {
             0.5 * (lo + hi)
         } else {
-            2.0 * x
+            origin + 2.0 * (x - origin)
         };
         if (next - x).abs() <= 1e-15 * (1.0 + x.abs()) {
             return Ok(beta0 + s * next);
@@ -585,12 +614,33 @@ pub fn solve(
     let zp = profile.geometry().pins;
     let beta0 = first_contact(profile, phi, s)?;
     let geoms0 = pin_geometries(profile, phi, beta0)?;
-    let beta = if disc_torque == 0.0 {
-        beta0
-    } else {
-        equilibrium(profile, model, phi, disc_torque, beta0, &geoms0)?
+    // Pins that can touch within 2e-3 rad of rotation (far beyond any elastic take-up), with
+    // 1 um to spare; a pin that closes faster than linearly (one in a near-conformal root: the
+    // groove turns about a centre offset from the pin's and the gap falls as (beta R)^2/(2 rho_c))
+    // can still be missed, so the solution is checked against every pin and re-solved with the
+    // missed ones.
+    let mut active: Vec<usize> = geoms0
+        .iter()
+        .filter(|g| g.gap - s * g.lever_arm * 2e-3 < 1e-6)
+        .map(|g| g.pin)
+        .collect();
+    let (beta, geoms) = loop {
+        let beta = if disc_torque == 0.0 {
+            beta0
+        } else {
+            equilibrium(profile, model, phi, disc_torque, beta0, &active)?
+        };
+        let geoms = pin_geometries(profile, phi, beta)?;
+        let missed: Vec<usize> = geoms
+            .iter()
+            .filter(|g| g.gap < 0.0 && !active.contains(&g.pin))
+            .map(|g| g.pin)
+            .collect();
+        if missed.is_empty() || disc_torque == 0.0 {
+            break (beta, geoms);
+        }
+        active.extend(missed);
     };
-    let geoms = pin_geometries(profile, phi, beta)?;
     let mut pins = Vec::with_capacity(zp);
     for g in &geoms {
         let (f, k) = if disc_torque == 0.0 {

@@ -295,6 +295,8 @@ pub struct Profile {
     /// below 1.02 pin radii and deeper than the pin can reach by more than 1 nm: only there can a
     /// pin meet the flank at two points.
     dents: Vec<(f64, f64)>,
+    /// Deepest of the dents beyond the pin's reach, m.
+    dent_depth: f64,
 }
 
 impl Profile {
@@ -357,10 +359,12 @@ impl Profile {
             alpha: 1.0 - zp / zc,
             beta: zp / zc,
             dents: Vec::new(),
+            dent_depth: 0.0,
         };
         let mut profile = profile;
         profile.check_undercut()?;
         profile.dents = profile.find_dents();
+        profile.dent_depth = profile.deepest_dent();
         Ok(profile)
     }
 
@@ -499,21 +503,51 @@ impl Profile {
         let turn = TAU * k / self.zc;
         let ql = rotate(q, turn);
         let tl = t0 - TAU * k;
-        let mut t = match self.newton_foot(&ql, tl) {
-            Some(t) => t,
+        let first = self.newton_foot(&ql, tl);
+        let dist2 = |t: f64| (self.eval_d1(t).0 - ql).norm_squared();
+        // Near a wear dent the distance can have several local minima (a pin bridging the dent),
+        // which differ by less than the dent depth: look for them only for pins within the
+        // deepest dent (plus 0.1 um) of touching, or when Newton failed, by starting Newton from
+        // the dent edges.
+        let r = self.geo.pin_radius;
+        let gate = self.dent_depth + 1e-7;
+        let near_contact = first.is_none_or(|t| dist2(t).sqrt() - r < gate);
+        let mut best = first.map(|t| (dist2(t), t));
+        let centre = first.unwrap_or(tl);
+        const WINDOW: f64 = 0.12;
+        if near_contact && !self.dent_edges_near(centre, WINDOW).is_empty() {
+            // Sample the distance densely over the window (about 7 degrees of mesh angle,
+            // 0.25 degree apart) and polish every local minimum of the samples with Newton, so
+            // that the gap is the nearest foot whatever the starting guess.
+            let n = 56;
+            let h = 2.0 * WINDOW / n as f64;
+            let samples: Vec<(f64, f64)> = (0..=n)
+                .map(|i| {
+                    let ti = centre - WINDOW + h * i as f64;
+                    (ti, dist2(ti))
+                })
+                .collect();
+            for w in samples.windows(3) {
+                if w[1].1 <= w[0].1 && w[1].1 <= w[2].1 {
+                    let tc = self
+                        .newton_foot(&ql, w[1].0)
+                        .filter(|tc| (tc - w[1].0).abs() <= h);
+                    let (d, tc) = match tc {
+                        Some(tc) => (dist2(tc), tc),
+                        None => (w[1].1, w[1].0),
+                    };
+                    if best.is_none_or(|(b, _)| d < b - 1e-24) {
+                        best = Some((d, tc));
+                    }
+                }
+            }
+        }
+        let t = match best {
+            Some((_, t)) => t,
             None => self.bracketed_foot(&ql, tl)?,
         };
         let mut point = self.point_approx(t);
-        let mut distance = (ql - point.p).dot(&point.normal);
-        // A dent can only matter for a pin within a dent depth of touching: scan near contact.
-        if !self.dents.is_empty() && (distance - self.geo.pin_radius).abs() < 2e-6 {
-            let tg = self.global_foot(&ql, t)?;
-            if tg != t {
-                t = tg;
-                point = self.point_approx(t);
-                distance = (ql - point.p).dot(&point.normal);
-            }
-        }
+        let distance = (ql - point.p).dot(&point.normal);
         point.t = t + TAU * k;
         point.p = rotate(&point.p, -turn);
         point.dp = rotate(&point.dp, -turn);
@@ -562,58 +596,48 @@ impl Profile {
         out
     }
 
+    /// The deepest dent beyond the pin's reach, m (0 without dents): the largest amount by which
+    /// a local foot of the normal can overestimate a gap.
+    fn deepest_dent(&self) -> f64 {
+        let r = self.geo.pin_radius;
+        self.dents
+            .iter()
+            .map(|&(lo, hi)| {
+                let (a, b) = (self.eval_d1(lo).0, self.eval_d1(hi).0);
+                let c = (b - a).norm();
+                let dir = (b - a) / c.max(1e-300);
+                let depth = (0..=16)
+                    .map(|i| {
+                        let p = self.eval_d1(lo + (hi - lo) * i as f64 / 16.0).0;
+                        cross(&dir, &(p - a)).abs()
+                    })
+                    .fold(0.0, f64::max);
+                (depth - (r - (r * r - 0.25 * c * c).max(0.0).sqrt())).max(0.0)
+            })
+            .fold(0.0, f64::max)
+    }
+
     /// Mesh-angle intervals (rad) where the worn flank is concave with a radius below 1.02 pin
     /// radii (wear dents a pin cannot enter), where closest points are searched globally.
     pub fn dent_zones(&self) -> &[(f64, f64)] {
         &self.dents
     }
 
-    /// True if the mesh-angle window `[t - w, t + w]` meets a dent zone.
-    fn near_dent(&self, t: f64, w: f64) -> bool {
-        let m = mesh_angle(t);
-        self.dents.iter().any(|&(lo, hi)| {
-            [-TAU, 0.0, TAU]
-                .iter()
-                .any(|off| m + w >= lo + off && m - w <= hi + off)
-        })
-    }
-
-    /// A worn flank can be concave with a radius below the pin's (a wear dent the pin cannot
-    /// enter); the distance from `q` then has several local minima, differing by less than the
-    /// dent depth, so only pins within 2 um of touching are checked. Where the foot found at `t`
-    /// is near such a stretch, scan +-0.06 rad (about 3.4 degrees of mesh angle, several wear
-    /// grid cells) around it and keep the nearest foot.
-    fn global_foot(&self, q: &Vec2, t: f64) -> Result<f64> {
-        const WINDOW: f64 = 0.06;
-        if !self.near_dent(t, WINDOW) {
-            return Ok(t);
-        }
-        let dist2 = |t: f64| (self.eval_d1(t).0 - q).norm_squared();
-        let mut best = (dist2(t), t);
-        let n = 16;
-        let mut candidates = Vec::new();
-        let samples: Vec<(f64, f64)> = (0..=n)
-            .map(|i| {
-                let ti = t - WINDOW + 2.0 * WINDOW * i as f64 / n as f64;
-                (ti, dist2(ti))
-            })
-            .collect();
-        for w in samples.windows(3) {
-            if w[1].1 <= w[0].1 && w[1].1 <= w[2].1 {
-                candidates.push(w[1].0);
+    /// Profile parameters (near `t`, same tooth) of the edges of the dent zones that meet the
+    /// window `[t - w, t + w]`.
+    fn dent_edges_near(&self, t: f64, w: f64) -> Vec<f64> {
+        let base = t - mesh_angle(t);
+        let mut out = Vec::new();
+        for &(lo, hi) in &self.dents {
+            for off in [-TAU, 0.0, TAU] {
+                let (l, h) = (base + lo + off, base + hi + off);
+                if h >= t - w && l <= t + w {
+                    out.push(l);
+                    out.push(h);
+                }
             }
         }
-        for c in candidates {
-            let tc = match self.newton_foot(q, c) {
-                Some(tc) => tc,
-                None => self.bracketed_foot(q, c)?,
-            };
-            let d = dist2(tc);
-            if d < best.0 - 1e-24 {
-                best = (d, tc);
-            }
-        }
-        Ok(best.1)
+        out
     }
 
     /// Newton's method for the foot of the normal from `q`, with gradient steps where the
