@@ -151,6 +151,8 @@ pub struct Modification {
 #[derive(Debug, Clone, PartialEq)]
 pub struct WearMap {
     depth: Vec<f64>,
+    /// Node slopes of the monotone cubic, per grid step (derived from `depth`).
+    slope: Vec<f64>,
 }
 
 impl WearMap {
@@ -177,7 +179,20 @@ impl WearMap {
                 "wear depth must be finite and >= 0",
             ));
         }
-        Ok(WearMap { depth })
+        let n = depth.len();
+        // Node slopes by the harmonic mean of the neighbouring secants (zero at extrema).
+        let slope = (0..n)
+            .map(|i| {
+                let a = depth[i] - depth[(i + n - 1) % n];
+                let b = depth[(i + 1) % n] - depth[i];
+                if a * b <= 0.0 {
+                    0.0
+                } else {
+                    2.0 * a * b / (a + b)
+                }
+            })
+            .collect();
+        Ok(WearMap { depth, slope })
     }
 
     /// Uniform depth `h` (m) on `n` points: the paper's conservative wear model (uniform
@@ -204,24 +219,23 @@ impl WearMap {
 
     /// The Hermite cell of mesh angle `t`: node depths `p1`, `p2`, node slopes `m1`, `m2` (per
     /// grid step), local coordinate `u` in `[0, 1)` and the grid step `dt` (rad).
+    #[inline]
     fn cell(&self, t: f64) -> (f64, f64, f64, f64, f64, f64) {
         let n = self.depth.len();
         let dt = TAU / n as f64;
-        let s = t.rem_euclid(TAU) / dt;
-        let i = (s.floor() as usize).min(n - 1);
-        let u = s - i as f64;
-        let p = |k: isize| self.depth[(i as isize + k).rem_euclid(n as isize) as usize];
-        let (p0, p1, p2, p3) = (p(-1), p(0), p(1), p(2));
-        // Node slopes by the harmonic mean of the neighbouring secants (zero at extrema).
-        let slope = |a: f64, b: f64| {
-            if a * b <= 0.0 {
-                0.0
-            } else {
-                2.0 * a * b / (a + b)
-            }
-        };
-        let (d0, d1, d2) = (p1 - p0, p2 - p1, p3 - p2);
-        (p1, slope(d0, d1), p2, slope(d1, d2), u, dt)
+        let s = t / dt;
+        let k = s.floor();
+        let u = s - k;
+        let i = (k as i64).rem_euclid(n as i64) as usize;
+        let j = if i + 1 == n { 0 } else { i + 1 };
+        (
+            self.depth[i],
+            self.slope[i],
+            self.depth[j],
+            self.slope[j],
+            u,
+            dt,
+        )
     }
 
     /// Depth `h` (m) and its derivative `dh/dt` (m/rad) at mesh angle `t` (any real; wrapped).
@@ -230,6 +244,12 @@ impl WearMap {
     /// 17, 1980): C1, and never below the smaller neighbouring node, so a map of non-negative
     /// depths never adds material.
     pub fn eval(&self, t: f64) -> (f64, f64) {
+        let (h, dh, _) = self.eval2(t);
+        (h, dh)
+    }
+
+    /// Depth (m), `dh/dt` (m/rad) and `d2h/dt2` (m/rad^2, piecewise linear) at mesh angle `t`.
+    pub fn eval2(&self, t: f64) -> (f64, f64, f64) {
         let (p1, m1, p2, m2, u, dt) = self.cell(t);
         let (u2, u3) = (u * u, u * u * u);
         let h = (2.0 * u3 - 3.0 * u2 + 1.0) * p1
@@ -241,17 +261,12 @@ impl WearMap {
             + (-6.0 * u2 + 6.0 * u) * p2
             + (3.0 * u2 - 2.0 * u) * m2)
             / dt;
-        (h, dh)
-    }
-
-    /// Second derivative `d2h/dt2` (m/rad^2) of the interpolant at `t` (piecewise linear).
-    pub fn second_derivative(&self, t: f64) -> f64 {
-        let (p1, m1, p2, m2, u, dt) = self.cell(t);
-        ((12.0 * u - 6.0) * p1
+        let ddh = ((12.0 * u - 6.0) * p1
             + (6.0 * u - 4.0) * m1
             + (-12.0 * u + 6.0) * p2
             + (6.0 * u - 2.0) * m2)
-            / (dt * dt)
+            / (dt * dt);
+        (h, dh, ddh)
     }
 }
 
@@ -408,8 +423,9 @@ impl Profile {
         let db = -k1 * r * du;
         let ddb = -k1 * r * ddu;
         let (al, be) = (self.alpha, self.beta);
-        let e1 = Complex::from_polar(1.0, al * t + self.modification.rotation);
+        // alpha = 1 - beta, so e^{i(alpha t + delta)} = e^{it} e^{i(-beta t + delta)}.
         let e2 = Complex::from_polar(1.0, -be * t + self.modification.rotation);
+        let e1 = Complex::new(ct, st) * e2;
         let i = Complex::new(0.0, 1.0);
         let z = e1 * a - e2 * b;
         let dz = e1 * (da + i * (al * a)) - e2 * (db - i * (be * b));
@@ -429,7 +445,7 @@ impl Profile {
         match &self.wear {
             None => (p, dp, ddp),
             Some(w) => {
-                let (h, dh) = w.eval(t);
+                let (h, dh, ddh) = w.eval2(t);
                 let speed = dp.norm();
                 let tangent = dp / speed;
                 let normal = Vec2::new(-tangent.y, tangent.x);
@@ -439,7 +455,6 @@ impl Profile {
                 let dpw = dp * (1.0 - h * k) - normal * dh;
                 // d2/dt2 of p - h n with dn/dt = k dp/dt; the dk/dt term (h k' ~ 1e-2 |dp|) is
                 // dropped: this derivative only steers Newton steps.
-                let ddh = w.second_derivative(t);
                 let ddpw = ddp * (1.0 - h * k) - dp * (2.0 * dh * k) - normal * ddh;
                 (pw, dpw, ddpw)
             }
@@ -559,13 +574,15 @@ impl Profile {
         let Some(w) = &self.wear else {
             return Vec::new();
         };
-        let n = 8 * w.depths().len();
+        let n = 4 * w.depths().len();
         let limit = -1.0 / (1.02 * self.geo.pin_radius);
         let dt = TAU / n as f64;
         let mut out: Vec<(f64, f64)> = Vec::new();
         for i in 0..n {
             let t = i as f64 * dt;
-            if self.point(t).curvature < limit {
+            // Curvature of the worn flank from the analytic derivatives (the wear map's
+            // second derivative included, the drift of the flank curvature along it left out).
+            if self.point_approx(t).curvature < limit {
                 let (lo, hi) = (t - dt, t + dt);
                 match out.last_mut() {
                     Some(last) if last.1 >= lo => last.1 = hi,
@@ -745,7 +762,7 @@ impl Profile {
         let n = 2000;
         for k in 0..n {
             let t = TAU * k as f64 / n as f64;
-            let (_, dp, _) = self.closed_form(t, self.r_mod);
+            let (_, dp, ddp) = self.closed_form(t, self.r_mod);
             let (_, dpath, _) = self.closed_form(t, 0.0);
             if dp.dot(&dpath) <= 0.0 {
                 return Err(Error::invalid(
@@ -760,12 +777,10 @@ impl Profile {
             }
             if let Some(w) = &self.wear {
                 let (h, dh) = w.eval(t);
-                let (p, dp0, ddp0) = self.closed_form(t, self.r_mod);
-                let _ = p;
-                let kk = -cross(&dp0, &ddp0) / dp0.norm().powi(3);
-                let normal = Vec2::new(-dp0.y, dp0.x) / dp0.norm();
-                let dpw = dp0 * (1.0 - h * kk) - normal * dh;
-                if dpw.dot(&dp0) <= 0.0 {
+                let kk = -cross(&dp, &ddp) / dp.norm().powi(3);
+                let normal = Vec2::new(-dp.y, dp.x) / dp.norm();
+                let dpw = dp * (1.0 - h * kk) - normal * dh;
+                if dpw.dot(&dp) <= 0.0 {
                     return Err(Error::invalid(
                         "wear map",
                         format!("{:.2} um at mesh angle {:.2} deg", h * 1e6, t.to_degrees()),

@@ -16,6 +16,8 @@
 
 use std::path::{Path, PathBuf};
 
+use rayon::prelude::*;
+
 use crate::error::{Error, Result};
 use crate::export::{write_profile, ProfileFormat};
 use crate::study::Study;
@@ -205,26 +207,29 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
     }
     write_rows(&dir.join("load.csv"), &header, &rows)?;
 
-    // profiles
+    // Profiles and plots are independent: write them side by side.
     let pdir = dir.join("profiles");
     std::fs::create_dir(&pdir).map_err(|e| Error::io(&pdir, e))?;
-    for (s, tag) in study.stages.iter().zip(&tags) {
-        write_profile(
-            &s.profile,
-            &pdir.join(format!("worn_{tag}.dxf")),
-            ProfileFormat::Dxf,
-        )?;
-        write_profile(
-            &s.profile,
-            &pdir.join(format!("worn_{tag}.csv")),
-            ProfileFormat::Csv,
-        )?;
-    }
-
-    // plots
     let plots = dir.join("plots");
     std::fs::create_dir(&plots).map_err(|e| Error::io(&plots, e))?;
-    crate::plot::write_all(study, &plots)?;
+    let (profiles, figures) = rayon::join(
+        || -> Result<()> {
+            study
+                .stages
+                .par_iter()
+                .zip(tags.par_iter())
+                .try_for_each(|(s, tag)| {
+                    for (ext, format) in [("dxf", ProfileFormat::Dxf), ("csv", ProfileFormat::Csv)]
+                    {
+                        write_profile(&s.profile, &pdir.join(format!("worn_{tag}.{ext}")), format)?;
+                    }
+                    Ok(())
+                })
+        },
+        || crate::plot::write_all(study, &plots),
+    );
+    profiles?;
+    figures?;
     Ok(())
 }
 
