@@ -116,6 +116,17 @@ pub struct Summary {
     pub paper_comparison: PaperComparison,
 }
 
+/// Radians to arcminutes, with round-off below 1e-9 arcmin (1e-11 m at the pitch radius)
+/// shown as zero rather than as a signed `-0.0000`.
+fn arcmin(rad: f64) -> f64 {
+    let v = rad * ARCMIN_PER_RAD;
+    if v.abs() < 1e-9 {
+        0.0
+    } else {
+        v
+    }
+}
+
 /// Analyses one profile: static TE, lost motion and loaded TE at the model's loaded-TE torque.
 ///
 /// # Errors
@@ -148,13 +159,13 @@ pub fn analyse_profile(
     let summary = StageSummary {
         hours,
         max_wear_um,
-        ste_mean_arcmin: s.mean * ARCMIN_PER_RAD,
-        ste_peak_to_peak_arcmin: s.peak_to_peak * ARCMIN_PER_RAD,
-        ste_reverse_mean_arcmin: crate::te::CurveStats::of(&ste.reverse).mean * ARCMIN_PER_RAD,
-        lost_motion_arcmin: lm.max * ARCMIN_PER_RAD,
-        lost_motion_mean_arcmin: lm.mean * ARCMIN_PER_RAD,
-        loaded_te_mean_arcmin: l.mean * ARCMIN_PER_RAD,
-        loaded_te_peak_to_peak_arcmin: l.peak_to_peak * ARCMIN_PER_RAD,
+        ste_mean_arcmin: arcmin(s.mean),
+        ste_peak_to_peak_arcmin: arcmin(s.peak_to_peak),
+        ste_reverse_mean_arcmin: arcmin(crate::te::CurveStats::of(&ste.reverse).mean),
+        lost_motion_arcmin: arcmin(lm.max),
+        lost_motion_mean_arcmin: arcmin(lm.mean),
+        loaded_te_mean_arcmin: arcmin(l.mean),
+        loaded_te_peak_to_peak_arcmin: arcmin(l.peak_to_peak),
         max_force_n: loaded.max_force(),
         max_pressure_mpa: loaded.max_pressure() * 1e-6,
         pins_in_contact: pmin,

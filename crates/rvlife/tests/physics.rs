@@ -350,3 +350,57 @@ fn worn_disc_contact_balances_over_a_mesh_cycle() {
         }
     }
 }
+
+/// Load spectra: a duty cycle that runs at rated torque half of the time and idles the other
+/// half wears at half the constant-torque rate; a sinusoid about zero wears both flanks alike.
+#[test]
+fn load_spectra_scale_the_wear() {
+    let dir = tempfile::tempdir().unwrap();
+    let duty = dir.path().join("duty.csv");
+    std::fs::write(
+        &duty,
+        "duration_s,torque_nm,speed_rpm\n2.0,412.0,1500.0\n2.0,0.0,1500.0\n",
+    )
+    .unwrap();
+    let base = rvlife::config::EXAMPLE_TOML
+        .replace("profile_update_hours = 250.0", "profile_update_hours = 0.0");
+    let text = base.replace(
+        "kind = \"constant\"              # \"constant\", \"sinusoidal\" or \"duty_cycle\"\ntorque_nm = 412.0",
+        &format!("kind = \"duty_cycle\"\nfile = \"{}\"", duty.display()),
+    );
+    assert!(text.contains("duty_cycle"));
+    let constant = Config::from_toml_str(&base, "x")
+        .unwrap()
+        .validate()
+        .unwrap();
+    let halved = Config::from_toml_str(&text, "x")
+        .unwrap()
+        .validate()
+        .unwrap();
+    let a = rvlife::wear::integrate(&constant, &|_, _| {}).unwrap();
+    let b = rvlife::wear::integrate(&halved, &|_, _| {}).unwrap();
+    let (ma, mb) = (a.max_depths()[6], b.max_depths()[6]);
+    assert!((mb / ma - 0.5).abs() < 1e-9, "{ma} {mb}");
+
+    let sine = base.replace(
+        "kind = \"constant\"              # \"constant\", \"sinusoidal\" or \"duty_cycle\"\ntorque_nm = 412.0",
+        "kind = \"sinusoidal\"\namplitude_nm = 412.0\noffset_nm = 0.0\nperiod_s = 0.3\nlevels = 24",
+    );
+    let m = Config::from_toml_str(&sine, "x")
+        .unwrap()
+        .validate()
+        .unwrap();
+    let h = rvlife::wear::integrate(&m, &|_, _| {}).unwrap();
+    let map = &h.maps[6];
+    let n = map.len();
+    // Mirror symmetry of the tooth: mesh angle t on one flank pairs with 2 pi - t on the other.
+    let peak = map.iter().copied().fold(0.0, f64::max);
+    for i in 1..n / 2 {
+        assert!(
+            (map[i] - map[n - i]).abs() < 0.02 * peak,
+            "{i}: {} {}",
+            map[i],
+            map[n - i]
+        );
+    }
+}
