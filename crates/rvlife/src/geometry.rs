@@ -285,6 +285,22 @@ pub struct ProfilePoint {
     pub curvature: f64,
 }
 
+impl ProfilePoint {
+    /// The point at parameter `t` from the position and its first two derivatives in `t`
+    /// (clockwise parametrisation: the outward normal is the tangent turned by +90 degrees).
+    fn from_derivatives(t: f64, p: Vec2, dp: Vec2, ddp: Vec2) -> Self {
+        let speed = dp.norm();
+        let tangent = dp / speed;
+        ProfilePoint {
+            t,
+            p,
+            dp,
+            normal: Vec2::new(-tangent.y, tangent.x),
+            curvature: -cross(&dp, &ddp) / speed.powi(3),
+        }
+    }
+}
+
 /// Where a point lies relative to a profile: the closest profile point and the signed distance.
 #[derive(Debug, Clone, Copy)]
 pub struct Projection {
@@ -472,30 +488,16 @@ impl Profile {
         } else {
             ddp_exact
         };
-        let speed = dp.norm();
-        let tangent = dp / speed;
-        ProfilePoint {
-            t,
-            p,
-            dp,
-            normal: Vec2::new(-tangent.y, tangent.x),
-            curvature: -cross(&dp, &ddp) / speed.powi(3),
-        }
+        ProfilePoint::from_derivatives(t, p, dp, ddp)
     }
 
-    /// Like [`Profile::point`] but, for a worn profile, with the curvature of the modified
-    /// profile scaled for the offset (`k / (1 - h k)`), which skips the finite difference.
+    /// Like [`Profile::point`] but, for a worn profile, with the curvature from the analytic
+    /// second derivative of [`Profile::eval_d1`] (the wear map's own second derivative included,
+    /// the drift of the flank curvature along the wear left out), which skips the finite
+    /// difference.
     fn point_approx(&self, t: f64) -> ProfilePoint {
         let (p, dp, ddp) = self.eval_d1(t);
-        let speed = dp.norm();
-        let tangent = dp / speed;
-        ProfilePoint {
-            t,
-            p,
-            dp,
-            normal: Vec2::new(-tangent.y, tangent.x),
-            curvature: -cross(&dp, &ddp) / speed.powi(3),
-        }
+        ProfilePoint::from_derivatives(t, p, dp, ddp)
     }
 
     /// Curvature (1/m, positive convex) of the modified profile without wear at parameter `t`:

@@ -73,6 +73,11 @@ macro_rules! figure {
     };
 }
 
+/// The legend's sample line of a series drawn in colour `c`.
+fn legend_line(c: RGBColor) -> impl Fn((i32, i32)) -> PathElement<(i32, i32)> {
+    move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+}
+
 fn series_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
         (a.min(v), b.max(v))
@@ -125,9 +130,7 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
                         c.stroke_width(2),
                     ))?
                     .label(format!("{:.0} h", hours[i]))
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
-                    });
+                    .legend(legend_line(c));
             }
             chart
                 .configure_series_labels()
@@ -206,9 +209,7 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
                 chart
                     .draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?
                     .label(label.clone())
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
-                    });
+                    .legend(legend_line(c));
             }
             chart
                 .configure_series_labels()
@@ -261,9 +262,7 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
                         s.hours,
                         w.crank_angle.to_degrees()
                     ))
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
-                    });
+                    .legend(legend_line(c));
                 chart.draw_series(
                     w.pins
                         .iter()
@@ -321,9 +320,7 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
                         c.stroke_width(1),
                     ))?
                     .label(format!("{:.0} h", hours[i]))
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
-                    });
+                    .legend(legend_line(c));
             }
             chart
                 .configure_series_labels()
@@ -380,9 +377,7 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
                         c.stroke_width(2),
                     ))?
                     .label(*label)
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
-                    });
+                    .legend(legend_line(c));
                 chart.draw_series(
                     sums.iter()
                         .map(|s| Circle::new((s.hours, f(s)), 4, c.filled())),
