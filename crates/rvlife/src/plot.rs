@@ -278,39 +278,67 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
         }
     )?;
 
-    // 4. STE over one output revolution.
+    // 4. STE over one output revolution (top: the band of the mesh ripple; bottom: three mesh
+    //    cycles of it, in input degrees, with the reverse direction dashed).
+    let ratio = study.model.ratio;
+    let zc = (zp - 1) as f64;
     let curves: Vec<(Vec<f64>, Vec<f64>)> = study
         .stages
         .iter()
         .map(|s| {
-            let (x, y) = over_revolution(&s.ste.crank_angle, &s.ste.forward, zp, study.model.ratio);
+            let (x, y) = over_revolution(&s.ste.crank_angle, &s.ste.forward, zp, ratio);
             (
-                x.iter().map(|v| v / study.model.ratio).collect(),
+                x.iter().map(|v| v / ratio).collect(),
                 y.iter().map(|v| v * ARCMIN_PER_RAD).collect(),
             )
         })
         .collect();
     let (t0, t1) = series_range(curves.iter().flat_map(|c| c.1.iter().copied()));
+    // Three mesh cycles: input angle of crank angle phi is i_H phi / Zc.
+    let cycles = 3usize;
+    let zoom: Vec<(Vec<(f64, f64)>, Vec<(f64, f64)>)> = study
+        .stages
+        .iter()
+        .map(|s| {
+            let period = std::f64::consts::TAU / zp as f64;
+            let pts = |v: &[f64]| -> Vec<(f64, f64)> {
+                (0..cycles)
+                    .flat_map(|c| {
+                        s.ste.crank_angle.iter().zip(v).map(move |(phi, y)| {
+                            (
+                                (ratio * (phi + c as f64 * period) / zc).to_degrees(),
+                                y * ARCMIN_PER_RAD,
+                            )
+                        })
+                    })
+                    .collect()
+            };
+            (pts(&s.ste.forward), pts(&s.ste.reverse))
+        })
+        .collect();
+    let zoom_end = (ratio * cycles as f64 * std::f64::consts::TAU / (zp as f64 * zc)).to_degrees();
+    let (z0, z1) = series_range(
+        zoom.iter()
+            .flat_map(|(f, r)| f.iter().chain(r.iter()).map(|p| p.1)),
+    );
     figure!(
         dir,
         "te",
         |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-            let mut chart = ChartBuilder::on(root)
+            let (top, bottom) = root.split_vertically(SIZE.1 / 2);
+            let mut chart = ChartBuilder::on(&top)
                 .caption(
                     "Static transmission error over one output revolution",
-                    ("sans-serif", 26),
+                    ("sans-serif", 22),
                 )
-                .margin(15)
-                .x_label_area_size(45)
+                .margin(10)
+                .x_label_area_size(35)
                 .y_label_area_size(65)
                 .build_cartesian_2d(0.0..360.0, t0.min(0.0)..t1)?;
             chart
                 .configure_mesh()
-                .x_desc(format!(
-                    "output angle (deg) = input angle / {:.0}",
-                    study.model.ratio
-                ))
-                .y_desc("STE (arcmin), output lag")
+                .x_desc(format!("output angle (deg) = input angle / {ratio:.0}"))
+                .y_desc("STE (arcmin)")
                 .draw()?;
             for (i, (x, y)) in curves.iter().enumerate() {
                 let c = stage_color(i, n);
@@ -327,6 +355,30 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
                 .background_style(WHITE.mix(0.8))
                 .border_style(BLACK)
                 .draw()?;
+            let mut chart = ChartBuilder::on(&bottom)
+                .caption(
+                    format!("{cycles} mesh cycles: forward (solid), reverse (dashed)"),
+                    ("sans-serif", 20),
+                )
+                .margin(10)
+                .x_label_area_size(40)
+                .y_label_area_size(65)
+                .build_cartesian_2d(0.0..zoom_end, z0.min(0.0)..z1)?;
+            chart
+                .configure_mesh()
+                .x_desc("input angle (deg)")
+                .y_desc("STE (arcmin)")
+                .draw()?;
+            for (i, (fwd, rev)) in zoom.iter().enumerate() {
+                let c = stage_color(i, n);
+                chart.draw_series(LineSeries::new(fwd.iter().copied(), c.stroke_width(2)))?;
+                chart.draw_series(DashedLineSeries::new(
+                    rev.iter().copied(),
+                    6,
+                    4,
+                    c.stroke_width(1),
+                ))?;
+            }
             Ok(())
         }
     )?;
