@@ -14,6 +14,8 @@ use crate::te::{over_revolution, ARCMIN_PER_RAD};
 
 const SIZE: (u32, u32) = (1000, 640);
 
+/// Points of a polyline in plot coordinates.
+type Polyline = Vec<(f64, f64)>;
 /// A labelled, coloured polyline in plot coordinates.
 type Curve = (String, Vec<(f64, f64)>, RGBColor);
 /// One number of a stage summary, for the against-hours plot.
@@ -296,7 +298,7 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
     let (t0, t1) = series_range(curves.iter().flat_map(|c| c.1.iter().copied()));
     // Three mesh cycles: input angle of crank angle phi is i_H phi / Zc.
     let cycles = 3usize;
-    let zoom: Vec<(Vec<(f64, f64)>, Vec<(f64, f64)>)> = study
+    let zoom: Vec<(Polyline, Polyline)> = study
         .stages
         .iter()
         .map(|s| {
