@@ -10,6 +10,8 @@
 //! Tao et al., Machines 2024, 12(8), 511 (the "paper"), restated in `physics-notes.md`, with
 //! true gaps from geometry and wear with profile updates as the defaults.
 
+#![warn(missing_docs)]
+
 pub mod config;
 pub mod contact;
 pub mod error;
