@@ -297,11 +297,13 @@ const MIN_RELATIVE_LEVER: f64 = 0.02;
 /// position in direction `direction` (+1: counter-clockwise, the flank `0 < mesh angle < pi`;
 /// -1: clockwise), for crank angle `phi`. Zero for an unmodified, unworn disc.
 ///
-/// Solved exactly on the actual profile: start from the linear estimate `min gap_j / l_j`, then
-/// Newton on the largest penetration.
+/// Solved exactly on the actual profile: from the linear estimates `gap_j / l_j`, each nearby
+/// candidate's own touching rotation is solved, then every driving pin is checked at the result
+/// (a pin that closes faster than linearly can touch first). Pins with a lever arm below 2 % of
+/// `a Zc` at the nominal pose are left out (see `MIN_RELATIVE_LEVER`).
 ///
 /// # Errors
-/// [`Error::Invalid`] if no pin can stop the disc; [`Error::Numerical`] on non-convergence.
+/// [`Error::Numerical`] if no pin can stop the disc or a projection fails.
 pub fn first_contact(profile: &Profile, phi: f64, direction: f64) -> Result<f64> {
     let s = direction.signum();
     let lmin = MIN_RELATIVE_LEVER * profile.geometry().disc_pitch_radius();

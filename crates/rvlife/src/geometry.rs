@@ -394,8 +394,7 @@ impl Profile {
         };
         let mut profile = profile;
         profile.check_undercut()?;
-        profile.dents = profile.find_dents();
-        profile.dent_depth = profile.deepest_dent();
+        (profile.dents, profile.dent_depth) = profile.find_dents();
         Ok(profile)
     }
 
@@ -532,7 +531,7 @@ impl Profile {
         let mut best = first.map(|t| (dist2(t), t));
         let centre = first.unwrap_or(tl);
         const WINDOW: f64 = 0.08;
-        if near_contact && !self.dent_edges_near(centre, WINDOW).is_empty() {
+        if near_contact && self.near_dent(centre, WINDOW) {
             // Sample the distance densely over the window (about 4.6 degrees of mesh angle,
             // 0.33 degree apart, finer than the dents) and polish every local minimum of the samples with Newton, so
             // that the gap is the nearest foot whatever the starting guess.
@@ -572,68 +571,48 @@ impl Profile {
         Ok(Projection { point, distance })
     }
 
-    fn find_dents(&self) -> Vec<(f64, f64)> {
+    /// The dent zones and the deepest of them beyond the pin's reach (m, 0 without dents): the
+    /// largest amount by which a local foot of the normal can overestimate a gap.
+    fn find_dents(&self) -> (Vec<(f64, f64)>, f64) {
         let Some(w) = &self.wear else {
-            return Vec::new();
+            return (Vec::new(), 0.0);
         };
         let n = 4 * w.depths().len();
         let limit = -1.0 / (1.02 * self.geo.pin_radius);
         let dt = TAU / n as f64;
-        let mut out: Vec<(f64, f64)> = Vec::new();
+        let mut zones: Vec<(f64, f64)> = Vec::new();
         for i in 0..n {
             let t = i as f64 * dt;
             // Curvature of the worn flank from the analytic derivatives (the wear map's
             // second derivative included, the drift of the flank curvature along it left out).
             if self.point_approx(t).curvature < limit {
                 let (lo, hi) = (t - dt, t + dt);
-                match out.last_mut() {
+                match zones.last_mut() {
                     Some(last) if last.1 >= lo => last.1 = hi,
-                    _ => out.push((lo, hi)),
+                    _ => zones.push((lo, hi)),
                 }
             }
         }
-        // Keep only dents deeper than 1 nm beyond what the pin can reach: shallower ones change
-        // a gap by less than a nanometre, far below any contact approach.
+        // Depth of each zone below its chord beyond the pin's sagitta over that chord. Keep only
+        // dents deeper than 1 nm beyond what the pin can reach: shallower ones change a gap by
+        // less than a nanometre, far below any contact approach.
         let r = self.geo.pin_radius;
-        out.retain(|&(lo, hi)| {
+        let mut deepest: f64 = 0.0;
+        zones.retain(|&(lo, hi)| {
             let (a, b) = (self.eval_d1(lo).0, self.eval_d1(hi).0);
-            let chord = b - a;
-            let c = chord.norm();
-            if c == 0.0 || c >= 2.0 * r {
-                return true;
-            }
-            let dir = chord / c;
+            let c = (b - a).norm();
+            let dir = (b - a) / c.max(1e-300);
             let depth = (0..=16)
                 .map(|i| {
                     let p = self.eval_d1(lo + (hi - lo) * i as f64 / 16.0).0;
                     cross(&dir, &(p - a)).abs()
                 })
                 .fold(0.0, f64::max);
-            let pin_sagitta = r - (r * r - 0.25 * c * c).sqrt();
-            depth - pin_sagitta > 1e-9
+            let excess = depth - (r - (r * r - 0.25 * c * c).max(0.0).sqrt());
+            deepest = deepest.max(excess);
+            c == 0.0 || c >= 2.0 * r || excess > 1e-9
         });
-        out
-    }
-
-    /// The deepest dent beyond the pin's reach, m (0 without dents): the largest amount by which
-    /// a local foot of the normal can overestimate a gap.
-    fn deepest_dent(&self) -> f64 {
-        let r = self.geo.pin_radius;
-        self.dents
-            .iter()
-            .map(|&(lo, hi)| {
-                let (a, b) = (self.eval_d1(lo).0, self.eval_d1(hi).0);
-                let c = (b - a).norm();
-                let dir = (b - a) / c.max(1e-300);
-                let depth = (0..=16)
-                    .map(|i| {
-                        let p = self.eval_d1(lo + (hi - lo) * i as f64 / 16.0).0;
-                        cross(&dir, &(p - a)).abs()
-                    })
-                    .fold(0.0, f64::max);
-                (depth - (r - (r * r - 0.25 * c * c).max(0.0).sqrt())).max(0.0)
-            })
-            .fold(0.0, f64::max)
+        (zones, deepest)
     }
 
     /// Mesh-angle intervals (rad) where the worn flank is concave with a radius below 1.02 pin
@@ -642,21 +621,14 @@ impl Profile {
         &self.dents
     }
 
-    /// Profile parameters (near `t`, same tooth) of the edges of the dent zones that meet the
-    /// window `[t - w, t + w]`.
-    fn dent_edges_near(&self, t: f64, w: f64) -> Vec<f64> {
-        let base = t - mesh_angle(t);
-        let mut out = Vec::new();
-        for &(lo, hi) in &self.dents {
-            for off in [-TAU, 0.0, TAU] {
-                let (l, h) = (base + lo + off, base + hi + off);
-                if h >= t - w && l <= t + w {
-                    out.push(l);
-                    out.push(h);
-                }
-            }
-        }
-        out
+    /// True if a dent zone meets the mesh-angle window `[t - w, t + w]` (`t` any parameter).
+    fn near_dent(&self, t: f64, w: f64) -> bool {
+        let m = mesh_angle(t);
+        self.dents.iter().any(|&(lo, hi)| {
+            [-TAU, 0.0, TAU]
+                .iter()
+                .any(|off| hi + off >= m - w && lo + off <= m + w)
+        })
     }
 
     /// Newton's method for the foot of the normal from `q`, with gradient steps where the

@@ -204,8 +204,7 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
             (w, _) => w.clone(),
         };
         let profile = model.profile(te_map)?;
-        let (ste, loaded, mut summary) = analyse_profile(model, &profile, *hours)?;
-        summary.max_wear_um = max * 1e6;
+        let (ste, loaded, summary) = analyse_profile(model, &profile, *hours)?;
         stages.push(Stage {
             hours: *hours,
             wear: wear_map,
