@@ -84,6 +84,32 @@ enum Command {
         #[command(flatten)]
         wear: WearArgs,
     },
+    /// Simulate the whole reducer (multibody model, impact contact) and report the dynamic TE.
+    Dynamics {
+        /// Config file (default: the built-in example).
+        config: Option<PathBuf>,
+        /// Output load, overriding `[dynamics.load] kind` (its other keys still apply).
+        #[arg(long, value_parser = ["none", "constant", "sinusoidal", "table"])]
+        load: Option<String>,
+        /// Constant load torque, N m (with --load constant; default: rated torque).
+        #[arg(long, allow_hyphen_values = true)]
+        torque_nm: Option<f64>,
+        /// Results directory: `dynamics.csv`, `summary.json`, plots (created; must not exist or
+        /// be empty unless --force).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Replace an existing results directory.
+        #[arg(long)]
+        force: bool,
+        /// Also write every pin force at every sample (`pin_forces.csv`).
+        #[arg(long)]
+        pin_forces: bool,
+        /// Print the summary as one JSON object.
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        wear: WearArgs,
+    },
     /// Find the Archard coefficient that gives a target maximum wear at the last stage.
     Calibrate {
         /// Config file (default: the built-in example).
@@ -393,6 +419,67 @@ fn run(cli: Cli) -> Result<()> {
                         ls.mean * ARCMIN_PER_RAD,
                         ls.peak_to_peak * ARCMIN_PER_RAD
                     );
+                }
+            }
+        }
+        Command::Dynamics {
+            config,
+            load,
+            torque_nm,
+            out,
+            force,
+            pin_forces,
+            json,
+            wear,
+        } => {
+            let mut cfg = load_config(config.as_deref())?;
+            if let Some(kind) = load {
+                cfg.dynamics.load.kind = kind;
+            }
+            if let Some(t) = torque_nm {
+                if cfg.dynamics.load.kind != "constant" {
+                    return Err(Error::invalid(
+                        "--torque-nm",
+                        t,
+                        "applies only to a constant load (--load constant)",
+                    ));
+                }
+                cfg.dynamics.load.torque_nm = Some(t);
+            }
+            let model = cfg.validate()?;
+            if let Some(dir) = &out {
+                rvlife::report::check_output_dir(dir, force)?;
+            }
+            let profile = profile_for(&model, &wear, false)?;
+            let start = std::time::Instant::now();
+            let res = rvlife::dynamics::simulate(&profile, &model.dynamics, pin_forces)?;
+            let wall = start.elapsed().as_secs_f64();
+            if let Some(dir) = &out {
+                rvlife::report::write_dynamics(&res, &profile, dir, force)?;
+            }
+            let s = &res.summary;
+            let mut v =
+                serde_json::to_value(s).map_err(|e| Error::numerical("json", e.to_string()))?;
+            v["max_wear_um"] = json!(profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6);
+            v["wall_time_s"] = json!(wall);
+            if json {
+                println!("{v}");
+            } else {
+                println!(
+                    "DTE over {:.3}-{:.3} s: mean {:.4} arcmin, peak-to-peak {:.4} arcmin, RMS {:.4} arcmin",
+                    s.window_start_s, s.window_end_s, s.te_mean_arcmin, s.te_peak_to_peak_arcmin, s.te_rms_arcmin
+                );
+                println!(
+                    "output speed {:.4} deg/s (input / i_H: {:.4}); max pin force {:.1} N; {} steps, {} evaluations, {:.2} s",
+                    s.output_speed_deg_s,
+                    s.nominal_output_speed_deg_s,
+                    s.max_pin_force_n,
+                    s.steps,
+                    s.rhs_evaluations,
+                    wall
+                );
+                if let Some(dir) = &out {
+                    println!("results in {}", dir.display());
                 }
             }
         }

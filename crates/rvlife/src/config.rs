@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use crate::contact::{ApproachLaw, ContactModel, Materials};
+use crate::dynamics::{DynamicsConfig, DynamicsParams};
 use crate::error::{Error, Result};
 use crate::geometry::{CycloidGeometry, Modification, Profile, WearMap};
 
@@ -36,6 +37,9 @@ pub struct Config {
     /// Transmission-error sampling.
     #[serde(default)]
     pub te: TeConfig,
+    /// Multibody dynamics (dynamic TE).
+    #[serde(default)]
+    pub dynamics: DynamicsConfig,
     /// Directory of the config file (for relative paths); not a key.
     #[serde(skip)]
     pub base_dir: Option<PathBuf>,
@@ -303,6 +307,10 @@ pub struct Model {
     pub te_samples: usize,
     /// Torque of the loaded TE, N m.
     pub loaded_torque: f64,
+    /// Parameters of the multibody model (always checked; see `dynamics_enabled`).
+    pub dynamics: DynamicsParams,
+    /// Whether `rvlife run` adds the dynamic TE to every stage.
+    pub dynamics_enabled: bool,
 }
 
 impl Model {
@@ -427,7 +435,7 @@ impl Config {
             .to_radians(),
         };
         // Geometry, K1 and undercut checks.
-        Profile::new(geometry.clone(), modification, None)?;
+        let nominal_profile = Profile::new(geometry.clone(), modification, None)?;
         let load_share = in_range(
             "cycloid.load_share",
             c.load_share,
@@ -586,7 +594,20 @@ impl Config {
             Some(t) => finite("te.loaded_torque_nm", t)?,
             None => rated_torque,
         };
+        let dynamics = self.dynamics.validate(
+            &nominal_profile,
+            &contact,
+            z1,
+            z2,
+            r.planets as usize,
+            ratio,
+            rated_torque,
+            load_share,
+            self.base_dir.as_deref(),
+        )?;
         Ok(Model {
+            dynamics,
+            dynamics_enabled: self.dynamics.enabled,
             geometry,
             modification,
             contact,

@@ -14,6 +14,7 @@
 
 pub mod config;
 pub mod contact;
+pub mod dynamics;
 pub mod error;
 pub mod export;
 pub mod geometry;

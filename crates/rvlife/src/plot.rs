@@ -395,6 +395,7 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
                 s.lost_motion_arcmin,
                 s.loaded_te_mean_arcmin,
                 s.ste_mean_arcmin + s.ste_peak_to_peak_arcmin,
+                s.dte_range_arcmin.map_or(0.0, |r| r[1]),
             ]
         })
         .fold(0.0, f64::max)
@@ -437,6 +438,24 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
                         .map(|s| Circle::new((s.hours, f(s)), 4, c.filled())),
                 )?;
             }
+            if sums.iter().all(|s| s.dte_mean_arcmin.is_some()) {
+                let c = MAGENTA;
+                chart
+                    .draw_series(LineSeries::new(
+                        sums.iter()
+                            .map(|s| (s.hours, s.dte_mean_arcmin.unwrap_or(0.0))),
+                        c.stroke_width(2),
+                    ))?
+                    .label("DTE mean (dynamic model)")
+                    .legend(legend_line(c));
+                chart.draw_series(sums.iter().map(|s| {
+                    let [lo, hi] = s.dte_range_arcmin.unwrap_or([0.0, 0.0]);
+                    PathElement::new(
+                        vec![(s.hours, lo.max(0.0)), (s.hours, hi)],
+                        c.stroke_width(1),
+                    )
+                }))?;
+            }
             chart
                 .configure_series_labels()
                 .position(SeriesLabelPosition::UpperLeft)
@@ -447,4 +466,98 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
         }
     )?;
     Ok(())
+}
+
+/// Draws a time history: one panel per group of curves, sharing the time axis.
+fn time_panels<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    panels: &[(&str, Vec<Curve>)],
+) -> std::result::Result<(), Box<dyn std::error::Error>>
+where
+    DB::ErrorType: 'static,
+{
+    let areas = root.split_evenly((panels.len(), 1));
+    for (k, ((ylabel, curves), area)) in panels.iter().zip(areas.iter()).enumerate() {
+        let t_end = curves
+            .iter()
+            .flat_map(|c| c.1.last().map(|p| p.0))
+            .fold(0.0, f64::max)
+            .max(1e-6);
+        let (lo, hi) = series_range(curves.iter().flat_map(|c| c.1.iter().map(|p| p.1)));
+        let mut b = ChartBuilder::on(area);
+        b.margin(12).x_label_area_size(40).y_label_area_size(75);
+        if k == 0 {
+            b.caption(title, ("sans-serif", 24));
+        }
+        let mut chart = b.build_cartesian_2d(0.0..t_end, lo..hi)?;
+        chart
+            .configure_mesh()
+            .x_desc("time (s)")
+            .y_desc(*ylabel)
+            .draw()?;
+        for (label, pts, c) in curves {
+            let c = *c;
+            chart
+                .draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(1)))?
+                .label(label.as_str())
+                .legend(legend_line(c));
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()?;
+    }
+    Ok(())
+}
+
+/// Writes the plots of one dynamic simulation into `dir`: `speeds` (input and output speed,
+/// paper Figs 11 and 14) and `te` (TE and load against time, paper Figs 12 and 15), SVG and PNG.
+///
+/// # Errors
+/// [`Error::Io`] if a file cannot be written.
+pub fn dynamics(res: &crate::dynamics::DynamicsResult, dir: &Path) -> Result<()> {
+    let s = &res.samples;
+    let line = |f: fn(&crate::dynamics::Sample) -> f64| -> Polyline {
+        s.iter().map(|x| (x.time_s, f(x))).collect()
+    };
+    let speeds = [
+        (
+            "input speed (deg/s)",
+            vec![("input".to_string(), line(|x| x.input_speed_deg_s), BLUE)],
+        ),
+        (
+            "output speed (deg/s)",
+            vec![("output".to_string(), line(|x| x.output_speed_deg_s), RED)],
+        ),
+    ];
+    figure!(dir, "speeds", |root: &DrawingArea<_, Shift>| {
+        time_panels(root, "Input and output speeds", &speeds)
+    })?;
+    let sm = &res.summary;
+    let te = [
+        (
+            "TE (arcmin)",
+            vec![(
+                format!(
+                    "TE: mean {:.3}, p-p {:.3} arcmin over {}-{} s",
+                    sm.te_mean_arcmin,
+                    sm.te_peak_to_peak_arcmin,
+                    sm.window_start_s,
+                    sm.window_end_s
+                ),
+                line(|x| x.te_arcmin),
+                BLUE,
+            )],
+        ),
+        (
+            "load (N m)",
+            vec![("output load".to_string(), line(|x| x.load_nm), BLACK)],
+        ),
+    ];
+    figure!(dir, "te", |root: &DrawingArea<_, Shift>| {
+        time_panels(root, "Dynamic transmission error", &te)
+    })
 }

@@ -3,7 +3,8 @@
 //!
 //! Contents:
 //! - `summary.json`: [`crate::study::Summary`] (a `stages` array and the paper comparison);
-//! - `stages.csv`: one row per stage with the summary numbers;
+//! - `stages.csv`: one row per stage with the summary numbers (the `dte_*` columns empty when
+//!   dynamics are off);
 //! - `wear.csv`: `mesh_angle_deg` and `wear_um_<H>h` for every stage;
 //! - `te_mesh_cycle.csv`: per stage and crank angle, forward and reverse STE, lost motion and
 //!   loaded TE (arcmin) over one mesh cycle;
@@ -75,10 +76,14 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
         "pins_in_contact",
         "pins_in_contact_max",
         "torsional_stiffness_nm_per_arcmin",
+        "dte_mean_arcmin",
+        "dte_peak_to_peak_arcmin",
+        "dte_rms_arcmin",
     ]
     .iter()
     .map(|s| s.to_string())
     .collect();
+    let opt = |v: Option<f64>| v.map_or(String::new(), f);
     let rows: Vec<Vec<String>> = summary
         .stages
         .iter()
@@ -98,6 +103,9 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
                 s.pins_in_contact.to_string(),
                 s.pins_in_contact_max.to_string(),
                 f(s.torsional_stiffness_nm_per_arcmin),
+                opt(s.dte_mean_arcmin),
+                opt(s.dte_peak_to_peak_arcmin),
+                opt(s.dte_rms_arcmin),
             ]
         })
         .collect();
@@ -241,6 +249,102 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
 /// [`Error::Invalid`] if `out` exists (non-empty) and `replace` is false; [`Error::Io`] on write
 /// failures (the temporary directory is removed, `out` is untouched).
 pub fn write_study(study: &Study, out: &Path, replace: bool) -> Result<PathBuf> {
+    write_atomically(out, replace, |dir| write_files(study, dir))
+}
+
+/// Writes a dynamic simulation's results directory all-or-nothing (like [`write_study`]):
+/// `summary.json` ([`crate::dynamics::DynamicsSummary`]), `dynamics.csv` (the time series),
+/// `pin_forces.csv` (if computed: `time_s`, `disc<d>_pin<j>_n`), and `plots/speeds` and
+/// `plots/te` (SVG and PNG).
+///
+/// # Errors
+/// As [`write_study`].
+pub fn write_dynamics(
+    res: &crate::dynamics::DynamicsResult,
+    profile: &crate::geometry::Profile,
+    out: &Path,
+    replace: bool,
+) -> Result<PathBuf> {
+    write_atomically(out, replace, |dir| {
+        let mut summary = serde_json::to_value(&res.summary)
+            .map_err(|e| Error::numerical("json", e.to_string()))?;
+        summary["max_wear_um"] = profile.wear().map_or(0.0, |w| w.max_depth() * 1e6).into();
+        let p = dir.join("summary.json");
+        let text = serde_json::to_string_pretty(&summary)
+            .map_err(|e| Error::io(&p, std::io::Error::other(e.to_string())))?;
+        std::fs::write(&p, text + "\n").map_err(|e| Error::io(&p, e))?;
+        let p = dir.join("dynamics.csv");
+        let header: Vec<String> = [
+            "time_s",
+            "input_angle_deg",
+            "output_angle_deg",
+            "input_speed_deg_s",
+            "output_speed_deg_s",
+            "te_arcmin",
+            "load_nm",
+            "pins_in_contact_disc1",
+            "pins_in_contact_disc2",
+            "max_pin_force_n",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        let rows: Vec<Vec<String>> = res
+            .samples
+            .iter()
+            .map(|s| {
+                vec![
+                    format!("{:.7}", s.time_s),
+                    format!("{:.9}", s.input_angle_deg),
+                    format!("{:.9}", s.output_angle_deg),
+                    f(s.input_speed_deg_s),
+                    f(s.output_speed_deg_s),
+                    f(s.te_arcmin),
+                    f(s.load_nm),
+                    s.pins_in_contact[0].to_string(),
+                    s.pins_in_contact[1].to_string(),
+                    f(s.max_pin_force_n),
+                ]
+            })
+            .collect();
+        write_rows(&p, &header, &rows)?;
+        if let Some(forces) = &res.pin_forces {
+            let zp = forces.first().map_or(0, |r| r.len() / 2);
+            let p = dir.join("pin_forces.csv");
+            let mut header = vec!["time_s".to_string()];
+            for d in 1..=2 {
+                header.extend((0..zp).map(|j| format!("disc{d}_pin{j}_n")));
+            }
+            let rows: Vec<Vec<String>> = res
+                .samples
+                .iter()
+                .zip(forces)
+                .map(|(s, r)| {
+                    std::iter::once(format!("{:.7}", s.time_s))
+                        .chain(r.iter().map(|v| format!("{v:.3}")))
+                        .collect()
+                })
+                .collect();
+            write_rows(&p, &header, &rows)?;
+        }
+        let plots = dir.join("plots");
+        std::fs::create_dir_all(&plots).map_err(|e| Error::io(&plots, e))?;
+        crate::plot::dynamics(res, &plots)
+    })
+}
+
+/// Runs `write` on a fresh temporary directory beside `out` and renames it onto `out` when it
+/// succeeds (replacing an existing `out` only with `replace`); on failure the temporary directory
+/// is removed and `out` is untouched.
+///
+/// # Errors
+/// [`Error::Invalid`] if `out` exists (non-empty) and `replace` is false; [`Error::Io`] on write
+/// failures; any error of `write`.
+pub fn write_atomically(
+    out: &Path,
+    replace: bool,
+    write: impl FnOnce(&Path) -> Result<()>,
+) -> Result<PathBuf> {
     check_output_dir(out, replace)?;
     let parent = match out.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
@@ -251,7 +355,7 @@ pub fn write_study(study: &Study, out: &Path, replace: bool) -> Result<PathBuf> 
         .prefix(".rvlife-tmp-")
         .tempdir_in(&parent)
         .map_err(|e| Error::io(&parent, e))?;
-    write_files(study, tmp.path())?;
+    write(tmp.path())?;
     let staged = tmp.keep();
     if out.exists() {
         let old = parent.join(format!(

@@ -4,11 +4,16 @@
 //! Pipeline (issue 2): [`crate::wear::integrate`] gives the wear map at each stage; each stage's
 //! profile is the modified profile with that map (or, in the paper's model, with a uniform
 //! equidistant offset equal to the maximum wear, paper section 3.1); [`crate::te`] gives STE,
-//! lost motion and loaded TE on it.
+//! lost motion and loaded TE on it; with `[dynamics] enabled`, [`crate::dynamics::simulate`]
+//! gives the dynamic TE of the whole reducer with it (issue 3).
 
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::config::{Model, WearModelKind};
+use crate::dynamics::{simulate, DynamicsSummary};
 use crate::error::Result;
 use crate::geometry::{Profile, WearMap};
 use crate::te::{loaded_te, static_te, LoadedTe, StaticTe, ARCMIN_PER_RAD};
@@ -45,6 +50,19 @@ pub struct StageSummary {
     pub pins_in_contact_max: usize,
     /// Mean torsional (contact) stiffness of the stage, N m/arcmin.
     pub torsional_stiffness_nm_per_arcmin: f64,
+    /// Mean dynamic TE over the window of the multibody simulation, arcmin (when dynamics
+    /// are on).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dte_mean_arcmin: Option<f64>,
+    /// Peak-to-peak dynamic TE, arcmin (when dynamics are on).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dte_peak_to_peak_arcmin: Option<f64>,
+    /// RMS of the dynamic TE, arcmin (when dynamics are on).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dte_rms_arcmin: Option<f64>,
+    /// Smallest and largest dynamic TE, arcmin (when dynamics are on).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dte_range_arcmin: Option<[f64; 2]>,
 }
 
 /// Full results of one stage.
@@ -62,6 +80,8 @@ pub struct Stage {
     pub loaded: LoadedTe,
     /// Summary numbers.
     pub summary: StageSummary,
+    /// Summary of the multibody simulation with this stage's profile (when dynamics are on).
+    pub dynamics: Option<DynamicsSummary>,
 }
 
 /// Results of the whole study.
@@ -89,6 +109,10 @@ pub struct PaperComparison {
     pub paper_ste_max_arcmin: f64,
     /// Uniform-offset estimate per side, `10 um / (a Zc)`, arcmin (physics-notes section 6).
     pub uniform_offset_per_10um_arcmin: f64,
+    /// Paper: rigid-body DTE mean at 10 um wear under the sinusoidal load (Adams), arcmin.
+    pub paper_dte_at_10um_arcmin: f64,
+    /// Paper: largest rigid DTE over the study (6450 h), arcmin.
+    pub paper_dte_max_arcmin: f64,
 }
 
 /// `summary.json`.
@@ -171,12 +195,17 @@ pub fn analyse_profile(
         pins_in_contact: pmin,
         pins_in_contact_max: pmax,
         torsional_stiffness_nm_per_arcmin: stiffness / ARCMIN_PER_RAD,
+        dte_mean_arcmin: None,
+        dte_peak_to_peak_arcmin: None,
+        dte_rms_arcmin: None,
+        dte_range_arcmin: None,
     };
     Ok((ste, loaded, summary))
 }
 
 /// Runs the study. `progress(done, total)` reports the work in steps (wear-rate evaluations,
-/// then stages).
+/// then stages, then, when dynamics are on, one multibody simulation per stage, run in
+/// parallel).
 ///
 /// # Errors
 /// Solver failures; a worn profile that folds over itself; interfering modifications.
@@ -189,7 +218,8 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
             .ceil()
             .max(1.0) as usize
     };
-    let total = wear_total + n_stages;
+    let dyn_total = if model.dynamics_enabled { n_stages } else { 0 };
+    let total = wear_total + n_stages + dyn_total;
     let wear = integrate(model, &|d, _| progress(d, total))?;
     let mut stages = Vec::with_capacity(n_stages);
     for (i, (hours, map)) in wear.hours.iter().zip(&wear.maps).enumerate() {
@@ -212,8 +242,27 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
             ste,
             loaded,
             summary,
+            dynamics: None,
         });
         progress(wear_total + i + 1, total);
+    }
+    if model.dynamics_enabled {
+        let done = AtomicUsize::new(wear_total + n_stages);
+        let results: Vec<DynamicsSummary> = stages
+            .par_iter()
+            .map(|st| {
+                let r = simulate(&st.profile, &model.dynamics, false)?;
+                progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
+                Ok(r.summary)
+            })
+            .collect::<Result<_>>()?;
+        for (st, d) in stages.iter_mut().zip(results) {
+            st.summary.dte_mean_arcmin = Some(d.te_mean_arcmin);
+            st.summary.dte_peak_to_peak_arcmin = Some(d.te_peak_to_peak_arcmin);
+            st.summary.dte_rms_arcmin = Some(d.te_rms_arcmin);
+            st.summary.dte_range_arcmin = Some([d.te_min_arcmin, d.te_max_arcmin]);
+            st.dynamics = Some(d);
+        }
     }
     Ok(Study {
         model: model.clone(),
@@ -250,6 +299,8 @@ impl Study {
                 paper_ste_max_arcmin: 4.11,
                 uniform_offset_per_10um_arcmin: 10e-6 / m.geometry.disc_pitch_radius()
                     * ARCMIN_PER_RAD,
+                paper_dte_at_10um_arcmin: 0.2278,
+                paper_dte_max_arcmin: 3.51,
             },
             stages,
         }

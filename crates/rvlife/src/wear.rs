@@ -118,7 +118,7 @@ pub fn wear_per_mesh_cycle(profile: &Profile, model: &Model, torque: f64) -> Res
 /// Grid nodes within half-width `b` (m of arc length) of node `centre`, with the semi-elliptic
 /// weight `sqrt(1 - (x/b)^2)` of the Hertz pressure (1 at the centre); `ds` is the arc length of
 /// each grid step, periodic.
-fn band_shape(ds: &[f64], centre: usize, b: f64) -> Vec<(usize, f64)> {
+pub(crate) fn band_shape(ds: &[f64], centre: usize, b: f64) -> Vec<(usize, f64)> {
     let n = ds.len();
     let mut weights = vec![(centre, 1.0)];
     for dir in [-1isize, 1] {

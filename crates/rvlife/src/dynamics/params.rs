@@ -1,0 +1,1205 @@
+//! `[dynamics]` configuration (engineering units) and the checked SI parameters of the
+//! multibody model.
+//!
+//! Defaults: the paper's section 4.2 set-up (input ramped by `STEP(time, 0, 0, 0.1, 9000 deg/s)`,
+//! sinusoidal output load of 412 N m amplitude and 0.3 s period, TE over 0.1-0.8 s), material
+//! densities of the paper's Table 2, the gear data of its Table 1 (planet pitch radius 27 mm,
+//! pressure angle 30 degrees), and stiffnesses of typical RV-40E-class components (stated with
+//! each key).
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::contact::ContactModel;
+use crate::error::{Error, Result};
+use crate::geometry::{CycloidGeometry, Profile, Vec2};
+
+/// `[dynamics]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DynamicsConfig {
+    /// Add the dynamic TE to every stage of `rvlife run`.
+    #[serde(default)]
+    pub enabled: bool,
+    /// Simulated time, s.
+    #[serde(default = "d_end")]
+    pub end_time_s: f64,
+    /// TE statistics window `[start, end]`, s.
+    #[serde(default = "d_window")]
+    pub window_s: [f64; 2],
+    /// Sampling interval of the time series, s.
+    #[serde(default = "d_interval")]
+    pub output_interval_s: f64,
+    /// Relative tolerance of the integrator (absolute tolerances scale with it).
+    #[serde(default = "d_rtol")]
+    pub relative_tolerance: f64,
+    /// Mesh angles per tooth of the tabulated gap field.
+    #[serde(default = "d_gap_points")]
+    pub gap_points_per_tooth: i64,
+    /// Input drive.
+    #[serde(default)]
+    pub drive: DriveConfig,
+    /// Output load.
+    #[serde(default)]
+    pub load: DynLoadConfig,
+    /// First stage gears.
+    #[serde(default)]
+    pub gears: GearsConfig,
+    /// Crank bearings.
+    #[serde(default)]
+    pub bearings: BearingsConfig,
+    /// Disc-pin impact contact.
+    #[serde(default)]
+    pub impact: ImpactConfig,
+    /// Densities, sizes and overrides of the inertias.
+    #[serde(default)]
+    pub inertia: InertiaConfig,
+}
+
+fn d_end() -> f64 {
+    0.8
+}
+fn d_window() -> [f64; 2] {
+    [0.1, 0.8]
+}
+fn d_interval() -> f64 {
+    2e-4
+}
+fn d_rtol() -> f64 {
+    1e-5
+}
+fn d_gap_points() -> i64 {
+    1024
+}
+
+impl Default for DynamicsConfig {
+    fn default() -> Self {
+        DynamicsConfig {
+            enabled: false,
+            end_time_s: d_end(),
+            window_s: d_window(),
+            output_interval_s: d_interval(),
+            relative_tolerance: d_rtol(),
+            gap_points_per_tooth: d_gap_points(),
+            drive: Default::default(),
+            load: Default::default(),
+            gears: Default::default(),
+            bearings: Default::default(),
+            impact: Default::default(),
+            inertia: Default::default(),
+        }
+    }
+}
+
+/// `[dynamics.drive]`: `kind = "speed"` (prescribed `STEP` ramp) or `"torque"` (motor torque).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DriveConfig {
+    /// `"speed"` or `"torque"`.
+    #[serde(default = "d_speed_kind")]
+    pub kind: String,
+    /// Final input speed, deg/s (`speed`; paper: 9000).
+    #[serde(default = "d_speed")]
+    pub speed_deg_s: f64,
+    /// Start of the speed ramp, s.
+    #[serde(default)]
+    pub ramp_start_s: f64,
+    /// End of the speed ramp (or of the torque ramp), s.
+    #[serde(default = "d_ramp")]
+    pub ramp_end_s: f64,
+    /// Motor torque, N m (`torque`).
+    #[serde(default)]
+    pub torque_nm: Option<f64>,
+    /// Initial input speed, deg/s (`torque`).
+    #[serde(default)]
+    pub initial_speed_deg_s: f64,
+}
+
+fn d_speed_kind() -> String {
+    "speed".into()
+}
+fn d_speed() -> f64 {
+    9000.0
+}
+fn d_ramp() -> f64 {
+    0.1
+}
+
+impl Default for DriveConfig {
+    fn default() -> Self {
+        DriveConfig {
+            kind: d_speed_kind(),
+            speed_deg_s: d_speed(),
+            ramp_start_s: 0.0,
+            ramp_end_s: d_ramp(),
+            torque_nm: None,
+            initial_speed_deg_s: 0.0,
+        }
+    }
+}
+
+/// `[dynamics.load]`: output load `kind = "none" | "constant" | "sinusoidal" | "table"`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DynLoadConfig {
+    /// Load kind.
+    #[serde(default = "d_load_kind")]
+    pub kind: String,
+    /// Constant torque, N m (`constant`; default: rated torque).
+    #[serde(default)]
+    pub torque_nm: Option<f64>,
+    /// Ramp time of the constant torque (`STEP` from 0), s.
+    #[serde(default)]
+    pub ramp_s: f64,
+    /// Amplitude, N m (`sinusoidal`; default: rated torque).
+    #[serde(default)]
+    pub amplitude_nm: Option<f64>,
+    /// Period, s (`sinusoidal`).
+    #[serde(default = "d_period")]
+    pub period_s: f64,
+    /// Mean, N m (`sinusoidal`).
+    #[serde(default)]
+    pub offset_nm: f64,
+    /// Phase, degrees (`sinusoidal`).
+    #[serde(default)]
+    pub phase_deg: f64,
+    /// CSV with columns `time_s,torque_nm` (`table`), relative to the config file; linear
+    /// between rows; must cover the simulated time.
+    #[serde(default)]
+    pub file: Option<PathBuf>,
+}
+
+fn d_load_kind() -> String {
+    "sinusoidal".into()
+}
+fn d_period() -> f64 {
+    0.3
+}
+
+impl Default for DynLoadConfig {
+    fn default() -> Self {
+        DynLoadConfig {
+            kind: d_load_kind(),
+            torque_nm: None,
+            ramp_s: 0.0,
+            amplitude_nm: None,
+            period_s: d_period(),
+            offset_nm: 0.0,
+            phase_deg: 0.0,
+            file: None,
+        }
+    }
+}
+
+/// `[dynamics.gears]`: the sun-planet stage.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GearsConfig {
+    /// Planet pitch radius, mm (paper Table 1: 27).
+    #[serde(default = "d_planet_r")]
+    pub planet_pitch_radius_mm: f64,
+    /// Pressure angle, degrees (paper Table 1: 30).
+    #[serde(default = "d_pressure")]
+    pub pressure_angle_deg: f64,
+    /// Face width of sun and planets, mm.
+    #[serde(default = "d_face")]
+    pub face_width_mm: f64,
+    /// Mesh stiffness along the line of action, N/um (ISO 6336-1: c_gamma about 20 N/(mm um)
+    /// times the face width).
+    #[serde(default = "d_mesh_k")]
+    pub mesh_stiffness_n_per_um: f64,
+    /// Damping ratio of the mesh mode.
+    #[serde(default = "d_zeta")]
+    pub mesh_damping_ratio: f64,
+    /// Total backlash along the line of action, um.
+    #[serde(default)]
+    pub backlash_um: f64,
+}
+
+fn d_planet_r() -> f64 {
+    27.0
+}
+fn d_pressure() -> f64 {
+    30.0
+}
+fn d_face() -> f64 {
+    10.0
+}
+fn d_mesh_k() -> f64 {
+    200.0
+}
+fn d_zeta() -> f64 {
+    0.05
+}
+
+impl Default for GearsConfig {
+    fn default() -> Self {
+        GearsConfig {
+            planet_pitch_radius_mm: d_planet_r(),
+            pressure_angle_deg: d_pressure(),
+            face_width_mm: d_face(),
+            mesh_stiffness_n_per_um: d_mesh_k(),
+            mesh_damping_ratio: d_zeta(),
+            backlash_um: 0.0,
+        }
+    }
+}
+
+/// `[dynamics.bearings]`: crank bearings as radial spring-dampers.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BearingsConfig {
+    /// Radial stiffness of one crank-carrier bearing pair, N/um (tapered roller bearings).
+    #[serde(default = "d_kcc")]
+    pub crank_carrier_stiffness_n_per_um: f64,
+    /// Radial stiffness of one crank-disc (eccentric needle) bearing, N/um.
+    #[serde(default = "d_kcd")]
+    pub crank_disc_stiffness_n_per_um: f64,
+    /// Damping ratio of the bearing modes.
+    #[serde(default = "d_zeta")]
+    pub damping_ratio: f64,
+    /// Radial clearance, um.
+    #[serde(default)]
+    pub clearance_um: f64,
+}
+
+fn d_kcc() -> f64 {
+    1000.0
+}
+fn d_kcd() -> f64 {
+    500.0
+}
+
+impl Default for BearingsConfig {
+    fn default() -> Self {
+        BearingsConfig {
+            crank_carrier_stiffness_n_per_um: d_kcc(),
+            crank_disc_stiffness_n_per_um: d_kcd(),
+            damping_ratio: d_zeta(),
+            clearance_um: 0.0,
+        }
+    }
+}
+
+/// `[dynamics.impact]`: MSC Adams IMPACT parameters of every disc-pin contact.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ImpactConfig {
+    /// Stiffness `k` in `F = k d^e`, N/m^e (default: fitted to the config's Hertz line-contact
+    /// law; give it together with `exponent`).
+    #[serde(default)]
+    pub stiffness_n_per_m_e: Option<f64>,
+    /// Exponent `e` (default: fitted with the stiffness).
+    #[serde(default)]
+    pub exponent: Option<f64>,
+    /// Maximum damping `c_max`, N s/m (default: from `damping_ratio`).
+    #[serde(default)]
+    pub max_damping_n_s_per_m: Option<f64>,
+    /// Damping ratio of a disc on the contact stiffness at the reference force, used when
+    /// `max_damping_n_s_per_m` is not given.
+    #[serde(default = "d_impact_zeta")]
+    pub damping_ratio: f64,
+    /// Penetration `d_max` at which the damping is full, um.
+    #[serde(default = "d_pen")]
+    pub penetration_um: f64,
+    /// Coulomb friction coefficient (0: off).
+    #[serde(default)]
+    pub friction_coefficient: f64,
+    /// Sliding speed over which the friction is smoothed (`tanh`), mm/s.
+    #[serde(default = "d_fv")]
+    pub friction_velocity_mm_s: f64,
+}
+
+fn d_impact_zeta() -> f64 {
+    0.1
+}
+fn d_pen() -> f64 {
+    1.0
+}
+fn d_fv() -> f64 {
+    1.0
+}
+
+impl Default for ImpactConfig {
+    fn default() -> Self {
+        ImpactConfig {
+            stiffness_n_per_m_e: None,
+            exponent: None,
+            max_damping_n_s_per_m: None,
+            damping_ratio: d_impact_zeta(),
+            penetration_um: d_pen(),
+            friction_coefficient: 0.0,
+            friction_velocity_mm_s: d_fv(),
+        }
+    }
+}
+
+/// `[dynamics.inertia]`: densities (paper Table 2), simple body sizes, and overrides.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InertiaConfig {
+    /// Disc density, kg/m^3 (GCr15).
+    #[serde(default = "d_rho_steel")]
+    pub disc_density_kg_m3: f64,
+    /// Crankshaft and planet density, kg/m^3 (GCr15).
+    #[serde(default = "d_rho_steel")]
+    pub crank_density_kg_m3: f64,
+    /// Carrier and output shaft density, kg/m^3 (20CrMnTi).
+    #[serde(default = "d_rho_out")]
+    pub output_density_kg_m3: f64,
+    /// Radius of the crank bores in the disc, mm.
+    #[serde(default = "d_bore")]
+    pub crank_bore_radius_mm: f64,
+    /// Crankshaft journal radius, mm.
+    #[serde(default = "d_journal")]
+    pub crankshaft_radius_mm: f64,
+    /// Crankshaft length, mm.
+    #[serde(default = "d_crank_len")]
+    pub crankshaft_length_mm: f64,
+    /// Axial thickness of carrier + output flange (a solid disk of the pin-circle radius minus
+    /// the pin radius), mm.
+    #[serde(default = "d_carrier")]
+    pub carrier_thickness_mm: f64,
+    /// Input shaft radius, mm.
+    #[serde(default = "d_in_r")]
+    pub input_shaft_radius_mm: f64,
+    /// Input shaft length, mm.
+    #[serde(default = "d_in_len")]
+    pub input_shaft_length_mm: f64,
+    /// Extra inertia of what the output drives, kg m^2.
+    #[serde(default)]
+    pub load_inertia_kg_m2: f64,
+    /// Override: disc mass, kg.
+    #[serde(default)]
+    pub disc_mass_kg: Option<f64>,
+    /// Override: disc inertia about its centre, kg m^2.
+    #[serde(default)]
+    pub disc_inertia_kg_m2: Option<f64>,
+    /// Override: crankshaft + planet mass, kg.
+    #[serde(default)]
+    pub crank_mass_kg: Option<f64>,
+    /// Override: crankshaft + planet inertia about the crank axis, kg m^2.
+    #[serde(default)]
+    pub crank_inertia_kg_m2: Option<f64>,
+    /// Override: carrier + output shaft inertia (without `load_inertia_kg_m2`), kg m^2.
+    #[serde(default)]
+    pub output_inertia_kg_m2: Option<f64>,
+    /// Override: input shaft + sun inertia, kg m^2.
+    #[serde(default)]
+    pub input_inertia_kg_m2: Option<f64>,
+}
+
+fn d_rho_steel() -> f64 {
+    7830.0
+}
+fn d_rho_out() -> f64 {
+    7860.0
+}
+fn d_bore() -> f64 {
+    13.0
+}
+fn d_journal() -> f64 {
+    10.0
+}
+fn d_crank_len() -> f64 {
+    60.0
+}
+fn d_carrier() -> f64 {
+    30.0
+}
+fn d_in_r() -> f64 {
+    8.0
+}
+fn d_in_len() -> f64 {
+    100.0
+}
+
+impl Default for InertiaConfig {
+    fn default() -> Self {
+        InertiaConfig {
+            disc_density_kg_m3: d_rho_steel(),
+            crank_density_kg_m3: d_rho_steel(),
+            output_density_kg_m3: d_rho_out(),
+            crank_bore_radius_mm: d_bore(),
+            crankshaft_radius_mm: d_journal(),
+            crankshaft_length_mm: d_crank_len(),
+            carrier_thickness_mm: d_carrier(),
+            input_shaft_radius_mm: d_in_r(),
+            input_shaft_length_mm: d_in_len(),
+            load_inertia_kg_m2: 0.0,
+            disc_mass_kg: None,
+            disc_inertia_kg_m2: None,
+            crank_mass_kg: None,
+            crank_inertia_kg_m2: None,
+            output_inertia_kg_m2: None,
+            input_inertia_kg_m2: None,
+        }
+    }
+}
+
+/// Input drive (SI).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Drive {
+    /// Prescribed speed `speed STEP(t, t0, 0, t1, 1)`, rad/s.
+    Speed {
+        /// Final speed, rad/s.
+        speed: f64,
+        /// Ramp start, s.
+        t0: f64,
+        /// Ramp end, s.
+        t1: f64,
+    },
+    /// Motor torque `torque STEP(t, 0, 0, ramp, 1)` on a free input shaft.
+    Torque {
+        /// Torque, N m.
+        torque: f64,
+        /// Ramp time, s (0: a step).
+        ramp: f64,
+        /// Initial input speed, rad/s (the whole reducer spins rigidly).
+        initial_speed: f64,
+    },
+}
+
+/// Output load torque (SI; positive resists positive output rotation).
+#[derive(Debug, Clone, PartialEq)]
+pub enum LoadProfile {
+    /// No load.
+    None,
+    /// `torque STEP(t, 0, 0, ramp, 1)`, N m.
+    Constant {
+        /// Torque, N m.
+        torque: f64,
+        /// Ramp time, s (0: applied at once).
+        ramp: f64,
+    },
+    /// `offset + amplitude sin(2 pi t / period + phase)`, N m.
+    Sinusoidal {
+        /// Amplitude, N m.
+        amplitude: f64,
+        /// Period, s.
+        period: f64,
+        /// Mean, N m.
+        offset: f64,
+        /// Phase, rad.
+        phase: f64,
+    },
+    /// Linear interpolation in a time table (s, N m), strictly increasing times.
+    Table {
+        /// Times, s.
+        time: Vec<f64>,
+        /// Torques, N m.
+        torque: Vec<f64>,
+    },
+}
+
+/// Body inertias (SI).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Inertias {
+    /// Input shaft + sun, kg m^2.
+    pub input: f64,
+    /// Carrier + output shaft + load, kg m^2.
+    pub output: f64,
+    /// Crankshaft + planet mass, kg.
+    pub crank_mass: f64,
+    /// Crankshaft + planet inertia, kg m^2.
+    pub crank: f64,
+    /// Disc mass, kg.
+    pub disc_mass: f64,
+    /// Disc inertia about its centre, kg m^2.
+    pub disc: f64,
+}
+
+/// Sun-planet mesh (SI).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mesh {
+    /// Pressure angle, rad.
+    pub pressure_angle: f64,
+    /// Sun base radius, m.
+    pub sun_base_radius: f64,
+    /// Planet base radius, m.
+    pub planet_base_radius: f64,
+    /// `Z1 / Z2`.
+    pub sun_planet_ratio: f64,
+    /// Stiffness, N/m.
+    pub stiffness: f64,
+    /// Damping, N s/m.
+    pub damping: f64,
+    /// Backlash, m.
+    pub backlash: f64,
+}
+
+/// Crank bearings (SI).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bearings {
+    /// Crank-carrier stiffness, N/m.
+    pub carrier_stiffness: f64,
+    /// Crank-carrier damping, N s/m.
+    pub carrier_damping: f64,
+    /// Crank-disc stiffness, N/m.
+    pub disc_stiffness: f64,
+    /// Crank-disc damping, N s/m.
+    pub disc_damping: f64,
+    /// Radial clearance, m.
+    pub clearance: f64,
+}
+
+/// Impact contact (SI).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Impact {
+    /// `k`, N/m^e.
+    pub stiffness: f64,
+    /// `e`.
+    pub exponent: f64,
+    /// `c_max`, N s/m.
+    pub max_damping: f64,
+    /// `d_max`, m.
+    pub penetration: f64,
+    /// Coulomb coefficient.
+    pub friction: f64,
+    /// Smoothing speed, m/s.
+    pub friction_velocity: f64,
+}
+
+/// Checked SI parameters of one dynamic simulation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DynamicsParams {
+    /// Stage geometry.
+    pub geometry: CycloidGeometry,
+    /// Overall ratio `i_H`.
+    pub ratio: f64,
+    /// Number of cranks (= planets).
+    pub cranks: usize,
+    /// Crank circle radius (sun-planet centre distance), m.
+    pub crank_circle_radius: f64,
+    /// Mesh.
+    pub mesh: Mesh,
+    /// Bearings.
+    pub bearings: Bearings,
+    /// Disc-pin impact contact.
+    pub contact: Impact,
+    /// Inertias.
+    pub inertia: Inertias,
+    /// Drive.
+    pub drive: Drive,
+    /// Load.
+    pub load: LoadProfile,
+    /// Simulated time, s.
+    pub end_time: f64,
+    /// TE statistics window, s.
+    pub window: (f64, f64),
+    /// Sampling interval, s.
+    pub output_interval: f64,
+    /// Relative tolerance.
+    pub rtol: f64,
+    /// Gap-table resolution per tooth.
+    pub gap_points: usize,
+    /// Contact law of the stage, for the Hertz band over which the gap table is filtered.
+    pub contact_law: ContactModel,
+    /// Reference pin force (Li's largest force at the rated torque), N.
+    pub reference_force: f64,
+}
+
+fn positive(field: &str, v: f64, max: f64, unit: &str) -> Result<f64> {
+    if v.is_finite() && v > 0.0 && v <= max {
+        Ok(v)
+    } else {
+        Err(Error::invalid(
+            format!("dynamics.{field}"),
+            v,
+            format!("must be a finite number > 0 and <= {max:e} {unit}"),
+        ))
+    }
+}
+
+fn non_negative(field: &str, v: f64, max: f64, unit: &str) -> Result<f64> {
+    if v.is_finite() && v >= 0.0 && v <= max {
+        Ok(v)
+    } else {
+        Err(Error::invalid(
+            format!("dynamics.{field}"),
+            v,
+            format!("must be in [0, {max}] {unit}"),
+        ))
+    }
+}
+
+/// Power law `F = k d^e` fitted by least squares in log-log to the approach law of `contact` at
+/// flank curvature `curvature` (1/m) over forces from 2 % to 200 % of `f_ref` (N). Returns
+/// `(k, e)` in N/m^e.
+pub fn fit_impact_law(contact: &ContactModel, curvature: f64, f_ref: f64) -> (f64, f64) {
+    let n = 40;
+    let (mut sx, mut sy, mut sxx, mut sxy) = (0.0, 0.0, 0.0, 0.0);
+    for i in 0..n {
+        let f = f_ref * 0.02 * 100f64.powf(i as f64 / (n - 1) as f64);
+        let x = contact.approach(f, curvature).ln();
+        let y = f.ln();
+        sx += x;
+        sy += y;
+        sxx += x * x;
+        sxy += x * y;
+    }
+    let nf = n as f64;
+    let e = (nf * sxy - sx * sy) / (nf * sxx - sx * sx);
+    let lnk = (sy - e * sx) / nf;
+    (lnk.exp(), e)
+}
+
+/// Mass (kg) and polar inertia about the centre (kg m^2) of the disc: the profile polygon
+/// (shoelace formulas) minus the crank bores, times density and width.
+fn disc_inertia(
+    profile: &Profile,
+    bores: usize,
+    bore_r: f64,
+    bore_circle: f64,
+    rho: f64,
+) -> (f64, f64) {
+    let pts: Vec<Vec2> = profile.sample(64);
+    let (mut area, mut ip) = (0.0, 0.0);
+    for i in 0..pts.len() {
+        let (p, q) = (pts[i], pts[(i + 1) % pts.len()]);
+        let cr = p.x * q.y - q.x * p.y;
+        area += 0.5 * cr;
+        ip += cr * (p.x * p.x + p.x * q.x + q.x * q.x + p.y * p.y + p.y * q.y + q.y * q.y) / 12.0;
+    }
+    let (area, ip) = (area.abs(), ip.abs());
+    let hole = std::f64::consts::PI * bore_r * bore_r;
+    let b = profile.geometry().width;
+    let a_net = area - bores as f64 * hole;
+    let ip_net =
+        ip - bores as f64 * (0.5 * hole * bore_r * bore_r + hole * bore_circle * bore_circle);
+    (rho * b * a_net, rho * b * ip_net)
+}
+
+impl DynamicsConfig {
+    /// Checks the section and converts it to SI for the stage `geometry` with the contact law
+    /// `contact`, the first-stage teeth `z1`, `z2`, `planets` cranks, overall ratio `ratio`,
+    /// rated torque (N m) and load share (for the reference force of the impact-law fit).
+    /// `base_dir` resolves a relative load-table path.
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] naming the `dynamics.*` key, the value and the allowed range;
+    /// [`Error::Config`] for an unreadable load table.
+    #[allow(clippy::too_many_arguments)]
+    pub fn validate(
+        &self,
+        profile: &Profile,
+        contact: &ContactModel,
+        z1: usize,
+        z2: usize,
+        planets: usize,
+        ratio: f64,
+        rated_torque: f64,
+        load_share: f64,
+        base_dir: Option<&Path>,
+    ) -> Result<DynamicsParams> {
+        let geo = profile.geometry().clone();
+        let end_time = positive("end_time_s", self.end_time_s, 60.0, "s")?;
+        let [w0, w1] = self.window_s;
+        if !(w0.is_finite() && w1.is_finite() && w0 >= 0.0 && w0 < w1 && w1 <= end_time) {
+            return Err(Error::invalid(
+                "dynamics.window_s",
+                format!("[{w0}, {w1}]"),
+                format!("must satisfy 0 <= start < end <= end_time_s ({end_time} s)"),
+            ));
+        }
+        let output_interval = positive(
+            "output_interval_s",
+            self.output_interval_s,
+            w1 - w0,
+            "s (the window length)",
+        )?;
+        if end_time / output_interval > 2e6 {
+            return Err(Error::invalid(
+                "dynamics.output_interval_s",
+                output_interval,
+                "gives more than 2e6 samples; use a larger interval",
+            ));
+        }
+        let rtol = self.relative_tolerance;
+        if !(rtol.is_finite() && (1e-10..=1e-2).contains(&rtol)) {
+            return Err(Error::invalid(
+                "dynamics.relative_tolerance",
+                rtol,
+                "must be in [1e-10, 1e-2]",
+            ));
+        }
+        let gap_points = self.gap_points_per_tooth;
+        if !(64..=65536).contains(&gap_points) {
+            return Err(Error::invalid(
+                "dynamics.gap_points_per_tooth",
+                gap_points,
+                "must be a whole number from 64 to 65536",
+            ));
+        }
+        if !(2..=3).contains(&planets) {
+            return Err(Error::invalid(
+                "reducer.planets",
+                planets,
+                "the dynamic model needs 2 or 3 planets (crankshafts)",
+            ));
+        }
+        // Gears.
+        let g = &self.gears;
+        let r_p = positive(
+            "gears.planet_pitch_radius_mm",
+            g.planet_pitch_radius_mm,
+            1e4,
+            "mm",
+        )? * 1e-3;
+        let alpha = g.pressure_angle_deg;
+        if !(alpha.is_finite() && (10.0..=45.0).contains(&alpha)) {
+            return Err(Error::invalid(
+                "dynamics.gears.pressure_angle_deg",
+                alpha,
+                "must be in [10, 45] degrees",
+            ));
+        }
+        let alpha = alpha.to_radians();
+        let face = positive("gears.face_width_mm", g.face_width_mm, 1e3, "mm")? * 1e-3;
+        let r_s = r_p * z1 as f64 / z2 as f64;
+        let crank_circle_radius = r_p + r_s;
+        let root = geo.pin_circle_radius - geo.pin_radius - geo.eccentricity;
+        // Inertias.
+        let ic = &self.inertia;
+        let rho_d = positive(
+            "inertia.disc_density_kg_m3",
+            ic.disc_density_kg_m3,
+            1e5,
+            "kg/m^3",
+        )?;
+        let rho_c = positive(
+            "inertia.crank_density_kg_m3",
+            ic.crank_density_kg_m3,
+            1e5,
+            "kg/m^3",
+        )?;
+        let rho_o = positive(
+            "inertia.output_density_kg_m3",
+            ic.output_density_kg_m3,
+            1e5,
+            "kg/m^3",
+        )?;
+        let bore = positive(
+            "inertia.crank_bore_radius_mm",
+            ic.crank_bore_radius_mm,
+            1e4,
+            "mm",
+        )? * 1e-3;
+        if crank_circle_radius + bore >= root || bore >= crank_circle_radius {
+            return Err(Error::invalid(
+                "dynamics.inertia.crank_bore_radius_mm",
+                bore * 1e3,
+                format!(
+                    "must leave material between the bores ({:.2} mm crank circle) and the tooth roots ({:.2} mm)",
+                    crank_circle_radius * 1e3,
+                    root * 1e3
+                ),
+            ));
+        }
+        let journal = positive(
+            "inertia.crankshaft_radius_mm",
+            ic.crankshaft_radius_mm,
+            1e4,
+            "mm",
+        )? * 1e-3;
+        let crank_len = positive(
+            "inertia.crankshaft_length_mm",
+            ic.crankshaft_length_mm,
+            1e5,
+            "mm",
+        )? * 1e-3;
+        let carrier_t = positive(
+            "inertia.carrier_thickness_mm",
+            ic.carrier_thickness_mm,
+            1e5,
+            "mm",
+        )? * 1e-3;
+        let in_r = positive(
+            "inertia.input_shaft_radius_mm",
+            ic.input_shaft_radius_mm,
+            1e4,
+            "mm",
+        )? * 1e-3;
+        let in_len = positive(
+            "inertia.input_shaft_length_mm",
+            ic.input_shaft_length_mm,
+            1e5,
+            "mm",
+        )? * 1e-3;
+        let load_j = non_negative(
+            "inertia.load_inertia_kg_m2",
+            ic.load_inertia_kg_m2,
+            1e6,
+            "kg m^2",
+        )?;
+        let pi = std::f64::consts::PI;
+        let cyl = |rho: f64, r: f64, l: f64| {
+            let m = rho * pi * r * r * l;
+            (m, 0.5 * m * r * r)
+        };
+        let (md, jd) = disc_inertia(profile, planets, bore, crank_circle_radius, rho_d);
+        let (mp, jp) = cyl(rho_c, r_p, face);
+        let (mj, jj) = cyl(rho_c, journal, crank_len);
+        let (_, jo) = cyl(rho_o, geo.pin_circle_radius - geo.pin_radius, carrier_t);
+        let (_, js) = cyl(rho_c, r_s, face);
+        let (_, jsh) = cyl(rho_c, in_r, in_len);
+        let over = |field: &str, v: Option<f64>, default: f64, unit: &str| -> Result<f64> {
+            match v {
+                Some(x) => positive(&format!("inertia.{field}"), x, 1e6, unit),
+                None => Ok(default),
+            }
+        };
+        let inertia = Inertias {
+            input: over(
+                "input_inertia_kg_m2",
+                ic.input_inertia_kg_m2,
+                js + jsh,
+                "kg m^2",
+            )?,
+            output: over(
+                "output_inertia_kg_m2",
+                ic.output_inertia_kg_m2,
+                jo,
+                "kg m^2",
+            )? + load_j,
+            crank_mass: over("crank_mass_kg", ic.crank_mass_kg, mp + mj, "kg")?,
+            crank: over(
+                "crank_inertia_kg_m2",
+                ic.crank_inertia_kg_m2,
+                jp + jj,
+                "kg m^2",
+            )?,
+            disc_mass: over("disc_mass_kg", ic.disc_mass_kg, md, "kg")?,
+            disc: over("disc_inertia_kg_m2", ic.disc_inertia_kg_m2, jd, "kg m^2")?,
+        };
+        // Mesh.
+        let k_mesh = positive(
+            "gears.mesh_stiffness_n_per_um",
+            g.mesh_stiffness_n_per_um,
+            1e7,
+            "N/um",
+        )? * 1e6;
+        let zeta_m = non_negative("gears.mesh_damping_ratio", g.mesh_damping_ratio, 10.0, "")?;
+        let r_bp = r_p * alpha.cos();
+        let m_eq = inertia.crank / (r_bp * r_bp);
+        let mesh = Mesh {
+            pressure_angle: alpha,
+            sun_base_radius: r_s * alpha.cos(),
+            planet_base_radius: r_bp,
+            sun_planet_ratio: z1 as f64 / z2 as f64,
+            stiffness: k_mesh,
+            damping: 2.0 * zeta_m * (k_mesh * m_eq).sqrt(),
+            backlash: non_negative("gears.backlash_um", g.backlash_um, 1e4, "um")? * 1e-6,
+        };
+        // Bearings.
+        let b = &self.bearings;
+        let k_cc = positive(
+            "bearings.crank_carrier_stiffness_n_per_um",
+            b.crank_carrier_stiffness_n_per_um,
+            1e7,
+            "N/um",
+        )? * 1e6;
+        let k_cd = positive(
+            "bearings.crank_disc_stiffness_n_per_um",
+            b.crank_disc_stiffness_n_per_um,
+            1e7,
+            "N/um",
+        )? * 1e6;
+        let zeta_b = non_negative("bearings.damping_ratio", b.damping_ratio, 10.0, "")?;
+        let bearings = Bearings {
+            carrier_stiffness: k_cc,
+            carrier_damping: 2.0 * zeta_b * (k_cc * inertia.crank_mass).sqrt(),
+            disc_stiffness: k_cd,
+            disc_damping: 2.0 * zeta_b * (k_cd * inertia.disc_mass).sqrt(),
+            clearance: non_negative("bearings.clearance_um", b.clearance_um, 1e3, "um")? * 1e-6,
+        };
+        // Impact contact: by default fitted to the Hertz law at the flank point of largest lever
+        // arm (Li: cos t = K1) around Li's largest pin force at rated torque.
+        let im = &self.impact;
+        let zc = geo.disc_teeth() as f64;
+        let f_ref = 4.0 * load_share * rated_torque / (geo.disc_pitch_radius() * geo.pins as f64);
+        let t_ref = geo.k1().acos();
+        let curvature = profile.macro_curvature(t_ref);
+        let (k_fit, e_fit) = fit_impact_law(contact, curvature, f_ref);
+        let (stiffness, exponent) = match (im.stiffness_n_per_m_e, im.exponent) {
+            (None, None) => (k_fit, e_fit),
+            (Some(k), Some(e)) => (positive("impact.stiffness_n_per_m_e", k, 1e30, "N/m^e")?, {
+                if !(e.is_finite() && (1.0..=3.0).contains(&e)) {
+                    return Err(Error::invalid(
+                        "dynamics.impact.exponent",
+                        e,
+                        "must be in [1, 3]",
+                    ));
+                }
+                e
+            }),
+            _ => {
+                return Err(Error::invalid(
+                    "dynamics.impact.stiffness_n_per_m_e",
+                    "given without exponent (or the reverse)",
+                    "give both stiffness_n_per_m_e and exponent, or neither (Hertz fit)",
+                ))
+            }
+        };
+        // Linearised stiffness at f_ref: dF/dd = e F / d.
+        let d_ref = (f_ref / stiffness).powf(1.0 / exponent);
+        let k_lin = exponent * f_ref / d_ref;
+        if !(k_lin.is_finite() && (1e5..=1e13).contains(&k_lin)) {
+            return Err(Error::invalid(
+                "dynamics.impact.stiffness_n_per_m_e",
+                stiffness,
+                format!(
+                    "gives a contact stiffness of {k_lin:.3e} N/m at the reference force {f_ref:.0} N; \
+                     physical values lie in [1e5, 1e13] N/m"
+                ),
+            ));
+        }
+        let zeta_c = non_negative("impact.damping_ratio", im.damping_ratio, 10.0, "")?;
+        let max_damping = match im.max_damping_n_s_per_m {
+            Some(c) => non_negative("impact.max_damping_n_s_per_m", c, 1e9, "N s/m")?,
+            None => 2.0 * zeta_c * (k_lin * inertia.disc_mass).sqrt(),
+        };
+        let impact = Impact {
+            stiffness,
+            exponent,
+            max_damping,
+            penetration: positive("impact.penetration_um", im.penetration_um, 1e3, "um")? * 1e-6,
+            friction: non_negative(
+                "impact.friction_coefficient",
+                im.friction_coefficient,
+                1.0,
+                "",
+            )?,
+            friction_velocity: positive(
+                "impact.friction_velocity_mm_s",
+                im.friction_velocity_mm_s,
+                1e6,
+                "mm/s",
+            )? * 1e-3,
+        };
+        let _ = zc;
+        // Drive.
+        let d = &self.drive;
+        let drive = match d.kind.as_str() {
+            "speed" => {
+                let s = d.speed_deg_s;
+                if !(s.is_finite() && s != 0.0 && s.abs() <= 1e6) {
+                    return Err(Error::invalid(
+                        "dynamics.drive.speed_deg_s",
+                        s,
+                        "must be a finite non-zero number, |speed| <= 1e6 deg/s",
+                    ));
+                }
+                let t0 = non_negative("drive.ramp_start_s", d.ramp_start_s, end_time, "s")?;
+                let t1 = d.ramp_end_s;
+                if !(t1.is_finite() && t1 > t0 && t1 <= end_time) {
+                    return Err(Error::invalid(
+                        "dynamics.drive.ramp_end_s",
+                        t1,
+                        format!("must be after ramp_start_s ({t0} s) and within end_time_s ({end_time} s)"),
+                    ));
+                }
+                Drive::Speed {
+                    speed: s.to_radians(),
+                    t0,
+                    t1,
+                }
+            }
+            "torque" => {
+                let t = d.torque_nm.ok_or_else(|| {
+                    Error::invalid(
+                        "dynamics.drive.torque_nm",
+                        "missing",
+                        "required with kind = \"torque\"",
+                    )
+                })?;
+                if !(t.is_finite() && t.abs() <= 1e5) {
+                    return Err(Error::invalid(
+                        "dynamics.drive.torque_nm",
+                        t,
+                        "must be finite, |torque| <= 1e5 N m",
+                    ));
+                }
+                let w = d.initial_speed_deg_s;
+                if !(w.is_finite() && w.abs() <= 1e6) {
+                    return Err(Error::invalid(
+                        "dynamics.drive.initial_speed_deg_s",
+                        w,
+                        "must be finite, |speed| <= 1e6 deg/s",
+                    ));
+                }
+                Drive::Torque {
+                    torque: t,
+                    ramp: non_negative("drive.ramp_end_s", d.ramp_end_s, end_time, "s")?,
+                    initial_speed: w.to_radians(),
+                }
+            }
+            other => {
+                return Err(Error::invalid(
+                    "dynamics.drive.kind",
+                    format!("\"{other}\""),
+                    "must be \"speed\" or \"torque\"",
+                ))
+            }
+        };
+        let load = self.load.validate(rated_torque, end_time, base_dir)?;
+        Ok(DynamicsParams {
+            geometry: geo,
+            ratio,
+            cranks: planets,
+            crank_circle_radius,
+            mesh,
+            bearings,
+            contact: impact,
+            inertia,
+            drive,
+            load,
+            end_time,
+            window: (w0, w1),
+            output_interval,
+            rtol,
+            gap_points: gap_points as usize,
+            contact_law: contact.clone(),
+            reference_force: f_ref,
+        })
+    }
+}
+
+impl DynLoadConfig {
+    fn validate(&self, rated: f64, end_time: f64, base_dir: Option<&Path>) -> Result<LoadProfile> {
+        let torque_ok = |field: &str, v: f64| -> Result<f64> {
+            if v.is_finite() && v.abs() <= 1e6 {
+                Ok(v)
+            } else {
+                Err(Error::invalid(
+                    format!("dynamics.load.{field}"),
+                    v,
+                    "must be finite, |torque| <= 1e6 N m",
+                ))
+            }
+        };
+        match self.kind.as_str() {
+            "none" => Ok(LoadProfile::None),
+            "constant" => Ok(LoadProfile::Constant {
+                torque: torque_ok("torque_nm", self.torque_nm.unwrap_or(rated))?,
+                ramp: non_negative("load.ramp_s", self.ramp_s, end_time, "s")?,
+            }),
+            "sinusoidal" => {
+                let amp = torque_ok("amplitude_nm", self.amplitude_nm.unwrap_or(rated))?;
+                if amp < 0.0 {
+                    return Err(Error::invalid(
+                        "dynamics.load.amplitude_nm",
+                        amp,
+                        "must be >= 0",
+                    ));
+                }
+                if !self.phase_deg.is_finite() {
+                    return Err(Error::invalid(
+                        "dynamics.load.phase_deg",
+                        self.phase_deg,
+                        "must be finite",
+                    ));
+                }
+                Ok(LoadProfile::Sinusoidal {
+                    amplitude: amp,
+                    period: positive("load.period_s", self.period_s, 1e6, "s")?,
+                    offset: torque_ok("offset_nm", self.offset_nm)?,
+                    phase: self.phase_deg.to_radians(),
+                })
+            }
+            "table" => {
+                let file = self.file.as_ref().ok_or_else(|| {
+                    Error::invalid(
+                        "dynamics.load.file",
+                        "missing",
+                        "required with kind = \"table\"",
+                    )
+                })?;
+                let path = match base_dir {
+                    Some(d) if file.is_relative() => d.join(file),
+                    _ => file.clone(),
+                };
+                read_load_table(&path, end_time)
+            }
+            other => Err(Error::invalid(
+                "dynamics.load.kind",
+                format!("\"{other}\""),
+                "must be \"none\", \"constant\", \"sinusoidal\" or \"table\"",
+            )),
+        }
+    }
+}
+
+/// Reads a load table CSV with header `time_s,torque_nm`: strictly increasing times, no empty or
+/// non-numeric cells, covering `[0, end_time]` s.
+///
+/// # Errors
+/// [`Error::Config`] if unreadable; [`Error::Invalid`] naming the file, row and column of a bad
+/// cell, an unsorted time, or a table that does not cover the simulated time.
+pub fn read_load_table(path: &Path, end_time: f64) -> Result<LoadProfile> {
+    let origin = path.display().to_string();
+    let cfg_err = |message: String| Error::Config {
+        path: origin.clone(),
+        message,
+    };
+    let mut rdr = csv::ReaderBuilder::new()
+        .flexible(true)
+        .from_path(path)
+        .map_err(|e| cfg_err(format!("cannot read the load table: {e}")))?;
+    let headers = rdr.headers().map_err(|e| cfg_err(e.to_string()))?.clone();
+    if headers.iter().map(str::trim).collect::<Vec<_>>() != ["time_s", "torque_nm"] {
+        return Err(cfg_err(format!(
+            "header must be `time_s,torque_nm`, found `{}`",
+            headers.iter().collect::<Vec<_>>().join(",")
+        )));
+    }
+    let (mut time, mut torque) = (Vec::new(), Vec::new());
+    for (i, rec) in rdr.records().enumerate() {
+        let rec = rec.map_err(|e| cfg_err(e.to_string()))?;
+        let mut v = [0.0; 2];
+        for (k, name) in ["time_s", "torque_nm"].iter().enumerate() {
+            let field = format!("{origin} row {} column {name}", i + 1);
+            let s = rec.get(k).unwrap_or("").trim();
+            if s.is_empty() {
+                return Err(Error::invalid(
+                    field,
+                    "empty",
+                    "the table has a gap: every row needs both values",
+                ));
+            }
+            v[k] = s
+                .parse::<f64>()
+                .map_err(|_| Error::invalid(&field, format!("\"{s}\""), "must be a number"))?;
+            if !v[k].is_finite() {
+                return Err(Error::invalid(
+                    &field,
+                    v[k],
+                    "must be finite (no NaN or inf)",
+                ));
+            }
+        }
+        if let Some(&last) = time.last() {
+            if v[0] <= last {
+                return Err(Error::invalid(
+                    format!("{origin} row {} column time_s", i + 1),
+                    v[0],
+                    format!("times must increase strictly (previous row: {last})"),
+                ));
+            }
+        }
+        time.push(v[0]);
+        torque.push(v[1]);
+    }
+    if time.len() < 2 {
+        return Err(cfg_err("the load table needs at least 2 rows".into()));
+    }
+    if time[0] > 0.0 || *time.last().unwrap_or(&0.0) < end_time {
+        return Err(Error::invalid(
+            format!("{origin} column time_s"),
+            format!("[{}, {}]", time[0], time[time.len() - 1]),
+            format!("must cover the simulated time [0, {end_time}] s"),
+        ));
+    }
+    Ok(LoadProfile::Table { time, torque })
+}
