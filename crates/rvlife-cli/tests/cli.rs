@@ -164,7 +164,8 @@ fn add_line(text: &str, table: &str, line: &str) -> String {
     out.join("\n") + "\n"
 }
 
-/// The example with a short wear study: 500 h in two stages (fast: well under a second).
+/// The example with a short wear study: 500 h in two stages, and dynamics over 0.15 s (a few
+/// seconds in all).
 fn short_study_text() -> String {
     let t = set_key(
         &example_text(),
@@ -172,7 +173,14 @@ fn short_study_text() -> String {
         "stage_hours",
         "[0.0, 250.0, 500.0]",
     );
-    set_key(&t, "wear", "profile_update_hours", "250.0")
+    let t = set_key(&t, "wear", "profile_update_hours", "250.0");
+    short_dynamics(&t)
+}
+
+/// Shortens the simulated time of the dynamics to 0.15 s (TE window 0.1-0.15 s).
+fn short_dynamics(text: &str) -> String {
+    let t = set_key(text, "dynamics", "end_time_s", "0.15");
+    set_key(&t, "dynamics", "window_s", "[0.1, 0.15]")
 }
 
 fn num(v: &Value, key: &str) -> f64 {
@@ -702,7 +710,9 @@ fn bad_profile_extension() {
 // ---------------------------------------------------------------------------------------------
 // 6. The study: results directory.
 
-const STAGE_KEYS: [&str; 8] = [
+const STAGE_KEYS: [&str; 10] = [
+    "dte_mean_arcmin",
+    "dte_peak_to_peak_arcmin",
     "hours",
     "max_wear_um",
     "ste_mean_arcmin",
@@ -938,4 +948,199 @@ fn profile_svg() {
     let text = std::fs::read_to_string(&p).unwrap();
     assert!(text.contains("<svg"), "no <svg> element");
     assert!(text.trim_end().ends_with("</svg>"), "SVG not closed");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Dynamics (issue 3)
+
+#[test]
+fn dynamics_json_and_results_directory() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "dyn.toml", &short_dynamics(&example_text()));
+    let out = dir.path().join("dyn");
+    let v = json_ok(
+        &rvlife([
+            "dynamics".as_ref(),
+            cfg.as_os_str(),
+            "--wear-um".as_ref(),
+            "10".as_ref(),
+            "--out".as_ref(),
+            out.as_os_str(),
+            "--pin-forces".as_ref(),
+            "--json".as_ref(),
+        ]),
+        "rvlife dynamics --json",
+    );
+    assert_all_finite(&v, "dynamics");
+    for key in [
+        "te_mean_arcmin",
+        "te_peak_to_peak_arcmin",
+        "te_rms_arcmin",
+        "output_speed_deg_s",
+    ] {
+        assert!(v.get(key).is_some_and(Value::is_number), "no {key}: {v}");
+    }
+    // Over this 50 ms window the output crosses the backlash as the load reverses (about
+    // 1 arcmin), a 0.3 % speed change; the 0.1 % check over 0.3 s is in the library tests.
+    assert_rel(
+        num(&v, "output_speed_deg_s"),
+        9000.0 / RATIO,
+        1e-2,
+        "output speed",
+    );
+    assert_rel(num(&v, "max_wear_um"), 10.0, 1e-9, "wear");
+    for f in [
+        "summary.json",
+        "dynamics.csv",
+        "pin_forces.csv",
+        "plots/speeds.svg",
+        "plots/speeds.png",
+        "plots/te.svg",
+        "plots/te.png",
+    ] {
+        assert!(out.join(f).is_file(), "missing {f}");
+    }
+    let csv = std::fs::read_to_string(out.join("dynamics.csv")).unwrap();
+    let header = csv.lines().next().unwrap();
+    for col in [
+        "time_s",
+        "input_speed_deg_s",
+        "output_speed_deg_s",
+        "te_arcmin",
+        "load_nm",
+    ] {
+        assert!(
+            header.split(',').any(|c| c == col),
+            "no column {col}: {header}"
+        );
+    }
+    assert_eq!(csv.lines().count(), 1 + 751, "0.15 s at 0.2 ms plus t = 0");
+    assert!(!csv.contains("NaN"));
+    let forces = std::fs::read_to_string(out.join("pin_forces.csv")).unwrap();
+    assert_eq!(
+        forces.lines().next().unwrap().split(',').count(),
+        1 + 2 * PINS,
+        "time plus one column per pin and disc"
+    );
+    assert_eq!(leftover_tmp_dirs(dir.path()), Vec::<String>::new());
+}
+
+#[test]
+fn dynamics_no_load_on_a_perfect_reducer_has_no_te() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "dyn.toml", &short_dynamics(&example_text()));
+    let v = json_ok(
+        &rvlife([
+            "dynamics".as_ref(),
+            cfg.as_os_str(),
+            "--load".as_ref(),
+            "none".as_ref(),
+            "--json".as_ref(),
+        ]),
+        "rvlife dynamics --load none",
+    );
+    assert!(num(&v, "te_peak_to_peak_arcmin") < 0.01, "{v}");
+    assert!(num(&v, "te_mean_arcmin").abs() < 0.01, "{v}");
+}
+
+fn check_bad_dynamics(text: &str, needles: &[&str]) {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "bad.toml", text);
+    let out = dir.path().join("out");
+    let o = rvlife([
+        "dynamics".as_ref(),
+        cfg.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_input_error(&o, "dynamics", needles);
+    assert!(!out.exists(), "dynamics left {} behind", out.display());
+}
+
+#[test]
+fn bad_dynamics_stiffness_damping_and_times() {
+    let ex = example_text();
+    check_bad_dynamics(
+        &set_key(
+            &ex,
+            "dynamics.bearings",
+            "crank_disc_stiffness_n_per_um",
+            "-5.0",
+        ),
+        &["dynamics.bearings.crank_disc_stiffness_n_per_um", "-5"],
+    );
+    check_bad_dynamics(
+        &set_key(&ex, "dynamics.gears", "mesh_stiffness_n_per_um", "1e12"),
+        &["dynamics.gears.mesh_stiffness_n_per_um"],
+    );
+    check_bad_dynamics(
+        &set_key(&ex, "dynamics.impact", "damping_ratio", "-0.1"),
+        &["dynamics.impact.damping_ratio"],
+    );
+    check_bad_dynamics(
+        &add_line(
+            &ex,
+            "dynamics.impact",
+            "stiffness_n_per_m_e = 1e30\nexponent = 1.5",
+        ),
+        &["dynamics.impact.stiffness_n_per_m_e"],
+    );
+    check_bad_dynamics(
+        &set_key(&ex, "dynamics", "window_s", "[0.5, 0.9]"),
+        &["dynamics.window_s", "end_time_s"],
+    );
+    check_bad_dynamics(
+        &set_key(&ex, "dynamics", "end_time_s", "0.0"),
+        &["dynamics.end_time_s"],
+    );
+    check_bad_dynamics(
+        &set_key(&ex, "dynamics.drive", "ramp_end_s", "2.0"),
+        &["dynamics.drive.ramp_end_s"],
+    );
+    check_bad_dynamics(
+        &set_key(&ex, "dynamics", "relative_tolerance", "0.5"),
+        &["dynamics.relative_tolerance"],
+    );
+}
+
+fn table_config(dir: &Path, table: &str) -> PathBuf {
+    std::fs::write(dir.join("load.csv"), table).unwrap();
+    let t = set_key(&example_text(), "dynamics.load", "kind", "\"table\"");
+    let t = replace_table(&t, "dynamics.load", "kind = \"table\"\nfile = \"load.csv\"");
+    write_config(dir, "table.toml", &short_dynamics(&t))
+}
+
+#[test]
+fn bad_load_tables_unsorted_gaps_nan() {
+    for (table, needles) in [
+        (
+            "time_s,torque_nm\n0,0\n0.5,100\n0.3,200\n1.0,0\n",
+            &["load.csv row 3 column time_s", "increase"][..],
+        ),
+        (
+            "time_s,torque_nm\n0,0\n0.5,\n1.0,0\n",
+            &["load.csv row 2 column torque_nm", "gap"][..],
+        ),
+        (
+            "time_s,torque_nm\n0,0\n0.5,NaN\n1.0,0\n",
+            &["load.csv row 2 column torque_nm", "finite"][..],
+        ),
+        (
+            "time_s,torque_nm\n0,0\n0.1,10\n",
+            &["load.csv column time_s", "cover"][..],
+        ),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let cfg = table_config(dir.path(), table);
+        let o = rvlife(["dynamics".as_ref(), cfg.as_os_str(), "--json".as_ref()]);
+        assert_input_error(&o, "load table", needles);
+    }
+    // A good table runs.
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = table_config(dir.path(), "time_s,torque_nm\n0,0\n0.05,200\n1.0,200\n");
+    let v = json_ok(
+        &rvlife(["dynamics".as_ref(), cfg.as_os_str(), "--json".as_ref()]),
+        "good load table",
+    );
+    assert!(num(&v, "te_mean_arcmin") > 0.0, "{v}");
 }

@@ -1,6 +1,7 @@
 //! Speed of the pieces the issue sets targets for: the built-in study (7 stages, profile
 //! updates, full mesh cycles), one loaded contact solve (new and worn disc), and the static TE
-//! of one stage. Run with `cargo bench -p rvlife`.
+//! of one stage, one 0.8 s multibody simulation, and the study with the dynamic TE at every
+//! stage. Run with `cargo bench -p rvlife`.
 
 use std::hint::black_box;
 use std::time::Duration;
@@ -30,11 +31,30 @@ fn benches(c: &mut Criterion) {
     c.bench_function("static_te_worn_7500h", |b| {
         b.iter(|| rvlife::te::static_te(black_box(&worn), model.te_samples).unwrap())
     });
+    // The paper's section 4.2 run: 0.8 s, 10 um uniform wear, sinusoidal 412 N m (gap table
+    // included).
+    let worn10 = model
+        .profile(Some(WearMap::uniform(720, 10e-6).expect("map")))
+        .expect("profile");
+    let mut group = c.benchmark_group("dynamics");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(40));
+    group.bench_function("simulate_0p8s_10um_sinusoidal", |b| {
+        b.iter(|| rvlife::dynamics::simulate(black_box(&worn10), &model.dynamics, false).unwrap())
+    });
+    group.finish();
     let mut group = c.benchmark_group("study");
     group
         .sample_size(10)
         .measurement_time(Duration::from_secs(40));
-    group.bench_function("builtin_study", |b| {
+    let mut no_dynamics = model.clone();
+    no_dynamics.dynamics_enabled = false;
+    group.bench_function("builtin_study_without_dynamics", |b| {
+        b.iter(|| rvlife::study::run(black_box(&no_dynamics), &|_, _| {}).unwrap())
+    });
+    group.measurement_time(Duration::from_secs(200));
+    group.bench_function("builtin_study_with_dte", |b| {
         b.iter(|| rvlife::study::run(black_box(&model), &|_, _| {}).unwrap())
     });
     group.finish();

@@ -10,10 +10,11 @@
 //!
 //! Along each radial line the gap (distance from the actual profile minus the pin radius) is
 //! linear to within `(rho - rho_0)^2 / (2 R)` (R: local radius of curvature, >= 4.6 mm for the
-//! paper's stage); the table stores, per mesh angle, the line through the touching offset
-//! `rho_0` (where the gap is zero) fitted from exact projections:
-//! `gap(t, rho) = A(t mod 2 pi) + s(t mod 2 pi) rho`. Within a few um of contact, where the
-//! impact force acts, the error is below 1e-9 m; far from contact only the sign matters.
+//! paper's stage); the table stores, per mesh angle, the touching offset `rho_0` (where the gap
+//! is zero) and the radial slope `s` there (the radial component of the flank normal), both from
+//! exact projections: `gap(t, rho) = s(t mod 2 pi) (rho - rho_0(t mod 2 pi))`. Within 2 um of
+//! contact, where the impact force acts, the error is below 2 nm (tested); further out it
+//! stays within a few per cent of the gap, and only the sign matters there.
 //! `rho_0` and `s` are periodic cubic Hermite splines (C1), and [`GapField::eval`] returns the exact
 //! gradient of this interpolant, so contact forces derived from it conserve energy.
 
@@ -284,8 +285,15 @@ mod tests {
                     let q = crate::geometry::rotate(&(p - c), -psi);
                     let tg = profile.contact_parameter_guess(j, phi, psi);
                     let (g, _) = field.eval(&q, tg);
+                    // Within 2 um of touching (where forces act) to 2 nm; further out the
+                    // linear model drifts by about (rho - rho_0)^2 / 2R, a few per cent.
+                    let tol = if pg.gap.abs() < 2e-6 {
+                        2e-9
+                    } else {
+                        5e-2 * pg.gap.abs()
+                    };
                     assert!(
-                        (g.gap - pg.gap).abs() < 5e-9,
+                        (g.gap - pg.gap).abs() < tol,
                         "phi {phi} beta {beta} pin {j}: {} vs {}",
                         g.gap,
                         pg.gap

@@ -12,7 +12,7 @@ use crate::error::{Error, Result};
 /// A first-order ODE system `dy/dt = f(t, y)`.
 pub trait OdeSystem {
     /// Number of states.
-    fn len(&self) -> usize;
+    fn states(&self) -> usize;
     /// Initial state at `t = 0`.
     fn initial(&self) -> Vec<f64>;
     /// Right-hand side `dy = f(t, y)`.
@@ -61,7 +61,7 @@ impl Integrator for Tsit45 {
         times: &[f64],
         sample: &mut dyn FnMut(f64, &[f64]) -> Result<()>,
     ) -> Result<Stats> {
-        let n = sys.len();
+        let n = sys.states();
         let y0 = sys.initial();
         let evals = Cell::new(0usize);
         let fail = |e: diffsol::error::DiffsolError| Error::numerical("dynamics", e.to_string());

@@ -1060,7 +1060,7 @@ impl DynamicsConfig {
             output_interval,
             rtol,
             gap_points: gap_points as usize,
-            contact_law: contact.clone(),
+            contact_law: *contact,
             reference_force: f_ref,
         })
     }

@@ -482,8 +482,8 @@ impl<'a> System<'a> {
         self.absolute(t, z, &mut qa[..n], &mut qda[..n], &mut qdd[..n]);
         let (q, qd) = (&qa[..n], &qda[..n]);
         let mut e = 0.0;
-        for i in 0..n {
-            e += 0.5 * self.mass[i] * qd[i] * qd[i];
+        for ((m, v), _) in self.mass.iter().zip(qd).zip(0..n) {
+            e += 0.5 * m * v * v;
         }
         let (th_s, th_o) = (q[Layout::SUN], q[Layout::OUT]);
         let a = p.geometry.eccentricity;
@@ -618,8 +618,8 @@ impl Drive {
 }
 
 impl super::ode::OdeSystem for System<'_> {
-    fn len(&self) -> usize {
-        self.states()
+    fn states(&self) -> usize {
+        System::states(self)
     }
 
     fn initial(&self) -> Vec<f64> {

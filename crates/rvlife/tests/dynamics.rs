@@ -1,0 +1,231 @@
+//! Physics checks of the multibody model that can fail (issue 3 "Must show").
+
+use rvlife::config::{Config, Model};
+use rvlife::dynamics::ode::OdeSystem;
+use rvlife::dynamics::params::{Drive, LoadProfile};
+use rvlife::dynamics::system::Layout;
+use rvlife::dynamics::{ode, simulate, GapField, System};
+use rvlife::geometry::WearMap;
+use rvlife::te::{loaded_te, ARCMIN_PER_RAD};
+
+fn example() -> Config {
+    Config::example()
+}
+
+fn model_with(edit: impl FnOnce(&mut Config)) -> Model {
+    let mut c = example();
+    edit(&mut c);
+    c.validate().unwrap()
+}
+
+/// Steady output speed equals input speed / i_H (9000 / 81 = 111.1 deg/s) within 0.1 %, on the
+/// paper's set-up (10 um wear, sinusoidal 412 N m load).
+#[test]
+fn output_speed_follows_the_ratio() {
+    let m = model_with(|c| {
+        c.dynamics.end_time_s = 0.4;
+        c.dynamics.window_s = [0.1, 0.4];
+    });
+    let profile = m
+        .profile(Some(WearMap::uniform(720, 10e-6).unwrap()))
+        .unwrap();
+    let r = simulate(&profile, &m.dynamics, false).unwrap();
+    let w = r.summary.output_speed_deg_s;
+    let expected = 9000.0 / 81.0;
+    eprintln!("speed: {w} deg/s");
+    assert!(
+        (w - expected).abs() < 1e-3 * expected,
+        "{w} deg/s vs {expected}"
+    );
+}
+
+/// No wear, no errors, no load: the only forces are the inertia forces of the orbiting discs and
+/// cranks, so the TE stays within the contact deflection those forces can cause. Bound: the
+/// largest pin force seen, `F`, compressing one pin by `(F/k)^(1/e)`, turned into an output
+/// rotation over the smallest lever arm that can carry it, 5 % of `a Zc`, plus the bearing
+/// deflection `F/k_b` over the same lever.
+#[test]
+fn unloaded_perfect_reducer_has_no_te_beyond_inertia_deflections() {
+    let m = model_with(|c| {
+        c.dynamics.load.kind = "none".into();
+        c.dynamics.end_time_s = 0.3;
+        c.dynamics.window_s = [0.1, 0.3];
+    });
+    let profile = m.profile(None).unwrap();
+    let r = simulate(&profile, &m.dynamics, false).unwrap();
+    let p = &m.dynamics;
+    let f = r.summary.max_pin_force_n;
+    let lever = 0.05 * m.geometry.disc_pitch_radius();
+    let bound = ((f / p.contact.stiffness).powf(1.0 / p.contact.exponent)
+        + f / p.bearings.disc_stiffness)
+        / lever
+        * ARCMIN_PER_RAD;
+    let worst = r
+        .summary
+        .te_max_arcmin
+        .abs()
+        .max(r.summary.te_min_arcmin.abs());
+    eprintln!("unloaded: |TE| {worst} arcmin, bound {bound}, largest pin force {f} N");
+    assert!(f < 50.0, "inertia forces only, yet {f} N");
+    assert!(worst < bound, "|TE| {worst} arcmin > bound {bound}");
+    assert!(worst < 0.01, "|TE| {worst} arcmin");
+}
+
+/// Uniform equidistant modification (backlash) and a constant torque applied slowly at a low
+/// speed: the DTE tends to the quasi-static loaded TE of the contact module (both discs sharing
+/// the torque equally) within 5 %. The bearings and the gear mesh are made 100 times stiffer,
+/// and every body 100 times heavier (so the step size stays the same), leaving the contact as the
+/// compliance that the contact module models.
+#[test]
+fn slow_constant_torque_gives_the_quasi_static_loaded_te() {
+    let m = model_with(|c| {
+        c.cycloid.modification.equidistant_mm = 0.01;
+        let d = &mut c.dynamics;
+        d.end_time_s = 0.25;
+        d.window_s = [0.15, 0.25];
+        d.drive.speed_deg_s = 900.0;
+        d.drive.ramp_end_s = 0.05;
+        d.load.kind = "constant".into();
+        d.load.torque_nm = Some(412.0);
+        d.load.ramp_s = 0.12;
+        d.bearings.crank_carrier_stiffness_n_per_um *= 100.0;
+        d.bearings.crank_disc_stiffness_n_per_um *= 100.0;
+        d.bearings.damping_ratio = 0.2;
+        d.gears.mesh_stiffness_n_per_um *= 100.0;
+        d.impact.damping_ratio = 0.3;
+    });
+    let mut p = m.dynamics.clone();
+    let i = &mut p.inertia;
+    for v in [
+        &mut i.disc_mass,
+        &mut i.disc,
+        &mut i.crank_mass,
+        &mut i.crank,
+        &mut i.output,
+    ] {
+        *v *= 100.0;
+    }
+    let profile = m.profile(None).unwrap();
+    let r = simulate(&profile, &p, false).unwrap();
+    let qs = loaded_te(&profile, &m.contact, 0.5, 412.0, 24).unwrap();
+    let expected = qs.stats().mean * ARCMIN_PER_RAD;
+    let got = r.summary.te_mean_arcmin;
+    eprintln!("quasi-static: DTE {got} arcmin, contact module {expected}");
+    assert!(
+        (got - expected).abs() < 0.05 * expected,
+        "DTE {got} arcmin vs quasi-static {expected}"
+    );
+}
+
+/// The reducer started from a given state.
+struct Kicked<'a> {
+    sys: &'a System<'a>,
+    z0: Vec<f64>,
+}
+
+impl OdeSystem for Kicked<'_> {
+    fn states(&self) -> usize {
+        self.sys.states()
+    }
+    fn initial(&self) -> Vec<f64> {
+        self.z0.clone()
+    }
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        OdeSystem::rhs(self.sys, t, y, dy)
+    }
+    fn absolute_tolerances(&self, rtol: f64) -> Vec<f64> {
+        self.sys.absolute_tolerances(rtol)
+    }
+}
+
+/// Without damping, friction, load or drive torque the total energy (kinetic + mesh, bearing
+/// and contact springs) is conserved to the integrator's tolerance, through contacts opening
+/// and closing on a disc with backlash.
+#[test]
+fn energy_is_conserved_without_damping() {
+    let m = model_with(|c| {
+        c.cycloid.modification.equidistant_mm = 0.005;
+        let d = &mut c.dynamics;
+        d.drive.kind = "torque".into();
+        d.drive.torque_nm = Some(0.0);
+        d.drive.initial_speed_deg_s = 9000.0;
+        d.drive.ramp_end_s = 0.0;
+        d.load.kind = "none".into();
+        d.bearings.damping_ratio = 0.0;
+        d.gears.mesh_damping_ratio = 0.0;
+        d.impact.damping_ratio = 0.0;
+        d.end_time_s = 0.05;
+        d.window_s = [0.0, 0.05];
+    });
+    assert!(matches!(m.dynamics.drive, Drive::Torque { .. }));
+    assert_eq!(m.dynamics.load, LoadProfile::None);
+    let profile = m.profile(None).unwrap();
+    let field = GapField::new(&profile, 1024, None).unwrap();
+    let sys = System::new(&m.dynamics, [&field, &field]);
+    // Rigid spin plus an output speed deviation of 0.05 rad/s: the output rattles through the
+    // 2 x 0.34 arcmin of backlash and strikes the pins on both flanks.
+    let mut z0 = sys.initial_state();
+    z0[sys.layout().dofs() + Layout::OUT] = 0.05;
+    let kicked = Kicked { sys: &sys, z0 };
+    let e0 = sys.energy(0.0, &kicked.z0);
+    let rtol = 1e-7;
+    let times: Vec<f64> = (0..=500).map(|k| k as f64 * 1e-4).collect();
+    let mut drift: f64 = 0.0;
+    let mut elastic: f64 = 0.0;
+    let mut dz = vec![0.0; sys.states()];
+    let mut pins = vec![Default::default(); 80];
+    ode::integrate(&kicked, rtol, 0.05, &times, |t, z| {
+        drift = drift.max((sys.energy(t, z) - e0).abs());
+        sys.rhs(t, z, &mut dz, Some(&mut pins));
+        elastic = elastic.max(
+            pins.iter()
+                .map(|p: &rvlife::dynamics::PinForce| p.normal)
+                .sum(),
+        );
+        Ok(())
+    })
+    .unwrap();
+    eprintln!("energy: drift {drift:e} J of {e0} J, largest total pin force {elastic} N");
+    assert!(elastic > 1.0, "the contacts never closed ({elastic} N)");
+    assert!(
+        drift < 20.0 * rtol * e0,
+        "energy drift {drift:e} J of {e0} J (rtol {rtol:e})"
+    );
+}
+
+/// Halving the integrator's tolerance changes the mean DTE by less than 1 % (built-in example
+/// over a shortened window: 10 um wear, sinusoidal 412 N m).
+#[test]
+fn dte_does_not_depend_on_the_tolerance() {
+    let run = |rtol: f64| {
+        let m = model_with(|c| {
+            c.dynamics.end_time_s = 0.3;
+            c.dynamics.window_s = [0.1, 0.3];
+            c.dynamics.relative_tolerance = rtol;
+        });
+        let profile = m
+            .profile(Some(WearMap::uniform(720, 10e-6).unwrap()))
+            .unwrap();
+        simulate(&profile, &m.dynamics, false).unwrap().summary
+    };
+    let a = run(1e-5);
+    let b = run(5e-6);
+    eprintln!(
+        "tolerance: mean {} / {}, p-p {} / {} arcmin",
+        a.te_mean_arcmin, b.te_mean_arcmin, a.te_peak_to_peak_arcmin, b.te_peak_to_peak_arcmin
+    );
+    let rel = (a.te_mean_arcmin - b.te_mean_arcmin).abs() / a.te_mean_arcmin.abs();
+    assert!(
+        rel < 0.01,
+        "mean DTE {} vs {} arcmin",
+        a.te_mean_arcmin,
+        b.te_mean_arcmin
+    );
+    let pp = (a.te_peak_to_peak_arcmin - b.te_peak_to_peak_arcmin).abs() / a.te_peak_to_peak_arcmin;
+    assert!(
+        pp < 0.01,
+        "p-p {} vs {}",
+        a.te_peak_to_peak_arcmin,
+        b.te_peak_to_peak_arcmin
+    );
+}
