@@ -455,12 +455,11 @@ fn run(cli: Cli) -> Result<()> {
             let res = rvlife::dynamics::simulate(&profile, &model.dynamics, pin_forces)?;
             let wall = start.elapsed().as_secs_f64();
             if let Some(dir) = &out {
-                rvlife::report::write_dynamics(&res, &profile, dir, force)?;
+                rvlife::report::write_dynamics(&res, dir, force)?;
             }
             let s = &res.summary;
             let mut v =
                 serde_json::to_value(s).map_err(|e| Error::numerical("json", e.to_string()))?;
-            v["max_wear_um"] = json!(profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6);
             v["wall_time_s"] = json!(wall);
             if json {
                 println!("{v}");

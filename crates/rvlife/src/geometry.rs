@@ -251,16 +251,8 @@ impl WearMap {
     /// Depth (m), `dh/dt` (m/rad) and `d2h/dt2` (m/rad^2, piecewise linear) at mesh angle `t`.
     pub fn eval2(&self, t: f64) -> (f64, f64, f64) {
         let (p1, m1, p2, m2, u, dt) = self.cell(t);
-        let (u2, u3) = (u * u, u * u * u);
-        let h = (2.0 * u3 - 3.0 * u2 + 1.0) * p1
-            + (u3 - 2.0 * u2 + u) * m1
-            + (-2.0 * u3 + 3.0 * u2) * p2
-            + (u3 - u2) * m2;
-        let dh = ((6.0 * u2 - 6.0 * u) * p1
-            + (3.0 * u2 - 4.0 * u + 1.0) * m1
-            + (-6.0 * u2 + 6.0 * u) * p2
-            + (3.0 * u2 - 2.0 * u) * m2)
-            / dt;
+        let (h, dh_du) = cubic_hermite(p1, m1, p2, m2, u);
+        let dh = dh_du / dt;
         let ddh = ((12.0 * u - 6.0) * p1
             + (6.0 * u - 4.0) * m1
             + (-12.0 * u + 6.0) * p2
@@ -268,6 +260,21 @@ impl WearMap {
             / (dt * dt);
         (h, dh, ddh)
     }
+}
+
+/// Cubic Hermite segment between values `p1`, `p2` with slopes `m1`, `m2` (per unit of `u`):
+/// value and derivative `d/du` at `u` in `[0, 1]`.
+#[inline]
+pub(crate) fn cubic_hermite(p1: f64, m1: f64, p2: f64, m2: f64, u: f64) -> (f64, f64) {
+    let (u2, u3) = (u * u, u * u * u);
+    let v = (2.0 * u3 - 3.0 * u2 + 1.0) * p1
+        + (u3 - 2.0 * u2 + u) * m1
+        + (-2.0 * u3 + 3.0 * u2) * p2
+        + (u3 - u2) * m2;
+    let d = (6.0 * u2 - 6.0 * u) * (p1 - p2)
+        + (3.0 * u2 - 4.0 * u + 1.0) * m1
+        + (3.0 * u2 - 2.0 * u) * m2;
+    (v, d)
 }
 
 /// One evaluated point of a profile, in the disc frame.

@@ -37,6 +37,13 @@ fn write_rows(path: &Path, header: &[String], rows: &[Vec<String>]) -> Result<()
     w.flush().map_err(|e| Error::io(path, e))
 }
 
+/// Writes `value` as pretty JSON with a final newline.
+fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<()> {
+    let text = serde_json::to_string_pretty(value)
+        .map_err(|e| Error::io(path, std::io::Error::other(e.to_string())))?;
+    std::fs::write(path, text + "\n").map_err(|e| Error::io(path, e))
+}
+
 fn f(v: f64) -> String {
     format!("{v:.6}")
 }
@@ -55,10 +62,7 @@ fn hours_tag(h: f64) -> String {
 /// [`Error::Io`] on any write failure.
 pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
     let summary = study.summary();
-    let p = dir.join("summary.json");
-    let text = serde_json::to_string_pretty(&summary)
-        .map_err(|e| Error::io(&p, std::io::Error::other(e.to_string())))?;
-    std::fs::write(&p, text + "\n").map_err(|e| Error::io(&p, e))?;
+    write_json(&dir.join("summary.json"), &summary)?;
 
     // stages.csv
     let header: Vec<String> = [
@@ -261,18 +265,11 @@ pub fn write_study(study: &Study, out: &Path, replace: bool) -> Result<PathBuf> 
 /// As [`write_study`].
 pub fn write_dynamics(
     res: &crate::dynamics::DynamicsResult,
-    profile: &crate::geometry::Profile,
     out: &Path,
     replace: bool,
 ) -> Result<PathBuf> {
     write_atomically(out, replace, |dir| {
-        let mut summary = serde_json::to_value(&res.summary)
-            .map_err(|e| Error::numerical("json", e.to_string()))?;
-        summary["max_wear_um"] = profile.wear().map_or(0.0, |w| w.max_depth() * 1e6).into();
-        let p = dir.join("summary.json");
-        let text = serde_json::to_string_pretty(&summary)
-            .map_err(|e| Error::io(&p, std::io::Error::other(e.to_string())))?;
-        std::fs::write(&p, text + "\n").map_err(|e| Error::io(&p, e))?;
+        write_json(&dir.join("summary.json"), &res.summary)?;
         let p = dir.join("dynamics.csv");
         let header: Vec<String> = [
             "time_s",

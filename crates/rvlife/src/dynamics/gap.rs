@@ -24,7 +24,7 @@ use rayon::prelude::*;
 
 use crate::contact::ContactModel;
 use crate::error::Result;
-use crate::geometry::{Profile, Vec2};
+use crate::geometry::{cubic_hermite, Profile, Vec2};
 use crate::wear::band_shape;
 
 /// Periodic cubic Hermite spline on a uniform grid over `[0, 2 pi)` with central-difference
@@ -59,17 +59,14 @@ impl PeriodicSpline {
         let u = s - k;
         let i = (k as i64).rem_euclid(n as i64) as usize;
         let j = if i + 1 == n { 0 } else { i + 1 };
-        let (p1, m1, p2, m2) = (self.value[i], self.slope[i], self.value[j], self.slope[j]);
-        let (u2, u3) = (u * u, u * u * u);
-        let v = (2.0 * u3 - 3.0 * u2 + 1.0) * p1
-            + (u3 - 2.0 * u2 + u) * m1
-            + (-2.0 * u3 + 3.0 * u2) * p2
-            + (u3 - u2) * m2;
-        let d = ((6.0 * u2 - 6.0 * u) * (p1 - p2)
-            + (3.0 * u2 - 4.0 * u + 1.0) * m1
-            + (3.0 * u2 - 2.0 * u) * m2)
-            * self.inv_dt;
-        (v, d)
+        let (v, d) = cubic_hermite(
+            self.value[i],
+            self.slope[i],
+            self.value[j],
+            self.slope[j],
+            u,
+        );
+        (v, d * self.inv_dt)
     }
 }
 
@@ -247,17 +244,7 @@ impl GapField {
 mod tests {
     use super::*;
     use crate::contact::pin_geometry;
-    use crate::geometry::{CycloidGeometry, Modification, WearMap};
-
-    fn geo() -> CycloidGeometry {
-        CycloidGeometry {
-            pins: 40,
-            eccentricity: 1.3e-3,
-            pin_circle_radius: 64e-3,
-            pin_radius: 3e-3,
-            width: 8.75e-3,
-        }
-    }
+    use crate::geometry::{Modification, WearMap};
 
     /// The tabulated gap equals the exact projected gap of the contact module near contact, and
     /// its gradient equals a finite difference of itself.
@@ -271,7 +258,11 @@ mod tests {
             equidistant: 5e-6,
             ..Default::default()
         };
-        let profile = Profile::new(geo(), m, Some(WearMap::new(depth).unwrap())).unwrap();
+        let geo = crate::config::Config::example()
+            .validate()
+            .unwrap()
+            .geometry;
+        let profile = Profile::new(geo, m, Some(WearMap::new(depth).unwrap())).unwrap();
         let field = GapField::new(&profile, 2048, None).unwrap();
         for &phi in &[0.0, 0.3, 1.1] {
             for &beta in &[-2e-4, 0.0, 3e-4] {

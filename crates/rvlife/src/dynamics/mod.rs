@@ -63,6 +63,8 @@ pub struct Sample {
 /// Summary of one simulation over the TE window.
 #[derive(Debug, Clone, Serialize)]
 pub struct DynamicsSummary {
+    /// Largest wear depth of the disc profile simulated, um.
+    pub max_wear_um: f64,
     /// Window start, s.
     pub window_start_s: f64,
     /// Window end, s.
@@ -160,7 +162,8 @@ pub fn simulate(
             ))
         }
     })?;
-    let summary = summarize(&samples, params, stats);
+    let mut summary = summarize(&samples, params, stats);
+    summary.max_wear_um = profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6;
     Ok(DynamicsResult {
         samples,
         pin_forces: forces_out,
@@ -193,6 +196,7 @@ fn summarize(samples: &[Sample], p: &DynamicsParams, stats: ode::Stats) -> Dynam
         _ => (0.0, 0.0),
     };
     DynamicsSummary {
+        max_wear_um: 0.0,
         window_start_s: w0,
         window_end_s: w1,
         te_mean_arcmin: mean,

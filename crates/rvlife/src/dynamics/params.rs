@@ -917,7 +917,6 @@ impl DynamicsConfig {
         // Impact contact: by default fitted to the Hertz law at the flank point of largest lever
         // arm (Li: cos t = K1) around Li's largest pin force at rated torque.
         let im = &self.impact;
-        let zc = geo.disc_teeth() as f64;
         let f_ref = 4.0 * load_share * rated_torque / (geo.disc_pitch_radius() * geo.pins as f64);
         let t_ref = geo.k1().acos();
         let curvature = profile.macro_curvature(t_ref);
@@ -978,7 +977,6 @@ impl DynamicsConfig {
                 "mm/s",
             )? * 1e-3,
         };
-        let _ = zc;
         // Drive.
         let d = &self.drive;
         let drive = match d.kind.as_str() {

@@ -313,17 +313,18 @@ impl<'a> System<'a> {
         let prescribed = self.absolute(t, z, &mut q[..n], &mut qd[..n], &mut qdd[..n]);
         let mut g = [0.0; MAX_DOFS];
         self.forces(t, &q[..n], &qd[..n], &mut g[..n], forces);
-        let a_s = prescribed.unwrap_or(g[Layout::SUN] * self.inv_mass[Layout::SUN]);
-        // Nominal accelerations with the actual input acceleration.
-        let (mut q2, mut qd2) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
-        self.nominal(
-            q[Layout::SUN],
-            qd[Layout::SUN],
-            a_s,
-            &mut q2[..n],
-            &mut qd2[..n],
-            &mut qdd[..n],
-        );
+        let a_s = match prescribed {
+            Some(a) => a,
+            None => {
+                // Torque drive: the nominal accelerations again, with the input acceleration
+                // that the forces give.
+                let a = g[Layout::SUN] * self.inv_mass[Layout::SUN];
+                let (mut q2, mut qd2) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
+                let (th_s, w_s) = (q[Layout::SUN], qd[Layout::SUN]);
+                self.nominal(th_s, w_s, a, &mut q2[..n], &mut qd2[..n], &mut qdd[..n]);
+                a
+            }
+        };
         dz[Layout::SUN] = qd[Layout::SUN];
         dz[n + Layout::SUN] = a_s;
         for i in 1..n {
