@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::contact::{ApproachLaw, ContactModel, Materials};
 use crate::dynamics::{DynamicsConfig, DynamicsParams};
+use crate::fem::{FemConfig, FemParams};
 use crate::error::{Error, Result};
 use crate::geometry::{CycloidGeometry, Modification, Profile, WearMap};
 
@@ -40,6 +41,9 @@ pub struct Config {
     /// Multibody dynamics (dynamic TE).
     #[serde(default)]
     pub dynamics: DynamicsConfig,
+    /// The disc as a finite-element body (rigid-flexible model).
+    #[serde(default)]
+    pub fem: FemConfig,
     /// Directory of the config file (for relative paths); not a key.
     #[serde(skip)]
     pub base_dir: Option<PathBuf>,
@@ -311,6 +315,10 @@ pub struct Model {
     pub dynamics: DynamicsParams,
     /// Whether `rvlife run` adds the dynamic TE to every stage.
     pub dynamics_enabled: bool,
+    /// Parameters of the flexible disc (always checked; see `fem_enabled`).
+    pub fem: FemParams,
+    /// Whether the study runs the flexible-disc analysis.
+    pub fem_enabled: bool,
 }
 
 impl Model {
@@ -605,9 +613,19 @@ impl Config {
             load_share,
             self.base_dir.as_deref(),
         )?;
+        let fem = self.fem.validate(
+            &nominal_profile,
+            r.planets as usize,
+            self.dynamics.inertia.crank_bore_radius_mm * 1e-3,
+            dynamics.crank_circle_radius,
+            contact.materials.disc_youngs_modulus,
+            contact.materials.disc_poisson_ratio,
+        )?;
         Ok(Model {
             dynamics,
             dynamics_enabled: self.dynamics.enabled,
+            fem,
+            fem_enabled: self.fem.enabled,
             geometry,
             modification,
             contact,

@@ -17,6 +17,7 @@ pub mod contact;
 pub mod dynamics;
 pub mod error;
 pub mod export;
+pub mod fem;
 pub mod geometry;
 pub mod plot;
 pub mod report;

@@ -465,7 +465,162 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
             Ok(())
         }
     )?;
+    if study.stages.iter().all(|s| s.flexible.is_some()) {
+        flexible_te_hours(study, dir)?;
+        if let Some((fl, mesh)) = study.stages.last().and_then(|s| s.flexible.as_ref()) {
+            let hours = study.stages.last().map_or(0.0, |s| s.hours);
+            von_mises(
+                mesh,
+                &fl.stress.nodal,
+                &format!(
+                    "Von Mises stress at {:.0} h, {:.0} N m, crank {:.1} deg (max {:.1} MPa away from the pin patches)",
+                    hours,
+                    fl.stress.torque,
+                    fl.stress.crank_angle.to_degrees(),
+                    fl.stress.max_von_mises * 1e-6
+                ),
+                fl.stress.max_von_mises,
+                dir,
+                "von_mises",
+            )?;
+        }
+    }
     Ok(())
+}
+
+/// Rigid against flexible TE over working hours (the paper's Fig. 19b): rigid STE, flexible
+/// STE at the measuring torque, rigid and flexible loaded TE at the rated torque, written to
+/// `flexible_te_hours.{svg,png}`.
+///
+/// # Errors
+/// [`Error::Io`] if a file cannot be written.
+pub fn flexible_te_hours(study: &Study, dir: &Path) -> Result<()> {
+    let sums: Vec<&crate::study::StageSummary> = study.stages.iter().map(|s| &s.summary).collect();
+    let lines: [(&str, RGBColor, StageValue); 4] = [
+        ("rigid STE mean (no load)", BLUE, |s| s.ste_mean_arcmin),
+        ("flexible STE mean (measuring torque)", CYAN, |s| {
+            s.flexible_ste_mean_arcmin.unwrap_or(0.0)
+        }),
+        ("rigid loaded TE mean (rated torque)", GREEN, |s| {
+            s.rigid_loaded_te_revolution_mean_arcmin.unwrap_or(0.0)
+        }),
+        ("flexible loaded TE mean (rated torque)", RED, |s| {
+            s.flexible_loaded_te_mean_arcmin.unwrap_or(0.0)
+        }),
+    ];
+    let h_max = sums.iter().map(|s| s.hours).fold(1.0, f64::max);
+    let (_, hi) = series_range(sums.iter().flat_map(|s| lines.iter().map(move |l| (l.2)(s))));
+    figure!(
+        dir,
+        "flexible_te_hours",
+        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+            let mut chart = ChartBuilder::on(root)
+                .caption("Rigid against flexible disc: TE over working hours", ("sans-serif", 26))
+                .margin(15)
+                .x_label_area_size(45)
+                .y_label_area_size(65)
+                .build_cartesian_2d(0.0..h_max * 1.04, 0.0..hi.max(1e-3))?;
+            chart
+                .configure_mesh()
+                .x_desc("working hours (h)")
+                .y_desc("TE (arcmin)")
+                .draw()?;
+            for (label, c, f) in &lines {
+                let c = *c;
+                chart
+                    .draw_series(LineSeries::new(
+                        sums.iter().map(|s| (s.hours, f(s))),
+                        c.stroke_width(2),
+                    ))?
+                    .label(*label)
+                    .legend(legend_line(c));
+                chart.draw_series(
+                    sums.iter()
+                        .map(|s| Circle::new((s.hours, f(s)), 4, c.filled())),
+                )?;
+            }
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperLeft)
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .draw()?;
+            Ok(())
+        }
+    )
+}
+
+/// The von Mises field `nodal` (Pa, one per mesh node) on the disc mesh, each triangle filled
+/// with the colour of its corners' mean stress (viridis from 0 to `scale`, Pa; higher values
+/// saturate), written to `<stem>.{svg,png}` in `dir`.
+///
+/// # Errors
+/// [`Error::Io`] if a file cannot be written.
+pub fn von_mises(
+    mesh: &crate::fem::mesh::Mesh,
+    nodal: &[f64],
+    title: &str,
+    scale: f64,
+    dir: &Path,
+    stem: &str,
+) -> Result<()> {
+    let r = mesh
+        .nodes
+        .iter()
+        .map(|p| p.x.abs().max(p.y.abs()))
+        .fold(0.0, f64::max)
+        * 1e3
+        * 1.02;
+    let scale = scale.max(1.0);
+    figure!(
+        dir,
+        stem,
+        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+            let (plot, bar) = root.split_horizontally(SIZE.0 - 130);
+            let mut chart = ChartBuilder::on(&plot)
+                .caption(title, ("sans-serif", 18))
+                .margin(10)
+                .x_label_area_size(35)
+                .y_label_area_size(45)
+                .build_cartesian_2d(-r * 1.4..r * 1.4, -r..r)?;
+            chart
+                .configure_mesh()
+                .disable_mesh()
+                .x_desc("x (mm)")
+                .y_desc("y (mm)")
+                .draw()?;
+            chart.draw_series(mesh.triangles.iter().map(|t| {
+                let v = (nodal[t[0]] + nodal[t[1]] + nodal[t[2]]) / 3.0;
+                let c = ViridisRGB::get_color_normalized(v.min(scale), 0.0, scale);
+                Polygon::new(
+                    (0..3)
+                        .map(|k| (mesh.nodes[t[k]].x * 1e3, mesh.nodes[t[k]].y * 1e3))
+                        .collect::<Vec<_>>(),
+                    RGBColor(c.0, c.1, c.2).filled(),
+                )
+            }))?;
+            // Colour bar.
+            let mut cb = ChartBuilder::on(&bar)
+                .margin_top(40)
+                .margin_bottom(45)
+                .margin_right(10)
+                .y_label_area_size(60)
+                .build_cartesian_2d(0.0..1.0, 0.0..scale * 1e-6)?;
+            cb.configure_mesh()
+                .disable_mesh()
+                .disable_x_axis()
+                .y_desc("von Mises (MPa)")
+                .draw()?;
+            let steps = 64;
+            cb.draw_series((0..steps).map(|k| {
+                let lo = scale * 1e-6 * k as f64 / steps as f64;
+                let hi = scale * 1e-6 * (k + 1) as f64 / steps as f64;
+                let c = ViridisRGB::get_color_normalized(k as f64 + 0.5, 0.0, steps as f64);
+                Rectangle::new([(0.0, lo), (1.0, hi)], RGBColor(c.0, c.1, c.2).filled())
+            }))?;
+            Ok(())
+        }
+    )
 }
 
 /// Draws a time history: one panel per group of curves, sharing the time axis.

@@ -83,6 +83,13 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
         "dte_mean_arcmin",
         "dte_peak_to_peak_arcmin",
         "dte_rms_arcmin",
+        "rigid_torsional_stiffness_nm_per_arcmin",
+        "flexible_ste_mean_arcmin",
+        "flexible_ste_peak_to_peak_arcmin",
+        "flexible_loaded_te_mean_arcmin",
+        "flexible_loaded_te_peak_to_peak_arcmin",
+        "max_von_mises_mpa",
+        "max_root_stress_mpa",
     ]
     .iter()
     .map(|s| s.to_string())
@@ -110,6 +117,13 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
                 opt(s.dte_mean_arcmin),
                 opt(s.dte_peak_to_peak_arcmin),
                 opt(s.dte_rms_arcmin),
+                f(s.rigid_torsional_stiffness_nm_per_arcmin),
+                opt(s.flexible_ste_mean_arcmin),
+                opt(s.flexible_ste_peak_to_peak_arcmin),
+                opt(s.flexible_loaded_te_mean_arcmin),
+                opt(s.flexible_loaded_te_peak_to_peak_arcmin),
+                opt(s.max_von_mises_mpa),
+                opt(s.max_root_stress_mpa),
             ]
         })
         .collect();
@@ -218,6 +232,39 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
         }
     }
     write_rows(&dir.join("load.csv"), &header, &rows)?;
+
+    // te_flexible.csv (flexible disc on)
+    if study.stages.iter().any(|s| s.flexible.is_some()) {
+        let header: Vec<String> = [
+            "hours",
+            "crank_deg",
+            "rigid_ste_arcmin",
+            "rigid_loaded_te_arcmin",
+            "flexible_ste_arcmin",
+            "flexible_loaded_te_arcmin",
+            "max_force_n",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        let mut rows = Vec::new();
+        for s in &study.stages {
+            if let Some((fl, _)) = &s.flexible {
+                for k in 0..fl.crank_angle.len() {
+                    rows.push(vec![
+                        f(s.hours),
+                        f(fl.crank_angle[k].to_degrees()),
+                        f(fl.rigid_ste[k] * ARCMIN_PER_RAD),
+                        f(fl.rigid_loaded_te[k] * ARCMIN_PER_RAD),
+                        f(fl.flexible_ste[k] * ARCMIN_PER_RAD),
+                        f(fl.flexible_loaded_te[k] * ARCMIN_PER_RAD),
+                        f(fl.max_force[k]),
+                    ]);
+                }
+            }
+        }
+        write_rows(&dir.join("te_flexible.csv"), &header, &rows)?;
+    }
 
     // Profiles and plots are independent: write them side by side.
     let pdir = dir.join("profiles");

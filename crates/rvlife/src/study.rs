@@ -5,7 +5,9 @@
 //! profile is the modified profile with that map (or, in the paper's model, with a uniform
 //! equidistant offset equal to the maximum wear, paper section 3.1); [`crate::te`] gives STE,
 //! lost motion and loaded TE on it; with `[dynamics] enabled`, [`crate::dynamics::simulate`]
-//! gives the dynamic TE of the whole reducer with it (issue 3).
+//! gives the dynamic TE of the whole reducer with it (issue 3); with `[fem] enabled`,
+//! [`crate::fem::flex::analyse_stage`] gives the flexible-disc TE, torsional stiffness and disc
+//! stress on a plane-stress FE model of the worn disc (issue 4).
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -15,8 +17,11 @@ use serde::Serialize;
 use crate::config::{Model, WearModelKind};
 use crate::dynamics::{simulate, DynamicsSummary};
 use crate::error::Result;
+use crate::fem::flex::{analyse_stage, FlexibleStage};
+use crate::fem::mesh::Mesh;
+use crate::fem::DiscModel;
 use crate::geometry::{Profile, WearMap};
-use crate::te::{loaded_te, static_te, LoadedTe, StaticTe, ARCMIN_PER_RAD};
+use crate::te::{loaded_te, static_te, CurveStats, LoadedTe, StaticTe, ARCMIN_PER_RAD};
 use crate::wear::{integrate, WearHistory};
 
 /// One stage of `summary.json` (engineering units in the names).
@@ -48,8 +53,37 @@ pub struct StageSummary {
     pub pins_in_contact: usize,
     /// Most pins in contact over a mesh cycle.
     pub pins_in_contact_max: usize,
-    /// Mean torsional (contact) stiffness of the stage, N m/arcmin.
+    /// Torsional stiffness of the cycloid stage at the output, N m/arcmin: with the flexible
+    /// disc on, the secant stiffness of the flexible model between the STE measuring torque and
+    /// the rated torque (mean TEs over a crank revolution); otherwise
+    /// `rigid_torsional_stiffness_nm_per_arcmin`.
     pub torsional_stiffness_nm_per_arcmin: f64,
+    /// Mean tangent stiffness `sum k_j l_j^2 / load share` of the rigid disc's contact at the
+    /// loaded-TE torque, N m/arcmin.
+    pub rigid_torsional_stiffness_nm_per_arcmin: f64,
+    /// Mean TE of the flexible disc at the STE measuring torque (`fem.ste_torque_fraction` of
+    /// the rated torque) over a crank revolution, arcmin (when the flexible disc is on).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flexible_ste_mean_arcmin: Option<f64>,
+    /// Peak-to-peak of that TE over a crank revolution, arcmin.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flexible_ste_peak_to_peak_arcmin: Option<f64>,
+    /// Mean TE of the flexible disc at the rated torque over a crank revolution, arcmin.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flexible_loaded_te_mean_arcmin: Option<f64>,
+    /// Peak-to-peak of that TE over a crank revolution, arcmin.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flexible_loaded_te_peak_to_peak_arcmin: Option<f64>,
+    /// Mean TE of the rigid disc at the rated torque over the same crank angles, arcmin.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rigid_loaded_te_revolution_mean_arcmin: Option<f64>,
+    /// Largest von Mises stress in the disc at the rated torque, at the crank angle of the
+    /// largest pin force, away from the pin load patches, MPa.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_von_mises_mpa: Option<f64>,
+    /// Largest von Mises stress at the tooth roots (same load case), MPa.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_root_stress_mpa: Option<f64>,
     /// Mean dynamic TE over the window of the multibody simulation, arcmin (when dynamics
     /// are on).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -82,6 +116,8 @@ pub struct Stage {
     pub summary: StageSummary,
     /// Summary of the multibody simulation with this stage's profile (when dynamics are on).
     pub dynamics: Option<DynamicsSummary>,
+    /// Flexible-disc analysis and the disc mesh (when the flexible disc is on).
+    pub flexible: Option<(FlexibleStage, Mesh)>,
 }
 
 /// Results of the whole study.
@@ -113,6 +149,10 @@ pub struct PaperComparison {
     pub paper_dte_at_10um_arcmin: f64,
     /// Paper: largest rigid DTE over the study (6450 h), arcmin.
     pub paper_dte_max_arcmin: f64,
+    /// Paper: rigid-flexible STE mean at 10 um wear (Adams, disc as a modal FE body), arcmin.
+    pub paper_flexible_ste_at_10um_arcmin: f64,
+    /// Paper: largest rigid-flexible STE over the study (7500 h), arcmin.
+    pub paper_flexible_ste_max_arcmin: f64,
 }
 
 /// `summary.json`.
@@ -195,6 +235,14 @@ pub fn analyse_profile(
         pins_in_contact: pmin,
         pins_in_contact_max: pmax,
         torsional_stiffness_nm_per_arcmin: stiffness / ARCMIN_PER_RAD,
+        rigid_torsional_stiffness_nm_per_arcmin: stiffness / ARCMIN_PER_RAD,
+        flexible_ste_mean_arcmin: None,
+        flexible_ste_peak_to_peak_arcmin: None,
+        flexible_loaded_te_mean_arcmin: None,
+        flexible_loaded_te_peak_to_peak_arcmin: None,
+        rigid_loaded_te_revolution_mean_arcmin: None,
+        max_von_mises_mpa: None,
+        max_root_stress_mpa: None,
         dte_mean_arcmin: None,
         dte_peak_to_peak_arcmin: None,
         dte_rms_arcmin: None,
@@ -219,7 +267,8 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
             .max(1.0) as usize
     };
     let dyn_total = if model.dynamics_enabled { n_stages } else { 0 };
-    let total = wear_total + n_stages + dyn_total;
+    let fem_total = if model.fem_enabled { n_stages } else { 0 };
+    let total = wear_total + n_stages + dyn_total + fem_total;
     let wear = integrate(model, &|d, _| progress(d, total))?;
     let mut stages = Vec::with_capacity(n_stages);
     for (i, (hours, map)) in wear.hours.iter().zip(&wear.maps).enumerate() {
@@ -243,6 +292,7 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
             loaded,
             summary,
             dynamics: None,
+            flexible: None,
         });
         progress(wear_total + i + 1, total);
     }
@@ -262,6 +312,39 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
             st.summary.dte_rms_arcmin = Some(d.te_rms_arcmin);
             st.summary.dte_range_arcmin = Some([d.te_min_arcmin, d.te_max_arcmin]);
             st.dynamics = Some(d);
+        }
+    }
+    if model.fem_enabled {
+        let done = AtomicUsize::new(wear_total + n_stages + dyn_total);
+        let results: Vec<(FlexibleStage, Mesh)> = stages
+            .par_iter()
+            .map(|st| {
+                let disc = DiscModel::build(&st.profile, &model.fem)?;
+                let fl = analyse_stage(
+                    &st.profile,
+                    &model.contact,
+                    &disc,
+                    model.load_share,
+                    model.rated_torque,
+                )?;
+                progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
+                Ok((fl, disc.fe.mesh))
+            })
+            .collect::<Result<_>>()?;
+        for (st, (fl, mesh)) in stages.iter_mut().zip(results) {
+            let ste = CurveStats::of(&fl.flexible_ste);
+            let loaded = CurveStats::of(&fl.flexible_loaded_te);
+            let rigid = CurveStats::of(&fl.rigid_loaded_te);
+            let s = &mut st.summary;
+            s.flexible_ste_mean_arcmin = Some(arcmin(ste.mean));
+            s.flexible_ste_peak_to_peak_arcmin = Some(arcmin(ste.peak_to_peak));
+            s.flexible_loaded_te_mean_arcmin = Some(arcmin(loaded.mean));
+            s.flexible_loaded_te_peak_to_peak_arcmin = Some(arcmin(loaded.peak_to_peak));
+            s.rigid_loaded_te_revolution_mean_arcmin = Some(arcmin(rigid.mean));
+            s.torsional_stiffness_nm_per_arcmin = fl.torsional_stiffness / ARCMIN_PER_RAD;
+            s.max_von_mises_mpa = Some(fl.stress.max_von_mises * 1e-6);
+            s.max_root_stress_mpa = Some(fl.stress.max_root_stress * 1e-6);
+            st.flexible = Some((fl, mesh));
         }
     }
     Ok(Study {
@@ -301,6 +384,8 @@ impl Study {
                     * ARCMIN_PER_RAD,
                 paper_dte_at_10um_arcmin: 0.2278,
                 paper_dte_max_arcmin: 3.51,
+                paper_flexible_ste_at_10um_arcmin: 1.7342,
+                paper_flexible_ste_max_arcmin: 6.77,
             },
             stages,
         }

@@ -1,0 +1,415 @@
+//! Loaded tooth contact of a flexible disc, flexible TE, torsional stiffness and disc stress.
+//!
+//! For crank angle `phi` and disc torque `T` the unknowns are the disc rotation `beta` and the
+//! pin forces `F_j >= 0`. With the rigid gaps `g_j(beta)` measured exactly on the actual profile
+//! ([`crate::contact::pin_geometry`]), the disc compliance `C` between the contact points
+//! ([`DiscModel::compliance_at`]) and the local Hertz approach `w_j(F_j)` ([`FlexibleLaw`]):
+//!
+//! - contact: `w_j(F_j) + sum_k C_jk F_k + g_j(beta) = 0` where `F_j > 0`,
+//!   and `sum_k C_jk F_k + g_j(beta) >= 0` where `F_j = 0` (a linear complementarity problem
+//!   with a monotone nonlinearity: the stationarity conditions of a convex energy);
+//! - moment: `sum_j F_j l_j(beta) = T`.
+//!
+//! It is solved by Newton's method on the active set with a ratio test that drops pins whose
+//! force would turn negative and adds the most-penetrating open pin after each converged
+//! sweep, starting from the rigid solution of [`crate::contact::solve`]. With `C = 0` and the
+//! rigid law it reproduces that solution.
+
+use std::f64::consts::{PI, TAU};
+
+use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::contact::{first_contact, pin_geometry, solve, ApproachLaw, ContactModel, PinGeometry};
+use crate::error::{Error, Result};
+use crate::fem::mesh::LoopKind;
+use crate::fem::{outline_radii, DiscModel};
+use crate::geometry::{Profile, Vec2};
+use crate::te::CurveStats;
+
+/// The local (Hertz) part of the contact compliance when the disc body is an FE model loaded by
+/// pressure patches of half-width `w`: the pin term of the contact law unchanged, the disc term
+/// `2F/(pi B) C1 ln(w / b)` (the half-plane approach from the Hertz half-width `b` out to the
+/// patch; the FE supplies the rest). The difference of the mean surface displacements of two
+/// elliptic loads of half-widths `b` and `w` on a half-plane is exactly
+/// `2F/(pi B) C1 ln(w/b)` (Johnson, *Contact Mechanics*, 1985, section 2.8).
+#[derive(Debug, Clone, Copy)]
+pub struct FlexibleLaw {
+    /// The rigid model's contact law.
+    pub model: ContactModel,
+    /// Patch half-width `w`, m.
+    pub patch: f64,
+}
+
+impl FlexibleLaw {
+    /// Local approach (m) and its derivative `dw/dF` (m/N) at force `force` (N) on a flank of
+    /// curvature `curvature` (1/m). Forces below 1e-3 N use the derivative at 1e-3 N.
+    pub fn approach(&self, force: f64, curvature: f64) -> (f64, f64) {
+        let m = &self.model;
+        let f = force.max(1e-3);
+        if let ApproachLaw::Linear { stiffness } = m.law {
+            return (force.max(0.0) / stiffness, 1.0 / stiffness);
+        }
+        let c0 = match m.law {
+            ApproachLaw::Johnson => -0.5,
+            _ => 1.0 / 3.0,
+        };
+        let (c1, c2) = m.materials.compliances();
+        let k = 2.0 / (PI * m.width);
+        let b = m.hertz(f, curvature).half_width;
+        let disc_log = (self.patch / b).ln();
+        let (disc, disc_slope) = if disc_log > 0.0 {
+            (c1 * disc_log, c1)
+        } else {
+            (0.0, 0.0)
+        };
+        let pin = c2 * (c0 + (4.0 * m.pin_radius / b).ln());
+        let w_at = |ff: f64| k * ff * (disc + pin);
+        let slope = k * (disc + pin) - 0.5 * k * (disc_slope + c2);
+        (w_at(force.max(0.0)), slope.max(1e-3 * k * c2))
+    }
+}
+
+/// One pin of a flexible contact solution.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct FlexPin {
+    /// Pin index.
+    pub pin: usize,
+    /// Profile parameter of the contact point, rad.
+    pub profile_parameter: f64,
+    /// Normal force, N.
+    pub force: f64,
+    /// Lever arm about the disc centre, m.
+    pub lever_arm: f64,
+    /// Rigid gap at the solved rotation, m (negative: overlap).
+    pub rigid_gap: f64,
+    /// Normal deflection of the disc body at the contact, m.
+    pub body_deflection: f64,
+    /// Contact point (disc frame), m.
+    #[serde(skip)]
+    pub point: Vec2,
+    /// Outward normal (disc frame).
+    #[serde(skip)]
+    pub normal: Vec2,
+}
+
+/// Loaded contact of the flexible disc at one crank angle.
+#[derive(Debug, Clone, Serialize)]
+pub struct FlexSolution {
+    /// Crank angle, rad.
+    pub crank_angle: f64,
+    /// Disc torque, N m.
+    pub disc_torque: f64,
+    /// Disc rotation beyond nominal, rad (the output's lag).
+    pub disc_rotation: f64,
+    /// The rigid disc's rotation under the same torque, rad.
+    pub rigid_rotation: f64,
+    /// Pins that carry a force.
+    pub pins: Vec<FlexPin>,
+}
+
+impl FlexSolution {
+    /// Largest pin force, N.
+    pub fn max_force(&self) -> f64 {
+        self.pins.iter().map(|p| p.force).fold(0.0, f64::max)
+    }
+}
+
+/// Pins that can touch within `reach` rad of rotation from `beta` (plus 1 um).
+fn candidates(profile: &Profile, phi: f64, beta: f64, s: f64, reach: f64) -> Result<Vec<usize>> {
+    let zp = profile.geometry().pins;
+    let mut out = Vec::new();
+    for j in 0..zp {
+        let g = pin_geometry(profile, j, phi, beta)?;
+        if g.gap - s * g.lever_arm * reach < 1e-6 {
+            out.push(j);
+        }
+    }
+    Ok(out)
+}
+
+/// Solves the loaded contact of the flexible disc at crank angle `phi` (rad) under disc torque
+/// `disc_torque` (N m; its sign picks the flank). A zero torque gives the rigid first contact.
+///
+/// # Errors
+/// [`Error::Numerical`] if the rigid start or the Newton iteration fails, or if the contact
+/// points leave the driving flank on which the stations lie (negative torques).
+pub fn solve_flexible(
+    profile: &Profile,
+    model: &ContactModel,
+    disc: &DiscModel,
+    phi: f64,
+    disc_torque: f64,
+) -> Result<FlexSolution> {
+    let rigid = solve(profile, model, phi, disc_torque)?;
+    if disc_torque == 0.0 {
+        return Ok(FlexSolution {
+            crank_angle: phi,
+            disc_torque,
+            disc_rotation: rigid.disc_rotation,
+            rigid_rotation: rigid.disc_rotation,
+            pins: Vec::new(),
+        });
+    }
+    if disc_torque < 0.0 {
+        return Err(Error::invalid(
+            "flexible contact torque",
+            disc_torque,
+            "must be >= 0: the load stations lie on the driving flank",
+        ));
+    }
+    let law = FlexibleLaw {
+        model: *model,
+        patch: disc.params.patch,
+    };
+    let s = 1.0;
+    let cand = candidates(profile, phi, rigid.disc_rotation, s, 5e-3)?;
+    let mut force: Vec<f64> = cand.iter().map(|&j| rigid.pins[j].force).collect();
+    let mut active: Vec<bool> = force.iter().map(|f| *f > 0.0).collect();
+    let mut beta = rigid.disc_rotation;
+    let n = cand.len();
+    let tol_gap = 1e-13;
+    let tol_m = 1e-10 * disc_torque.abs();
+    let mut geoms: Vec<PinGeometry> = Vec::with_capacity(n);
+    let mut c = Vec::new();
+    for _ in 0..200 {
+        geoms.clear();
+        for &j in &cand {
+            geoms.push(pin_geometry(profile, j, phi, beta)?);
+        }
+        c = disc.compliance_at(&geoms.iter().map(|g| g.t).collect::<Vec<_>>());
+        let body = |i: usize, force: &[f64]| -> f64 {
+            (0..n).map(|k| c[i * n + k] * force[k]).sum::<f64>()
+        };
+        let idx: Vec<usize> = (0..n).filter(|&i| active[i]).collect();
+        let na = idx.len();
+        let mut r = DVector::<f64>::zeros(na + 1);
+        let mut jac = DMatrix::<f64>::zeros(na + 1, na + 1);
+        let mut moment = 0.0;
+        for (a, &i) in idx.iter().enumerate() {
+            let (w, dw) = law.approach(force[i], geoms[i].curvature);
+            r[a] = w + body(i, &force) + geoms[i].gap;
+            for (b, &k) in idx.iter().enumerate() {
+                jac[(a, b)] = c[i * n + k];
+            }
+            jac[(a, a)] += dw;
+            jac[(a, na)] = -geoms[i].lever_arm;
+            jac[(na, a)] = geoms[i].lever_arm;
+            moment += force[i] * geoms[i].lever_arm;
+        }
+        r[na] = moment - disc_torque;
+        let converged = r.iter().take(na).all(|v| v.abs() < tol_gap) && r[na].abs() < tol_m;
+        if converged {
+            // Complementarity of the open pins: add the most-penetrating one.
+            let worst = (0..n)
+                .filter(|&i| !active[i])
+                .map(|i| (i, body(i, &force) + geoms[i].gap))
+                .filter(|(_, g)| *g < -tol_gap)
+                .min_by(|a, b| a.1.total_cmp(&b.1));
+            match worst {
+                Some((i, _)) => {
+                    active[i] = true;
+                    force[i] = 0.0;
+                    continue;
+                }
+                None => break,
+            }
+        }
+        let delta = jac
+            .lu()
+            .solve(&(-r))
+            .ok_or_else(|| Error::numerical("flexible contact", "singular Newton matrix"))?;
+        // Ratio test: the largest step that keeps every active force >= 0.
+        let mut alpha = 1.0;
+        let mut blocking = None;
+        for (a, &i) in idx.iter().enumerate() {
+            if force[i] + delta[a] < 0.0 {
+                let al = force[i] / (-delta[a]);
+                if al < alpha {
+                    alpha = al;
+                    blocking = Some(i);
+                }
+            }
+        }
+        for (a, &i) in idx.iter().enumerate() {
+            force[i] = (force[i] + alpha * delta[a]).max(0.0);
+        }
+        beta += alpha * delta[na];
+        if let Some(i) = blocking {
+            active[i] = false;
+            force[i] = 0.0;
+        }
+        if !beta.is_finite() {
+            return Err(Error::numerical("flexible contact", "rotation diverged"));
+        }
+    }
+    let pins = (0..n)
+        .filter(|&i| force[i] > 0.0)
+        .map(|i| FlexPin {
+            pin: cand[i],
+            profile_parameter: geoms[i].t,
+            force: force[i],
+            lever_arm: geoms[i].lever_arm,
+            rigid_gap: geoms[i].gap,
+            body_deflection: (0..n).map(|k| c[i * n + k] * force[k]).sum(),
+            point: geoms[i].point,
+            normal: geoms[i].normal,
+        })
+        .collect();
+    Ok(FlexSolution {
+        crank_angle: phi,
+        disc_torque,
+        disc_rotation: beta,
+        rigid_rotation: rigid.disc_rotation,
+        pins,
+    })
+}
+
+/// Von Mises stress of the disc under one loaded contact state.
+#[derive(Debug, Clone, Serialize)]
+pub struct DiscStress {
+    /// Crank angle, rad.
+    pub crank_angle: f64,
+    /// Output torque, N m.
+    pub torque: f64,
+    /// Largest von Mises stress away from the load patches (further than two patch half-widths
+    /// from every loaded contact), Pa.
+    pub max_von_mises: f64,
+    /// Largest von Mises stress on the outline in the tooth-root zone (radius within 25 % of the
+    /// tooth height above the root), away from the load patches as for `max_von_mises`, Pa.
+    pub max_root_stress: f64,
+    /// Von Mises stress at every mesh node, Pa.
+    #[serde(skip)]
+    pub nodal: Vec<f64>,
+}
+
+/// Stress of the disc under the pin forces of `sol` (disc frame loads as pressure patches).
+pub fn disc_stress(profile: &Profile, disc: &DiscModel, sol: &FlexSolution, torque: f64) -> DiscStress {
+    let mesh = &disc.fe.mesh;
+    let mut load = vec![0.0; 2 * mesh.nodes.len()];
+    for p in &sol.pins {
+        for (i, v) in disc.patch_load(&p.point, &(-p.normal)) {
+            load[i] += v * p.force;
+        }
+    }
+    let u = disc.fe.solve(&load);
+    let st = disc.fe.stresses(&u);
+    let nodal: Vec<f64> = (0..mesh.nodes.len()).map(|i| st.von_mises(i)).collect();
+    let w = disc.params.patch;
+    let loaded: Vec<Vec2> = sol.pins.iter().map(|p| p.point).collect();
+    let max_von_mises = mesh
+        .nodes
+        .iter()
+        .zip(&nodal)
+        .filter(|(x, _)| loaded.iter().all(|p| (*x - p).norm() > 2.0 * w))
+        .map(|(_, v)| *v)
+        .fold(0.0, f64::max);
+    let (root, tip) = outline_radii(profile);
+    let zone = root + 0.25 * (tip - root);
+    let max_root_stress = mesh
+        .boundary
+        .iter()
+        .filter(|e| e.kind == LoopKind::Outline)
+        .flat_map(|e| e.nodes)
+        .filter(|&i| mesh.nodes[i].norm() < zone)
+        .filter(|&i| loaded.iter().all(|p| (mesh.nodes[i] - p).norm() > 2.0 * w))
+        .map(|i| nodal[i])
+        .fold(0.0, f64::max);
+    DiscStress {
+        crank_angle: sol.crank_angle,
+        torque,
+        max_von_mises,
+        max_root_stress,
+        nodal,
+    }
+}
+
+/// Flexible-disc analysis of one wear stage over one crank revolution.
+#[derive(Debug, Clone, Serialize)]
+pub struct FlexibleStage {
+    /// Crank angles, rad (`crank_angles` points over one revolution).
+    pub crank_angle: Vec<f64>,
+    /// Output torque of the STE measurement (`ste_torque_fraction` x rated), N m.
+    pub ste_torque: f64,
+    /// Rated output torque, N m.
+    pub rated_torque: f64,
+    /// Rigid STE (first contact, no load), rad.
+    pub rigid_ste: Vec<f64>,
+    /// Rigid-disc TE at the rated torque, rad.
+    pub rigid_loaded_te: Vec<f64>,
+    /// Flexible-disc TE at the STE measuring torque, rad.
+    pub flexible_ste: Vec<f64>,
+    /// Flexible-disc TE at the rated torque, rad.
+    pub flexible_loaded_te: Vec<f64>,
+    /// Largest pin force of the flexible solution at the rated torque, N.
+    pub max_force: Vec<f64>,
+    /// Secant torsional stiffness of the stage between the STE torque and the rated torque,
+    /// from the mean TEs, N m/rad.
+    pub torsional_stiffness: f64,
+    /// Stress at the rated torque at the crank angle with the largest pin force.
+    pub stress: DiscStress,
+}
+
+impl FlexibleStage {
+    /// Statistics of a curve (rad).
+    pub fn stats(v: &[f64]) -> CurveStats {
+        CurveStats::of(v)
+    }
+}
+
+/// Runs the flexible analysis of one stage: rigid and flexible TE at the STE measuring torque
+/// and at the rated torque (output torques; each disc carries `load_share`), at
+/// `disc.params.crank_angles` crank angles over one crank revolution (the load moves once round
+/// the disc relative to the bores), in parallel; the torsional stiffness; and the stress at the
+/// crank angle of the largest pin force.
+///
+/// # Errors
+/// Contact solver failures.
+pub fn analyse_stage(
+    profile: &Profile,
+    model: &ContactModel,
+    disc: &DiscModel,
+    load_share: f64,
+    rated_torque: f64,
+) -> Result<FlexibleStage> {
+    let n = disc.params.crank_angles;
+    let phis: Vec<f64> = (0..n).map(|k| TAU * k as f64 / n as f64).collect();
+    let ste_torque = disc.params.ste_torque_fraction * rated_torque;
+    type Row = (f64, f64, FlexSolution, FlexSolution);
+    let rows: Vec<Row> = phis
+        .par_iter()
+        .map(|&phi| -> Result<Row> {
+            let ste = first_contact(profile, phi, 1.0)?;
+            let lo = solve_flexible(profile, model, disc, phi, load_share * ste_torque)?;
+            let hi = solve_flexible(profile, model, disc, phi, load_share * rated_torque)?;
+            Ok((ste, hi.rigid_rotation, lo, hi))
+        })
+        .collect::<Result<_>>()?;
+    let flexible_ste: Vec<f64> = rows.iter().map(|r| r.2.disc_rotation).collect();
+    let flexible_loaded_te: Vec<f64> = rows.iter().map(|r| r.3.disc_rotation).collect();
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let d_theta = mean(&flexible_loaded_te) - mean(&flexible_ste);
+    let torsional_stiffness = if d_theta > 0.0 {
+        (rated_torque - ste_torque) / d_theta
+    } else {
+        f64::INFINITY
+    };
+    let worst = rows
+        .iter()
+        .max_by(|a, b| a.3.max_force().total_cmp(&b.3.max_force()))
+        .expect("at least four crank angles");
+    let stress = disc_stress(profile, disc, &worst.3, rated_torque);
+    Ok(FlexibleStage {
+        crank_angle: phis,
+        ste_torque,
+        rated_torque,
+        rigid_ste: rows.iter().map(|r| r.0).collect(),
+        rigid_loaded_te: rows.iter().map(|r| r.1).collect(),
+        flexible_ste,
+        flexible_loaded_te,
+        max_force: rows.iter().map(|r| r.3.max_force()).collect(),
+        torsional_stiffness,
+        stress,
+    })
+}

@@ -1,0 +1,777 @@
+//! The cycloid disc as a finite-element body (paper section 3.3, the rigid-flexible model;
+//! physics-notes section 6): a 2D plane-stress model of the actual (worn) disc with its crank
+//! bearing bores, output-pin holes and centre hole, meshed by constrained Delaunay refinement
+//! ([`mesh`]), solved with quadratic triangles and a sparse Cholesky factor ([`plane`]), and
+//! condensed onto the loaded tooth flanks as a compliance matrix between *load stations*
+//! ([`DiscModel`]). [`flex`] solves the loaded contact with body and Hertz compliance together.
+//!
+//! Conventions: the disc frame of [`crate::geometry`]; crank bore `k` is centred at angle
+//! `2 pi k / cranks` on the crank circle; output-pin hole `k` at `phase + 2 pi k / holes`. Each
+//! bore is tied to its crank centre by a rigid spider whose translations are held and whose
+//! rotation is free (the bearing lets the disc turn on the eccentric; the paper's rigid point at
+//! the bore nodes with the z rotation released). The disc's rigid rotation is the contact
+//! solver's `beta`, so the FE displacements are the elastic part relative to the bores.
+//!
+//! **Load stations.** A pin load is applied as a Hertz-shaped (elliptic) pressure of fixed
+//! half-width `w` (`load_patch_half_width_mm`) on the outline, and the matching displacement is
+//! the work-conjugate mean of the normal displacement under it, so the compliance converges
+//! under mesh refinement (a point load's does not, in 2D). The local contact compliance inside
+//! the patch comes from the Hertz law instead, with the disc's depth term cut at `w`
+//! ([`flex::FlexibleLaw`]). Stations sit at equal arc length along the driving flank
+//! (`0 < mesh angle < pi`) of every tooth; compliances between arbitrary contact points are
+//! Catmull-Rom interpolated between stations (diagonal terms along the diagonal).
+
+pub mod flex;
+pub mod mesh;
+pub mod plane;
+
+use std::f64::consts::{PI, TAU};
+
+use faer::Mat;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::geometry::{Profile, Vec2};
+use mesh::{BoundaryLoop, LoopKind, Mesh, MeshSpec};
+use plane::{FeModel, NodeBc, PlaneStress, Spider};
+
+/// `[fem]`: the flexible disc (engineering units; see the module docs).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FemConfig {
+    /// Adds the flexible results to every stage of `rvlife run`.
+    #[serde(default)]
+    pub enabled: bool,
+    /// Diameter of the crank bearing bores, mm (default: twice `dynamics.inertia.crank_bore_radius_mm`).
+    #[serde(default)]
+    pub crank_bore_diameter_mm: Option<f64>,
+    /// Radius of the circle of the crank bores, mm (default: the sun-planet centre distance of
+    /// `dynamics.gears`).
+    #[serde(default)]
+    pub crank_circle_radius_mm: Option<f64>,
+    /// Number of output-pin (carrier pillar) holes; 0 for none.
+    #[serde(default = "d_holes")]
+    pub output_pin_holes: u32,
+    /// Diameter of the output-pin holes, mm.
+    #[serde(default = "d_hole_d")]
+    pub output_pin_hole_diameter_mm: f64,
+    /// Radius of the circle of the output-pin holes, mm (default: the crank circle radius).
+    #[serde(default)]
+    pub output_pin_circle_radius_mm: Option<f64>,
+    /// Angle of the first output-pin hole from the first crank bore, deg (default `180/holes`:
+    /// between the bores).
+    #[serde(default)]
+    pub output_pin_hole_phase_deg: Option<f64>,
+    /// Diameter of the centre hole (input shaft passage), mm; 0 for none.
+    #[serde(default = "d_centre")]
+    pub centre_hole_diameter_mm: f64,
+    /// Element size along the tooth outline, mm.
+    #[serde(default = "d_flank")]
+    pub flank_element_size_mm: f64,
+    /// Largest element size inside the disc, mm.
+    #[serde(default = "d_max_size")]
+    pub max_element_size_mm: f64,
+    /// Half-width of the pressure patch that stands for a pin load, mm.
+    #[serde(default = "d_patch")]
+    pub load_patch_half_width_mm: f64,
+    /// Load stations per tooth flank.
+    #[serde(default = "d_stations")]
+    pub stations_per_flank: u32,
+    /// Crank angles per crank revolution of the flexible analysis.
+    #[serde(default = "d_cranks")]
+    pub crank_angles: u32,
+    /// Measuring torque of the flexible STE, as a fraction of the rated torque (lost-motion
+    /// convention of RV catalogues: +-3 % of the rated torque).
+    #[serde(default = "d_ste_fraction")]
+    pub ste_torque_fraction: f64,
+    /// Memory the disc model may use, GB; a finer mesh is refused.
+    #[serde(default = "d_memory")]
+    pub max_memory_gb: f64,
+}
+
+fn d_holes() -> u32 {
+    2
+}
+fn d_hole_d() -> f64 {
+    22.0
+}
+fn d_centre() -> f64 {
+    30.0
+}
+fn d_flank() -> f64 {
+    0.25
+}
+fn d_max_size() -> f64 {
+    4.0
+}
+fn d_patch() -> f64 {
+    0.5
+}
+fn d_stations() -> u32 {
+    14
+}
+fn d_cranks() -> u32 {
+    72
+}
+fn d_ste_fraction() -> f64 {
+    0.03
+}
+fn d_memory() -> f64 {
+    2.0
+}
+
+impl Default for FemConfig {
+    fn default() -> Self {
+        FemConfig {
+            enabled: false,
+            crank_bore_diameter_mm: None,
+            crank_circle_radius_mm: None,
+            output_pin_holes: d_holes(),
+            output_pin_hole_diameter_mm: d_hole_d(),
+            output_pin_circle_radius_mm: None,
+            output_pin_hole_phase_deg: None,
+            centre_hole_diameter_mm: d_centre(),
+            flank_element_size_mm: d_flank(),
+            max_element_size_mm: d_max_size(),
+            load_patch_half_width_mm: d_patch(),
+            stations_per_flank: d_stations(),
+            crank_angles: d_cranks(),
+            ste_torque_fraction: d_ste_fraction(),
+            max_memory_gb: d_memory(),
+        }
+    }
+}
+
+/// A circular hole of the disc, m.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hole {
+    /// Centre in the disc frame, m.
+    pub centre: Vec2,
+    /// Radius, m.
+    pub radius: f64,
+}
+
+/// Checked SI parameters of the disc model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FemParams {
+    /// Crank bores (tied to the cranks by rigid spiders).
+    pub bores: Vec<Hole>,
+    /// Traction-free holes (output pins, centre).
+    pub holes: Vec<Hole>,
+    /// Disc material and thickness (the disc width).
+    pub material: PlaneStress,
+    /// Element size on the outline, m.
+    pub flank_size: f64,
+    /// Largest element size, m.
+    pub max_size: f64,
+    /// Load patch half-width, m.
+    pub patch: f64,
+    /// Stations per flank.
+    pub stations_per_flank: usize,
+    /// Crank angles per revolution.
+    pub crank_angles: usize,
+    /// STE measuring torque fraction of the rated torque.
+    pub ste_torque_fraction: f64,
+    /// Memory limit, bytes.
+    pub max_memory: f64,
+}
+
+/// Memory of a disc model per mesh node, bytes: an upper bound of the peak resident size of the
+/// process building the built-in disc (4 to 16 kB per node measured for 20 000 to 49 000 nodes:
+/// assembly triplets, the Cholesky factor, one batch of station solutions). Used to refuse
+/// meshes that would not fit before they are built.
+const BYTES_PER_NODE: f64 = 10_000.0;
+
+fn invalid(field: &str, v: f64, words: impl Into<String>) -> Error {
+    Error::invalid(format!("fem.{field}"), v, words.into())
+}
+
+fn range(field: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<f64> {
+    if v.is_finite() && v >= lo && v <= hi {
+        Ok(v)
+    } else {
+        Err(invalid(
+            field,
+            v,
+            format!("must be a finite number from {lo} to {hi} {unit}"),
+        ))
+    }
+}
+
+/// Smallest and largest radius of the profile outline, m.
+pub fn outline_radii(profile: &Profile) -> (f64, f64) {
+    profile
+        .sample(256)
+        .iter()
+        .map(|p| p.norm())
+        .fold((f64::INFINITY, 0.0), |(lo, hi), r| (lo.min(r), hi.max(r)))
+}
+
+impl FemConfig {
+    /// Checks the section for the disc `profile` with `cranks` crank bores, `default_bore_radius`
+    /// and `default_crank_circle` (m, from the dynamics section) and the disc material `E`, `nu`
+    /// (Pa).
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] naming the `fem.*` key, the value and the allowed range: holes that cut
+    /// the tooth roots or each other, sizes out of range, or a mesh whose estimated memory
+    /// exceeds `fem.max_memory_gb`.
+    pub fn validate(
+        &self,
+        profile: &Profile,
+        cranks: usize,
+        default_bore_radius: f64,
+        default_crank_circle: f64,
+        youngs_modulus: f64,
+        poisson_ratio: f64,
+    ) -> Result<FemParams> {
+        let (root, _) = outline_radii(profile);
+        let root_mm = root * 1e3;
+        let flank = range(
+            "flank_element_size_mm",
+            self.flank_element_size_mm,
+            0.01,
+            5.0,
+            "mm",
+        )? * 1e-3;
+        let max_size = range(
+            "max_element_size_mm",
+            self.max_element_size_mm,
+            self.flank_element_size_mm,
+            50.0,
+            "mm (at least the flank element size)",
+        )? * 1e-3;
+        let patch = range(
+            "load_patch_half_width_mm",
+            self.load_patch_half_width_mm,
+            1.5 * self.flank_element_size_mm,
+            5.0,
+            "mm (at least 1.5 flank elements, so that the mesh resolves the patch)",
+        )? * 1e-3;
+        let bore_d = self
+            .crank_bore_diameter_mm
+            .unwrap_or(2e3 * default_bore_radius);
+        let bore_r = range("crank_bore_diameter_mm", bore_d, 1.0, root_mm, "mm")? * 0.5e-3;
+        let circle = self
+            .crank_circle_radius_mm
+            .unwrap_or(default_crank_circle * 1e3);
+        let circle = range("crank_circle_radius_mm", circle, 1.0, root_mm, "mm")? * 1e-3;
+        // Ligament the mesh needs between two boundaries: two flank elements.
+        let lig = 2.0 * flank;
+        let mut bores = Vec::new();
+        for k in 0..cranks {
+            let a = TAU * k as f64 / cranks as f64;
+            bores.push(Hole {
+                centre: Vec2::new(a.cos(), a.sin()) * circle,
+                radius: bore_r,
+            });
+        }
+        let mut holes = Vec::new();
+        let centre_r = range(
+            "centre_hole_diameter_mm",
+            self.centre_hole_diameter_mm,
+            0.0,
+            2.0 * root_mm,
+            "mm",
+        )? * 0.5e-3;
+        let n_holes = self.output_pin_holes as usize;
+        if n_holes > 24 {
+            return Err(invalid(
+                "output_pin_holes",
+                n_holes as f64,
+                "must be a whole number from 0 to 24",
+            ));
+        }
+        if n_holes > 0 {
+            let hole_r = range(
+                "output_pin_hole_diameter_mm",
+                self.output_pin_hole_diameter_mm,
+                0.5,
+                root_mm,
+                "mm",
+            )? * 0.5e-3;
+            let pc = self
+                .output_pin_circle_radius_mm
+                .unwrap_or(circle * 1e3);
+            let pc = range("output_pin_circle_radius_mm", pc, 0.0, root_mm, "mm")? * 1e-3;
+            let phase = self
+                .output_pin_hole_phase_deg
+                .unwrap_or(180.0 / n_holes as f64);
+            let phase = range("output_pin_hole_phase_deg", phase, -360.0, 360.0, "deg")?
+                .to_radians();
+            for k in 0..n_holes {
+                let a = phase + TAU * k as f64 / n_holes as f64;
+                holes.push(Hole {
+                    centre: Vec2::new(a.cos(), a.sin()) * pc,
+                    radius: hole_r,
+                });
+            }
+        }
+        if centre_r > 0.0 {
+            holes.push(Hole {
+                centre: Vec2::zeros(),
+                radius: centre_r,
+            });
+        }
+        // Every hole inside the root circle, and no two holes touching.
+        let named: Vec<(&str, f64, &Hole)> = bores
+            .iter()
+            .map(|h| ("crank_bore_diameter_mm", bore_d, h))
+            .chain(holes.iter().map(|h| {
+                if h.centre.norm() == 0.0 {
+                    ("centre_hole_diameter_mm", self.centre_hole_diameter_mm, h)
+                } else {
+                    (
+                        "output_pin_hole_diameter_mm",
+                        self.output_pin_hole_diameter_mm,
+                        h,
+                    )
+                }
+            }))
+            .collect();
+        for (field, v, h) in &named {
+            let outer = h.centre.norm() + h.radius;
+            if outer > root - lig {
+                return Err(invalid(
+                    field,
+                    *v,
+                    format!(
+                        "the hole reaches {:.3} mm from the disc centre and cuts the teeth: it \
+                         must stay inside the tooth-root radius {:.3} mm minus {:.3} mm",
+                        outer * 1e3,
+                        root_mm,
+                        lig * 1e3
+                    ),
+                ));
+            }
+        }
+        for (i, (fa, va, a)) in named.iter().enumerate() {
+            for (fb, _, b) in named.iter().skip(i + 1) {
+                let gap = (a.centre - b.centre).norm() - a.radius - b.radius;
+                if gap < lig {
+                    return Err(invalid(
+                        fa,
+                        *va,
+                        format!(
+                            "this hole and the one of `fem.{fb}` leave a ligament of {:.3} mm; \
+                             holes must not cut each other (at least {:.3} mm between them)",
+                            gap * 1e3,
+                            lig * 1e3
+                        ),
+                    ));
+                }
+            }
+        }
+        let stations = self.stations_per_flank;
+        if !(4..=200).contains(&stations) {
+            return Err(invalid(
+                "stations_per_flank",
+                stations as f64,
+                "must be a whole number from 4 to 200",
+            ));
+        }
+        let crank_angles = self.crank_angles;
+        if !(4..=3600).contains(&crank_angles) {
+            return Err(invalid(
+                "crank_angles",
+                crank_angles as f64,
+                "must be a whole number from 4 to 3600",
+            ));
+        }
+        let ste = range(
+            "ste_torque_fraction",
+            self.ste_torque_fraction,
+            1e-4,
+            0.5,
+            "",
+        )?;
+        let mem = range("max_memory_gb", self.max_memory_gb, 0.01, 1024.0, "GB")?;
+        let params = FemParams {
+            bores,
+            holes,
+            material: PlaneStress {
+                youngs_modulus,
+                poisson_ratio,
+                thickness: profile.geometry().width,
+            },
+            flank_size: flank,
+            max_size,
+            patch,
+            stations_per_flank: stations as usize,
+            crank_angles: crank_angles as usize,
+            ste_torque_fraction: ste,
+            max_memory: mem * 1e9,
+        };
+        let est = params.estimated_nodes(profile) * BYTES_PER_NODE;
+        if est > params.max_memory {
+            return Err(invalid(
+                "flank_element_size_mm",
+                self.flank_element_size_mm,
+                format!(
+                    "the mesh would need about {:.1} GB, more than fem.max_memory_gb = {} GB: \
+                     use a larger element size",
+                    est / 1e9,
+                    mem
+                ),
+            ));
+        }
+        Ok(params)
+    }
+}
+
+impl FemParams {
+    /// Estimated number of mesh nodes (corner and mid-edge) for `profile`: a graded band along
+    /// the outline (about 11 nodes per outline element) and the interior at the largest size
+    /// (2 nodes per equilateral element area); a fit to meshes of the built-in disc with flank
+    /// sizes 0.1-0.5 mm and largest sizes 2-4 mm, within about 20 %.
+    pub fn estimated_nodes(&self, profile: &Profile) -> f64 {
+        let boundary = outline_length(profile) / self.flank_size;
+        let (root, _) = outline_radii(profile);
+        let interior = PI * root * root / (0.433 * self.max_size * self.max_size);
+        11.0 * boundary + 2.0 * interior
+    }
+}
+
+/// Length of the profile outline, m.
+pub fn outline_length(profile: &Profile) -> f64 {
+    let pts = profile.sample(512);
+    (0..pts.len())
+        .map(|i| (pts[(i + 1) % pts.len()] - pts[i]).norm())
+        .sum()
+}
+
+/// Parameters `t` in `[0, 2 pi)` that split one tooth of the profile into pieces of equal arc
+/// length, about `size` (m) long; and the arc length at `t` as a table `(t, s)` over the tooth.
+fn arc_table(profile: &Profile, fine: usize) -> (Vec<f64>, Vec<f64>) {
+    let mut ts = Vec::with_capacity(fine + 1);
+    let mut ss = Vec::with_capacity(fine + 1);
+    let mut s = 0.0;
+    let mut prev = profile.point(0.0).p;
+    ts.push(0.0);
+    ss.push(0.0);
+    for k in 1..=fine {
+        let t = TAU * k as f64 / fine as f64;
+        let p = profile.point(t).p;
+        s += (p - prev).norm();
+        prev = p;
+        ts.push(t);
+        ss.push(s);
+    }
+    (ts, ss)
+}
+
+/// Linear interpolation in a monotone table.
+fn interp(xs: &[f64], ys: &[f64], x: f64) -> f64 {
+    let i = xs.partition_point(|v| *v < x).clamp(1, xs.len() - 1);
+    let (x0, x1) = (xs[i - 1], xs[i]);
+    let w = if x1 > x0 { (x - x0) / (x1 - x0) } else { 0.0 };
+    ys[i - 1] + w.clamp(0.0, 1.0) * (ys[i] - ys[i - 1])
+}
+
+/// The disc condensed onto its driving flanks: the FE model and the compliance matrix between
+/// the load stations.
+#[derive(Debug)]
+pub struct DiscModel {
+    /// The assembled, factorised FE model.
+    pub fe: FeModel,
+    /// Parameters.
+    pub params: FemParams,
+    /// Profile parameters `t` of the stations of tooth 0 (`[0, pi]`, equal arc length).
+    pub station_t: Vec<f64>,
+    /// Compliance between stations, m/N: `(tooth a, station i) x (tooth b, station k)`, row-major
+    /// over `Zc * stations_per_flank` entries.
+    pub compliance: Vec<f64>,
+    /// Arc-length table of the driving flank: `t` and `s` (m).
+    arc_t: Vec<f64>,
+    arc_s: Vec<f64>,
+    teeth: usize,
+    /// Outline boundary-edge indices.
+    outline_edges: Vec<usize>,
+    /// Wall time of meshing, assembly with factorisation, and condensation, s.
+    pub timings: [f64; 3],
+}
+
+impl DiscModel {
+    /// Meshes the actual `profile` with the holes of `params`, assembles and factorises the
+    /// plane-stress stiffness and computes the station compliances.
+    ///
+    /// # Errors
+    /// Meshing or solver failures ([`Error::Numerical`]).
+    pub fn build(profile: &Profile, params: &FemParams) -> Result<DiscModel> {
+        let t0 = std::time::Instant::now();
+        let mesh = disc_mesh(profile, params)?;
+        let t1 = std::time::Instant::now();
+        let spiders: Vec<Spider> = params
+            .bores
+            .iter()
+            .map(|b| Spider {
+                centre: b.centre,
+                fixed: [Some(0.0), Some(0.0), None],
+            })
+            .collect();
+        let bc: Vec<NodeBc> = node_bcs(&mesh, &params.bores);
+        let outline_edges: Vec<usize> = (0..mesh.boundary.len())
+            .filter(|&e| mesh.boundary[e].kind == LoopKind::Outline)
+            .collect();
+        let fe = FeModel::new(mesh, params.material, &bc, spiders)?;
+        let t2 = std::time::Instant::now();
+        let teeth = profile.geometry().disc_teeth();
+        let m = params.stations_per_flank;
+        let (arc_t, arc_s) = {
+            let (ts, ss) = arc_table(profile, 4000);
+            let half = ts.partition_point(|t| *t <= PI);
+            (ts[..half].to_vec(), ss[..half].to_vec())
+        };
+        let flank_len = *arc_s.last().expect("table");
+        let station_t: Vec<f64> = (0..m)
+            .map(|i| {
+                // Stations from 2 % to 98 % of the flank: the very root and tip carry no load.
+                let s = flank_len * (0.02 + 0.96 * i as f64 / (m - 1) as f64);
+                interp(&arc_s, &arc_t, s)
+            })
+            .collect();
+        let mut model = DiscModel {
+            fe,
+            params: params.clone(),
+            station_t,
+            compliance: Vec::new(),
+            arc_t,
+            arc_s,
+            teeth,
+            outline_edges,
+            timings: [0.0; 3],
+        };
+        let loads: Vec<Vec<(usize, f64)>> = (0..teeth * m)
+            .into_par_iter()
+            .map(|g| {
+                let t = model.station_t[g % m] + TAU * (g / m) as f64;
+                let pp = profile.point(t);
+                model.fe.reduce_sparse(&model.patch_load(&pp.p, &(-pp.normal)))
+            })
+            .collect();
+        model.compliance = condense(&model.fe, &loads);
+        let t3 = std::time::Instant::now();
+        model.timings = [
+            (t1 - t0).as_secs_f64(),
+            (t2 - t1).as_secs_f64(),
+            (t3 - t2).as_secs_f64(),
+        ];
+        Ok(model)
+    }
+
+    /// Nodal loads (`(node dof, N)`) of a unit pin force at `point` (m, on the outline) in the
+    /// direction `dir` (unit): an elliptic pressure of half-width `w` on the outline edges within
+    /// `w` of the point, scaled so that its resultant along `dir` is exactly 1 N.
+    pub fn patch_load(&self, point: &Vec2, dir: &Vec2) -> Vec<(usize, f64)> {
+        let w = self.params.patch;
+        let mesh = &self.fe.mesh;
+        let near = self.outline_edges.iter().copied().filter(|&e| {
+            let nd = mesh.boundary[e].nodes;
+            let (a, b) = (mesh.nodes[nd[0]], mesh.nodes[nd[1]]);
+            (a - point).norm().min((b - point).norm()) < w + (b - a).norm()
+        });
+        let thickness = self.params.material.thickness;
+        let mut load = plane::traction_load(mesh, thickness, near, |x| {
+            let r = (x - point).norm() / w;
+            (r < 1.0).then(|| dir * (2.0 / (PI * w * thickness) * (1.0 - r * r).sqrt()))
+        });
+        let total: f64 = load
+            .chunks(2)
+            .map(|c| c[0].1 * dir.x + c[1].1 * dir.y)
+            .sum();
+        if total > 0.0 {
+            for l in &mut load {
+                l.1 /= total;
+            }
+        }
+        load
+    }
+
+    /// Station index and Catmull-Rom weights of a contact at profile parameter `t` (rad): up to
+    /// four `(global station, weight)` pairs. Parameters off the driving flank clamp to its ends.
+    fn weights(&self, t: f64) -> [(usize, f64); 4] {
+        let m = self.params.stations_per_flank;
+        let tooth = (t / TAU).floor().rem_euclid(self.teeth as f64) as usize;
+        let local = t.rem_euclid(TAU);
+        let flank_len = *self.arc_s.last().expect("table");
+        let s = if local > PI {
+            // The other flank: clamp to the nearer end of the driving flank.
+            if local > 1.5 * PI {
+                0.0
+            } else {
+                flank_len
+            }
+        } else {
+            interp(&self.arc_t, &self.arc_s, local)
+        };
+        let u = ((s / flank_len - 0.02) / 0.96 * (m - 1) as f64).clamp(0.0, (m - 1) as f64);
+        let i = (u.floor() as usize).min(m - 2);
+        let f = u - i as f64;
+        // Catmull-Rom basis.
+        let w = [
+            0.5 * (-f + 2.0 * f * f - f * f * f),
+            0.5 * (2.0 - 5.0 * f * f + 3.0 * f * f * f),
+            0.5 * (f + 4.0 * f * f - 3.0 * f * f * f),
+            0.5 * (-f * f + f * f * f),
+        ];
+        let idx = |d: isize| -> usize {
+            let k = (i as isize + d).clamp(0, m as isize - 1) as usize;
+            tooth * m + k
+        };
+        [
+            (idx(-1), w[0]),
+            (idx(0), w[1]),
+            (idx(1), w[2]),
+            (idx(2), w[3]),
+        ]
+    }
+
+    /// Compliance matrix (m/N, `n x n`, row-major) between contacts at the profile parameters
+    /// `ts` (rad): the normal approach of contact `a` under a unit normal force at contact `b`.
+    /// Diagonal terms are interpolated along the station diagonal.
+    pub fn compliance_at(&self, ts: &[f64]) -> Vec<f64> {
+        let n = ts.len();
+        let ns = self.teeth * self.params.stations_per_flank;
+        let ws: Vec<[(usize, f64); 4]> = ts.iter().map(|&t| self.weights(t)).collect();
+        let mut c = vec![0.0; n * n];
+        for a in 0..n {
+            for b in 0..n {
+                let mut v = 0.0;
+                if a == b {
+                    for &(i, wi) in &ws[a] {
+                        v += wi * self.compliance[i * ns + i];
+                    }
+                } else {
+                    for &(i, wi) in &ws[a] {
+                        for &(k, wk) in &ws[b] {
+                            v += wi * wk * self.compliance[i * ns + k];
+                        }
+                    }
+                }
+                c[a * n + b] = v;
+            }
+        }
+        // Symmetrise (interpolation of a symmetric kernel with the same weights is symmetric
+        // up to rounding).
+        for a in 0..n {
+            for b in 0..a {
+                let m = 0.5 * (c[a * n + b] + c[b * n + a]);
+                c[a * n + b] = m;
+                c[b * n + a] = m;
+            }
+        }
+        c
+    }
+
+    /// Number of stations in all.
+    pub fn stations(&self) -> usize {
+        self.teeth * self.params.stations_per_flank
+    }
+}
+
+/// Node boundary conditions: nodes on crank bore `k` tied to spider `k`.
+fn node_bcs(mesh: &Mesh, bores: &[Hole]) -> Vec<NodeBc> {
+    let mut bc = vec![NodeBc::Free; mesh.nodes.len()];
+    for e in &mesh.boundary {
+        if let LoopKind::CrankBore(k) = e.kind {
+            for &n in &e.nodes {
+                bc[n] = NodeBc::Spider(k);
+            }
+        }
+    }
+    debug_assert!(bores.len() >= bc.iter().filter_map(spider_index).max().unwrap_or(0));
+    bc
+}
+
+fn spider_index(b: &NodeBc) -> Option<usize> {
+    match b {
+        NodeBc::Spider(k) => Some(*k),
+        _ => None,
+    }
+}
+
+/// Compliance between the reduced loads `loads` (each a sparse vector over the equations):
+/// `C = B K^-1 B^T`, solved in batches of 64 right-hand sides.
+fn condense(fe: &FeModel, loads: &[Vec<(usize, f64)>]) -> Vec<f64> {
+    let n = loads.len();
+    let neq = fe.equations();
+    let mut c = vec![0.0; n * n];
+    let batch = 64;
+    let mut start = 0;
+    while start < n {
+        let end = (start + batch).min(n);
+        let mut rhs = Mat::<f64>::zeros(neq, end - start);
+        for (col, l) in loads[start..end].iter().enumerate() {
+            for &(q, v) in l {
+                rhs[(q, col)] += v;
+            }
+        }
+        fe.solve_reduced(&mut rhs);
+        let block: Vec<Vec<f64>> = (0..n)
+            .into_par_iter()
+            .map(|i| {
+                (0..end - start)
+                    .map(|col| loads[i].iter().map(|&(q, v)| v * rhs[(q, col)]).sum())
+                    .collect()
+            })
+            .collect();
+        for (i, row) in block.iter().enumerate() {
+            for (col, v) in row.iter().enumerate() {
+                c[i * n + start + col] = *v;
+            }
+        }
+        start = end;
+    }
+    c
+}
+
+/// Meshes the disc: the outline sampled at equal arc length `flank_size`, bores and holes as
+/// circles with segments of about a third of the largest element size (at least 32).
+///
+/// # Errors
+/// Meshing failures.
+pub fn disc_mesh(profile: &Profile, params: &FemParams) -> Result<Mesh> {
+    let teeth = profile.geometry().disc_teeth();
+    let (ts, ss) = arc_table(profile, 4000);
+    let tooth_len = *ss.last().expect("table");
+    let per_tooth = (tooth_len / params.flank_size).ceil().max(8.0) as usize;
+    let local: Vec<f64> = (0..per_tooth)
+        .map(|k| interp(&ss, &ts, tooth_len * k as f64 / per_tooth as f64))
+        .collect();
+    let mut outline = Vec::with_capacity(teeth * per_tooth);
+    for tooth in 0..teeth {
+        for t in &local {
+            outline.push(profile.point(t + TAU * tooth as f64).p);
+        }
+    }
+    let mut loops = vec![BoundaryLoop {
+        points: outline,
+        kind: LoopKind::Outline,
+        circle: None,
+    }];
+    let segs = |r: f64| ((TAU * r / (params.max_size / 3.0)).ceil() as usize).max(32);
+    for (k, b) in params.bores.iter().enumerate() {
+        loops.push(BoundaryLoop::circle(
+            b.centre,
+            b.radius,
+            segs(b.radius),
+            LoopKind::CrankBore(k),
+        ));
+    }
+    for (k, h) in params.holes.iter().enumerate() {
+        loops.push(BoundaryLoop::circle(
+            h.centre,
+            h.radius,
+            segs(h.radius),
+            LoopKind::Hole(k),
+        ));
+    }
+    let est = params.estimated_nodes(profile);
+    let spec = MeshSpec {
+        max_area: 0.433 * params.max_size * params.max_size,
+        min_angle_deg: 25.0,
+        max_added_vertices: (2.0 * est) as usize + 10_000,
+    };
+    mesh::triangulate(&loops, &spec)
+}

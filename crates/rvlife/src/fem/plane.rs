@@ -1,0 +1,499 @@
+//! Plane-stress finite elements: isoparametric 6-node triangles, assembly with prescribed
+//! displacements and rigid spiders (master-slave constraints), sparse Cholesky solve (faer),
+//! stress recovery.
+//!
+//! Source: Zienkiewicz, Taylor & Zhu, *The Finite Element Method: Its Basis and Fundamentals*,
+//! 7th ed., ch. 6 (plane elasticity) and ch. 5 (quadratic triangles); 6-point Gauss rule of
+//! Dunavant (1985), exact to degree 4.
+
+use faer::linalg::solvers::Solve;
+use faer::sparse::{SparseColMat, Triplet};
+use faer::{Mat, Side};
+
+use crate::error::{Error, Result};
+use crate::fem::mesh::Mesh;
+use crate::geometry::Vec2;
+
+/// Linear-elastic isotropic material in plane stress.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlaneStress {
+    /// Young's modulus, Pa.
+    pub youngs_modulus: f64,
+    /// Poisson's ratio.
+    pub poisson_ratio: f64,
+    /// Thickness, m.
+    pub thickness: f64,
+}
+
+impl PlaneStress {
+    /// Elasticity matrix `D` (Pa) relating `(sx, sy, txy)` to `(ex, ey, gxy)`.
+    pub fn d(&self) -> [[f64; 3]; 3] {
+        let (e, nu) = (self.youngs_modulus, self.poisson_ratio);
+        let c = e / (1.0 - nu * nu);
+        [
+            [c, c * nu, 0.0],
+            [c * nu, c, 0.0],
+            [0.0, 0.0, c * 0.5 * (1.0 - nu)],
+        ]
+    }
+}
+
+/// 6-point Gauss rule on the reference triangle (Dunavant 1985, degree 4): `(xi, eta, weight)`
+/// with weights summing to the reference area 1/2.
+const GAUSS6: [(f64, f64, f64); 6] = {
+    const A: f64 = 0.445_948_490_915_965;
+    const WA: f64 = 0.223_381_589_678_011 * 0.5;
+    const B: f64 = 0.091_576_213_509_771;
+    const WB: f64 = 0.109_951_743_655_322 * 0.5;
+    [
+        (A, A, WA),
+        (1.0 - 2.0 * A, A, WA),
+        (A, 1.0 - 2.0 * A, WA),
+        (B, B, WB),
+        (1.0 - 2.0 * B, B, WB),
+        (B, 1.0 - 2.0 * B, WB),
+    ]
+};
+
+/// Natural coordinates of the six nodes.
+const NODE_XI: [(f64, f64); 6] = [
+    (0.0, 0.0),
+    (1.0, 0.0),
+    (0.0, 1.0),
+    (0.5, 0.0),
+    (0.5, 0.5),
+    (0.0, 0.5),
+];
+
+/// Derivatives of the six quadratic shape functions with respect to `(xi, eta)`.
+fn shape_derivatives(xi: f64, eta: f64) -> [[f64; 2]; 6] {
+    let l1 = 1.0 - xi - eta;
+    [
+        [-(4.0 * l1 - 1.0), -(4.0 * l1 - 1.0)],
+        [4.0 * xi - 1.0, 0.0],
+        [0.0, 4.0 * eta - 1.0],
+        [4.0 * (l1 - xi), -4.0 * xi],
+        [4.0 * eta, 4.0 * xi],
+        [-4.0 * eta, 4.0 * (l1 - eta)],
+    ]
+}
+
+/// Shape functions of a 3-node (quadratic) edge at `s` in `[-1, 1]`: start, end, mid.
+pub fn edge_shape(s: f64) -> [f64; 3] {
+    [0.5 * s * (s - 1.0), 0.5 * s * (s + 1.0), 1.0 - s * s]
+}
+
+/// Derivatives of [`edge_shape`] with respect to `s`.
+pub fn edge_shape_derivative(s: f64) -> [f64; 3] {
+    [s - 0.5, s + 0.5, -2.0 * s]
+}
+
+/// Cartesian shape-function gradients and Jacobian determinant at `(xi, eta)`.
+fn gradients(x: &[Vec2; 6], xi: f64, eta: f64) -> ([[f64; 2]; 6], f64) {
+    let dn = shape_derivatives(xi, eta);
+    let (mut j11, mut j12, mut j21, mut j22) = (0.0, 0.0, 0.0, 0.0);
+    for k in 0..6 {
+        j11 += dn[k][0] * x[k].x;
+        j12 += dn[k][0] * x[k].y;
+        j21 += dn[k][1] * x[k].x;
+        j22 += dn[k][1] * x[k].y;
+    }
+    let det = j11 * j22 - j12 * j21;
+    let mut g = [[0.0; 2]; 6];
+    for k in 0..6 {
+        g[k][0] = (j22 * dn[k][0] - j12 * dn[k][1]) / det;
+        g[k][1] = (-j21 * dn[k][0] + j11 * dn[k][1]) / det;
+    }
+    (g, det)
+}
+
+/// Element stiffness (12 x 12, dofs `u0x, u0y, u1x, ...`), N/m.
+///
+/// # Errors
+/// [`Error::Numerical`] for an inverted or degenerate element.
+pub fn element_stiffness(x: &[Vec2; 6], mat: &PlaneStress) -> Result<[[f64; 12]; 12]> {
+    let d = mat.d();
+    let mut k = [[0.0; 12]; 12];
+    for &(xi, eta, w) in &GAUSS6 {
+        let (g, det) = gradients(x, xi, eta);
+        if det <= 0.0 || !det.is_finite() {
+            return Err(Error::numerical("plane-stress element", "inverted element"));
+        }
+        let f = w * det * mat.thickness;
+        // D B for each node column pair, then B^T (D B).
+        for a in 0..6 {
+            let (ax, ay) = (g[a][0], g[a][1]);
+            // Rows of B for node a: [ax 0; 0 ay; ay ax].
+            for b in 0..6 {
+                let (bx, by) = (g[b][0], g[b][1]);
+                // D B_b columns.
+                let db_x = [d[0][0] * bx, d[1][0] * bx, d[2][2] * by];
+                let db_y = [d[0][1] * by, d[1][1] * by, d[2][2] * bx];
+                k[2 * a][2 * b] += f * (ax * db_x[0] + ay * db_x[2]);
+                k[2 * a][2 * b + 1] += f * (ax * db_y[0] + ay * db_y[2]);
+                k[2 * a + 1][2 * b] += f * (ay * db_x[1] + ax * db_x[2]);
+                k[2 * a + 1][2 * b + 1] += f * (ay * db_y[1] + ax * db_y[2]);
+            }
+        }
+    }
+    Ok(k)
+}
+
+/// A rigid spider: a master point whose three degrees of freedom `(ux, uy, rotation)` carry the
+/// nodes tied to it, `u = u_m + theta e_z x (x - x_m)` (the paper's rigid point at a bore).
+#[derive(Debug, Clone, Copy)]
+pub struct Spider {
+    /// Master point, m.
+    pub centre: Vec2,
+    /// Prescribed values of `(ux m, uy m, rotation rad)`; `None` leaves the dof free.
+    pub fixed: [Option<f64>; 3],
+}
+
+/// Boundary condition of one node.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum NodeBc {
+    /// Both components free.
+    Free,
+    /// Prescribed `(ux, uy)`, m; `None` leaves that component free.
+    Fixed(Option<f64>, Option<f64>),
+    /// Tied to spider `k`.
+    Spider(usize),
+}
+
+/// One node displacement component as `sum coeff * x[eq] + constant`.
+#[derive(Debug, Clone, Default)]
+struct DofExpr {
+    terms: Vec<(usize, f64)>,
+    constant: f64,
+}
+
+/// An assembled and factorised plane-stress model.
+pub struct FeModel {
+    /// The mesh.
+    pub mesh: Mesh,
+    /// Material.
+    pub material: PlaneStress,
+    /// Spiders.
+    pub spiders: Vec<Spider>,
+    dofs: Vec<DofExpr>,
+    spider_dofs: Vec<[DofExpr; 3]>,
+    equations: usize,
+    lift: Vec<f64>,
+    llt: faer::sparse::linalg::solvers::Llt<usize, f64>,
+    nonzeros: usize,
+}
+
+impl std::fmt::Debug for FeModel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FeModel")
+            .field("nodes", &self.mesh.nodes.len())
+            .field("triangles", &self.mesh.triangles.len())
+            .field("equations", &self.equations)
+            .finish()
+    }
+}
+
+/// Stress state at the mesh nodes (node-averaged), Pa.
+#[derive(Debug, Clone)]
+pub struct NodalStress {
+    /// `(sx, sy, txy)` at every node, Pa.
+    pub stress: Vec<[f64; 3]>,
+}
+
+impl NodalStress {
+    /// Von Mises stress of node `i` (plane stress), Pa.
+    pub fn von_mises(&self, i: usize) -> f64 {
+        let [sx, sy, t] = self.stress[i];
+        (sx * sx - sx * sy + sy * sy + 3.0 * t * t).max(0.0).sqrt()
+    }
+}
+
+impl FeModel {
+    /// Assembles the stiffness of `mesh` with boundary conditions `bc` (one per node) and the
+    /// spiders, and factorises it (sparse Cholesky, faer, AMD ordering).
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] if `bc` does not match the mesh; [`Error::Numerical`] for an inverted
+    /// element or a stiffness that is not positive definite (rigid-body motion left free).
+    pub fn new(
+        mesh: Mesh,
+        material: PlaneStress,
+        bc: &[NodeBc],
+        spiders: Vec<Spider>,
+    ) -> Result<FeModel> {
+        if bc.len() != mesh.nodes.len() {
+            return Err(Error::invalid(
+                "fem boundary conditions",
+                bc.len().to_string(),
+                format!("one per node ({})", mesh.nodes.len()),
+            ));
+        }
+        let mut eq = 0usize;
+        let next = |eq: &mut usize| {
+            *eq += 1;
+            *eq - 1
+        };
+        let mut spider_dofs: Vec<[DofExpr; 3]> = Vec::with_capacity(spiders.len());
+        for s in &spiders {
+            let mut d: [DofExpr; 3] = Default::default();
+            for (c, dof) in d.iter_mut().enumerate() {
+                match s.fixed[c] {
+                    Some(v) => dof.constant = v,
+                    None => dof.terms.push((next(&mut eq), 1.0)),
+                }
+            }
+            spider_dofs.push(d);
+        }
+        let mut dofs = Vec::with_capacity(2 * mesh.nodes.len());
+        for (i, b) in bc.iter().enumerate() {
+            match *b {
+                NodeBc::Free => {
+                    dofs.push(DofExpr {
+                        terms: vec![(next(&mut eq), 1.0)],
+                        constant: 0.0,
+                    });
+                    dofs.push(DofExpr {
+                        terms: vec![(next(&mut eq), 1.0)],
+                        constant: 0.0,
+                    });
+                }
+                NodeBc::Fixed(ux, uy) => {
+                    for v in [ux, uy] {
+                        dofs.push(match v {
+                            Some(v) => DofExpr {
+                                terms: vec![],
+                                constant: v,
+                            },
+                            None => DofExpr {
+                                terms: vec![(next(&mut eq), 1.0)],
+                                constant: 0.0,
+                            },
+                        });
+                    }
+                }
+                NodeBc::Spider(k) => {
+                    let s = spiders.get(k).ok_or_else(|| {
+                        Error::invalid("fem spider", k.to_string(), "an existing spider")
+                    })?;
+                    let r = mesh.nodes[i] - s.centre;
+                    let m = &spider_dofs[k];
+                    // ux = ux_m - theta ry; uy = uy_m + theta rx.
+                    for (c, lever) in [(0usize, -r.y), (1usize, r.x)] {
+                        let mut e = m[c].clone();
+                        for &(q, a) in &m[2].terms {
+                            e.terms.push((q, a * lever));
+                        }
+                        e.constant += m[2].constant * lever;
+                        dofs.push(e);
+                    }
+                }
+            }
+        }
+        let equations = eq;
+        let mut lift = vec![0.0; equations];
+        let mut triplets: Vec<Triplet<usize, usize, f64>> =
+            Vec::with_capacity(mesh.triangles.len() * 78);
+        for t in &mesh.triangles {
+            let x: [Vec2; 6] = std::array::from_fn(|k| mesh.nodes[t[k]]);
+            let ke = element_stiffness(&x, &material)?;
+            for a in 0..12 {
+                let da = &dofs[2 * t[a / 2] + a % 2];
+                for b in 0..12 {
+                    let db = &dofs[2 * t[b / 2] + b % 2];
+                    let k = ke[a][b];
+                    for &(qa, ca) in &da.terms {
+                        if db.constant != 0.0 {
+                            lift[qa] -= ca * k * db.constant;
+                        }
+                        for &(qb, cb) in &db.terms {
+                            if qa >= qb {
+                                triplets.push(Triplet::new(qa, qb, ca * cb * k));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        let k = SparseColMat::<usize, f64>::try_new_from_triplets(equations, equations, &triplets)
+            .map_err(|e| Error::numerical("fem assembly", format!("{e:?}")))?;
+        drop(triplets);
+        let nonzeros = k.compute_nnz();
+        let llt = k.sp_cholesky(Side::Lower).map_err(|e| {
+            Error::numerical(
+                "fem solve",
+                format!("stiffness not positive definite ({e:?}): the disc is not held"),
+            )
+        })?;
+        Ok(FeModel {
+            mesh,
+            material,
+            spiders,
+            dofs,
+            spider_dofs,
+            equations,
+            lift,
+            llt,
+            nonzeros,
+        })
+    }
+
+    /// Number of unknowns.
+    pub fn equations(&self) -> usize {
+        self.equations
+    }
+
+    /// Non-zeros of the lower triangle of the stiffness matrix.
+    pub fn nonzeros(&self) -> usize {
+        self.nonzeros
+    }
+
+    /// Reduces a nodal load vector (`2 N`, N; `fx, fy` per node) to the equations.
+    pub fn reduce(&self, load: &[f64]) -> Vec<f64> {
+        let mut f = vec![0.0; self.equations];
+        for (i, &v) in load.iter().enumerate() {
+            if v != 0.0 {
+                for &(q, c) in &self.dofs[i].terms {
+                    f[q] += c * v;
+                }
+            }
+        }
+        f
+    }
+
+    /// Sparse form of [`FeModel::reduce`] for a load given as `(node dof, value)` pairs.
+    pub fn reduce_sparse(&self, load: &[(usize, f64)]) -> Vec<(usize, f64)> {
+        let mut out: Vec<(usize, f64)> = Vec::new();
+        for &(i, v) in load {
+            for &(q, c) in &self.dofs[i].terms {
+                out.push((q, c * v));
+            }
+        }
+        out.sort_by_key(|p| p.0);
+        let mut merged: Vec<(usize, f64)> = Vec::with_capacity(out.len());
+        for (q, v) in out {
+            match merged.last_mut() {
+                Some(l) if l.0 == q => l.1 += v,
+                _ => merged.push((q, v)),
+            }
+        }
+        merged
+    }
+
+    /// Solves for reduced loads given as the columns of `rhs` (equations x n), in place.
+    pub fn solve_reduced(&self, rhs: &mut Mat<f64>) {
+        self.llt.solve_in_place(rhs.as_mut());
+    }
+
+    /// Node displacements (`2 N`, m) for the nodal load vector `load` (`2 N`, N), with the
+    /// prescribed displacements applied.
+    pub fn solve(&self, load: &[f64]) -> Vec<f64> {
+        let f = self.reduce(load);
+        let mut rhs = Mat::<f64>::from_fn(self.equations, 1, |i, _| f[i] + self.lift[i]);
+        self.solve_reduced(&mut rhs);
+        self.expand(|q| rhs[(q, 0)])
+    }
+
+    /// Node displacements from the equation values `x(q)`.
+    pub fn expand(&self, x: impl Fn(usize) -> f64) -> Vec<f64> {
+        self.dofs
+            .iter()
+            .map(|d| d.constant + d.terms.iter().map(|&(q, c)| c * x(q)).sum::<f64>())
+            .collect()
+    }
+
+    /// Displacements `(ux, uy, rotation)` of spider `k` from the equation values `x(q)`.
+    pub fn spider_motion(&self, k: usize, x: impl Fn(usize) -> f64) -> [f64; 3] {
+        std::array::from_fn(|c| {
+            let d = &self.spider_dofs[k][c];
+            d.constant + d.terms.iter().map(|&(q, a)| a * x(q)).sum::<f64>()
+        })
+    }
+
+    /// Node-averaged stresses of the displacement field `u` (`2 N`, m), Pa.
+    pub fn stresses(&self, u: &[f64]) -> NodalStress {
+        let d = self.material.d();
+        let n = self.mesh.nodes.len();
+        let mut sum = vec![[0.0; 3]; n];
+        let mut count = vec![0u32; n];
+        for t in &self.mesh.triangles {
+            let x: [Vec2; 6] = std::array::from_fn(|k| self.mesh.nodes[t[k]]);
+            for (k, &(xi, eta)) in NODE_XI.iter().enumerate() {
+                let (g, _) = gradients(&x, xi, eta);
+                let (mut ex, mut ey, mut gxy) = (0.0, 0.0, 0.0);
+                for a in 0..6 {
+                    let (ux, uy) = (u[2 * t[a]], u[2 * t[a] + 1]);
+                    ex += g[a][0] * ux;
+                    ey += g[a][1] * uy;
+                    gxy += g[a][1] * ux + g[a][0] * uy;
+                }
+                let s = [
+                    d[0][0] * ex + d[0][1] * ey,
+                    d[1][0] * ex + d[1][1] * ey,
+                    d[2][2] * gxy,
+                ];
+                let i = t[k];
+                for c in 0..3 {
+                    sum[i][c] += s[c];
+                }
+                count[i] += 1;
+            }
+        }
+        NodalStress {
+            stress: sum
+                .iter()
+                .zip(&count)
+                .map(|(s, &c)| s.map(|v| v / c.max(1) as f64))
+                .collect(),
+        }
+    }
+}
+
+/// Consistent nodal loads (`(node dof, N)` pairs) of a traction `traction(x)` (N/m^2, the force
+/// per unit area of the boundary; times the thickness gives N/m along the edge) over the
+/// boundary edges `edges`, by 8-point Gauss quadrature per edge ([`GAUSS_LEGENDRE8`]).
+pub fn traction_load(
+    mesh: &Mesh,
+    thickness: f64,
+    edges: impl Iterator<Item = usize>,
+    traction: impl Fn(&Vec2) -> Option<Vec2>,
+) -> Vec<(usize, f64)> {
+    let mut out = Vec::new();
+    for e in edges {
+        let nd = mesh.boundary[e].nodes;
+        let x = [mesh.nodes[nd[0]], mesh.nodes[nd[1]], mesh.nodes[nd[2]]];
+        let mut f = [Vec2::zeros(); 3];
+        let mut any = false;
+        for &(s, w) in &GAUSS_LEGENDRE8 {
+            let n = edge_shape(s);
+            let dn = edge_shape_derivative(s);
+            let p = x[0] * n[0] + x[1] * n[1] + x[2] * n[2];
+            let dx = x[0] * dn[0] + x[1] * dn[1] + x[2] * dn[2];
+            if let Some(t) = traction(&p) {
+                any = true;
+                for k in 0..3 {
+                    f[k] += t * (n[k] * w * dx.norm() * thickness);
+                }
+            }
+        }
+        if any {
+            for k in 0..3 {
+                out.push((2 * nd[k], f[k].x));
+                out.push((2 * nd[k] + 1, f[k].y));
+            }
+        }
+    }
+    out
+}
+
+/// 8-point Gauss-Legendre rule on `[-1, 1]`: `(point, weight)` (Abramowitz & Stegun,
+/// table 25.4), exact to degree 15.
+pub const GAUSS_LEGENDRE8: [(f64, f64); 8] = [
+    (-0.960_289_856_497_536_2, 0.101_228_536_290_376_3),
+    (-0.796_666_477_413_626_7, 0.222_381_034_453_374_5),
+    (-0.525_532_409_916_329_0, 0.313_706_645_877_887_3),
+    (-0.183_434_642_495_649_8, 0.362_683_783_378_362_0),
+    (0.183_434_642_495_649_8, 0.362_683_783_378_362_0),
+    (0.525_532_409_916_329_0, 0.313_706_645_877_887_3),
+    (0.796_666_477_413_626_7, 0.222_381_034_453_374_5),
+    (0.960_289_856_497_536_2, 0.101_228_536_290_376_3),
+];

@@ -1,0 +1,325 @@
+//! Checks of the flexible disc that can fail (issue 4 "Must show"): patch test, Lame ring,
+//! mesh convergence of the disc compliance, rigid limit, bad input.
+
+use std::f64::consts::{PI, TAU};
+
+use rvlife::config::{Config, Model};
+use rvlife::fem::flex::{analyse_stage, solve_flexible};
+use rvlife::fem::mesh::{triangulate, BoundaryLoop, LoopKind, MeshSpec};
+use rvlife::fem::plane::{traction_load, FeModel, NodeBc, PlaneStress};
+use rvlife::fem::DiscModel;
+use rvlife::geometry::{Vec2, WearMap};
+use rvlife::te::ARCMIN_PER_RAD;
+
+fn model_with(edit: impl FnOnce(&mut Config)) -> Model {
+    let mut c = Config::example();
+    edit(&mut c);
+    c.validate().unwrap()
+}
+
+const STEEL: PlaneStress = PlaneStress {
+    youngs_modulus: 210e9,
+    poisson_ratio: 0.3,
+    thickness: 0.01,
+};
+
+/// Patch test: a square mesh with interior nodes, every boundary node given the displacement of
+/// a linear field; the interior nodes must take the same field and the stress must be the
+/// constant `D eps` (to round-off), including on the graded, distorted Delaunay mesh.
+#[test]
+fn plane_stress_passes_the_patch_test() {
+    let side = 0.02;
+    let square = BoundaryLoop {
+        points: (0..40)
+            .map(|k| {
+                let s = side * (k % 10) as f64 / 10.0;
+                match k / 10 {
+                    0 => Vec2::new(s, 0.0),
+                    1 => Vec2::new(side, s),
+                    2 => Vec2::new(side - s, side),
+                    _ => Vec2::new(0.0, side - s),
+                }
+            })
+            .collect(),
+        kind: LoopKind::Outline,
+        circle: None,
+    };
+    let mesh = triangulate(
+        &[square],
+        &MeshSpec {
+            max_area: 4e-6,
+            min_angle_deg: 25.0,
+            max_added_vertices: 10_000,
+        },
+    )
+    .unwrap();
+    let field = |p: &Vec2| {
+        (
+            1e-6 + 2e-4 * p.x - 1e-4 * p.y,
+            -2e-6 + 0.5e-4 * p.x + 3e-4 * p.y,
+        )
+    };
+    let on_boundary: std::collections::HashSet<usize> =
+        mesh.boundary.iter().flat_map(|e| e.nodes).collect();
+    let interior = mesh.nodes.len() - on_boundary.len();
+    assert!(interior > 20, "the patch needs interior nodes ({interior})");
+    let bc: Vec<NodeBc> = mesh
+        .nodes
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            if on_boundary.contains(&i) {
+                let (ux, uy) = field(p);
+                NodeBc::Fixed(Some(ux), Some(uy))
+            } else {
+                NodeBc::Free
+            }
+        })
+        .collect();
+    let fe = FeModel::new(mesh, STEEL, &bc, vec![]).unwrap();
+    let u = fe.solve(&vec![0.0; 2 * fe.mesh.nodes.len()]);
+    let mut worst: f64 = 0.0;
+    for (i, p) in fe.mesh.nodes.iter().enumerate() {
+        let (ux, uy) = field(p);
+        worst = worst.max((u[2 * i] - ux).abs()).max((u[2 * i + 1] - uy).abs());
+    }
+    assert!(worst < 1e-15, "displacement error {worst:e} m (field ~1e-6 m)");
+    let d = STEEL.d();
+    let (ex, ey, gxy) = (2e-4, 3e-4, -1e-4 + 0.5e-4);
+    let exact = [
+        d[0][0] * ex + d[0][1] * ey,
+        d[1][0] * ex + d[1][1] * ey,
+        d[2][2] * gxy,
+    ];
+    let s = fe.stresses(&u);
+    for st in &s.stress {
+        for c in 0..3 {
+            assert!(
+                (st[c] - exact[c]).abs() < 1e-6 * exact[0].abs(),
+                "stress {st:?} vs {exact:?}"
+            );
+        }
+    }
+}
+
+/// Thick ring (a = 20 mm, b = 50 mm) under internal pressure 100 MPa: the radial displacement at
+/// both radii and the hoop stress at the bore match Lame's plane-stress solution within 1 %.
+#[test]
+fn thick_ring_matches_lame() {
+    let (a, b, p) = (0.02, 0.05, 100e6);
+    let outer = BoundaryLoop::circle(Vec2::zeros(), b, 96, LoopKind::Outline);
+    let inner = BoundaryLoop::circle(Vec2::zeros(), a, 128, LoopKind::Hole(0));
+    let mesh = triangulate(
+        &[outer, inner],
+        &MeshSpec {
+            max_area: 0.433 * 2e-3 * 2e-3,
+            min_angle_deg: 25.0,
+            max_added_vertices: 50_000,
+        },
+    )
+    .unwrap();
+    // Rigid-body modes held by three conditions the radial solution satisfies.
+    let find = |x: f64, y: f64| {
+        mesh.nodes
+            .iter()
+            .enumerate()
+            .min_by(|p, q| {
+                let d = |v: &Vec2| (v - Vec2::new(x, y)).norm();
+                d(p.1).total_cmp(&d(q.1))
+            })
+            .unwrap()
+            .0
+    };
+    let (n_a, n_b, n_c) = (find(b, 0.0), find(0.0, b), find(-b, 0.0));
+    let mut bc = vec![NodeBc::Free; mesh.nodes.len()];
+    bc[n_a] = NodeBc::Fixed(None, Some(0.0));
+    bc[n_b] = NodeBc::Fixed(Some(0.0), None);
+    bc[n_c] = NodeBc::Fixed(None, Some(0.0));
+    let holes: Vec<usize> = (0..mesh.boundary.len())
+        .filter(|&e| mesh.boundary[e].kind == LoopKind::Hole(0))
+        .collect();
+    let load = traction_load(&mesh, STEEL.thickness, holes.into_iter(), |x| {
+        Some(x / x.norm() * p)
+    });
+    let fe = FeModel::new(mesh, STEEL, &bc, vec![]).unwrap();
+    let mut f = vec![0.0; 2 * fe.mesh.nodes.len()];
+    for (i, v) in load {
+        f[i] += v;
+    }
+    let u = fe.solve(&f);
+    let (e, nu) = (STEEL.youngs_modulus, STEEL.poisson_ratio);
+    let ca = p * a * a / (b * b - a * a);
+    let cb = p * a * a * b * b / (b * b - a * a);
+    let ur = |r: f64| ((1.0 - nu) * ca * r + (1.0 + nu) * cb / r) / e;
+    let s = fe.stresses(&u);
+    let (mut worst_u, mut worst_s): (f64, f64) = (0.0, 0.0);
+    let hoop_a = p * (a * a + b * b) / (b * b - a * a);
+    for (i, x) in fe.mesh.nodes.iter().enumerate() {
+        let r = x.norm();
+        let on = |rr: f64| (r - rr).abs() < 1e-9 * rr;
+        if on(a) || on(b) {
+            let u_r = (u[2 * i] * x.x + u[2 * i + 1] * x.y) / r;
+            worst_u = worst_u.max((u_r / ur(r) - 1.0).abs());
+        }
+        if on(a) {
+            let [sx, sy, t] = s.stress[i];
+            let (c, sn) = (x.x / r, x.y / r);
+            let hoop = sx * sn * sn + sy * c * c - 2.0 * t * sn * c;
+            worst_s = worst_s.max((hoop / hoop_a - 1.0).abs());
+        }
+    }
+    eprintln!("Lame: displacement error {worst_u:.2e}, hoop stress error {worst_s:.2e}");
+    assert!(worst_u < 0.01, "radial displacement off by {worst_u}");
+    assert!(worst_s < 0.01, "hoop stress off by {worst_s}");
+}
+
+/// The disc compliance converges: the station compliances of the default mesh (0.25 mm on the
+/// flanks) and the fine mesh (0.125 mm) differ by less than 1 % (largest over the stations of
+/// the first tooth and their coupling to the next tooth), and the flexible loaded TE by less than
+/// 0.5 %.
+#[test]
+fn disc_compliance_converges_under_refinement() {
+    let build = |flank: f64| {
+        let m = model_with(|c| {
+            c.fem.flank_element_size_mm = flank;
+            c.fem.crank_angles = 8;
+        });
+        let p = m
+            .profile(Some(WearMap::uniform(360, 10e-6).unwrap()))
+            .unwrap();
+        let d = DiscModel::build(&p, &m.fem).unwrap();
+        let st = analyse_stage(&p, &m.contact, &d, m.load_share, m.rated_torque).unwrap();
+        let te = st.flexible_loaded_te.iter().sum::<f64>() / 8.0;
+        (d, te)
+    };
+    let (coarse, te_c) = build(0.25);
+    let (fine, te_f) = build(0.125);
+    let m = coarse.params.stations_per_flank;
+    let n = coarse.stations();
+    let mut worst: f64 = 0.0;
+    for i in 0..m {
+        for k in [i, i + m] {
+            let (a, b) = (coarse.compliance[i * n + k], fine.compliance[i * n + k]);
+            let scale = fine.compliance[i * n + i];
+            worst = worst.max((a - b).abs() / scale);
+        }
+    }
+    eprintln!(
+        "compliance change {worst:.2e}; TE {:.5} vs {:.5} arcmin",
+        te_c * ARCMIN_PER_RAD,
+        te_f * ARCMIN_PER_RAD
+    );
+    assert!(worst < 0.01, "compliance changed by {worst}");
+    assert!((te_c / te_f - 1.0).abs() < 0.005);
+}
+
+/// At a very large Young's modulus of the disc (x 1e4, in the FE body and in the Hertz law
+/// alike) the flexible solution approaches the rigid one: the extra rotation from the disc
+/// body is under 0.2 % of the loaded TE, against about 20 % at the real modulus.
+#[test]
+fn stiff_disc_approaches_the_rigid_result() {
+    let run = |scale: f64| {
+        let m = model_with(|c| {
+            c.materials.disc.youngs_modulus_gpa *= scale;
+            c.fem.crank_angles = 4;
+        });
+        let p = m
+            .profile(Some(WearMap::uniform(360, 10e-6).unwrap()))
+            .unwrap();
+        let d = DiscModel::build(&p, &m.fem).unwrap();
+        let phi = 0.3;
+        let s = solve_flexible(&p, &m.contact, &d, phi, m.load_share * m.rated_torque).unwrap();
+        let rigid_static = rvlife::contact::first_contact(&p, phi, 1.0).unwrap();
+        let moment: f64 = s.pins.iter().map(|q| q.force * q.lever_arm).sum();
+        assert!((moment / (m.load_share * m.rated_torque) - 1.0).abs() < 1e-8);
+        (
+            (s.disc_rotation - s.rigid_rotation) / (s.rigid_rotation - rigid_static),
+            s,
+        )
+    };
+    let (real, _) = run(1.0);
+    let (stiff, _) = run(1e4);
+    eprintln!("body share of the loaded rotation: real {real:.4}, stiff {stiff:.2e}");
+    assert!(real > 0.05, "the real disc body should add to the TE ({real})");
+    assert!(stiff.abs() < 2e-3, "stiff disc still differs by {stiff}");
+}
+
+/// With the body compliance in, the flexible contact still satisfies complementarity: every
+/// loaded pin closes (total approach = overlap) and no unloaded pin penetrates.
+#[test]
+fn flexible_contact_is_complementary() {
+    let m = model_with(|c| c.fem.crank_angles = 4);
+    let p = m
+        .profile(Some(WearMap::uniform(360, 20e-6).unwrap()))
+        .unwrap();
+    let d = DiscModel::build(&p, &m.fem).unwrap();
+    let s = solve_flexible(&p, &m.contact, &d, 0.1, m.load_share * m.rated_torque).unwrap();
+    assert!(s.pins.len() >= 3);
+    let law = rvlife::fem::flex::FlexibleLaw {
+        model: m.contact,
+        patch: m.fem.patch,
+    };
+    for q in &s.pins {
+        let g = rvlife::contact::pin_geometry(&p, q.pin, 0.1, s.disc_rotation).unwrap();
+        let (w, _) = law.approach(q.force, g.curvature);
+        let closure = w + q.body_deflection + g.gap;
+        assert!(closure.abs() < 1e-11, "pin {} closure {closure:e}", q.pin);
+    }
+    let loaded: Vec<usize> = s.pins.iter().map(|q| q.pin).collect();
+    let ts: Vec<f64> = s.pins.iter().map(|q| q.profile_parameter).collect();
+    for j in 0..m.geometry.pins {
+        if loaded.contains(&j) {
+            continue;
+        }
+        let g = rvlife::contact::pin_geometry(&p, j, 0.1, s.disc_rotation).unwrap();
+        if g.t.rem_euclid(TAU) > PI {
+            continue;
+        }
+        let mut all = ts.clone();
+        all.push(g.t);
+        let c = d.compliance_at(&all);
+        let n = all.len();
+        let body: f64 = s
+            .pins
+            .iter()
+            .enumerate()
+            .map(|(k, q)| c[(n - 1) * n + k] * q.force)
+            .sum();
+        assert!(g.gap + body > -1e-11, "open pin {j} penetrates");
+    }
+}
+
+/// Bad input: holes cutting the teeth or each other, and a mesh too fine for the memory limit,
+/// are refused with the key named.
+#[test]
+fn bad_fem_input_is_refused() {
+    let err = |edit: &dyn Fn(&mut Config)| {
+        let mut c = Config::example();
+        edit(&mut c);
+        c.validate().unwrap_err().to_string()
+    };
+    let e = err(&|c| c.fem.crank_bore_diameter_mm = Some(40.0));
+    assert!(
+        e.contains("fem.crank_bore_diameter_mm") && e.contains("cuts the teeth"),
+        "{e}"
+    );
+    let e = err(&|c| c.fem.output_pin_hole_diameter_mm = 40.0);
+    assert!(
+        e.contains("fem.output_pin_hole_diameter_mm") && e.contains("cuts the teeth"),
+        "{e}"
+    );
+    let e = err(&|c| c.fem.output_pin_hole_phase_deg = Some(10.0));
+    assert!(e.contains("fem.") && e.contains("cut each other"), "{e}");
+    let e = err(&|c| c.fem.centre_hole_diameter_mm = 60.0);
+    assert!(e.contains("cut each other"), "{e}");
+    let e = err(&|c| {
+        c.fem.flank_element_size_mm = 0.01;
+        c.fem.load_patch_half_width_mm = 0.02;
+    });
+    assert!(
+        e.contains("fem.flank_element_size_mm") && e.contains("GB"),
+        "{e}"
+    );
+    let e = err(&|c| c.fem.load_patch_half_width_mm = 0.1);
+    assert!(e.contains("fem.load_patch_half_width_mm"), "{e}");
+}
