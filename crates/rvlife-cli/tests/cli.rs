@@ -567,6 +567,29 @@ fn bad_key(table: &str, key: &str, value: &str, needles: &[&str]) {
 }
 
 #[test]
+fn bad_fem_bore_cuts_the_teeth() {
+    let t = format!("{}\ncrank_bore_diameter_mm = 40.0\n", example_text());
+    check_bad_config(&t, &["fem.crank_bore_diameter_mm", "cuts the teeth"]);
+}
+
+#[test]
+fn bad_fem_holes_cut_each_other() {
+    bad_key(
+        "fem",
+        "centre_hole_diameter_mm",
+        "60.0",
+        &["fem.", "cut each other"],
+    );
+}
+
+#[test]
+fn bad_fem_mesh_beyond_memory() {
+    let t = set_key(&example_text(), "fem", "flank_element_size_mm", "0.01");
+    let t = set_key(&t, "fem", "load_patch_half_width_mm", "0.02");
+    check_bad_config(&t, &["fem.flank_element_size_mm", "GB"]);
+}
+
+#[test]
 fn bad_eccentricity_k1_above_one() {
     bad_key("cycloid", "eccentricity_mm", "1.7", &["eccentricity_mm"]);
 }
@@ -710,7 +733,11 @@ fn bad_profile_extension() {
 // ---------------------------------------------------------------------------------------------
 // 6. The study: results directory.
 
-const STAGE_KEYS: [&str; 10] = [
+const STAGE_KEYS: [&str; 14] = [
+    "flexible_ste_mean_arcmin",
+    "flexible_loaded_te_mean_arcmin",
+    "torsional_stiffness_nm_per_arcmin",
+    "max_von_mises_mpa",
     "dte_mean_arcmin",
     "dte_peak_to_peak_arcmin",
     "hours",

@@ -44,17 +44,39 @@ fn benches(c: &mut Criterion) {
         b.iter(|| rvlife::dynamics::simulate(black_box(&worn10), &model.dynamics, false).unwrap())
     });
     group.finish();
+    let mut group = c.benchmark_group("fem");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(30));
+    group.bench_function("disc_mesh_assembly_reduction_10um", |b| {
+        b.iter(|| rvlife::fem::DiscModel::build(black_box(&worn10), &model.fem).unwrap())
+    });
+    let disc = rvlife::fem::DiscModel::build(&worn10, &model.fem).expect("disc");
+    group.bench_function("flexible_stage_72_crank_angles_10um", |b| {
+        b.iter(|| {
+            rvlife::fem::flex::analyse_stage(
+                black_box(&worn10),
+                &model.contact,
+                &disc,
+                model.load_share,
+                model.rated_torque,
+            )
+            .unwrap()
+        })
+    });
+    group.finish();
     let mut group = c.benchmark_group("study");
     group
         .sample_size(10)
         .measurement_time(Duration::from_secs(40));
     let mut no_dynamics = model.clone();
     no_dynamics.dynamics_enabled = false;
+    no_dynamics.fem_enabled = false;
     group.bench_function("builtin_study_without_dynamics", |b| {
         b.iter(|| rvlife::study::run(black_box(&no_dynamics), &|_, _| {}).unwrap())
     });
     group.measurement_time(Duration::from_secs(200));
-    group.bench_function("builtin_study_with_dte", |b| {
+    group.bench_function("builtin_study_with_dte_and_fem", |b| {
         b.iter(|| rvlife::study::run(black_box(&model), &|_, _| {}).unwrap())
     });
     group.finish();

@@ -11,8 +11,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::contact::{ApproachLaw, ContactModel, Materials};
 use crate::dynamics::{DynamicsConfig, DynamicsParams};
-use crate::fem::{FemConfig, FemParams};
 use crate::error::{Error, Result};
+use crate::fem::{FemConfig, FemParams};
 use crate::geometry::{CycloidGeometry, Modification, Profile, WearMap};
 
 /// The built-in example: the paper's reducer, fully commented.

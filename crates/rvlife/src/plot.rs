@@ -509,13 +509,19 @@ pub fn flexible_te_hours(study: &Study, dir: &Path) -> Result<()> {
         }),
     ];
     let h_max = sums.iter().map(|s| s.hours).fold(1.0, f64::max);
-    let (_, hi) = series_range(sums.iter().flat_map(|s| lines.iter().map(move |l| (l.2)(s))));
+    let (_, hi) = series_range(
+        sums.iter()
+            .flat_map(|s| lines.iter().map(move |l| (l.2)(s))),
+    );
     figure!(
         dir,
         "flexible_te_hours",
         |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
             let mut chart = ChartBuilder::on(root)
-                .caption("Rigid against flexible disc: TE over working hours", ("sans-serif", 26))
+                .caption(
+                    "Rigid against flexible disc: TE over working hours",
+                    ("sans-serif", 26),
+                )
                 .margin(15)
                 .x_label_area_size(45)
                 .y_label_area_size(65)

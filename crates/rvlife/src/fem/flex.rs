@@ -285,7 +285,12 @@ pub struct DiscStress {
 }
 
 /// Stress of the disc under the pin forces of `sol` (disc frame loads as pressure patches).
-pub fn disc_stress(profile: &Profile, disc: &DiscModel, sol: &FlexSolution, torque: f64) -> DiscStress {
+pub fn disc_stress(
+    profile: &Profile,
+    disc: &DiscModel,
+    sol: &FlexSolution,
+    torque: f64,
+) -> DiscStress {
     let mesh = &disc.fe.mesh;
     let mut load = vec![0.0; 2 * mesh.nodes.len()];
     for p in &sol.pins {

@@ -162,7 +162,10 @@ pub fn triangulate(loops: &[BoundaryLoop], spec: &MeshSpec) -> Result<Mesh> {
         tris.push(t);
     }
     if tris.is_empty() {
-        return Err(Error::numerical("disc mesh", "no triangles inside the outline"));
+        return Err(Error::numerical(
+            "disc mesh",
+            "no triangles inside the outline",
+        ));
     }
     // Renumber the corners that are used (refinement may leave vertices in excluded regions).
     let mut map = vec![usize::MAX; corner_nodes];

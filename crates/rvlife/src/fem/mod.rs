@@ -291,15 +291,13 @@ impl FemConfig {
                 root_mm,
                 "mm",
             )? * 0.5e-3;
-            let pc = self
-                .output_pin_circle_radius_mm
-                .unwrap_or(circle * 1e3);
+            let pc = self.output_pin_circle_radius_mm.unwrap_or(circle * 1e3);
             let pc = range("output_pin_circle_radius_mm", pc, 0.0, root_mm, "mm")? * 1e-3;
             let phase = self
                 .output_pin_hole_phase_deg
                 .unwrap_or(180.0 / n_holes as f64);
-            let phase = range("output_pin_hole_phase_deg", phase, -360.0, 360.0, "deg")?
-                .to_radians();
+            let phase =
+                range("output_pin_hole_phase_deg", phase, -360.0, 360.0, "deg")?.to_radians();
             for k in 0..n_holes {
                 let a = phase + TAU * k as f64 / n_holes as f64;
                 holes.push(Hole {
@@ -547,7 +545,9 @@ impl DiscModel {
             .map(|g| {
                 let t = model.station_t[g % m] + TAU * (g / m) as f64;
                 let pp = profile.point(t);
-                model.fe.reduce_sparse(&model.patch_load(&pp.p, &(-pp.normal)))
+                model
+                    .fe
+                    .reduce_sparse(&model.patch_load(&pp.p, &(-pp.normal)))
             })
             .collect();
         model.compliance = condense(&model.fe, &loads);
