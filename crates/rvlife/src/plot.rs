@@ -424,20 +424,7 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
                 ("lost motion", RED, |s| s.lost_motion_arcmin),
                 ("loaded TE mean", GREEN, |s| s.loaded_te_mean_arcmin),
             ];
-            for (label, c, f) in &lines {
-                let c = *c;
-                chart
-                    .draw_series(LineSeries::new(
-                        sums.iter().map(|s| (s.hours, f(s))),
-                        c.stroke_width(2),
-                    ))?
-                    .label(*label)
-                    .legend(legend_line(c));
-                chart.draw_series(
-                    sums.iter()
-                        .map(|s| Circle::new((s.hours, f(s)), 4, c.filled())),
-                )?;
-            }
+            stage_lines(&mut chart, &sums, &lines)?;
             if sums.iter().all(|s| s.dte_mean_arcmin.is_some()) {
                 let c = MAGENTA;
                 chart
@@ -488,6 +475,36 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
     Ok(())
 }
 
+/// Draws one labelled line with markers per `(label, colour, value)` against the stages' hours.
+fn stage_lines<DB: DrawingBackend>(
+    chart: &mut ChartContext<
+        '_,
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    sums: &[crate::study::StageSummary],
+    lines: &[(&str, RGBColor, StageValue)],
+) -> std::result::Result<(), Box<dyn std::error::Error>>
+where
+    DB::ErrorType: 'static,
+{
+    for (label, c, f) in lines {
+        let c = *c;
+        chart
+            .draw_series(LineSeries::new(
+                sums.iter().map(|s| (s.hours, f(s))),
+                c.stroke_width(2),
+            ))?
+            .label(*label)
+            .legend(legend_line(c));
+        chart.draw_series(
+            sums.iter()
+                .map(|s| Circle::new((s.hours, f(s)), 4, c.filled())),
+        )?;
+    }
+    Ok(())
+}
+
 /// Rigid against flexible TE over working hours (the paper's Fig. 19b): rigid STE, flexible
 /// STE at the measuring torque, rigid and flexible loaded TE at the rated torque, written to
 /// `flexible_te_hours.{svg,png}`.
@@ -495,7 +512,7 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
 /// # Errors
 /// [`Error::Io`] if a file cannot be written.
 pub fn flexible_te_hours(study: &Study, dir: &Path) -> Result<()> {
-    let sums: Vec<&crate::study::StageSummary> = study.stages.iter().map(|s| &s.summary).collect();
+    let sums: Vec<_> = study.stages.iter().map(|s| s.summary.clone()).collect();
     let lines: [(&str, RGBColor, StageValue); 4] = [
         ("rigid STE mean (no load)", BLUE, |s| s.ste_mean_arcmin),
         ("flexible STE mean (measuring torque)", CYAN, |s| {
@@ -531,20 +548,7 @@ pub fn flexible_te_hours(study: &Study, dir: &Path) -> Result<()> {
                 .x_desc("working hours (h)")
                 .y_desc("TE (arcmin)")
                 .draw()?;
-            for (label, c, f) in &lines {
-                let c = *c;
-                chart
-                    .draw_series(LineSeries::new(
-                        sums.iter().map(|s| (s.hours, f(s))),
-                        c.stroke_width(2),
-                    ))?
-                    .label(*label)
-                    .legend(legend_line(c));
-                chart.draw_series(
-                    sums.iter()
-                        .map(|s| Circle::new((s.hours, f(s)), 4, c.filled())),
-                )?;
-            }
+            stage_lines(&mut chart, &sums, &lines)?;
             chart
                 .configure_series_labels()
                 .position(SeriesLabelPosition::UpperLeft)

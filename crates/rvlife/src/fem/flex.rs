@@ -21,7 +21,7 @@ use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::contact::{first_contact, pin_geometry, solve, ApproachLaw, ContactModel, PinGeometry};
+use crate::contact::{pin_geometry, solve, ApproachLaw, ContactModel, PinGeometry};
 use crate::error::{Error, Result};
 use crate::fem::mesh::LoopKind;
 use crate::fem::{outline_radii, DiscModel};
@@ -105,6 +105,8 @@ pub struct FlexSolution {
     pub disc_rotation: f64,
     /// The rigid disc's rotation under the same torque, rad.
     pub rigid_rotation: f64,
+    /// Rotation at first contact without load (the rigid STE), rad.
+    pub first_contact_rotation: f64,
     /// Pins that carry a force.
     pub pins: Vec<FlexPin>,
 }
@@ -149,6 +151,7 @@ pub fn solve_flexible(
             disc_torque,
             disc_rotation: rigid.disc_rotation,
             rigid_rotation: rigid.disc_rotation,
+            first_contact_rotation: rigid.first_contact_rotation,
             pins: Vec::new(),
         });
     }
@@ -262,6 +265,7 @@ pub fn solve_flexible(
         disc_torque,
         disc_rotation: beta,
         rigid_rotation: rigid.disc_rotation,
+        first_contact_rotation: rigid.first_contact_rotation,
         pins,
     })
 }
@@ -381,18 +385,16 @@ pub fn analyse_stage(
     let n = disc.params.crank_angles;
     let phis: Vec<f64> = (0..n).map(|k| TAU * k as f64 / n as f64).collect();
     let ste_torque = disc.params.ste_torque_fraction * rated_torque;
-    type Row = (f64, f64, FlexSolution, FlexSolution);
-    let rows: Vec<Row> = phis
+    let rows: Vec<(FlexSolution, FlexSolution)> = phis
         .par_iter()
-        .map(|&phi| -> Result<Row> {
-            let ste = first_contact(profile, phi, 1.0)?;
+        .map(|&phi| -> Result<(FlexSolution, FlexSolution)> {
             let lo = solve_flexible(profile, model, disc, phi, load_share * ste_torque)?;
             let hi = solve_flexible(profile, model, disc, phi, load_share * rated_torque)?;
-            Ok((ste, hi.rigid_rotation, lo, hi))
+            Ok((lo, hi))
         })
         .collect::<Result<_>>()?;
-    let flexible_ste: Vec<f64> = rows.iter().map(|r| r.2.disc_rotation).collect();
-    let flexible_loaded_te: Vec<f64> = rows.iter().map(|r| r.3.disc_rotation).collect();
+    let flexible_ste: Vec<f64> = rows.iter().map(|r| r.0.disc_rotation).collect();
+    let flexible_loaded_te: Vec<f64> = rows.iter().map(|r| r.1.disc_rotation).collect();
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
     let d_theta = mean(&flexible_loaded_te) - mean(&flexible_ste);
     let torsional_stiffness = if d_theta > 0.0 {
@@ -402,18 +404,18 @@ pub fn analyse_stage(
     };
     let worst = rows
         .iter()
-        .max_by(|a, b| a.3.max_force().total_cmp(&b.3.max_force()))
+        .max_by(|a, b| a.1.max_force().total_cmp(&b.1.max_force()))
         .expect("at least four crank angles");
-    let stress = disc_stress(profile, disc, &worst.3, rated_torque);
+    let stress = disc_stress(profile, disc, &worst.1, rated_torque);
     Ok(FlexibleStage {
         crank_angle: phis,
         ste_torque,
         rated_torque,
-        rigid_ste: rows.iter().map(|r| r.0).collect(),
-        rigid_loaded_te: rows.iter().map(|r| r.1).collect(),
+        rigid_ste: rows.iter().map(|r| r.1.first_contact_rotation).collect(),
+        rigid_loaded_te: rows.iter().map(|r| r.1.rigid_rotation).collect(),
         flexible_ste,
         flexible_loaded_te,
-        max_force: rows.iter().map(|r| r.3.max_force()).collect(),
+        max_force: rows.iter().map(|r| r.1.max_force()).collect(),
         torsional_stiffness,
         stress,
     })

@@ -2,7 +2,6 @@
 //! refinement (Ruppert-type refinement of the `spade` crate), then 6-node triangles with the
 //! mid-edge nodes of circular boundaries placed on the circle.
 
-use spade::handles::FixedVertexHandle;
 use spade::{
     AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation,
 };
@@ -148,7 +147,7 @@ pub fn triangulate(loops: &[BoundaryLoop], spec: &MeshSpec) -> Result<Mesh> {
         if excluded[f.fix().index()] {
             continue;
         }
-        let v = f.vertices().map(|v| index(v.fix()));
+        let v = f.vertices().map(|v| v.fix().index());
         let (a, b, c) = (nodes[v[0]], nodes[v[1]], nodes[v[2]]);
         let area = 0.5 * ((b - a).perp(&(c - a)));
         let t = if area > 0.0 {
@@ -225,10 +224,6 @@ pub fn triangulate(loops: &[BoundaryLoop], spec: &MeshSpec) -> Result<Mesh> {
         boundary,
         corner_nodes,
     })
-}
-
-fn index(h: FixedVertexHandle) -> usize {
-    h.index()
 }
 
 /// The loop a boundary point lies on: the circle it is on (relative tolerance 2e-2 of the

@@ -498,7 +498,8 @@ impl DiscModel {
     /// Meshing or solver failures ([`Error::Numerical`]).
     pub fn build(profile: &Profile, params: &FemParams) -> Result<DiscModel> {
         let t0 = std::time::Instant::now();
-        let mesh = disc_mesh(profile, params)?;
+        let (ts, ss) = arc_table(profile, 4000);
+        let mesh = mesh_with_arc_table(profile, params, &ts, &ss)?;
         let t1 = std::time::Instant::now();
         let spiders: Vec<Spider> = params
             .bores
@@ -508,7 +509,7 @@ impl DiscModel {
                 fixed: [Some(0.0), Some(0.0), None],
             })
             .collect();
-        let bc: Vec<NodeBc> = node_bcs(&mesh, &params.bores);
+        let bc: Vec<NodeBc> = node_bcs(&mesh);
         let outline_edges: Vec<usize> = (0..mesh.boundary.len())
             .filter(|&e| mesh.boundary[e].kind == LoopKind::Outline)
             .collect();
@@ -517,7 +518,6 @@ impl DiscModel {
         let teeth = profile.geometry().disc_teeth();
         let m = params.stations_per_flank;
         let (arc_t, arc_s) = {
-            let (ts, ss) = arc_table(profile, 4000);
             let half = ts.partition_point(|t| *t <= PI);
             (ts[..half].to_vec(), ss[..half].to_vec())
         };
@@ -671,7 +671,7 @@ impl DiscModel {
 }
 
 /// Node boundary conditions: nodes on crank bore `k` tied to spider `k`.
-fn node_bcs(mesh: &Mesh, bores: &[Hole]) -> Vec<NodeBc> {
+fn node_bcs(mesh: &Mesh) -> Vec<NodeBc> {
     let mut bc = vec![NodeBc::Free; mesh.nodes.len()];
     for e in &mesh.boundary {
         if let LoopKind::CrankBore(k) = e.kind {
@@ -680,15 +680,7 @@ fn node_bcs(mesh: &Mesh, bores: &[Hole]) -> Vec<NodeBc> {
             }
         }
     }
-    debug_assert!(bores.len() >= bc.iter().filter_map(spider_index).max().unwrap_or(0));
     bc
-}
-
-fn spider_index(b: &NodeBc) -> Option<usize> {
-    match b {
-        NodeBc::Spider(k) => Some(*k),
-        _ => None,
-    }
 }
 
 /// Compliance between the reduced loads `loads` (each a sparse vector over the equations):
@@ -732,12 +724,22 @@ fn condense(fe: &FeModel, loads: &[Vec<(usize, f64)>]) -> Vec<f64> {
 /// # Errors
 /// Meshing failures.
 pub fn disc_mesh(profile: &Profile, params: &FemParams) -> Result<Mesh> {
-    let teeth = profile.geometry().disc_teeth();
     let (ts, ss) = arc_table(profile, 4000);
+    mesh_with_arc_table(profile, params, &ts, &ss)
+}
+
+/// [`disc_mesh`] with the arc-length table of one tooth (`t`, `s`) already computed.
+fn mesh_with_arc_table(
+    profile: &Profile,
+    params: &FemParams,
+    ts: &[f64],
+    ss: &[f64],
+) -> Result<Mesh> {
+    let teeth = profile.geometry().disc_teeth();
     let tooth_len = *ss.last().expect("table");
     let per_tooth = (tooth_len / params.flank_size).ceil().max(8.0) as usize;
     let local: Vec<f64> = (0..per_tooth)
-        .map(|k| interp(&ss, &ts, tooth_len * k as f64 / per_tooth as f64))
+        .map(|k| interp(ss, ts, tooth_len * k as f64 / per_tooth as f64))
         .collect();
     let mut outline = Vec::with_capacity(teeth * per_tooth);
     for tooth in 0..teeth {
