@@ -9,10 +9,13 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rvlife::config::{Config, Model, EXAMPLE_TOML};
-use rvlife::contact::solve;
+use rvlife::reducer::statics::StaticAnalysis;
 use rvlife::export::{write_profile, ProfileFormat};
 use rvlife::geometry::{Profile, WearMap};
-use rvlife::te::{loaded_te, over_revolution, static_te, ARCMIN_PER_RAD};
+use rvlife::te::{
+    hysteresis, loaded_te, mesh_cycle_angles, over_revolution, CurveStats, StaticTe, TwistTable,
+    ARCMIN_PER_RAD,
+};
 use rvlife::{Error, Result};
 use serde_json::json;
 
@@ -55,14 +58,15 @@ enum Command {
         #[command(flatten)]
         wear: WearArgs,
     },
-    /// Solve the loaded tooth contact at one crank angle.
+    /// Static equilibrium of the reducer at one crank angle under an output torque (input
+    /// locked): pin forces on each disc, disc translations, twist.
     Contact {
         /// Config file (default: the built-in example).
         config: Option<PathBuf>,
         /// Crank angle, degrees (0: eccentric towards pin 0).
         #[arg(long, allow_hyphen_values = true)]
         crank_deg: f64,
-        /// Output torque of the reducer, N m (the disc carries load_share of it).
+        /// Torque on the output, N m (positive counter-clockwise).
         #[arg(long, allow_hyphen_values = true)]
         torque_nm: f64,
         /// Print one JSON object.
@@ -71,13 +75,31 @@ enum Command {
         #[command(flatten)]
         wear: WearArgs,
     },
-    /// Static transmission error and lost motion (and loaded TE with --torque-nm).
+    /// Static TE, backlash and lost motion over a mesh cycle (and loaded TE with --torque-nm).
     Te {
         /// Config file (default: the built-in example).
         config: Option<PathBuf>,
         /// Also the loaded TE at this output torque, N m.
         #[arg(long, allow_hyphen_values = true)]
         torque_nm: Option<f64>,
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        wear: WearArgs,
+    },
+    /// Hysteresis curve (output torque 0 -> +rated -> -rated -> +rated, input locked) with
+    /// backlash, lost motion, hysteresis loss and torsional stiffness.
+    Hysteresis {
+        /// Config file (default: the built-in example).
+        config: Option<PathBuf>,
+        /// Crank angle of the single-crank-angle curve, degrees (the mean over a mesh cycle is
+        /// always reported).
+        #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+        crank_deg: f64,
+        /// Torque levels per side beyond the measuring torque.
+        #[arg(long, default_value_t = 10)]
+        levels: u32,
         /// Print one JSON object.
         #[arg(long)]
         json: bool,
@@ -91,7 +113,8 @@ enum Command {
         /// Output load, overriding `[dynamics.load] kind` (its other keys still apply).
         #[arg(long, value_parser = ["none", "constant", "sinusoidal", "table"])]
         load: Option<String>,
-        /// Constant load torque, N m (with --load constant; default: rated torque).
+        /// Constant torque on the output, N m (with --load constant; default: rated torque;
+        /// positive counter-clockwise, a load resisting forward rotation is negative).
         #[arg(long, allow_hyphen_values = true)]
         torque_nm: Option<f64>,
         /// Results directory: `dynamics.csv`, `summary.json`, plots (created; must not exist or
@@ -176,6 +199,21 @@ fn profile_for(model: &Model, wear: &WearArgs, nominal: bool) -> Result<Profile>
     model.profile(map)
 }
 
+fn support_name(model: &Model) -> &'static str {
+    match model.reducer.support {
+        rvlife::reducer::Support::Bearings => "bearings",
+        rvlife::reducer::Support::Rigid { .. } => "rigid",
+    }
+}
+
+fn v_torque(t: &TwistTable) -> Vec<f64> {
+    t.curve().torque
+}
+
+fn v_twist(t: &TwistTable) -> Vec<f64> {
+    t.curve().twist.iter().map(|x| x * ARCMIN_PER_RAD).collect()
+}
+
 fn progress_bar(len: u64) -> ProgressBar {
     let pb = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
     pb.set_style(
@@ -215,29 +253,33 @@ fn run(cli: Cli) -> Result<()> {
                 out.display()
             );
             println!(
-                "{:>8} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9} {:>5}",
+                "{:>8} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9} {:>5} {:>6}",
                 "hours",
                 "wear_um",
                 "STE'",
                 "STE_pp'",
+                "backl'",
                 "LM'",
                 "loadTE'",
                 "Fmax_N",
                 "pmax_MPa",
-                "pins"
+                "pins",
+                "share"
             );
             for st in &s.stages {
                 println!(
-                    "{:>8.0} {:>9.2} {:>9.4} {:>9.4} {:>9.4} {:>10.4} {:>9.1} {:>9.1} {:>5}",
+                    "{:>8.0} {:>9.2} {:>9.4} {:>9.4} {:>9.4} {:>9.4} {:>10.4} {:>9.1} {:>9.1} {:>5} {:>6.3}",
                     st.hours,
                     st.max_wear_um,
                     st.ste_mean_arcmin,
                     st.ste_peak_to_peak_arcmin,
+                    st.backlash_arcmin,
                     st.lost_motion_arcmin,
                     st.loaded_te_mean_arcmin,
                     st.max_force_n,
                     st.max_pressure_mpa,
-                    st.pins_in_contact
+                    st.pins_in_contact,
+                    st.disc_load_share
                 );
             }
             println!(
@@ -277,73 +319,88 @@ fn run(cli: Cli) -> Result<()> {
             }
             let model = load_config(config.as_deref())?.validate()?;
             let profile = profile_for(&model, &wear, false)?;
-            let sol = solve(
-                &profile,
-                &model.contact,
-                crank_deg.to_radians(),
-                model.load_share * torque_nm,
-            )?;
-            let forces: Vec<f64> = sol.pins.iter().map(|p| p.force).collect();
-            let pins: Vec<_> = sol
-                .pins
+            let sa = StaticAnalysis::new(&model.reducer, &profile);
+            let sol = sa.solve(crank_deg.to_radians(), torque_nm)?;
+            let discs: Vec<_> = sol
+                .discs
                 .iter()
-                .map(|p| {
+                .map(|d| {
+                    let pins: Vec<_> = d
+                        .pins
+                        .iter()
+                        .map(|p| {
+                            json!({
+                                "pin": p.pin,
+                                "mesh_angle_deg": p.mesh_angle.to_degrees(),
+                                "gap_um": p.gap * 1e6,
+                                "force_n": p.force,
+                                "lever_arm_mm": p.lever_arm * 1e3,
+                                "half_width_um": p.half_width * 1e6,
+                                "max_pressure_mpa": p.max_pressure * 1e-6,
+                            })
+                        })
+                        .collect();
                     json!({
-                        "pin": p.pin,
-                        "mesh_angle_deg": p.mesh_angle.to_degrees(),
-                        "gap_um": p.gap * 1e6,
-                        "force_n": p.force,
-                        "lever_arm_mm": p.lever_arm * 1e3,
-                        "half_width_um": p.half_width * 1e6,
-                        "max_pressure_mpa": p.max_pressure * 1e-6,
+                        "translation_um": [d.translation.x * 1e6, d.translation.y * 1e6],
+                        "rotation_arcmin": d.rotation * ARCMIN_PER_RAD,
+                        "pin_moment_nm": d.torque,
+                        "max_force_n": d.max_force(),
+                        "pins_in_contact": d.pins_in_contact(),
+                        "pin_forces_n": d.pins.iter().map(|p| p.force).collect::<Vec<_>>(),
+                        "pins": pins,
                     })
                 })
                 .collect();
             let v = json!({
                 "crank_deg": crank_deg,
                 "torque_nm": torque_nm,
-                "disc_torque_nm": sol.disc_torque,
-                "disc_rotation_arcmin": sol.disc_rotation * ARCMIN_PER_RAD,
-                "first_contact_arcmin": sol.first_contact_rotation * ARCMIN_PER_RAD,
-                "pin_forces_n": forces,
+                "support": support_name(&model),
+                "twist_arcmin": sol.twist * ARCMIN_PER_RAD,
+                "first_contact_arcmin": sol.first_contact_twist * ARCMIN_PER_RAD,
                 "max_force_n": sol.max_force(),
                 "pins_in_contact": sol.pins_in_contact(),
                 "max_pressure_mpa": sol.max_pressure() * 1e-6,
-                "pin_moment_nm": sol.pin_moment(),
-                "torsional_stiffness_nm_per_arcmin":
-                    sol.torsional_stiffness() / model.load_share / ARCMIN_PER_RAD,
+                "torsional_stiffness_nm_per_arcmin": sol.stiffness / ARCMIN_PER_RAD,
+                "residual": sol.residual,
                 "max_wear_um": profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
-                "pins": pins,
+                "discs": discs,
             });
             if json {
                 println!("{v}");
             } else {
                 println!(
-                    "crank {crank_deg} deg, output torque {torque_nm} N m (disc {:.2} N m)",
-                    sol.disc_torque
-                );
-                println!(
-                    "disc rotation {:.5} arcmin (first contact {:.5}), {} pins in contact, max force {:.1} N, max pressure {:.1} MPa",
-                    sol.disc_rotation * ARCMIN_PER_RAD,
-                    sol.first_contact_rotation * ARCMIN_PER_RAD,
-                    sol.pins_in_contact(),
+                    "crank {crank_deg} deg, output torque {torque_nm} N m ({} support): twist {:.5} arcmin (first contact {:.5}), max force {:.1} N, max pressure {:.1} MPa, residual {:.1e}",
+                    support_name(&model),
+                    sol.twist * ARCMIN_PER_RAD,
+                    sol.first_contact_twist * ARCMIN_PER_RAD,
                     sol.max_force(),
-                    sol.max_pressure() * 1e-6
+                    sol.max_pressure() * 1e-6,
+                    sol.residual
                 );
-                println!(
-                    "{:>4} {:>10} {:>10} {:>10} {:>10} {:>10}",
-                    "pin", "mesh_deg", "gap_um", "force_N", "b_um", "p0_MPa"
-                );
-                for p in sol.pins.iter().filter(|p| p.force > 0.0) {
+                for (i, d) in sol.discs.iter().enumerate() {
                     println!(
-                        "{:>4} {:>10.3} {:>10.4} {:>10.2} {:>10.3} {:>10.1}",
-                        p.pin,
-                        p.mesh_angle.to_degrees(),
-                        p.gap * 1e6,
-                        p.force,
-                        p.half_width * 1e6,
-                        p.max_pressure * 1e-6
+                        "disc {}: pin moment {:.2} N m, translation ({:.3}, {:.3}) um, {} pins in contact",
+                        i + 1,
+                        d.torque,
+                        d.translation.x * 1e6,
+                        d.translation.y * 1e6,
+                        d.pins_in_contact()
                     );
+                    println!(
+                        "{:>4} {:>10} {:>10} {:>10} {:>10} {:>10}",
+                        "pin", "mesh_deg", "gap_um", "force_N", "b_um", "p0_MPa"
+                    );
+                    for p in d.pins.iter().filter(|p| p.force > 0.0) {
+                        println!(
+                            "{:>4} {:>10.3} {:>10.4} {:>10.2} {:>10.3} {:>10.1}",
+                            p.pin,
+                            p.mesh_angle.to_degrees(),
+                            p.gap * 1e6,
+                            p.force,
+                            p.half_width * 1e6,
+                            p.max_pressure * 1e-6
+                        );
+                    }
                 }
             }
         }
@@ -360,9 +417,24 @@ fn run(cli: Cli) -> Result<()> {
             }
             let model = load_config(config.as_deref())?.validate()?;
             let profile = profile_for(&model, &wear, false)?;
-            let ste = static_te(&profile, model.te_samples)?;
+            let red = &model.reducer;
+            let phis = mesh_cycle_angles(red.geometry.pins, model.te_samples);
+            let (tables, mean) = hysteresis(
+                red,
+                &profile,
+                &phis,
+                model.rated_torque,
+                model.measuring_torque_fraction,
+                1,
+            )?;
+            let ste = StaticTe {
+                crank_angle: phis,
+                forward: tables.iter().map(|t| t.positive[0]).collect(),
+                reverse: tables.iter().map(|t| -t.negative[0]).collect(),
+            };
             let st = ste.stats();
-            let lm = ste.lost_motion_stats();
+            let play = ste.backlash_stats();
+            let acc = mean.accuracy();
             let (input_deg, te) = over_revolution(
                 &ste.crank_angle,
                 &ste.forward,
@@ -372,23 +444,20 @@ fn run(cli: Cli) -> Result<()> {
             let te_arcmin: Vec<f64> = te.iter().map(|v| v * ARCMIN_PER_RAD).collect();
             let mut v = json!({
                 "max_wear_um": profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
+                "support": support_name(&model),
                 "te_mean_arcmin": st.mean * ARCMIN_PER_RAD,
                 "te_peak_to_peak_arcmin": st.peak_to_peak * ARCMIN_PER_RAD,
-                "te_reverse_mean_arcmin":
-                    rvlife::te::CurveStats::of(&ste.reverse).mean * ARCMIN_PER_RAD,
-                "lost_motion_arcmin": lm.max * ARCMIN_PER_RAD,
-                "lost_motion_mean_arcmin": lm.mean * ARCMIN_PER_RAD,
+                "te_reverse_mean_arcmin": CurveStats::of(&ste.reverse).mean * ARCMIN_PER_RAD,
+                "backlash_arcmin": acc.backlash * ARCMIN_PER_RAD,
+                "backlash_max_arcmin": play.max * ARCMIN_PER_RAD,
+                "lost_motion_arcmin": acc.lost_motion * ARCMIN_PER_RAD,
+                "measuring_torque_nm": model.measuring_torque_fraction * model.rated_torque,
+                "torsional_stiffness_nm_per_arcmin": acc.torsional_stiffness / ARCMIN_PER_RAD,
                 "samples_per_mesh_cycle": model.te_samples,
             });
             let mut loaded_summary = None;
             if let Some(t) = torque_nm {
-                let l = loaded_te(
-                    &profile,
-                    &model.contact,
-                    model.load_share,
-                    t,
-                    model.te_samples,
-                )?;
+                let l = loaded_te(red, &profile, t, model.te_samples)?;
                 let ls = l.stats();
                 let (_, lte) =
                     over_revolution(&l.crank_angle, &l.te, model.geometry.pins, model.ratio);
@@ -407,11 +476,13 @@ fn run(cli: Cli) -> Result<()> {
                 println!("{v}");
             } else {
                 println!(
-                    "STE mean {:.5} arcmin, peak-to-peak {:.5} arcmin; lost motion {:.5} arcmin (mean {:.5})",
+                    "STE mean {:.5} arcmin, peak-to-peak {:.5} arcmin; backlash {:.5} arcmin (largest {:.5}); lost motion {:.5} arcmin (+-{:.1} N m)",
                     st.mean * ARCMIN_PER_RAD,
                     st.peak_to_peak * ARCMIN_PER_RAD,
-                    lm.max * ARCMIN_PER_RAD,
-                    lm.mean * ARCMIN_PER_RAD
+                    acc.backlash * ARCMIN_PER_RAD,
+                    play.max * ARCMIN_PER_RAD,
+                    acc.lost_motion * ARCMIN_PER_RAD,
+                    model.measuring_torque_fraction * model.rated_torque
                 );
                 if let (Some(ls), Some(t)) = (loaded_summary, torque_nm) {
                     println!(
@@ -419,6 +490,101 @@ fn run(cli: Cli) -> Result<()> {
                         ls.mean * ARCMIN_PER_RAD,
                         ls.peak_to_peak * ARCMIN_PER_RAD
                     );
+                }
+            }
+        }
+        Command::Hysteresis {
+            config,
+            crank_deg,
+            levels,
+            json,
+            wear,
+        } => {
+            if !crank_deg.is_finite() {
+                return Err(Error::invalid(
+                    "--crank-deg",
+                    crank_deg,
+                    "must be a finite number",
+                ));
+            }
+            if !(1..=1000).contains(&levels) {
+                return Err(Error::invalid(
+                    "--levels",
+                    levels,
+                    "must be a whole number from 1 to 1000",
+                ));
+            }
+            let model = load_config(config.as_deref())?.validate()?;
+            let profile = profile_for(&model, &wear, false)?;
+            let red = &model.reducer;
+            let mut phis = mesh_cycle_angles(red.geometry.pins, model.te_samples);
+            phis.push(crank_deg.to_radians());
+            let (mut tables, mean) = hysteresis(
+                red,
+                &profile,
+                &phis,
+                model.rated_torque,
+                model.measuring_torque_fraction,
+                levels as usize,
+            )?;
+            let at_crank = tables.pop().expect("the crank angle's table");
+            let mean = {
+                // The mean over the mesh cycle only (not the extra crank angle).
+                let _ = mean;
+                TwistTable::mean_of(&tables)
+            };
+            let describe = |t: &TwistTable| {
+                let a = t.accuracy();
+                let c = t.curve();
+                json!({
+                    "torque_nm": c.torque,
+                    "twist_arcmin": c.twist.iter().map(|x| x * ARCMIN_PER_RAD).collect::<Vec<_>>(),
+                    "backlash_arcmin": a.backlash * ARCMIN_PER_RAD,
+                    "lost_motion_arcmin": a.lost_motion * ARCMIN_PER_RAD,
+                    "hysteresis_loss_arcmin": a.hysteresis_loss * ARCMIN_PER_RAD,
+                    "torsional_stiffness_nm_per_arcmin": a.torsional_stiffness / ARCMIN_PER_RAD,
+                })
+            };
+            let v = json!({
+                "max_wear_um": profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
+                "support": support_name(&model),
+                "rated_torque_nm": model.rated_torque,
+                "measuring_torque_fraction": model.measuring_torque_fraction,
+                "torsional_stiffness_definition": "b/a: (rated - measuring torque) over the mean twist of the two loading branches between them",
+                "crank_deg": crank_deg,
+                "at_crank_angle": describe(&at_crank),
+                "mesh_cycle_mean": describe(&mean),
+                "samples_per_mesh_cycle": model.te_samples,
+                "torque_nm": v_torque(&mean),
+                "twist_arcmin": v_twist(&mean),
+                "backlash_arcmin": mean.accuracy().backlash * ARCMIN_PER_RAD,
+                "lost_motion_arcmin": mean.accuracy().lost_motion * ARCMIN_PER_RAD,
+                "hysteresis_loss_arcmin": mean.accuracy().hysteresis_loss * ARCMIN_PER_RAD,
+                "torsional_stiffness_nm_per_arcmin": mean.accuracy().torsional_stiffness / ARCMIN_PER_RAD,
+            });
+            if json {
+                println!("{v}");
+            } else {
+                let a = mean.accuracy();
+                let b = at_crank.accuracy();
+                println!(
+                    "mean over a mesh cycle: backlash {:.5} arcmin, lost motion {:.5} arcmin (+-{:.1} N m), hysteresis loss {:.5} arcmin, torsional stiffness {:.1} N m/arcmin (b/a)",
+                    a.backlash * ARCMIN_PER_RAD,
+                    a.lost_motion * ARCMIN_PER_RAD,
+                    model.measuring_torque_fraction * model.rated_torque,
+                    a.hysteresis_loss * ARCMIN_PER_RAD,
+                    a.torsional_stiffness / ARCMIN_PER_RAD
+                );
+                println!(
+                    "at crank {crank_deg} deg: backlash {:.5} arcmin, lost motion {:.5} arcmin, torsional stiffness {:.1} N m/arcmin",
+                    b.backlash * ARCMIN_PER_RAD,
+                    b.lost_motion * ARCMIN_PER_RAD,
+                    b.torsional_stiffness / ARCMIN_PER_RAD
+                );
+                println!("{:>12} {:>14}", "torque_N_m", "twist_arcmin");
+                let c = mean.curve();
+                for (t, x) in c.torque.iter().zip(&c.twist) {
+                    println!("{:>12.3} {:>14.6}", t, x * ARCMIN_PER_RAD);
                 }
             }
         }
@@ -452,7 +618,7 @@ fn run(cli: Cli) -> Result<()> {
             }
             let profile = profile_for(&model, &wear, false)?;
             let start = std::time::Instant::now();
-            let res = rvlife::dynamics::simulate(&profile, &model.dynamics, pin_forces)?;
+            let res = rvlife::reducer::dynamics::simulate(&profile, &model.dynamics, pin_forces)?;
             let wall = start.elapsed().as_secs_f64();
             if let Some(dir) = &out {
                 rvlife::report::write_dynamics(&res, dir, force)?;

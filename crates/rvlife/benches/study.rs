@@ -41,7 +41,7 @@ fn benches(c: &mut Criterion) {
         .sample_size(10)
         .measurement_time(Duration::from_secs(40));
     group.bench_function("simulate_0p8s_10um_sinusoidal", |b| {
-        b.iter(|| rvlife::dynamics::simulate(black_box(&worn10), &model.dynamics, false).unwrap())
+        b.iter(|| rvlife::reducer::dynamics::simulate(black_box(&worn10), &model.dynamics, false).unwrap())
     });
     group.finish();
     let mut group = c.benchmark_group("fem");

@@ -80,11 +80,21 @@ pub struct ContactModel {
     pub width: f64,
     /// Pin radius `rrp`, m.
     pub pin_radius: f64,
-    /// Cap on the disc's radius of curvature in the approach law and the reduced radius, m.
-    /// Near the inflection of the profile (mesh angle about 35 deg) the flank is nearly flat and
-    /// the 2D approach `ln(4 rho / b)` has no finite limit; the cap (default: the pin circle
-    /// radius, the size of the disc) stands for the finite body.
+    /// Cap on the disc's radius of curvature in the reduced radius (and, with
+    /// `disc_depth = None`, in the disc term of the approach law), m. Near the inflection of the
+    /// profile (mesh angle about 35 deg) the flank is nearly flat and the 2D approach
+    /// `ln(4 rho / b)` has no finite limit; the cap (default: the pin circle radius, the size of
+    /// the disc) stands for the finite body.
     pub max_radius: f64,
+    /// Reference depth `d` of the disc term of the approach law, `C1 (c0 + ln(4 d / b))`, m.
+    /// `Some(d)`: the same depth at every flank point (default `d = Rp`: the approach of the
+    /// flank relative to the disc body at the scale of the disc, where the bearings hold it), so
+    /// that concave, flat and convex flanks differ only through the Hertz half-width. `None`:
+    /// the paper's eq 6 as printed, the local flank radius of curvature (capped at
+    /// `max_radius`): concave root contacts (radius about 3-5 mm) come out about 65 % stiffer in
+    /// the disc term than mid-flank ones (capped at 64 mm), which is an artefact of the 2D
+    /// half-space reference, not a property of the disc.
+    pub disc_depth: Option<f64>,
 }
 
 /// Hertz quantities of one loaded contact.
@@ -140,12 +150,55 @@ impl ContactModel {
             ApproachLaw::Johnson => -0.5,
             _ => 1.0 / 3.0,
         };
-        let rho = if disc_curvature.abs() < 1.0 / self.max_radius {
-            self.max_radius
-        } else {
-            1.0 / disc_curvature.abs()
+        let rho = match self.disc_depth {
+            Some(d) => d,
+            None if disc_curvature.abs() < 1.0 / self.max_radius => self.max_radius,
+            None => 1.0 / disc_curvature.abs(),
         };
         (c0, rho, self.pin_radius)
+    }
+
+    /// Coefficients `(g0, g1)` of the logarithmic laws written as `delta = F (g0 - g1 ln F)`
+    /// (F in N, delta in m), on a flank of curvature `disc_curvature`; `None` for the linear
+    /// law.
+    fn log_coefficients(&self, disc_curvature: f64) -> Option<(f64, f64)> {
+        if let ApproachLaw::Linear { .. } = self.law {
+            return None;
+        }
+        let pi = std::f64::consts::PI;
+        let (c0, rho, rp) = self.log_law_terms(disc_curvature);
+        let (c1, c2) = self.materials.compliances();
+        let r = self.reduced_radius(disc_curvature);
+        let e = self.materials.contact_modulus();
+        // b = sqrt(cb F); ln(4R/b) = ln(4R) - ln(cb)/2 - ln(F)/2.
+        let cb = 4.0 * r / (pi * self.width * e);
+        let k = 2.0 / (pi * self.width);
+        let g0 = k
+            * (c1 * (c0 + (4.0 * rho).ln() - 0.5 * cb.ln())
+                + c2 * (c0 + (4.0 * rp).ln() - 0.5 * cb.ln()));
+        let g1 = 0.5 * k * (c1 + c2);
+        Some((g0, g1))
+    }
+
+    /// Elastic energy `int_0^delta F d(delta)` (J) stored in the contact at approach `delta` (m):
+    /// for the logarithmic laws, with `delta = F (g0 - g1 ln F)`, exactly
+    /// `F^2/2 (g0 - g1/2 - g1 ln F)`; `k delta^2 / 2` for the linear law. Zero for
+    /// `delta <= 0`.
+    ///
+    /// # Errors
+    /// As [`ContactModel::force`].
+    pub fn potential(&self, delta: f64, disc_curvature: f64) -> Result<f64> {
+        if delta <= 0.0 {
+            return Ok(0.0);
+        }
+        if let ApproachLaw::Linear { stiffness } = self.law {
+            return Ok(0.5 * stiffness * delta * delta);
+        }
+        let (f, _) = self.force(delta, disc_curvature)?;
+        let (g0, g1) = self
+            .log_coefficients(disc_curvature)
+            .expect("logarithmic law");
+        Ok(0.5 * f * f * (g0 - 0.5 * g1 - g1 * f.ln()))
     }
 
     /// Approach `delta` (m) of the force `force` (N) on a flank of curvature `disc_curvature`.
@@ -177,21 +230,37 @@ impl ContactModel {
         if let ApproachLaw::Linear { stiffness } = self.law {
             return Ok((stiffness * delta, stiffness));
         }
-        let pi = std::f64::consts::PI;
-        let (c0, rho, rp) = self.log_law_terms(disc_curvature);
-        let (c1, c2) = self.materials.compliances();
-        let r = self.reduced_radius(disc_curvature);
-        let e = self.materials.contact_modulus();
-        // b = sqrt(cb F); ln(4R/b) = ln(4R) - ln(cb)/2 - u/2 with u = ln F.
-        let cb = 4.0 * r / (pi * self.width * e);
-        let k = 2.0 / (pi * self.width);
-        let g0 = k
-            * (c1 * (c0 + (4.0 * rho).ln() - 0.5 * cb.ln())
-                + c2 * (c0 + (4.0 * rp).ln() - 0.5 * cb.ln()));
-        let g1 = 0.5 * k * (c1 + c2);
-        // delta = e^u (g0 - g1 u); solve ln delta = u + ln(g0 - g1 u).
+        self.force_from(delta, disc_curvature, f64::NAN)
+    }
+
+    /// [`ContactModel::force`] with a starting guess `f_guess` (N) for the Newton iteration (a
+    /// warm start from the previous force of the same contact; ignored if not positive).
+    ///
+    /// # Errors
+    /// As [`ContactModel::force`].
+    pub fn force_from(
+        &self,
+        delta: f64,
+        disc_curvature: f64,
+        f_guess: f64,
+    ) -> Result<(f64, f64)> {
+        if delta <= 0.0 {
+            return Ok((0.0, 0.0));
+        }
+        if let ApproachLaw::Linear { stiffness } = self.law {
+            return Ok((stiffness * delta, stiffness));
+        }
+        let (g0, g1) = self
+            .log_coefficients(disc_curvature)
+            .expect("logarithmic law");
+        // delta = e^u (g0 - g1 u) with u = ln F; solve ln delta = u + ln(g0 - g1 u).
         let target = delta.ln();
-        let mut u = (delta / (g0 - g1 * 10.0_f64.ln()).max(1e-30)).ln();
+        let cold = (delta / (g0 - g1 * 10.0_f64.ln()).max(1e-30)).ln();
+        let mut u = if f_guess > 0.0 && g0 - g1 * f_guess.ln() > 2.0 * g1 {
+            f_guess.ln()
+        } else {
+            cold
+        };
         for _ in 0..60 {
             let g = g0 - g1 * u;
             if g <= g1 {
@@ -250,33 +319,77 @@ pub fn disc_pose(geo: &CycloidGeometry, phi: f64, beta: f64) -> (Vec2, f64) {
     (centre, -phi / zc + beta)
 }
 
-fn pin_centre_in_disc(profile: &Profile, j: usize, phi: f64, beta: f64) -> (Vec2, f64) {
-    let g = profile.geometry();
-    let (centre, psi) = disc_pose(g, phi, beta);
-    let q = rotate(&(g.pin_centre(j) - centre), -psi);
-    (q, psi)
+/// Pose of a disc in the pin-ring frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DiscPose {
+    /// Crank angle `phi` whose kinematics the pose is near (rad): it gives the kinematic guess
+    /// of every contact parameter ([`Profile::contact_parameter_guess`]).
+    pub crank_angle: f64,
+    /// Disc centre, m.
+    pub centre: Vec2,
+    /// Angle of the profile frame, rad (counter-clockwise).
+    pub angle: f64,
 }
 
-/// Measures pin `j` against the actual profile for crank angle `phi` (rad, direction of the
-/// eccentric in the pin-ring frame) and extra disc rotation `beta` (rad). The projection starts
-/// from the kinematic guess of the contact parameter, so the result depends on the pose only.
+impl DiscPose {
+    /// The pose of crank angle `phi` turned by `beta` beyond nominal ([`disc_pose`]).
+    pub fn at(geo: &CycloidGeometry, phi: f64, beta: f64) -> Self {
+        let (centre, angle) = disc_pose(geo, phi, beta);
+        DiscPose {
+            crank_angle: phi,
+            centre,
+            angle,
+        }
+    }
+
+    /// Centre of pin `j` in the profile frame, m.
+    pub fn pin_in_disc(&self, geo: &CycloidGeometry, j: usize) -> Vec2 {
+        rotate(&(geo.pin_centre(j) - self.centre), -self.angle)
+    }
+}
+
+/// Measures pin `j` against the actual profile at disc pose `pose`: the global closest point
+/// within the search window ([`Profile::project`]), or, with `hint = Some(t)` (the contact
+/// parameter found at a nearby pose, rad), a warm-started local search that falls back to the
+/// global one when the foot leaves its bracket.
 ///
 /// # Errors
 /// [`Error::Numerical`] if the projection fails.
-pub fn pin_geometry(profile: &Profile, j: usize, phi: f64, beta: f64) -> Result<PinGeometry> {
-    let (q, psi) = pin_centre_in_disc(profile, j, phi, beta);
-    let t0 = profile.contact_parameter_guess(j, phi, psi);
-    let proj = profile.project(&q, t0)?;
+pub fn pin_at_pose(
+    profile: &Profile,
+    j: usize,
+    pose: &DiscPose,
+    hint: Option<f64>,
+) -> Result<PinGeometry> {
+    let geo = profile.geometry();
+    let q = pose.pin_in_disc(geo, j);
+    let proj = match hint.and_then(|t| profile.project_near(&q, t)) {
+        Some(p) => p,
+        None => {
+            let t0 = profile.contact_parameter_guess(j, pose.crank_angle, pose.angle);
+            profile.project(&q, t0)?
+        }
+    };
     let pt = proj.point;
     Ok(PinGeometry {
         pin: j,
         t: pt.t,
-        gap: proj.distance - profile.geometry().pin_radius,
+        gap: proj.distance - geo.pin_radius,
         lever_arm: cross(&pt.p, &pt.normal),
         point: pt.p,
         normal: pt.normal,
         curvature: profile.macro_curvature(pt.t),
     })
+}
+
+/// Measures pin `j` against the actual profile for crank angle `phi` (rad, direction of the
+/// eccentric in the pin-ring frame) and extra disc rotation `beta` (rad), the disc centre on the
+/// eccentric: [`pin_at_pose`] with the global search.
+///
+/// # Errors
+/// [`Error::Numerical`] if the projection fails.
+pub fn pin_geometry(profile: &Profile, j: usize, phi: f64, beta: f64) -> Result<PinGeometry> {
+    pin_at_pose(profile, j, &DiscPose::at(profile.geometry(), phi, beta), None)
 }
 
 /// Geometry of every pin at one pose (see [`pin_geometry`]), in pin order.
@@ -286,27 +399,24 @@ pub fn pin_geometries(profile: &Profile, phi: f64, beta: f64) -> Result<Vec<PinG
         .collect()
 }
 
-/// Smallest lever arm (relative to `a Zc`) for which a pin can stop the disc in the first-contact
-/// (STE) search. A pin at the very tooth root or tip (lever below 2 % of `a Zc`, mesh angle within
-/// about 1 degree of 0 or 180) meets the flank almost radially: rigidly it would block at a
-/// penetration of order `l^2 / R`, far below any elastic approach, so it cannot hold the disc.
-/// The loaded contact includes these pins with their (tiny) moments.
-const MIN_RELATIVE_LEVER: f64 = 0.02;
-
 /// Extra disc rotation (rad) at which the disc first touches a pin when turned from the nominal
 /// position in direction `direction` (+1: counter-clockwise, the flank `0 < mesh angle < pi`;
 /// -1: clockwise), for crank angle `phi`. Zero for an unmodified, unworn disc.
 ///
-/// Solved exactly on the actual profile: from the linear estimates `gap_j / l_j`, each nearby
-/// candidate's own touching rotation is solved, then every driving pin is checked at the result
-/// (a pin that closes faster than linearly can touch first). Pins with a lever arm below 2 % of
-/// `a Zc` at the nominal pose are left out (see `MIN_RELATIVE_LEVER`).
+/// This is the fixed-crank, single-disc view of the flexible-disc analysis; the reducer's own
+/// static TE, along the locked-input mode over both discs, is
+/// [`crate::reducer::statics::StaticAnalysis::first_contact`].
+///
+/// Solved exactly on the actual profile: from the linear estimates `gap_j / l_j` over every pin
+/// that closes in this direction (no lever-arm cut-off), each nearby candidate's own touching
+/// rotation is solved, then every pin is checked at the result (a pin that closes faster than
+/// linearly can touch first).
 ///
 /// # Errors
 /// [`Error::Numerical`] if no pin can stop the disc or a projection fails.
 pub fn first_contact(profile: &Profile, phi: f64, direction: f64) -> Result<f64> {
     let s = direction.signum();
-    let lmin = MIN_RELATIVE_LEVER * profile.geometry().disc_pitch_radius();
+    let lmin = 0.0;
     let geoms = pin_geometries(profile, phi, 0.0)?;
     let mut beta = geoms
         .iter()
@@ -589,7 +699,8 @@ fn equilibrium(
     Ok(beta0 + s * x)
 }
 
-/// Solves the loaded tooth contact of one disc at crank angle `phi` (rad) under the disc torque
+/// Solves the loaded tooth contact of one disc, its centre fixed on the eccentric at crank
+/// angle `phi` (rad), under the disc torque
 /// `disc_torque` (N m, = load share x output torque; sign gives the flank): finds the extra
 /// rotation `beta` with `sum_j F_j(delta_j(beta)) l_j(beta) = T_disc`, `delta_j = -gap_j`
 /// measured exactly on the actual profile (physics-notes section 4), by Brent's method
@@ -664,13 +775,26 @@ pub fn solve(
             stiffness: k,
         });
     }
-    Ok(ContactSolution {
+    let sol = ContactSolution {
         crank_angle: phi,
         disc_torque,
         disc_rotation: beta,
         first_contact_rotation: beta0,
         pins,
-    })
+    };
+    let residual = (sol.pin_moment() - disc_torque).abs();
+    if disc_torque != 0.0 && !(residual <= 1e-9 * disc_torque.abs()) {
+        return Err(Error::numerical(
+            "loaded contact",
+            format!(
+                "the moment balance is off by {:.3e} of the disc torque {disc_torque:.6e} N m \
+                 at crank angle {:.4} deg",
+                residual / disc_torque.abs(),
+                phi.to_degrees()
+            ),
+        ));
+    }
+    Ok(sol)
 }
 
 /// Li Lixing's closed-form load distribution (physics-notes section 4, paper eqs 5, 9, 10) for

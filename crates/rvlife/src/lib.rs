@@ -14,12 +14,13 @@
 
 pub mod config;
 pub mod contact;
-pub mod dynamics;
+
 pub mod error;
 pub mod export;
 pub mod fem;
 pub mod geometry;
 pub mod plot;
+pub mod reducer;
 pub mod report;
 pub mod study;
 pub mod te;

@@ -92,7 +92,8 @@ fn series_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 }
 
 /// Writes every plot of the study into `dir`: `profile_wear`, `wear`, `load`, `te`,
-/// `te_hours` (each as SVG and PNG).
+/// `te_hours`, `hysteresis` (each as SVG and PNG), and with the flexible disc
+/// `flexible_te_hours` and `von_mises`.
 ///
 /// # Errors
 /// [`Error::Io`] if a file cannot be written.
@@ -237,7 +238,7 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
             let mut chart = ChartBuilder::on(root)
                 .caption(
                     format!(
-                        "Pin forces at {:.0} N m, crank angle of the largest force",
+                        "Pin forces on disc 1 at {:.0} N m, crank angle of the largest force",
                         study.model.loaded_torque
                     ),
                     ("sans-serif", 26),
@@ -254,9 +255,10 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
             for (i, s) in study.stages.iter().enumerate() {
                 let c = stage_color(i, n);
                 let w = s.loaded.worst();
+                let pins = &w.discs[0].pins;
                 chart
                     .draw_series(LineSeries::new(
-                        w.pins.iter().map(|p| (p.pin as f64, p.force)),
+                        pins.iter().map(|p| (p.pin as f64, p.force)),
                         c.stroke_width(2),
                     ))?
                     .label(format!(
@@ -266,8 +268,7 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
                     ))
                     .legend(legend_line(c));
                 chart.draw_series(
-                    w.pins
-                        .iter()
+                    pins.iter()
                         .map(|p| Circle::new((p.pin as f64, p.force), 3, c.filled())),
                 )?;
             }
@@ -393,6 +394,7 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
             [
                 s.ste_mean_arcmin,
                 s.lost_motion_arcmin,
+                s.backlash_arcmin,
                 s.loaded_te_mean_arcmin,
                 s.ste_mean_arcmin + s.ste_peak_to_peak_arcmin,
                 s.dte_range_arcmin.map_or(0.0, |r| r[1]),
@@ -407,7 +409,7 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
         |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
             let mut chart = ChartBuilder::on(root)
                 .caption(
-                    "Transmission error and lost motion against working hours",
+                    "Transmission error, backlash and lost motion against working hours",
                     ("sans-serif", 26),
                 )
                 .margin(15)
@@ -419,9 +421,10 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
                 .x_desc("working hours (h)")
                 .y_desc("arcmin")
                 .draw()?;
-            let lines: [(&str, RGBColor, StageValue); 3] = [
+            let lines: [(&str, RGBColor, StageValue); 4] = [
                 ("STE mean", BLUE, |s| s.ste_mean_arcmin),
-                ("lost motion", RED, |s| s.lost_motion_arcmin),
+                ("backlash", CYAN, |s| s.backlash_arcmin),
+                ("lost motion (+-3 % rated)", RED, |s| s.lost_motion_arcmin),
                 ("loaded TE mean", GREEN, |s| s.loaded_te_mean_arcmin),
             ];
             stage_lines(&mut chart, &sums, &lines)?;
@@ -452,6 +455,7 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
             Ok(())
         }
     )?;
+    hysteresis(study, dir)?;
     if study.stages.iter().all(|s| s.flexible.is_some()) {
         flexible_te_hours(study, dir)?;
         if let Some((fl, mesh)) = study.stages.last().and_then(|s| s.flexible.as_ref()) {
@@ -503,6 +507,63 @@ where
         )?;
     }
     Ok(())
+}
+
+/// `hysteresis.{svg,png}`: the hysteresis loop of every stage (twist against output torque,
+/// input locked, averaged over a mesh cycle), coloured by working hours.
+pub fn hysteresis(study: &Study, dir: &Path) -> Result<()> {
+    let n = study.stages.len();
+    let curves: Vec<(f64, Polyline)> = study
+        .stages
+        .iter()
+        .map(|s| {
+            let c = s.hysteresis.curve();
+            (
+                s.hours,
+                c.torque
+                    .iter()
+                    .zip(&c.twist)
+                    .map(|(t, x)| (*t, x * ARCMIN_PER_RAD))
+                    .collect(),
+            )
+        })
+        .collect();
+    let (y0, y1) = series_range(curves.iter().flat_map(|c| c.1.iter().map(|p| p.1)));
+    let t = study.model.rated_torque;
+    figure!(
+        dir,
+        "hysteresis",
+        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+            let mut chart = ChartBuilder::on(root)
+                .caption(
+                    "Hysteresis curves over working hours (input locked, mean over a mesh cycle)",
+                    ("sans-serif", 24),
+                )
+                .margin(15)
+                .x_label_area_size(45)
+                .y_label_area_size(65)
+                .build_cartesian_2d(-1.05 * t..1.05 * t, y0..y1)?;
+            chart
+                .configure_mesh()
+                .x_desc("output torque (N m)")
+                .y_desc("output twist (arcmin)")
+                .draw()?;
+            for (i, (h, pts)) in curves.iter().enumerate() {
+                let c = stage_color(i, n);
+                chart
+                    .draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?
+                    .label(format!("{h:.0} h"))
+                    .legend(legend_line(c));
+            }
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::LowerRight)
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .draw()?;
+            Ok(())
+        }
+    )
 }
 
 /// Rigid against flexible TE over working hours (the paper's Fig. 19b): rigid STE, flexible
@@ -683,9 +744,9 @@ where
 ///
 /// # Errors
 /// [`Error::Io`] if a file cannot be written.
-pub fn dynamics(res: &crate::dynamics::DynamicsResult, dir: &Path) -> Result<()> {
+pub fn dynamics(res: &crate::reducer::dynamics::DynamicsResult, dir: &Path) -> Result<()> {
     let s = &res.samples;
-    let line = |f: fn(&crate::dynamics::Sample) -> f64| -> Polyline {
+    let line = |f: fn(&crate::reducer::dynamics::Sample) -> f64| -> Polyline {
         s.iter().map(|x| (x.time_s, f(x))).collect()
     };
     let speeds = [

@@ -71,19 +71,23 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
         "ste_mean_arcmin",
         "ste_peak_to_peak_arcmin",
         "ste_reverse_mean_arcmin",
+        "backlash_arcmin",
+        "backlash_max_arcmin",
         "lost_motion_arcmin",
-        "lost_motion_mean_arcmin",
+        "hysteresis_loss_arcmin",
         "loaded_te_mean_arcmin",
         "loaded_te_peak_to_peak_arcmin",
         "max_force_n",
         "max_pressure_mpa",
         "pins_in_contact",
         "pins_in_contact_max",
+        "disc_load_share",
         "torsional_stiffness_nm_per_arcmin",
+        "tangent_stiffness_nm_per_arcmin",
         "dte_mean_arcmin",
         "dte_peak_to_peak_arcmin",
         "dte_rms_arcmin",
-        "rigid_torsional_stiffness_nm_per_arcmin",
+        "flexible_torsional_stiffness_nm_per_arcmin",
         "flexible_ste_mean_arcmin",
         "flexible_ste_peak_to_peak_arcmin",
         "flexible_loaded_te_mean_arcmin",
@@ -105,19 +109,23 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
                 f(s.ste_mean_arcmin),
                 f(s.ste_peak_to_peak_arcmin),
                 f(s.ste_reverse_mean_arcmin),
+                f(s.backlash_arcmin),
+                f(s.backlash_max_arcmin),
                 f(s.lost_motion_arcmin),
-                f(s.lost_motion_mean_arcmin),
+                f(s.hysteresis_loss_arcmin),
                 f(s.loaded_te_mean_arcmin),
                 f(s.loaded_te_peak_to_peak_arcmin),
                 f(s.max_force_n),
                 f(s.max_pressure_mpa),
                 s.pins_in_contact.to_string(),
                 s.pins_in_contact_max.to_string(),
+                f(s.disc_load_share),
                 f(s.torsional_stiffness_nm_per_arcmin),
+                f(s.tangent_stiffness_nm_per_arcmin),
                 opt(s.dte_mean_arcmin),
                 opt(s.dte_peak_to_peak_arcmin),
                 opt(s.dte_rms_arcmin),
-                f(s.rigid_torsional_stiffness_nm_per_arcmin),
+                opt(s.flexible_torsional_stiffness_nm_per_arcmin),
                 opt(s.flexible_ste_mean_arcmin),
                 opt(s.flexible_ste_peak_to_peak_arcmin),
                 opt(s.flexible_loaded_te_mean_arcmin),
@@ -152,7 +160,7 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
         "input_deg",
         "ste_forward_arcmin",
         "ste_reverse_arcmin",
-        "lost_motion_arcmin",
+        "backlash_arcmin",
         "loaded_te_arcmin",
     ]
     .iter()
@@ -199,10 +207,25 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
         .collect();
     write_rows(&dir.join("te_revolution.csv"), &header, &rows)?;
 
+    // hysteresis.csv: the curve of every stage, averaged over a mesh cycle.
+    let header: Vec<String> = ["hours", "torque_nm", "twist_arcmin"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let mut rows = Vec::new();
+    for s in &study.stages {
+        let c = s.hysteresis.curve();
+        for (t, x) in c.torque.iter().zip(&c.twist) {
+            rows.push(vec![f(s.hours), f(*t), f(x * ARCMIN_PER_RAD)]);
+        }
+    }
+    write_rows(&dir.join("hysteresis.csv"), &header, &rows)?;
+
     // load.csv
     let header: Vec<String> = [
         "hours",
         "crank_deg",
+        "disc",
         "pin",
         "mesh_angle_deg",
         "gap_um",
@@ -217,10 +240,16 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
     let mut rows = Vec::new();
     for s in &study.stages {
         let w = s.loaded.worst();
-        for p in &w.pins {
+        for (d, p) in w
+            .discs
+            .iter()
+            .enumerate()
+            .flat_map(|(d, disc)| disc.pins.iter().map(move |p| (d, p)))
+        {
             rows.push(vec![
                 f(s.hours),
                 f(w.crank_angle.to_degrees()),
+                (d + 1).to_string(),
                 p.pin.to_string(),
                 f(p.mesh_angle.to_degrees()),
                 f(p.gap * 1e6),
@@ -304,14 +333,14 @@ pub fn write_study(study: &Study, out: &Path, replace: bool) -> Result<PathBuf> 
 }
 
 /// Writes a dynamic simulation's results directory all-or-nothing (like [`write_study`]):
-/// `summary.json` ([`crate::dynamics::DynamicsSummary`]), `dynamics.csv` (the time series),
+/// `summary.json` ([`crate::reducer::dynamics::DynamicsSummary`]), `dynamics.csv` (the time series),
 /// `pin_forces.csv` (if computed: `time_s`, `disc<d>_pin<j>_n`), and `plots/speeds` and
 /// `plots/te` (SVG and PNG).
 ///
 /// # Errors
 /// As [`write_study`].
 pub fn write_dynamics(
-    res: &crate::dynamics::DynamicsResult,
+    res: &crate::reducer::dynamics::DynamicsResult,
     out: &Path,
     replace: bool,
 ) -> Result<PathBuf> {

@@ -1,13 +1,13 @@
 //! The accuracy-life study: wear over working hours, and at every stage the worn profile, the
 //! static TE and lost motion, the loaded TE at the rated torque, and the contact loads.
 //!
-//! Pipeline (issue 2): [`crate::wear::integrate`] gives the wear map at each stage; each stage's
+//! Pipeline: [`crate::wear::integrate`] gives the wear map at each stage; each stage's
 //! profile is the modified profile with that map (or, in the paper's model, with a uniform
 //! equidistant offset equal to the maximum wear, paper section 3.1); [`crate::te`] gives STE,
-//! lost motion and loaded TE on it; with `[dynamics] enabled`, [`crate::dynamics::simulate`]
-//! gives the dynamic TE of the whole reducer with it (issue 3); with `[fem] enabled`,
+//! lost motion and loaded TE on it; with `[dynamics] enabled`, [`crate::reducer::dynamics::simulate`]
+//! gives the dynamic TE of the whole reducer with it; with `[fem] enabled`,
 //! [`crate::fem::flex::analyse_stage`] gives the flexible-disc TE, torsional stiffness and disc
-//! stress on a plane-stress FE model of the worn disc (issue 4).
+//! stress on a plane-stress FE model of the worn disc.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -15,13 +15,17 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::config::{Model, WearModelKind};
-use crate::dynamics::{simulate, DynamicsSummary};
+use crate::reducer::dynamics::{simulate, DynamicsSummary};
 use crate::error::Result;
 use crate::fem::flex::{analyse_stage, FlexibleStage};
 use crate::fem::mesh::Mesh;
 use crate::fem::DiscModel;
 use crate::geometry::{Profile, WearMap};
-use crate::te::{loaded_te, static_te, CurveStats, LoadedTe, StaticTe, ARCMIN_PER_RAD};
+use crate::error::Error;
+use crate::te::{
+    hysteresis, loaded_te, mesh_cycle_angles, CurveStats, LoadedTe, StaticTe, TwistTable,
+    ARCMIN_PER_RAD,
+};
 use crate::wear::{integrate, WearHistory};
 
 /// One stage of `summary.json` (engineering units in the names).
@@ -37,10 +41,17 @@ pub struct StageSummary {
     pub ste_peak_to_peak_arcmin: f64,
     /// Mean reverse-direction STE, arcmin.
     pub ste_reverse_mean_arcmin: f64,
-    /// Lost motion (largest play between the two directions over a revolution), arcmin.
+    /// Backlash: width of the hysteresis curve at zero torque (the play between the two
+    /// directions), mean over a mesh cycle, arcmin.
+    pub backlash_arcmin: f64,
+    /// Largest play over a mesh cycle, arcmin.
+    pub backlash_max_arcmin: f64,
+    /// Lost motion (catalogue): twist between the hysteresis curve's midpoints at `+-` the
+    /// measuring torque (3 % of rated), curve averaged over a mesh cycle, arcmin.
     pub lost_motion_arcmin: f64,
-    /// Mean lost motion over a revolution, arcmin.
-    pub lost_motion_mean_arcmin: f64,
+    /// Hysteresis loss: width of the loop at zero torque after loading to `+-` rated torque,
+    /// arcmin (equal to the backlash in this frictionless model).
+    pub hysteresis_loss_arcmin: f64,
     /// Mean loaded TE at the loaded-TE torque, arcmin.
     pub loaded_te_mean_arcmin: f64,
     /// Peak-to-peak loaded TE, arcmin.
@@ -49,18 +60,24 @@ pub struct StageSummary {
     pub max_force_n: f64,
     /// Largest Hertz pressure, MPa.
     pub max_pressure_mpa: f64,
-    /// Fewest pins in contact over a mesh cycle.
+    /// Fewest pins in contact on one disc over a mesh cycle.
     pub pins_in_contact: usize,
-    /// Most pins in contact over a mesh cycle.
+    /// Most pins in contact on one disc over a mesh cycle.
     pub pins_in_contact_max: usize,
-    /// Torsional stiffness of the cycloid stage at the output, N m/arcmin: with the flexible
-    /// disc on, the secant stiffness of the flexible model between the STE measuring torque and
-    /// the rated torque (mean TEs over a crank revolution); otherwise
-    /// `rigid_torsional_stiffness_nm_per_arcmin`.
+    /// Share of the output torque carried by disc 1 at the loaded-TE torque (moment of its pin
+    /// forces over the sum of both discs'), mean over a mesh cycle (the rigid support's fixed
+    /// `load_share` otherwise).
+    pub disc_load_share: f64,
+    /// Torsional stiffness `b/a` of the hysteresis curve (catalogue definition: the secant of
+    /// the loading branches between the measuring torque and the rated torque, mean of both
+    /// senses), N m/arcmin.
     pub torsional_stiffness_nm_per_arcmin: f64,
-    /// Mean tangent stiffness `sum k_j l_j^2 / load share` of the rigid disc's contact at the
-    /// loaded-TE torque, N m/arcmin.
-    pub rigid_torsional_stiffness_nm_per_arcmin: f64,
+    /// Mean tangent stiffness `dT/dpsi` at the loaded-TE torque, N m/arcmin.
+    pub tangent_stiffness_nm_per_arcmin: f64,
+    /// Secant torsional stiffness of the flexible-disc model between the STE measuring torque
+    /// and the rated torque (when the flexible disc is on), N m/arcmin.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flexible_torsional_stiffness_nm_per_arcmin: Option<f64>,
     /// Mean TE of the flexible disc at the STE measuring torque (`fem.ste_torque_fraction` of
     /// the rated torque) over a crank revolution, arcmin (when the flexible disc is on).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -112,12 +129,27 @@ pub struct Stage {
     pub ste: StaticTe,
     /// Loaded TE over a mesh cycle.
     pub loaded: LoadedTe,
+    /// Hysteresis twist table averaged over a mesh cycle.
+    pub hysteresis: TwistTable,
     /// Summary numbers.
     pub summary: StageSummary,
     /// Summary of the multibody simulation with this stage's profile (when dynamics are on).
     pub dynamics: Option<DynamicsSummary>,
     /// Flexible-disc analysis and the disc mesh (when the flexible disc is on).
     pub flexible: Option<(FlexibleStage, Mesh)>,
+}
+
+/// Everything [`analyse_profile`] finds for one profile.
+#[derive(Debug, Clone)]
+pub struct ProfileAnalysis {
+    /// Static TE over a mesh cycle.
+    pub ste: StaticTe,
+    /// Loaded TE over a mesh cycle.
+    pub loaded: LoadedTe,
+    /// Hysteresis twist table averaged over a mesh cycle.
+    pub hysteresis: TwistTable,
+    /// Summary numbers.
+    pub summary: StageSummary,
 }
 
 /// Results of the whole study.
@@ -143,7 +175,8 @@ pub struct PaperComparison {
     pub paper_ste_at_10um_arcmin: f64,
     /// Paper: largest rigid STE over the study (6450 h), arcmin.
     pub paper_ste_max_arcmin: f64,
-    /// Uniform-offset estimate per side, `10 um / (a Zc)`, arcmin (physics-notes section 6).
+    /// Uniform-offset estimate per side, `10 um / (a (Zp + Z1/Z2))`, arcmin (physics-notes
+    /// section 6).
     pub uniform_offset_per_10um_arcmin: f64,
     /// Paper: rigid-body DTE mean at 10 um wear under the sinusoidal load (Adams), arcmin.
     pub paper_dte_at_10um_arcmin: f64,
@@ -191,51 +224,88 @@ fn arcmin(rad: f64) -> f64 {
     }
 }
 
-/// Analyses one profile: static TE, lost motion and loaded TE at the model's loaded-TE torque.
+/// Torque levels per side of the study's hysteresis curves beyond the measuring torque.
+pub const HYSTERESIS_LEVELS: usize = 4;
+
+/// Analyses one profile: static TE, the hysteresis curve averaged over a mesh cycle (backlash,
+/// lost motion, hysteresis loss, torsional stiffness) and the loaded TE at the model's
+/// loaded-TE torque, all from the static analysis of the reducer model.
 ///
 /// # Errors
 /// Solver failures; interference of the modifications.
-pub fn analyse_profile(
-    model: &Model,
-    profile: &Profile,
-    hours: f64,
-) -> Result<(StaticTe, LoadedTe, StageSummary)> {
-    let ste = static_te(profile, model.te_samples)?;
-    let loaded = loaded_te(
+pub fn analyse_profile(model: &Model, profile: &Profile, hours: f64) -> Result<ProfileAnalysis> {
+    let red = &model.reducer;
+    let phis = mesh_cycle_angles(red.geometry.pins, model.te_samples);
+    let (tables, mean) = hysteresis(
+        red,
         profile,
-        &model.contact,
-        model.load_share,
-        model.loaded_torque,
-        model.te_samples,
+        &phis,
+        model.rated_torque,
+        model.measuring_torque_fraction,
+        HYSTERESIS_LEVELS,
     )?;
+    let ste = StaticTe {
+        crank_angle: phis,
+        forward: tables.iter().map(|t| t.positive[0]).collect(),
+        reverse: tables.iter().map(|t| -t.negative[0]).collect(),
+    };
+    if let Some(k) = ste.backlash().iter().position(|&b| b < -1e-9) {
+        return Err(Error::invalid(
+            "cycloid.modification",
+            format!(
+                "play {:.4} arcmin at crank angle {:.3} deg",
+                ste.backlash()[k] * ARCMIN_PER_RAD,
+                ste.crank_angle[k].to_degrees()
+            ),
+            "the modified disc interferes with the pins (negative clearance); \
+             thin the teeth (equidistant > 0 or offset < 0)",
+        ));
+    }
+    let loaded = loaded_te(red, profile, model.loaded_torque, model.te_samples)?;
+    let acc = mean.accuracy();
     let s = ste.stats();
-    let lm = ste.lost_motion_stats();
+    let play = ste.backlash_stats();
     let l = loaded.stats();
     let (pmin, pmax) = loaded.pins_in_contact();
-    let stiffness = loaded
-        .solutions
-        .iter()
-        .map(|x| x.torsional_stiffness())
-        .sum::<f64>()
-        / loaded.solutions.len() as f64
-        / model.load_share;
+    let share = match red.support {
+        crate::reducer::Support::Rigid { load_share } => load_share,
+        crate::reducer::Support::Bearings => {
+            loaded
+                .solutions
+                .iter()
+                .map(|x| {
+                    let total: f64 = x.discs.iter().map(|d| d.torque).sum();
+                    if total != 0.0 {
+                        x.discs[0].torque / total
+                    } else {
+                        0.5
+                    }
+                })
+                .sum::<f64>()
+                / loaded.solutions.len() as f64
+        }
+    };
     let max_wear_um = profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6;
     let summary = StageSummary {
         hours,
         max_wear_um,
         ste_mean_arcmin: arcmin(s.mean),
         ste_peak_to_peak_arcmin: arcmin(s.peak_to_peak),
-        ste_reverse_mean_arcmin: arcmin(crate::te::CurveStats::of(&ste.reverse).mean),
-        lost_motion_arcmin: arcmin(lm.max),
-        lost_motion_mean_arcmin: arcmin(lm.mean),
+        ste_reverse_mean_arcmin: arcmin(CurveStats::of(&ste.reverse).mean),
+        backlash_arcmin: arcmin(acc.backlash),
+        backlash_max_arcmin: arcmin(play.max),
+        lost_motion_arcmin: arcmin(acc.lost_motion),
+        hysteresis_loss_arcmin: arcmin(acc.hysteresis_loss),
         loaded_te_mean_arcmin: arcmin(l.mean),
         loaded_te_peak_to_peak_arcmin: arcmin(l.peak_to_peak),
         max_force_n: loaded.max_force(),
         max_pressure_mpa: loaded.max_pressure() * 1e-6,
         pins_in_contact: pmin,
         pins_in_contact_max: pmax,
-        torsional_stiffness_nm_per_arcmin: stiffness / ARCMIN_PER_RAD,
-        rigid_torsional_stiffness_nm_per_arcmin: stiffness / ARCMIN_PER_RAD,
+        disc_load_share: share,
+        torsional_stiffness_nm_per_arcmin: acc.torsional_stiffness / ARCMIN_PER_RAD,
+        tangent_stiffness_nm_per_arcmin: loaded.mean_stiffness() / ARCMIN_PER_RAD,
+        flexible_torsional_stiffness_nm_per_arcmin: None,
         flexible_ste_mean_arcmin: None,
         flexible_ste_peak_to_peak_arcmin: None,
         flexible_loaded_te_mean_arcmin: None,
@@ -248,7 +318,12 @@ pub fn analyse_profile(
         dte_rms_arcmin: None,
         dte_range_arcmin: None,
     };
-    Ok((ste, loaded, summary))
+    Ok(ProfileAnalysis {
+        ste,
+        loaded,
+        hysteresis: mean,
+        summary,
+    })
 }
 
 /// Runs the study. `progress(done, total)` reports the work in steps (wear-rate evaluations,
@@ -283,14 +358,15 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
             (w, _) => w.clone(),
         };
         let profile = model.profile(te_map)?;
-        let (ste, loaded, summary) = analyse_profile(model, &profile, *hours)?;
+        let a = analyse_profile(model, &profile, *hours)?;
         stages.push(Stage {
             hours: *hours,
             wear: wear_map,
             profile,
-            ste,
-            loaded,
-            summary,
+            ste: a.ste,
+            loaded: a.loaded,
+            hysteresis: a.hysteresis,
+            summary: a.summary,
             dynamics: None,
             flexible: None,
         });
@@ -322,9 +398,8 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
                 let disc = DiscModel::build(&st.profile, &model.fem)?;
                 let fl = analyse_stage(
                     &st.profile,
-                    &model.contact,
+                    &model.reducer,
                     &disc,
-                    model.load_share,
                     model.rated_torque,
                 )?;
                 progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
@@ -341,7 +416,8 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
             s.flexible_loaded_te_mean_arcmin = Some(arcmin(loaded.mean));
             s.flexible_loaded_te_peak_to_peak_arcmin = Some(arcmin(loaded.peak_to_peak));
             s.rigid_loaded_te_revolution_mean_arcmin = Some(arcmin(rigid.mean));
-            s.torsional_stiffness_nm_per_arcmin = fl.torsional_stiffness / ARCMIN_PER_RAD;
+            s.flexible_torsional_stiffness_nm_per_arcmin =
+                Some(fl.torsional_stiffness / ARCMIN_PER_RAD);
             s.max_von_mises_mpa = Some(fl.stress.max_von_mises * 1e-6);
             s.max_root_stress_mpa = Some(fl.stress.max_root_stress * 1e-6);
             st.flexible = Some((fl, mesh));
@@ -381,6 +457,7 @@ impl Study {
                 paper_ste_at_10um_arcmin: 0.5351,
                 paper_ste_max_arcmin: 4.11,
                 uniform_offset_per_10um_arcmin: 10e-6 / m.geometry.disc_pitch_radius()
+                    * m.reducer.twist_factor()
                     * ARCMIN_PER_RAD,
                 paper_dte_at_10um_arcmin: 0.2278,
                 paper_dte_max_arcmin: 3.51,

@@ -1,34 +1,42 @@
-//! Static and loaded transmission error and lost motion of the cycloid stage
-//! (paper eqs 21-23, physics-notes section 6).
+//! Transmission error and the catalogue accuracy quantities of the reducer, from the static
+//! analysis of its mechanical model ([`crate::reducer::statics`]; paper eqs 21-23,
+//! physics-notes sections 6 and 8).
 //!
-//! The disc is tied to the output carrier by the crankshafts, so its extra rotation beyond the
-//! nominal `psi = -phi/Zc` is the output's rotation error. With a rigid first stage the output
-//! error is `TE = theta_out - theta_in / i_H` (eq 21); the coupling of that error back into the
-//! crank angle (`(1 + Z1/Z2) TE`) moves the TE curve along by less than a microradian of crank
-//! angle and is neglected.
+//! Every angle here is the **output (carrier) rotation** beyond its nominal position with the
+//! input locked at the crank angle of the sample: `TE = theta_out - theta_in / i_H` (paper
+//! eq 21), positive counter-clockwise.
 //!
-//! - **STE** (no load, rigid bodies): for each crank angle, the rotation at which the actual disc
-//!   first touches a pin, turning in the driving direction ([`crate::contact::first_contact`]).
-//! - **Driving direction and sign**: the forward direction is the one in which the output load
-//!   presses the flank `0 < mesh angle < pi` (input angle `theta_in = i_H phi / Zc` increasing).
-//!   TE is reported as the lag of the output behind its nominal position in the driving
-//!   direction, so wear and thinning modifications give a positive TE, as in the paper's figures.
-//! - **Lost motion**: the play between the two directions at one crank angle,
-//!   `beta_forward - beta_reverse`; reported as the maximum and the mean over a revolution.
-//! - **Loaded TE**: the rotation of the loaded-contact solution at a given output torque.
+//! - **STE** (static TE): for each crank angle, the twist at which the unloaded mechanism first
+//!   touches a pin when the output is turned forward (counter-clockwise, the sense of a positive
+//!   output torque), over every pin of every disc: the `T -> 0+` limit of the loaded twist
+//!   ([`crate::reducer::statics::StaticAnalysis::first_contact`]). `reverse` is the same turning
+//!   the other way, as a positive angle.
+//! - **Loaded TE**: the twist of the static equilibrium under an output torque, in the sense of
+//!   the torque.
+//! - **Hysteresis curve** (Nabtesco's measuring set-up): the output torque swept
+//!   `0 -> +T_r -> -T_r -> +T_r` with the input locked, twist against torque. The model is
+//!   frictionless, so the curve is single-valued for `T != 0` and jumps at `T = 0` across the
+//!   play. From it: **backlash** (the width at zero torque), **lost motion** (the twist between
+//!   the curve's midpoints at `+-` the measuring torque, 3 % of rated by default),
+//!   **hysteresis loss** (the width of the loop at zero torque after loading to `+-T_r`; equal
+//!   to the backlash without friction) and **torsional stiffness** `b/a` (here: the secant of
+//!   the loading branches between the measuring torque and the rated torque,
+//!   `b = T_r - T_m`, `a` the mean of the two sides' twists over that span).
 //!
-//! All pins and all teeth are identical (the wear map is the same on every tooth), so every
-//! quantity is periodic in the crank angle with the mesh period `2 pi / Zp`; curves are computed
-//! over one mesh cycle and repeated `Zc Zp` times to span one output revolution.
+//! All pins and teeth are identical, so the cycloid stage repeats every mesh cycle (`2 pi / Zp`
+//! of crank angle); curves are computed over one mesh cycle at the start of an output
+//! revolution and repeated over the revolution. (With bearings, the crank seats' directions
+//! turn slowly with the carrier; that dependence within a revolution is not sampled here.)
 
 use std::f64::consts::TAU;
 
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::contact::{first_contact, solve, ContactModel, ContactSolution};
 use crate::error::{Error, Result};
 use crate::geometry::Profile;
+use crate::reducer::statics::{StaticAnalysis, StaticSolution};
+use crate::reducer::Reducer;
 
 /// Radians to arcminutes.
 pub const ARCMIN_PER_RAD: f64 = 180.0 * 60.0 / std::f64::consts::PI;
@@ -45,9 +53,9 @@ pub fn mesh_cycle_angles(pins: usize, samples: usize) -> Vec<f64> {
 pub struct StaticTe {
     /// Crank angles, rad.
     pub crank_angle: Vec<f64>,
-    /// Forward-direction TE (output lag at first contact), rad.
+    /// Forward STE: output twist at first contact turning counter-clockwise, rad.
     pub forward: Vec<f64>,
-    /// Reverse-direction TE (output lag at first contact turning the other way), rad.
+    /// Reverse STE: output twist at first contact turning clockwise, as a positive angle, rad.
     pub reverse: Vec<f64>,
 }
 
@@ -83,35 +91,33 @@ impl StaticTe {
     pub fn stats(&self) -> CurveStats {
         CurveStats::of(&self.forward)
     }
-    /// Lost motion at each crank angle, rad.
-    pub fn lost_motion(&self) -> Vec<f64> {
+    /// Geometric play (the backlash at each crank angle: the width of the hysteresis curve at
+    /// zero torque), rad.
+    pub fn backlash(&self) -> Vec<f64> {
         self.forward
             .iter()
             .zip(&self.reverse)
             .map(|(f, r)| f + r)
             .collect()
     }
-    /// Statistics of the lost motion.
-    pub fn lost_motion_stats(&self) -> CurveStats {
-        CurveStats::of(&self.lost_motion())
+    /// Statistics of the backlash over the mesh cycle.
+    pub fn backlash_stats(&self) -> CurveStats {
+        CurveStats::of(&self.backlash())
     }
 }
 
-/// Static TE of the profile at `samples` crank angles over one mesh cycle.
+/// Static TE of the reducer `red` with disc profile `profile` at `samples` crank angles over one
+/// mesh cycle.
 ///
 /// # Errors
-/// [`Error::Invalid`] if the modifications interfere (negative lost motion: the disc cannot be
+/// [`Error::Invalid`] if the modifications interfere (negative play: the disc cannot be
 /// assembled without preload); solver failures.
-pub fn static_te(profile: &Profile, samples: usize) -> Result<StaticTe> {
-    let phis = mesh_cycle_angles(profile.geometry().pins, samples);
+pub fn static_te(red: &Reducer, profile: &Profile, samples: usize) -> Result<StaticTe> {
+    let phis = mesh_cycle_angles(red.geometry.pins, samples);
+    let sa = StaticAnalysis::new(red, profile);
     let pairs: Vec<(f64, f64)> = phis
         .par_iter()
-        .map(|&phi| {
-            Ok((
-                first_contact(profile, phi, 1.0)?,
-                first_contact(profile, phi, -1.0)?,
-            ))
-        })
+        .map(|&phi| Ok((sa.first_contact(phi, 1.0)?, sa.first_contact(phi, -1.0)?)))
         .collect::<Result<_>>()?;
     let forward: Vec<f64> = pairs.iter().map(|p| p.0).collect();
     let reverse: Vec<f64> = pairs.iter().map(|p| -p.1).collect();
@@ -119,7 +125,7 @@ pub fn static_te(profile: &Profile, samples: usize) -> Result<StaticTe> {
         return Err(Error::invalid(
             "cycloid.modification",
             format!(
-                "lost motion {:.4} arcmin at crank angle {:.3} deg",
+                "play {:.4} arcmin at crank angle {:.3} deg",
                 (forward[k] + reverse[k]) * ARCMIN_PER_RAD,
                 phis[k].to_degrees()
             ),
@@ -141,10 +147,10 @@ pub struct LoadedTe {
     pub torque: f64,
     /// Crank angles, rad.
     pub crank_angle: Vec<f64>,
-    /// Output lag in the direction of the load, rad.
+    /// Output twist in the sense of the torque, rad.
     pub te: Vec<f64>,
-    /// Contact solutions at each crank angle.
-    pub solutions: Vec<ContactSolution>,
+    /// Static solutions at each crank angle.
+    pub solutions: Vec<StaticSolution>,
 }
 
 impl LoadedTe {
@@ -166,13 +172,17 @@ impl LoadedTe {
             .map(|s| s.max_pressure())
             .fold(0.0, f64::max)
     }
-    /// Fewest and most pins in contact over the cycle.
+    /// Fewest and most pins in contact on one disc over the cycle.
     pub fn pins_in_contact(&self) -> (usize, usize) {
         let it = self.solutions.iter().map(|s| s.pins_in_contact());
         (it.clone().min().unwrap_or(0), it.max().unwrap_or(0))
     }
+    /// Mean tangent torsional stiffness over the cycle, N m/rad.
+    pub fn mean_stiffness(&self) -> f64 {
+        self.solutions.iter().map(|s| s.stiffness).sum::<f64>() / self.solutions.len() as f64
+    }
     /// The solution with the largest pin force.
-    pub fn worst(&self) -> &ContactSolution {
+    pub fn worst(&self) -> &StaticSolution {
         self.solutions
             .iter()
             .max_by(|a, b| a.max_force().total_cmp(&b.max_force()))
@@ -180,29 +190,217 @@ impl LoadedTe {
     }
 }
 
-/// Loaded TE at output torque `torque` (N m; the disc carries `load_share` of it).
+/// Loaded TE of `red` with `profile` at output torque `torque` (N m) over one mesh cycle.
 ///
 /// # Errors
-/// Solver failures.
+/// Solver failures (each names its crank angle and torque).
 pub fn loaded_te(
+    red: &Reducer,
     profile: &Profile,
-    model: &ContactModel,
-    load_share: f64,
     torque: f64,
     samples: usize,
 ) -> Result<LoadedTe> {
-    let phis = mesh_cycle_angles(profile.geometry().pins, samples);
-    let solutions: Vec<ContactSolution> = phis
+    let phis = mesh_cycle_angles(red.geometry.pins, samples);
+    let sa = StaticAnalysis::new(red, profile);
+    let solutions: Vec<StaticSolution> = phis
         .par_iter()
-        .map(|&phi| solve(profile, model, phi, load_share * torque))
+        .map(|&phi| sa.solve(phi, torque))
         .collect::<Result<_>>()?;
     let s = if torque < 0.0 { -1.0 } else { 1.0 };
     Ok(LoadedTe {
         torque,
         crank_angle: phis,
-        te: solutions.iter().map(|x| s * x.disc_rotation).collect(),
+        te: solutions.iter().map(|x| s * x.twist).collect(),
         solutions,
     })
+}
+
+/// The catalogue accuracy quantities of one hysteresis curve (rad, N m/rad).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Accuracy {
+    /// Width of the curve at zero torque, rad.
+    pub backlash: f64,
+    /// Twist between the curve's midpoints at `+-` the measuring torque, rad.
+    pub lost_motion: f64,
+    /// Width of the loop at zero torque after loading to `+-` rated torque, rad (equal to the
+    /// backlash in this frictionless model).
+    pub hysteresis_loss: f64,
+    /// `b/a`: `(T_r - T_m)` over the mean twist of the two loading branches between the
+    /// measuring torque `T_m` and the rated torque `T_r`, N m/rad.
+    pub torsional_stiffness: f64,
+}
+
+/// A hysteresis curve: the sweep `0 -> +T_r -> -T_r -> +T_r` with the input locked.
+#[derive(Debug, Clone, Serialize)]
+pub struct HysteresisCurve {
+    /// Output torque along the sweep, N m (zero appears twice where the twist jumps).
+    pub torque: Vec<f64>,
+    /// Output twist along the sweep, rad.
+    pub twist: Vec<f64>,
+}
+
+/// Twist (rad) at each torque of a grid, from which the sweep and the accuracy follow.
+#[derive(Debug, Clone, Serialize)]
+pub struct TwistTable {
+    /// Torque fractions of the rated torque on each side, increasing from 0 to 1 (0 first: the
+    /// `0+` / `0-` limits), with the measuring fraction among them.
+    pub fractions: Vec<f64>,
+    /// Rated torque, N m.
+    pub rated_torque: f64,
+    /// Measuring torque fraction.
+    pub measuring_fraction: f64,
+    /// Twist at `+fraction T_r` (the first entry: `0+`), rad.
+    pub positive: Vec<f64>,
+    /// Twist at `-fraction T_r` (the first entry: `0-`), rad.
+    pub negative: Vec<f64>,
+}
+
+impl TwistTable {
+    /// The twists of the static solutions of one crank angle, `solve(torque)` for every torque
+    /// of the grid (both signs) and `first_contact(direction)` at zero.
+    ///
+    /// # Errors
+    /// Those of the solver.
+    fn at_crank(
+        sa: &StaticAnalysis,
+        phi: f64,
+        fractions: &[f64],
+        rated: f64,
+        measuring_fraction: f64,
+    ) -> Result<TwistTable> {
+        let mut positive = Vec::with_capacity(fractions.len());
+        let mut negative = Vec::with_capacity(fractions.len());
+        for (side, out) in [(1.0, &mut positive), (-1.0, &mut negative)] {
+            let psi0 = sa.first_contact(phi, side)?;
+            for &f in fractions {
+                out.push(if f == 0.0 {
+                    psi0
+                } else {
+                    sa.solve_from(phi, side * f * rated, psi0)?.twist
+                });
+            }
+        }
+        Ok(TwistTable {
+            fractions: fractions.to_vec(),
+            rated_torque: rated,
+            measuring_fraction,
+            positive,
+            negative,
+        })
+    }
+
+    /// The mean of several tables of the same grid (non-empty).
+    pub fn mean_of(tables: &[TwistTable]) -> TwistTable {
+        let n = tables.len() as f64;
+        let avg = |f: fn(&TwistTable) -> &Vec<f64>| -> Vec<f64> {
+            (0..f(&tables[0]).len())
+                .map(|i| tables.iter().map(|t| f(t)[i]).sum::<f64>() / n)
+                .collect()
+        };
+        TwistTable {
+            fractions: tables[0].fractions.clone(),
+            rated_torque: tables[0].rated_torque,
+            measuring_fraction: tables[0].measuring_fraction,
+            positive: avg(|t| &t.positive),
+            negative: avg(|t| &t.negative),
+        }
+    }
+
+    fn at(&self, fraction: f64) -> (f64, f64) {
+        let i = self
+            .fractions
+            .iter()
+            .position(|&f| (f - fraction).abs() < 1e-12)
+            .expect("the grid holds the measuring and the rated torque");
+        (self.positive[i], self.negative[i])
+    }
+
+    /// The catalogue quantities of this table.
+    pub fn accuracy(&self) -> Accuracy {
+        let (zp, zn) = self.at(0.0);
+        let (mp, mn) = self.at(self.measuring_fraction);
+        let (rp, rn) = self.at(1.0);
+        let b = self.rated_torque * (1.0 - self.measuring_fraction);
+        let a = 0.5 * ((rp - mp) + (mn - rn));
+        Accuracy {
+            backlash: zp - zn,
+            lost_motion: mp - mn,
+            // Loaded to +T_r and back to 0+, then to -T_r and back to 0-: frictionless, the
+            // branches retrace, so the width at zero is the play.
+            hysteresis_loss: zp - zn,
+            torsional_stiffness: if a > 0.0 { b / a } else { f64::INFINITY },
+        }
+    }
+
+    /// The sweep `0 -> +T_r -> -T_r -> +T_r` as one polyline.
+    pub fn curve(&self) -> HysteresisCurve {
+        let t = |f: f64, s: f64| s * f * self.rated_torque;
+        let mut torque = Vec::new();
+        let mut twist = Vec::new();
+        let n = self.fractions.len();
+        // 0+ -> +T_r
+        for i in 0..n {
+            torque.push(t(self.fractions[i], 1.0));
+            twist.push(self.positive[i]);
+        }
+        // +T_r -> 0+, jump to 0-, -> -T_r
+        for i in (0..n - 1).rev() {
+            torque.push(t(self.fractions[i], 1.0));
+            twist.push(self.positive[i]);
+        }
+        for i in 0..n {
+            torque.push(-t(self.fractions[i], 1.0));
+            twist.push(self.negative[i]);
+        }
+        // -T_r -> 0-, jump to 0+, -> +T_r
+        for i in (0..n - 1).rev() {
+            torque.push(-t(self.fractions[i], 1.0));
+            twist.push(self.negative[i]);
+        }
+        for i in 0..n {
+            torque.push(t(self.fractions[i], 1.0));
+            twist.push(self.positive[i]);
+        }
+        HysteresisCurve { torque, twist }
+    }
+}
+
+/// Torque fractions of a hysteresis grid: 0, the measuring fraction, then `levels` equal steps
+/// up to 1.
+pub fn torque_fractions(measuring_fraction: f64, levels: usize) -> Vec<f64> {
+    let mut f = vec![0.0, measuring_fraction];
+    for i in 1..=levels.max(1) {
+        let x = i as f64 / levels.max(1) as f64;
+        if x > measuring_fraction + 1e-12 {
+            f.push(x);
+        }
+    }
+    f
+}
+
+/// Hysteresis of `red` with `profile`: the twist table at each crank angle of `crank_angles`
+/// (rad) on the grid [`torque_fractions`]`(measuring_fraction, levels)` of `rated` (N m),
+/// in parallel, and their mean (the curve averaged over the crank angles, as a measurement over
+/// a mesh cycle averages it).
+///
+/// # Errors
+/// Solver failures.
+pub fn hysteresis(
+    red: &Reducer,
+    profile: &Profile,
+    crank_angles: &[f64],
+    rated: f64,
+    measuring_fraction: f64,
+    levels: usize,
+) -> Result<(Vec<TwistTable>, TwistTable)> {
+    let fractions = torque_fractions(measuring_fraction, levels);
+    let sa = StaticAnalysis::new(red, profile);
+    let tables: Vec<TwistTable> = crank_angles
+        .par_iter()
+        .map(|&phi| TwistTable::at_crank(&sa, phi, &fractions, rated, measuring_fraction))
+        .collect::<Result<_>>()?;
+    let mean = TwistTable::mean_of(&tables);
+    Ok((tables, mean))
 }
 
 /// Repeats a mesh-cycle curve over one output revolution (`Zc Zp` mesh cycles) and returns

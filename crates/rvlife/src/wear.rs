@@ -26,9 +26,10 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::config::{Model, WearModelKind};
-use crate::contact::{disc_pose, li_load_distribution, solve};
+use crate::contact::li_load_distribution;
+use crate::reducer::statics::StaticAnalysis;
 use crate::error::{Error, Result};
-use crate::geometry::{mesh_angle, rotate, Profile, Vec2, WearMap};
+use crate::geometry::{band_shape, mesh_angle, rotate, Profile, Vec2, WearMap};
 
 /// Number of wear-map grid points per tooth: `Zp x crank_steps_per_mesh_cycle`.
 pub fn grid_points(model: &Model) -> usize {
@@ -82,14 +83,18 @@ pub fn wear_per_mesh_cycle(profile: &Profile, model: &Model, torque: f64) -> Res
     let zc = geo.disc_teeth() as f64;
     let steps = model.wear_steps;
     let slide_scale = 1.0 - model.pin_rolling_fraction;
+    let sa = StaticAnalysis::new(&model.reducer, profile);
     let per_step: Vec<Vec<(f64, f64, f64)>> = (0..steps)
         .into_par_iter()
         .map(|k| -> Result<Vec<(f64, f64, f64)>> {
             let phi = TAU * k as f64 / (zp * steps as f64);
-            let sol = solve(profile, &model.contact, phi, model.load_share * torque)?;
-            let (centre, psi) = disc_pose(geo, phi, sol.disc_rotation);
-            let mut out = Vec::with_capacity(sol.pins.len());
-            for p in &sol.pins {
+            let sol = sa.solve(phi, torque)?;
+            // Disc 1 (both discs wear alike: disc 2 meets the same crank angles half a crank
+            // revolution later).
+            let disc = &sol.discs[0];
+            let (centre, psi) = (disc.pose.centre, disc.pose.angle);
+            let mut out = Vec::with_capacity(disc.pins.len());
+            for p in &disc.pins {
                 if p.force <= 0.0 {
                     out.push((p.mesh_angle, 0.0, 0.0));
                     continue;
@@ -113,29 +118,6 @@ pub fn wear_per_mesh_cycle(profile: &Profile, model: &Model, torque: f64) -> Res
     let depth = resample_periodic(samples.iter().map(|s| (s.0, s.1)).collect(), n);
     let half_width = resample_periodic(samples.iter().map(|s| (s.0, s.2)).collect(), n);
     Ok(spread_over_band(profile, &depth, &half_width))
-}
-
-/// Grid nodes within half-width `b` (m of arc length) of node `centre`, with the semi-elliptic
-/// weight `sqrt(1 - (x/b)^2)` of the Hertz pressure (1 at the centre); `ds` is the arc length of
-/// each grid step, periodic.
-pub(crate) fn band_shape(ds: &[f64], centre: usize, b: f64) -> Vec<(usize, f64)> {
-    let n = ds.len();
-    let mut weights = vec![(centre, 1.0)];
-    for dir in [-1isize, 1] {
-        let mut dist = 0.0;
-        let mut k = centre as isize;
-        loop {
-            let next = (k + dir).rem_euclid(n as isize);
-            dist += 0.5 * (ds[k as usize] + ds[next as usize]);
-            if dist >= b || weights.len() >= n {
-                break;
-            }
-            let x = dist / b;
-            weights.push((next as usize, (1.0 - x * x).sqrt()));
-            k = next;
-        }
-    }
-    weights
 }
 
 /// Spreads the wear of each contact position over its Hertz band: a pass deposits the wear of
@@ -203,7 +185,7 @@ fn paper_wear_per_input_rev(profile: &Profile, model: &Model, torque: f64) -> Re
     let mut samples = Vec::with_capacity(n);
     for k in 0..steps {
         let phi = TAU * k as f64 / (zp * steps as f64);
-        let forces = li_load_distribution(geo, phi, model.load_share * torque);
+        let forces = li_load_distribution(geo, phi, model.equivalent_disc_torque(torque));
         for (j, &f) in forces.iter().enumerate() {
             let t = mesh_angle(TAU * j as f64 / zp - phi);
             if f == 0.0 {
@@ -218,7 +200,7 @@ fn paper_wear_per_input_rev(profile: &Profile, model: &Model, torque: f64) -> Re
             // Eq 1: contact force angle.
             let alpha = (k1 * t.sin()).atan2(1.0 - k1 * t.cos()).abs();
             let ratio = r_i * alpha.cos() * (zp / zc) / lever;
-            let hz = model.contact.hertz(f, pt.curvature);
+            let hz = model.reducer.contact.hertz(f, pt.curvature);
             let s = 2.0 * hz.half_width * (1.0 - ratio).abs();
             samples.push((t, model.archard * s * hz.mean_pressure));
         }
@@ -242,14 +224,14 @@ impl BandSmoother {
         let n = grid_points(model);
         let profile = model.profile(None)?;
         let geo = &model.geometry;
-        let f_peak = 4.0 * model.load_share * model.loaded_torque.abs().max(1e-9)
+        let f_peak = 4.0 * model.equivalent_disc_torque(model.loaded_torque.abs().max(1e-9))
             / (geo.eccentricity * (geo.disc_teeth() * geo.pins) as f64);
         let dt = TAU / n as f64;
         let pts: Vec<_> = (0..n).map(|m| profile.point(m as f64 * dt)).collect();
         let ds: Vec<f64> = pts.iter().map(|p| p.dp.norm() * dt).collect();
         let weights = (0..n)
             .map(|m| {
-                let b = model.contact.hertz(f_peak, pts[m].curvature).half_width;
+                let b = model.reducer.contact.hertz(f_peak, pts[m].curvature).half_width;
                 let w = band_shape(&ds, m, b);
                 let total: f64 = w.iter().map(|&(i, x)| x * ds[i]).sum();
                 w.iter().map(|&(i, x)| (i, x * ds[i] / total)).collect()

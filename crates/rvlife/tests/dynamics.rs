@@ -1,10 +1,10 @@
 //! Physics checks of the multibody model that can fail (issue 3 "Must show").
 
 use rvlife::config::{Config, Model};
-use rvlife::dynamics::ode::OdeSystem;
-use rvlife::dynamics::params::{Drive, LoadProfile};
-use rvlife::dynamics::system::Layout;
-use rvlife::dynamics::{ode, simulate, GapField, System};
+use rvlife::reducer::dynamics::ode::OdeSystem;
+use rvlife::reducer::dynamics::params::{Drive, LoadProfile};
+use rvlife::reducer::dynamics::system::Layout;
+use rvlife::reducer::dynamics::{ode, simulate, GapField, System};
 use rvlife::geometry::WearMap;
 use rvlife::te::{loaded_te, ARCMIN_PER_RAD};
 
@@ -179,7 +179,7 @@ fn energy_is_conserved_without_damping() {
         sys.rhs(t, z, &mut dz, Some(&mut pins));
         elastic = elastic.max(
             pins.iter()
-                .map(|p: &rvlife::dynamics::PinForce| p.normal)
+                .map(|p: &rvlife::reducer::dynamics::PinForce| p.normal)
                 .sum(),
         );
         Ok(())

@@ -26,6 +26,7 @@ use crate::error::{Error, Result};
 use crate::fem::mesh::LoopKind;
 use crate::fem::{outline_radii, DiscModel};
 use crate::geometry::{Profile, Vec2};
+use crate::reducer::{Reducer, Support};
 use crate::te::CurveStats;
 
 /// The local (Hertz) part of the contact compliance when the disc body is an FE model loaded by
@@ -368,33 +369,44 @@ impl FlexibleStage {
 }
 
 /// Runs the flexible analysis of one stage: rigid and flexible TE at the STE measuring torque
-/// and at the rated torque (output torques; each disc carries `load_share`), at
-/// `disc.params.crank_angles` crank angles over one crank revolution (the load moves once round
-/// the disc relative to the bores), in parallel; the torsional stiffness; and the stress at the
-/// crank angle of the largest pin force.
+/// and at the rated torque (output torques), at `disc.params.crank_angles` crank angles over one
+/// crank revolution (the load moves once round the disc relative to the bores), in parallel;
+/// the torsional stiffness; and the stress at the crank angle of the largest pin force.
+///
+/// The disc is analysed with its centre on the eccentric at a fixed crank angle and carries the
+/// equivalent disc torque `share T Zc/(Zp + Z1/Z2)` (share: the rigid support's `load_share`,
+/// or one half with bearings); its rotation `beta` is reported as the output twist
+/// `beta Zc/(Zp + Z1/Z2)` (physics-notes section 6). The disc's translations on its bearings
+/// are not part of this analysis.
 ///
 /// # Errors
 /// Contact solver failures.
 pub fn analyse_stage(
     profile: &Profile,
-    model: &ContactModel,
+    reducer: &Reducer,
     disc: &DiscModel,
-    load_share: f64,
     rated_torque: f64,
 ) -> Result<FlexibleStage> {
+    let model = &reducer.contact;
+    let factor = reducer.twist_factor();
+    let share = match reducer.support {
+        Support::Rigid { load_share } => load_share,
+        Support::Bearings => 0.5,
+    };
     let n = disc.params.crank_angles;
     let phis: Vec<f64> = (0..n).map(|k| TAU * k as f64 / n as f64).collect();
     let ste_torque = disc.params.ste_torque_fraction * rated_torque;
+    let disc_torque = |t: f64| share * t * factor;
     let rows: Vec<(FlexSolution, FlexSolution)> = phis
         .par_iter()
         .map(|&phi| -> Result<(FlexSolution, FlexSolution)> {
-            let lo = solve_flexible(profile, model, disc, phi, load_share * ste_torque)?;
-            let hi = solve_flexible(profile, model, disc, phi, load_share * rated_torque)?;
+            let lo = solve_flexible(profile, model, disc, phi, disc_torque(ste_torque))?;
+            let hi = solve_flexible(profile, model, disc, phi, disc_torque(rated_torque))?;
             Ok((lo, hi))
         })
         .collect::<Result<_>>()?;
-    let flexible_ste: Vec<f64> = rows.iter().map(|r| r.0.disc_rotation).collect();
-    let flexible_loaded_te: Vec<f64> = rows.iter().map(|r| r.1.disc_rotation).collect();
+    let flexible_ste: Vec<f64> = rows.iter().map(|r| factor * r.0.disc_rotation).collect();
+    let flexible_loaded_te: Vec<f64> = rows.iter().map(|r| factor * r.1.disc_rotation).collect();
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
     let d_theta = mean(&flexible_loaded_te) - mean(&flexible_ste);
     let torsional_stiffness = if d_theta > 0.0 {
@@ -411,8 +423,11 @@ pub fn analyse_stage(
         crank_angle: phis,
         ste_torque,
         rated_torque,
-        rigid_ste: rows.iter().map(|r| r.1.first_contact_rotation).collect(),
-        rigid_loaded_te: rows.iter().map(|r| r.1.rigid_rotation).collect(),
+        rigid_ste: rows
+            .iter()
+            .map(|r| factor * r.1.first_contact_rotation)
+            .collect(),
+        rigid_loaded_te: rows.iter().map(|r| factor * r.1.rigid_rotation).collect(),
         flexible_ste,
         flexible_loaded_te,
         max_force: rows.iter().map(|r| r.1.max_force()).collect(),

@@ -21,7 +21,8 @@
 //! - disc-pin contacts: the gap from the actual profile ([`GapField`]) and the MSC Adams IMPACT
 //!   force `F = k d^e + STEP(d, 0, 0, d_max, c_max) dd/dt` (clamped at zero: a contact never
 //!   pulls), optional smoothed Coulomb friction `mu F tanh(v_t / v_ref)` (physics-notes 6);
-//! - the output load torque on the carrier and the motor torque on the input.
+//! - the output torque on the carrier (positive counter-clockwise: a load resisting forward
+//!   rotation is negative) and the motor torque on the input.
 
 use std::cell::RefCell;
 use std::f64::consts::PI;
@@ -30,12 +31,8 @@ use crate::geometry::{cross, rotate, Vec2};
 
 use super::gap::GapField;
 use super::params::{Drive, DynamicsParams, LoadProfile};
-
-/// `J v`: `v` turned by +90 degrees.
-#[inline]
-fn perp(v: Vec2) -> Vec2 {
-    Vec2::new(-v.y, v.x)
-}
+use crate::reducer::perp;
+pub use crate::reducer::{Layout, MAX_DOFS};
 
 /// Adams `STEP(x, x0, h0, x1, h1)`: cubic blend from `h0` at `x0` to `h1` at `x1`, constant
 /// outside (MSC Adams function reference).
@@ -66,34 +63,15 @@ fn step_integral(t: f64, t0: f64, t1: f64) -> f64 {
     }
 }
 
-/// Indices of the generalised coordinates in the state vector `[q, qd]`.
-#[derive(Debug, Clone, Copy)]
-pub struct Layout {
-    /// Number of cranks (planets).
-    pub cranks: usize,
+/// Positions, speeds and nominal accelerations of one state (see `System::absolute`).
+#[derive(Default)]
+struct Kinematics {
+    q0: [f64; MAX_DOFS],
+    dq: [f64; MAX_DOFS],
+    q: [f64; MAX_DOFS],
+    qd: [f64; MAX_DOFS],
+    qdd: [f64; MAX_DOFS],
 }
-
-impl Layout {
-    /// Input (sun) angle.
-    pub const SUN: usize = 0;
-    /// Output (carrier) angle.
-    pub const OUT: usize = 1;
-    /// First coordinate of crank `k` (`x`, `y`, angle).
-    pub fn crank(&self, k: usize) -> usize {
-        2 + 3 * k
-    }
-    /// First coordinate of disc `d` (`x`, `y`, angle).
-    pub fn disc(&self, d: usize) -> usize {
-        2 + 3 * self.cranks + 3 * d
-    }
-    /// Number of generalised coordinates.
-    pub fn dofs(&self) -> usize {
-        2 + 3 * self.cranks + 6
-    }
-}
-
-/// Largest number of generalised coordinates (3 cranks).
-const MAX_DOFS: usize = 2 + 3 * 3 + 6;
 
 /// Contact force of one pin on one disc at one instant.
 #[derive(Debug, Clone, Copy, Default)]
@@ -113,13 +91,7 @@ pub struct System<'a> {
     inv_mass: Vec<f64>,
     /// Masses per coordinate (for the kinetic energy).
     mass: Vec<f64>,
-    /// Crank seats on the carrier at `theta_o = 0` (= bore centres in the disc frames), m.
-    seats: Vec<Vec2>,
-    /// Lines of action at `theta_o = 0`.
-    loa: Vec<Vec2>,
     pins: Vec<Vec2>,
-    /// Eccentric phase of each disc (0, pi).
-    phase: [f64; 2],
     /// Profile angle offset of each disc (0, -pi/Zc): the profile of disc 2 sits half a tooth
     /// turned, as its crank angle is `phi + pi`.
     chi: [f64; 2],
@@ -130,17 +102,21 @@ pub struct System<'a> {
     /// this offset (when below 0.3 rad). The offset follows the small deviations from the
     /// nominal motion, so one Newton step usually suffices.
     t_cache: RefCell<Vec<f64>>,
+    /// Last contact force of every pin (disc-major), N: the warm start of the contact law's
+    /// inversion.
+    f_cache: RefCell<Vec<f64>>,
 }
 
 impl<'a> System<'a> {
     /// Assembles the system for `params` with the gap fields of the two discs.
     pub fn new(p: &'a DynamicsParams, gaps: [&'a GapField; 2]) -> Self {
-        let layout = Layout { cranks: p.cranks };
+        let red = &p.reducer;
+        let layout = red.layout();
         let n = layout.dofs();
         let mut mass = vec![0.0; n];
         mass[Layout::SUN] = p.inertia.input;
         mass[Layout::OUT] = p.inertia.output;
-        for k in 0..p.cranks {
+        for k in 0..red.cranks {
             let i = layout.crank(k);
             mass[i] = p.inertia.crank_mass;
             mass[i + 1] = p.inertia.crank_mass;
@@ -152,20 +128,7 @@ impl<'a> System<'a> {
             mass[i + 1] = p.inertia.disc_mass;
             mass[i + 2] = p.inertia.disc;
         }
-        let seats: Vec<Vec2> = (0..p.cranks)
-            .map(|k| {
-                let al = 2.0 * PI * k as f64 / p.cranks as f64;
-                Vec2::new(al.cos(), al.sin()) * p.crank_circle_radius
-            })
-            .collect();
-        let loa = seats
-            .iter()
-            .map(|s| {
-                let e = s / s.norm();
-                e * p.mesh.pressure_angle.sin() + perp(e) * p.mesh.pressure_angle.cos()
-            })
-            .collect();
-        let geo = &p.geometry;
+        let geo = &red.geometry;
         let zc = geo.disc_teeth() as f64;
         System {
             p,
@@ -173,14 +136,12 @@ impl<'a> System<'a> {
             layout,
             inv_mass: mass.iter().map(|m| 1.0 / m).collect(),
             mass,
-            seats,
-            loa,
             pins: (0..geo.pins).map(|j| geo.pin_centre(j)).collect(),
-            phase: [0.0, PI],
-            chi: [0.0, -PI / zc],
+            chi: [red.profile_turn(0), red.profile_turn(1)],
             zc,
             zp: geo.pins,
             t_cache: RefCell::new(vec![f64::NAN; 2 * geo.pins]),
+            f_cache: RefCell::new(vec![0.0; 2 * geo.pins]),
         }
     }
 
@@ -211,64 +172,6 @@ impl<'a> System<'a> {
         }
     }
 
-    /// Nominal (kinematic, rigid) positions, speeds and accelerations of every coordinate for
-    /// input angle `th_s`, speed `w_s` and acceleration `a_s`: `theta_o = theta_s / i_H`,
-    /// crank `vartheta = theta_o - (Z1/Z2)(theta_s - theta_o)`, crank centres on the carrier,
-    /// disc centres on the eccentrics, discs turning with the carrier (physics-notes 1 and 3).
-    fn nominal(
-        &self,
-        th_s: f64,
-        w_s: f64,
-        a_s: f64,
-        q: &mut [f64],
-        qd: &mut [f64],
-        qdd: &mut [f64],
-    ) {
-        let r = self.p.mesh.sun_planet_ratio;
-        let i_h = self.p.ratio;
-        let kappa = (1.0 + r) / i_h - r;
-        let (th_o, w_o, a_o) = (th_s / i_h, w_s / i_h, a_s / i_h);
-        let (th_k, w_k, a_k) = (kappa * th_s, kappa * w_s, kappa * a_s);
-        q[Layout::SUN] = th_s;
-        qd[Layout::SUN] = w_s;
-        qdd[Layout::SUN] = a_s;
-        q[Layout::OUT] = th_o;
-        qd[Layout::OUT] = w_o;
-        qdd[Layout::OUT] = a_o;
-        let mut put = |i: usize, x: Vec2, w: f64, a: f64| {
-            let v = perp(x) * w;
-            let acc = perp(x) * a - x * (w * w);
-            q[i] = x.x;
-            q[i + 1] = x.y;
-            qd[i] = v.x;
-            qd[i + 1] = v.y;
-            qdd[i] = acc.x;
-            qdd[i + 1] = acc.y;
-        };
-        for k in 0..self.p.cranks {
-            let i = self.layout.crank(k);
-            put(i, rotate(&self.seats[k], th_o), w_o, a_o);
-        }
-        let e = self.p.geometry.eccentricity;
-        for d in 0..2 {
-            let i = self.layout.disc(d);
-            let ang = th_k + self.phase[d];
-            put(i, Vec2::new(ang.cos(), ang.sin()) * e, w_k, a_k);
-        }
-        for k in 0..self.p.cranks {
-            let i = self.layout.crank(k) + 2;
-            q[i] = th_k;
-            qd[i] = w_k;
-            qdd[i] = a_k;
-        }
-        for d in 0..2 {
-            let i = self.layout.disc(d) + 2;
-            q[i] = th_o;
-            qd[i] = w_o;
-            qdd[i] = a_o;
-        }
-    }
-
     /// Initial state `z = [theta_s, e, omega_s, de/dt]`: the input angle and speed, and the
     /// deviations `e` of every other coordinate from its nominal motion (see the module docs of
     /// [`super`]), all zero: every body at its nominal position, at rest (speed drive) or
@@ -285,21 +188,28 @@ impl<'a> System<'a> {
 
     /// Absolute positions and speeds of state `z` at time `t`, and the input acceleration if it
     /// is prescribed.
-    fn absolute(
-        &self,
-        t: f64,
-        z: &[f64],
-        q: &mut [f64],
-        qd: &mut [f64],
-        qdd: &mut [f64],
-    ) -> Option<f64> {
+    /// Nominal positions `q0`, deviations `dq` (zero for the input), absolute speeds `qd` and
+    /// nominal accelerations `qdd` of state `z` at time `t`, and the input acceleration if it is
+    /// prescribed.
+    fn absolute(&self, t: f64, z: &[f64], st: &mut Kinematics) -> Option<f64> {
         let n = self.layout.dofs();
         let motion = self.input_motion(t);
         let (th_s, w_s, a_s) = motion.unwrap_or((z[Layout::SUN], z[n + Layout::SUN], 0.0));
-        self.nominal(th_s, w_s, a_s, q, qd, qdd);
+        self.p.reducer.nominal(
+            th_s,
+            w_s,
+            a_s,
+            &mut st.q0[..n],
+            &mut st.qd[..n],
+            &mut st.qdd[..n],
+        );
+        st.dq[Layout::SUN] = 0.0;
         for i in 1..n {
-            q[i] += z[i];
-            qd[i] += z[n + i];
+            st.dq[i] = z[i];
+            st.qd[i] += z[n + i];
+        }
+        for i in 0..n {
+            st.q[i] = st.q0[i] + st.dq[i];
         }
         motion.map(|m| m.2)
     }
@@ -309,10 +219,11 @@ impl<'a> System<'a> {
     /// (`2 x Zp`, disc-major).
     pub fn rhs(&self, t: f64, z: &[f64], dz: &mut [f64], forces: Option<&mut [PinForce]>) {
         let n = self.layout.dofs();
-        let (mut q, mut qd, mut qdd) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS], [0.0; MAX_DOFS]);
-        let prescribed = self.absolute(t, z, &mut q[..n], &mut qd[..n], &mut qdd[..n]);
+        let mut k = Kinematics::default();
+        let prescribed = self.absolute(t, z, &mut k);
+        let (q, qd, mut qdd) = (k.q, k.qd, k.qdd);
         let mut g = [0.0; MAX_DOFS];
-        self.forces(t, &q[..n], &qd[..n], &mut g[..n], forces);
+        self.forces(t, &k, &mut g[..n], forces);
         let a_s = match prescribed {
             Some(a) => a,
             None => {
@@ -321,7 +232,7 @@ impl<'a> System<'a> {
                 let a = g[Layout::SUN] * self.inv_mass[Layout::SUN];
                 let (mut q2, mut qd2) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
                 let (th_s, w_s) = (q[Layout::SUN], qd[Layout::SUN]);
-                self.nominal(th_s, w_s, a, &mut q2[..n], &mut qd2[..n], &mut qdd[..n]);
+                self.p.reducer.nominal(th_s, w_s, a, &mut q2[..n], &mut qd2[..n], &mut qdd[..n]);
                 a
             }
         };
@@ -333,87 +244,28 @@ impl<'a> System<'a> {
         }
     }
 
-    /// Generalised forces `Q` (N or N m per coordinate) at positions `q` and speeds `qd`.
+    /// Generalised forces `Q` (N or N m per coordinate) at the positions and speeds `k`.
     fn forces(
         &self,
         t: f64,
-        q: &[f64],
-        qd: &[f64],
+        k: &Kinematics,
         g: &mut [f64],
         mut pin_out: Option<&mut [PinForce]>,
     ) {
         let p = self.p;
         let lay = self.layout;
-        let (th_s, th_o) = (q[Layout::SUN], q[Layout::OUT]);
-        let (w_s, w_o) = (qd[Layout::SUN], qd[Layout::OUT]);
+        let n = lay.dofs();
+        let (q, qd) = (&k.q[..n], &k.qd[..n]);
         g[Layout::OUT] += p.load.torque(t);
         if let Drive::Torque { .. } = p.drive {
             g[Layout::SUN] += p.drive.torque(t);
         }
-        let a = p.geometry.eccentricity;
-        for k in 0..p.cranks {
-            let ic = lay.crank(k);
-            let x = Vec2::new(q[ic], q[ic + 1]);
-            let xd = Vec2::new(qd[ic], qd[ic + 1]);
-            let (th_k, w_k) = (q[ic + 2], qd[ic + 2]);
-            let seat = rotate(&self.seats[k], th_o);
-            let dseat = perp(seat);
-            // Sun-planet mesh.
-            let u = rotate(&self.loa[k], th_o);
-            let rel = x - seat;
-            let m = &p.mesh;
-            let delta = m.sun_base_radius * (th_s - th_o) + m.planet_base_radius * (th_k - th_o)
-                - u.dot(&rel);
-            let d_th_o =
-                -(m.sun_base_radius + m.planet_base_radius) - perp(u).dot(&rel) + u.dot(&dseat);
-            let delta_dot =
-                m.sun_base_radius * w_s + m.planet_base_radius * w_k - u.dot(&xd) + d_th_o * w_o;
-            let half = 0.5 * m.backlash;
-            let f = if delta > half {
-                (m.stiffness * (delta - half) + m.damping * delta_dot).max(0.0)
-            } else if delta < -half {
-                (m.stiffness * (delta + half) + m.damping * delta_dot).min(0.0)
-            } else {
-                0.0
-            };
-            g[Layout::SUN] -= f * m.sun_base_radius;
-            g[ic + 2] -= f * m.planet_base_radius;
-            g[Layout::OUT] -= f * d_th_o;
-            g[ic] += f * u.x;
-            g[ic + 1] += f * u.y;
-            // Crank-carrier bearing.
-            let b = &p.bearings;
-            let rd = xd - dseat * w_o;
-            let fb = spring(rel, rd, b.carrier_stiffness, b.carrier_damping, b.clearance);
-            g[ic] -= fb.x;
-            g[ic + 1] -= fb.y;
-            g[Layout::OUT] += fb.dot(&dseat);
-            // Crank-disc bearings.
-            for d in 0..2 {
-                let id = lay.disc(d);
-                let ang = th_k + self.phase[d];
-                let ecc = Vec2::new(ang.cos(), ang.sin()) * a;
-                let e = x + ecc;
-                let de_dth = perp(ecc);
-                let c = Vec2::new(q[id], q[id + 1]);
-                let cd = Vec2::new(qd[id], qd[id + 1]);
-                let psi = q[id + 2];
-                let arm = rotate(&self.seats[k], psi);
-                let bore = c + arm;
-                let r = e - bore;
-                let rdot = xd + de_dth * w_k - cd - perp(arm) * qd[id + 2];
-                let fe = spring(r, rdot, b.disc_stiffness, b.disc_damping, b.clearance);
-                g[ic] -= fe.x;
-                g[ic + 1] -= fe.y;
-                g[ic + 2] -= fe.dot(&de_dth);
-                g[id] += fe.x;
-                g[id + 1] += fe.y;
-                g[id + 2] += fe.dot(&perp(arm));
-            }
-        }
+        p.reducer
+            .structural_forces(&k.q0[..n], &k.dq[..n], qd, g);
         // Disc-pin contacts.
         let ct = &p.contact;
         let mut cache = self.t_cache.borrow_mut();
+        let mut fcache = self.f_cache.borrow_mut();
         for d in 0..2 {
             let id = lay.disc(d);
             let c = Vec2::new(q[id], q[id + 1]);
@@ -435,6 +287,7 @@ impl<'a> System<'a> {
                 let (ge, t_found) = self.gaps[d].eval(&ql, start);
                 *slot = t_found - tg;
                 if ge.gap >= 0.0 {
+                    fcache[d * self.zp + j] = 0.0;
                     continue;
                 }
                 let w = Vec2::new(
@@ -444,7 +297,10 @@ impl<'a> System<'a> {
                 let pen = -ge.gap;
                 // d(gap)/dt = w . (-c' - psi' J (p - c)).
                 let gap_dot = -w.dot(&(cd + perp(rel) * wpsi));
-                let fnorm = (ct.stiffness * pen.powf(ct.exponent)
+                let f_cached = &mut fcache[d * self.zp + j];
+                let elastic = ct.law.force(&p.reducer.contact, pen, ge.curvature, *f_cached);
+                *f_cached = elastic;
+                let fnorm = (elastic
                     - step(pen, 0.0, 0.0, ct.penetration, ct.max_damping) * gap_dot)
                     .max(0.0);
                 // Q = F d(gap)/dx: d gap/dc = -w, d gap/dpsi = -(p - c) x w.
@@ -454,7 +310,7 @@ impl<'a> System<'a> {
                 if ct.friction > 0.0 {
                     let wn = w / w.norm();
                     let tau = perp(wn);
-                    let xc = rel - wn * p.geometry.pin_radius;
+                    let xc = rel - wn * p.reducer.geometry.pin_radius;
                     let v = cd + perp(xc) * wpsi;
                     let vt = v.dot(&tau);
                     let ff = tau * (-ct.friction * fnorm * (vt / ct.friction_velocity).tanh());
@@ -479,41 +335,14 @@ impl<'a> System<'a> {
         let p = self.p;
         let lay = self.layout;
         let n = lay.dofs();
-        let (mut qa, mut qda, mut qdd) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS], [0.0; MAX_DOFS]);
-        self.absolute(t, z, &mut qa[..n], &mut qda[..n], &mut qdd[..n]);
-        let (q, qd) = (&qa[..n], &qda[..n]);
+        let mut k = Kinematics::default();
+        self.absolute(t, z, &mut k);
+        let (q, qd) = (&k.q[..n], &k.qd[..n]);
         let mut e = 0.0;
         for ((m, v), _) in self.mass.iter().zip(qd).zip(0..n) {
             e += 0.5 * m * v * v;
         }
-        let (th_s, th_o) = (q[Layout::SUN], q[Layout::OUT]);
-        let a = p.geometry.eccentricity;
-        let b = &p.bearings;
-        let spring_energy = |r: Vec2, k: f64| {
-            let x = (r.norm() - b.clearance).max(0.0);
-            0.5 * k * x * x
-        };
-        for k in 0..p.cranks {
-            let ic = lay.crank(k);
-            let x = Vec2::new(q[ic], q[ic + 1]);
-            let seat = rotate(&self.seats[k], th_o);
-            let u = rotate(&self.loa[k], th_o);
-            let m = &p.mesh;
-            let delta = m.sun_base_radius * (th_s - th_o)
-                + m.planet_base_radius * (q[ic + 2] - th_o)
-                - u.dot(&(x - seat));
-            let dl = (delta.abs() - 0.5 * m.backlash).max(0.0);
-            e += 0.5 * m.stiffness * dl * dl;
-            e += spring_energy(x - seat, b.carrier_stiffness);
-            for d in 0..2 {
-                let id = lay.disc(d);
-                let ang = q[ic + 2] + self.phase[d];
-                let ecc = Vec2::new(ang.cos(), ang.sin()) * a;
-                let c = Vec2::new(q[id], q[id + 1]);
-                let bore = c + rotate(&self.seats[k], q[id + 2]);
-                e += spring_energy(x + ecc - bore, b.disc_stiffness);
-            }
-        }
+        e += p.reducer.structural_energy(&k.q0[..n], &k.dq[..n]);
         let ct = &p.contact;
         for d in 0..2 {
             let id = lay.disc(d);
@@ -524,9 +353,9 @@ impl<'a> System<'a> {
             for j in 0..self.zp {
                 let ql = rotate(&(self.pins[j] - c), -ang);
                 let tg = base - 2.0 * PI * j as f64 * self.zc / self.zp as f64;
-                let gap = self.gaps[d].eval(&ql, tg).0.gap;
-                if gap < 0.0 {
-                    e += ct.stiffness * (-gap).powf(ct.exponent + 1.0) / (ct.exponent + 1.0);
+                let ge = self.gaps[d].eval(&ql, tg).0;
+                if ge.gap < 0.0 {
+                    e += ct.law.potential(&p.reducer.contact, -ge.gap, ge.curvature);
                 }
             }
         }
@@ -546,31 +375,17 @@ impl<'a> System<'a> {
                 .unwrap_or((z[Layout::SUN], z[n + Layout::SUN], 0.0));
         [
             th_s,
-            th_s / self.p.ratio + z[Layout::OUT],
+            th_s / self.p.reducer.ratio + z[Layout::OUT],
             w_s,
-            w_s / self.p.ratio + z[n + Layout::OUT],
+            w_s / self.p.reducer.ratio + z[n + Layout::OUT],
         ]
     }
 }
 
-/// Force (N) of an isotropic radial spring-damper with clearance on its first end, for the
-/// relative position `r` and relative velocity `rd` of the first end from the second.
-#[inline]
-fn spring(r: Vec2, rd: Vec2, k: f64, c: f64, clearance: f64) -> Vec2 {
-    if clearance <= 0.0 {
-        return r * k + rd * c;
-    }
-    let len = r.norm();
-    if len <= clearance {
-        return Vec2::zeros();
-    }
-    let n = r / len;
-    let f = k * (len - clearance) + c * rd.dot(&n);
-    n * f.max(0.0)
-}
-
 impl LoadProfile {
-    /// Output load torque (N m, resisting positive output rotation) at time `t`.
+    /// Torque on the output carrier (N m) at time `t`: positive counter-clockwise, the sense of
+    /// positive output rotation (it presses the flank `0 < mesh angle < pi` and gives a positive
+    /// TE). A load resisting a reducer driven forward is negative.
     pub fn torque(&self, t: f64) -> f64 {
         match self {
             LoadProfile::None => 0.0,
@@ -637,9 +452,9 @@ impl super::ode::OdeSystem for System<'_> {
     fn absolute_tolerances(&self, rtol: f64) -> Vec<f64> {
         let n = self.layout.dofs();
         let len = 1e-4 * rtol;
-        let ang = len / self.p.geometry.pin_circle_radius;
+        let ang = len / self.p.reducer.geometry.pin_circle_radius;
         let mut a = vec![0.0; 2 * n];
-        for k in 0..self.p.cranks {
+        for k in 0..self.p.reducer.cranks {
             let i = self.layout.crank(k);
             a[i..i + 3].copy_from_slice(&[len, len, ang]);
         }

@@ -22,10 +22,8 @@ use std::f64::consts::{PI, TAU};
 
 use rayon::prelude::*;
 
-use crate::contact::ContactModel;
 use crate::error::Result;
 use crate::geometry::{cubic_hermite, Profile, Vec2};
-use crate::wear::band_shape;
 
 /// Periodic cubic Hermite spline on a uniform grid over `[0, 2 pi)` with central-difference
 /// (Catmull-Rom) node slopes: C1, exact for quadratics away from nothing (periodic).
@@ -78,6 +76,8 @@ pub struct GapEval {
     /// Gradient of the gap with respect to the pin centre in the profile frame (unitless; about
     /// the outward flank normal).
     pub grad: Vec2,
+    /// Flank curvature for the contact law at this mesh angle, 1/m.
+    pub curvature: f64,
 }
 
 /// The tabulated gap field of one disc profile (see the module docs).
@@ -90,80 +90,57 @@ pub struct GapField {
     offset: PeriodicSpline,
     /// Radial slope `s` of the gap at touching per mesh angle.
     slope: PeriodicSpline,
+    /// Flank curvature of the contact law at the touching foot per mesh angle, 1/m.
+    curvature: PeriodicSpline,
 }
 
 impl GapField {
     /// Tabulates the gap of `profile` on `points` mesh angles per tooth (>= 16) with exact
-    /// projections (in parallel): Newton's method on the radial offset finds the touching offset
-    /// (about three projections per mesh angle); the slope is the foot normal's radial component
-    /// there.
+    /// global projections (in parallel): Newton's method on the radial offset finds the
+    /// touching offset (about three projections per mesh angle); the slope is the foot normal's
+    /// radial component there, the curvature that of the contact law at the touching foot.
     ///
     /// # Errors
     /// [`crate::Error::Numerical`] if a projection fails.
-    ///
-    /// With `band = Some((contact, force))` both tables are then filtered over the Hertz band:
-    /// every node becomes the semi-elliptic average over `+-b` of arc length (two passes), `b`
-    /// the half-width of `force` (N) on the unworn flank there. Waviness of a worn profile
-    /// shorter than the contact band (grid-scale ripple of the integrated wear) is flattened
-    /// elastically and carries no load on its own, as in the wear integration
-    /// ([`crate::wear`]).
-    pub fn new(
-        profile: &Profile,
-        points: usize,
-        band: Option<(&ContactModel, f64)>,
-    ) -> Result<Self> {
+    pub fn new(profile: &Profile, points: usize) -> Result<Self> {
         let geo = profile.geometry();
         let (a, rp, r) = (geo.eccentricity, geo.pin_circle_radius, geo.pin_radius);
         let zc = geo.disc_teeth() as f64;
         let n = points.max(16);
-        let rows: Vec<(f64, f64)> = (0..n)
+        let rows: Vec<(f64, f64, f64)> = (0..n)
             .into_par_iter()
-            .map(|i| -> Result<(f64, f64)> {
+            .map(|i| -> Result<(f64, f64, f64)> {
                 let t = TAU * i as f64 / n as f64;
                 let c = Self::path(a, rp, zc, t);
                 let e = c / c.norm();
                 // Gap and its radial derivative (the foot normal along the radius: the distance
                 // gradient is the unit normal at the closest point).
-                let gap = |rho: f64| -> Result<(f64, f64)> {
+                let gap = |rho: f64| -> Result<(f64, f64, f64)> {
                     let pr = profile.project(&(c + e * rho), t)?;
-                    Ok((pr.distance - r, pr.point.normal.dot(&e).max(0.05)))
+                    Ok((
+                        pr.distance - r,
+                        pr.point.normal.dot(&e).max(0.05),
+                        profile.macro_curvature(pr.point.t),
+                    ))
                 };
-                // Newton on gap(rho) = 0: the last evaluation is at touching, where the
-                // projection searches every local foot near wear dents.
-                let (mut rho0, (mut g1, mut s)) = (0.0, gap(0.0)?);
-                for _ in 0..6 {
+                let (mut rho0, (mut g1, mut s, mut k)) = (0.0, gap(0.0)?);
+                for _ in 0..8 {
                     rho0 -= g1 / s;
-                    (g1, s) = gap(rho0)?;
-                    if g1.abs() < 1e-10 {
+                    (g1, s, k) = gap(rho0)?;
+                    if g1.abs() < 1e-12 {
                         break;
                     }
                 }
-                Ok((rho0 - g1 / s, s))
+                Ok((rho0 - g1 / s, s, k))
             })
             .collect::<Result<_>>()?;
-        let (mut offset, mut slope): (Vec<f64>, Vec<f64>) = rows.into_iter().unzip();
-        if let Some((contact, force)) = band {
-            let dt = TAU / n as f64;
-            let pts: Vec<_> = (0..n).map(|i| profile.point(i as f64 * dt)).collect();
-            let ds: Vec<f64> = pts.iter().map(|p| p.dp.norm() * dt).collect();
-            let weights: Vec<Vec<(usize, f64)>> = (0..n)
-                .map(|i| {
-                    let b = contact
-                        .hertz(force, profile.macro_curvature(i as f64 * dt))
-                        .half_width;
-                    let w = band_shape(&ds, i, b);
-                    let total: f64 = w.iter().map(|&(k, x)| x * ds[k]).sum();
-                    w.iter().map(|&(k, x)| (k, x * ds[k] / total)).collect()
-                })
-                .collect();
-            let pass = |v: &[f64]| -> Vec<f64> {
-                weights
-                    .iter()
-                    .map(|w| w.iter().map(|&(k, x)| x * v[k]).sum())
-                    .collect()
-            };
-            offset = pass(&pass(&offset));
-            slope = pass(&pass(&slope));
+        let mut offset = Vec::with_capacity(n);
+        let mut slope = Vec::with_capacity(n);
+        let mut curvature = Vec::with_capacity(n);
+        for (o, s, k) in rows {
+            offset.push(o);
+            slope.push(s);
+            curvature.push(k);
         }
         Ok(GapField {
             a,
@@ -171,6 +148,7 @@ impl GapField {
             zc,
             offset: PeriodicSpline::new(offset),
             slope: PeriodicSpline::new(slope),
+            curvature: PeriodicSpline::new(curvature),
         })
     }
 
@@ -236,7 +214,15 @@ impl GapField {
         let (s, ds) = self.slope.eval(t);
         let gap = s * (rho - r0);
         let grad = dt_dq * (ds * (rho - r0) - s * dr0) + drho_dq * s;
-        (GapEval { gap, grad }, t)
+        let curvature = self.curvature.eval(t).0;
+        (
+            GapEval {
+                gap,
+                grad,
+                curvature,
+            },
+            t,
+        )
     }
 }
 
@@ -263,7 +249,7 @@ mod tests {
             .unwrap()
             .geometry;
         let profile = Profile::new(geo, m, Some(WearMap::new(depth).unwrap())).unwrap();
-        let field = GapField::new(&profile, 2048, None).unwrap();
+        let field = GapField::new(&profile, 2048).unwrap();
         for &phi in &[0.0, 0.3, 1.1] {
             for &beta in &[-2e-4, 0.0, 3e-4] {
                 for j in 0..40 {

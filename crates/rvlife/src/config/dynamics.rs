@@ -1,19 +1,22 @@
-//! `[dynamics]` configuration (engineering units) and the checked SI parameters of the
-//! multibody model.
+//! `[dynamics]`: the raw section (engineering units) and its conversion to the SI parameters of
+//! the multibody model ([`DynamicsParams`]).
 //!
 //! Defaults: the paper's section 4.2 set-up (input ramped by `STEP(time, 0, 0, 0.1, 9000 deg/s)`,
-//! sinusoidal output load of 412 N m amplitude and 0.3 s period, TE over 0.1-0.8 s), material
-//! densities of the paper's Table 2, the gear data of its Table 1 (planet pitch radius 27 mm,
-//! pressure angle 30 degrees), and stiffnesses of typical RV-40E-class components (stated with
-//! each key).
+//! sinusoidal output torque of 412 N m amplitude and 0.3 s period, TE over 0.1-0.8 s), material
+//! densities of the paper's Table 2, and sizes of typical RV-40E-class bodies (stated with each
+//! key).
 
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::contact::ContactModel;
+use super::range::{check, Range};
 use crate::error::{Error, Result};
-use crate::geometry::{CycloidGeometry, Profile, Vec2};
+use crate::geometry::Profile;
+use crate::reducer::dynamics::params::{
+    disc_inertia, Drive, DynamicsParams, Impact, ImpactLaw, Inertias, LoadProfile,
+};
+use crate::reducer::Reducer;
 
 /// `[dynamics]`.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -43,12 +46,6 @@ pub struct DynamicsConfig {
     /// Output load.
     #[serde(default)]
     pub load: DynLoadConfig,
-    /// First stage gears.
-    #[serde(default)]
-    pub gears: GearsConfig,
-    /// Crank bearings.
-    #[serde(default)]
-    pub bearings: BearingsConfig,
     /// Disc-pin impact contact.
     #[serde(default)]
     pub impact: ImpactConfig,
@@ -84,8 +81,6 @@ impl Default for DynamicsConfig {
             gap_points_per_tooth: d_gap_points(),
             drive: Default::default(),
             load: Default::default(),
-            gears: Default::default(),
-            bearings: Default::default(),
             impact: Default::default(),
             inertia: Default::default(),
         }
@@ -188,96 +183,6 @@ impl Default for DynLoadConfig {
             offset_nm: 0.0,
             phase_deg: 0.0,
             file: None,
-        }
-    }
-}
-
-/// `[dynamics.gears]`: the sun-planet stage.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct GearsConfig {
-    /// Planet pitch radius, mm (paper Table 1: 27).
-    #[serde(default = "d_planet_r")]
-    pub planet_pitch_radius_mm: f64,
-    /// Pressure angle, degrees (paper Table 1: 30).
-    #[serde(default = "d_pressure")]
-    pub pressure_angle_deg: f64,
-    /// Face width of sun and planets, mm.
-    #[serde(default = "d_face")]
-    pub face_width_mm: f64,
-    /// Mesh stiffness along the line of action, N/um (ISO 6336-1: c_gamma about 20 N/(mm um)
-    /// times the face width).
-    #[serde(default = "d_mesh_k")]
-    pub mesh_stiffness_n_per_um: f64,
-    /// Damping ratio of the mesh mode.
-    #[serde(default = "d_zeta")]
-    pub mesh_damping_ratio: f64,
-    /// Total backlash along the line of action, um.
-    #[serde(default)]
-    pub backlash_um: f64,
-}
-
-fn d_planet_r() -> f64 {
-    27.0
-}
-fn d_pressure() -> f64 {
-    30.0
-}
-fn d_face() -> f64 {
-    10.0
-}
-fn d_mesh_k() -> f64 {
-    200.0
-}
-fn d_zeta() -> f64 {
-    0.05
-}
-
-impl Default for GearsConfig {
-    fn default() -> Self {
-        GearsConfig {
-            planet_pitch_radius_mm: d_planet_r(),
-            pressure_angle_deg: d_pressure(),
-            face_width_mm: d_face(),
-            mesh_stiffness_n_per_um: d_mesh_k(),
-            mesh_damping_ratio: d_zeta(),
-            backlash_um: 0.0,
-        }
-    }
-}
-
-/// `[dynamics.bearings]`: crank bearings as radial spring-dampers.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct BearingsConfig {
-    /// Radial stiffness of one crank-carrier bearing pair, N/um (tapered roller bearings).
-    #[serde(default = "d_kcc")]
-    pub crank_carrier_stiffness_n_per_um: f64,
-    /// Radial stiffness of one crank-disc (eccentric needle) bearing, N/um.
-    #[serde(default = "d_kcd")]
-    pub crank_disc_stiffness_n_per_um: f64,
-    /// Damping ratio of the bearing modes.
-    #[serde(default = "d_zeta")]
-    pub damping_ratio: f64,
-    /// Radial clearance, um.
-    #[serde(default)]
-    pub clearance_um: f64,
-}
-
-fn d_kcc() -> f64 {
-    1000.0
-}
-fn d_kcd() -> f64 {
-    500.0
-}
-
-impl Default for BearingsConfig {
-    fn default() -> Self {
-        BearingsConfig {
-            crank_carrier_stiffness_n_per_um: d_kcc(),
-            crank_disc_stiffness_n_per_um: d_kcd(),
-            damping_ratio: d_zeta(),
-            clearance_um: 0.0,
         }
     }
 }
@@ -438,262 +343,34 @@ impl Default for InertiaConfig {
     }
 }
 
-/// Input drive (SI).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Drive {
-    /// Prescribed speed `speed STEP(t, t0, 0, t1, 1)`, rad/s.
-    Speed {
-        /// Final speed, rad/s.
-        speed: f64,
-        /// Ramp start, s.
-        t0: f64,
-        /// Ramp end, s.
-        t1: f64,
-    },
-    /// Motor torque `torque STEP(t, 0, 0, ramp, 1)` on a free input shaft.
-    Torque {
-        /// Torque, N m.
-        torque: f64,
-        /// Ramp time, s (0: a step).
-        ramp: f64,
-        /// Initial input speed, rad/s (the whole reducer spins rigidly).
-        initial_speed: f64,
-    },
+fn positive(field: &str, v: f64, max: f64, unit: &'static str) -> Result<f64> {
+    check(&format!("dynamics.{field}"), v, Range::positive(max, unit))
 }
 
-/// Output load torque (SI; positive resists positive output rotation).
-#[derive(Debug, Clone, PartialEq)]
-pub enum LoadProfile {
-    /// No load.
-    None,
-    /// `torque STEP(t, 0, 0, ramp, 1)`, N m.
-    Constant {
-        /// Torque, N m.
-        torque: f64,
-        /// Ramp time, s (0: applied at once).
-        ramp: f64,
-    },
-    /// `offset + amplitude sin(2 pi t / period + phase)`, N m.
-    Sinusoidal {
-        /// Amplitude, N m.
-        amplitude: f64,
-        /// Period, s.
-        period: f64,
-        /// Mean, N m.
-        offset: f64,
-        /// Phase, rad.
-        phase: f64,
-    },
-    /// Linear interpolation in a time table (s, N m), strictly increasing times.
-    Table {
-        /// Times, s.
-        time: Vec<f64>,
-        /// Torques, N m.
-        torque: Vec<f64>,
-    },
-}
-
-/// Body inertias (SI).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Inertias {
-    /// Input shaft + sun, kg m^2.
-    pub input: f64,
-    /// Carrier + output shaft + load, kg m^2.
-    pub output: f64,
-    /// Crankshaft + planet mass, kg.
-    pub crank_mass: f64,
-    /// Crankshaft + planet inertia, kg m^2.
-    pub crank: f64,
-    /// Disc mass, kg.
-    pub disc_mass: f64,
-    /// Disc inertia about its centre, kg m^2.
-    pub disc: f64,
-}
-
-/// Sun-planet mesh (SI).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Mesh {
-    /// Pressure angle, rad.
-    pub pressure_angle: f64,
-    /// Sun base radius, m.
-    pub sun_base_radius: f64,
-    /// Planet base radius, m.
-    pub planet_base_radius: f64,
-    /// `Z1 / Z2`.
-    pub sun_planet_ratio: f64,
-    /// Stiffness, N/m.
-    pub stiffness: f64,
-    /// Damping, N s/m.
-    pub damping: f64,
-    /// Backlash, m.
-    pub backlash: f64,
-}
-
-/// Crank bearings (SI).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Bearings {
-    /// Crank-carrier stiffness, N/m.
-    pub carrier_stiffness: f64,
-    /// Crank-carrier damping, N s/m.
-    pub carrier_damping: f64,
-    /// Crank-disc stiffness, N/m.
-    pub disc_stiffness: f64,
-    /// Crank-disc damping, N s/m.
-    pub disc_damping: f64,
-    /// Radial clearance, m.
-    pub clearance: f64,
-}
-
-/// Impact contact (SI).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Impact {
-    /// `k`, N/m^e.
-    pub stiffness: f64,
-    /// `e`.
-    pub exponent: f64,
-    /// `c_max`, N s/m.
-    pub max_damping: f64,
-    /// `d_max`, m.
-    pub penetration: f64,
-    /// Coulomb coefficient.
-    pub friction: f64,
-    /// Smoothing speed, m/s.
-    pub friction_velocity: f64,
-}
-
-/// Checked SI parameters of one dynamic simulation.
-#[derive(Debug, Clone, PartialEq)]
-pub struct DynamicsParams {
-    /// Stage geometry.
-    pub geometry: CycloidGeometry,
-    /// Overall ratio `i_H`.
-    pub ratio: f64,
-    /// Number of cranks (= planets).
-    pub cranks: usize,
-    /// Crank circle radius (sun-planet centre distance), m.
-    pub crank_circle_radius: f64,
-    /// Mesh.
-    pub mesh: Mesh,
-    /// Bearings.
-    pub bearings: Bearings,
-    /// Disc-pin impact contact.
-    pub contact: Impact,
-    /// Inertias.
-    pub inertia: Inertias,
-    /// Drive.
-    pub drive: Drive,
-    /// Load.
-    pub load: LoadProfile,
-    /// Simulated time, s.
-    pub end_time: f64,
-    /// TE statistics window, s.
-    pub window: (f64, f64),
-    /// Sampling interval, s.
-    pub output_interval: f64,
-    /// Relative tolerance.
-    pub rtol: f64,
-    /// Gap-table resolution per tooth.
-    pub gap_points: usize,
-    /// Contact law of the stage, for the Hertz band over which the gap table is filtered.
-    pub contact_law: ContactModel,
-    /// Reference pin force (Li's largest force at the rated torque), N.
-    pub reference_force: f64,
-}
-
-fn positive(field: &str, v: f64, max: f64, unit: &str) -> Result<f64> {
-    if v.is_finite() && v > 0.0 && v <= max {
-        Ok(v)
-    } else {
-        Err(Error::invalid(
-            format!("dynamics.{field}"),
-            v,
-            format!("must be a finite number > 0 and <= {max:e} {unit}"),
-        ))
-    }
-}
-
-fn non_negative(field: &str, v: f64, max: f64, unit: &str) -> Result<f64> {
-    if v.is_finite() && v >= 0.0 && v <= max {
-        Ok(v)
-    } else {
-        Err(Error::invalid(
-            format!("dynamics.{field}"),
-            v,
-            format!("must be in [0, {max}] {unit}"),
-        ))
-    }
-}
-
-/// Power law `F = k d^e` fitted by least squares in log-log to the approach law of `contact` at
-/// flank curvature `curvature` (1/m) over forces from 2 % to 200 % of `f_ref` (N). Returns
-/// `(k, e)` in N/m^e.
-pub fn fit_impact_law(contact: &ContactModel, curvature: f64, f_ref: f64) -> (f64, f64) {
-    let n = 40;
-    let (mut sx, mut sy, mut sxx, mut sxy) = (0.0, 0.0, 0.0, 0.0);
-    for i in 0..n {
-        let f = f_ref * 0.02 * 100f64.powf(i as f64 / (n - 1) as f64);
-        let x = contact.approach(f, curvature).ln();
-        let y = f.ln();
-        sx += x;
-        sy += y;
-        sxx += x * x;
-        sxy += x * y;
-    }
-    let nf = n as f64;
-    let e = (nf * sxy - sx * sy) / (nf * sxx - sx * sx);
-    let lnk = (sy - e * sx) / nf;
-    (lnk.exp(), e)
-}
-
-/// Mass (kg) and polar inertia about the centre (kg m^2) of the disc: the profile polygon
-/// (shoelace formulas) minus the crank bores, times density and width.
-fn disc_inertia(
-    profile: &Profile,
-    bores: usize,
-    bore_r: f64,
-    bore_circle: f64,
-    rho: f64,
-) -> (f64, f64) {
-    let pts: Vec<Vec2> = profile.sample(64);
-    let (mut area, mut ip) = (0.0, 0.0);
-    for i in 0..pts.len() {
-        let (p, q) = (pts[i], pts[(i + 1) % pts.len()]);
-        let cr = p.x * q.y - q.x * p.y;
-        area += 0.5 * cr;
-        ip += cr * (p.x * p.x + p.x * q.x + q.x * q.x + p.y * p.y + p.y * q.y + q.y * q.y) / 12.0;
-    }
-    let (area, ip) = (area.abs(), ip.abs());
-    let hole = std::f64::consts::PI * bore_r * bore_r;
-    let b = profile.geometry().width;
-    let a_net = area - bores as f64 * hole;
-    let ip_net =
-        ip - bores as f64 * (0.5 * hole * bore_r * bore_r + hole * bore_circle * bore_circle);
-    (rho * b * a_net, rho * b * ip_net)
+fn non_negative(field: &str, v: f64, max: f64, unit: &'static str) -> Result<f64> {
+    check(&format!("dynamics.{field}"), v, Range::non_negative(max, unit))
 }
 
 impl DynamicsConfig {
-    /// Checks the section and converts it to SI for the stage `geometry` with the contact law
-    /// `contact`, the first-stage teeth `z1`, `z2`, `planets` cranks, overall ratio `ratio`,
-    /// rated torque (N m) and load share (for the reference force of the impact-law fit).
-    /// `base_dir` resolves a relative load-table path.
+    /// Checks the section and converts it to SI for the reducer `reducer` (its meshes and
+    /// bearings get their damping here, from the damping ratios and the body masses) with the
+    /// nominal disc profile `profile` and the rated torque (N m, the default load and the
+    /// reference force). `base_dir` resolves a relative load-table path.
     ///
     /// # Errors
     /// [`Error::Invalid`] naming the `dynamics.*` key, the value and the allowed range;
     /// [`Error::Config`] for an unreadable load table.
-    #[allow(clippy::too_many_arguments)]
     pub fn validate(
         &self,
+        reducer: &Reducer,
+        damping: (f64, f64),
         profile: &Profile,
-        contact: &ContactModel,
-        z1: usize,
-        z2: usize,
-        planets: usize,
-        ratio: f64,
         rated_torque: f64,
-        load_share: f64,
         base_dir: Option<&Path>,
     ) -> Result<DynamicsParams> {
-        let geo = profile.geometry().clone();
+        let geo = reducer.geometry.clone();
+        let planets = reducer.cranks;
+        let (zeta_m, zeta_b) = damping;
         let end_time = positive("end_time_s", self.end_time_s, 60.0, "s")?;
         let [w0, w1] = self.window_s;
         if !(w0.is_finite() && w1.is_finite() && w0 >= 0.0 && w0 < w1 && w1 <= end_time) {
@@ -739,26 +416,13 @@ impl DynamicsConfig {
                 "the dynamic model needs 2 or 3 planets (crankshafts)",
             ));
         }
-        // Gears.
-        let g = &self.gears;
-        let r_p = positive(
-            "gears.planet_pitch_radius_mm",
-            g.planet_pitch_radius_mm,
-            1e4,
-            "mm",
-        )? * 1e-3;
-        let alpha = g.pressure_angle_deg;
-        if !(alpha.is_finite() && (10.0..=45.0).contains(&alpha)) {
-            return Err(Error::invalid(
-                "dynamics.gears.pressure_angle_deg",
-                alpha,
-                "must be in [10, 45] degrees",
-            ));
-        }
-        let alpha = alpha.to_radians();
-        let face = positive("gears.face_width_mm", g.face_width_mm, 1e3, "mm")? * 1e-3;
-        let r_s = r_p * z1 as f64 / z2 as f64;
-        let crank_circle_radius = r_p + r_s;
+        let mesh0 = reducer.mesh;
+        let (r_p, r_s, face) = (
+            mesh0.planet_pitch_radius,
+            mesh0.sun_pitch_radius,
+            mesh0.face_width,
+        );
+        let crank_circle_radius = reducer.crank_circle_radius;
         let root = geo.pin_circle_radius - geo.pin_radius - geo.eccentricity;
         // Inertias.
         let ic = &self.inertia;
@@ -844,7 +508,7 @@ impl DynamicsConfig {
         let (_, jo) = cyl(rho_o, geo.pin_circle_radius - geo.pin_radius, carrier_t);
         let (_, js) = cyl(rho_c, r_s, face);
         let (_, jsh) = cyl(rho_c, in_r, in_len);
-        let over = |field: &str, v: Option<f64>, default: f64, unit: &str| -> Result<f64> {
+        let over = |field: &str, v: Option<f64>, default: f64, unit: &'static str| -> Result<f64> {
             match v {
                 Some(x) => positive(&format!("inertia.{field}"), x, 1e6, unit),
                 None => Ok(default),
@@ -873,57 +537,26 @@ impl DynamicsConfig {
             disc_mass: over("disc_mass_kg", ic.disc_mass_kg, md, "kg")?,
             disc: over("disc_inertia_kg_m2", ic.disc_inertia_kg_m2, jd, "kg m^2")?,
         };
-        // Mesh.
-        let k_mesh = positive(
-            "gears.mesh_stiffness_n_per_um",
-            g.mesh_stiffness_n_per_um,
-            1e7,
-            "N/um",
-        )? * 1e6;
-        let zeta_m = non_negative("gears.mesh_damping_ratio", g.mesh_damping_ratio, 10.0, "")?;
-        let r_bp = r_p * alpha.cos();
+        // Damping of the meshes and bearings from their ratios.
+        let r_bp = mesh0.planet_base_radius;
         let m_eq = inertia.crank / (r_bp * r_bp);
-        let mesh = Mesh {
-            pressure_angle: alpha,
-            sun_base_radius: r_s * alpha.cos(),
-            planet_base_radius: r_bp,
-            sun_planet_ratio: z1 as f64 / z2 as f64,
-            stiffness: k_mesh,
-            damping: 2.0 * zeta_m * (k_mesh * m_eq).sqrt(),
-            backlash: non_negative("gears.backlash_um", g.backlash_um, 1e4, "um")? * 1e-6,
-        };
-        // Bearings.
-        let b = &self.bearings;
-        let k_cc = positive(
-            "bearings.crank_carrier_stiffness_n_per_um",
-            b.crank_carrier_stiffness_n_per_um,
-            1e7,
-            "N/um",
-        )? * 1e6;
-        let k_cd = positive(
-            "bearings.crank_disc_stiffness_n_per_um",
-            b.crank_disc_stiffness_n_per_um,
-            1e7,
-            "N/um",
-        )? * 1e6;
-        let zeta_b = non_negative("bearings.damping_ratio", b.damping_ratio, 10.0, "")?;
-        let bearings = Bearings {
-            carrier_stiffness: k_cc,
-            carrier_damping: 2.0 * zeta_b * (k_cc * inertia.crank_mass).sqrt(),
-            disc_stiffness: k_cd,
-            disc_damping: 2.0 * zeta_b * (k_cd * inertia.disc_mass).sqrt(),
-            clearance: non_negative("bearings.clearance_um", b.clearance_um, 1e3, "um")? * 1e-6,
-        };
-        // Impact contact: by default fitted to the Hertz law at the flank point of largest lever
-        // arm (Li: cos t = K1) around Li's largest pin force at rated torque.
+        let mut red = reducer.clone();
+        red.mesh.damping = 2.0 * zeta_m * (mesh0.stiffness * m_eq).sqrt();
+        red.bearings.carrier_damping =
+            2.0 * zeta_b * (reducer.bearings.carrier_stiffness * inertia.crank_mass).sqrt();
+        red.bearings.disc_damping =
+            2.0 * zeta_b * (reducer.bearings.disc_stiffness * inertia.disc_mass).sqrt();
+        // Impact contact: by default the stage's contact law at every mesh angle; the damping
+        // from the linearised stiffness at Li's largest pin force at the rated torque, on the
+        // flank point of largest lever arm (Li: cos t = K1).
         let im = &self.impact;
-        let f_ref = 4.0 * load_share * rated_torque / (geo.disc_pitch_radius() * geo.pins as f64);
-        let t_ref = geo.k1().acos();
-        let curvature = profile.macro_curvature(t_ref);
-        let (k_fit, e_fit) = fit_impact_law(contact, curvature, f_ref);
-        let (stiffness, exponent) = match (im.stiffness_n_per_m_e, im.exponent) {
-            (None, None) => (k_fit, e_fit),
-            (Some(k), Some(e)) => (positive("impact.stiffness_n_per_m_e", k, 1e30, "N/m^e")?, {
+        let f_ref = 2.0 * rated_torque * reducer.twist_factor()
+            / (geo.disc_pitch_radius() * geo.pins as f64);
+        let curvature = profile.macro_curvature(geo.k1().acos());
+        let law = match (im.stiffness_n_per_m_e, im.exponent) {
+            (None, None) => ImpactLaw::Hertz,
+            (Some(k), Some(e)) => {
+                let k = positive("impact.stiffness_n_per_m_e", k, 1e30, "N/m^e")?;
                 if !(e.is_finite() && (1.0..=3.0).contains(&e)) {
                     return Err(Error::invalid(
                         "dynamics.impact.exponent",
@@ -931,23 +564,24 @@ impl DynamicsConfig {
                         "must be in [1, 3]",
                     ));
                 }
-                e
-            }),
+                ImpactLaw::Power {
+                    stiffness: k,
+                    exponent: e,
+                }
+            }
             _ => {
                 return Err(Error::invalid(
                     "dynamics.impact.stiffness_n_per_m_e",
                     "given without exponent (or the reverse)",
-                    "give both stiffness_n_per_m_e and exponent, or neither (Hertz fit)",
+                    "give both stiffness_n_per_m_e and exponent, or neither (the contact law)",
                 ))
             }
         };
-        // Linearised stiffness at f_ref: dF/dd = e F / d.
-        let d_ref = (f_ref / stiffness).powf(1.0 / exponent);
-        let k_lin = exponent * f_ref / d_ref;
+        let k_lin = law.stiffness_at(&reducer.contact, f_ref, curvature);
         if !(k_lin.is_finite() && (1e5..=1e13).contains(&k_lin)) {
             return Err(Error::invalid(
                 "dynamics.impact.stiffness_n_per_m_e",
-                stiffness,
+                format!("{law:?}"),
                 format!(
                     "gives a contact stiffness of {k_lin:.3e} N/m at the reference force {f_ref:.0} N; \
                      physical values lie in [1e5, 1e13] N/m"
@@ -960,8 +594,7 @@ impl DynamicsConfig {
             None => 2.0 * zeta_c * (k_lin * inertia.disc_mass).sqrt(),
         };
         let impact = Impact {
-            stiffness,
-            exponent,
+            law,
             max_damping,
             penetration: positive("impact.penetration_um", im.penetration_um, 1e3, "um")? * 1e-6,
             friction: non_negative(
@@ -1043,12 +676,7 @@ impl DynamicsConfig {
         };
         let load = self.load.validate(rated_torque, end_time, base_dir)?;
         Ok(DynamicsParams {
-            geometry: geo,
-            ratio,
-            cranks: planets,
-            crank_circle_radius,
-            mesh,
-            bearings,
+            reducer: red,
             contact: impact,
             inertia,
             drive,
@@ -1058,7 +686,6 @@ impl DynamicsConfig {
             output_interval,
             rtol,
             gap_points: gap_points as usize,
-            contact_law: *contact,
             reference_force: f_ref,
         })
     }

@@ -9,14 +9,31 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+mod dynamics;
+mod fem;
+mod range;
+mod raw;
+
+pub use dynamics::{
+    read_load_table, DriveConfig, DynLoadConfig, DynamicsConfig, ImpactConfig, InertiaConfig,
+};
+pub use fem::FemConfig;
+pub(crate) use range::{check, whole, Range};
+pub use raw::{
+    BearingsConfig, ContactConfig, CycloidConfig, GearsConfig, LoadConfig, MaterialConfig,
+    MaterialsConfig, ModificationConfig, ReducerConfig, TeConfig, WearConfig,
+};
+
 use crate::contact::{ApproachLaw, ContactModel, Materials};
-use crate::dynamics::{DynamicsConfig, DynamicsParams};
+
 use crate::error::{Error, Result};
-use crate::fem::{FemConfig, FemParams};
+use crate::fem::FemParams;
+use crate::reducer::dynamics::DynamicsParams;
+use crate::reducer::{Bearings, Mesh, Reducer, Support};
 use crate::geometry::{CycloidGeometry, Modification, Profile, WearMap};
 
 /// The built-in example: the paper's reducer, fully commented.
-pub const EXAMPLE_TOML: &str = include_str!("example.toml");
+pub const EXAMPLE_TOML: &str = include_str!("../example.toml");
 
 /// Whole configuration file.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -49,207 +66,6 @@ pub struct Config {
     pub base_dir: Option<PathBuf>,
 }
 
-/// `[reducer]`: the planetary first stage and the rating.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ReducerConfig {
-    /// Sun (input) gear teeth `Z1`.
-    pub sun_teeth: u32,
-    /// Planet gear teeth `Z2`.
-    pub planet_teeth: u32,
-    /// Number of planets / crankshafts (2 or 3).
-    pub planets: u32,
-    /// Input speed, rpm.
-    pub input_speed_rpm: f64,
-    /// Rated output torque, N m.
-    pub rated_torque_nm: f64,
-}
-
-/// `[cycloid]`.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct CycloidConfig {
-    /// Pins `Zp`; disc teeth `Zc = Zp - 1`.
-    pub pins: i64,
-    /// Eccentricity `a`, mm.
-    pub eccentricity_mm: f64,
-    /// Pin circle radius `Rp`, mm.
-    pub pin_circle_radius_mm: f64,
-    /// Pin radius `rrp`, mm.
-    pub pin_radius_mm: f64,
-    /// Disc width `B`, mm.
-    pub width_mm: f64,
-    /// Share of the output torque carried by one disc (paper eq 8-9: 0.55).
-    pub load_share: f64,
-    /// Profile modifications.
-    #[serde(default)]
-    pub modification: ModificationConfig,
-}
-
-/// `[cycloid.modification]`.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ModificationConfig {
-    /// Equidistant modification `drrp`, mm.
-    #[serde(default)]
-    pub equidistant_mm: f64,
-    /// Offset modification `dRp`, mm.
-    #[serde(default)]
-    pub offset_mm: f64,
-    /// Rotation modification, degrees.
-    #[serde(default)]
-    pub rotation_deg: f64,
-}
-
-/// `[materials]`.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MaterialsConfig {
-    /// Cycloid disc.
-    pub disc: MaterialConfig,
-    /// Pins.
-    pub pin: MaterialConfig,
-}
-
-/// One material.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MaterialConfig {
-    /// Young's modulus, GPa.
-    pub youngs_modulus_gpa: f64,
-    /// Poisson's ratio.
-    pub poisson_ratio: f64,
-}
-
-/// `[contact]`.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ContactConfig {
-    /// `"paper"` (default), `"johnson"` or `"linear"`.
-    #[serde(default = "default_law")]
-    pub law: String,
-    /// Stiffness of the `"linear"` law, N/um.
-    #[serde(default)]
-    pub linear_stiffness_n_per_um: Option<f64>,
-    /// Cap on the flank radius of curvature in the contact law, mm (default: pin circle radius).
-    #[serde(default)]
-    pub max_curvature_radius_mm: Option<f64>,
-}
-
-fn default_law() -> String {
-    "paper".into()
-}
-
-impl Default for ContactConfig {
-    fn default() -> Self {
-        ContactConfig {
-            law: default_law(),
-            linear_stiffness_n_per_um: None,
-            max_curvature_radius_mm: None,
-        }
-    }
-}
-
-/// `[load]`: the output-torque spectrum the reducer works under.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct LoadConfig {
-    /// `"constant"`, `"sinusoidal"` or `"duty_cycle"`.
-    pub kind: String,
-    /// Constant output torque, N m (`constant`; default: the rated torque).
-    #[serde(default)]
-    pub torque_nm: Option<f64>,
-    /// Amplitude, N m (`sinusoidal`), >= 0.
-    #[serde(default)]
-    pub amplitude_nm: Option<f64>,
-    /// Mean, N m (`sinusoidal`).
-    #[serde(default)]
-    pub offset_nm: Option<f64>,
-    /// Period, s (`sinusoidal`; the wear average does not depend on it).
-    #[serde(default)]
-    pub period_s: Option<f64>,
-    /// Torque levels the sine is split into for the wear average (`sinusoidal`), >= 4.
-    #[serde(default)]
-    pub levels: Option<i64>,
-    /// CSV file with columns `duration_s,torque_nm,speed_rpm` (`duty_cycle`), relative to the
-    /// config file.
-    #[serde(default)]
-    pub file: Option<PathBuf>,
-}
-
-/// `[wear]`.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct WearConfig {
-    /// `"flodin"` (default: sliding from the real kinematics, profile updates) or `"paper"`
-    /// (eqs 11-20 as printed, Li's forces, no updates, TE from the uniform maximum wear).
-    #[serde(default = "default_wear_model")]
-    pub model: String,
-    /// Dimensional Archard coefficient `k = K/H`, mm^3/(N m).
-    #[serde(default)]
-    pub archard_coefficient_mm3_per_n_m: Option<f64>,
-    /// The same coefficient in m^2/N (= 1/Pa); give exactly one of the two.
-    #[serde(default)]
-    pub archard_coefficient_m2_per_n: Option<f64>,
-    /// Working-hour stages at which results are reported, h, increasing, >= 0.
-    pub stage_hours: Vec<f64>,
-    /// Profile update step, h (0: wear rate from the new profile only).
-    #[serde(default)]
-    pub profile_update_hours: f64,
-    /// Largest wear increment between profile updates, um: the update step is shortened so that
-    /// no point wears more than this between two rebuilds of the load sharing.
-    #[serde(default = "default_max_step")]
-    pub max_wear_step_um: f64,
-    /// Crank angles solved per mesh cycle (wear map resolution = pins x this).
-    #[serde(default = "default_steps")]
-    pub crank_steps_per_mesh_cycle: i64,
-    /// Fraction of the disc-pin sliding taken up by pins turning in their grooves, 0..1
-    /// (0: pins do not turn, the conservative default).
-    #[serde(default)]
-    pub pin_rolling_fraction: f64,
-    /// Overlap ratio `eps_a` of the paper's eq 19 (`paper` model only).
-    #[serde(default = "default_overlap")]
-    pub overlap_ratio: f64,
-}
-
-fn default_wear_model() -> String {
-    "flodin".into()
-}
-fn default_max_step() -> f64 {
-    1.0
-}
-fn default_steps() -> i64 {
-    18
-}
-fn default_overlap() -> f64 {
-    1.3
-}
-
-/// `[te]`.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct TeConfig {
-    /// Crank angles per mesh cycle for the TE curves.
-    #[serde(default = "default_te_samples")]
-    pub samples_per_mesh_cycle: i64,
-    /// Torque of the loaded TE, N m (default: rated torque).
-    #[serde(default)]
-    pub loaded_torque_nm: Option<f64>,
-}
-
-fn default_te_samples() -> i64 {
-    24
-}
-
-impl Default for TeConfig {
-    fn default() -> Self {
-        TeConfig {
-            samples_per_mesh_cycle: default_te_samples(),
-            loaded_torque_nm: None,
-        }
-    }
-}
-
 /// Wear model choice.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -279,10 +95,9 @@ pub struct Model {
     pub geometry: CycloidGeometry,
     /// Modifications.
     pub modification: Modification,
-    /// Contact model.
-    pub contact: ContactModel,
-    /// Share of the output torque on one disc.
-    pub load_share: f64,
+    /// The reducer's mechanical model: bodies, bearings, meshes, the pin contact law and the
+    /// disc support of the static analysis.
+    pub reducer: Reducer,
     /// Overall ratio `i_H = 1 + (Z2/Z1) Zp` (physics-notes section 1).
     pub ratio: f64,
     /// Rated output torque, N m.
@@ -311,6 +126,8 @@ pub struct Model {
     pub te_samples: usize,
     /// Torque of the loaded TE, N m.
     pub loaded_torque: f64,
+    /// Measuring torque of lost motion, as a fraction of the rated torque (catalogue: 0.03).
+    pub measuring_torque_fraction: f64,
     /// Parameters of the multibody model (always checked; see `dynamics_enabled`).
     pub dynamics: DynamicsParams,
     /// Whether `rvlife run` adds the dynamic TE to every stage.
@@ -329,45 +146,26 @@ impl Model {
         60.0 * speed_rpm * self.geometry.pins as f64 / self.ratio
     }
 
+    /// Share of the output torque on one disc for the closed-form estimates (Li's distribution,
+    /// the paper's wear model, reference forces): `load_share` with rigid support, 1/2 with
+    /// bearings (two discs).
+    pub fn disc_share(&self) -> f64 {
+        match self.reducer.support {
+            Support::Rigid { load_share } => load_share,
+            Support::Bearings => 0.5,
+        }
+    }
+
+    /// Torque (N m) on one disc at a fixed crank angle equivalent to the output torque
+    /// `torque`: `share T Zc/(Zp + Z1/Z2)` (physics-notes section 6: the first stage turns the
+    /// cranks when the output twists with the input locked).
+    pub fn equivalent_disc_torque(&self, torque: f64) -> f64 {
+        self.disc_share() * torque * self.reducer.twist_factor()
+    }
+
     /// The profile with this model's modifications and the given wear map.
     pub fn profile(&self, wear: Option<WearMap>) -> Result<Profile> {
         Profile::new(self.geometry.clone(), self.modification, wear)
-    }
-}
-
-fn finite(field: &str, v: f64) -> Result<f64> {
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(Error::invalid(field, v, "must be a finite number"))
-    }
-}
-
-fn positive(field: &str, v: f64) -> Result<f64> {
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
-    } else {
-        Err(Error::invalid(field, v, "must be a finite number > 0"))
-    }
-}
-
-fn in_range(field: &str, v: f64, lo: f64, hi: f64, words: &str) -> Result<f64> {
-    if v.is_finite() && v >= lo && v <= hi {
-        Ok(v)
-    } else {
-        Err(Error::invalid(field, v, words))
-    }
-}
-
-fn count(field: &str, v: i64, min: i64, max: i64) -> Result<usize> {
-    if v >= min && v <= max {
-        Ok(v as usize)
-    } else {
-        Err(Error::invalid(
-            field,
-            v,
-            format!("must be a whole number from {min} to {max}"),
-        ))
     }
 }
 
@@ -414,105 +212,114 @@ impl Config {
         Config::from_toml_str(EXAMPLE_TOML, "<built-in>").expect("the built-in example parses")
     }
 
-    /// Checks every value and converts to SI.
+    /// Checks every value and converts to SI: the reducer's mechanical model ([`Reducer`]), the
+    /// load spectrum, the wear and TE settings, and the `[dynamics]` and `[fem]` sections.
     ///
     /// # Errors
     /// [`Error::Invalid`] naming the key, the value and the allowed range.
     pub fn validate(&self) -> Result<Model> {
         let r = &self.reducer;
         let c = &self.cycloid;
-        let pins = count("cycloid.pins", c.pins, 3, 1000)?;
+        let mm = |key: &str, v: f64| check(key, v, Range::positive(1e5, "mm")).map(|v| v * 1e-3);
+        let pins = whole("cycloid.pins", c.pins, 3, 1000)?;
         let geometry = CycloidGeometry {
             pins,
-            eccentricity: positive("cycloid.eccentricity_mm", c.eccentricity_mm)? * 1e-3,
-            pin_circle_radius: positive("cycloid.pin_circle_radius_mm", c.pin_circle_radius_mm)?
-                * 1e-3,
-            pin_radius: positive("cycloid.pin_radius_mm", c.pin_radius_mm)? * 1e-3,
-            width: positive("cycloid.width_mm", c.width_mm)? * 1e-3,
+            eccentricity: mm("cycloid.eccentricity_mm", c.eccentricity_mm)?,
+            pin_circle_radius: mm("cycloid.pin_circle_radius_mm", c.pin_circle_radius_mm)?,
+            pin_radius: mm("cycloid.pin_radius_mm", c.pin_radius_mm)?,
+            width: mm("cycloid.width_mm", c.width_mm)?,
         };
+        let m = &c.modification;
         let modification = Modification {
-            equidistant: finite(
+            equidistant: check(
                 "cycloid.modification.equidistant_mm",
-                c.modification.equidistant_mm,
+                m.equidistant_mm,
+                Range::finite("mm"),
             )? * 1e-3,
-            offset: finite("cycloid.modification.offset_mm", c.modification.offset_mm)? * 1e-3,
-            rotation: finite(
+            offset: check(
+                "cycloid.modification.offset_mm",
+                m.offset_mm,
+                Range::finite("mm"),
+            )? * 1e-3,
+            rotation: check(
                 "cycloid.modification.rotation_deg",
-                c.modification.rotation_deg,
+                m.rotation_deg,
+                Range::finite("deg"),
             )?
             .to_radians(),
         };
         // Geometry, K1 and undercut checks.
         let nominal_profile = Profile::new(geometry.clone(), modification, None)?;
-        let load_share = in_range(
-            "cycloid.load_share",
-            c.load_share,
-            f64::MIN_POSITIVE,
-            1.0,
-            "must be in (0, 1]",
-        )?;
         let mat = |name: &str, m: &MaterialConfig| -> Result<(f64, f64)> {
             Ok((
-                positive(
+                check(
                     &format!("materials.{name}.youngs_modulus_gpa"),
                     m.youngs_modulus_gpa,
+                    Range::positive(1e4, "GPa"),
                 )? * 1e9,
-                in_range(
+                check(
                     &format!("materials.{name}.poisson_ratio"),
                     m.poisson_ratio,
-                    0.0,
-                    0.499,
-                    "must be in [0, 0.5)",
+                    Range::closed(0.0, 0.499, ""),
                 )?,
             ))
         };
         let (e1, nu1) = mat("disc", &self.materials.disc)?;
         let (e2, nu2) = mat("pin", &self.materials.pin)?;
-        let law = match self.contact.law.as_str() {
-            "paper" => ApproachLaw::Paper,
-            "johnson" => ApproachLaw::Johnson,
-            "linear" => {
-                let k = self.contact.linear_stiffness_n_per_um.ok_or_else(|| {
-                    Error::invalid(
-                        "contact.linear_stiffness_n_per_um",
-                        "missing",
-                        "required with law = \"linear\"",
-                    )
-                })?;
-                ApproachLaw::Linear {
-                    stiffness: positive("contact.linear_stiffness_n_per_um", k)? * 1e6,
+        let contact = self.contact_model(&geometry, (e1, nu1, e2, nu2))?;
+        let z1 = whole("reducer.sun_teeth", r.sun_teeth as i64, 1, 10_000)?;
+        let z2 = whole("reducer.planet_teeth", r.planet_teeth as i64, 1, 10_000)?;
+        let planets = whole("reducer.planets", r.planets as i64, 1, 12)?;
+        let ratio = 1.0 + z2 as f64 / z1 as f64 * pins as f64;
+        let input_speed_rpm = check(
+            "reducer.input_speed_rpm",
+            r.input_speed_rpm,
+            Range::positive(1e6, "rpm"),
+        )?;
+        let rated_torque = check(
+            "reducer.rated_torque_nm",
+            r.rated_torque_nm,
+            Range::positive(1e7, "N m"),
+        )?;
+        let support = match self.contact.support.as_str() {
+            "bearings" => {
+                if self.contact.load_share.is_some() {
+                    return Err(Error::invalid(
+                        "contact.load_share",
+                        "given",
+                        "applies only to support = \"rigid\" (with bearings the load share \
+                         comes out of the equilibrium)",
+                    ));
                 }
+                Support::Bearings
             }
+            "rigid" => Support::Rigid {
+                load_share: check(
+                    "contact.load_share",
+                    self.contact.load_share.unwrap_or(0.55),
+                    Range::positive(1.0, ""),
+                )?,
+            },
             other => {
                 return Err(Error::invalid(
-                    "contact.law",
+                    "contact.support",
                     format!("\"{other}\""),
-                    "must be \"paper\", \"johnson\" or \"linear\"",
+                    "must be \"bearings\" or \"rigid\"",
                 ))
             }
         };
-        let max_radius = match self.contact.max_curvature_radius_mm {
-            Some(v) => positive("contact.max_curvature_radius_mm", v)? * 1e-3,
-            None => geometry.pin_circle_radius,
+        let (mesh, mesh_zeta) = self.reducer.gears.validate(z1, z2)?;
+        let (bearings, bearing_zeta) = self.reducer.bearings.validate()?;
+        let reducer = Reducer {
+            geometry: geometry.clone(),
+            ratio,
+            cranks: planets,
+            crank_circle_radius: mesh.sun_pitch_radius + mesh.planet_pitch_radius,
+            mesh,
+            bearings,
+            contact,
+            support,
         };
-        let contact = ContactModel {
-            law,
-            materials: Materials {
-                disc_youngs_modulus: e1,
-                disc_poisson_ratio: nu1,
-                pin_youngs_modulus: e2,
-                pin_poisson_ratio: nu2,
-            },
-            width: geometry.width,
-            pin_radius: geometry.pin_radius,
-            max_radius,
-        };
-        let z1 = count("reducer.sun_teeth", r.sun_teeth as i64, 1, 10_000)?;
-        let z2 = count("reducer.planet_teeth", r.planet_teeth as i64, 1, 10_000)?;
-        count("reducer.planets", r.planets as i64, 1, 12)?;
-        let ratio = 1.0 + z2 as f64 / z1 as f64 * pins as f64;
-        let input_speed_rpm = positive("reducer.input_speed_rpm", r.input_speed_rpm)?;
-        let rated_torque = positive("reducer.rated_torque_nm", r.rated_torque_nm)?;
         let spectrum = self.load_spectrum(rated_torque, input_speed_rpm)?;
         let w = &self.wear;
         let wear_model = match w.model.as_str() {
@@ -530,8 +337,18 @@ impl Config {
             w.archard_coefficient_mm3_per_n_m,
             w.archard_coefficient_m2_per_n,
         ) {
-            (Some(k), None) => positive("wear.archard_coefficient_mm3_per_n_m", k)? * 1e-9,
-            (None, Some(k)) => positive("wear.archard_coefficient_m2_per_n", k)?,
+            (Some(k), None) => {
+                check(
+                    "wear.archard_coefficient_mm3_per_n_m",
+                    k,
+                    Range::positive(1e6, "mm^3/(N m)"),
+                )? * 1e-9
+            }
+            (None, Some(k)) => check(
+                "wear.archard_coefficient_m2_per_n",
+                k,
+                Range::positive(1e-3, "m^2/N"),
+            )?,
             _ => {
                 return Err(Error::invalid(
                     "wear.archard_coefficient_mm3_per_n_m",
@@ -551,18 +368,16 @@ impl Config {
         let mut prev = -1.0;
         for (i, &h) in w.stage_hours.iter().enumerate() {
             let field = format!("wear.stage_hours[{i}]");
-            in_range(&field, h, 0.0, 1e7, "must be in [0, 1e7] h")?;
+            check(&field, h, Range::closed(0.0, 1e7, "h"))?;
             if h <= prev {
                 return Err(Error::invalid(field, h, "stages must increase strictly"));
             }
             prev = h;
         }
-        let update_hours = in_range(
+        let update_hours = check(
             "wear.profile_update_hours",
             w.profile_update_hours,
-            0.0,
-            1e7,
-            "must be in [0, 1e7] h (0: no profile updates)",
+            Range::closed(0.0, 1e7, "h (0: no profile updates)"),
         )?;
         if update_hours > 0.0 && prev / update_hours > 100_000.0 {
             return Err(Error::invalid(
@@ -571,55 +386,56 @@ impl Config {
                 "would need more than 100000 profile updates; use a larger step",
             ));
         }
-        let max_wear_step = in_range(
+        let max_wear_step = check(
             "wear.max_wear_step_um",
             w.max_wear_step_um,
-            0.01,
-            1000.0,
-            "must be in [0.01, 1000] um",
+            Range::closed(0.01, 1000.0, "um"),
         )? * 1e-6;
-        let wear_steps = count(
+        let wear_steps = whole(
             "wear.crank_steps_per_mesh_cycle",
             w.crank_steps_per_mesh_cycle,
             2,
             1000,
         )?;
-        let pin_rolling_fraction = in_range(
+        let pin_rolling_fraction = check(
             "wear.pin_rolling_fraction",
             w.pin_rolling_fraction,
-            0.0,
-            1.0,
-            "must be in [0, 1]",
+            Range::closed(0.0, 1.0, ""),
         )?;
-        let overlap_ratio = positive("wear.overlap_ratio", w.overlap_ratio)?;
-        let te_samples = count(
+        let overlap_ratio = check(
+            "wear.overlap_ratio",
+            w.overlap_ratio,
+            Range::positive(100.0, ""),
+        )?;
+        let te_samples = whole(
             "te.samples_per_mesh_cycle",
             self.te.samples_per_mesh_cycle,
             2,
             10_000,
         )?;
         let loaded_torque = match self.te.loaded_torque_nm {
-            Some(t) => finite("te.loaded_torque_nm", t)?,
+            Some(t) => check("te.loaded_torque_nm", t, Range::finite("N m"))?,
             None => rated_torque,
         };
+        let measuring_torque_fraction = check(
+            "te.measuring_torque_fraction",
+            self.te.measuring_torque_fraction,
+            Range::closed(1e-4, 0.5, "of the rated torque"),
+        )?;
         let dynamics = self.dynamics.validate(
+            &reducer,
+            (mesh_zeta, bearing_zeta),
             &nominal_profile,
-            &contact,
-            z1,
-            z2,
-            r.planets as usize,
-            ratio,
             rated_torque,
-            load_share,
             self.base_dir.as_deref(),
         )?;
         let fem = self.fem.validate(
             &nominal_profile,
-            r.planets as usize,
+            planets,
             self.dynamics.inertia.crank_bore_radius_mm * 1e-3,
-            dynamics.crank_circle_radius,
-            contact.materials.disc_youngs_modulus,
-            contact.materials.disc_poisson_ratio,
+            reducer.crank_circle_radius,
+            e1,
+            nu1,
         )?;
         Ok(Model {
             dynamics,
@@ -628,8 +444,7 @@ impl Config {
             fem_enabled: self.fem.enabled,
             geometry,
             modification,
-            contact,
-            load_share,
+            reducer,
             ratio,
             rated_torque,
             input_speed_rpm,
@@ -644,6 +459,77 @@ impl Config {
             overlap_ratio,
             te_samples,
             loaded_torque,
+            measuring_torque_fraction,
+        })
+    }
+
+    /// The `[contact]` law for the stage `geometry` and the elastic constants
+    /// `(E1, nu1, E2, nu2)` (Pa).
+    fn contact_model(
+        &self,
+        geometry: &CycloidGeometry,
+        (e1, nu1, e2, nu2): (f64, f64, f64, f64),
+    ) -> Result<ContactModel> {
+        let law = match self.contact.law.as_str() {
+            "paper" => ApproachLaw::Paper,
+            "johnson" => ApproachLaw::Johnson,
+            "linear" => {
+                let k = self.contact.linear_stiffness_n_per_um.ok_or_else(|| {
+                    Error::invalid(
+                        "contact.linear_stiffness_n_per_um",
+                        "missing",
+                        "required with law = \"linear\"",
+                    )
+                })?;
+                ApproachLaw::Linear {
+                    stiffness: check(
+                        "contact.linear_stiffness_n_per_um",
+                        k,
+                        Range::positive(1e7, "N/um"),
+                    )? * 1e6,
+                }
+            }
+            other => {
+                return Err(Error::invalid(
+                    "contact.law",
+                    format!("\"{other}\""),
+                    "must be \"paper\", \"johnson\" or \"linear\"",
+                ))
+            }
+        };
+        let max_radius = match self.contact.max_curvature_radius_mm {
+            Some(v) => {
+                check(
+                    "contact.max_curvature_radius_mm",
+                    v,
+                    Range::positive(1e5, "mm"),
+                )? * 1e-3
+            }
+            None => geometry.pin_circle_radius,
+        };
+        let disc_depth = match self.contact.disc_depth.as_str() {
+            "body" => Some(geometry.pin_circle_radius),
+            "local_radius" => None,
+            other => {
+                return Err(Error::invalid(
+                    "contact.disc_depth",
+                    format!("\"{other}\""),
+                    "must be \"body\" or \"local_radius\"",
+                ))
+            }
+        };
+        Ok(ContactModel {
+            law,
+            materials: Materials {
+                disc_youngs_modulus: e1,
+                disc_poisson_ratio: nu1,
+                pin_youngs_modulus: e2,
+                pin_poisson_ratio: nu2,
+            },
+            width: geometry.width,
+            pin_radius: geometry.pin_radius,
+            max_radius,
+            disc_depth,
         })
     }
 
@@ -664,7 +550,7 @@ impl Config {
             "constant" => {
                 unused("amplitude_nm", l.amplitude_nm.is_some())?;
                 unused("file", l.file.is_some())?;
-                let t = finite("load.torque_nm", l.torque_nm.unwrap_or(rated))?;
+                let t = check("load.torque_nm", l.torque_nm.unwrap_or(rated), Range::finite("N m"))?;
                 Ok(vec![LoadLevel {
                     torque: t,
                     speed_rpm: speed,
@@ -674,19 +560,20 @@ impl Config {
             "sinusoidal" => {
                 unused("torque_nm", l.torque_nm.is_some())?;
                 unused("file", l.file.is_some())?;
-                let amp = l.amplitude_nm.unwrap_or(rated);
-                if !amp.is_finite() || amp < 0.0 {
-                    return Err(Error::invalid(
-                        "load.amplitude_nm",
-                        amp,
-                        "must be a finite number >= 0",
-                    ));
-                }
-                let off = finite("load.offset_nm", l.offset_nm.unwrap_or(0.0))?;
+                let amp = check(
+                    "load.amplitude_nm",
+                    l.amplitude_nm.unwrap_or(rated),
+                    Range::non_negative(f64::MAX, "N m"),
+                )?;
+                let off = check(
+                    "load.offset_nm",
+                    l.offset_nm.unwrap_or(0.0),
+                    Range::finite("N m"),
+                )?;
                 if let Some(p) = l.period_s {
-                    positive("load.period_s", p)?;
+                    check("load.period_s", p, Range::positive(1e9, "s"))?;
                 }
-                let n = count("load.levels", l.levels.unwrap_or(24), 4, 10_000)?;
+                let n = whole("load.levels", l.levels.unwrap_or(24), 4, 10_000)?;
                 Ok((0..n)
                     .map(|k| {
                         let ph = std::f64::consts::TAU * (k as f64 + 0.5) / n as f64;
@@ -720,6 +607,90 @@ impl Config {
                 "must be \"constant\", \"sinusoidal\" or \"duty_cycle\"",
             )),
         }
+    }
+}
+
+impl GearsConfig {
+    /// The sun-planet mesh of `[reducer.gears]` for sun and planet teeth `z1`, `z2`, and the
+    /// mesh's damping ratio (applied by the dynamic analysis).
+    fn validate(&self, z1: usize, z2: usize) -> Result<(Mesh, f64)> {
+        let key = |k: &str| format!("reducer.gears.{k}");
+        let r_p = check(
+            &key("planet_pitch_radius_mm"),
+            self.planet_pitch_radius_mm,
+            Range::positive(1e4, "mm"),
+        )? * 1e-3;
+        let alpha = check(
+            &key("pressure_angle_deg"),
+            self.pressure_angle_deg,
+            Range::closed(10.0, 45.0, "deg"),
+        )?
+        .to_radians();
+        let face = check(
+            &key("face_width_mm"),
+            self.face_width_mm,
+            Range::positive(1e3, "mm"),
+        )? * 1e-3;
+        let r_s = r_p * z1 as f64 / z2 as f64;
+        let mesh = Mesh {
+            pressure_angle: alpha,
+            sun_pitch_radius: r_s,
+            planet_pitch_radius: r_p,
+            face_width: face,
+            sun_base_radius: r_s * alpha.cos(),
+            planet_base_radius: r_p * alpha.cos(),
+            sun_planet_ratio: z1 as f64 / z2 as f64,
+            stiffness: check(
+                &key("mesh_stiffness_n_per_um"),
+                self.mesh_stiffness_n_per_um,
+                Range::positive(1e7, "N/um"),
+            )? * 1e6,
+            damping: 0.0,
+            backlash: check(
+                &key("backlash_um"),
+                self.backlash_um,
+                Range::non_negative(1e4, "um"),
+            )? * 1e-6,
+        };
+        let zeta = check(
+            &key("mesh_damping_ratio"),
+            self.mesh_damping_ratio,
+            Range::non_negative(10.0, ""),
+        )?;
+        Ok((mesh, zeta))
+    }
+}
+
+impl BearingsConfig {
+    /// The crank bearings of `[reducer.bearings]`, and their damping ratio (applied by the
+    /// dynamic analysis).
+    fn validate(&self) -> Result<(Bearings, f64)> {
+        let key = |k: &str| format!("reducer.bearings.{k}");
+        let bearings = Bearings {
+            carrier_stiffness: check(
+                &key("crank_carrier_stiffness_n_per_um"),
+                self.crank_carrier_stiffness_n_per_um,
+                Range::positive(1e7, "N/um"),
+            )? * 1e6,
+            carrier_damping: 0.0,
+            disc_stiffness: check(
+                &key("crank_disc_stiffness_n_per_um"),
+                self.crank_disc_stiffness_n_per_um,
+                Range::positive(1e7, "N/um"),
+            )? * 1e6,
+            disc_damping: 0.0,
+            clearance: check(
+                &key("clearance_um"),
+                self.clearance_um,
+                Range::non_negative(1e3, "um"),
+            )? * 1e-6,
+        };
+        let zeta = check(
+            &key("damping_ratio"),
+            self.damping_ratio,
+            Range::non_negative(10.0, ""),
+        )?;
+        Ok((bearings, zeta))
     }
 }
 
@@ -767,8 +738,16 @@ pub fn read_duty_cycle(path: &Path) -> Result<Vec<LoadLevel>> {
                 return Err(Error::invalid(&field, v[k], "must be finite"));
             }
         }
-        positive(&format!("{origin} row {} column duration_s", i + 1), v[0])?;
-        positive(&format!("{origin} row {} column speed_rpm", i + 1), v[2])?;
+        check(
+            &format!("{origin} row {} column duration_s", i + 1),
+            v[0],
+            Range::positive(f64::MAX, "s"),
+        )?;
+        check(
+            &format!("{origin} row {} column speed_rpm", i + 1),
+            v[2],
+            Range::positive(1e6, "rpm"),
+        )?;
         rows.push((v[0], v[1], v[2]));
     }
     if rows.is_empty() {

@@ -34,7 +34,7 @@ use crate::geometry::Profile;
 use crate::te::ARCMIN_PER_RAD;
 
 pub use gap::GapField;
-pub use params::{DynamicsConfig, DynamicsParams};
+pub use params::DynamicsParams;
 pub use system::{PinForce, System};
 
 /// One sample of the time series (engineering units, as written to `dynamics.csv`).
@@ -113,13 +113,9 @@ pub fn simulate(
     params: &DynamicsParams,
     pin_forces: bool,
 ) -> Result<DynamicsResult> {
-    let field = GapField::new(
-        profile,
-        params.gap_points,
-        Some((&params.contact_law, params.reference_force)),
-    )?;
+    let field = GapField::new(profile, params.gap_points)?;
     let sys = System::new(params, [&field, &field]);
-    let zp = params.geometry.pins;
+    let zp = params.reducer.geometry.pins;
     let n_out = (params.end_time / params.output_interval).round() as usize;
     let times: Vec<f64> = (0..=n_out)
         .map(|i| (i as f64 * params.output_interval).min(params.end_time))
@@ -190,7 +186,7 @@ fn summarize(samples: &[Sample], p: &DynamicsParams, stats: ode::Stats) -> Dynam
             let dt = b.time_s - a.time_s;
             (
                 (b.output_angle_deg - a.output_angle_deg) / dt,
-                (b.input_angle_deg - a.input_angle_deg) / dt / p.ratio,
+                (b.input_angle_deg - a.input_angle_deg) / dt / p.reducer.ratio,
             )
         }
         _ => (0.0, 0.0),

@@ -1,0 +1,339 @@
+//! Raw TOML sections of the study configuration, in engineering units, as the user wrote them
+//! (unknown keys rejected). [`super::Config::validate`] checks them and converts them to the
+//! model's SI values.
+
+use std::path::PathBuf;
+
+use serde::{Deserialize, Serialize};
+
+/// `[reducer]`: the planetary first stage and the rating.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReducerConfig {
+    /// Sun (input) gear teeth `Z1`.
+    pub sun_teeth: u32,
+    /// Planet gear teeth `Z2`.
+    pub planet_teeth: u32,
+    /// Number of planets / crankshafts (2 or 3).
+    pub planets: u32,
+    /// Input speed, rpm.
+    pub input_speed_rpm: f64,
+    /// Rated output torque, N m.
+    pub rated_torque_nm: f64,
+    /// The sun-planet meshes.
+    #[serde(default)]
+    pub gears: GearsConfig,
+    /// The crank bearings.
+    #[serde(default)]
+    pub bearings: BearingsConfig,
+}
+
+/// `[cycloid]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CycloidConfig {
+    /// Pins `Zp`; disc teeth `Zc = Zp - 1`.
+    pub pins: i64,
+    /// Eccentricity `a`, mm.
+    pub eccentricity_mm: f64,
+    /// Pin circle radius `Rp`, mm.
+    pub pin_circle_radius_mm: f64,
+    /// Pin radius `rrp`, mm.
+    pub pin_radius_mm: f64,
+    /// Disc width `B`, mm.
+    pub width_mm: f64,
+    /// Profile modifications.
+    #[serde(default)]
+    pub modification: ModificationConfig,
+}
+
+/// `[cycloid.modification]`.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModificationConfig {
+    /// Equidistant modification `drrp`, mm.
+    #[serde(default)]
+    pub equidistant_mm: f64,
+    /// Offset modification `dRp`, mm.
+    #[serde(default)]
+    pub offset_mm: f64,
+    /// Rotation modification, degrees.
+    #[serde(default)]
+    pub rotation_deg: f64,
+}
+
+/// `[materials]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialsConfig {
+    /// Cycloid disc.
+    pub disc: MaterialConfig,
+    /// Pins.
+    pub pin: MaterialConfig,
+}
+
+/// One material.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialConfig {
+    /// Young's modulus, GPa.
+    pub youngs_modulus_gpa: f64,
+    /// Poisson's ratio.
+    pub poisson_ratio: f64,
+}
+
+/// `[contact]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactConfig {
+    /// `"paper"` (default), `"johnson"` or `"linear"`.
+    #[serde(default = "default_law")]
+    pub law: String,
+    /// Stiffness of the `"linear"` law, N/um.
+    #[serde(default)]
+    pub linear_stiffness_n_per_um: Option<f64>,
+    /// Cap on the flank radius of curvature in the contact law, mm (default: pin circle radius).
+    #[serde(default)]
+    pub max_curvature_radius_mm: Option<f64>,
+    /// Reference depth of the disc term of the approach law: `"body"` (default: the pin circle
+    /// radius at every flank point) or `"local_radius"` (the paper's eq 6 as printed: the local
+    /// flank radius, capped at `max_curvature_radius_mm`).
+    #[serde(default = "default_disc_depth")]
+    pub disc_depth: String,
+    /// How the discs are held: `"bearings"` (default: both discs on their crank bearings, the
+    /// load share from the equilibrium) or `"rigid"` (the paper's and Li's model: one disc, its
+    /// centre fixed on the eccentric, carrying `load_share` of the output torque).
+    #[serde(default = "default_support")]
+    pub support: String,
+    /// Share of the output torque on the disc with `support = "rigid"` (paper eqs 8-9: 0.55).
+    #[serde(default)]
+    pub load_share: Option<f64>,
+}
+
+fn default_law() -> String {
+    "paper".into()
+}
+
+fn default_disc_depth() -> String {
+    "body".into()
+}
+
+fn default_support() -> String {
+    "bearings".into()
+}
+
+impl Default for ContactConfig {
+    fn default() -> Self {
+        ContactConfig {
+            law: default_law(),
+            linear_stiffness_n_per_um: None,
+            max_curvature_radius_mm: None,
+            disc_depth: default_disc_depth(),
+            support: default_support(),
+            load_share: None,
+        }
+    }
+}
+
+/// `[load]`: the output-torque spectrum the reducer works under.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadConfig {
+    /// `"constant"`, `"sinusoidal"` or `"duty_cycle"`.
+    pub kind: String,
+    /// Constant output torque, N m (`constant`; default: the rated torque).
+    #[serde(default)]
+    pub torque_nm: Option<f64>,
+    /// Amplitude, N m (`sinusoidal`), >= 0.
+    #[serde(default)]
+    pub amplitude_nm: Option<f64>,
+    /// Mean, N m (`sinusoidal`).
+    #[serde(default)]
+    pub offset_nm: Option<f64>,
+    /// Period, s (`sinusoidal`; the wear average does not depend on it).
+    #[serde(default)]
+    pub period_s: Option<f64>,
+    /// Torque levels the sine is split into for the wear average (`sinusoidal`), >= 4.
+    #[serde(default)]
+    pub levels: Option<i64>,
+    /// CSV file with columns `duration_s,torque_nm,speed_rpm` (`duty_cycle`), relative to the
+    /// config file.
+    #[serde(default)]
+    pub file: Option<PathBuf>,
+}
+
+/// `[wear]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WearConfig {
+    /// `"flodin"` (default: sliding from the real kinematics, profile updates) or `"paper"`
+    /// (eqs 11-20 as printed, Li's forces, no updates, TE from the uniform maximum wear).
+    #[serde(default = "default_wear_model")]
+    pub model: String,
+    /// Dimensional Archard coefficient `k = K/H`, mm^3/(N m).
+    #[serde(default)]
+    pub archard_coefficient_mm3_per_n_m: Option<f64>,
+    /// The same coefficient in m^2/N (= 1/Pa); give exactly one of the two.
+    #[serde(default)]
+    pub archard_coefficient_m2_per_n: Option<f64>,
+    /// Working-hour stages at which results are reported, h, increasing, >= 0.
+    pub stage_hours: Vec<f64>,
+    /// Profile update step, h (0: wear rate from the new profile only).
+    #[serde(default)]
+    pub profile_update_hours: f64,
+    /// Largest wear increment between profile updates, um: the update step is shortened so that
+    /// no point wears more than this between two rebuilds of the load sharing.
+    #[serde(default = "default_max_step")]
+    pub max_wear_step_um: f64,
+    /// Crank angles solved per mesh cycle (wear map resolution = pins x this).
+    #[serde(default = "default_steps")]
+    pub crank_steps_per_mesh_cycle: i64,
+    /// Fraction of the disc-pin sliding taken up by pins turning in their grooves, 0..1
+    /// (0: pins do not turn, the conservative default).
+    #[serde(default)]
+    pub pin_rolling_fraction: f64,
+    /// Overlap ratio `eps_a` of the paper's eq 19 (`paper` model only).
+    #[serde(default = "default_overlap")]
+    pub overlap_ratio: f64,
+}
+
+fn default_wear_model() -> String {
+    "flodin".into()
+}
+fn default_max_step() -> f64 {
+    1.0
+}
+fn default_steps() -> i64 {
+    18
+}
+fn default_overlap() -> f64 {
+    1.3
+}
+
+/// `[te]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TeConfig {
+    /// Crank angles per mesh cycle for the TE curves.
+    #[serde(default = "default_te_samples")]
+    pub samples_per_mesh_cycle: i64,
+    /// Torque of the loaded TE, N m (default: rated torque).
+    #[serde(default)]
+    pub loaded_torque_nm: Option<f64>,
+    /// Measuring torque of lost motion, as a fraction of the rated torque (Nabtesco: lost
+    /// motion is the twist between the hysteresis curve's midpoints within +-3 % of rated
+    /// torque).
+    #[serde(default = "default_measuring")]
+    pub measuring_torque_fraction: f64,
+}
+
+fn default_measuring() -> f64 {
+    0.03
+}
+
+fn default_te_samples() -> i64 {
+    24
+}
+
+impl Default for TeConfig {
+    fn default() -> Self {
+        TeConfig {
+            samples_per_mesh_cycle: default_te_samples(),
+            loaded_torque_nm: None,
+            measuring_torque_fraction: default_measuring(),
+        }
+    }
+}
+
+
+/// `[reducer.gears]`: the sun-planet stage (read by the static and the dynamic analysis).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GearsConfig {
+    /// Planet pitch radius, mm (paper Table 1: 27).
+    #[serde(default = "d_planet_r")]
+    pub planet_pitch_radius_mm: f64,
+    /// Pressure angle, degrees (paper Table 1: 30).
+    #[serde(default = "d_pressure")]
+    pub pressure_angle_deg: f64,
+    /// Face width of sun and planets, mm.
+    #[serde(default = "d_face")]
+    pub face_width_mm: f64,
+    /// Mesh stiffness along the line of action, N/um (ISO 6336-1: c_gamma about 20 N/(mm um)
+    /// times the face width).
+    #[serde(default = "d_mesh_k")]
+    pub mesh_stiffness_n_per_um: f64,
+    /// Damping ratio of the mesh mode.
+    #[serde(default = "d_zeta")]
+    pub mesh_damping_ratio: f64,
+    /// Total backlash along the line of action, um.
+    #[serde(default)]
+    pub backlash_um: f64,
+}
+
+fn d_planet_r() -> f64 {
+    27.0
+}
+fn d_pressure() -> f64 {
+    30.0
+}
+fn d_face() -> f64 {
+    10.0
+}
+fn d_mesh_k() -> f64 {
+    200.0
+}
+fn d_zeta() -> f64 {
+    0.05
+}
+
+impl Default for GearsConfig {
+    fn default() -> Self {
+        GearsConfig {
+            planet_pitch_radius_mm: d_planet_r(),
+            pressure_angle_deg: d_pressure(),
+            face_width_mm: d_face(),
+            mesh_stiffness_n_per_um: d_mesh_k(),
+            mesh_damping_ratio: d_zeta(),
+            backlash_um: 0.0,
+        }
+    }
+}
+
+/// `[reducer.bearings]`: crank bearings as radial spring-dampers (read by the static and the
+/// dynamic analysis).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BearingsConfig {
+    /// Radial stiffness of one crank-carrier bearing pair, N/um (tapered roller bearings).
+    #[serde(default = "d_kcc")]
+    pub crank_carrier_stiffness_n_per_um: f64,
+    /// Radial stiffness of one crank-disc (eccentric needle) bearing, N/um.
+    #[serde(default = "d_kcd")]
+    pub crank_disc_stiffness_n_per_um: f64,
+    /// Damping ratio of the bearing modes.
+    #[serde(default = "d_zeta")]
+    pub damping_ratio: f64,
+    /// Radial clearance, um.
+    #[serde(default)]
+    pub clearance_um: f64,
+}
+
+fn d_kcc() -> f64 {
+    1000.0
+}
+fn d_kcd() -> f64 {
+    500.0
+}
+
+impl Default for BearingsConfig {
+    fn default() -> Self {
+        BearingsConfig {
+            crank_carrier_stiffness_n_per_um: d_kcc(),
+            crank_disc_stiffness_n_per_um: d_kcd(),
+            damping_ratio: d_zeta(),
+            clearance_um: 0.0,
+        }
+    }
+}
+

@@ -1,0 +1,409 @@
+//! The mechanical model of the RV reducer, and its two analyses.
+//!
+//! One model ([`Reducer`]): the input shaft with the sun, 2 or 3 crankshafts with their planets
+//! on crank-carrier bearings, the output carrier, two cycloid discs on the cranks' eccentrics
+//! (crank-disc bearings), 180 degrees apart, the sun-planet meshes, and the disc-pin contacts
+//! with the line-contact law of [`crate::contact::ContactModel`] on gaps measured from the
+//! actual (modified, worn) profile. Physics-notes sections 1, 6 and 9.
+//!
+//! - [`statics`]: static equilibrium of the model under an output torque with the input locked
+//!   (the catalogue measuring set-up): loaded TE, load sharing between pins and between the two
+//!   discs, disc translations on their bearings, hysteresis curves. It serves `contact`, `te`,
+//!   `hysteresis` and the wear integration.
+//! - [`dynamics`]: the same bodies, bearings, meshes and contact law in time, with inertia,
+//!   damping, a drive and a load history: the dynamic TE.
+//!
+//! Coordinates (fixed pin-ring frame, SI), laid out by [`Layout`]: the input (sun) angle
+//! `theta_s`, the output carrier angle `theta_o`, crank `k`'s centre `X_k` and absolute angle
+//! `vartheta_k`, disc `d`'s centre `c_d` and angle `psi_d`. The nominal (rigid) kinematics of
+//! input angle `theta_s` are [`Reducer::nominal`]; both analyses work with deviations from it.
+//!
+//! `support = Rigid` is the paper's and Li Lixing's assumption: one disc with its centre on the
+//! eccentric (no bearing compliance) carrying a fixed share of the output torque; the first-stage
+//! kinematics still apply (turning the carrier with the input locked turns the cranks too).
+
+pub mod dynamics;
+pub mod statics;
+
+use std::f64::consts::PI;
+
+use crate::contact::ContactModel;
+use crate::geometry::{rotate, CycloidGeometry, Vec2};
+
+/// `J v`: `v` turned by +90 degrees.
+#[inline]
+pub(crate) fn perp(v: Vec2) -> Vec2 {
+    Vec2::new(-v.y, v.x)
+}
+
+/// How the discs are held.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Support {
+    /// Both discs on their crank-disc bearings, the cranks on their crank-carrier bearings and
+    /// the sun-planet meshes: the discs translate and turn under load, and the torque share of
+    /// each disc comes out of the equilibrium (physics-notes section 9). The default.
+    Bearings,
+    /// The paper's and Li's model: one disc, its centre fixed on the eccentric, carrying
+    /// `load_share` of the output torque (paper eqs 8-9: 0.55).
+    Rigid {
+        /// Share of the output torque on the disc, (0, 1].
+        load_share: f64,
+    },
+}
+
+/// Sun-planet mesh (SI): a spring and damper along the line of action with backlash
+/// (lumped-parameter planetary model of Lin and Parker, J. Vib. Acoust. 121, 1999).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mesh {
+    /// Pressure angle, rad.
+    pub pressure_angle: f64,
+    /// Sun pitch radius, m.
+    pub sun_pitch_radius: f64,
+    /// Planet pitch radius, m.
+    pub planet_pitch_radius: f64,
+    /// Face width of sun and planets, m.
+    pub face_width: f64,
+    /// Sun base radius, m.
+    pub sun_base_radius: f64,
+    /// Planet base radius, m.
+    pub planet_base_radius: f64,
+    /// `Z1 / Z2`.
+    pub sun_planet_ratio: f64,
+    /// Stiffness, N/m.
+    pub stiffness: f64,
+    /// Damping, N s/m (dynamics only).
+    pub damping: f64,
+    /// Total backlash along the line of action, m.
+    pub backlash: f64,
+}
+
+/// Crank bearings as isotropic radial spring-dampers with optional radial clearance (SI).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bearings {
+    /// Crank-carrier stiffness (one crank's bearing pair), N/m.
+    pub carrier_stiffness: f64,
+    /// Crank-carrier damping, N s/m (dynamics only).
+    pub carrier_damping: f64,
+    /// Crank-disc stiffness (one eccentric needle bearing), N/m.
+    pub disc_stiffness: f64,
+    /// Crank-disc damping, N s/m (dynamics only).
+    pub disc_damping: f64,
+    /// Radial clearance, m.
+    pub clearance: f64,
+}
+
+/// Indices of the generalised coordinates.
+#[derive(Debug, Clone, Copy)]
+pub struct Layout {
+    /// Number of cranks (planets).
+    pub cranks: usize,
+}
+
+impl Layout {
+    /// Input (sun) angle.
+    pub const SUN: usize = 0;
+    /// Output (carrier) angle.
+    pub const OUT: usize = 1;
+    /// First coordinate of crank `k` (`x`, `y`, angle).
+    pub fn crank(&self, k: usize) -> usize {
+        2 + 3 * k
+    }
+    /// First coordinate of disc `d` (`x`, `y`, angle).
+    pub fn disc(&self, d: usize) -> usize {
+        2 + 3 * self.cranks + 3 * d
+    }
+    /// Number of generalised coordinates.
+    pub fn dofs(&self) -> usize {
+        2 + 3 * self.cranks + 6
+    }
+}
+
+/// Largest number of generalised coordinates (3 cranks).
+pub const MAX_DOFS: usize = 2 + 3 * 3 + 6;
+
+/// The reducer's mechanical model (SI): what the static and the dynamic analysis share.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Reducer {
+    /// Cycloid stage geometry.
+    pub geometry: CycloidGeometry,
+    /// Overall ratio `i_H = 1 + (Z2/Z1) Zp` (physics-notes section 1).
+    pub ratio: f64,
+    /// Number of cranks (= planets), 1 to 12.
+    pub cranks: usize,
+    /// Crank circle radius (sun-planet centre distance), m.
+    pub crank_circle_radius: f64,
+    /// Sun-planet mesh.
+    pub mesh: Mesh,
+    /// Crank bearings.
+    pub bearings: Bearings,
+    /// Disc-pin line-contact law.
+    pub contact: ContactModel,
+    /// How the discs are held in the static analysis.
+    pub support: Support,
+}
+
+impl Reducer {
+    /// The coordinate layout.
+    pub fn layout(&self) -> Layout {
+        Layout {
+            cranks: self.cranks,
+        }
+    }
+
+    /// Output twist per unit of disc rotation at a fixed crank angle, `Zc / (Zp + Z1/Z2)`:
+    /// with the input locked, turning the carrier by `psi` turns the cranks relative to it by
+    /// `(Z1/Z2) psi`, so the disc turns by `psi (Zp + Z1/Z2) / Zc` relative to its position at a
+    /// fixed crank (physics-notes section 6; 0.963 for the paper's reducer).
+    pub fn twist_factor(&self) -> f64 {
+        let zp = self.geometry.pins as f64;
+        (zp - 1.0) / (zp + self.mesh.sun_planet_ratio)
+    }
+
+    /// Crank angle speed ratio of the locked-input mode: `d vartheta / d theta_o = 1 + Z1/Z2`.
+    pub fn crank_mode_ratio(&self) -> f64 {
+        1.0 + self.mesh.sun_planet_ratio
+    }
+
+    /// Seat of crank `k` on the carrier at `theta_o = 0` (= its bore centre in the disc frame),
+    /// m: on the crank circle at `2 pi k / cranks`.
+    pub fn seat(&self, k: usize) -> Vec2 {
+        let al = 2.0 * PI * k as f64 / self.cranks as f64;
+        Vec2::new(al.cos(), al.sin()) * self.crank_circle_radius
+    }
+
+    /// Line of action of crank `k`'s mesh at `theta_o = 0` (unit vector).
+    pub fn line_of_action(&self, k: usize) -> Vec2 {
+        let s = self.seat(k);
+        let e = s / s.norm();
+        e * self.mesh.pressure_angle.sin() + perp(e) * self.mesh.pressure_angle.cos()
+    }
+
+    /// Eccentric phase of disc `d` (0, pi).
+    pub fn phase(d: usize) -> f64 {
+        if d == 0 {
+            0.0
+        } else {
+            PI
+        }
+    }
+
+    /// Angle (rad) by which the profile of disc `d` is turned in its own frame: 0 and `-pi/Zc`
+    /// (disc 2's crank angle is `phi + pi`, so its profile sits half a tooth turned).
+    pub fn profile_turn(&self, d: usize) -> f64 {
+        if d == 0 {
+            0.0
+        } else {
+            -PI / self.geometry.disc_teeth() as f64
+        }
+    }
+
+    /// Input angle (rad) at which disc 1's eccentric points at crank angle `phi` (rad):
+    /// `vartheta = kappa theta_s` with `kappa = (1 + Z1/Z2)/i_H - Z1/Z2 = -Zc/i_H`.
+    pub fn input_angle_for_crank(&self, phi: f64) -> f64 {
+        phi / self.kappa()
+    }
+
+    /// `kappa = d vartheta / d theta_s` of the nominal kinematics.
+    pub fn kappa(&self) -> f64 {
+        let r = self.mesh.sun_planet_ratio;
+        (1.0 + r) / self.ratio - r
+    }
+
+    /// Nominal (kinematic, rigid) positions, speeds and accelerations of every coordinate for
+    /// input angle `th_s`, speed `w_s` and acceleration `a_s`: `theta_o = theta_s / i_H`,
+    /// crank `vartheta = theta_o - (Z1/Z2)(theta_s - theta_o)`, crank centres on the carrier,
+    /// disc centres on the eccentrics, discs turning with the carrier (physics-notes 1 and 3).
+    pub fn nominal(
+        &self,
+        th_s: f64,
+        w_s: f64,
+        a_s: f64,
+        q: &mut [f64],
+        qd: &mut [f64],
+        qdd: &mut [f64],
+    ) {
+        let lay = self.layout();
+        let i_h = self.ratio;
+        let kappa = self.kappa();
+        let (th_o, w_o, a_o) = (th_s / i_h, w_s / i_h, a_s / i_h);
+        let (th_k, w_k, a_k) = (kappa * th_s, kappa * w_s, kappa * a_s);
+        q[Layout::SUN] = th_s;
+        qd[Layout::SUN] = w_s;
+        qdd[Layout::SUN] = a_s;
+        q[Layout::OUT] = th_o;
+        qd[Layout::OUT] = w_o;
+        qdd[Layout::OUT] = a_o;
+        let mut put = |i: usize, x: Vec2, w: f64, a: f64| {
+            let v = perp(x) * w;
+            let acc = perp(x) * a - x * (w * w);
+            q[i] = x.x;
+            q[i + 1] = x.y;
+            qd[i] = v.x;
+            qd[i + 1] = v.y;
+            qdd[i] = acc.x;
+            qdd[i + 1] = acc.y;
+        };
+        for k in 0..self.cranks {
+            put(lay.crank(k), rotate(&self.seat(k), th_o), w_o, a_o);
+        }
+        let e = self.geometry.eccentricity;
+        for d in 0..2 {
+            let ang = th_k + Self::phase(d);
+            put(lay.disc(d), Vec2::new(ang.cos(), ang.sin()) * e, w_k, a_k);
+        }
+        for k in 0..self.cranks {
+            let i = lay.crank(k) + 2;
+            q[i] = th_k;
+            qd[i] = w_k;
+            qdd[i] = a_k;
+        }
+        for d in 0..2 {
+            let i = lay.disc(d) + 2;
+            q[i] = th_o;
+            qd[i] = w_o;
+            qdd[i] = a_o;
+        }
+    }
+
+    /// Generalised forces of the sun-planet meshes and the crank bearings (N or N m per
+    /// coordinate), added to `g`, at positions `q0 + dq` (`q0`: a nominal configuration of
+    /// [`Reducer::nominal`], `dq`: deviations from it) and speeds `qd` (zero speeds: the static
+    /// forces). Every spring deflection is formed from the deviations (rotation differences by
+    /// half-angle sines), not as a difference of absolute positions, so it keeps full relative
+    /// precision down to the smallest loads. Every force derives from
+    /// [`Reducer::structural_energy`] (plus damping).
+    pub fn structural_forces(&self, q0: &[f64], dq: &[f64], qd: &[f64], g: &mut [f64]) {
+        let lay = self.layout();
+        let th_o = q0[Layout::OUT] + dq[Layout::OUT];
+        let (w_s, w_o) = (qd[Layout::SUN], qd[Layout::OUT]);
+        let a = self.geometry.eccentricity;
+        let m = &self.mesh;
+        let b = &self.bearings;
+        let d_o = dq[Layout::OUT];
+        for k in 0..self.cranks {
+            let ic = lay.crank(k);
+            let dx = Vec2::new(dq[ic], dq[ic + 1]);
+            let xd = Vec2::new(qd[ic], qd[ic + 1]);
+            let w_k = qd[ic + 2];
+            let seat0 = self.seat(k);
+            let seat = rotate(&seat0, th_o);
+            let dseat = perp(seat);
+            // Crank centre relative to its seat: the nominal crank sits on its seat.
+            let rel = dx - rotation_difference(&seat0, q0[Layout::OUT], d_o);
+            // Sun-planet mesh: deflection along the line of action in the carrier frame (zero
+            // in the nominal kinematics: r_bs (th_s - th_o) + r_bp (th_k - th_o) = 0 there).
+            let u = rotate(&self.line_of_action(k), th_o);
+            let delta = m.sun_base_radius * (dq[Layout::SUN] - d_o)
+                + m.planet_base_radius * (dq[ic + 2] - d_o)
+                - u.dot(&rel);
+            let d_th_o =
+                -(m.sun_base_radius + m.planet_base_radius) - perp(u).dot(&rel) + u.dot(&dseat);
+            let delta_dot =
+                m.sun_base_radius * w_s + m.planet_base_radius * w_k - u.dot(&xd) + d_th_o * w_o;
+            let half = 0.5 * m.backlash;
+            let f = if delta > half {
+                (m.stiffness * (delta - half) + m.damping * delta_dot).max(0.0)
+            } else if delta < -half {
+                (m.stiffness * (delta + half) + m.damping * delta_dot).min(0.0)
+            } else {
+                0.0
+            };
+            g[Layout::SUN] -= f * m.sun_base_radius;
+            g[ic + 2] -= f * m.planet_base_radius;
+            g[Layout::OUT] -= f * d_th_o;
+            g[ic] += f * u.x;
+            g[ic + 1] += f * u.y;
+            // Crank-carrier bearing.
+            let rd = xd - dseat * w_o;
+            let fb = spring(rel, rd, b.carrier_stiffness, b.carrier_damping, b.clearance);
+            g[ic] -= fb.x;
+            g[ic + 1] -= fb.y;
+            g[Layout::OUT] += fb.dot(&dseat);
+            // Crank-disc bearings: eccentric centre minus bore centre, zero nominally.
+            for d in 0..2 {
+                let id = lay.disc(d);
+                let ang0 = q0[ic + 2] + Self::phase(d);
+                let ecc = Vec2::new((ang0 + dq[ic + 2]).cos(), (ang0 + dq[ic + 2]).sin()) * a;
+                let decc = rotation_difference(&Vec2::new(a, 0.0), ang0, dq[ic + 2]);
+                let de_dth = perp(ecc);
+                let dc = Vec2::new(dq[id], dq[id + 1]);
+                let cd = Vec2::new(qd[id], qd[id + 1]);
+                let psi = q0[id + 2] + dq[id + 2];
+                let arm = rotate(&seat0, psi);
+                let darm = rotation_difference(&seat0, q0[id + 2], dq[id + 2]);
+                let r = dx + decc - dc - darm;
+                let rdot = xd + de_dth * w_k - cd - perp(arm) * qd[id + 2];
+                let fe = spring(r, rdot, b.disc_stiffness, b.disc_damping, b.clearance);
+                g[ic] -= fe.x;
+                g[ic + 1] -= fe.y;
+                g[ic + 2] -= fe.dot(&de_dth);
+                g[id] += fe.x;
+                g[id + 1] += fe.y;
+                g[id + 2] += fe.dot(&perp(arm));
+            }
+        }
+    }
+
+    /// Elastic energy of the meshes and the crank bearings (J) at positions `q0 + dq` (see
+    /// [`Reducer::structural_forces`]).
+    pub fn structural_energy(&self, q0: &[f64], dq: &[f64]) -> f64 {
+        let lay = self.layout();
+        let th_o = q0[Layout::OUT] + dq[Layout::OUT];
+        let d_o = dq[Layout::OUT];
+        let a = self.geometry.eccentricity;
+        let b = &self.bearings;
+        let m = &self.mesh;
+        let spring_energy = |r: Vec2, k: f64| {
+            let x = (r.norm() - b.clearance).max(0.0);
+            0.5 * k * x * x
+        };
+        let mut e = 0.0;
+        for k in 0..self.cranks {
+            let ic = lay.crank(k);
+            let dx = Vec2::new(dq[ic], dq[ic + 1]);
+            let seat0 = self.seat(k);
+            let rel = dx - rotation_difference(&seat0, q0[Layout::OUT], d_o);
+            let u = rotate(&self.line_of_action(k), th_o);
+            let delta = m.sun_base_radius * (dq[Layout::SUN] - d_o)
+                + m.planet_base_radius * (dq[ic + 2] - d_o)
+                - u.dot(&rel);
+            let dl = (delta.abs() - 0.5 * m.backlash).max(0.0);
+            e += 0.5 * m.stiffness * dl * dl;
+            e += spring_energy(rel, b.carrier_stiffness);
+            for d in 0..2 {
+                let id = lay.disc(d);
+                let ang0 = q0[ic + 2] + Self::phase(d);
+                let decc = rotation_difference(&Vec2::new(a, 0.0), ang0, dq[ic + 2]);
+                let dc = Vec2::new(dq[id], dq[id + 1]);
+                let darm = rotation_difference(&seat0, q0[id + 2], dq[id + 2]);
+                e += spring_energy(dx + decc - dc - darm, b.disc_stiffness);
+            }
+        }
+        e
+    }
+}
+
+/// `R(a0 + da) v - R(a0) v`, accurate for small `da`: `R(a0) ((cos da - 1) v + sin da J v)`
+/// with `cos da - 1 = -2 sin^2(da/2)`.
+#[inline]
+pub(crate) fn rotation_difference(v: &Vec2, a0: f64, da: f64) -> Vec2 {
+    let h = (0.5 * da).sin();
+    let local = *v * (-2.0 * h * h) + perp(*v) * da.sin();
+    rotate(&local, a0)
+}
+
+/// Force (N) of an isotropic radial spring-damper with clearance on its first end, for the
+/// relative position `r` and relative velocity `rd` of the first end from the second.
+#[inline]
+pub(crate) fn spring(r: Vec2, rd: Vec2, k: f64, c: f64, clearance: f64) -> Vec2 {
+    if clearance <= 0.0 {
+        return r * k + rd * c;
+    }
+    let len = r.norm();
+    if len <= clearance {
+        return Vec2::zeros();
+    }
+    let n = r / len;
+    let f = k * (len - clearance) + c * rd.dot(&n);
+    n * f.max(0.0)
+}
