@@ -9,9 +9,9 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rvlife::config::{Config, Model, EXAMPLE_TOML};
-use rvlife::reducer::statics::StaticAnalysis;
 use rvlife::export::{write_profile, ProfileFormat};
 use rvlife::geometry::{Profile, WearMap};
+use rvlife::reducer::statics::StaticAnalysis;
 use rvlife::te::{
     hysteresis, loaded_te, mesh_cycle_angles, over_revolution, CurveStats, StaticTe, TwistTable,
     ARCMIN_PER_RAD,
@@ -319,7 +319,7 @@ fn run(cli: Cli) -> Result<()> {
             }
             let model = load_config(config.as_deref())?.validate()?;
             let profile = profile_for(&model, &wear, false)?;
-            let sa = StaticAnalysis::new(&model.reducer, &profile);
+            let sa = StaticAnalysis::new(&model.reducer, &profile)?;
             let sol = sa.solve(crank_deg.to_radians(), torque_nm)?;
             let discs: Vec<_> = sol
                 .discs

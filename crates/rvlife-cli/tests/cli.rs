@@ -17,7 +17,6 @@ const ECCENTRICITY_M: f64 = 1.3e-3;
 const DISC_TEETH: f64 = 39.0;
 const PINS: usize = 40;
 const RATIO: f64 = 81.0;
-const LOAD_SHARE: f64 = 0.55;
 const RATED_TORQUE_NM: f64 = 412.0;
 
 fn rvlife<I, S>(args: I) -> Output
@@ -292,48 +291,47 @@ fn example_parses_back_and_contact_json_has_the_documented_keys() {
     let cfg = write_config(dir.path(), "example.toml", &example_text());
     let v = contact_json(&cfg, "0", "412");
     for key in [
-        "disc_rotation_arcmin",
-        "pin_forces_n",
+        "twist_arcmin",
+        "first_contact_arcmin",
         "max_force_n",
         "pins_in_contact",
         "max_pressure_mpa",
-        "pin_moment_nm",
-        "pins",
+        "residual",
+        "discs",
     ] {
         assert!(v.get(key).is_some(), "contact JSON lacks {key:?}: {v}");
     }
-    let forces = num_array(&v, "pin_forces_n");
-    assert_eq!(forces.len(), PINS);
-    assert!(
-        forces.iter().all(|f| f.is_finite() && *f >= 0.0),
-        "{forces:?}"
-    );
-    let max = forces.iter().copied().fold(0.0, f64::max);
-    assert_rel(
-        num(&v, "max_force_n"),
-        max,
-        1e-12,
-        "max_force_n = max of pin_forces_n",
-    );
-    let in_contact = forces.iter().filter(|f| **f > 0.0).count();
-    assert_eq!(v["pins_in_contact"].as_u64(), Some(in_contact as u64));
-    // About half the pins carry load on one flank (Li: Zp/2 for an unmodified disc).
-    assert!(
-        (10..=PINS / 2 + 1).contains(&in_contact),
-        "pins in contact: {in_contact}"
-    );
-    assert!(num(&v, "disc_rotation_arcmin") > 0.0);
-    assert!(num(&v, "max_pressure_mpa") > 0.0);
-    let pins = v["pins"].as_array().expect("pins array");
-    assert_eq!(pins.len(), PINS);
-    for (j, p) in pins.iter().enumerate() {
-        assert_eq!(p["pin"].as_u64(), Some(j as u64), "pins[] in pin order");
-        assert_eq!(
-            num(p, "force_n"),
-            forces[j],
-            "pins[{j}].force_n = pin_forces_n[{j}]"
+    let discs = v["discs"].as_array().expect("discs array");
+    assert_eq!(discs.len(), 2, "both discs on their bearings");
+    let mut all_max: f64 = 0.0;
+    for d in discs {
+        let forces = num_array(d, "pin_forces_n");
+        assert_eq!(forces.len(), PINS);
+        assert!(
+            forces.iter().all(|f| f.is_finite() && *f >= 0.0),
+            "{forces:?}"
         );
+        let max = forces.iter().copied().fold(0.0, f64::max);
+        all_max = all_max.max(max);
+        assert_rel(num(d, "max_force_n"), max, 1e-12, "max_force_n of a disc");
+        let in_contact = forces.iter().filter(|f| **f > 0.0).count();
+        assert_eq!(d["pins_in_contact"].as_u64(), Some(in_contact as u64));
+        // About half the pins carry load on one flank (Li: Zp/2 for an unmodified disc).
+        assert!(
+            (10..=PINS / 2 + 1).contains(&in_contact),
+            "pins in contact: {in_contact}"
+        );
+        let pins = d["pins"].as_array().expect("pins array");
+        assert_eq!(pins.len(), PINS);
+        for (j, p) in pins.iter().enumerate() {
+            assert_eq!(p["pin"].as_u64(), Some(j as u64), "pins[] in pin order");
+            assert_eq!(num(p, "force_n"), forces[j], "pins[{j}].force_n");
+        }
     }
+    assert_rel(num(&v, "max_force_n"), all_max, 1e-12, "max_force_n");
+    assert!(num(&v, "twist_arcmin") > 0.0);
+    assert!(num(&v, "residual") <= 1e-9);
+    assert!(num(&v, "max_pressure_mpa") > 0.0);
     // The built-in config (no CONFIG argument) is the same as the printed example.
     let builtin = json_ok(
         &rvlife([
@@ -346,16 +344,17 @@ fn example_parses_back_and_contact_json_has_the_documented_keys() {
         ]),
         "contact on the built-in example",
     );
-    assert_eq!(builtin["pin_forces_n"], v["pin_forces_n"]);
+    assert_eq!(builtin["discs"], v["discs"]);
 }
 
-/// Moment balance `sum F_j l_j = load_share T` (from the `pins` array and `pin_moment_nm`).
-/// Crank 0 with 412 N m is the case where a pin at the tooth root (pin 0, mesh angle 0.39 deg)
-/// carries a small force: it must be part of the equilibrium as well as of the reported forces.
+/// Moment balance of the reducer: the two discs' pin moments add up to the equivalent disc
+/// torque `T Zc/(Zp + Z1/Z2)` (the first stage turns the cranks as the output twists), the
+/// residual is below 1e-9, and each disc's `pin_moment_nm` is the sum over its `pins`.
 #[test]
-fn contact_pin_moments_balance_the_disc_torque() {
+fn contact_pin_moments_balance_the_output_torque() {
     let dir = tempfile::tempdir().unwrap();
     let cfg = write_config(dir.path(), "example.toml", &example_text());
+    let factor = DISC_TEETH / (PINS as f64 + 0.5);
     for (crank, torque) in [
         ("0", RATED_TORQUE_NM),
         ("0", -RATED_TORQUE_NM),
@@ -363,30 +362,25 @@ fn contact_pin_moments_balance_the_disc_torque() {
         ("4.5", 50.0),
     ] {
         let v = contact_json(&cfg, crank, &torque.to_string());
-        let disc_torque = LOAD_SHARE * torque;
-        assert_rel(
-            num(&v, "disc_torque_nm"),
-            disc_torque,
-            1e-12,
-            "disc_torque_nm",
-        );
-        let pins = v["pins"].as_array().expect("pins array");
-        let moment: f64 = pins
-            .iter()
-            .map(|p| num(p, "force_n") * num(p, "lever_arm_mm") / 1000.0)
-            .sum();
         let what = format!("crank {crank} deg, {torque} N m");
+        assert!(num(&v, "residual") <= 1e-9, "{what}: residual");
+        let mut total = 0.0;
+        for d in v["discs"].as_array().unwrap() {
+            let moment: f64 = d["pins"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|p| num(p, "force_n") * num(p, "lever_arm_mm") / 1000.0)
+                .sum();
+            assert_rel(moment, num(d, "pin_moment_nm"), 1e-9, &what);
+            total += moment;
+        }
+        // The bearings and meshes carry a little of the moment as the discs translate.
         assert_rel(
-            moment,
-            disc_torque,
-            1e-6,
-            &format!("sum F l from pins[], {what}"),
-        );
-        assert_rel(
-            num(&v, "pin_moment_nm"),
-            disc_torque,
-            1e-6,
-            &format!("pin_moment_nm, {what}"),
+            total,
+            torque * factor,
+            0.02,
+            &format!("sum of pin moments, {what}"),
         );
     }
 }
@@ -400,13 +394,14 @@ fn contact_negative_torque_mirrors_the_forces() {
     let cfg = write_config(dir.path(), "example.toml", &example_text());
     let pos = contact_json(&cfg, "0", "412");
     let neg = contact_json(&cfg, "0", "-412");
-    let rp = num(&pos, "disc_rotation_arcmin");
-    let rn = num(&neg, "disc_rotation_arcmin");
-    assert!(rp > 0.0, "positive torque: rotation {rp}");
-    assert!(rn < 0.0, "negative torque: rotation {rn}");
-    assert_rel(rn, -rp, 1e-6, "mirrored disc rotation");
-    let fp = num_array(&pos, "pin_forces_n");
-    let fn_ = num_array(&neg, "pin_forces_n");
+    let rp = num(&pos, "twist_arcmin");
+    let rn = num(&neg, "twist_arcmin");
+    assert!(rp > 0.0, "positive torque: twist {rp}");
+    assert!(rn < 0.0, "negative torque: twist {rn}");
+    // The first stage's lines of action are not mirror-symmetric: a few parts per million.
+    assert_rel(rn, -rp, 1e-4, "mirrored twist");
+    let fp = num_array(&pos["discs"][0], "pin_forces_n");
+    let fn_ = num_array(&neg["discs"][0], "pin_forces_n");
     assert_eq!(fp.len(), PINS);
     assert_eq!(fn_.len(), PINS);
     let fmax = fp.iter().copied().fold(0.0, f64::max);
@@ -415,16 +410,15 @@ fn contact_negative_torque_mirrors_the_forces() {
         let a = fp[j];
         let b = fn_[(PINS - j) % PINS];
         assert!(
-            (a - b).abs() <= 1e-6 * a.abs().max(b.abs()),
+            (a - b).abs() <= 1e-3 * fmax,
             "pin {j} at +412 N m: {a} N; pin {} at -412 N m: {b} N",
             (PINS - j) % PINS
         );
     }
-    assert_eq!(pos["pins_in_contact"], neg["pins_in_contact"]);
     assert_rel(
         num(&neg, "max_force_n"),
         num(&pos, "max_force_n"),
-        1e-6,
+        1e-3,
         "max force",
     );
 }
@@ -432,9 +426,10 @@ fn contact_negative_torque_mirrors_the_forces() {
 // ---------------------------------------------------------------------------------------------
 // 3. Static transmission error and lost motion.
 
-/// Uniform wear `w` (m) turns the disc back by `w / (a Zc)`; in arcmin.
+/// Uniform wear `w` (m) lets the output turn by `w / (a (Zp + Z1/Z2))` (physics-notes
+/// section 6); in arcmin.
 fn uniform_offset_arcmin(w: f64) -> f64 {
-    w / (ECCENTRICITY_M * DISC_TEETH) * ARCMIN_PER_RAD
+    w / (ECCENTRICITY_M * (PINS as f64 + 0.5)) * ARCMIN_PER_RAD
 }
 
 fn check_te_arrays(v: &Value) {
@@ -461,9 +456,16 @@ fn check_te_arrays(v: &Value) {
 fn te_json_unworn_is_zero() {
     let v = json_ok(&rvlife(["te", "--json"]), "rvlife te --json");
     let te = num(&v, "te_mean_arcmin");
+    let b = num(&v, "backlash_arcmin");
     let lm = num(&v, "lost_motion_arcmin");
     assert!(te.abs() < 1e-6, "unworn STE mean {te} arcmin");
-    assert!(lm.abs() < 1e-6, "unworn lost motion {lm} arcmin");
+    assert!(b.abs() < 1e-6, "unworn backlash {b} arcmin");
+    // Lost motion of an unworn reducer: the elastic twist between -3 % and +3 % of rated.
+    let k = num(&v, "torsional_stiffness_nm_per_arcmin");
+    assert!(
+        lm > 0.0 && lm < 2.0 * 0.06 * RATED_TORQUE_NM / k,
+        "lost motion {lm}"
+    );
     check_te_arrays(&v);
 }
 
@@ -474,7 +476,7 @@ fn te_json_uniform_wear_offsets_by_w_over_a_zc() {
         "rvlife te --json --wear-um 10",
     );
     let expected = uniform_offset_arcmin(10e-6);
-    assert!((expected - 0.678).abs() < 1e-3, "{expected}");
+    assert!((expected - 0.6529).abs() < 1e-3, "{expected}");
     assert_rel(
         num(&v, "te_mean_arcmin"),
         expected,
@@ -482,11 +484,12 @@ fn te_json_uniform_wear_offsets_by_w_over_a_zc() {
         "STE mean at 10 um",
     );
     assert_rel(
-        num(&v, "lost_motion_arcmin"),
+        num(&v, "backlash_arcmin"),
         2.0 * expected,
         0.01,
-        "lost motion at 10 um",
+        "backlash at 10 um",
     );
+    assert!(num(&v, "lost_motion_arcmin") > num(&v, "backlash_arcmin"));
     assert_rel(num(&v, "max_wear_um"), 10.0, 1e-9, "max_wear_um");
     check_te_arrays(&v);
 }
@@ -498,8 +501,8 @@ fn te_json_with_torque_reports_loaded_te() {
         "rvlife te --json --torque-nm 412",
     );
     let lte = num(&v, "loaded_te_mean_arcmin");
-    // The contact compliance alone: the same order as the contact disc rotation (~0.11').
-    assert!(lte > 0.01 && lte < 1.0, "loaded TE mean {lte} arcmin");
+    // Contacts, crank bearings and meshes: about 1.2 arcmin at the rated torque.
+    assert!(lte > 0.5 && lte < 3.0, "loaded TE mean {lte} arcmin");
     let arr = num_array(&v, "loaded_te_arcmin");
     assert_eq!(arr.len(), num_array(&v, "te_arcmin").len());
     assert!(num(&v, "max_force_n") > 0.0);
@@ -524,10 +527,10 @@ fn te_equidistant_modification_gives_lost_motion() {
     );
     let expected = 2.0 * uniform_offset_arcmin(0.01e-3);
     assert_rel(
-        num(&v, "lost_motion_arcmin"),
+        num(&v, "backlash_arcmin"),
         expected,
         0.01,
-        "lost motion with equidistant_mm = 0.01",
+        "backlash with equidistant_mm = 0.01",
     );
 }
 
@@ -659,7 +662,11 @@ fn bad_stage_hours_not_increasing() {
 
 #[test]
 fn bad_load_share_above_one() {
-    bad_key("cycloid", "load_share", "1.5", &["load_share"]);
+    let text = set_key(&example_text(), "contact", "support", "\"rigid\"");
+    check_bad_config(
+        &add_line(&text, "contact", "load_share = 1.5"),
+        &["contact.load_share"],
+    );
 }
 
 #[test]
@@ -733,7 +740,10 @@ fn bad_profile_extension() {
 // ---------------------------------------------------------------------------------------------
 // 6. The study: results directory.
 
-const STAGE_KEYS: [&str; 14] = [
+const STAGE_KEYS: [&str; 17] = [
+    "backlash_arcmin",
+    "hysteresis_loss_arcmin",
+    "disc_load_share",
     "flexible_ste_mean_arcmin",
     "flexible_loaded_te_mean_arcmin",
     "torsional_stiffness_nm_per_arcmin",
@@ -793,12 +803,14 @@ fn run_writes_the_results_directory() {
         wear.windows(2).all(|w| w[1] > w[0]),
         "max_wear_um does not grow with hours: {wear:?}"
     );
-    // Wear opens backlash: lost motion grows too.
+    // Wear opens backlash: backlash and lost motion grow too.
+    let b: Vec<f64> = stages.iter().map(|s| num(s, "backlash_arcmin")).collect();
+    assert!(b[0].abs() < 1e-6 && b[2] > b[0], "backlash {b:?}");
     let lm: Vec<f64> = stages
         .iter()
         .map(|s| num(s, "lost_motion_arcmin"))
         .collect();
-    assert!(lm[0].abs() < 1e-6 && lm[2] > lm[0], "lost motion {lm:?}");
+    assert!(lm[0] > 0.0 && lm[2] > lm[0], "lost motion {lm:?}");
 
     // Files.
     for f in [
@@ -807,6 +819,8 @@ fn run_writes_the_results_directory() {
         "wear.csv",
         "te_revolution.csv",
         "load.csv",
+        "hysteresis.csv",
+        "plots/hysteresis.png",
         "plots/wear.svg",
         "plots/wear.png",
         "plots/te_hours.png",
@@ -1090,15 +1104,15 @@ fn bad_dynamics_stiffness_damping_and_times() {
     check_bad_dynamics(
         &set_key(
             &ex,
-            "dynamics.bearings",
+            "reducer.bearings",
             "crank_disc_stiffness_n_per_um",
             "-5.0",
         ),
-        &["dynamics.bearings.crank_disc_stiffness_n_per_um", "-5"],
+        &["reducer.bearings.crank_disc_stiffness_n_per_um", "-5"],
     );
     check_bad_dynamics(
-        &set_key(&ex, "dynamics.gears", "mesh_stiffness_n_per_um", "1e12"),
-        &["dynamics.gears.mesh_stiffness_n_per_um"],
+        &set_key(&ex, "reducer.gears", "mesh_stiffness_n_per_um", "1e12"),
+        &["reducer.gears.mesh_stiffness_n_per_um"],
     );
     check_bad_dynamics(
         &set_key(&ex, "dynamics.impact", "damping_ratio", "-0.1"),

@@ -1,15 +1,15 @@
-//! Speed of the pieces the issue sets targets for: the built-in study (7 stages, profile
-//! updates, full mesh cycles), one loaded contact solve (new and worn disc), and the static TE
-//! of one stage, one 0.8 s multibody simulation, and the study with the dynamic TE at every
-//! stage. Run with `cargo bench -p rvlife`.
+//! Speed: one static solve of the reducer model at the rated torque (new and 7500 h disc, with
+//! the contact geometry built once), the contact geometry of one profile, the static TE of one
+//! stage, one 0.8 s multibody simulation, the flexible disc, and the built-in study. Run with
+//! `cargo bench -p rvlife`.
 
 use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use rvlife::config::Config;
-use rvlife::contact::solve;
 use rvlife::geometry::WearMap;
+use rvlife::reducer::statics::StaticAnalysis;
 
 fn benches(c: &mut Criterion) {
     let model = Config::example().validate().expect("example validates");
@@ -20,16 +20,20 @@ fn benches(c: &mut Criterion) {
     let worn = model
         .profile(Some(WearMap::new(hist.maps[0].clone()).expect("map")))
         .expect("worn profile");
-    let t_disc = model.load_share * model.rated_torque;
-
-    c.bench_function("contact_solve_new_disc", |b| {
-        b.iter(|| solve(black_box(&new), &model.contact, black_box(0.05), t_disc).unwrap())
+    let red = &model.reducer;
+    let sa_new = StaticAnalysis::new(red, &new).expect("gap field");
+    let sa_worn = StaticAnalysis::new(red, &worn).expect("gap field");
+    c.bench_function("static_solve_new_disc", |b| {
+        b.iter(|| sa_new.solve(black_box(0.05), model.rated_torque).unwrap())
     });
-    c.bench_function("contact_solve_worn_7500h", |b| {
-        b.iter(|| solve(black_box(&worn), &model.contact, black_box(0.05), t_disc).unwrap())
+    c.bench_function("static_solve_worn_7500h", |b| {
+        b.iter(|| sa_worn.solve(black_box(0.05), model.rated_torque).unwrap())
+    });
+    c.bench_function("contact_geometry_worn_7500h", |b| {
+        b.iter(|| StaticAnalysis::new(red, black_box(&worn)).unwrap())
     });
     c.bench_function("static_te_worn_7500h", |b| {
-        b.iter(|| rvlife::te::static_te(black_box(&worn), model.te_samples).unwrap())
+        b.iter(|| rvlife::te::static_te(red, black_box(&worn), model.te_samples).unwrap())
     });
     // The paper's section 4.2 run: 0.8 s, 10 um uniform wear, sinusoidal 412 N m (gap table
     // included).
@@ -41,7 +45,9 @@ fn benches(c: &mut Criterion) {
         .sample_size(10)
         .measurement_time(Duration::from_secs(40));
     group.bench_function("simulate_0p8s_10um_sinusoidal", |b| {
-        b.iter(|| rvlife::reducer::dynamics::simulate(black_box(&worn10), &model.dynamics, false).unwrap())
+        b.iter(|| {
+            rvlife::reducer::dynamics::simulate(black_box(&worn10), &model.dynamics, false).unwrap()
+        })
     });
     group.finish();
     let mut group = c.benchmark_group("fem");
@@ -56,9 +62,8 @@ fn benches(c: &mut Criterion) {
         b.iter(|| {
             rvlife::fem::flex::analyse_stage(
                 black_box(&worn10),
-                &model.contact,
+                &model.reducer,
                 &disc,
-                model.load_share,
                 model.rated_torque,
             )
             .unwrap()

@@ -12,8 +12,8 @@
 //!   tooth tip. The flank `0 < t < pi` carries a positive (counter-clockwise) disc torque; the
 //!   flank `pi < t < 2 pi` carries a negative one;
 //! - a wear map is a depth `h(t)` (metres, >= 0) along the inward normal, the same on every
-//!   tooth, stored on a uniform grid of mesh angles and interpolated with a periodic monotone
-//!   cubic (C1, so closest-point searches see a continuous tangent; no overshoot).
+//!   tooth, stored on a uniform grid of mesh angles and interpolated with a periodic cubic
+//!   spline (C2, so closest-point searches see a continuous tangent and curvature).
 
 use std::f64::consts::{PI, TAU};
 
@@ -151,7 +151,7 @@ pub struct Modification {
 #[derive(Debug, Clone, PartialEq)]
 pub struct WearMap {
     depth: Vec<f64>,
-    /// Node slopes of the monotone cubic, per grid step (derived from `depth`).
+    /// Node slopes of the periodic C2 cubic spline, per grid step (derived from `depth`).
     slope: Vec<f64>,
 }
 
@@ -180,18 +180,18 @@ impl WearMap {
             ));
         }
         let n = depth.len();
-        // Node slopes by the harmonic mean of the neighbouring secants (zero at extrema).
-        let slope = (0..n)
-            .map(|i| {
-                let a = depth[i] - depth[(i + n - 1) % n];
-                let b = depth[(i + 1) % n] - depth[i];
-                if a * b <= 0.0 {
-                    0.0
-                } else {
-                    2.0 * a * b / (a + b)
-                }
-            })
+        // Node slopes of the periodic C2 cubic spline: m_{i-1} + 4 m_i + m_{i+1} =
+        // 3 (y_{i+1} - y_{i-1}) (per grid step), solved by Gauss-Seidel sweeps (the cyclic
+        // system is diagonally dominant, the error halves each sweep; 80 sweeps reach round-off).
+        let rhs: Vec<f64> = (0..n)
+            .map(|i| 3.0 * (depth[(i + 1) % n] - depth[(i + n - 1) % n]))
             .collect();
+        let mut slope = vec![0.0; n];
+        for _ in 0..80 {
+            for i in 0..n {
+                slope[i] = 0.25 * (rhs[i] - slope[(i + n - 1) % n] - slope[(i + 1) % n]);
+            }
+        }
         Ok(WearMap { depth, slope })
     }
 
@@ -240,15 +240,18 @@ impl WearMap {
 
     /// Depth `h` (m) and its derivative `dh/dt` (m/rad) at mesh angle `t` (any real; wrapped).
     ///
-    /// Periodic monotone cubic Hermite interpolation (Fritsch and Carlson, SIAM J. Numer. Anal.
-    /// 17, 1980): C1, and never below the smaller neighbouring node, so a map of non-negative
-    /// depths never adds material.
+    /// Periodic cubic spline interpolation (C2: the worn flank's curvature is continuous, so the
+    /// interpolant adds no curvature steps at the grid nodes that could make a pin touch the
+    /// flank at two points a grid step apart). Where wear starts abruptly the spline can
+    /// undershoot zero by a small fraction of the step in depth; the study's maps are filtered
+    /// at the contact-band scale first, which keeps that below a nanometre.
     pub fn eval(&self, t: f64) -> (f64, f64) {
         let (h, dh, _) = self.eval2(t);
         (h, dh)
     }
 
-    /// Depth (m), `dh/dt` (m/rad) and `d2h/dt2` (m/rad^2, piecewise linear) at mesh angle `t`.
+    /// Depth (m), `dh/dt` (m/rad) and `d2h/dt2` (m/rad^2, continuous and piecewise linear) at
+    /// mesh angle `t`.
     pub fn eval2(&self, t: f64) -> (f64, f64, f64) {
         let (p1, m1, p2, m2, u, dt) = self.cell(t);
         let (h, dh_du) = cubic_hermite(p1, m1, p2, m2, u);
@@ -492,20 +495,16 @@ impl Profile {
         ProfilePoint::from_derivatives(t, p, dp, ddp)
     }
 
-    /// Like [`Profile::point`] but, for a worn profile, with the curvature from the analytic
-    /// second derivative of [`Profile::eval_d1`] (the wear map's own second derivative included,
-    /// the drift of the flank curvature along the wear left out), which skips the finite
-    /// difference.
-    fn point_approx(&self, t: f64) -> ProfilePoint {
-        let (p, dp, ddp) = self.eval_d1(t);
-        ProfilePoint::from_derivatives(t, p, dp, ddp)
-    }
-
     /// Curvature (1/m, positive convex) of the modified profile without wear at parameter `t`:
     /// the macro-geometry that sets the Hertz contact. Wear changes depths by microns over
     /// millimetres of flank; the curvature of the wear map itself is grid-scale roughness finer
     /// than the contact band and is left out of the contact law.
     pub fn macro_curvature(&self, t: f64) -> f64 {
+        self.table.curvature(mesh_angle(t))
+    }
+
+    /// [`Profile::macro_curvature`] from the closed form (the tabulated one interpolates it).
+    fn macro_curvature_exact(&self, t: f64) -> f64 {
         let (_, dp, ddp) = self.closed_form(t, self.r_mod);
         -cross(&dp, &ddp) / dp.norm().powi(3)
     }
@@ -529,18 +528,24 @@ impl Profile {
         let (k, turn) = self.tooth_of(t0);
         let ql = rotate(q, turn);
         let tl = t0 - TAU * k;
-        let t = self.table.global_foot(&ql, tl, PROJECTION_WINDOW).ok_or_else(|| {
-            Error::numerical(
-                "profile projection",
-                format!(
+        let seed = self
+            .table
+            .polish(&ql, tl, tl - 8.0 * self.table.dt, tl + 8.0 * self.table.dt);
+        let t = self
+            .table
+            .global_foot(&ql, tl, PROJECTION_WINDOW, seed)
+            .ok_or_else(|| {
+                Error::numerical(
+                    "profile projection",
+                    format!(
                     "the closest point to ({:.6e}, {:.6e}) m lies on the edge of the search window \
                      around mesh angle {:.3} deg",
                     q.x,
                     q.y,
                     tl.to_degrees()
                 ),
-            )
-        })?;
+                )
+            })?;
         Ok(self.finish_projection(&ql, t, k, turn))
     }
 
@@ -573,21 +578,31 @@ impl Profile {
     /// then evaluated exactly.
     fn finish_projection(&self, ql: &Vec2, t: f64, k: f64, turn: f64) -> Projection {
         let mut t = t;
+        let mut ev = self.eval_d1(t);
         for _ in 0..4 {
-            let (p, dp, ddp) = self.eval_d1(t);
+            let (p, dp, ddp) = ev;
             let d = p - ql;
             let g = dp.norm_squared();
             let fp = g + d.dot(&ddp);
-            let step = d.dot(&dp) / if fp > 1e-6 * g { fp } else { g };
-            if step.abs() > 4.0 * self.table.step() {
+            // The tabulated foot is within about 1e-8 rad of the exact one: a Newton step beyond
+            // half a table step, or where the distance is not convex, would leave its basin.
+            if fp <= 1e-6 * g {
+                break;
+            }
+            let step = d.dot(&dp) / fp;
+            if step.abs() > 0.5 * self.table.step() {
                 break;
             }
             t -= step;
-            if step.abs() * g.sqrt() < 1e-16 {
+            ev = self.eval_d1(t);
+            // Newton converges quadratically: after a step of 1e-9 m along the flank the foot is
+            // within about 1e-14 m (radii of 70 um or more between pin centre and flank
+            // evolute), far below what the normal or the distance can feel.
+            if step.abs() * g.sqrt() < 1e-9 {
                 break;
             }
         }
-        let mut point = self.point_approx(t);
+        let mut point = ProfilePoint::from_derivatives(t, ev.0, ev.1, ev.2);
         let distance = (ql - point.p).dot(&point.normal);
         point.t = t + TAU * k;
         point.p = rotate(&point.p, -turn);
@@ -691,9 +706,26 @@ pub struct ToothTable {
     dt: f64,
     p: Vec<Vec2>,
     dp: Vec<Vec2>,
-    /// Upper bound of `|dz/dt|` over the table, m/rad.
-    lipschitz: f64,
+    /// Curvature of the modified profile without wear at the nodes of one tooth (1/m) and its
+    /// central-difference slopes per node step: a periodic cubic Hermite of
+    /// [`Profile::macro_curvature`].
+    kappa: Vec<f64>,
+    kappa_slope: Vec<f64>,
+    /// Upper bound of `|dz/dt|` over each cell of [`SCAN_CELL`] nodes (cell `c` spans nodes
+    /// `SCAN_CELL c ..= SCAN_CELL (c + 1)`), m/rad.
+    lipschitz: Vec<f64>,
+    /// Upper bound of the concave curvature (1/m, 0 where convex) over each cell, with a
+    /// margin: the distance from a point can have a local maximum (and so a second local
+    /// minimum) only where the concave curvature reaches the inverse of that distance.
+    concavity: Vec<f64>,
+    /// The largest of `concavity` over each group of [`SUPER_CELL`] cells.
+    concavity_super: Vec<f64>,
+    /// The largest of `lipschitz`, m/rad.
+    lipschitz_max: f64,
 }
+
+/// Cells per group in the first pass of the unimodality check.
+const SUPER_CELL: usize = 8;
 
 /// Table nodes per cell of the Lipschitz-pruned scan.
 const SCAN_CELL: usize = 8;
@@ -713,19 +745,64 @@ impl ToothTable {
         let t_start = -(m as f64) * dt;
         let mut p = Vec::with_capacity(count);
         let mut dp = Vec::with_capacity(count);
-        let mut lipschitz: f64 = 0.0;
         for i in 0..count {
             let (pi, dpi, _) = profile.eval_d1(t_start + i as f64 * dt);
-            lipschitz = lipschitz.max(dpi.norm());
             p.push(pi);
             dp.push(dpi);
         }
+        let kappa: Vec<f64> = (0..per_tooth)
+            .map(|i| profile.macro_curvature_exact(i as f64 * dt))
+            .collect();
+        let kappa_slope = (0..per_tooth)
+            .map(|i| 0.5 * (kappa[(i + 1) % per_tooth] - kappa[(i + per_tooth - 1) % per_tooth]))
+            .collect();
+        // Per cell, the largest node speed with 5 % for the Hermite bulge between nodes, and
+        // the largest concave curvature from the tangent's turning between nodes (the mean over
+        // each node step), raised by the largest change between neighbouring steps.
+        let cells = count.div_ceil(SCAN_CELL);
+        let lipschitz: Vec<f64> = (0..cells)
+            .map(|c| {
+                let (a, b) = (c * SCAN_CELL, ((c + 1) * SCAN_CELL).min(count - 1));
+                1.05 * dp[a..=b].iter().map(|v| v.norm()).fold(0.0, f64::max)
+            })
+            .collect();
+        let turn = |i: usize| {
+            // Signed curvature between nodes i and i + 1: turning of the tangent over the arc.
+            let (u, v) = (dp[i], dp[i + 1]);
+            let ang = cross(&u, &v).atan2(u.dot(&v));
+            let arc = 0.5 * (u.norm() + v.norm()) * dt;
+            -ang / arc
+        };
+        let steps: Vec<f64> = (0..count - 1).map(|i| -turn(i)).collect();
+        let concavity: Vec<f64> = (0..cells)
+            .map(|c| {
+                let a = (c * SCAN_CELL).saturating_sub(1);
+                let b = ((c + 1) * SCAN_CELL + 1).min(count - 2);
+                let k = (a..b).map(|i| steps[i].max(0.0)).fold(0.0, f64::max);
+                // The curvature within a step departs from the step's mean by at most the
+                // change between neighbouring steps.
+                let var = (a..b)
+                    .map(|i| (steps[i + 1] - steps[i]).abs())
+                    .fold(0.0, f64::max);
+                1.01 * (k + var) + 1.0
+            })
+            .collect();
+        let concavity_super = concavity
+            .chunks(SUPER_CELL)
+            .map(|c| c.iter().copied().fold(0.0, f64::max))
+            .collect();
+        let lipschitz_max = lipschitz.iter().copied().fold(0.0, f64::max);
         ToothTable {
             t_start,
             dt,
             p,
             dp,
-            lipschitz: 1.05 * lipschitz,
+            kappa,
+            kappa_slope,
+            lipschitz,
+            concavity,
+            concavity_super,
+            lipschitz_max,
         }
     }
 
@@ -757,6 +834,24 @@ impl ToothTable {
         (z, dz, ddz)
     }
 
+    /// Curvature of the modified profile without wear at mesh angle `m` (rad, in `[0, 2 pi)`),
+    /// 1/m: the periodic cubic Hermite of the node values (relative error below 1e-7).
+    pub fn curvature(&self, m: f64) -> f64 {
+        let n = self.kappa.len();
+        let s = m / self.dt;
+        let i = (s.floor().max(0.0) as usize) % n;
+        let j = (i + 1) % n;
+        let u = s - s.floor();
+        cubic_hermite(
+            self.kappa[i],
+            self.kappa_slope[i],
+            self.kappa[j],
+            self.kappa_slope[j],
+            u,
+        )
+        .0
+    }
+
     fn node_t(&self, i: usize) -> f64 {
         self.t_start + i as f64 * self.dt
     }
@@ -769,7 +864,11 @@ impl ToothTable {
         let f_at = |t: f64| {
             let (z, dz, ddz) = self.eval(t);
             let d = z - q;
-            (d.dot(&dz), dz.norm_squared() + d.dot(&ddz), dz.norm_squared())
+            (
+                d.dot(&dz),
+                dz.norm_squared() + d.dot(&ddz),
+                dz.norm_squared(),
+            )
         };
         let (mut lo, mut hi) = (lo, hi);
         if f_at(lo).0 >= 0.0 || f_at(hi).0 <= 0.0 {
@@ -799,65 +898,123 @@ impl ToothTable {
     }
 
     /// Global minimum of the distance from `q` over `[tc - w, tc + w]` (see
-    /// [`Profile::project`]); `None` if it lies on the window's edge.
-    pub fn global_foot(&self, q: &Vec2, tc: f64, w: f64) -> Option<f64> {
+    /// [`Profile::project`]): the first of [`ToothTable::local_minima`] with no margin.
+    pub fn global_foot(&self, q: &Vec2, tc: f64, w: f64, seed: Option<f64>) -> Option<f64> {
+        self.local_minima(q, tc, w, seed, 0.0).map(|v| v[0].1)
+    }
+
+    /// Every local minimum of the distance from `q` over `[tc - w, tc + w]` whose distance is
+    /// within `margin` (m) of the global minimum, as `(distance, t)` pairs, closest first,
+    /// starting from the local foot `seed` if one is known (it makes the best distance tight
+    /// from the start, so that most cells are pruned). `None` if the global minimum lies on the
+    /// window's edge (minima on the edge are left out).
+    ///
+    /// Only cells whose Lipschitz bound on the distance is within `margin` of the best can hold
+    /// such a minimum; if none of them can hold a local maximum of the distance either
+    /// (concave curvature times the largest distance in the cell below 1), the seed is the
+    /// only minimum.
+    pub fn local_minima(
+        &self,
+        q: &Vec2,
+        tc: f64,
+        w: f64,
+        seed: Option<f64>,
+        margin: f64,
+    ) -> Option<Vec<(f64, f64)>> {
         let last = self.p.len() - 1;
         let node = |t: f64| (((t - self.t_start) / self.dt).round().max(0.0) as usize).min(last);
         let (first_node, last_node) = (node(tc - w), node(tc + w));
+        let edge = 1.5 * self.dt;
+        let inside =
+            |t: f64| t - self.node_t(first_node) >= edge && self.node_t(last_node) - t >= edge;
         let dist = |i: usize| (self.p[i] - q).norm();
-        let mut coarse: Vec<(usize, f64)> =
-            Vec::with_capacity(2 + (last_node - first_node) / SCAN_CELL);
-        let mut i = first_node;
-        loop {
-            coarse.push((i, dist(i)));
-            if i >= last_node {
-                break;
-            }
-            i = (i + SCAN_CELL).min(last_node);
-        }
-        let mut best = coarse.iter().map(|c| c.1).fold(f64::INFINITY, f64::min);
-        // Cells in the order of their lower bound, so that the best distance tightens early.
-        let mut cells: Vec<(f64, usize)> = coarse
-            .windows(2)
-            .enumerate()
-            .map(|(c, w2)| {
-                let h = (w2[1].0 - w2[0].0) as f64 * self.dt;
-                (0.5 * (w2[0].1 + w2[1].1 - self.lipschitz * h), c)
-            })
+        let mut feet: Vec<(f64, f64)> = seed
+            .map(|t| ((self.eval(t).0 - q).norm(), t))
+            .into_iter()
             .collect();
-        cells.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut foot: Option<(f64, f64)> = None;
-        let mut d = Vec::with_capacity(SCAN_CELL + 3);
-        for (bound, c) in cells {
-            if bound > best + 1e-12 {
-                break;
-            }
-            let (a, b) = (coarse[c].0, coarse[c + 1].0);
-            let lo_n = a.saturating_sub(1).max(first_node);
-            let hi_n = (b + 1).min(last_node);
-            d.clear();
-            d.extend((lo_n..=hi_n).map(dist));
-            for n in a.max(lo_n + 1)..=b.min(hi_n.saturating_sub(1)) {
-                let k = n - lo_n;
-                if d[k] <= d[k - 1] && d[k] <= d[k + 1] {
-                    let (tl, th) = (self.node_t(n - 1), self.node_t(n + 1));
-                    let t = self
-                        .polish(q, self.node_t(n), tl, th)
-                        .unwrap_or(self.node_t(n));
-                    let dd = (self.eval(t).0 - q).norm();
-                    if foot.is_none_or(|(fd, _)| dd < fd) {
-                        best = best.min(dd);
-                        foot = Some((dd, t));
+        let mut best = feet.first().map_or(f64::INFINITY, |f| f.0);
+        let h = SCAN_CELL as f64 * self.dt;
+        let c0 = first_node / SCAN_CELL;
+        let c1 = last_node.div_ceil(SCAN_CELL);
+        if let Some(&(_, tf)) = feet.first() {
+            // First pass over groups of cells: the distance within a group is at most the best
+            // plus the largest speed times the parameter distance from the foot, so a group
+            // whose concave curvature stays below the inverse of that bound is cleared without
+            // computing a distance (most of a convex or gently concave flank).
+            let mut unimodal = true;
+            'groups: for sc in c0 / SUPER_CELL..=(c1.saturating_sub(1)) / SUPER_CELL {
+                let first = (sc * SUPER_CELL).max(c0);
+                let last = ((sc + 1) * SUPER_CELL).min(c1);
+                let ta = self.node_t(first * SCAN_CELL);
+                let tb = self.node_t(last * SCAN_CELL);
+                let far = (ta - tf).abs().max((tb - tf).abs());
+                if self.concavity_super[sc] * (best + margin + self.lipschitz_max * far) < 1.0 {
+                    continue;
+                }
+                let mut da = dist((first * SCAN_CELL).clamp(first_node, last_node));
+                for c in first..last {
+                    let b = ((c + 1) * SCAN_CELL).clamp(first_node, last_node);
+                    let db = dist(b);
+                    let slack = 0.5 * self.lipschitz[c] * h;
+                    if 0.5 * (da + db) - slack <= best + margin + 1e-12
+                        && self.concavity[c] * (da.max(db) + slack) >= 1.0
+                    {
+                        unimodal = false;
+                        break 'groups;
                     }
+                    da = db;
                 }
             }
+            if unimodal {
+                return inside(tf).then_some(feet);
+            }
         }
-        let (_, t) = foot?;
-        let edge = 1.5 * self.dt;
-        if t - self.node_t(first_node) < edge || self.node_t(last_node) - t < edge {
+        let mut da = dist((c0 * SCAN_CELL).clamp(first_node, last_node));
+        for c in c0..c1 {
+            let a = (c * SCAN_CELL).clamp(first_node, last_node);
+            let b = ((c + 1) * SCAN_CELL).clamp(first_node, last_node);
+            if b <= a {
+                continue;
+            }
+            let db = dist(b);
+            let bound = 0.5 * (da + db - self.lipschitz[c] * h);
+            let d_next = db;
+            if bound <= best + margin + 1e-12 {
+                // Every minimum is an upward sign change of f = (z - q) . z' between two
+                // nodes (the nodes' exact tangents give f there); each is polished in its step.
+                let fk = |i: usize| (self.p[i] - q).dot(&self.dp[i]);
+                let mut f0 = fk(a);
+                for k in a..b {
+                    let f1 = fk(k + 1);
+                    if f0 < 0.0 && f1 >= 0.0 {
+                        let near = dist(k).min(dist(k + 1)) - self.lipschitz[c] * self.dt;
+                        if near <= best + margin {
+                            let (tl, th) = (self.node_t(k), self.node_t(k + 1));
+                            // A foot on a node can test as either side of it: widen the bracket.
+                            let t = self.polish(q, 0.5 * (tl + th), tl, th).or_else(|| {
+                                self.polish(q, 0.5 * (tl + th), tl - self.dt, th + self.dt)
+                            });
+                            if let Some(t) = t {
+                                let dd = (self.eval(t).0 - q).norm();
+                                if feet.iter().all(|f| (f.1 - t).abs() > 1e-7) {
+                                    feet.push((dd, t));
+                                }
+                                best = best.min(dd);
+                            }
+                        }
+                    }
+                    f0 = f1;
+                }
+            }
+            da = d_next;
+        }
+        feet.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let &(best, t_best) = feet.first()?;
+        if !inside(t_best) {
             return None;
         }
-        Some(t)
+        feet.retain(|f| f.0 <= best + margin && inside(f.1));
+        Some(feet)
     }
 }
 

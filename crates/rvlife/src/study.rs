@@ -15,13 +15,13 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::config::{Model, WearModelKind};
-use crate::reducer::dynamics::{simulate, DynamicsSummary};
+use crate::error::Error;
 use crate::error::Result;
 use crate::fem::flex::{analyse_stage, FlexibleStage};
 use crate::fem::mesh::Mesh;
 use crate::fem::DiscModel;
 use crate::geometry::{Profile, WearMap};
-use crate::error::Error;
+use crate::reducer::dynamics::{simulate, DynamicsSummary};
 use crate::te::{
     hysteresis, loaded_te, mesh_cycle_angles, CurveStats, LoadedTe, StaticTe, TwistTable,
     ARCMIN_PER_RAD,
@@ -396,12 +396,7 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
             .par_iter()
             .map(|st| {
                 let disc = DiscModel::build(&st.profile, &model.fem)?;
-                let fl = analyse_stage(
-                    &st.profile,
-                    &model.reducer,
-                    &disc,
-                    model.rated_torque,
-                )?;
+                let fl = analyse_stage(&st.profile, &model.reducer, &disc, model.rated_torque)?;
                 progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
                 Ok((fl, disc.fe.mesh))
             })

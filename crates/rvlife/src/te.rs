@@ -114,7 +114,7 @@ impl StaticTe {
 /// assembled without preload); solver failures.
 pub fn static_te(red: &Reducer, profile: &Profile, samples: usize) -> Result<StaticTe> {
     let phis = mesh_cycle_angles(red.geometry.pins, samples);
-    let sa = StaticAnalysis::new(red, profile);
+    let sa = StaticAnalysis::new(red, profile)?;
     let pairs: Vec<(f64, f64)> = phis
         .par_iter()
         .map(|&phi| Ok((sa.first_contact(phi, 1.0)?, sa.first_contact(phi, -1.0)?)))
@@ -201,7 +201,7 @@ pub fn loaded_te(
     samples: usize,
 ) -> Result<LoadedTe> {
     let phis = mesh_cycle_angles(red.geometry.pins, samples);
-    let sa = StaticAnalysis::new(red, profile);
+    let sa = StaticAnalysis::new(red, profile)?;
     let solutions: Vec<StaticSolution> = phis
         .par_iter()
         .map(|&phi| sa.solve(phi, torque))
@@ -394,7 +394,7 @@ pub fn hysteresis(
     levels: usize,
 ) -> Result<(Vec<TwistTable>, TwistTable)> {
     let fractions = torque_fractions(measuring_fraction, levels);
-    let sa = StaticAnalysis::new(red, profile);
+    let sa = StaticAnalysis::new(red, profile)?;
     let tables: Vec<TwistTable> = crank_angles
         .par_iter()
         .map(|&phi| TwistTable::at_crank(&sa, phi, &fractions, rated, measuring_fraction))

@@ -27,9 +27,9 @@ use serde::Serialize;
 
 use crate::config::{Model, WearModelKind};
 use crate::contact::li_load_distribution;
-use crate::reducer::statics::StaticAnalysis;
 use crate::error::{Error, Result};
 use crate::geometry::{band_shape, mesh_angle, rotate, Profile, Vec2, WearMap};
+use crate::reducer::statics::StaticAnalysis;
 
 /// Number of wear-map grid points per tooth: `Zp x crank_steps_per_mesh_cycle`.
 pub fn grid_points(model: &Model) -> usize {
@@ -83,7 +83,7 @@ pub fn wear_per_mesh_cycle(profile: &Profile, model: &Model, torque: f64) -> Res
     let zc = geo.disc_teeth() as f64;
     let steps = model.wear_steps;
     let slide_scale = 1.0 - model.pin_rolling_fraction;
-    let sa = StaticAnalysis::new(&model.reducer, profile);
+    let sa = StaticAnalysis::new(&model.reducer, profile)?;
     let per_step: Vec<Vec<(f64, f64, f64)>> = (0..steps)
         .into_par_iter()
         .map(|k| -> Result<Vec<(f64, f64, f64)>> {
@@ -231,7 +231,11 @@ impl BandSmoother {
         let ds: Vec<f64> = pts.iter().map(|p| p.dp.norm() * dt).collect();
         let weights = (0..n)
             .map(|m| {
-                let b = model.reducer.contact.hertz(f_peak, pts[m].curvature).half_width;
+                let b = model
+                    .reducer
+                    .contact
+                    .hertz(f_peak, pts[m].curvature)
+                    .half_width;
                 let w = band_shape(&ds, m, b);
                 let total: f64 = w.iter().map(|&(i, x)| x * ds[i]).sum();
                 w.iter().map(|&(i, x)| (i, x * ds[i] / total)).collect()

@@ -193,7 +193,7 @@ fn disc_compliance_converges_under_refinement() {
             .profile(Some(WearMap::uniform(360, 10e-6).unwrap()))
             .unwrap();
         let d = DiscModel::build(&p, &m.fem).unwrap();
-        let st = analyse_stage(&p, &m.contact, &d, m.load_share, m.rated_torque).unwrap();
+        let st = analyse_stage(&p, &m.reducer, &d, m.rated_torque).unwrap();
         let te = st.flexible_loaded_te.iter().sum::<f64>() / 8.0;
         (d, te)
     };
@@ -234,10 +234,17 @@ fn stiff_disc_approaches_the_rigid_result() {
             .unwrap();
         let d = DiscModel::build(&p, &m.fem).unwrap();
         let phi = 0.3;
-        let s = solve_flexible(&p, &m.contact, &d, phi, m.load_share * m.rated_torque).unwrap();
+        let s = solve_flexible(
+            &p,
+            &m.reducer.contact,
+            &d,
+            phi,
+            m.disc_share() * m.rated_torque,
+        )
+        .unwrap();
         let rigid_static = rvlife::contact::first_contact(&p, phi, 1.0).unwrap();
         let moment: f64 = s.pins.iter().map(|q| q.force * q.lever_arm).sum();
-        assert!((moment / (m.load_share * m.rated_torque) - 1.0).abs() < 1e-8);
+        assert!((moment / (m.disc_share() * m.rated_torque) - 1.0).abs() < 1e-8);
         (
             (s.disc_rotation - s.rigid_rotation) / (s.rigid_rotation - rigid_static),
             s,
@@ -262,10 +269,17 @@ fn flexible_contact_is_complementary() {
         .profile(Some(WearMap::uniform(360, 20e-6).unwrap()))
         .unwrap();
     let d = DiscModel::build(&p, &m.fem).unwrap();
-    let s = solve_flexible(&p, &m.contact, &d, 0.1, m.load_share * m.rated_torque).unwrap();
+    let s = solve_flexible(
+        &p,
+        &m.reducer.contact,
+        &d,
+        0.1,
+        m.disc_share() * m.rated_torque,
+    )
+    .unwrap();
     assert!(s.pins.len() >= 3);
     let law = rvlife::fem::flex::FlexibleLaw {
-        model: m.contact,
+        model: m.reducer.contact,
         patch: m.fem.patch,
     };
     for q in &s.pins {

@@ -1,13 +1,12 @@
-//! Physics checks that can fail: closed forms, limits, conservation (issue 2 "Must show").
+//! Physics checks that can fail: closed forms, limits, conservation.
 
 use std::f64::consts::TAU;
 
 use rvlife::config::{Config, Model, WearModelKind};
-use rvlife::contact::{
-    first_contact, li_load_distribution, pin_geometries, solve, ApproachLaw, ContactModel,
-    Materials,
-};
+use rvlife::contact::{li_load_distribution, pin_geometries, ApproachLaw, ContactModel, Materials};
 use rvlife::geometry::{CycloidGeometry, Modification, Profile, WearMap};
+use rvlife::reducer::statics::StaticAnalysis;
+use rvlife::reducer::{Reducer, Support};
 use rvlife::te::{static_te, ARCMIN_PER_RAD};
 
 fn model() -> Model {
@@ -16,6 +15,19 @@ fn model() -> Model {
 
 fn paper_geometry() -> CycloidGeometry {
     model().geometry
+}
+
+/// The example's reducer with rigid support (the paper's and Li's model).
+fn rigid(share: f64) -> Reducer {
+    let mut r = model().reducer;
+    r.support = Support::Rigid { load_share: share };
+    r
+}
+
+/// Closed-form per-side STE of a uniform equidistant modification `drrp` (m) of the RV reducer:
+/// `drrp / (a (Zp + Z1/Z2))` rad (physics-notes section 6).
+fn uniform_offset_twist(red: &Reducer, drrp: f64) -> f64 {
+    drrp * red.twist_factor() / red.geometry.disc_pitch_radius()
 }
 
 fn steel() -> Materials {
@@ -72,19 +84,24 @@ fn lever_arms_match_li() {
 fn linear_law_reproduces_li_distribution() {
     let geo = paper_geometry();
     let profile = Profile::new(geo.clone(), Modification::default(), None).unwrap();
-    let model = ContactModel {
+    let mut red = rigid(0.55);
+    red.contact = ContactModel {
         law: ApproachLaw::Linear { stiffness: 5e9 },
         materials: steel(),
         width: geo.width,
         pin_radius: geo.pin_radius,
         max_radius: geo.pin_circle_radius,
+        disc_depth: Some(geo.pin_circle_radius),
     };
-    let t_disc = 0.55 * 412.0;
+    let sa = StaticAnalysis::new(&red, &profile).unwrap();
+    let torque = 412.0;
+    // Li's distribution at the equivalent disc torque share x T x Zc/(Zp + Z1/Z2).
+    let t_disc = 0.55 * torque * red.twist_factor();
     for phi in [0.0, 0.031, 0.077, 0.12] {
-        let sol = solve(&profile, &model, phi, t_disc).unwrap();
+        let sol = sa.solve(phi, torque).unwrap();
         let li = li_load_distribution(&geo, phi, t_disc);
         let fmax = li.iter().copied().fold(0.0, f64::max);
-        for (p, f) in sol.pins.iter().zip(&li) {
+        for (p, f) in sol.discs[0].pins.iter().zip(&li) {
             assert!(
                 (p.force - f).abs() <= 0.005 * fmax,
                 "phi {phi}, pin {}: {} N vs Li {} N",
@@ -93,15 +110,17 @@ fn linear_law_reproduces_li_distribution() {
                 f
             );
         }
-        // Li's approximation F_max ~ 4 T_disc / (a Zc Zp) = 447 N.
-        assert!((fmax - 447.0).abs() < 0.02 * 447.0, "{fmax}");
+        // Li's approximation F_max ~ 4 T_disc / (a Zc Zp) = 430 N.
+        let li_max = 4.0 * t_disc / (geo.disc_pitch_radius() * geo.pins as f64);
+        assert!((fmax - li_max).abs() < 0.02 * li_max, "{fmax} vs {li_max}");
     }
 }
 
-/// The sum of pin moments equals the disc torque (equilibrium), for both load directions and
-/// for worn and modified discs.
+/// Every static solution balances (residual below 1e-9 of the force scale, checked by the
+/// solver itself and reported), with non-negative forces, for both load directions, both
+/// supports, and worn and modified discs.
 #[test]
-fn pin_moments_balance_the_disc_torque() {
+fn static_solutions_balance() {
     let m = model();
     let wear: Vec<f64> = (0..720)
         .map(|i| {
@@ -127,55 +146,60 @@ fn pin_moments_balance_the_disc_torque() {
         )
         .unwrap(),
     ];
-    for profile in &profiles {
-        for torque in [226.6, -226.6, 50.0] {
-            for phi in [0.0, 0.05, 0.11] {
-                let sol = solve(profile, &m.contact, phi, torque).unwrap();
-                let rel = (sol.pin_moment() - torque).abs() / torque.abs();
-                assert!(
-                    rel < 1e-9,
-                    "torque {torque}, phi {phi}: moment {}",
-                    sol.pin_moment()
-                );
-                assert!(sol
-                    .pins
-                    .iter()
-                    .all(|p| p.force >= 0.0 && p.force.is_finite()));
+    for red in [m.reducer.clone(), rigid(0.55)] {
+        for profile in &profiles {
+            let sa = StaticAnalysis::new(&red, profile).unwrap();
+            for torque in [412.0, -412.0, 50.0, 4.12] {
+                for phi in [0.0, 0.05, 0.11] {
+                    let sol = sa.solve(phi, torque).unwrap();
+                    assert!(sol.residual <= 1e-9, "residual {:e}", sol.residual);
+                    assert!(sol
+                        .discs
+                        .iter()
+                        .flat_map(|d| d.pins.iter())
+                        .all(|p| p.force >= 0.0 && p.force.is_finite()));
+                    assert!(torque * (sol.twist - sol.first_contact_twist) > 0.0);
+                }
             }
         }
     }
 }
 
-/// A uniform equidistant modification drrp gives lost motion 2 drrp / (a Zc) within 1 %
-/// (physics-notes section 6).
+/// A uniform equidistant modification drrp gives a backlash of `2 drrp / (a (Zp + Z1/Z2))`
+/// (physics-notes section 6): the play at every crank angle is at least that, and where a pin
+/// sits at the largest lever arm (the minimum over a mesh cycle) equal to it within 0.1 %,
+/// with bearings and with rigid support.
 #[test]
-fn equidistant_modification_lost_motion() {
+fn equidistant_modification_backlash() {
     let geo = paper_geometry();
-    for drrp in [5e-6, 10e-6, 30e-6] {
-        let profile = Profile::new(
-            geo.clone(),
-            Modification {
-                equidistant: drrp,
-                ..Default::default()
-            },
-            None,
-        )
-        .unwrap();
-        let ste = static_te(&profile, 24).unwrap();
-        let expected = 2.0 * drrp / geo.disc_pitch_radius();
-        let lm = ste.lost_motion_stats();
-        for v in [lm.mean, lm.max, lm.min] {
+    for red in [model().reducer, rigid(0.55)] {
+        for drrp in [5e-6, 10e-6, 30e-6] {
+            let profile = Profile::new(
+                geo.clone(),
+                Modification {
+                    equidistant: drrp,
+                    ..Default::default()
+                },
+                None,
+            )
+            .unwrap();
+            let ste = static_te(&red, &profile, 96).unwrap();
+            let expected = 2.0 * uniform_offset_twist(&red, drrp);
+            let play = ste.backlash_stats();
             assert!(
-                (v / expected - 1.0).abs() < 0.01,
-                "drrp {drrp}: {v} vs {expected}"
+                (play.min / expected - 1.0).abs() < 1e-3,
+                "drrp {drrp}: {} vs {expected}",
+                play.min
+            );
+            assert!(
+                play.max / expected - 1.0 < 3e-3,
+                "{} vs {expected}",
+                play.max
             );
         }
-        // Each side alone: drrp / (a Zc) within 1 % (0.678 arcmin per 10 um).
-        let fwd = ste.stats().mean;
-        assert!((fwd / (0.5 * expected) - 1.0).abs() < 0.01);
     }
-    let per_10um = 10e-6 / geo.disc_pitch_radius() * ARCMIN_PER_RAD;
-    assert!((per_10um - 0.678).abs() < 0.001, "{per_10um}");
+    let per_10um = uniform_offset_twist(&model().reducer, 10e-6) * ARCMIN_PER_RAD;
+    assert!((per_10um - 0.6529).abs() < 1e-4, "{per_10um}");
 }
 
 /// Uniform wear through the wear map equals the equidistant modification.
@@ -197,10 +221,16 @@ fn uniform_wear_map_equals_equidistant() {
         None,
     )
     .unwrap();
+    let red = model().reducer;
+    let (sa, sb) = (
+        StaticAnalysis::new(&red, &worn).unwrap(),
+        StaticAnalysis::new(&red, &eq).unwrap(),
+    );
     for phi in [0.0, 0.07] {
-        let a = first_contact(&worn, phi, 1.0).unwrap();
-        let b = first_contact(&eq, phi, 1.0).unwrap();
-        assert!((a - b).abs() < 1e-12 * b.abs().max(1e-9), "{a} {b}");
+        let a = sa.first_contact(phi, 1.0).unwrap();
+        let b = sb.first_contact(phi, 1.0).unwrap();
+        // Two gap fields built from independent projections of the same geometry.
+        assert!((a - b).abs() < 1e-6 * b.abs(), "{a} {b}");
     }
 }
 
@@ -214,6 +244,7 @@ fn hertz_against_hand_calculation() {
         width: 8.75e-3,
         pin_radius: 3e-3,
         max_radius: 64e-3,
+        disc_depth: None,
     };
     let h = m.hertz(447.0, 1.0 / 5e-3);
     // b = sqrt(4 F R* / (pi B E*)), R* = 1.875 mm, E* = 120.33 GPa.
@@ -233,6 +264,17 @@ fn hertz_against_hand_calculation() {
     assert!((dj / 1.537185999929665e-06 - 1.0).abs() < 1e-12, "{dj}");
     // The notes: the two forms differ by roughly 11 % (15 % here).
     assert!(d / dj > 1.05 && d / dj < 1.2);
+    // The disc term at the body depth Rp instead of the local 5 mm radius adds exactly
+    // 2F/(pi B) C1 ln(64/5) (the same Hertz half-width).
+    m.law = ApproachLaw::Paper;
+    let body = ContactModel {
+        disc_depth: Some(64e-3),
+        ..m
+    };
+    let (c1, _) = m.materials.compliances();
+    let extra = 2.0 * 447.0 / (std::f64::consts::PI * 8.75e-3) * c1 * (64.0f64 / 5.0).ln();
+    let db = body.approach(447.0, 1.0 / 5e-3);
+    assert!((db - d - extra).abs() < 1e-12 * db, "{db} {d} {extra}");
 }
 
 /// Without profile updates the wear map is the rate times the hours: linear in hours.
@@ -264,26 +306,36 @@ fn wear_with_updates_grows_and_concentrates_load() {
     let max = hist.max_depths();
     assert!(max[1] > 0.0 && max[2] > max[1]);
     for map in &hist.maps {
-        // No wear on the unloaded flank (mesh angles 181..359 deg).
-        // (The Hertz-band filter spreads a trace of the tip and root wear over a few degrees.)
-        let peak = map.iter().copied().fold(0.0, f64::max);
+        // No wear inside the unloaded flank (mesh angles 200..340 deg); the Hertz band spreads
+        // the root and tip wear a few degrees past 0 and 180, and the loaded flank carries at
+        // least 95 % of the worn depth.
+        let (mut loaded, mut total) = (0.0, 0.0);
         for (i, h) in map.iter().enumerate() {
             let deg = 360.0 * i as f64 / n as f64;
-            if deg > 190.0 && deg < 350.0 {
+            if deg > 200.0 && deg < 340.0 {
                 assert_eq!(*h, 0.0, "wear on the unloaded flank at {deg} deg");
-            } else if deg > 181.0 {
-                assert!(*h <= 1e-3 * peak, "wear on the unloaded flank at {deg} deg");
+            }
+            total += h;
+            if deg <= 180.0 {
+                loaded += h;
             }
         }
+        assert!(loaded >= 0.95 * total, "loaded flank {loaded} of {total}");
     }
     let new = m.profile(None).unwrap();
     let worn = m
         .profile(Some(WearMap::new(hist.maps[2].clone()).unwrap()))
         .unwrap();
-    let f_new = solve(&new, &m.contact, 0.0, 226.6).unwrap();
-    let f_worn = solve(&worn, &m.contact, 0.0, 226.6).unwrap();
+    let f_new = StaticAnalysis::new(&m.reducer, &new)
+        .unwrap()
+        .solve(0.0, 412.0)
+        .unwrap();
+    let f_worn = StaticAnalysis::new(&m.reducer, &worn)
+        .unwrap()
+        .solve(0.0, 412.0)
+        .unwrap();
     assert!(f_worn.max_force() > f_new.max_force());
-    assert!(f_worn.disc_rotation > f_new.disc_rotation);
+    assert!(f_worn.twist > f_new.twist);
 }
 
 /// Kinematics (physics-notes section 1): i_H = 1 + (Z2/Z1) Zp, mesh cycles per hour.
@@ -306,7 +358,7 @@ fn paper_wear_model() {
     let max = study.wear.max_depths();
     assert!((max[2] / max[1] - 2.0).abs() < 1e-9);
     let s = &study.stages[2];
-    let expected = max[2] / m.geometry.disc_pitch_radius() * ARCMIN_PER_RAD;
+    let expected = uniform_offset_twist(&m.reducer, max[2]) * ARCMIN_PER_RAD;
     assert!((s.summary.ste_mean_arcmin / expected - 1.0).abs() < 0.01);
 }
 
@@ -319,14 +371,9 @@ fn example_is_calibrated_to_sixty_microns() {
     assert!((last * 1e6 - 60.0).abs() < 1.5, "{} um", last * 1e6);
 }
 
-/// On a disc worn by the wear model (with its wear ripple at the pin pitch and an unworn root
-/// that closes on its pin as the disc turns), the solved pose still balances the torque at every
-/// crank angle of a mesh cycle, and no driving pin penetrates at first contact by more than
-/// 0.2 um (pins at the root and tip, whose lever arm at the nominal pose is below 2 % of `a Zc`,
-/// close only to second order and are left out of the geometric first contact by definition).
-/// The 0.2 um bound is a regression guard, not a physical tolerance: near a worn, near-conformal
-/// root the closest point can switch between two local feet as the disc turns, so the gap of a
-/// pin there jumps by up to ~0.1 um (a known limitation of the projection).
+/// On a disc worn by the wear model, the static solution balances at every crank angle of a
+/// mesh cycle, and at first contact (the STE) no pin of either disc penetrates the contact
+/// geometry.
 #[test]
 fn worn_disc_contact_balances_over_a_mesh_cycle() {
     let mut m = model();
@@ -335,17 +382,19 @@ fn worn_disc_contact_balances_over_a_mesh_cycle() {
     let worn = m
         .profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))
         .unwrap();
+    let sa = StaticAnalysis::new(&m.reducer, &worn).unwrap();
     for k in 0..18 {
         let phi = TAU * k as f64 / (40.0 * 18.0);
-        let sol = solve(&worn, &m.contact, phi, 226.6).unwrap();
-        let rel = (sol.pin_moment() - 226.6).abs() / 226.6;
-        assert!(rel < 1e-8, "phi {phi}: moment {}", sol.pin_moment());
-        let b0 = first_contact(&worn, phi, 1.0).unwrap();
-        let lmin = 0.02 * m.geometry.disc_pitch_radius();
-        let nominal = pin_geometries(&worn, phi, 0.0).unwrap();
-        for g in pin_geometries(&worn, phi, b0).unwrap() {
-            if nominal[g.pin].lever_arm > lmin {
-                assert!(g.gap > -2e-7, "phi {phi}: pin {} gap {:e}", g.pin, g.gap);
+        let sol = sa.solve(phi, 412.0).unwrap();
+        assert!(
+            sol.residual <= 1e-9,
+            "phi {phi}: residual {:e}",
+            sol.residual
+        );
+        let unloaded = sa.solve(phi, 0.0).unwrap();
+        for d in &unloaded.discs {
+            for p in &d.pins {
+                assert!(p.gap > -1e-12, "phi {phi}: pin {} gap {:e}", p.pin, p.gap);
             }
         }
     }

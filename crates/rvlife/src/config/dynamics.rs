@@ -348,7 +348,11 @@ fn positive(field: &str, v: f64, max: f64, unit: &'static str) -> Result<f64> {
 }
 
 fn non_negative(field: &str, v: f64, max: f64, unit: &'static str) -> Result<f64> {
-    check(&format!("dynamics.{field}"), v, Range::non_negative(max, unit))
+    check(
+        &format!("dynamics.{field}"),
+        v,
+        Range::non_negative(max, unit),
+    )
 }
 
 impl DynamicsConfig {

@@ -28,9 +28,9 @@ use crate::contact::{ApproachLaw, ContactModel, Materials};
 
 use crate::error::{Error, Result};
 use crate::fem::FemParams;
+use crate::geometry::{CycloidGeometry, Modification, Profile, WearMap};
 use crate::reducer::dynamics::DynamicsParams;
 use crate::reducer::{Bearings, Mesh, Reducer, Support};
-use crate::geometry::{CycloidGeometry, Modification, Profile, WearMap};
 
 /// The built-in example: the paper's reducer, fully commented.
 pub const EXAMPLE_TOML: &str = include_str!("../example.toml");
@@ -255,7 +255,7 @@ impl Config {
                 check(
                     &format!("materials.{name}.youngs_modulus_gpa"),
                     m.youngs_modulus_gpa,
-                    Range::positive(1e4, "GPa"),
+                    Range::positive(1e7, "GPa"),
                 )? * 1e9,
                 check(
                     &format!("materials.{name}.poisson_ratio"),
@@ -319,7 +319,18 @@ impl Config {
             bearings,
             contact,
             support,
+            contact_band_force: 0.0,
+            gap_points: whole(
+                "dynamics.gap_points_per_tooth",
+                self.dynamics.gap_points_per_tooth,
+                64,
+                65536,
+            )?,
         };
+        let mut reducer = reducer;
+        // Li's largest pin force at the rated torque on one disc (physics-notes section 4).
+        reducer.contact_band_force = 4.0 * 0.5 * rated_torque * reducer.twist_factor()
+            / (geometry.disc_pitch_radius() * pins as f64);
         let spectrum = self.load_spectrum(rated_torque, input_speed_rpm)?;
         let w = &self.wear;
         let wear_model = match w.model.as_str() {
@@ -550,7 +561,11 @@ impl Config {
             "constant" => {
                 unused("amplitude_nm", l.amplitude_nm.is_some())?;
                 unused("file", l.file.is_some())?;
-                let t = check("load.torque_nm", l.torque_nm.unwrap_or(rated), Range::finite("N m"))?;
+                let t = check(
+                    "load.torque_nm",
+                    l.torque_nm.unwrap_or(rated),
+                    Range::finite("N m"),
+                )?;
                 Ok(vec![LoadLevel {
                     torque: t,
                     speed_rpm: speed,

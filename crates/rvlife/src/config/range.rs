@@ -45,7 +45,13 @@ impl Range {
     }
 
     fn contains(&self, v: f64) -> bool {
-        v.is_finite() && v <= self.hi && if self.lo_open { v > self.lo } else { v >= self.lo }
+        v.is_finite()
+            && v <= self.hi
+            && if self.lo_open {
+                v > self.lo
+            } else {
+                v >= self.lo
+            }
     }
 
     fn words(&self) -> String {

@@ -245,7 +245,6 @@ impl Default for TeConfig {
     }
 }
 
-
 /// `[reducer.gears]`: the sun-planet stage (read by the static and the dynamic analysis).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -336,4 +335,3 @@ impl Default for BearingsConfig {
         }
     }
 }
-

@@ -21,7 +21,7 @@ use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::contact::{pin_geometry, solve, ApproachLaw, ContactModel, PinGeometry};
+use crate::contact::{pin_geometry, solve_start, ApproachLaw, ContactModel, PinGeometry};
 use crate::error::{Error, Result};
 use crate::fem::mesh::LoopKind;
 use crate::fem::{outline_radii, DiscModel};
@@ -145,7 +145,7 @@ pub fn solve_flexible(
     phi: f64,
     disc_torque: f64,
 ) -> Result<FlexSolution> {
-    let rigid = solve(profile, model, phi, disc_torque)?;
+    let rigid = solve_start(profile, model, phi, disc_torque)?;
     if disc_torque == 0.0 {
         return Ok(FlexSolution {
             crank_angle: phi,

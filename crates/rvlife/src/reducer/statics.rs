@@ -7,19 +7,20 @@
 //! sense of positive output rotation: it presses the flank `0 < mesh angle < pi`). The unknowns
 //! are the deviations of every other coordinate from the nominal kinematics
 //! ([`Reducer::nominal`]): the carrier twist `psi` (the output's TE under load), each crank's
-//! centre and angle, each disc's centre and angle. The forces are those of the dynamic model
-//! ([`Reducer::structural_forces`]: meshes and bearings) and the disc-pin contacts with the
-//! line-contact law on exact gaps of the actual profile ([`crate::contact::pin_at_pose`], global
-//! closest points).
+//! centre and angle, each disc's centre and angle. The forces are those of the dynamic model:
+//! meshes and bearings ([`Reducer::structural_forces`]) and the disc-pin contacts with the
+//! line-contact law on the contact geometry both analyses share, the gap field of the actual
+//! profile ([`GapField`]: exact global closest points at touching, averaged over the Hertz
+//! band).
 //!
 //! **Solution.** Twist control: for a given carrier twist `psi` the other coordinates are in
 //! equilibrium (a strongly convex problem: Newton's method with the Gauss-Newton tangent of the
-//! contacts and a backtracking line search on the elastic energy), and the torque the carrier
-//! needs, `T(psi)`, is monotone; the outer loop finds `T(psi) = T` by safeguarded Newton with
-//! the condensed stiffness `dT/dpsi = K_oo - K_oi K_ii^-1 K_io`. Every converged pose is checked
-//! with global closest points of every pin, and every solution is returned only with its
-//! residual (every generalised force, moments over the pin circle radius) below 1e-9 of the
-//! largest force acting; otherwise an error names the crank angle, the torque and the wear.
+//! contacts and backtracking on the residual norm), and the torque the carrier needs, `T(psi)`,
+//! is monotone; the outer loop finds `T(psi) = T` by safeguarded Newton with the condensed
+//! stiffness `dT/dpsi = K_oo - K_oi K_ii^-1 K_io` and an Euler predictor of the inner
+//! coordinates. Every solution is returned only with its residual (every generalised force,
+//! moments over the pin circle radius) below [`RESIDUAL_TOLERANCE`] of the force scale;
+//! otherwise an error names the crank angle, the torque and the wear.
 //!
 //! **`T -> 0+` (STE).** With no load the bearings are undeformed and the mechanism moves as one
 //! rigid body along its locked-input mode: carrier `+psi`, cranks `+(1 + Z1/Z2) psi` about their
@@ -35,37 +36,45 @@
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
+use super::dynamics::GapField;
 use super::{rotation_difference, Layout, Reducer, Support, MAX_DOFS};
-use crate::contact::{pin_at_pose, DiscPose, PinGeometry};
+use crate::contact::DiscPose;
 use crate::error::{Error, Result};
 use crate::geometry::{cross, mesh_angle, rotate, Profile, Vec2};
 use crate::te::ARCMIN_PER_RAD;
 
 /// Relative residual every static solution is checked against: every generalised force of the
 /// equilibrium (moments divided by the pin circle radius) below this times the force scale, the
-/// sum of the pin forces on the more loaded disc (what the disc's bearings carry).
+/// sum of the pin forces (what the bearings carry), and at least the output torque over the
+/// pin circle radius. Below about 1 % of the example's rated torque the round-off of gaps on a
+/// 64 mm geometry (1e-17 m) reaches this level.
 pub const RESIDUAL_TOLERANCE: f64 = 1e-9;
+
+/// Largest elastic twist beyond first contact the static analysis follows, rad (about 34
+/// arcmin: 30 times the twist of the example at its rated torque).
+const MAX_TWIST: f64 = 0.01;
 
 /// One pin's share of a static solution.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct PinLoad {
     /// Pin index `j`.
     pub pin: usize,
-    /// Profile parameter of the contact point (global, rad).
+    /// Path parameter of the pin centre in the gap field (global, rad): the profile parameter
+    /// of the contact point on the unworn flank, and close to it on a worn one.
     pub profile_parameter: f64,
-    /// Mesh angle of the contact point on the disc, rad.
+    /// Mesh angle of the contact, rad.
     pub mesh_angle: f64,
     /// Gap at the solved pose, m (negative: the contact's approach).
     pub gap: f64,
     /// Normal force, N.
     pub force: f64,
-    /// Lever arm about the disc centre, m.
+    /// Lever arm of the force about the disc centre, m.
     pub lever_arm: f64,
     /// Contact half-width, m.
     pub half_width: f64,
     /// Maximum Hertz pressure, Pa.
     pub max_pressure: f64,
-    /// Flank curvature at the contact for the contact law, 1/m.
+    /// Flank curvature of the contact law, 1/m.
     pub curvature: f64,
     /// Contact stiffness `dF/ddelta`, N/m (0 when open).
     pub stiffness: f64,
@@ -123,7 +132,8 @@ pub struct StaticSolution {
     pub discs: Vec<DiscLoad>,
     /// Relative residual of the equilibrium (see [`RESIDUAL_TOLERANCE`]).
     pub residual: f64,
-    /// Full coordinate deviations from the nominal kinematics (bearing support), SI.
+    /// Coordinate deviations from the nominal kinematics (bearing support; empty with rigid
+    /// support), in the layout of [`Layout`], SI.
     #[serde(skip)]
     pub deviations: Vec<f64>,
 }
@@ -150,49 +160,75 @@ impl StaticSolution {
     }
 }
 
+/// One pin at one pose.
+#[derive(Debug, Clone, Copy)]
+struct PinEval {
+    pin: usize,
+    /// Path parameter found in the gap field, rad.
+    t: f64,
+    gap: f64,
+    curvature: f64,
+    /// Gradient of the gap with respect to the pin centre, pin-ring frame (about the flank's
+    /// outward normal).
+    w: Vec2,
+    /// Pin centre relative to the disc centre, pin-ring frame, m.
+    rel: Vec2,
+    /// Pin centre in the profile frame, m.
+    q: Vec2,
+    /// Gradient in the profile frame.
+    grad: Vec2,
+    force: f64,
+    stiffness: f64,
+}
+
 /// The nominal positions of the locked-input configuration at one crank angle.
 struct Frame {
     phi: f64,
     q0: [f64; MAX_DOFS],
 }
 
-/// Pin state during the iterations.
-#[derive(Debug, Clone, Copy)]
-struct PinEval {
-    geo: PinGeometry,
-    /// Flank normal in the pin-ring frame.
-    w: Vec2,
-    /// Pin centre relative to the disc centre, pin-ring frame, m.
-    rel: Vec2,
-    force: f64,
-    stiffness: f64,
+/// Everything evaluated at one configuration of the bearing-supported model.
+struct Eval {
+    /// Generalised forces of every coordinate (without the output torque).
+    g: [f64; MAX_DOFS],
+    /// Pins per disc.
+    pins: Vec<Vec<PinEval>>,
+    /// Poses per disc.
+    poses: Vec<DiscPose>,
+    /// Force scale of the residual: the sum of the pin forces on both discs, N.
+    scale: f64,
 }
 
 /// Static analysis of one reducer with one disc profile (both discs alike).
 pub struct StaticAnalysis<'a> {
     red: &'a Reducer,
     profile: &'a Profile,
-}
-
-/// Everything evaluated at one configuration.
-struct Eval {
-    /// Generalised forces (bearing support: every coordinate; rigid: `[T(psi)]` in slot OUT).
-    g: [f64; MAX_DOFS],
-    /// Elastic energy, J.
-    energy: f64,
-    /// Pins per disc.
-    pins: Vec<Vec<PinEval>>,
-    /// Poses per disc.
-    poses: Vec<DiscPose>,
-    /// Force scale of the residual: the sum of the pin forces on the more loaded disc (what
-    /// its bearings carry), N.
-    scale: f64,
+    field: GapField,
 }
 
 impl<'a> StaticAnalysis<'a> {
-    /// The analysis of `red` with the disc profile `profile`.
-    pub fn new(red: &'a Reducer, profile: &'a Profile) -> Self {
-        StaticAnalysis { red, profile }
+    /// The analysis of `red` with the disc profile `profile`: builds the contact geometry (the
+    /// gap field of the profile, `red.gap_points` mesh angles per tooth, averaged over the
+    /// Hertz band of `red.contact_band_force`).
+    ///
+    /// # Errors
+    /// [`Error::Numerical`] if a projection of the gap field fails.
+    pub fn new(red: &'a Reducer, profile: &'a Profile) -> Result<Self> {
+        let field = GapField::new(
+            profile,
+            red.gap_points,
+            Some((&red.contact, red.contact_band_force)),
+        )?;
+        Ok(StaticAnalysis {
+            red,
+            profile,
+            field,
+        })
+    }
+
+    /// The contact geometry.
+    pub fn gap_field(&self) -> &GapField {
+        &self.field
     }
 
     fn discs(&self) -> usize {
@@ -200,6 +236,21 @@ impl<'a> StaticAnalysis<'a> {
             Support::Bearings => 2,
             Support::Rigid { .. } => 1,
         }
+    }
+
+    fn wear_um(&self) -> f64 {
+        self.profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6
+    }
+
+    fn fail(&self, phi: f64, what: &str) -> Error {
+        Error::numerical(
+            "static equilibrium",
+            format!(
+                "{what} at crank angle {:.4} deg (max wear {:.2} um)",
+                phi.to_degrees(),
+                self.wear_um()
+            ),
+        )
     }
 
     /// Nominal positions at crank angle `phi` (input locked there).
@@ -258,54 +309,84 @@ impl<'a> StaticAnalysis<'a> {
         }
     }
 
-    /// Pose of the single disc of the rigid support along the mode, and `dc/dpsi`.
-    fn rigid_pose(&self, phi: f64, psi: f64) -> (DiscPose, Vec2) {
-        let geo = &self.red.geometry;
-        let zc = geo.disc_teeth() as f64;
-        let ang = phi + self.red.crank_mode_ratio() * psi;
-        let c = Vec2::new(ang.cos(), ang.sin()) * geo.eccentricity;
-        (
-            DiscPose {
-                crank_angle: phi,
-                centre: c,
-                angle: -phi / zc + psi,
-            },
-            Vec2::new(-c.y, c.x) * self.red.crank_mode_ratio(),
-        )
+    /// Pose of disc `d` along the locked-input mode at twist `psi`, and `dc/dpsi`.
+    fn mode_pose(&self, phi: f64, d: usize, psi: f64) -> (DiscPose, Vec2) {
+        let ratio = self.red.crank_mode_ratio();
+        match self.red.support {
+            Support::Rigid { .. } => {
+                let geo = &self.red.geometry;
+                let zc = geo.disc_teeth() as f64;
+                let ang = phi + ratio * psi;
+                let c = Vec2::new(ang.cos(), ang.sin()) * geo.eccentricity;
+                (
+                    DiscPose {
+                        crank_angle: phi,
+                        centre: c,
+                        angle: -phi / zc + psi,
+                    },
+                    Vec2::new(-c.y, c.x) * ratio,
+                )
+            }
+            Support::Bearings => {
+                let fr = self.frame(phi);
+                let mut z = [0.0; MAX_DOFS];
+                let n = self.red.layout().dofs();
+                self.mode_deviation(&fr, psi, &mut z[..n]);
+                let pose = self.pose_from(&fr, &z, d);
+                let c = pose.centre;
+                (pose, Vec2::new(-c.y, c.x) * ratio)
+            }
+        }
     }
 
-    /// Every pin of one disc at `pose`: gaps, forces and stiffnesses. `hints` holds the contact
-    /// parameters of the last evaluation (NaN: none), updated in place; `global` forces global
-    /// closest-point searches.
-    fn eval_pins(
-        &self,
-        pose: &DiscPose,
-        hints: &mut [f64],
-        global: bool,
-    ) -> Result<Vec<PinEval>> {
+    /// Pin `j` at `pose` from the gap field; `hint` is its path parameter at a nearby pose
+    /// (NaN: none, the kinematic guess is used).
+    fn eval_pin(&self, pose: &DiscPose, j: usize, hint: f64) -> Result<PinEval> {
         let geo = &self.red.geometry;
-        let law = &self.red.contact;
-        let (sa, ca) = pose.angle.sin_cos();
-        let mut out = Vec::with_capacity(geo.pins);
-        for (j, hint) in hints.iter_mut().enumerate() {
-            let h = (!global && hint.is_finite()).then_some(*hint);
-            let pg = pin_at_pose(self.profile, j, pose, h)?;
-            *hint = pg.t;
-            let w = Vec2::new(ca * pg.normal.x - sa * pg.normal.y, sa * pg.normal.x + ca * pg.normal.y);
-            let (force, stiffness) = if pg.gap < 0.0 {
-                law.force(-pg.gap, pg.curvature).map_err(|e| self.law_error(e, pose))?
-            } else {
-                (0.0, 0.0)
-            };
-            out.push(PinEval {
-                geo: pg,
-                w,
-                rel: geo.pin_centre(j) - pose.centre,
-                force,
-                stiffness,
-            });
-        }
-        Ok(out)
+        let q = pose.pin_in_disc(geo, j);
+        let guess = self
+            .profile
+            .contact_parameter_guess(j, pose.crank_angle, pose.angle);
+        // The cached parameter, unless it drifted a quarter tooth from the kinematics.
+        let start = if hint.is_finite() && (hint - guess).abs() < 1.5 {
+            hint
+        } else {
+            guess
+        };
+        let (ge, t) = self.field.eval(&q, start);
+        let (force, stiffness) = if ge.gap < 0.0 {
+            self.red
+                .contact
+                .force(-ge.gap, ge.curvature)
+                .map_err(|e| self.law_error(e, pose))?
+        } else {
+            (0.0, 0.0)
+        };
+        Ok(PinEval {
+            pin: j,
+            t,
+            gap: ge.gap,
+            curvature: ge.curvature,
+            w: rotate(&ge.grad, pose.angle),
+            rel: geo.pin_centre(j) - pose.centre,
+            q,
+            grad: ge.grad,
+            force,
+            stiffness,
+        })
+    }
+
+    /// Every pin of one disc at `pose`; `cache` holds the pins' path parameters (updated).
+    fn eval_pins(&self, pose: &DiscPose, cache: &mut [f64]) -> Result<Vec<PinEval>> {
+        cache
+            .iter_mut()
+            .enumerate()
+            .map(|(j, hint)| {
+                let p = self.eval_pin(pose, j, *hint)?;
+                *hint = p.t;
+                Ok(p)
+            })
+            .collect()
     }
 
     fn law_error(&self, e: Error, pose: &DiscPose) -> Error {
@@ -315,53 +396,40 @@ impl<'a> StaticAnalysis<'a> {
                 format!(
                     "{message} at crank angle {:.4} deg (max wear {:.2} um)",
                     pose.crank_angle.to_degrees(),
-                    self.profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6
+                    self.wear_um()
                 ),
             ),
             other => other,
         }
     }
 
-    /// Forces and energy of the bearing-supported model at deviations `z`.
-    fn eval_bearings(
-        &self,
-        fr: &Frame,
-        z: &[f64],
-        hints: &mut [Vec<f64>],
-        global: bool,
-    ) -> Result<Eval> {
+    /// Forces of the bearing-supported model at deviations `z`.
+    fn eval_bearings(&self, fr: &Frame, z: &[f64], cache: &mut [Vec<f64>]) -> Result<Eval> {
         let red = self.red;
         let lay = red.layout();
         let n = lay.dofs();
         let mut g = [0.0; MAX_DOFS];
         let zero = [0.0; MAX_DOFS];
         red.structural_forces(&fr.q0[..n], &z[..n], &zero[..n], &mut g[..n]);
-        let mut energy = red.structural_energy(&fr.q0[..n], &z[..n]);
         let mut scale: f64 = 0.0;
         let mut pins = Vec::with_capacity(2);
         let mut poses = Vec::with_capacity(2);
-        for (d, h) in hints.iter_mut().enumerate() {
+        for (d, c) in cache.iter_mut().enumerate() {
             let pose = self.pose_from(fr, z, d);
-            let ev = self.eval_pins(&pose, h, global)?;
+            let ev = self.eval_pins(&pose, c)?;
             let id = lay.disc(d);
-            scale = scale.max(ev.iter().map(|p| p.force).sum::<f64>());
-            for p in &ev {
-                if p.force > 0.0 {
-                    g[id] -= p.force * p.w.x;
-                    g[id + 1] -= p.force * p.w.y;
-                    g[id + 2] -= p.force * cross(&p.rel, &p.w);
-                    energy += red
-                        .contact
-                        .potential(-p.geo.gap, p.geo.curvature)
-                        .map_err(|e| self.law_error(e, &pose))?;
-                }
+            scale += ev.iter().map(|p| p.force).sum::<f64>();
+            for p in ev.iter().filter(|p| p.force > 0.0) {
+                // Q = F d(gap)/dq: d gap/dc = -w, d gap/dpsi = -(p - c) x w.
+                g[id] -= p.force * p.w.x;
+                g[id + 1] -= p.force * p.w.y;
+                g[id + 2] -= p.force * cross(&p.rel, &p.w);
             }
             pins.push(ev);
             poses.push(pose);
         }
         Ok(Eval {
             g,
-            energy,
             pins,
             poses,
             scale,
@@ -373,16 +441,14 @@ impl<'a> StaticAnalysis<'a> {
     /// kinematics: the differences are exact to round-off).
     fn structural_stiffness(&self, fr: &Frame, z: &[f64]) -> DMatrix<f64> {
         let red = self.red;
-        let lay = red.layout();
-        let n = lay.dofs();
+        let n = red.layout().dofs();
         let rp = red.geometry.pin_circle_radius;
         let mut k = DMatrix::zeros(n, n);
         let zero = [0.0; MAX_DOFS];
         let mut zz = [0.0; MAX_DOFS];
         zz[..n].copy_from_slice(&z[..n]);
         for c in 0..n {
-            let is_angle = c < 2 || (c - 2) % 3 == 2;
-            let h = if is_angle { 1e-8 / rp } else { 1e-8 };
+            let h = if is_angle(c) { 1e-8 / rp } else { 1e-8 };
             let (mut gp, mut gm) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
             zz[c] = z[c] + h;
             red.structural_forces(&fr.q0[..n], &zz[..n], &zero[..n], &mut gp[..n]);
@@ -396,138 +462,175 @@ impl<'a> StaticAnalysis<'a> {
         k
     }
 
-    /// Tangent stiffness of the bearing-supported model: structural plus the Gauss-Newton
-    /// contact part `k_j grad g_j grad g_j^T` of every loaded pin.
-    fn tangent(&self, k_struct: &DMatrix<f64>, ev: &Eval) -> DMatrix<f64> {
+    /// Generalised forces of the pins of one disc at `pose` on its centre and angle.
+    fn disc_pin_forces(&self, pose: &DiscPose, cache: &mut [f64]) -> Result<[f64; 3]> {
+        let mut q = [0.0; 3];
+        for p in self
+            .eval_pins(pose, cache)?
+            .iter()
+            .filter(|p| p.force > 0.0)
+        {
+            q[0] -= p.force * p.w.x;
+            q[1] -= p.force * p.w.y;
+            q[2] -= p.force * cross(&p.rel, &p.w);
+        }
+        Ok(q)
+    }
+
+    /// Tangent stiffness of the bearing-supported model: structural plus, for each disc, the
+    /// 3 x 3 stiffness of its pin forces on its centre and angle by central differences (the
+    /// contacts' own stiffness and their geometric stiffness: the normals turn as the pose
+    /// changes, strongly so on a near-conformal worn flank).
+    fn tangent(
+        &self,
+        k_struct: &DMatrix<f64>,
+        ev: &Eval,
+        cache: &[Vec<f64>],
+    ) -> Result<DMatrix<f64>> {
         let lay = self.red.layout();
+        let rp = self.red.geometry.pin_circle_radius;
         let mut k = k_struct.clone();
-        for (d, pins) in ev.pins.iter().enumerate() {
+        for (d, pose) in ev.poses.iter().enumerate() {
+            if ev.pins[d].iter().all(|p| p.force <= 0.0 && p.gap > 1e-6) {
+                continue;
+            }
             let id = lay.disc(d);
-            for p in pins.iter().filter(|p| p.stiffness > 0.0) {
-                let gr = [-p.w.x, -p.w.y, -cross(&p.rel, &p.w)];
-                for a in 0..3 {
-                    for b in 0..3 {
-                        k[(id + a, id + b)] += p.stiffness * gr[a] * gr[b];
+            for c in 0..3 {
+                let h = if c == 2 { 1e-9 / rp } else { 1e-9 };
+                let shifted = |sign: f64| {
+                    let mut p = *pose;
+                    match c {
+                        0 => p.centre.x += sign * h,
+                        1 => p.centre.y += sign * h,
+                        _ => p.angle += sign * h,
                     }
+                    p
+                };
+                let qp = self.disc_pin_forces(&shifted(1.0), &mut cache[d].clone())?;
+                let qm = self.disc_pin_forces(&shifted(-1.0), &mut cache[d].clone())?;
+                for r in 0..3 {
+                    k[(id + r, id + c)] -= (qp[r] - qm[r]) / (2.0 * h);
                 }
             }
         }
-        k
+        Ok(k)
     }
 
-    /// Scaled residual of the inner coordinates (every one but input and output): forces in N,
-    /// moments divided by the pin circle radius.
+    /// Largest scaled residual of the inner coordinates (every one but input and output):
+    /// forces in N, moments divided by the pin circle radius.
     fn inner_residual(&self, g: &[f64]) -> f64 {
-        let lay = self.red.layout();
+        let n = self.red.layout().dofs();
         let rp = self.red.geometry.pin_circle_radius;
-        (2..lay.dofs())
-            .map(|i| {
-                let is_angle = (i - 2) % 3 == 2;
-                g[i].abs() / if is_angle { rp } else { 1.0 }
-            })
+        (2..n)
+            .map(|i| g[i].abs() / if is_angle(i) { rp } else { 1.0 })
             .fold(0.0, f64::max)
     }
 
-    /// Equilibrium of every coordinate but input and output at carrier twist fixed in `q`
-    /// (absolute positions, updated in place). Returns the converged evaluation and the
-    /// tangent.
+    /// Equilibrium of every coordinate but input and output at the carrier twist fixed in `z`
+    /// (deviations, updated in place): Newton's method with backtracking on the residual norm.
+    /// Returns the converged evaluation and the tangent. `force_floor` (N) is the least force
+    /// scale of the convergence test.
     fn inner_solve(
         &self,
         fr: &Frame,
-        q: &mut [f64],
+        z: &mut [f64],
         k_struct: &DMatrix<f64>,
-        hints: &mut [Vec<f64>],
-        global: bool,
+        cache: &mut [Vec<f64>],
+        force_floor: f64,
     ) -> Result<(Eval, DMatrix<f64>)> {
-        let lay = self.red.layout();
-        let n = lay.dofs();
+        let n = self.red.layout().dofs();
         let m = n - 2;
-        let phi = fr.phi;
         let rp = self.red.geometry.pin_circle_radius;
-        let mut ev = self.eval_bearings(fr, q, hints, global)?;
-        let (mut best, mut stalled) = (f64::INFINITY, 0);
+        let merit = |e: &Eval| -> f64 {
+            (2..n)
+                .map(|i| {
+                    let x = e.g[i] / if is_angle(i) { rp } else { 1.0 };
+                    x * x
+                })
+                .sum()
+        };
+        let mut ev = self.eval_bearings(fr, z, cache)?;
+        let mut stalled = 0;
         for _ in 0..100 {
             let res = self.inner_residual(&ev.g);
-            if std::env::var("RVLIFE_DEBUG").is_ok() {
-                let imax = (2..n).max_by(|a, b| ev.g[*a].abs().total_cmp(&ev.g[*b].abs())).unwrap();
-                eprintln!("inner: res {res:.3e} scale {:.3e} energy {:.6e} out {:.6e} worst dof {imax} g {:.3e}", ev.scale, ev.energy, ev.g[Layout::OUT], ev.g[imax]);
-                if std::env::var("RVLIFE_DEBUG").unwrap() == "2" {
-                    for (d, pins) in ev.pins.iter().enumerate() {
-                        for p in pins.iter().filter(|p| p.geo.gap < 1e-7) {
-                            eprintln!("   d{d} j{} gap {:.4e} F {:.4e} k {:.3e} t {:.6} lever {:.3e}", p.geo.pin, p.geo.gap, p.force, p.stiffness, p.geo.t, p.geo.lever_arm);
-                        }
-                    }
-                }
-            }
-            let kt = self.tangent(k_struct, &ev);
-            // Converged, or at the round-off floor of the gaps (about 1e-17 m on a 64 mm
-            // geometry): the residual stopped falling for three Newton steps.
-            if res < 0.5 * best {
-                best = res;
-                stalled = 0;
-            } else {
-                stalled += 1;
-            }
-            if res <= 1e-12 * ev.scale.max(1e-9) || stalled >= 3 {
+            let scale = ev.scale.max(force_floor).max(1e-300);
+            let kt = self.tangent(k_struct, &ev, cache)?;
+            // Converged to a tenth of the acceptance tolerance, or at the round-off floor of the
+            // forces (the residual stopped falling).
+            if res <= 0.1 * RESIDUAL_TOLERANCE * scale || stalled >= 2 {
                 return Ok((ev, kt));
             }
             let kii = kt.view((2, 2), (m, m)).into_owned();
             let rhs = DVector::from_iterator(m, (2..n).map(|i| ev.g[i]));
-            let step = kii
-                .cholesky()
-                .map(|c| c.solve(&rhs))
-                .ok_or_else(|| self.fail(phi, "the inner stiffness matrix is not positive definite"))?;
-            // Backtracking on the residual norm (the contact law depends on the flank curvature
-            // at the moving contact point, so the forces have no exact potential to descend).
-            let merit = |e: &Eval| -> f64 {
-                (2..n)
-                    .map(|i| {
-                        let x = e.g[i] / if (i - 2) % 3 == 2 { rp } else { 1.0 };
-                        x * x
-                    })
-                    .sum()
-            };
+            let step = kii.cholesky().map(|c| c.solve(&rhs)).ok_or_else(|| {
+                self.fail(
+                    fr.phi,
+                    "the inner stiffness matrix is not positive definite",
+                )
+            })?;
             let m0 = merit(&ev);
-            let base: Vec<f64> = q[..n].to_vec();
+            let base: Vec<f64> = z[..n].to_vec();
             let mut alpha = 1.0;
             loop {
                 for i in 0..m {
-                    q[2 + i] = base[2 + i] + alpha * step[i];
+                    z[2 + i] = base[2 + i] + alpha * step[i];
                 }
-                let trial = self.eval_bearings(fr, q, hints, global)?;
+                let trial = self.eval_bearings(fr, z, cache)?;
                 let mt = merit(&trial);
-                if mt <= m0 * (1.0 - 1e-4 * alpha) || mt.sqrt() <= 1e-12 * ev.scale || alpha < 1e-4 {
+                if mt <= m0 * (1.0 - 1e-4 * alpha) {
+                    stalled = 0;
                     ev = trial;
+                    break;
+                }
+                if res <= 1e-6 * scale || alpha < 1e-4 {
+                    // At the round-off floor (or lost): keep the better of the two states.
+                    stalled += 1;
+                    if mt < m0 {
+                        ev = trial;
+                    } else {
+                        z[..n].copy_from_slice(&base);
+                    }
                     break;
                 }
                 alpha *= 0.5;
             }
         }
-        Err(self.fail(phi, "the bearing equilibrium did not converge in 100 Newton steps"))
+        Err(self.fail(
+            fr.phi,
+            "the bearing equilibrium did not converge in 100 Newton steps",
+        ))
     }
 
-    fn fail(&self, phi: f64, what: &str) -> Error {
-        Error::numerical(
-            "static equilibrium",
-            format!(
-                "{what} at crank angle {:.4} deg (max wear {:.2} um)",
-                phi.to_degrees(),
-                self.profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6
-            ),
-        )
-    }
-
-    /// Condensed torsional stiffness `K_oo - K_oi K_ii^-1 K_io` (N m/rad).
-    fn condensed(&self, kt: &DMatrix<f64>) -> f64 {
+    /// `dz/dpsi` of the inner coordinates at fixed inner forces: `-K_ii^-1 K_io` (zero for the
+    /// input and output entries).
+    fn condensation_direction(&self, kt: &DMatrix<f64>) -> Vec<f64> {
         let n = self.red.layout().dofs();
         let m = n - 2;
         let o = Layout::OUT;
         let kii = kt.view((2, 2), (m, m)).into_owned();
         let kio = DVector::from_iterator(m, (2..n).map(|i| kt[(i, o)]));
-        match kii.cholesky() {
-            Some(c) => kt[(o, o)] - kio.dot(&c.solve(&kio)),
-            None => kt[(o, o)],
+        let mut out = vec![0.0; n];
+        if let Some(c) = kii.cholesky() {
+            let x = c.solve(&kio);
+            for i in 0..m {
+                out[2 + i] = -x[i];
+            }
         }
+        out
+    }
+
+    /// Condensed torsional stiffness `K_oo - K_oi K_ii^-1 K_io` (N m/rad).
+    fn condensed(&self, kt: &DMatrix<f64>) -> f64 {
+        let n = self.red.layout().dofs();
+        let o = Layout::OUT;
+        let dz = self.condensation_direction(kt);
+        kt[(o, o)] + (2..n).map(|i| kt[(o, i)] * dz[i]).sum::<f64>()
+    }
+
+    /// Mode lever `m_j = -d gap_j / d psi` of a pin along the locked-input mode with
+    /// `dc/dpsi` = `dc`.
+    fn mode_lever(p: &PinEval, dc: Vec2) -> f64 {
+        p.w.dot(&dc) + cross(&p.rel, &p.w)
     }
 
     /// Rigid support: pins of the disc at twist `psi`, the torque `T(psi) = sum F_j m_j /
@@ -536,61 +639,36 @@ impl<'a> StaticAnalysis<'a> {
         &self,
         phi: f64,
         psi: f64,
-        hints: &mut [f64],
-        global: bool,
+        cache: &mut [f64],
     ) -> Result<(Vec<PinEval>, DiscPose, f64, f64)> {
         let Support::Rigid { load_share } = self.red.support else {
             unreachable!("rigid evaluation of a bearing-supported reducer")
         };
-        let (pose, dc) = self.rigid_pose(phi, psi);
-        let pins = self.eval_pins(&pose, hints, global)?;
+        let (pose, dc) = self.mode_pose(phi, 0, psi);
+        let pins = self.eval_pins(&pose, cache)?;
         let (mut t, mut k) = (0.0, 0.0);
         for p in &pins {
-            let lever = p.w.dot(&dc) + p.geo.lever_arm;
+            let lever = Self::mode_lever(p, dc);
             t += p.force * lever;
             k += p.stiffness * lever * lever;
         }
         Ok((pins, pose, t / load_share, k / load_share))
     }
 
-    /// Mode lever `m_j = -d gap_j / d psi` of a pin along the locked-input mode.
-    fn mode_lever(p: &PinEval, dc: Vec2) -> f64 {
-        p.w.dot(&dc) + p.geo.lever_arm
-    }
-
-    /// Gap of pin `j` of disc `d` along the mode at twist `psi`, and its mode lever.
-    fn mode_gap(&self, phi: f64, d: usize, j: usize, psi: f64) -> Result<(f64, f64)> {
+    /// Gap of pin `j` of disc `d` along the mode at twist `psi`, and its mode lever; `hint` is
+    /// the pin's path parameter (updated).
+    fn mode_gap(
+        &self,
+        phi: f64,
+        d: usize,
+        j: usize,
+        psi: f64,
+        hint: &mut f64,
+    ) -> Result<(f64, f64)> {
         let (pose, dc) = self.mode_pose(phi, d, psi);
-        let p = self.eval_one(&pose, j)?;
-        Ok((p.geo.gap, Self::mode_lever(&p, dc)))
-    }
-
-    /// Pose of disc `d` along the locked-input mode at twist `psi` and its `dc/dpsi`.
-    fn mode_pose(&self, phi: f64, d: usize, psi: f64) -> (DiscPose, Vec2) {
-        match self.red.support {
-            Support::Rigid { .. } => self.rigid_pose(phi, psi),
-            Support::Bearings => {
-                let fr = self.frame(phi);
-                let mut z = [0.0; MAX_DOFS];
-                let n = self.red.layout().dofs();
-                self.mode_deviation(&fr, psi, &mut z[..n]);
-                let pose = self.pose_from(&fr, &z, d);
-                let c = pose.centre;
-                (pose, Vec2::new(-c.y, c.x) * self.red.crank_mode_ratio())
-            }
-        }
-    }
-
-    fn eval_one(&self, pose: &DiscPose, j: usize) -> Result<PinEval> {
-        let pg = pin_at_pose(self.profile, j, pose, None)?;
-        let w = rotate(&pg.normal, pose.angle);
-        Ok(PinEval {
-            geo: pg,
-            w,
-            rel: self.red.geometry.pin_centre(j) - pose.centre,
-            force: 0.0,
-            stiffness: 0.0,
-        })
+        let p = self.eval_pin(&pose, j, *hint)?;
+        *hint = p.t;
+        Ok((p.gap, Self::mode_lever(&p, dc)))
     }
 
     /// Carrier twist (rad) at which the unloaded mechanism first touches a pin when the carrier
@@ -598,41 +676,38 @@ impl<'a> StaticAnalysis<'a> {
     /// at crank angle `phi`: the `T -> 0+` limit of the loaded twist (the static TE in that
     /// direction), over every pin of every disc. Zero for an unmodified, unworn disc.
     ///
-    /// Each pin's touching twist along the mode is solved exactly (Newton on `gap_j(psi) = 0`,
-    /// `d gap_j/d psi = -m_j`, Brent's method where the gap has a kink) for the candidates whose
+    /// Each pin's touching twist along the mode is solved (Newton on `gap_j(psi) = 0`,
+    /// `d gap_j/d psi = -m_j`, bisection where Newton does not settle) for the candidates whose
     /// linear estimate `gap_j / m_j` is near the smallest, then every pin is checked at the
     /// result (a pin that closes faster than linearly can touch first).
     ///
     /// # Errors
-    /// [`Error::Numerical`] if no pin can stop the mechanism or a projection fails.
+    /// [`Error::Numerical`] if no pin can stop the mechanism.
     pub fn first_contact(&self, phi: f64, direction: f64) -> Result<f64> {
         let s = if direction < 0.0 { -1.0 } else { 1.0 };
         let zp = self.red.geometry.pins;
-        let mut est: Vec<(usize, usize, f64)> = Vec::with_capacity(2 * zp);
+        let mut est: Vec<(usize, usize, f64, f64)> = Vec::with_capacity(2 * zp);
         for d in 0..self.discs() {
             let (pose, dc) = self.mode_pose(phi, d, 0.0);
             for j in 0..zp {
-                let p = self.eval_one(&pose, j)?;
+                let p = self.eval_pin(&pose, j, f64::NAN)?;
                 let m = Self::mode_lever(&p, dc);
                 if s * m > 0.0 {
-                    est.push((d, j, p.geo.gap / m));
+                    est.push((d, j, p.gap / m, p.t));
                 }
             }
         }
-        let lin_min = est
-            .iter()
-            .map(|e| s * e.2)
-            .fold(f64::INFINITY, f64::min);
+        let lin_min = est.iter().map(|e| s * e.2).fold(f64::INFINITY, f64::min);
         if !lin_min.is_finite() {
             return Err(self.fail(phi, "no pin can stop the mechanism"));
         }
         let mut best = f64::INFINITY;
         for margin in [0.25 * lin_min.abs() + 1e-6, f64::INFINITY] {
-            for &(d, j, e) in &est {
+            for &(d, j, e, t) in &est {
                 if s * e - lin_min > margin {
                     continue;
                 }
-                if let Some(b) = self.touching_twist(phi, d, j, e, s)? {
+                if let Some(b) = self.touching_twist(phi, d, j, e, s, t)? {
                     best = best.min(s * b);
                 }
             }
@@ -649,9 +724,9 @@ impl<'a> StaticAnalysis<'a> {
             for d in 0..self.discs() {
                 let (pose, _) = self.mode_pose(phi, d, psi);
                 for j in 0..zp {
-                    let g = self.eval_one(&pose, j)?.geo.gap;
-                    if g < -1e-13 {
-                        if let Some(b) = self.touching_twist(phi, d, j, psi, s)? {
+                    let p = self.eval_pin(&pose, j, f64::NAN)?;
+                    if p.gap < -1e-13 {
+                        if let Some(b) = self.touching_twist(phi, d, j, psi, s, p.t)? {
                             if s * b < best {
                                 best = s * b;
                                 improved = true;
@@ -669,10 +744,19 @@ impl<'a> StaticAnalysis<'a> {
 
     /// Twist (rad) at which pin `j` of disc `d` touches, near the estimate `est`, turning in
     /// direction `s`; `None` if it moves away.
-    fn touching_twist(&self, phi: f64, d: usize, j: usize, est: f64, s: f64) -> Result<Option<f64>> {
+    fn touching_twist(
+        &self,
+        phi: f64,
+        d: usize,
+        j: usize,
+        est: f64,
+        s: f64,
+        t_hint: f64,
+    ) -> Result<Option<f64>> {
+        let mut hint = t_hint;
         let mut b = est;
         for _ in 0..12 {
-            let (g, m) = self.mode_gap(phi, d, j, b)?;
+            let (g, m) = self.mode_gap(phi, d, j, b, &mut hint)?;
             if s * m <= 0.0 {
                 return Ok(None);
             }
@@ -683,14 +767,15 @@ impl<'a> StaticAnalysis<'a> {
         }
         // Bracket the sign change of the gap (it decreases with s psi) and bisect.
         let mut w = 1e-7 + 0.1 * est.abs();
-        for _ in 0..40 {
+        while w <= MAX_TWIST {
             let (lo, hi) = (est - w, est + w);
-            let (glo, ghi) = (self.mode_gap(phi, d, j, lo)?.0, self.mode_gap(phi, d, j, hi)?.0);
+            let glo = self.mode_gap(phi, d, j, lo, &mut hint)?.0;
+            let ghi = self.mode_gap(phi, d, j, hi, &mut hint)?.0;
             if glo * ghi < 0.0 {
                 let (mut a, mut fa, mut c) = (lo, glo, hi);
                 for _ in 0..200 {
                     let mid = 0.5 * (a + c);
-                    let fm = self.mode_gap(phi, d, j, mid)?.0;
+                    let fm = self.mode_gap(phi, d, j, mid, &mut hint)?.0;
                     if fm.abs() < 1e-15 || (c - a).abs() < 1e-16 {
                         return Ok(Some(mid));
                     }
@@ -749,7 +834,7 @@ impl<'a> StaticAnalysis<'a> {
 
     /// Safeguarded Newton on the monotone `f(x) = s T(psi0 + s x) - |T|`, `x >= 0`, with
     /// `eval(psi) -> (T, dT/dpsi)`. Returns the converged twist.
-    fn outer<F>(&self, phi: f64, torque: f64, psi0: f64, x_guess: f64, mut eval: F) -> Result<f64>
+    fn outer<F>(&self, phi: f64, torque: f64, psi0: f64, mut eval: F) -> Result<f64>
     where
         F: FnMut(f64) -> Result<(f64, f64)>,
     {
@@ -757,10 +842,13 @@ impl<'a> StaticAnalysis<'a> {
         let target = torque.abs();
         let tol = 1e-11 * target;
         let (mut lo, mut hi) = (0.0_f64, f64::INFINITY);
-        let mut x = x_guess.max(1e-9);
+        let mut x = self.twist_guess(torque);
         for _ in 0..200 {
             let (t, k) = eval(psi0 + s * x)?;
             let f = s * t - target;
+            if std::env::var("RVLIFE_DEBUG").is_ok() {
+                eprintln!("outer: x {x:.9e} f {f:.6e} k {k:.6e} lo {lo:.6e} hi {hi:.6e}");
+            }
             if f.abs() <= tol {
                 return Ok(psi0 + s * x);
             }
@@ -769,58 +857,61 @@ impl<'a> StaticAnalysis<'a> {
             } else {
                 lo = x;
             }
+            // Newton inside the bracket; while the bracket is open above, at most four times
+            // the current twist (the stiffness grows as pins engage, so a step from a soft
+            // start overshoots).
             let newton = if k > 0.0 { x - f / k } else { f64::NAN };
-            let next = if newton > lo && newton < hi {
+            let next = if newton > lo && newton < hi.min(4.0 * x) {
                 newton
             } else if hi.is_finite() {
                 0.5 * (lo + hi)
             } else {
-                2.0 * x.max(lo)
+                4.0 * x.max(lo)
             };
+            if next > MAX_TWIST {
+                return Err(self.fail(
+                    phi,
+                    &format!(
+                        "the output torque {torque:.6e} N m needs a twist beyond {:.0} arcmin: \
+                         more than the contact model can describe",
+                        MAX_TWIST * ARCMIN_PER_RAD
+                    ),
+                ));
+            }
             if hi.is_finite() && hi - lo <= 1e-15 * hi.max(1e-12) {
                 return Ok(psi0 + s * 0.5 * (lo + hi));
             }
             x = next;
         }
-        Err(self.fail(phi, "the twist for the output torque was not found in 200 steps"))
+        Err(self.fail(
+            phi,
+            "the twist for the output torque was not found in 200 steps",
+        ))
     }
 
     /// Initial guess of the elastic twist beyond first contact (rad) for output torque `t`:
     /// Li's largest force at the equivalent disc torque compressing one contact over the pitch
-    /// radius, plus twice that for the bearings.
+    /// radius, three times for the bearings.
     fn twist_guess(&self, t: f64) -> f64 {
         let geo = &self.red.geometry;
         let rc = geo.disc_pitch_radius();
         let f = 4.0 * 0.5 * t.abs() * self.red.twist_factor() / (rc * geo.pins as f64);
-        let delta = self
-            .red
-            .contact
-            .approach(f.max(1e-6), 0.0);
-        3.0 * delta / rc
+        let delta = self.red.contact.approach(f.max(1e-6), 0.0);
+        (3.0 * delta / rc).max(1e-12)
     }
 
     fn solve_rigid(&self, phi: f64, torque: f64, psi0: f64) -> Result<StaticSolution> {
         let zp = self.red.geometry.pins;
-        let mut hints = vec![f64::NAN; zp];
+        let mut cache = vec![f64::NAN; zp];
         let psi = if torque == 0.0 {
             psi0
         } else {
-            let mut psi = psi0;
-            for _round in 0..5 {
-                psi = self.outer(phi, torque, psi0, self.twist_guess(torque), |p| {
-                    let (_, _, t, k) = self.eval_rigid(phi, p, &mut hints, false)?;
-                    Ok((t, k))
-                })?;
-                // Confirm with global closest points: a foot that jumped means another round.
-                let local = self.eval_rigid(phi, psi, &mut hints, false)?.2;
-                let global = self.eval_rigid(phi, psi, &mut hints, true)?.2;
-                if (local - global).abs() <= 1e-11 * torque.abs() {
-                    break;
-                }
-            }
-            psi
+            self.outer(phi, torque, psi0, |p| {
+                let (_, _, t, k) = self.eval_rigid(phi, p, &mut cache)?;
+                Ok((t, k))
+            })?
         };
-        let (pins, pose, t, k) = self.eval_rigid(phi, psi, &mut hints, true)?;
+        let (pins, pose, t, k) = self.eval_rigid(phi, psi, &mut cache)?;
         let Support::Rigid { load_share } = self.red.support else {
             unreachable!()
         };
@@ -832,8 +923,14 @@ impl<'a> StaticAnalysis<'a> {
             (t - torque).abs() * load_share / rp / scale
         };
         let zc = self.red.geometry.disc_teeth() as f64;
-        let disc = self.disc_load(&pins, pose, Vec2::zeros(), pose.angle + phi / zc, torque == 0.0);
-        let sol = StaticSolution {
+        let disc = self.disc_load(
+            &pins,
+            pose,
+            Vec2::zeros(),
+            pose.angle + phi / zc,
+            torque == 0.0,
+        );
+        self.check(StaticSolution {
             crank_angle: phi,
             output_torque: torque,
             twist: psi,
@@ -842,8 +939,7 @@ impl<'a> StaticAnalysis<'a> {
             discs: vec![disc],
             residual,
             deviations: Vec::new(),
-        };
-        self.check(sol)
+        })
     }
 
     fn solve_bearings(&self, phi: f64, torque: f64, psi0: f64) -> Result<StaticSolution> {
@@ -851,76 +947,85 @@ impl<'a> StaticAnalysis<'a> {
         let lay = red.layout();
         let n = lay.dofs();
         let zp = red.geometry.pins;
+        let rp = red.geometry.pin_circle_radius;
         let fr = self.frame(phi);
-        let mut hints = vec![vec![f64::NAN; zp]; 2];
-        let mut q = [0.0; MAX_DOFS];
-        self.mode_deviation(&fr, psi0, &mut q[..n]);
-        let k_struct = self.structural_stiffness(&fr, &q[..n]);
-        let mut current_psi = psi0;
-        let mut global = false;
-        if torque != 0.0 {
-            for round in 0..5 {
-                // Moves the warm start along the rigid mode to a new twist.
-                let shift = |q: &mut [f64], from: f64, to: f64| {
-                    let (mut a, mut b) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
-                    self.mode_deviation(&fr, from, &mut a[..n]);
-                    self.mode_deviation(&fr, to, &mut b[..n]);
-                    for i in 0..n {
-                        q[i] += b[i] - a[i];
-                    }
-                };
-                let psi = self.outer(phi, torque, psi0, self.twist_guess(torque), |p| {
-                    shift(&mut q[..n], current_psi, p);
-                    current_psi = p;
-                    let (ev, kt) = self.inner_solve(&fr, &mut q[..n], &k_struct, &mut hints, global)?;
-                    Ok((-ev.g[Layout::OUT], self.condensed(&kt)))
-                })?;
-                shift(&mut q[..n], current_psi, psi);
-                current_psi = psi;
-                // Confirm with global closest points; a foot that jumped means another round
-                // with global searches.
-                let local = self.eval_bearings(&fr, &q, &mut hints, false)?;
-                let glob = self.eval_bearings(&fr, &q, &mut hints, true)?;
-                let same = local
-                    .pins
-                    .iter()
-                    .flatten()
-                    .zip(glob.pins.iter().flatten())
-                    .all(|(a, b)| (a.geo.gap - b.geo.gap).abs() <= 1e-13);
-                if same {
-                    break;
-                }
-                global = round >= 1;
-            }
-        }
+        let mut cache = vec![vec![f64::NAN; zp]; 2];
+        let mut z = [0.0; MAX_DOFS];
+        self.mode_deviation(&fr, psi0, &mut z[..n]);
+        let k_struct = self.structural_stiffness(&fr, &z[..n]);
+        let floor = torque.abs() / rp;
         let (ev, kt) = if torque == 0.0 {
-            let ev = self.eval_bearings(&fr, &q, &mut hints, true)?;
-            let kt = self.tangent(&k_struct, &ev);
+            let ev = self.eval_bearings(&fr, &z, &mut cache)?;
+            let kt = self.tangent(&k_struct, &ev, &cache)?;
             (ev, kt)
         } else {
-            self.inner_solve(&fr, &mut q[..n], &k_struct, &mut hints, true)?
+            // Predictor of the inner coordinates per unit twist: the rigid mode at first, then
+            // the condensation direction `-K_ii^-1 K_io` of the last tangent.
+            let mut current = psi0;
+            let mut slope: Option<Vec<f64>> = None;
+            let mut last: Option<(Eval, DMatrix<f64>)> = None;
+            let psi = self.outer(phi, torque, psi0, |p| {
+                match &slope {
+                    Some(dz) => {
+                        for i in 2..n {
+                            z[i] += dz[i] * (p - current);
+                        }
+                        z[Layout::OUT] = p;
+                    }
+                    None => {
+                        let (mut a, mut b) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
+                        self.mode_deviation(&fr, current, &mut a[..n]);
+                        self.mode_deviation(&fr, p, &mut b[..n]);
+                        for i in 0..n {
+                            z[i] += b[i] - a[i];
+                        }
+                    }
+                }
+                current = p;
+                let (ev, kt) = self.inner_solve(&fr, &mut z[..n], &k_struct, &mut cache, floor)?;
+                slope = Some(self.condensation_direction(&kt));
+                let out = (-ev.g[Layout::OUT], self.condensed(&kt));
+                last = Some((ev, kt));
+                Ok(out)
+            })?;
+            match last {
+                Some(l) if current == psi => l,
+                _ => {
+                    if let Some(dz) = &slope {
+                        for i in 2..n {
+                            z[i] += dz[i] * (psi - current);
+                        }
+                    }
+                    z[Layout::OUT] = psi;
+                    self.inner_solve(&fr, &mut z[..n], &k_struct, &mut cache, floor)?
+                }
+            }
         };
-        let rp = red.geometry.pin_circle_radius;
-        let scale = ev.scale.max(torque.abs() / rp).max(1e-300);
+        let scale = ev.scale.max(floor).max(1e-300);
         let out_res = (ev.g[Layout::OUT] + torque).abs() / rp;
         let residual = self.inner_residual(&ev.g).max(out_res) / scale;
-        let mut discs = Vec::with_capacity(2);
-        for d in 0..2 {
-            let id = lay.disc(d);
-            let translation = Vec2::new(q[id], q[id + 1]);
-            discs.push(self.disc_load(&ev.pins[d], ev.poses[d], translation, q[id + 2], torque == 0.0));
-        }
-        let sol = StaticSolution {
+        let discs = (0..2)
+            .map(|d| {
+                let id = lay.disc(d);
+                self.disc_load(
+                    &ev.pins[d],
+                    ev.poses[d],
+                    Vec2::new(z[id], z[id + 1]),
+                    z[id + 2],
+                    torque == 0.0,
+                )
+            })
+            .collect();
+        self.check(StaticSolution {
             crank_angle: phi,
             output_torque: torque,
-            twist: q[Layout::OUT],
+            twist: z[Layout::OUT],
             first_contact_twist: psi0,
             stiffness: self.condensed(&kt),
             discs,
             residual: if torque == 0.0 { 0.0 } else { residual },
-            deviations: q[..n].to_vec(),
-        };
-        self.check(sol)
+            deviations: z[..n].to_vec(),
+        })
     }
 
     fn disc_load(
@@ -932,24 +1037,34 @@ impl<'a> StaticAnalysis<'a> {
         unloaded: bool,
     ) -> DiscLoad {
         let law = &self.red.contact;
+        let r = self.red.geometry.pin_radius;
         let out: Vec<PinLoad> = pins
             .iter()
             .map(|p| {
-                let (f, k) = if unloaded { (0.0, 0.0) } else { (p.force, p.stiffness) };
-                let h = law.hertz(f, p.geo.curvature);
+                // The force acts as F grad(gap) (|grad| = 1 for an exact distance, within about
+                // 1e-3 for the band-averaged field): its magnitude and lever arm.
+                let norm = p.w.norm();
+                let (f, k) = if unloaded {
+                    (0.0, 0.0)
+                } else {
+                    (p.force * norm, p.stiffness * norm)
+                };
+                let h = law.hertz(f, p.curvature);
+                let normal = p.grad / p.grad.norm();
+                let point = p.q - normal * (r + p.gap);
                 PinLoad {
-                    pin: p.geo.pin,
-                    profile_parameter: p.geo.t,
-                    mesh_angle: mesh_angle(p.geo.t),
-                    gap: p.geo.gap,
+                    pin: p.pin,
+                    profile_parameter: p.t,
+                    mesh_angle: mesh_angle(p.t),
+                    gap: p.gap,
                     force: f,
-                    lever_arm: p.geo.lever_arm,
+                    lever_arm: cross(&p.rel, &p.w) / norm,
                     half_width: h.half_width,
                     max_pressure: h.max_pressure,
-                    curvature: p.geo.curvature,
+                    curvature: p.curvature,
                     stiffness: k,
-                    point: p.geo.point,
-                    normal: p.geo.normal,
+                    point,
+                    normal,
                 }
             })
             .collect();
@@ -957,7 +1072,7 @@ impl<'a> StaticAnalysis<'a> {
             pose,
             translation,
             rotation,
-            torque: out.iter().map(|p| p.force * p.lever_arm).sum(),
+            torque: pins.iter().map(|p| p.force * cross(&p.rel, &p.w)).sum(),
             pins: out,
         }
     }
@@ -971,7 +1086,8 @@ impl<'a> StaticAnalysis<'a> {
             Err(self.fail(
                 sol.crank_angle,
                 &format!(
-                    "the equilibrium residual is {:.3e} of the largest force (allowed {RESIDUAL_TOLERANCE:e}; twist {:.6} arcmin)",
+                    "the equilibrium residual is {:.3e} of the force scale (allowed \
+                     {RESIDUAL_TOLERANCE:e}; twist {:.6} arcmin)",
                     sol.residual,
                     sol.twist * ARCMIN_PER_RAD
                 ),
@@ -980,76 +1096,7 @@ impl<'a> StaticAnalysis<'a> {
     }
 }
 
-#[cfg(test)]
-mod debug_tests {
-    use super::*;
-    use crate::contact::{pin_at_pose, DiscPose};
-
-    #[test]
-    fn root_pin_gap_gradient() {
-        let m = crate::config::Config::example().validate().unwrap();
-        let prof = m.profile(None).unwrap();
-        let geo = prof.geometry().clone();
-        let phi = 0.5f64.to_radians();
-        let base = DiscPose::at(&geo, phi, 0.0);
-        for j in [0usize, 1, 20] {
-            let mut pose = base;
-            pose.centre.x += 0.3e-6;
-            pose.centre.y -= 0.2e-6;
-            pose.angle += 2e-6;
-            let g0 = pin_at_pose(&prof, j, &pose, None).unwrap();
-            let w = rotate(&g0.normal, pose.angle);
-            let h = 1e-9;
-            for (k, d) in [Vec2::new(h, 0.0), Vec2::new(0.0, h)].iter().enumerate() {
-                let mut pp = pose;
-                pp.centre += d;
-                let mut pm = pose;
-                pm.centre -= d;
-                let gp = pin_at_pose(&prof, j, &pp, None).unwrap().gap;
-                let gm = pin_at_pose(&prof, j, &pm, None).unwrap().gap;
-                eprintln!("pin {j} dir {k}: fd {:.9} analytic {:.9} (t {:.6})", (gp - gm) / (2.0 * h), -w[k], g0.t);
-            }
-            let mut pp = pose;
-            pp.angle += 1e-9;
-            let mut pm = pose;
-            pm.angle -= 1e-9;
-            let gp = pin_at_pose(&prof, j, &pp, None).unwrap().gap;
-            let gm = pin_at_pose(&prof, j, &pm, None).unwrap().gap;
-            let rel = geo.pin_centre(j) - pose.centre;
-            eprintln!("pin {j} angle: fd {:.9e} analytic {:.9e}", (gp - gm) / 2e-9, -cross(&rel, &w));
-        }
-    }
-}
-
-#[cfg(test)]
-mod debug_tests2 {
-    use super::*;
-
-    #[test]
-    fn structural_energy_matches_forces() {
-        let m = crate::config::Config::example().validate().unwrap();
-        let prof = m.profile(None).unwrap();
-        let red = &m.reducer;
-        let sa = StaticAnalysis::new(red, &prof);
-        let fr = sa.frame(0.3);
-        let n = red.layout().dofs();
-        let mut z = [0.0; MAX_DOFS];
-        for i in 1..n {
-            z[i] = 1e-6 * ((i as f64) * 0.7).sin();
-        }
-        let zero = [0.0; MAX_DOFS];
-        let mut g = [0.0; MAX_DOFS];
-        red.structural_forces(&fr.q0[..n], &z[..n], &zero[..n], &mut g[..n]);
-        for c in 0..n {
-            let h = 1e-10;
-            let mut zp = z;
-            zp[c] += h;
-            let mut zm = z;
-            zm[c] -= h;
-            let fd = -(red.structural_energy(&fr.q0[..n], &zp[..n])
-                - red.structural_energy(&fr.q0[..n], &zm[..n]))
-                / (2.0 * h);
-            eprintln!("dof {c}: fd {fd:.6e} force {:.6e}", g[c]);
-        }
-    }
+/// True for the angle coordinates of [`Layout`] (input, output, and the third of every body).
+fn is_angle(i: usize) -> bool {
+    i < 2 || (i - 2) % 3 == 2
 }

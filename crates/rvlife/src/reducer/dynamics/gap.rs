@@ -16,14 +16,16 @@
 //! contact, where the impact force acts, the error is below 2 nm (tested); further out it
 //! stays within a few per cent of the gap, and only the sign matters there.
 //! `rho_0` and `s` are periodic cubic Hermite splines (C1), and [`GapField::eval`] returns the exact
-//! gradient of this interpolant, so contact forces derived from it conserve energy.
+//! gradient of this interpolant, so contact forces derived from it conserve energy. The field is
+//! the contact geometry of both analyses of the reducer model (static and dynamic).
 
 use std::f64::consts::{PI, TAU};
 
 use rayon::prelude::*;
 
+use crate::contact::ContactModel;
 use crate::error::Result;
-use crate::geometry::{cubic_hermite, Profile, Vec2};
+use crate::geometry::{band_shape, cubic_hermite, Profile, Vec2};
 
 /// Periodic cubic Hermite spline on a uniform grid over `[0, 2 pi)` with central-difference
 /// (Catmull-Rom) node slopes: C1, exact for quadratics away from nothing (periodic).
@@ -102,7 +104,19 @@ impl GapField {
     ///
     /// # Errors
     /// [`crate::Error::Numerical`] if a projection fails.
-    pub fn new(profile: &Profile, points: usize) -> Result<Self> {
+    ///
+    /// With `band = Some((contact, force))` the offset and slope tables are then filtered over
+    /// the Hertz band: every node becomes the semi-elliptic average over `+-b` of arc length
+    /// (two passes), `b` the half-width of `force` (N) on the unworn flank there. The flank a
+    /// pin meets is the worn flank averaged over its contact band: waviness shorter than the
+    /// band (grid-scale ripple of the integrated wear) is flattened elastically and carries no
+    /// load on its own, and a near-conformal worn flank, where the exact closest point can jump
+    /// between two feet nanometres apart in distance, meets the pin as one contact.
+    pub fn new(
+        profile: &Profile,
+        points: usize,
+        band: Option<(&ContactModel, f64)>,
+    ) -> Result<Self> {
         let geo = profile.geometry();
         let (a, rp, r) = (geo.eccentricity, geo.pin_circle_radius, geo.pin_radius);
         let zc = geo.disc_teeth() as f64;
@@ -141,6 +155,30 @@ impl GapField {
             offset.push(o);
             slope.push(s);
             curvature.push(k);
+        }
+        if let Some((contact, force)) = band {
+            let dt = TAU / n as f64;
+            let ds: Vec<f64> = (0..n)
+                .map(|i| profile.point(i as f64 * dt).dp.norm() * dt)
+                .collect();
+            let weights: Vec<Vec<(usize, f64)>> = (0..n)
+                .map(|i| {
+                    let b = contact
+                        .hertz(force, profile.macro_curvature(i as f64 * dt))
+                        .half_width;
+                    let w = band_shape(&ds, i, b);
+                    let total: f64 = w.iter().map(|&(k, x)| x * ds[k]).sum();
+                    w.iter().map(|&(k, x)| (k, x * ds[k] / total)).collect()
+                })
+                .collect();
+            let pass = |v: &[f64]| -> Vec<f64> {
+                weights
+                    .iter()
+                    .map(|w| w.iter().map(|&(k, x)| x * v[k]).sum())
+                    .collect()
+            };
+            offset = pass(&pass(&offset));
+            slope = pass(&pass(&slope));
         }
         Ok(GapField {
             a,
@@ -194,9 +232,11 @@ impl GapField {
             let step = (t + zc * (theta - st.0)) / (1.0 - zc * dmu);
             t -= step;
             iterations += 1;
-            if step.abs() < 1e-6 || iterations == 12 {
-                // One more Newton step would move t by about (G''/2G') step^2 < 1e-11 rad: keep
-                // the derivatives at the previous iterate and move sin and cos to first order.
+            if step.abs() < 1e-9 || iterations == 16 {
+                // One more Newton step would move t by about (G''/2G') step^2 < 1e-17 rad (the
+                // gap by less than 1e-19 m, so a result does not depend on the starting guess):
+                // keep the derivatives at the previous iterate and move sin and cos to first
+                // order.
                 (sin_t, cos_t) = (sin_t - step * cos_t, cos_t + step * sin_t);
                 break;
             }
@@ -249,7 +289,7 @@ mod tests {
             .unwrap()
             .geometry;
         let profile = Profile::new(geo, m, Some(WearMap::new(depth).unwrap())).unwrap();
-        let field = GapField::new(&profile, 2048).unwrap();
+        let field = GapField::new(&profile, 2048, None).unwrap();
         for &phi in &[0.0, 0.3, 1.1] {
             for &beta in &[-2e-4, 0.0, 3e-4] {
                 for j in 0..40 {

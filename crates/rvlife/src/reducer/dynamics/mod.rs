@@ -113,7 +113,11 @@ pub fn simulate(
     params: &DynamicsParams,
     pin_forces: bool,
 ) -> Result<DynamicsResult> {
-    let field = GapField::new(profile, params.gap_points)?;
+    let field = GapField::new(
+        profile,
+        params.gap_points,
+        Some((&params.reducer.contact, params.reducer.contact_band_force)),
+    )?;
     let sys = System::new(params, [&field, &field]);
     let zp = params.reducer.geometry.pins;
     let n_out = (params.end_time / params.output_interval).round() as usize;

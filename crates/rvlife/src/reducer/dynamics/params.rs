@@ -7,8 +7,6 @@
 //! pressure angle 30 degrees), and stiffnesses of typical RV-40E-class components (stated with
 //! each key).
 
-
-
 use crate::contact::ContactModel;
 use crate::geometry::{Profile, Vec2};
 use crate::reducer::Reducer;
@@ -221,4 +219,3 @@ pub(crate) fn disc_inertia(
         ip - bores as f64 * (0.5 * hole * bore_r * bore_r + hole * bore_circle * bore_circle);
     (rho * b * a_net, rho * b * ip_net)
 }
-

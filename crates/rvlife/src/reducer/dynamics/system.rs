@@ -232,7 +232,9 @@ impl<'a> System<'a> {
                 let a = g[Layout::SUN] * self.inv_mass[Layout::SUN];
                 let (mut q2, mut qd2) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
                 let (th_s, w_s) = (q[Layout::SUN], qd[Layout::SUN]);
-                self.p.reducer.nominal(th_s, w_s, a, &mut q2[..n], &mut qd2[..n], &mut qdd[..n]);
+                self.p
+                    .reducer
+                    .nominal(th_s, w_s, a, &mut q2[..n], &mut qd2[..n], &mut qdd[..n]);
                 a
             }
         };
@@ -245,13 +247,7 @@ impl<'a> System<'a> {
     }
 
     /// Generalised forces `Q` (N or N m per coordinate) at the positions and speeds `k`.
-    fn forces(
-        &self,
-        t: f64,
-        k: &Kinematics,
-        g: &mut [f64],
-        mut pin_out: Option<&mut [PinForce]>,
-    ) {
+    fn forces(&self, t: f64, k: &Kinematics, g: &mut [f64], mut pin_out: Option<&mut [PinForce]>) {
         let p = self.p;
         let lay = self.layout;
         let n = lay.dofs();
@@ -260,8 +256,7 @@ impl<'a> System<'a> {
         if let Drive::Torque { .. } = p.drive {
             g[Layout::SUN] += p.drive.torque(t);
         }
-        p.reducer
-            .structural_forces(&k.q0[..n], &k.dq[..n], qd, g);
+        p.reducer.structural_forces(&k.q0[..n], &k.dq[..n], qd, g);
         // Disc-pin contacts.
         let ct = &p.contact;
         let mut cache = self.t_cache.borrow_mut();
@@ -298,7 +293,9 @@ impl<'a> System<'a> {
                 // d(gap)/dt = w . (-c' - psi' J (p - c)).
                 let gap_dot = -w.dot(&(cd + perp(rel) * wpsi));
                 let f_cached = &mut fcache[d * self.zp + j];
-                let elastic = ct.law.force(&p.reducer.contact, pen, ge.curvature, *f_cached);
+                let elastic = ct
+                    .law
+                    .force(&p.reducer.contact, pen, ge.curvature, *f_cached);
                 *f_cached = elastic;
                 let fnorm = (elastic
                     - step(pen, 0.0, 0.0, ct.penetration, ct.max_damping) * gap_dot)
