@@ -992,7 +992,7 @@ fn profile_svg() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Dynamics (issue 3)
+// Dynamics
 
 #[test]
 fn dynamics_json_and_results_directory() {

@@ -23,6 +23,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::geometry::{cross, mesh_angle, rotate, CycloidGeometry, Profile, Vec2};
+pub use crate::reducer::statics::PinLoad;
 
 /// Elastic constants of the disc and the pins, Pa (paper Table 2).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -532,31 +533,6 @@ fn touching_rotation(
     Ok(None)
 }
 
-/// One pin's share of a loaded contact solution.
-#[derive(Debug, Clone, Copy, Serialize)]
-pub struct PinLoad {
-    /// Pin index `j`.
-    pub pin: usize,
-    /// Profile parameter of the contact point (global, rad).
-    pub profile_parameter: f64,
-    /// Mesh angle of the contact point on the disc, rad.
-    pub mesh_angle: f64,
-    /// Gap at the solved pose, m (negative: compressed).
-    pub gap: f64,
-    /// Normal force, N.
-    pub force: f64,
-    /// Lever arm about the disc centre, m.
-    pub lever_arm: f64,
-    /// Contact half-width, m.
-    pub half_width: f64,
-    /// Maximum Hertz pressure, Pa.
-    pub max_pressure: f64,
-    /// Flank curvature at the contact, 1/m.
-    pub curvature: f64,
-    /// Contact stiffness `dF/ddelta`, N/m (0 when open).
-    pub stiffness: f64,
-}
-
 /// Solution of the loaded tooth contact at one crank angle.
 #[derive(Debug, Clone, Serialize)]
 pub struct ContactSolution {
@@ -799,6 +775,8 @@ fn solve_checked(
             max_pressure: h.max_pressure,
             curvature: g.curvature,
             stiffness: k,
+            point: g.point,
+            normal: g.normal,
         });
     }
     let sol = ContactSolution {
@@ -809,7 +787,8 @@ fn solve_checked(
         pins,
     };
     let residual = (sol.pin_moment() - disc_torque).abs();
-    if check && disc_torque != 0.0 && !(residual <= 1e-9 * disc_torque.abs()) {
+    let balanced = residual <= 1e-9 * disc_torque.abs();
+    if check && disc_torque != 0.0 && (residual.is_nan() || !balanced) {
         return Err(Error::numerical(
             "loaded contact",
             format!(

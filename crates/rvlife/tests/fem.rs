@@ -1,4 +1,4 @@
-//! Checks of the flexible disc that can fail (issue 4 "Must show"): patch test, Lame ring,
+//! Checks of the flexible disc that can fail: patch test, Lame ring,
 //! mesh convergence of the disc compliance, rigid limit, bad input.
 
 use std::f64::consts::{PI, TAU};

@@ -54,13 +54,14 @@ pub const RESIDUAL_TOLERANCE: f64 = 1e-9;
 /// arcmin: 30 times the twist of the example at its rated torque).
 const MAX_TWIST: f64 = 0.01;
 
-/// One pin's share of a static solution.
+/// One pin's share of a static solution (also of [`crate::contact::solve`]).
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct PinLoad {
     /// Pin index `j`.
     pub pin: usize,
-    /// Path parameter of the pin centre in the gap field (global, rad): the profile parameter
-    /// of the contact point on the unworn flank, and close to it on a worn one.
+    /// Profile parameter of the contact (global, rad): in the static analysis the pin centre's
+    /// path parameter in the gap field, which is the contact point's on the unworn flank and
+    /// close to it on a worn one; the closest point's in [`crate::contact::solve`].
     pub profile_parameter: f64,
     /// Mesh angle of the contact, rad.
     pub mesh_angle: f64,
@@ -843,12 +844,9 @@ impl<'a> StaticAnalysis<'a> {
         let tol = 1e-11 * target;
         let (mut lo, mut hi) = (0.0_f64, f64::INFINITY);
         let mut x = self.twist_guess(torque);
-        for _ in 0..200 {
+        for step in 0..200 {
             let (t, k) = eval(psi0 + s * x)?;
             let f = s * t - target;
-            if std::env::var("RVLIFE_DEBUG").is_ok() {
-                eprintln!("outer: x {x:.9e} f {f:.6e} k {k:.6e} lo {lo:.6e} hi {hi:.6e}");
-            }
             if f.abs() <= tol {
                 return Ok(psi0 + s * x);
             }
@@ -861,7 +859,9 @@ impl<'a> StaticAnalysis<'a> {
             // the current twist (the stiffness grows as pins engage, so a step from a soft
             // start overshoots).
             let newton = if k > 0.0 { x - f / k } else { f64::NAN };
-            let next = if newton > lo && newton < hi.min(4.0 * x) {
+            // (Bisection only after 40 steps: where round-off makes T(psi) jitter at the
+            // tolerance, Newton can wander inside the bracket.)
+            let next = if step < 40 && newton > lo && newton < hi.min(4.0 * x) {
                 newton
             } else if hi.is_finite() {
                 0.5 * (lo + hi)

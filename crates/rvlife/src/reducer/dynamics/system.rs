@@ -204,8 +204,8 @@ impl<'a> System<'a> {
             &mut st.qdd[..n],
         );
         st.dq[Layout::SUN] = 0.0;
+        st.dq[1..n].copy_from_slice(&z[1..n]);
         for i in 1..n {
-            st.dq[i] = z[i];
             st.qd[i] += z[n + i];
         }
         for i in 0..n {
