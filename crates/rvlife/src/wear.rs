@@ -265,6 +265,9 @@ pub struct WearHistory {
     pub maps: Vec<Vec<f64>>,
     /// Number of wear-rate evaluations (profile updates + 1).
     pub rate_evaluations: usize,
+    /// Working hours at which the wear rate was evaluated (the profile-update schedule), h;
+    /// starts with 0. Pass it to [`integrate_on_schedule`] to repeat the same schedule.
+    pub update_hours: Vec<f64>,
 }
 
 impl WearHistory {
@@ -289,6 +292,30 @@ impl WearHistory {
 /// Propagates solver failures; [`Error::Invalid`] if the wear grows so deep that the worn
 /// profile folds over itself.
 pub fn integrate(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<WearHistory> {
+    integrate_inner(model, None, progress)
+}
+
+/// [`integrate`] with the profile updates at the given working hours (h, ascending; values
+/// outside `(0, last stage)` are ignored) instead of the model's `profile_update_hours` and
+/// `max_wear_step_um` rule. With the schedule fixed, the wear depth is a smooth, increasing
+/// function of the Archard coefficient, which calibration needs: the adaptive rule moves the
+/// update times with the coefficient and makes the depth jitter by a few 0.1 %.
+///
+/// # Errors
+/// As [`integrate`].
+pub fn integrate_on_schedule(
+    model: &Model,
+    update_hours: &[f64],
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<WearHistory> {
+    integrate_inner(model, Some(update_hours), progress)
+}
+
+fn integrate_inner(
+    model: &Model,
+    schedule: Option<&[f64]>,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<WearHistory> {
     let n = grid_points(model);
     let last = *model
         .stage_hours
@@ -304,7 +331,11 @@ pub fn integrate(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
     } else {
         1
     };
-    let total = total.max(1);
+    let total = match schedule {
+        Some(sch) => 1 + sch.iter().filter(|&&x| x > 0.0 && x < last).count(),
+        None => total.max(1),
+    };
+    let mut update_hours = Vec::new();
     let stages = &model.stage_hours;
     let eps = 1e-9;
     let smoother = BandSmoother::new(model)?;
@@ -327,18 +358,27 @@ pub fn integrate(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
         };
         let rate = wear_rate(&model.profile(wear)?, model)?;
         evaluations += 1;
+        update_hours.push(t);
         progress(evaluations.min(total), total);
-        let mut seg_end = if step.is_finite() {
-            (((t / step + eps).floor() + 1.0) * step).min(last)
+        let seg_end = if let Some(sch) = schedule {
+            sch.iter()
+                .copied()
+                .find(|&x| x > t + eps && x < last)
+                .unwrap_or(last)
         } else {
-            last
+            let mut seg_end = if step.is_finite() {
+                (((t / step + eps).floor() + 1.0) * step).min(last)
+            } else {
+                last
+            };
+            // Explicit Euler in hours is stable only while no point wears much more than the
+            // contact approach between updates: cap the largest increment.
+            let max_rate = rate.iter().copied().fold(0.0, f64::max);
+            if step.is_finite() && max_rate > 0.0 {
+                seg_end = seg_end.min(t + model.max_wear_step / max_rate);
+            }
+            seg_end
         };
-        // Explicit Euler in hours is stable only while no point wears much more than the
-        // contact approach between updates: cap the largest increment.
-        let max_rate = rate.iter().copied().fold(0.0, f64::max);
-        if step.is_finite() && max_rate > 0.0 {
-            seg_end = seg_end.min(t + model.max_wear_step / max_rate);
-        }
         let advance = |h: &mut Vec<f64>, to: f64, t: &mut f64| {
             for (x, r) in h.iter_mut().zip(&rate) {
                 *x += r * (to - *t);
@@ -364,16 +404,24 @@ pub fn integrate(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
         hours: model.stage_hours.clone(),
         maps,
         rate_evaluations: evaluations,
+        update_hours,
     })
 }
 
 /// Finds the Archard coefficient (m^2/N) that makes the maximum wear at the last stage equal
-/// `target_depth` (m) within 0.1 %, by fixed-point iteration `k <- k target / h_max(k)` (wear depth
-/// is proportional to `k` without profile updates and nearly so with them). Returns the best
-/// coefficient found and the maximum depth it gives.
+/// `target_depth` (m) within 0.1 %. Returns the coefficient and the maximum depth it gives.
+///
+/// Two phases of the fixed-point iteration `k <- k target / h_max(k)` (wear depth is
+/// proportional to `k` without profile updates and nearly so with them): first with the model's
+/// adaptive update rule until within 2 %, then with that run's update schedule held fixed
+/// ([`integrate_on_schedule`]), on which the depth is an increasing function of `k`, so the
+/// iteration cannot chatter between neighbouring schedules. The returned depth is on the fixed
+/// schedule; `rvlife run` with the returned coefficient uses the adaptive rule again and lands
+/// within the rule's own jitter (a few 0.1 %) of it.
 ///
 /// # Errors
-/// [`Error::Invalid`] if the target is not positive or the model gives no wear.
+/// [`Error::Invalid`] if the target is not positive or the model gives no wear;
+/// [`Error::Numerical`] if the fixed-schedule phase does not reach 0.1 % in 20 iterations.
 pub fn calibrate(model: &Model, target_depth: f64) -> Result<(f64, f64)> {
     if !(target_depth.is_finite() && target_depth > 0.0) {
         return Err(Error::invalid(
@@ -383,27 +431,41 @@ pub fn calibrate(model: &Model, target_depth: f64) -> Result<(f64, f64)> {
         ));
     }
     let mut m = model.clone();
-    let mut best = (m.archard, 0.0, f64::INFINITY);
-    for _ in 0..20 {
-        let hist = integrate(&m, &|_, _| {})?;
+    let max_depth = |hist: &WearHistory| -> Result<f64> {
         let achieved = *hist.max_depths().last().unwrap_or(&0.0);
-        if achieved <= 0.0 {
-            return Err(Error::invalid(
+        if achieved > 0.0 {
+            Ok(achieved)
+        } else {
+            Err(Error::invalid(
                 "load",
                 "zero",
                 "the load spectrum produces no wear; nothing to calibrate",
-            ));
+            ))
         }
-        let miss = (achieved / target_depth - 1.0).abs();
-        if miss < best.2 {
-            best = (m.archard, achieved, miss);
-        }
-        if miss < 1e-3 {
+    };
+    // Phase 1: adaptive schedule, coarse.
+    let mut schedule = Vec::new();
+    for _ in 0..20 {
+        let hist = integrate(&m, &|_, _| {})?;
+        let achieved = max_depth(&hist)?;
+        schedule = hist.update_hours;
+        if (achieved / target_depth - 1.0).abs() < 0.02 {
             break;
         }
         m.archard *= target_depth / achieved;
     }
-    Ok((best.0, best.1))
+    // Phase 2: fixed schedule, fine.
+    for _ in 0..20 {
+        let achieved = max_depth(&integrate_on_schedule(&m, &schedule, &|_, _| {})?)?;
+        if (achieved / target_depth - 1.0).abs() < 1e-3 {
+            return Ok((m.archard, achieved));
+        }
+        m.archard *= target_depth / achieved;
+    }
+    Err(Error::numerical(
+        "calibration",
+        "the maximum wear did not reach the target within 0.1 % in 20 iterations",
+    ))
 }
 
 #[cfg(test)]
