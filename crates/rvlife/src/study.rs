@@ -445,7 +445,7 @@ impl Study {
             rated_torque_nm: m.rated_torque,
             loaded_te_torque_nm: m.loaded_torque,
             mesh_cycles_per_hour: m.mesh_cycles_per_hour(m.input_speed_rpm),
-            wear_rate_evaluations: self.wear.rate_evaluations,
+            wear_rate_evaluations: self.wear.rate_evaluations(),
             paper_comparison: PaperComparison {
                 ste_per_10um_arcmin: slope * 10.0,
                 ste_last_stage_arcmin: stages.last().map_or(0.0, |s| s.ste_mean_arcmin),

@@ -263,14 +263,16 @@ pub struct WearHistory {
     /// Wear depth on the grid at each stage, m (`maps[s][m]` at mesh angle `2 pi m / n`),
     /// filtered at the Hertz band scale (the flank the pins meet).
     pub maps: Vec<Vec<f64>>,
-    /// Number of wear-rate evaluations (profile updates + 1).
-    pub rate_evaluations: usize,
     /// Working hours at which the wear rate was evaluated (the profile-update schedule), h;
     /// starts with 0. Pass it to [`integrate_on_schedule`] to repeat the same schedule.
     pub update_hours: Vec<f64>,
 }
 
 impl WearHistory {
+    /// Number of wear-rate evaluations (profile updates + 1): `update_hours.len()`.
+    pub fn rate_evaluations(&self) -> usize {
+        self.update_hours.len()
+    }
     /// Mesh angles of the grid, rad.
     pub fn angles(&self) -> Vec<f64> {
         let n = self.maps.first().map_or(0, Vec::len);
@@ -326,14 +328,11 @@ fn integrate_inner(
     } else {
         model.update_hours
     };
-    let total = if step.is_finite() {
-        (last / step).ceil().max(1.0) as usize
-    } else {
-        1
-    };
+    // Expected number of rate evaluations, for the progress report.
     let total = match schedule {
         Some(sch) => 1 + sch.iter().filter(|&&x| x > 0.0 && x < last).count(),
-        None => total.max(1),
+        None if step.is_finite() => (last / step).ceil().max(1.0) as usize,
+        None => 1,
     };
     let mut update_hours = Vec::new();
     let stages = &model.stage_hours;
@@ -342,7 +341,6 @@ fn integrate_inner(
     let mut h = vec![0.0; n];
     let mut t = 0.0;
     let mut maps = Vec::with_capacity(stages.len());
-    let mut evaluations = 0;
     let mut si = 0;
     while si < stages.len() {
         if stages[si] <= t + eps {
@@ -357,9 +355,8 @@ fn integrate_inner(
             None
         };
         let rate = wear_rate(&model.profile(wear)?, model)?;
-        evaluations += 1;
         update_hours.push(t);
-        progress(evaluations.min(total), total);
+        progress(update_hours.len().min(total), total);
         let seg_end = if let Some(sch) = schedule {
             sch.iter()
                 .copied()
@@ -403,7 +400,6 @@ fn integrate_inner(
     Ok(WearHistory {
         hours: model.stage_hours.clone(),
         maps,
-        rate_evaluations: evaluations,
         update_hours,
     })
 }

@@ -284,7 +284,7 @@ fn wear_is_linear_in_hours_without_updates() {
     m.update_hours = 0.0;
     m.stage_hours = vec![0.0, 1000.0, 2000.0, 4000.0];
     let hist = rvlife::wear::integrate(&m, &|_, _| {}).unwrap();
-    assert_eq!(hist.rate_evaluations, 1);
+    assert_eq!(hist.rate_evaluations(), 1);
     let base = &hist.maps[1];
     assert!(base.iter().copied().fold(0.0, f64::max) > 0.0);
     for (s, factor) in [(2, 2.0), (3, 4.0)] {
