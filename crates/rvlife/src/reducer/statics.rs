@@ -560,18 +560,22 @@ impl<'a> StaticAnalysis<'a> {
         for _ in 0..100 {
             let res = self.inner_residual(&ev.g);
             let scale = ev.scale.max(force_floor).max(1e-300);
-            if kt.is_none() || res > 0.25 * last_res {
+            // Whether `kt` is the tangent at the current state `ev`.
+            let fresh = kt.is_none() || res > 0.25 * last_res;
+            if fresh {
                 kt = Some(self.tangent(k_struct, &ev, cache)?);
             }
             last_res = res;
-            let kt_now = kt.as_ref().expect("tangent built above");
             // Converged to a tenth of the acceptance tolerance, or at the round-off floor of the
-            // forces (the residual stopped falling).
+            // forces (the residual stopped falling): return the tangent at the solution.
             if res <= 0.1 * RESIDUAL_TOLERANCE * scale || stalled >= 2 {
-                let kt = self.tangent(k_struct, &ev, cache)?;
+                let kt = match kt {
+                    Some(kt) if fresh => kt,
+                    _ => self.tangent(k_struct, &ev, cache)?,
+                };
                 return Ok((ev, kt));
             }
-            let kt = kt_now;
+            let kt = kt.as_ref().expect("tangent built above");
             let kii = kt.view((2, 2), (m, m)).into_owned();
             let rhs = DVector::from_iterator(m, (2..n).map(|i| ev.g[i]));
             let step = kii.cholesky().map(|c| c.solve(&rhs)).ok_or_else(|| {
