@@ -181,6 +181,30 @@ impl ContactModel {
         Some((g0, g1))
     }
 
+    /// Change of the contact force with the flank curvature at a fixed approach, `dF/dkappa`
+    /// (N m), for a contact carrying `force` (N) with stiffness `stiffness` (N/m) on a flank of
+    /// curvature `disc_curvature` (1/m): from `delta = F (g0(kappa) - g1 ln F)`,
+    /// `dF/dkappa = -F g0'(kappa) dF/ddelta` (`g0'` by a central difference of the closed
+    /// form). Zero for the linear law or no force.
+    pub fn force_curvature_derivative(
+        &self,
+        force: f64,
+        stiffness: f64,
+        disc_curvature: f64,
+    ) -> f64 {
+        if force <= 0.0 {
+            return 0.0;
+        }
+        let h = 1e-6 * disc_curvature.abs().max(1.0);
+        match (
+            self.log_coefficients(disc_curvature + h),
+            self.log_coefficients(disc_curvature - h),
+        ) {
+            (Some((gp, _)), Some((gm, _))) => -force * stiffness * (gp - gm) / (2.0 * h),
+            _ => 0.0,
+        }
+    }
+
     /// Elastic energy `int_0^delta F d(delta)` (J) stored in the contact at approach `delta` (m):
     /// for the logarithmic laws, with `delta = F (g0 - g1 ln F)`, exactly
     /// `F^2/2 (g0 - g1/2 - g1 ln F)`; `k delta^2 / 2` for the linear law. Zero for

@@ -68,6 +68,22 @@ impl PeriodicSpline {
         );
         (v, d * self.inv_dt)
     }
+
+    /// Value, first and second derivative (per radian) at `t` (the second derivative of the
+    /// cubic within the cell holding `t`).
+    #[inline]
+    fn eval2(&self, t: f64) -> (f64, f64, f64) {
+        let n = self.value.len();
+        let s = t * self.inv_dt;
+        let k = s.floor();
+        let u = s - k;
+        let i = (k as i64).rem_euclid(n as i64) as usize;
+        let j = if i + 1 == n { 0 } else { i + 1 };
+        let (p1, m1, p2, m2) = (self.value[i], self.slope[i], self.value[j], self.slope[j]);
+        let (v, d) = cubic_hermite(p1, m1, p2, m2, u);
+        let dd = (12.0 * u - 6.0) * (p1 - p2) + (6.0 * u - 4.0) * m1 + (6.0 * u - 2.0) * m2;
+        (v, d * self.inv_dt, dd * self.inv_dt * self.inv_dt)
+    }
 }
 
 /// Gap of one pin: value and gradient.
@@ -80,6 +96,8 @@ pub struct GapEval {
     pub grad: Vec2,
     /// Flank curvature for the contact law at this mesh angle, 1/m.
     pub curvature: f64,
+    /// Gradient of that curvature with respect to the pin centre in the profile frame, 1/m^2.
+    pub curvature_grad: Vec2,
 }
 
 /// The tabulated gap field of one disc profile (see the module docs).
@@ -254,15 +272,72 @@ impl GapField {
         let (s, ds) = self.slope.eval(t);
         let gap = s * (rho - r0);
         let grad = dt_dq * (ds * (rho - r0) - s * dr0) + drho_dq * s;
-        let curvature = self.curvature.eval(t).0;
+        let (curvature, dk) = self.curvature.eval(t);
         (
             GapEval {
                 gap,
                 grad,
                 curvature,
+                curvature_grad: dt_dq * dk,
             },
             t,
         )
+    }
+}
+
+impl GapField {
+    /// Hessian of the gap (1/m, profile frame, symmetric 2 x 2) at pin centre `q` (m) whose
+    /// path parameter `t` was found by [`GapField::eval`]: the exact second derivative of the
+    /// interpolant `s(t) (rho - rho_0(t))` with `t(q)` and `rho(q)` of the module docs (within a
+    /// spline cell; the splines are C1, so it jumps at the knots).
+    pub fn hessian(&self, q: &Vec2, t: f64) -> [[f64; 2]; 2] {
+        let (a, rp, zc) = (self.a, self.rp, self.zc);
+        let (x, y) = (q.x, q.y);
+        let r2 = q.norm_squared();
+        let rq = r2.sqrt();
+        let (sn, cs) = t.sin_cos();
+        let den = rp * rp + a * a - 2.0 * a * rp * cs;
+        let rc = den.sqrt();
+        let num = a * rp * cs - a * a;
+        let dmu = num / den;
+        let ddmu = (-a * rp * sn * den - num * 2.0 * a * rp * sn) / (den * den);
+        let k = -zc / (1.0 - zc * dmu);
+        let dk = -zc * zc * ddmu / ((1.0 - zc * dmu) * (1.0 - zc * dmu));
+        let gth = Vec2::new(-y, x) / r2;
+        let r4 = r2 * r2;
+        let hth = [
+            [2.0 * x * y / r4, (y * y - x * x) / r4],
+            [(y * y - x * x) / r4, -2.0 * x * y / r4],
+        ];
+        let gt = gth * k;
+        let outer = |u: Vec2, v: Vec2| [[u.x * v.x, u.x * v.y], [u.y * v.x, u.y * v.y]];
+        let tt = outer(gt, gt);
+        let mut ht = [[0.0; 2]; 2];
+        for i in 0..2 {
+            for j in 0..2 {
+                ht[i][j] = dk * tt[i][j] / k + k * hth[i][j];
+            }
+        }
+        let drc = a * rp * sn / rc;
+        let ddrc = a * rp * cs / rc - drc * drc / rc;
+        let grho = *q / rq - gt * drc;
+        let qq = outer(*q, *q);
+        let (r0, dr0, ddr0) = self.offset.eval2(t);
+        let (s, ds, dds) = self.slope.eval2(t);
+        let d = rq - rc - r0;
+        let gd = grho - gt * dr0;
+        let td = outer(gt, gd);
+        let mut h = [[0.0; 2]; 2];
+        for i in 0..2 {
+            for j in 0..2 {
+                let id = if i == j { 1.0 } else { 0.0 };
+                let hrho = (id - qq[i][j] / r2) / rq - ddrc * tt[i][j] - drc * ht[i][j];
+                let hd = hrho - ddr0 * tt[i][j] - dr0 * ht[i][j];
+                h[i][j] =
+                    dds * d * tt[i][j] + ds * (td[i][j] + td[j][i]) + ds * d * ht[i][j] + s * hd;
+            }
+        }
+        h
     }
 }
 
