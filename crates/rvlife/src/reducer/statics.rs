@@ -726,11 +726,11 @@ impl<'a> StaticAnalysis<'a> {
         z: &mut [f64],
         k_struct: &DMatrix<f64>,
         memory: &mut [Vec<PinMemory>],
-        force_floor: f64,
     ) -> Result<Option<(Eval, DMatrix<f64>)>> {
         let n = self.red.layout().dofs();
         let m = n - 1;
         let rp = self.red.geometry.pin_circle_radius;
+        let force_floor = torque.abs() / rp;
         let s = if torque < 0.0 { -1.0 } else { 1.0 };
         self.mode_deviation(fr, psi0 + s * self.twist_guess(torque), z);
         // Residual of coordinate i (output torque included), moments over the pin radius.
@@ -1154,15 +1154,8 @@ impl<'a> StaticAnalysis<'a> {
             None
         } else {
             let mut zt = z;
-            let out = self.torque_controlled(
-                &fr,
-                torque,
-                psi0,
-                &mut zt[..n],
-                &k_struct,
-                &mut memory,
-                floor,
-            )?;
+            let out =
+                self.torque_controlled(&fr, torque, psi0, &mut zt[..n], &k_struct, &mut memory)?;
             if out.is_some() {
                 z = zt;
             }
