@@ -494,16 +494,20 @@ fn wear_depth_is_monotone_in_archard_coefficient_on_a_fixed_schedule() {
 }
 
 /// Fine scan of the static analysis on the example reducer with bearings: 400 crank angles over
-/// a mesh cycle x output torque {1, 3, 100, 250} % of rated x the discs at 0, 1250 and 7500 h.
-/// Every solve balances (residual <= 1e-9 of the total pin force), no pin force is negative,
-/// at least one pin carries load, and the twist lies beyond first contact and grows with the
-/// torque at every crank angle. On the new disc the pin moments on the two discs carry the
-/// output torque through the first stage, `sum_d M_d = T Zc / (Zp + Z1/Z2)`, within 1e-4
-/// (measured 2.0e-5: bearing deflections of a few um on a 64 mm disc). On worn discs the
-/// relation is not exact (the net pin force also works on the disc-centre motion of the
-/// locked-input mode; measured 1.2e-3 at 1250 h, 7.5e-3 at 7500 h) and is only printed.
-/// Below 1 % the force residual reaches the round-off floor of the gaps (1e-17 m on 64 mm) and
-/// the 1e-9 check can fail by round-off.
+/// a mesh cycle x output torque {0.1, 1, 3, 100, 250} % of rated x the discs at 0, 1250 and
+/// 7500 h (6000 solves).
+/// - Every solve balances: residual <= 1e-9 of the total pin force, or below the round-off floor
+///   of the contact forces that the solution reports (`4 eps Rp sum k_j`; measured: 89 solves
+///   of the new disc at 0.1 % and 1 % end between 1e-9 and 3.9e-9, all below their floor).
+/// - No pin force is negative, at least one pin carries load, and the twist lies beyond first
+///   contact (the STE) and grows with the torque at every crank angle.
+/// - On the new disc the pin moments on the two discs carry the output torque through the
+///   first stage, `sum_d M_d = T Zc / (Zp + Z1/Z2)`, within 1e-4 (measured 2.0e-5). On worn
+///   discs the relation is not exact (measured 3.5e-3 at 1250 h, 1.2e-2 at 7500 h; printed).
+/// - Penetration against the exact worn flank (global closest point of the profile, not the
+///   gap table): within 5 % of the law's approach plus 0.1 um at 0 and 1250 h (measured 0 and
+///   0.083 um). The table is the flank averaged over the Hertz band; at 7500 h it departs from
+///   the exact flank by up to 0.83 um at the steep edges of the wear scar: printed only.
 #[test]
 fn static_analysis_fine_scan() {
     use rayon::prelude::*;
@@ -518,27 +522,60 @@ fn static_analysis_fine_scan() {
         ));
     }
     let rated = m.rated_torque;
-    let fractions = [0.01, 0.03, 1.0, 2.5];
+    let fractions = [0.001, 0.01, 0.03, 1.0, 2.5];
     let factor = m.reducer.twist_factor();
     let zp = m.geometry.pins as f64;
+    let law = &m.reducer.contact;
+    let pin_radius = m.geometry.pin_radius;
+    /// Worst values over a stage's scan.
+    #[derive(Default, Clone, Copy)]
+    struct Worst {
+        moment: f64,
+        residual: f64,
+        floor_accepted: usize,
+        floor: f64,
+        /// Exact penetration beyond the law's approach, m.
+        beyond: f64,
+        /// Exact penetration beyond 1.05 times the law's approach, m.
+        excess: f64,
+    }
+    let merge = |a: Worst, b: Worst| Worst {
+        moment: a.moment.max(b.moment),
+        residual: a.residual.max(b.residual),
+        floor_accepted: a.floor_accepted + b.floor_accepted,
+        floor: a.floor.max(b.floor),
+        beyond: a.beyond.max(b.beyond),
+        excess: a.excess.max(b.excess),
+    };
     for (hours, profile) in &profiles {
         let sa = StaticAnalysis::new(&m.reducer, profile).unwrap();
-        let worst: f64 = (0..400)
+        let worst = (0..400)
             .into_par_iter()
             .map(|k| {
                 let phi = TAU * k as f64 / (zp * 400.0);
                 let mut last_twist = f64::NEG_INFINITY;
-                let mut worst_moment: f64 = 0.0;
+                let mut w = Worst::default();
                 for f in fractions {
                     let torque = f * rated;
                     let sol = sa
                         .solve(phi, torque)
                         .unwrap_or_else(|e| panic!("{hours} h, phi {phi}, {torque} N m: {e}"));
+                    // Balanced to 1e-9 of the force scale, or to the round-off floor of the
+                    // contact forces where that is larger (the solution reports it).
                     assert!(
-                        sol.residual <= 1e-9,
-                        "{hours} h, phi {phi}, {torque} N m: residual {:e}",
-                        sol.residual
+                        sol.residual <= 1e-9_f64.max(sol.roundoff_floor),
+                        "{hours} h, phi {phi}, {torque} N m: residual {:e} (floor {:e})",
+                        sol.residual,
+                        sol.roundoff_floor
                     );
+                    // The floor is the arithmetic's, not a loophole: a few ulps of the pin
+                    // circle radius times the contact stiffness.
+                    assert!(sol.roundoff_floor < 1e-7, "floor {:e}", sol.roundoff_floor);
+                    w.residual = w.residual.max(sol.residual);
+                    if sol.residual > 1e-9 {
+                        w.floor_accepted += 1;
+                    }
+                    w.floor = w.floor.max(sol.roundoff_floor);
                     assert!(sol
                         .discs
                         .iter()
@@ -552,14 +589,45 @@ fn static_analysis_fine_scan() {
                     assert!(sol.twist > last_twist, "{hours} h, phi {phi}, {torque} N m");
                     last_twist = sol.twist;
                     let moments: f64 = sol.discs.iter().map(|d| d.torque).sum();
-                    worst_moment = worst_moment.max((moments / (torque * factor) - 1.0).abs());
+                    w.moment = w.moment.max((moments / (torque * factor) - 1.0).abs());
+                    // Penetration against the exact profile (global closest point of the
+                    // actual, worn flank, independent of the gap table): no pin goes in further
+                    // than the contact law's approach for its force.
+                    for d in &sol.discs {
+                        for p in d.pins.iter().filter(|p| p.gap < 1e-6) {
+                            let q = d.pose.pin_in_disc(&m.geometry, p.pin);
+                            let exact = profile.project(&q, p.profile_parameter).unwrap().distance
+                                - pin_radius;
+                            let approach = law.approach(p.force, p.curvature);
+                            w.beyond = w.beyond.max(-exact - approach);
+                            w.excess = w.excess.max(-exact - 1.05 * approach);
+                        }
+                    }
                 }
-                worst_moment
+                w
             })
-            .reduce(|| 0.0, f64::max);
-        eprintln!("{hours} h: worst relative moment error {worst:e}");
+            .reduce(Worst::default, merge);
+        eprintln!(
+            "{hours} h: worst relative moment error {:.3e}; worst residual {:.3e} ({} solves \
+             accepted at the round-off floor, largest floor {:.3e}); largest exact penetration \
+             beyond the law's approach {:.4} um, beyond 1.05 times it {:.4} um",
+            worst.moment,
+            worst.residual,
+            worst.floor_accepted,
+            worst.floor,
+            worst.beyond * 1e6,
+            worst.excess * 1e6
+        );
         if *hours == 0.0 {
-            assert!(worst < 1e-4, "{hours} h: {worst:e}");
+            assert!(worst.moment < 1e-4, "{hours} h: {:e}", worst.moment);
         }
+        // At 7500 h the band-averaged contact geometry departs from the exact worn flank by more
+        // than this (measured: 0.83 um beyond the approach, 0.42 um beyond 1.05 times it, at the
+        // steep edges of the wear scar): printed, not asserted.
+        assert!(
+            *hours > 5000.0 || worst.excess < 0.1e-6,
+            "{hours} h: a pin penetrates {:.4} um beyond the law's approach",
+            worst.beyond * 1e6
+        );
     }
 }
