@@ -362,6 +362,7 @@ fn run(cli: Cli) -> Result<()> {
                 "max_pressure_mpa": sol.max_pressure() * 1e-6,
                 "torsional_stiffness_nm_per_arcmin": sol.stiffness / ARCMIN_PER_RAD,
                 "residual": sol.residual,
+                "residual_roundoff_floor": sol.roundoff_floor,
                 "max_wear_um": profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
                 "discs": discs,
             });

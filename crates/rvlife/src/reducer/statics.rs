@@ -690,7 +690,7 @@ impl<'a> StaticAnalysis<'a> {
             last_res = res;
             // Converged to a tenth of the acceptance tolerance, or at the round-off floor of the
             // forces (the residual stopped falling): return the tangent at the solution.
-            if res <= 0.1 * RESIDUAL_TOLERANCE * scale || stalled >= 2 {
+            if res <= 0.01 * RESIDUAL_TOLERANCE * scale || stalled >= 2 {
                 let kt = match kt {
                     Some(kt) if fresh => kt,
                     _ => self.tangent(k_struct, &ev),
@@ -781,7 +781,7 @@ impl<'a> StaticAnalysis<'a> {
                 kt = Some(self.tangent(k_struct, &ev));
             }
             last_res = res;
-            if res <= 0.1 * RESIDUAL_TOLERANCE * scale {
+            if res <= 0.01 * RESIDUAL_TOLERANCE * scale {
                 let kt = match kt {
                     Some(kt) if fresh => kt,
                     _ => self.tangent(k_struct, &ev),
