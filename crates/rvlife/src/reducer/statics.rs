@@ -33,7 +33,7 @@
 //! and `load_share T = sum F_j m_j` with the mode lever `m_j = -d gap_j / d psi`
 //! (about `l_j (Zp + Z1/Z2)/Zc`, physics-notes section 6).
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, Matrix2x3, Rotation2, Vector3};
 use serde::Serialize;
 
 use super::dynamics::GapField;
@@ -194,11 +194,9 @@ struct PinEval {
     grad: Vec2,
     force: f64,
     stiffness: f64,
-    /// `dF/dkappa` of the contact law at the pin's approach (N m).
-    force_kappa: f64,
-    /// Gradient of the law's flank curvature with respect to the pin centre, pin-ring frame,
+    /// Gradient of the law's flank curvature with respect to the pin centre, profile frame,
     /// 1/m^2.
-    kappa_grad: Vec2,
+    curvature_grad: Vec2,
 }
 
 impl PinEval {
@@ -216,8 +214,7 @@ impl PinEval {
             grad: Vec2::zeros(),
             force: 0.0,
             stiffness: 0.0,
-            force_kappa: 0.0,
-            kappa_grad: Vec2::zeros(),
+            curvature_grad: Vec2::zeros(),
         }
     }
 }
@@ -443,12 +440,7 @@ impl<'a> StaticAnalysis<'a> {
             grad: ge.grad,
             force,
             stiffness,
-            force_kappa: self.red.contact.force_curvature_derivative(
-                force,
-                stiffness,
-                ge.curvature,
-            ),
-            kappa_grad: rotate(&ge.curvature_grad, pose.angle),
+            curvature_grad: ge.curvature_grad,
         })
     }
 
@@ -593,47 +585,30 @@ impl<'a> StaticAnalysis<'a> {
     fn tangent(&self, k_struct: &DMatrix<f64>, ev: &Eval) -> DMatrix<f64> {
         let lay = self.red.layout();
         let mut k = k_struct.clone();
+        let law = &self.red.contact;
         for (d, pose) in ev.poses.iter().enumerate() {
             let id = lay.disc(d);
-            let (sn, cs) = pose.angle.sin_cos();
+            let rot = Rotation2::new(pose.angle);
             for p in ev.pins[d].iter().filter(|p| p.force > 0.0) {
-                let hl = self.field.hessian(&p.q, p.t);
-                // H_fixed = R H R^T.
-                let r = [[cs, -sn], [sn, cs]];
-                let mut hf = [[0.0; 2]; 2];
-                for i in 0..2 {
-                    for j in 0..2 {
-                        hf[i][j] = (0..2)
-                            .map(|a| (0..2).map(|b| r[i][a] * hl[a][b] * r[j][b]).sum::<f64>())
-                            .sum();
-                    }
-                }
                 let jr = -perp(p.rel);
-                let cols = [Vec2::new(-1.0, 0.0), Vec2::new(0.0, -1.0), jr];
-                let a = [-p.w.x, -p.w.y, -cross(&p.rel, &p.w)];
+                let b = Matrix2x3::from_columns(&[Vec2::new(-1.0, 0.0), Vec2::new(0.0, -1.0), jr]);
+                let hf = rot * self.field.hessian(&p.q, p.t) * rot.inverse();
+                let mut hess = b.transpose() * hf * b;
                 let jw = perp(p.w);
-                let mut hess = [[0.0; 3]; 3];
-                for i in 0..3 {
-                    for j in 0..3 {
-                        let bi = cols[i];
-                        let bj = cols[j];
-                        hess[i][j] = bi.x * (hf[0][0] * bj.x + hf[0][1] * bj.y)
-                            + bi.y * (hf[1][0] * bj.x + hf[1][1] * bj.y);
-                    }
-                }
-                hess[0][2] -= jw.x;
-                hess[2][0] -= jw.x;
-                hess[1][2] -= jw.y;
-                hess[2][1] -= jw.y;
-                hess[2][2] -= p.w.dot(&p.rel);
-                let dk = [-p.kappa_grad.x, -p.kappa_grad.y, jr.dot(&p.kappa_grad)];
-                for i in 0..3 {
-                    for j in 0..3 {
-                        k[(id + i, id + j)] += p.stiffness * a[i] * a[j]
-                            - p.force_kappa * a[i] * dk[j]
-                            - p.force * hess[i][j];
-                    }
-                }
+                hess[(0, 2)] -= jw.x;
+                hess[(2, 0)] -= jw.x;
+                hess[(1, 2)] -= jw.y;
+                hess[(2, 1)] -= jw.y;
+                hess[(2, 2)] -= p.w.dot(&p.rel);
+                let a = Vector3::new(-p.w.x, -p.w.y, -cross(&p.rel, &p.w));
+                let kappa = rot * p.curvature_grad;
+                let dk = Vector3::new(-kappa.x, -kappa.y, jr.dot(&kappa));
+                let force_kappa = law.force_curvature_derivative(p.force, p.stiffness, p.curvature);
+                let kd = a * a.transpose() * p.stiffness
+                    - a * dk.transpose() * force_kappa
+                    - hess * p.force;
+                let mut block = k.view_mut((id, id), (3, 3));
+                block += kd;
             }
         }
         k
@@ -675,8 +650,7 @@ impl<'a> StaticAnalysis<'a> {
         let mut ev = self.eval_bearings(fr, z, memory, true)?;
         let mut stalled = 0;
         // The tangent is kept while the residual falls at least fourfold per step (a modified
-        // Newton method: the contact part costs 12 evaluations of every pin), and rebuilt
-        // otherwise.
+        // Newton method), and rebuilt otherwise.
         let mut kt: Option<DMatrix<f64>> = None;
         let mut last_res = f64::INFINITY;
         for _ in 0..100 {
@@ -688,8 +662,8 @@ impl<'a> StaticAnalysis<'a> {
                 kt = Some(self.tangent(k_struct, &ev));
             }
             last_res = res;
-            // Converged to a tenth of the acceptance tolerance, or at the round-off floor of the
-            // forces (the residual stopped falling): return the tangent at the solution.
+            // Converged to a hundredth of the acceptance tolerance, or at the round-off floor of
+            // the forces (the residual stopped falling): return the tangent at the solution.
             if res <= 0.01 * RESIDUAL_TOLERANCE * scale || stalled >= 2 {
                 let kt = match kt {
                     Some(kt) if fresh => kt,
@@ -758,14 +732,17 @@ impl<'a> StaticAnalysis<'a> {
         let force_floor = torque.abs() / rp;
         let s = if torque < 0.0 { -1.0 } else { 1.0 };
         self.mode_deviation(fr, psi0 + s * self.twist_guess(torque), z);
-        // Residual of coordinate i (output torque included), moments over the pin radius.
-        let scaled = |g: &[f64; MAX_DOFS], i: usize| -> f64 {
-            let r = if i == Layout::OUT {
+        // Residual of coordinate i (output torque included), and scaled: moments over the pin
+        // circle radius.
+        let residual = |g: &[f64; MAX_DOFS], i: usize| -> f64 {
+            if i == Layout::OUT {
                 g[i] + torque
             } else {
                 g[i]
-            };
-            r / if is_angle(i) { rp } else { 1.0 }
+            }
+        };
+        let scaled = |g: &[f64; MAX_DOFS], i: usize| -> f64 {
+            residual(g, i) / if is_angle(i) { rp } else { 1.0 }
         };
         let merit = |e: &Eval| -> f64 { (1..n).map(|i| scaled(&e.g, i).powi(2)).sum() };
         let mut ev = self.eval_bearings(fr, z, memory, true)?;
@@ -774,8 +751,8 @@ impl<'a> StaticAnalysis<'a> {
         for _ in 0..30 {
             let res = (1..n).map(|i| scaled(&ev.g, i).abs()).fold(0.0, f64::max);
             let scale = ev.scale.max(force_floor).max(1e-300);
-            // A tangent costs about one evaluation (four field evaluations of every loaded
-            // pin): it is rebuilt at every step unless the residual fell a thousandfold.
+            // A tangent is closed form per loaded pin, cheaper than an evaluation: it is rebuilt
+            // at every step unless the residual fell a thousandfold.
             let fresh = kt.is_none() || res > 1e-3 * last_res;
             if fresh {
                 kt = Some(self.tangent(k_struct, &ev));
@@ -790,16 +767,7 @@ impl<'a> StaticAnalysis<'a> {
             }
             let kt = kt.as_ref().expect("tangent built above");
             let k = kt.view((1, 1), (m, m)).into_owned();
-            let rhs = DVector::from_iterator(
-                m,
-                (1..n).map(|i| {
-                    if i == Layout::OUT {
-                        ev.g[i] + torque
-                    } else {
-                        ev.g[i]
-                    }
-                }),
-            );
+            let rhs = DVector::from_iterator(m, (1..n).map(|i| residual(&ev.g, i)));
             let Some(step) = k.lu().solve(&rhs) else {
                 return Ok(None);
             };

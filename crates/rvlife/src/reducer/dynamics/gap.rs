@@ -25,6 +25,8 @@ use rayon::prelude::*;
 
 use crate::contact::ContactModel;
 use crate::error::Result;
+use nalgebra::Matrix2;
+
 use crate::geometry::{band_shape, cubic_hermite, Profile, Vec2};
 
 /// Periodic cubic Hermite spline on a uniform grid over `[0, 2 pi)` with central-difference
@@ -50,22 +52,26 @@ impl PeriodicSpline {
         }
     }
 
-    /// Value and derivative (per radian) at `t` (any real, wrapped).
+    /// The cell holding `t` (any real, wrapped): its node values and slopes `(p1, m1, p2, m2)`
+    /// and the position `u` in `[0, 1)` within it.
     #[inline]
-    fn eval(&self, t: f64) -> (f64, f64) {
+    fn cell(&self, t: f64) -> ((f64, f64, f64, f64), f64) {
         let n = self.value.len();
         let s = t * self.inv_dt;
         let k = s.floor();
-        let u = s - k;
         let i = (k as i64).rem_euclid(n as i64) as usize;
         let j = if i + 1 == n { 0 } else { i + 1 };
-        let (v, d) = cubic_hermite(
-            self.value[i],
-            self.slope[i],
-            self.value[j],
-            self.slope[j],
-            u,
-        );
+        (
+            (self.value[i], self.slope[i], self.value[j], self.slope[j]),
+            s - k,
+        )
+    }
+
+    /// Value and derivative (per radian) at `t` (any real, wrapped).
+    #[inline]
+    fn eval(&self, t: f64) -> (f64, f64) {
+        let ((p1, m1, p2, m2), u) = self.cell(t);
+        let (v, d) = cubic_hermite(p1, m1, p2, m2, u);
         (v, d * self.inv_dt)
     }
 
@@ -73,13 +79,7 @@ impl PeriodicSpline {
     /// cubic within the cell holding `t`).
     #[inline]
     fn eval2(&self, t: f64) -> (f64, f64, f64) {
-        let n = self.value.len();
-        let s = t * self.inv_dt;
-        let k = s.floor();
-        let u = s - k;
-        let i = (k as i64).rem_euclid(n as i64) as usize;
-        let j = if i + 1 == n { 0 } else { i + 1 };
-        let (p1, m1, p2, m2) = (self.value[i], self.slope[i], self.value[j], self.slope[j]);
+        let ((p1, m1, p2, m2), u) = self.cell(t);
         let (v, d) = cubic_hermite(p1, m1, p2, m2, u);
         let dd = (12.0 * u - 6.0) * (p1 - p2) + (6.0 * u - 4.0) * m1 + (6.0 * u - 2.0) * m2;
         (v, d * self.inv_dt, dd * self.inv_dt * self.inv_dt)
@@ -290,7 +290,7 @@ impl GapField {
     /// path parameter `t` was found by [`GapField::eval`]: the exact second derivative of the
     /// interpolant `s(t) (rho - rho_0(t))` with `t(q)` and `rho(q)` of the module docs (within a
     /// spline cell; the splines are C1, so it jumps at the knots).
-    pub fn hessian(&self, q: &Vec2, t: f64) -> [[f64; 2]; 2] {
+    pub fn hessian(&self, q: &Vec2, t: f64) -> Matrix2<f64> {
         let (a, rp, zc) = (self.a, self.rp, self.zc);
         let (x, y) = (q.x, q.y);
         let r2 = q.norm_squared();
@@ -301,43 +301,27 @@ impl GapField {
         let num = a * rp * cs - a * a;
         let dmu = num / den;
         let ddmu = (-a * rp * sn * den - num * 2.0 * a * rp * sn) / (den * den);
+        // t(q) = t(theta(q)) with dt/dtheta = k(t) = -Zc / (1 - Zc mu'(t)).
         let k = -zc / (1.0 - zc * dmu);
         let dk = -zc * zc * ddmu / ((1.0 - zc * dmu) * (1.0 - zc * dmu));
         let gth = Vec2::new(-y, x) / r2;
-        let r4 = r2 * r2;
-        let hth = [
-            [2.0 * x * y / r4, (y * y - x * x) / r4],
-            [(y * y - x * x) / r4, -2.0 * x * y / r4],
-        ];
+        let hth = Matrix2::new(2.0 * x * y, y * y - x * x, y * y - x * x, -2.0 * x * y) / (r2 * r2);
         let gt = gth * k;
-        let outer = |u: Vec2, v: Vec2| [[u.x * v.x, u.x * v.y], [u.y * v.x, u.y * v.y]];
-        let tt = outer(gt, gt);
-        let mut ht = [[0.0; 2]; 2];
-        for i in 0..2 {
-            for j in 0..2 {
-                ht[i][j] = dk * tt[i][j] / k + k * hth[i][j];
-            }
-        }
+        let tt = gt * gt.transpose();
+        let ht = tt * (dk / k) + hth * k;
+        // rho = |q| - |C(t)|.
         let drc = a * rp * sn / rc;
         let ddrc = a * rp * cs / rc - drc * drc / rc;
         let grho = *q / rq - gt * drc;
-        let qq = outer(*q, *q);
+        let hrho = (Matrix2::identity() - *q * q.transpose() / r2) / rq - tt * ddrc - ht * drc;
+        // gap = s(t) D with D = rho - rho_0(t).
         let (r0, dr0, ddr0) = self.offset.eval2(t);
         let (s, ds, dds) = self.slope.eval2(t);
         let d = rq - rc - r0;
         let gd = grho - gt * dr0;
-        let td = outer(gt, gd);
-        let mut h = [[0.0; 2]; 2];
-        for i in 0..2 {
-            for j in 0..2 {
-                let id = if i == j { 1.0 } else { 0.0 };
-                let hrho = (id - qq[i][j] / r2) / rq - ddrc * tt[i][j] - drc * ht[i][j];
-                let hd = hrho - ddr0 * tt[i][j] - dr0 * ht[i][j];
-                h[i][j] =
-                    dds * d * tt[i][j] + ds * (td[i][j] + td[j][i]) + ds * d * ht[i][j] + s * hd;
-            }
-        }
-        h
+        let hd = hrho - tt * ddr0 - ht * dr0;
+        let td = gt * gd.transpose();
+        tt * (dds * d) + (td + td.transpose()) * ds + ht * (ds * d) + hd * s
     }
 }
 
