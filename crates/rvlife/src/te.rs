@@ -202,10 +202,7 @@ pub fn loaded_te(
 ) -> Result<LoadedTe> {
     let phis = mesh_cycle_angles(red.geometry.pins, samples);
     let sa = StaticAnalysis::new(red, profile)?;
-    let solutions: Vec<StaticSolution> = phis
-        .par_iter()
-        .map(|&phi| sa.solve(phi, torque))
-        .collect::<Result<_>>()?;
+    let solutions = sa.solve_sequence(&phis, torque)?;
     let s = if torque < 0.0 { -1.0 } else { 1.0 };
     Ok(LoadedTe {
         torque,
@@ -272,11 +269,16 @@ impl TwistTable {
         let mut negative = Vec::with_capacity(fractions.len());
         for (side, out) in [(1.0, &mut positive), (-1.0, &mut negative)] {
             let psi0 = sa.first_contact(phi, side)?;
+            // Up the torque grid, each solve started from the one below.
+            let mut below: Option<StaticSolution> = None;
             for &f in fractions {
                 out.push(if f == 0.0 {
                     psi0
                 } else {
-                    sa.solve_from(phi, side * f * rated, psi0)?.twist
+                    let sol = sa.solve_near(phi, side * f * rated, psi0, below.as_ref())?;
+                    let twist = sol.twist;
+                    below = Some(sol);
+                    twist
                 });
             }
         }

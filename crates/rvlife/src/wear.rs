@@ -84,11 +84,13 @@ pub fn wear_per_mesh_cycle(profile: &Profile, model: &Model, torque: f64) -> Res
     let steps = model.wear_steps;
     let slide_scale = 1.0 - model.pin_rolling_fraction;
     let sa = StaticAnalysis::new(&model.reducer, profile)?;
-    let per_step: Vec<Vec<(f64, f64, f64)>> = (0..steps)
-        .into_par_iter()
-        .map(|k| -> Result<Vec<(f64, f64, f64)>> {
-            let phi = TAU * k as f64 / (zp * steps as f64);
-            let sol = sa.solve(phi, torque)?;
+    let phis: Vec<f64> = (0..steps)
+        .map(|k| TAU * k as f64 / (zp * steps as f64))
+        .collect();
+    let solutions = sa.solve_sequence(&phis, torque)?;
+    let per_step: Vec<Vec<(f64, f64, f64)>> = solutions
+        .par_iter()
+        .map(|sol| -> Result<Vec<(f64, f64, f64)>> {
             // Disc 1 (both discs wear alike: disc 2 meets the same crank angles half a crank
             // revolution later).
             let disc = &sol.discs[0];

@@ -26,6 +26,7 @@ use crate::error::{Error, Result};
 use crate::fem::mesh::LoopKind;
 use crate::fem::{outline_radii, DiscModel};
 use crate::geometry::{Profile, Vec2};
+use crate::reducer::statics::{PinLoad, StaticAnalysis, StaticSolution};
 use crate::reducer::{Reducer, Support};
 use crate::te::CurveStats;
 
@@ -271,6 +272,156 @@ pub fn solve_flexible(
     })
 }
 
+/// Relative tolerance of the body-deflection fixed point of [`solve_flexible_bearings`]: the
+/// largest change of a pin's gap offset in the last sweep, over the largest offset.
+pub const FLEX_OFFSET_TOLERANCE: f64 = 1e-9;
+
+/// Flexible discs on their bearings: the static equilibrium of the reducer model
+/// ([`StaticAnalysis`]: both discs free on the crank bearings, load share from the equilibrium)
+/// with each disc's body deflection added to its pins' gaps.
+///
+/// For the loaded pins of each disc (contact parameters `t_j`, forces `F_j`, flank curvatures
+/// `kappa_j`) the gap offset is `sum_k C(t_j, t_k) F_k + w_flex(F_j) - w(F_j)`: the FE body's
+/// normal approach ([`DiscModel::compliance_at`], disc clamped at its crank bores), plus the
+/// local Hertz approach of the FE-loaded disc ([`FlexibleLaw`]) in place of the whole-body
+/// approach of the rigid law `w` (the static solution's overlap). Open pins facing the driving
+/// flank get the body term (the flank under them moves with the body), so a pin at the edge of
+/// the contact zone does not flip between open and loaded from one sweep to the next. The
+/// offsets are iterated to a fixed point (each sweep a warm-started static solve; about 15
+/// sweeps on the example; the step is halved, down to 1/64, whenever a sweep fails to shrink
+/// the change by a tenth) until they change by less than [`FLEX_OFFSET_TOLERANCE`] of the
+/// largest. Both discs use the FE model of disc 1 at their own contact parameters.
+///
+/// Returns the solution and the offsets (m, `2 x Zp`, disc-major).
+///
+/// # Errors
+/// [`Error::Invalid`] for a negative torque (the stations lie on the driving flank);
+/// [`Error::Numerical`] if a static solve fails or the fixed point is not reached in 400
+/// sweeps (naming the crank angle and torque).
+pub fn solve_flexible_bearings(
+    sa: &StaticAnalysis,
+    red: &Reducer,
+    disc: &DiscModel,
+    phi: f64,
+    torque: f64,
+    psi0: f64,
+) -> Result<(StaticSolution, Vec<f64>)> {
+    if torque < 0.0 {
+        return Err(Error::invalid(
+            "flexible contact torque",
+            torque,
+            "must be >= 0: the load stations lie on the driving flank",
+        ));
+    }
+    let zp = red.geometry.pins;
+    let law = FlexibleLaw {
+        model: red.contact,
+        patch: disc.params.patch,
+    };
+    let mut offsets = vec![0.0; 2 * zp];
+    let mut sol = sa.solve_with_offsets(phi, torque, psi0, None, &offsets)?;
+    if torque == 0.0 {
+        return Ok((sol, offsets));
+    }
+    let (mut omega, mut last_change) = (1.0_f64, f64::INFINITY);
+    for _ in 0..400 {
+        let mut target = vec![0.0; 2 * zp];
+        for (d, dl) in sol.discs.iter().enumerate() {
+            // Every pin facing the driving flank: the loaded ones and the open ones the body's
+            // deflection moves the flank under.
+            let facing: Vec<&PinLoad> = dl
+                .pins
+                .iter()
+                .filter(|p| p.force > 0.0 || faces_driving_flank(p.profile_parameter))
+                .collect();
+            let ts: Vec<f64> = facing.iter().map(|p| p.profile_parameter).collect();
+            let c = disc.compliance_at(&ts);
+            let n = facing.len();
+            for (a, p) in facing.iter().enumerate() {
+                let body: f64 = (0..n).map(|b| c[a * n + b] * facing[b].force).sum();
+                // The whole-body approach of the rigid law is the overlap of the static
+                // solution's gap (which holds the current offset): `-gap` where loaded.
+                let (local, whole) = if p.force > 0.0 {
+                    (law.approach(p.force, p.curvature).0, -p.gap)
+                } else {
+                    (0.0, 0.0)
+                };
+                target[d * zp + p.pin] = body + local - whole;
+            }
+        }
+        let scale = target
+            .iter()
+            .fold(0.0_f64, |m, v| m.max(v.abs()))
+            .max(1e-15);
+        let change = target
+            .iter()
+            .zip(&offsets)
+            .fold(0.0_f64, |m, (t, o)| m.max((t - o).abs()));
+        if change <= FLEX_OFFSET_TOLERANCE * scale {
+            return Ok((sol, offsets));
+        }
+        // Full steps while the change shrinks; halved (to 1/64) where a pin at the edge of the
+        // contact zone makes the sweeps alternate.
+        if change > 0.9 * last_change {
+            omega = (0.5 * omega).max(1.0 / 64.0);
+        }
+        last_change = change;
+        for (o, t) in offsets.iter_mut().zip(&target) {
+            *o += omega * (t - *o);
+        }
+        sol = sa.solve_with_offsets(phi, torque, psi0, Some(&sol), &offsets)?;
+    }
+    Err(Error::numerical(
+        "flexible contact",
+        format!(
+            "the body deflection of the discs did not settle in 400 sweeps at crank angle \
+             {:.4} deg, output torque {torque:.6e} N m",
+            phi.to_degrees()
+        ),
+    ))
+}
+
+/// Whether a pin with contact parameter `t` (rad) faces the driving flank `[0, pi]` of its
+/// tooth, with a margin of [`FACING_MARGIN`] round both ends (a pin at the root or tip is
+/// loaded on one side of the end and open on the other from one sweep to the next; its body
+/// deflection must not vanish when it opens).
+pub fn faces_driving_flank(t: f64) -> bool {
+    let local = t.rem_euclid(TAU);
+    local <= PI + FACING_MARGIN || local >= TAU - FACING_MARGIN
+}
+
+/// Margin of [`faces_driving_flank`] in profile parameter, rad.
+pub const FACING_MARGIN: f64 = 0.3;
+
+/// Disc 1 of a flexible bearing solution as a [`FlexSolution`] (for [`disc_stress`]); its
+/// rotations are the reducer's output twists: loaded, rigid (`rigid`) and at first contact
+/// (`psi0`), rad.
+fn disc_one(sol: &StaticSolution, offsets: &[f64], psi0: f64, rigid: f64) -> FlexSolution {
+    let d = &sol.discs[0];
+    FlexSolution {
+        crank_angle: sol.crank_angle,
+        disc_torque: d.torque,
+        disc_rotation: sol.twist,
+        rigid_rotation: rigid,
+        first_contact_rotation: psi0,
+        pins: d
+            .pins
+            .iter()
+            .filter(|p| p.force > 0.0)
+            .map(|p| FlexPin {
+                pin: p.pin,
+                profile_parameter: p.profile_parameter,
+                force: p.force,
+                lever_arm: p.lever_arm,
+                rigid_gap: p.gap - offsets[p.pin],
+                body_deflection: offsets[p.pin],
+                point: p.point,
+                normal: p.normal,
+            })
+            .collect(),
+    }
+}
+
 /// Von Mises stress of the disc under one loaded contact state.
 #[derive(Debug, Clone, Serialize)]
 pub struct DiscStress {
@@ -373,11 +524,11 @@ impl FlexibleStage {
 /// crank revolution (the load moves once round the disc relative to the bores), in parallel;
 /// the torsional stiffness; and the stress at the crank angle of the largest pin force.
 ///
-/// The disc is analysed with its centre on the eccentric at a fixed crank angle and carries the
-/// equivalent disc torque `share T Zc/(Zp + Z1/Z2)` (share: the rigid support's `load_share`,
-/// or one half with bearings); its rotation `beta` is reported as the output twist
-/// `beta Zc/(Zp + Z1/Z2)` (physics-notes section 6). The disc's translations on its bearings
-/// are not part of this analysis.
+/// With bearing support (the default) both discs sit on their bearings and the TEs are the
+/// reducer's output twists ([`solve_flexible_bearings`]). With the rigid support the disc is
+/// analysed with its centre on the eccentric at a fixed crank angle and carries the equivalent
+/// disc torque `share T Zc/(Zp + Z1/Z2)` (share: `load_share`); its rotation `beta` is
+/// reported as the output twist `beta Zc/(Zp + Z1/Z2)` (physics-notes section 6).
 ///
 /// # Errors
 /// Contact solver failures.
@@ -389,13 +540,15 @@ pub fn analyse_stage(
 ) -> Result<FlexibleStage> {
     let model = &reducer.contact;
     let factor = reducer.twist_factor();
-    let share = match reducer.support {
-        Support::Rigid { load_share } => load_share,
-        Support::Bearings => 0.5,
-    };
     let n = disc.params.crank_angles;
     let phis: Vec<f64> = (0..n).map(|k| TAU * k as f64 / n as f64).collect();
     let ste_torque = disc.params.ste_torque_fraction * rated_torque;
+    let share = match reducer.support {
+        Support::Rigid { load_share } => load_share,
+        Support::Bearings => {
+            return analyse_stage_bearings(profile, reducer, disc, rated_torque, phis, ste_torque)
+        }
+    };
     let disc_torque = |t: f64| share * t * factor;
     let rows: Vec<(FlexSolution, FlexSolution)> = phis
         .par_iter()
@@ -431,6 +584,66 @@ pub fn analyse_stage(
         flexible_ste,
         flexible_loaded_te,
         max_force: rows.iter().map(|r| r.1.max_force()).collect(),
+        torsional_stiffness,
+        stress,
+    })
+}
+
+/// [`analyse_stage`] with the discs on their bearings ([`solve_flexible_bearings`]): the TEs
+/// are the reducer's output twists.
+fn analyse_stage_bearings(
+    profile: &Profile,
+    reducer: &Reducer,
+    disc: &DiscModel,
+    rated_torque: f64,
+    phis: Vec<f64>,
+    ste_torque: f64,
+) -> Result<FlexibleStage> {
+    let sa = StaticAnalysis::new(reducer, profile)?;
+    type Row = (f64, f64, StaticSolution, StaticSolution, Vec<f64>);
+    let rows: Vec<Row> = phis
+        .par_iter()
+        .map(|&phi| -> Result<Row> {
+            let psi0 = sa.first_contact(phi, 1.0)?;
+            let rigid = sa.solve_from(phi, rated_torque, psi0)?.twist;
+            let (lo, _) = solve_flexible_bearings(&sa, reducer, disc, phi, ste_torque, psi0)?;
+            let (hi, offsets) =
+                solve_flexible_bearings(&sa, reducer, disc, phi, rated_torque, psi0)?;
+            Ok((psi0, rigid, lo, hi, offsets))
+        })
+        .collect::<Result<_>>()?;
+    let flexible_ste: Vec<f64> = rows.iter().map(|r| r.2.twist).collect();
+    let flexible_loaded_te: Vec<f64> = rows.iter().map(|r| r.3.twist).collect();
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let d_theta = mean(&flexible_loaded_te) - mean(&flexible_ste);
+    let torsional_stiffness = if d_theta > 0.0 {
+        (rated_torque - ste_torque) / d_theta
+    } else {
+        f64::INFINITY
+    };
+    let worst = rows
+        .iter()
+        .max_by(|a, b| {
+            a.3.discs[0]
+                .max_force()
+                .total_cmp(&b.3.discs[0].max_force())
+        })
+        .expect("at least four crank angles");
+    let stress = disc_stress(
+        profile,
+        disc,
+        &disc_one(&worst.3, &worst.4, worst.0, worst.1),
+        rated_torque,
+    );
+    Ok(FlexibleStage {
+        crank_angle: phis,
+        ste_torque,
+        rated_torque,
+        rigid_ste: rows.iter().map(|r| r.0).collect(),
+        rigid_loaded_te: rows.iter().map(|r| r.1).collect(),
+        flexible_ste,
+        flexible_loaded_te,
+        max_force: rows.iter().map(|r| r.3.max_force()).collect(),
         torsional_stiffness,
         stress,
     })

@@ -34,13 +34,14 @@
 //! (about `l_j (Zp + Z1/Z2)/Zc`, physics-notes section 6).
 
 use nalgebra::{DMatrix, DVector, Matrix2x3, Rotation2, Vector3};
+use rayon::prelude::*;
 use serde::Serialize;
 
 use super::dynamics::GapField;
 use super::{perp, rotation_difference, Layout, Reducer, Support, MAX_DOFS};
 use crate::contact::DiscPose;
 use crate::error::{Error, Result};
-use crate::geometry::{cross, mesh_angle, rotate, Profile, Vec2};
+use crate::geometry::{cross, mesh_angle, Profile, Vec2};
 use crate::te::ARCMIN_PER_RAD;
 
 /// Relative residual every static solution is checked against: every generalised force of the
@@ -63,6 +64,10 @@ pub const ROUNDOFF_GAP_ULPS: f64 = 4.0;
 /// Largest elastic twist beyond first contact the static analysis follows, rad (about 34
 /// arcmin: 30 times the twist of the example at its rated torque).
 const MAX_TWIST: f64 = 0.01;
+
+/// Consecutive crank angles solved in one run of [`StaticAnalysis::solve_sequence`], each
+/// started from the previous one.
+pub const SEQUENCE_RUN: usize = 16;
 
 /// One pin's share of a static solution (also of [`crate::contact::solve`]).
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -244,6 +249,9 @@ impl PinMemory {
 struct Frame {
     phi: f64,
     q0: [f64; MAX_DOFS],
+    /// Gap offsets per pin of each disc (`2 x Zp`, disc-major, m; empty: none): see
+    /// [`StaticAnalysis::solve_with_offsets`].
+    offsets: Vec<f64>,
 }
 
 /// Everything evaluated at one configuration of the bearing-supported model.
@@ -260,11 +268,23 @@ struct Eval {
     roundoff: f64,
 }
 
+/// Where a solve starts: the first-contact twist of its direction (rad), and optionally a
+/// neighbouring solution (its deviations and first-contact twist, and its twist beyond first
+/// contact in the solve's direction, rad).
+struct Start<'s> {
+    psi0: f64,
+    near: Option<(&'s [f64], f64)>,
+    beyond: Option<f64>,
+    offsets: &'s [f64],
+}
+
 /// Static analysis of one reducer with one disc profile (both discs alike).
 pub struct StaticAnalysis<'a> {
     red: &'a Reducer,
     profile: &'a Profile,
     field: GapField,
+    /// Pin centres, ground frame, m.
+    pin_centres: Vec<Vec2>,
 }
 
 impl<'a> StaticAnalysis<'a> {
@@ -284,6 +304,9 @@ impl<'a> StaticAnalysis<'a> {
             red,
             profile,
             field,
+            pin_centres: (0..red.geometry.pins)
+                .map(|j| red.geometry.pin_centre(j))
+                .collect(),
         })
     }
 
@@ -327,7 +350,11 @@ impl<'a> StaticAnalysis<'a> {
             &mut qd[..n],
             &mut qdd[..n],
         );
-        Frame { phi, q0 }
+        Frame {
+            phi,
+            q0,
+            offsets: Vec::new(),
+        }
     }
 
     /// Deviations `z` of the locked-input rigid-body mode at carrier twist `psi` from the
@@ -403,14 +430,23 @@ impl<'a> StaticAnalysis<'a> {
     /// Pin `j` at `pose` from the gap field; `hint` is its path parameter at a nearby pose
     /// (NaN: none, the kinematic guess is used).
     fn eval_pin(&self, pose: &DiscPose, j: usize, hint: f64) -> Result<PinEval> {
-        self.eval_pin_from(pose, j, hint, f64::NAN)
+        self.eval_pin_from(pose, &Rotation2::new(pose.angle), j, hint, f64::NAN, 0.0)
     }
 
     /// [`StaticAnalysis::eval_pin`] with the pin's force at a nearby pose (N) as the contact
-    /// law's starting guess.
-    fn eval_pin_from(&self, pose: &DiscPose, j: usize, hint: f64, force: f64) -> Result<PinEval> {
-        let geo = &self.red.geometry;
-        let q = pose.pin_in_disc(geo, j);
+    /// law's starting guess; `rot` is the rotation of the disc by `pose.angle`; `offset` (m) is
+    /// added to the gap.
+    fn eval_pin_from(
+        &self,
+        pose: &DiscPose,
+        rot: &Rotation2<f64>,
+        j: usize,
+        hint: f64,
+        force: f64,
+        offset: f64,
+    ) -> Result<PinEval> {
+        let rel = self.pin_centres[j] - pose.centre;
+        let q = rot.inverse_transform_vector(&rel);
         let guess = self
             .profile
             .contact_parameter_guess(j, pose.crank_angle, pose.angle);
@@ -421,10 +457,11 @@ impl<'a> StaticAnalysis<'a> {
             guess
         };
         let (ge, t) = self.field.eval(&q, start);
-        let (force, stiffness) = if ge.gap < 0.0 {
+        let gap = ge.gap + offset;
+        let (force, stiffness) = if gap < 0.0 {
             self.red
                 .contact
-                .force_from(-ge.gap, ge.curvature, force)
+                .force_from(-gap, ge.curvature, force)
                 .map_err(|e| self.law_error(e, pose))?
         } else {
             (0.0, 0.0)
@@ -432,10 +469,10 @@ impl<'a> StaticAnalysis<'a> {
         Ok(PinEval {
             pin: j,
             t,
-            gap: ge.gap,
+            gap,
             curvature: ge.curvature,
-            w: rotate(&ge.grad, pose.angle),
-            rel: geo.pin_centre(j) - pose.centre,
+            w: rot * ge.grad,
+            rel,
             q,
             grad: ge.grad,
             force,
@@ -446,11 +483,12 @@ impl<'a> StaticAnalysis<'a> {
 
     /// Every pin of one disc at `pose`; `cache` holds the pins' path parameters (updated).
     fn eval_pins(&self, pose: &DiscPose, cache: &mut [f64]) -> Result<Vec<PinEval>> {
+        let rot = Rotation2::new(pose.angle);
         cache
             .iter_mut()
             .enumerate()
             .map(|(j, hint)| {
-                let p = self.eval_pin(pose, j, *hint)?;
+                let p = self.eval_pin_from(pose, &rot, j, *hint, f64::NAN, 0.0)?;
                 *hint = p.t;
                 Ok(p)
             })
@@ -485,7 +523,6 @@ impl<'a> StaticAnalysis<'a> {
         lazy: bool,
     ) -> Result<Eval> {
         let red = self.red;
-        let geo = &red.geometry;
         let lay = red.layout();
         let n = lay.dofs();
         let mut g = [0.0; MAX_DOFS];
@@ -498,9 +535,11 @@ impl<'a> StaticAnalysis<'a> {
         for (d, mem) in memory.iter_mut().enumerate() {
             let pose = self.pose_from(fr, z, d);
             let id = lay.disc(d);
-            let mut ev = Vec::with_capacity(mem.len());
+            let rot = Rotation2::new(pose.angle);
+            let zp = mem.len();
+            let mut ev = Vec::with_capacity(zp);
             for (j, m) in mem.iter_mut().enumerate() {
-                let rel = geo.pin_centre(j) - pose.centre;
+                let rel = self.pin_centres[j] - pose.centre;
                 if lazy && m.gap.is_finite() {
                     let moved =
                         (pose.centre - m.centre).norm() + rel.norm() * (pose.angle - m.angle).abs();
@@ -509,7 +548,8 @@ impl<'a> StaticAnalysis<'a> {
                         continue;
                     }
                 }
-                let p = self.eval_pin_from(&pose, j, m.t, m.force)?;
+                let offset = fr.offsets.get(d * zp + j).copied().unwrap_or(0.0);
+                let p = self.eval_pin_from(&pose, &rot, j, m.t, m.force, offset)?;
                 *m = PinMemory {
                     t: p.t,
                     gap: p.gap,
@@ -721,7 +761,7 @@ impl<'a> StaticAnalysis<'a> {
         &self,
         fr: &Frame,
         torque: f64,
-        psi0: f64,
+        start: &Start,
         z: &mut [f64],
         k_struct: &DMatrix<f64>,
         memory: &mut [Vec<PinMemory>],
@@ -731,7 +771,19 @@ impl<'a> StaticAnalysis<'a> {
         let rp = self.red.geometry.pin_circle_radius;
         let force_floor = torque.abs() / rp;
         let s = if torque < 0.0 { -1.0 } else { 1.0 };
-        self.mode_deviation(fr, psi0 + s * self.twist_guess(torque), z);
+        match start.near {
+            // The neighbour's deviations, moved along the mode by the change of first contact.
+            Some((near, near_psi0)) => {
+                let (mut a, mut b) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
+                self.mode_deviation(fr, near_psi0, &mut a[..n]);
+                self.mode_deviation(fr, start.psi0, &mut b[..n]);
+                for i in 0..n {
+                    z[i] = near[i] + b[i] - a[i];
+                }
+                z[Layout::SUN] = 0.0;
+            }
+            None => self.mode_deviation(fr, start.psi0 + s * self.twist_guess(torque), z),
+        }
         // Residual of coordinate i (output torque included), and scaled: moments over the pin
         // circle radius.
         let residual = |g: &[f64; MAX_DOFS], i: usize| -> f64 {
@@ -746,6 +798,20 @@ impl<'a> StaticAnalysis<'a> {
         };
         let merit = |e: &Eval| -> f64 { (1..n).map(|i| scaled(&e.g, i).powi(2)).sum() };
         let mut ev = self.eval_bearings(fr, z, memory, true)?;
+        if start.near.is_none() {
+            // Cold: along the mode until its torque reaches the target (Newton then starts
+            // from the stiff side, where its steps do not overshoot into new contacts).
+            let mut x = self.twist_guess(torque);
+            for _ in 0..20 {
+                let mode_torque = self.mode_torque(fr, start.psi0 + s * x, &ev.g);
+                if s * mode_torque >= torque.abs() || x > 0.5 * MAX_TWIST {
+                    break;
+                }
+                x *= 2.0;
+                self.mode_deviation(fr, start.psi0 + s * x, z);
+                ev = self.eval_bearings(fr, z, memory, true)?;
+            }
+        }
         let mut kt: Option<DMatrix<f64>> = None;
         let mut last_res = f64::INFINITY;
         for _ in 0..30 {
@@ -779,8 +845,14 @@ impl<'a> StaticAnalysis<'a> {
                     z[1 + i] = base[1 + i] + alpha * step[i];
                 }
                 let trial = self.eval_bearings(fr, z, memory, true)?;
-                if merit(&trial) <= m0 * (1.0 - 1e-4 * alpha) {
+                let mt = merit(&trial);
+                if mt <= m0 * (1.0 - 1e-4 * alpha) {
                     ev = trial;
+                    // At the round-off floor a step barely reduces the residual: accept there.
+                    if mt > 0.25 * m0 && res <= 0.5 * ev.roundoff {
+                        let kt = self.tangent(k_struct, &ev);
+                        return Ok(Some((ev, kt)));
+                    }
                     break;
                 }
                 if alpha < 1e-3 {
@@ -796,6 +868,20 @@ impl<'a> StaticAnalysis<'a> {
             }
         }
         Ok(None)
+    }
+
+    /// Output torque (N m) that balances the generalised forces `g` along the locked-input mode
+    /// at twist `psi`: `-sum_i g_i dz_i/dpsi` (the mode's virtual work; its tangent by a
+    /// central difference of [`StaticAnalysis::mode_deviation`]).
+    fn mode_torque(&self, fr: &Frame, psi: f64, g: &[f64; MAX_DOFS]) -> f64 {
+        let n = self.red.layout().dofs();
+        let h = 1e-6;
+        let (mut a, mut b) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
+        self.mode_deviation(fr, psi - h, &mut a[..n]);
+        self.mode_deviation(fr, psi + h, &mut b[..n]);
+        -(0..n)
+            .map(|i| g[i] * (b[i] - a[i]) / (2.0 * h))
+            .sum::<f64>()
     }
 
     /// `dz/dpsi` of the inner coordinates at fixed inner forces: `-K_ii^-1 K_io` (zero for the
@@ -997,13 +1083,7 @@ impl<'a> StaticAnalysis<'a> {
     /// torque and wear if the equilibrium is not reached to [`RESIDUAL_TOLERANCE`], or if the
     /// contact law leaves its range.
     pub fn solve(&self, phi: f64, torque: f64) -> Result<StaticSolution> {
-        if !phi.is_finite() || !torque.is_finite() {
-            return Err(Error::invalid(
-                "static analysis input",
-                format!("crank angle {phi} rad, torque {torque} N m"),
-                "must be finite",
-            ));
-        }
+        check_input(phi, torque)?;
         let s = if torque < 0.0 { -1.0 } else { 1.0 };
         let psi0 = self.first_contact(phi, s)?;
         self.solve_from(phi, torque, psi0)
@@ -1015,9 +1095,72 @@ impl<'a> StaticAnalysis<'a> {
     /// # Errors
     /// As [`StaticAnalysis::solve`].
     pub fn solve_from(&self, phi: f64, torque: f64, psi0: f64) -> Result<StaticSolution> {
+        self.solve_near(phi, torque, psi0, None)
+    }
+
+    /// [`StaticAnalysis::solve_from`] started from `near`, the solution at a nearby crank angle
+    /// or torque of the same direction (a continuation: fewer Newton steps than the cold start;
+    /// the solution is the same to the convergence tolerance). A `near` of the other direction
+    /// is ignored.
+    ///
+    /// # Errors
+    /// As [`StaticAnalysis::solve`].
+    pub fn solve_near(
+        &self,
+        phi: f64,
+        torque: f64,
+        psi0: f64,
+        near: Option<&StaticSolution>,
+    ) -> Result<StaticSolution> {
+        self.solve_with_offsets(phi, torque, psi0, near, &[])
+    }
+
+    /// [`StaticAnalysis::solve_near`] with `offsets` (m, `2 x Zp` disc-major, or empty) added
+    /// to the pins' gaps: an extra approach that a model outside this one supplies, such as the
+    /// body deflection of a flexible disc ([`crate::fem::flex`]). Bearing support only (the
+    /// rigid support ignores them). The first-contact twist `psi0` is that of the unloaded
+    /// mechanism (the offsets vanish with the load).
+    ///
+    /// # Errors
+    /// As [`StaticAnalysis::solve`]; [`Error::Invalid`] if `offsets` is neither empty nor
+    /// `2 x Zp` long or holds a non-finite value.
+    pub fn solve_with_offsets(
+        &self,
+        phi: f64,
+        torque: f64,
+        psi0: f64,
+        near: Option<&StaticSolution>,
+        offsets: &[f64],
+    ) -> Result<StaticSolution> {
+        let zp = self.red.geometry.pins;
+        if !(offsets.is_empty() || offsets.len() == 2 * zp)
+            || offsets.iter().any(|o| !o.is_finite())
+        {
+            return Err(Error::invalid(
+                "static analysis gap offsets",
+                format!("{} values", offsets.len()),
+                format!("must be empty or {} finite values", 2 * zp),
+            ));
+        }
+        let s = if torque < 0.0 { -1.0 } else { 1.0 };
+        let n = self.red.layout().dofs();
+        let near = near.filter(|x| {
+            let beyond = s * (x.twist - x.first_contact_twist);
+            (x.output_torque == 0.0 || x.output_torque * s > 0.0)
+                && beyond.is_finite()
+                && beyond >= 0.0
+        });
+        let start = Start {
+            psi0,
+            near: near
+                .filter(|x| x.deviations.len() == n)
+                .map(|x| (&x.deviations[..], x.first_contact_twist)),
+            beyond: near.map(|x| s * (x.twist - x.first_contact_twist)),
+            offsets,
+        };
         let result = match self.red.support {
-            Support::Bearings => self.solve_bearings(phi, torque, psi0),
-            Support::Rigid { .. } => self.solve_rigid(phi, torque, psi0),
+            Support::Bearings => self.solve_bearings(phi, torque, &start),
+            Support::Rigid { .. } => self.solve_rigid(phi, torque, &start),
         };
         result.map_err(|e| match e {
             Error::Numerical { context, message } => Error::Numerical {
@@ -1028,17 +1171,47 @@ impl<'a> StaticAnalysis<'a> {
         })
     }
 
+    /// Static equilibria at the crank angles `phis` (rad, in order, neighbours close) under one
+    /// output torque `torque` (N m): [`StaticAnalysis::solve`] at each, in parallel over runs
+    /// of [`SEQUENCE_RUN`] consecutive angles, each solve of a run started from its
+    /// predecessor's solution. The runs do not depend on the number of threads, so neither do
+    /// the results.
+    ///
+    /// # Errors
+    /// As [`StaticAnalysis::solve`], for the first crank angle that fails.
+    pub fn solve_sequence(&self, phis: &[f64], torque: f64) -> Result<Vec<StaticSolution>> {
+        let s = if torque < 0.0 { -1.0 } else { 1.0 };
+        let runs: Vec<Vec<StaticSolution>> = phis
+            .par_chunks(SEQUENCE_RUN)
+            .map(|run| -> Result<Vec<StaticSolution>> {
+                let mut out: Vec<StaticSolution> = Vec::with_capacity(run.len());
+                for &phi in run {
+                    check_input(phi, torque)?;
+                    let psi0 = self.first_contact(phi, s)?;
+                    let sol = self.solve_near(phi, torque, psi0, out.last())?;
+                    out.push(sol);
+                }
+                Ok(out)
+            })
+            .collect::<Result<_>>()?;
+        Ok(runs.into_iter().flatten().collect())
+    }
+
     /// Safeguarded Newton on the monotone `f(x) = s T(psi0 + s x) - |T|`, `x >= 0`, with
     /// `eval(psi) -> (T, dT/dpsi)`. Returns the converged twist.
-    fn outer<F>(&self, phi: f64, torque: f64, psi0: f64, mut eval: F) -> Result<f64>
+    fn outer<F>(&self, phi: f64, torque: f64, start: &Start, mut eval: F) -> Result<f64>
     where
         F: FnMut(f64) -> Result<(f64, f64)>,
     {
+        let psi0 = start.psi0;
         let s = if torque < 0.0 { -1.0 } else { 1.0 };
         let target = torque.abs();
         let tol = 1e-11 * target;
         let (mut lo, mut hi) = (0.0_f64, f64::INFINITY);
-        let mut x = self.twist_guess(torque);
+        let mut x = match start.beyond {
+            Some(b) if b > 0.0 => b,
+            _ => self.twist_guess(torque),
+        };
         for step in 0..200 {
             let (t, k) = eval(psi0 + s * x)?;
             let f = s * t - target;
@@ -1095,13 +1268,14 @@ impl<'a> StaticAnalysis<'a> {
         (3.0 * delta / rc).max(1e-12)
     }
 
-    fn solve_rigid(&self, phi: f64, torque: f64, psi0: f64) -> Result<StaticSolution> {
+    fn solve_rigid(&self, phi: f64, torque: f64, start: &Start) -> Result<StaticSolution> {
+        let psi0 = start.psi0;
         let zp = self.red.geometry.pins;
         let mut cache = vec![f64::NAN; zp];
         let psi = if torque == 0.0 {
             psi0
         } else {
-            self.outer(phi, torque, psi0, |p| {
+            self.outer(phi, torque, start, |p| {
                 let (_, _, t, k) = self.eval_rigid(phi, p, &mut cache)?;
                 Ok((t, k))
             })?
@@ -1139,88 +1313,110 @@ impl<'a> StaticAnalysis<'a> {
         })
     }
 
-    fn solve_bearings(&self, phi: f64, torque: f64, psi0: f64) -> Result<StaticSolution> {
+    fn solve_bearings(&self, phi: f64, torque: f64, start: &Start) -> Result<StaticSolution> {
+        let psi0 = start.psi0;
         let red = self.red;
-        let lay = red.layout();
-        let n = lay.dofs();
+        let n = red.layout().dofs();
         let zp = red.geometry.pins;
         let rp = red.geometry.pin_circle_radius;
-        let fr = self.frame(phi);
+        let mut fr = self.frame(phi);
+        fr.offsets = start.offsets.to_vec();
         let mut memory = vec![vec![PinMemory::NONE; zp]; 2];
         let mut z = [0.0; MAX_DOFS];
         self.mode_deviation(&fr, psi0, &mut z[..n]);
         let k_struct = self.structural_stiffness(&fr, &z[..n]);
-        let floor = torque.abs() / rp;
-        let fast = if torque == 0.0 {
-            None
-        } else {
-            let mut zt = z;
-            let out =
-                self.torque_controlled(&fr, torque, psi0, &mut zt[..n], &k_struct, &mut memory)?;
-            if out.is_some() {
-                z = zt;
-            }
-            out
-        };
-        let (ev, kt) = if let Some(found) = fast {
-            found
-        } else if torque == 0.0 {
+        if torque == 0.0 {
             let ev = self.eval_bearings(&fr, &z, &mut memory, false)?;
             let kt = self.tangent(&k_struct, &ev);
-            (ev, kt)
-        } else {
-            // Predictor of the inner coordinates per unit twist: the rigid mode at first, then
-            // the condensation direction `-K_ii^-1 K_io` of the last tangent.
-            let mut current = psi0;
-            let mut slope: Option<Vec<f64>> = None;
-            let mut last: Option<(Eval, DMatrix<f64>)> = None;
-            let psi = self.outer(phi, torque, psi0, |p| {
-                match &slope {
-                    Some(dz) => {
-                        for i in 2..n {
-                            z[i] += dz[i] * (p - current);
-                        }
-                        z[Layout::OUT] = p;
+            return self.check(self.assemble(&fr, &z, ev, &kt, 0.0, psi0));
+        }
+        let mut zt = z;
+        if let Some((_, kt)) =
+            self.torque_controlled(&fr, torque, start, &mut zt[..n], &k_struct, &mut memory)?
+        {
+            // Every pin at the solution (the solve skipped pins known to be open).
+            let ev = self.eval_bearings(&fr, &zt, &mut memory, false)?;
+            let sol = self.assemble(&fr, &zt, ev, &kt, torque, psi0);
+            if sol.residual <= RESIDUAL_TOLERANCE.max(sol.roundoff_floor) {
+                return Ok(sol);
+            }
+        }
+        // The twist-controlled path. Cold: it trusts neither the neighbour nor the pins' memory
+        // of the fast path (whose rejected trial steps can take a disc far outside the gap
+        // field's range, where a remembered gap is no bound).
+        for m in memory.iter_mut() {
+            m.fill(PinMemory::NONE);
+        }
+        let cold = Start {
+            psi0,
+            near: None,
+            beyond: None,
+            offsets: start.offsets,
+        };
+        let floor = torque.abs() / rp;
+        // Predictor of the inner coordinates per unit twist: the rigid mode at first, then the
+        // condensation direction `-K_ii^-1 K_io` of the last tangent.
+        let mut current = psi0;
+        let mut slope: Option<Vec<f64>> = None;
+        let mut last: Option<DMatrix<f64>> = None;
+        let psi = self.outer(phi, torque, &cold, |p| {
+            match &slope {
+                Some(dz) => {
+                    for i in 2..n {
+                        z[i] += dz[i] * (p - current);
                     }
-                    None => {
-                        let (mut a, mut b) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
-                        self.mode_deviation(&fr, current, &mut a[..n]);
-                        self.mode_deviation(&fr, p, &mut b[..n]);
-                        for i in 0..n {
-                            z[i] += b[i] - a[i];
-                        }
-                    }
+                    z[Layout::OUT] = p;
                 }
-                current = p;
-                let (ev, kt) = self.inner_solve(&fr, &mut z[..n], &k_struct, &mut memory, floor)?;
-                slope = Some(self.condensation_direction(&kt));
-                let out = (-ev.g[Layout::OUT], self.condensed(&kt));
-                last = Some((ev, kt));
-                Ok(out)
-            })?;
-            match last {
-                Some(l) if current == psi => l,
-                _ => {
-                    if let Some(dz) = &slope {
-                        for i in 2..n {
-                            z[i] += dz[i] * (psi - current);
-                        }
+                None => {
+                    let (mut a, mut b) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
+                    self.mode_deviation(&fr, current, &mut a[..n]);
+                    self.mode_deviation(&fr, p, &mut b[..n]);
+                    for i in 0..n {
+                        z[i] += b[i] - a[i];
                     }
-                    z[Layout::OUT] = psi;
-                    self.inner_solve(&fr, &mut z[..n], &k_struct, &mut memory, floor)?
                 }
             }
+            current = p;
+            let (ev, kt) = self.inner_solve(&fr, &mut z[..n], &k_struct, &mut memory, floor)?;
+            slope = Some(self.condensation_direction(&kt));
+            let out = (-ev.g[Layout::OUT], self.condensed(&kt));
+            last = Some(kt);
+            Ok(out)
+        })?;
+        let kt = match last {
+            Some(kt) if current == psi => kt,
+            _ => {
+                if let Some(dz) = &slope {
+                    for i in 2..n {
+                        z[i] += dz[i] * (psi - current);
+                    }
+                }
+                z[Layout::OUT] = psi;
+                self.inner_solve(&fr, &mut z[..n], &k_struct, &mut memory, floor)?
+                    .1
+            }
         };
-        // Every pin at the solution (the solve skipped pins known to be open, which carry no
-        // force either way).
-        let ev = if torque == 0.0 {
-            ev
-        } else {
-            self.eval_bearings(&fr, &z, &mut memory, false)?
-        };
-        let scale = ev.scale.max(floor).max(1e-300);
+        let ev = self.eval_bearings(&fr, &z, &mut memory, false)?;
+        self.check(self.assemble(&fr, &z, ev, &kt, torque, psi0))
+    }
+
+    /// The solution at deviations `z` from the full evaluation `ev` there and the tangent `kt`.
+    fn assemble(
+        &self,
+        fr: &Frame,
+        z: &[f64; MAX_DOFS],
+        ev: Eval,
+        kt: &DMatrix<f64>,
+        torque: f64,
+        psi0: f64,
+    ) -> StaticSolution {
+        let lay = self.red.layout();
+        let n = lay.dofs();
+        let rp = self.red.geometry.pin_circle_radius;
+        let scale = ev.scale.max(torque.abs() / rp).max(1e-300);
         let out_res = (ev.g[Layout::OUT] + torque).abs() / rp;
         let residual = self.inner_residual(&ev.g).max(out_res) / scale;
+        let unloaded = torque == 0.0;
         let discs = (0..2)
             .map(|d| {
                 let id = lay.disc(d);
@@ -1229,25 +1425,21 @@ impl<'a> StaticAnalysis<'a> {
                     ev.poses[d],
                     Vec2::new(z[id], z[id + 1]),
                     z[id + 2],
-                    torque == 0.0,
+                    unloaded,
                 )
             })
             .collect();
-        self.check(StaticSolution {
-            crank_angle: phi,
+        StaticSolution {
+            crank_angle: fr.phi,
             output_torque: torque,
             twist: z[Layout::OUT],
             first_contact_twist: psi0,
-            stiffness: self.condensed(&kt),
+            stiffness: self.condensed(kt),
             discs,
-            residual: if torque == 0.0 { 0.0 } else { residual },
-            roundoff_floor: if torque == 0.0 {
-                0.0
-            } else {
-                ev.roundoff / scale
-            },
+            residual: if unloaded { 0.0 } else { residual },
+            roundoff_floor: if unloaded { 0.0 } else { ev.roundoff / scale },
             deviations: z[..n].to_vec(),
-        })
+        }
     }
 
     fn disc_load(
@@ -1320,6 +1512,19 @@ impl<'a> StaticAnalysis<'a> {
 }
 
 /// True for the angle coordinates of [`Layout`] (input, output, and the third of every body).
+/// A finite crank angle (rad) and torque (N m).
+fn check_input(phi: f64, torque: f64) -> Result<()> {
+    if phi.is_finite() && torque.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            "static analysis input",
+            format!("crank angle {phi} rad, torque {torque} N m"),
+            "must be finite",
+        ))
+    }
+}
+
 fn is_angle(i: usize) -> bool {
     i < 2 || (i - 2) % 3 == 2
 }

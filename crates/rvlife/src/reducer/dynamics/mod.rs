@@ -98,12 +98,17 @@ pub struct DynamicsResult {
     pub samples: Vec<Sample>,
     /// Pin forces per sample (`2 x Zp` per row, N, disc-major), if asked for.
     pub pin_forces: Option<Vec<Vec<f64>>>,
+    /// Deviations of every coordinate from the nominal kinematics per sample, with the pin
+    /// forces (one row of [`crate::reducer::Layout::dofs`] entries: m for positions, rad for
+    /// angles; the layout of [`crate::reducer::statics::StaticSolution::deviations`]).
+    pub deviations: Option<Vec<Vec<f64>>>,
     /// Summary over the window.
     pub summary: DynamicsSummary,
 }
 
 /// Simulates the reducer with the disc profile `profile` (both discs alike) and returns the
-/// time series and the TE summary. With `pin_forces`, also every pin force at every sample.
+/// time series and the TE summary. With `pin_forces`, also every pin force and the deviations
+/// of every coordinate at every sample.
 ///
 /// # Errors
 /// [`Error::Numerical`] if the gap table cannot be built, the integrator fails (step size
@@ -126,6 +131,8 @@ pub fn simulate(
         .collect();
     let mut samples = Vec::with_capacity(times.len());
     let mut forces_out = pin_forces.then(|| Vec::with_capacity(times.len()));
+    let mut deviations_out = pin_forces.then(|| Vec::with_capacity(times.len()));
+    let dofs = sys.layout().dofs();
     let mut dz = vec![0.0; sys.states()];
     let mut pins = vec![PinForce::default(); 2 * zp];
     let stats = ode::integrate(&sys, params.rtol, params.end_time, &times, |t, z| {
@@ -153,6 +160,9 @@ pub fn simulate(
         if let Some(f) = forces_out.as_mut() {
             f.push(pins.iter().map(|p| p.normal).collect());
         }
+        if let Some(d) = deviations_out.as_mut() {
+            d.push(z[..dofs].to_vec());
+        }
         if te.is_finite() {
             Ok(())
         } else {
@@ -167,6 +177,7 @@ pub fn simulate(
     Ok(DynamicsResult {
         samples,
         pin_forces: forces_out,
+        deviations: deviations_out,
         summary,
     })
 }
