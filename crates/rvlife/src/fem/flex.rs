@@ -278,7 +278,9 @@ pub const FLEX_OFFSET_TOLERANCE: f64 = 1e-9;
 
 /// Flexible discs on their bearings: the static equilibrium of the reducer model
 /// ([`StaticAnalysis`]: both discs free on the crank bearings, load share from the equilibrium)
-/// with each disc's body deflection added to its pins' gaps.
+/// with each disc's body deflection added to its pins' gaps, started from `rigid`, the
+/// rigid-disc solution of `sa` at the crank angle and output torque wanted (its first-contact
+/// twist is kept).
 ///
 /// For the loaded pins of each disc (contact parameters `t_j`, forces `F_j`, flank curvatures
 /// `kappa_j`) the gap offset is `sum_k C(t_j, t_k) F_k + w_flex(F_j) - w(F_j)`: the FE body's
@@ -302,10 +304,13 @@ pub fn solve_flexible_bearings(
     sa: &StaticAnalysis,
     red: &Reducer,
     disc: &DiscModel,
-    phi: f64,
-    torque: f64,
-    psi0: f64,
+    rigid: StaticSolution,
 ) -> Result<(StaticSolution, Vec<f64>)> {
+    let (phi, torque, psi0) = (
+        rigid.crank_angle,
+        rigid.output_torque,
+        rigid.first_contact_twist,
+    );
     if torque < 0.0 {
         return Err(Error::invalid(
             "flexible contact torque",
@@ -319,7 +324,7 @@ pub fn solve_flexible_bearings(
         patch: disc.params.patch,
     };
     let mut offsets = vec![0.0; 2 * zp];
-    let mut sol = sa.solve_with_offsets(phi, torque, psi0, None, &offsets)?;
+    let mut sol = rigid;
     if torque == 0.0 {
         return Ok((sol, offsets));
     }
@@ -560,13 +565,8 @@ pub fn analyse_stage(
         .collect::<Result<_>>()?;
     let flexible_ste: Vec<f64> = rows.iter().map(|r| factor * r.0.disc_rotation).collect();
     let flexible_loaded_te: Vec<f64> = rows.iter().map(|r| factor * r.1.disc_rotation).collect();
-    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
-    let d_theta = mean(&flexible_loaded_te) - mean(&flexible_ste);
-    let torsional_stiffness = if d_theta > 0.0 {
-        (rated_torque - ste_torque) / d_theta
-    } else {
-        f64::INFINITY
-    };
+    let torsional_stiffness =
+        secant_stiffness(ste_torque, rated_torque, &flexible_ste, &flexible_loaded_te);
     let worst = rows
         .iter()
         .max_by(|a, b| a.1.max_force().total_cmp(&b.1.max_force()))
@@ -589,6 +589,18 @@ pub fn analyse_stage(
     })
 }
 
+/// Secant torsional stiffness (N m/rad) between torques `lo_torque` and `hi_torque` (N m)
+/// from the means of the TE curves `lo` and `hi` (rad); infinite if the mean does not grow.
+fn secant_stiffness(lo_torque: f64, hi_torque: f64, lo: &[f64], hi: &[f64]) -> f64 {
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let d_theta = mean(hi) - mean(lo);
+    if d_theta > 0.0 {
+        (hi_torque - lo_torque) / d_theta
+    } else {
+        f64::INFINITY
+    }
+}
+
 /// [`analyse_stage`] with the discs on their bearings ([`solve_flexible_bearings`]): the TEs
 /// are the reducer's output twists.
 fn analyse_stage_bearings(
@@ -605,22 +617,18 @@ fn analyse_stage_bearings(
         .par_iter()
         .map(|&phi| -> Result<Row> {
             let psi0 = sa.first_contact(phi, 1.0)?;
-            let rigid = sa.solve_from(phi, rated_torque, psi0)?.twist;
-            let (lo, _) = solve_flexible_bearings(&sa, reducer, disc, phi, ste_torque, psi0)?;
-            let (hi, offsets) =
-                solve_flexible_bearings(&sa, reducer, disc, phi, rated_torque, psi0)?;
+            let rigid_lo = sa.solve_from(phi, ste_torque, psi0)?;
+            let rigid_hi = sa.solve_from(phi, rated_torque, psi0)?;
+            let rigid = rigid_hi.twist;
+            let (lo, _) = solve_flexible_bearings(&sa, reducer, disc, rigid_lo)?;
+            let (hi, offsets) = solve_flexible_bearings(&sa, reducer, disc, rigid_hi)?;
             Ok((psi0, rigid, lo, hi, offsets))
         })
         .collect::<Result<_>>()?;
     let flexible_ste: Vec<f64> = rows.iter().map(|r| r.2.twist).collect();
     let flexible_loaded_te: Vec<f64> = rows.iter().map(|r| r.3.twist).collect();
-    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
-    let d_theta = mean(&flexible_loaded_te) - mean(&flexible_ste);
-    let torsional_stiffness = if d_theta > 0.0 {
-        (rated_torque - ste_torque) / d_theta
-    } else {
-        f64::INFINITY
-    };
+    let torsional_stiffness =
+        secant_stiffness(ste_torque, rated_torque, &flexible_ste, &flexible_loaded_te);
     let worst = rows
         .iter()
         .max_by(|a, b| {
