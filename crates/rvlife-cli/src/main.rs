@@ -13,8 +13,8 @@ use rvlife::export::{write_profile, ProfileFormat};
 use rvlife::geometry::{Profile, WearMap};
 use rvlife::reducer::statics::StaticAnalysis;
 use rvlife::te::{
-    hysteresis, loaded_te, mesh_cycle_angles, over_revolution, CurveStats, StaticTe, TwistTable,
-    ARCMIN_PER_RAD,
+    hysteresis, hysteresis_with, loaded_te_with, mesh_cycle_angles, over_revolution, CurveStats,
+    StaticTe, TwistTable, ARCMIN_PER_RAD,
 };
 use rvlife::{Error, Result};
 use serde_json::json;
@@ -420,9 +420,9 @@ fn run(cli: Cli) -> Result<()> {
             let profile = profile_for(&model, &wear, false)?;
             let red = &model.reducer;
             let phis = mesh_cycle_angles(red.geometry.pins, model.te_samples);
-            let (tables, mean) = hysteresis(
-                red,
-                &profile,
+            let sa = StaticAnalysis::new(red, &profile)?;
+            let (tables, mean) = hysteresis_with(
+                &sa,
                 &phis,
                 model.rated_torque,
                 model.measuring_torque_fraction,
@@ -458,7 +458,7 @@ fn run(cli: Cli) -> Result<()> {
             });
             let mut loaded_summary = None;
             if let Some(t) = torque_nm {
-                let l = loaded_te(red, &profile, t, model.te_samples)?;
+                let l = loaded_te_with(&sa, t, model.te_samples)?;
                 let ls = l.stats();
                 let (_, lte) =
                     over_revolution(&l.crank_angle, &l.te, model.geometry.pins, model.ratio);

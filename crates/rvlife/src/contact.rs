@@ -17,6 +17,8 @@
 //! outward normal `n`) is positive on that flank; the pin pushes on the disc with the moment
 //! `-F_j l_j`.
 
+pub mod elastic;
+
 use argmin::core::{CostFunction, Executor};
 use argmin::solver::brent::BrentRoot;
 use serde::{Deserialize, Serialize};
@@ -296,7 +298,9 @@ impl ContactModel {
             let fp = 1.0 - g1 / g;
             let step = f / fp;
             u -= step;
-            if step.abs() < 1e-14 {
+            // Relative to |u|: at approaches of 1e-30 m, u = ln F is about -60 and its ulp
+            // alone is 7e-15.
+            if step.abs() < 1e-14 * u.abs().max(1.0) {
                 let force = u.exp();
                 let g = g0 - g1 * u;
                 let stiffness = 1.0 / (g - g1);

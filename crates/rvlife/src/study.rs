@@ -22,8 +22,9 @@ use crate::fem::mesh::Mesh;
 use crate::fem::DiscModel;
 use crate::geometry::{Profile, WearMap};
 use crate::reducer::dynamics::{simulate, DynamicsSummary};
+use crate::reducer::statics::StaticAnalysis;
 use crate::te::{
-    hysteresis, loaded_te, mesh_cycle_angles, CurveStats, LoadedTe, StaticTe, TwistTable,
+    hysteresis_with, loaded_te_with, mesh_cycle_angles, CurveStats, LoadedTe, StaticTe, TwistTable,
     ARCMIN_PER_RAD,
 };
 use crate::wear::{integrate, WearHistory};
@@ -236,9 +237,9 @@ pub const HYSTERESIS_LEVELS: usize = 4;
 pub fn analyse_profile(model: &Model, profile: &Profile, hours: f64) -> Result<ProfileAnalysis> {
     let red = &model.reducer;
     let phis = mesh_cycle_angles(red.geometry.pins, model.te_samples);
-    let (tables, mean) = hysteresis(
-        red,
-        profile,
+    let sa = StaticAnalysis::new(red, profile)?;
+    let (tables, mean) = hysteresis_with(
+        &sa,
         &phis,
         model.rated_torque,
         model.measuring_torque_fraction,
@@ -261,7 +262,7 @@ pub fn analyse_profile(model: &Model, profile: &Profile, hours: f64) -> Result<P
              thin the teeth (equidistant > 0 or offset < 0)",
         ));
     }
-    let loaded = loaded_te(red, profile, model.loaded_torque, model.te_samples)?;
+    let loaded = loaded_te_with(&sa, model.loaded_torque, model.te_samples)?;
     let acc = mean.accuracy();
     let s = ste.stats();
     let play = ste.backlash_stats();

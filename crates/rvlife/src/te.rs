@@ -200,8 +200,15 @@ pub fn loaded_te(
     torque: f64,
     samples: usize,
 ) -> Result<LoadedTe> {
-    let phis = mesh_cycle_angles(red.geometry.pins, samples);
-    let sa = StaticAnalysis::new(red, profile)?;
+    loaded_te_with(&StaticAnalysis::new(red, profile)?, torque, samples)
+}
+
+/// [`loaded_te`] on an analysis already built (its contact geometry reused).
+///
+/// # Errors
+/// As [`loaded_te`].
+pub fn loaded_te_with(sa: &StaticAnalysis, torque: f64, samples: usize) -> Result<LoadedTe> {
+    let phis = mesh_cycle_angles(sa.reducer().geometry.pins, samples);
     let solutions = sa.solve_sequence(&phis, torque)?;
     let s = if torque < 0.0 { -1.0 } else { 1.0 };
     Ok(LoadedTe {
@@ -395,11 +402,30 @@ pub fn hysteresis(
     measuring_fraction: f64,
     levels: usize,
 ) -> Result<(Vec<TwistTable>, TwistTable)> {
+    hysteresis_with(
+        &StaticAnalysis::new(red, profile)?,
+        crank_angles,
+        rated,
+        measuring_fraction,
+        levels,
+    )
+}
+
+/// [`hysteresis`] on an analysis already built (its contact geometry reused).
+///
+/// # Errors
+/// As [`hysteresis`].
+pub fn hysteresis_with(
+    sa: &StaticAnalysis,
+    crank_angles: &[f64],
+    rated: f64,
+    measuring_fraction: f64,
+    levels: usize,
+) -> Result<(Vec<TwistTable>, TwistTable)> {
     let fractions = torque_fractions(measuring_fraction, levels);
-    let sa = StaticAnalysis::new(red, profile)?;
     let tables: Vec<TwistTable> = crank_angles
         .par_iter()
-        .map(|&phi| TwistTable::at_crank(&sa, phi, &fractions, rated, measuring_fraction))
+        .map(|&phi| TwistTable::at_crank(sa, phi, &fractions, rated, measuring_fraction))
         .collect::<Result<_>>()?;
     let mean = TwistTable::mean_of(&tables);
     Ok((tables, mean))

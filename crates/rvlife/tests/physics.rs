@@ -276,6 +276,15 @@ fn hertz_against_hand_calculation() {
     // The inverse law returns the force.
     let (f, k) = m.force(d, 1.0 / 5e-3).unwrap();
     assert!((f / 447.0 - 1.0).abs() < 1e-10, "{f}");
+    // Down to approaches of 1e-30 m (a pin grazing the flank inside a solve): the inverse
+    // converges (it once stalled where the ulp of ln F alone exceeded its step tolerance).
+    for delta in [1e-12, 1e-20, 6.3e-30, 1e-40] {
+        let (f, _) = m.force(delta, 1.0 / 5e-3).unwrap();
+        assert!(
+            (m.approach(f, 1.0 / 5e-3) / delta - 1.0).abs() < 1e-12,
+            "{delta:e}"
+        );
+    }
     let e = 1e-9;
     let fd = (m.force(d + e, 0.2e3).unwrap().0 - m.force(d - e, 0.2e3).unwrap().0) / (2.0 * e);
     assert!((k / fd - 1.0).abs() < 1e-5, "{k} {fd}");
@@ -526,8 +535,17 @@ fn wear_depth_is_monotone_in_archard_coefficient_on_a_fixed_schedule() {
 ///   discs the relation is not exact (measured 3.5e-3 at 1250 h, 1.2e-2 at 7500 h; printed).
 /// - Penetration against the exact worn flank (global closest point of the profile, not the
 ///   gap table): within 5 % of the law's approach plus 0.1 um at 0 and 1250 h (measured 0 and
-///   0.083 um). The table is the flank averaged over the Hertz band; at 7500 h it departs from
-///   the exact flank by up to 0.83 um at the steep edges of the wear scar: printed only.
+///   0.083 um). The table is the flank averaged over one Hertz band (that of Li's largest force
+///   at the rated torque); at 7500 h it departs from the exact flank by up to 0.83 um: printed.
+/// - The same in the elastic sense ([`rvlife::contact::elastic`]): the approach on the law's
+///   circle minus the approach that carries the pin's force on the exact flank by non-Hertzian
+///   line contact, on every pin that fails the rigid check and every loaded pin at every tenth
+///   crank angle, within 5 % of the law's approach plus 0.1 um at 0 and 1250 h (measured 0 and
+///   0.077 um). At 7500 h it is 0.40 um beyond (excess 0.41 um for 35 N at mesh angle 25.7 deg
+///   and the rated torque, on the flank of the wear peak, where the contact is far narrower
+///   than the averaging band):
+///   printed. One band cannot serve contacts of 13 N and 4 kN; the averaging width must follow
+///   each pin's force.
 #[test]
 fn static_analysis_fine_scan() {
     use rayon::prelude::*;
@@ -538,6 +556,10 @@ fn static_analysis_fine_scan() {
     let zp = m.geometry.pins as f64;
     let law = &m.reducer.contact;
     let pin_radius = m.geometry.pin_radius;
+    let compliance = {
+        let (c1, c2) = law.materials.compliances();
+        c1 + c2
+    };
     /// Worst values over a stage's scan.
     #[derive(Default, Clone, Copy)]
     struct Worst {
@@ -549,6 +571,23 @@ fn static_analysis_fine_scan() {
         beyond: f64,
         /// Exact penetration beyond 1.05 times the law's approach, m.
         excess: f64,
+        /// Pins that fail the rigid check.
+        rigid_fails: usize,
+        /// Loaded pins given the elastic check.
+        elastic_checked: usize,
+        /// The pin whose elastic excess goes furthest beyond 5 % of the law's approach.
+        elastic: ElasticWorst,
+    }
+    /// One pin of the elastic check: excess approach (m) and its beyond 5 % of the law's
+    /// approach (m), the law's approach (m), force (N), mesh angle (deg), output torque (N m).
+    #[derive(Default, Clone, Copy)]
+    struct ElasticWorst {
+        over: f64,
+        excess: f64,
+        approach: f64,
+        force: f64,
+        mesh_deg: f64,
+        torque: f64,
     }
     let merge = |a: Worst, b: Worst| Worst {
         moment: a.moment.max(b.moment),
@@ -557,6 +596,13 @@ fn static_analysis_fine_scan() {
         floor: a.floor.max(b.floor),
         beyond: a.beyond.max(b.beyond),
         excess: a.excess.max(b.excess),
+        rigid_fails: a.rigid_fails + b.rigid_fails,
+        elastic_checked: a.elastic_checked + b.elastic_checked,
+        elastic: if b.elastic.over > a.elastic.over {
+            b.elastic
+        } else {
+            a.elastic
+        },
     };
     for (hours, profile) in example_discs() {
         let sa = StaticAnalysis::new(&m.reducer, profile).unwrap();
@@ -607,11 +653,46 @@ fn static_analysis_fine_scan() {
                     for d in &sol.discs {
                         for p in d.pins.iter().filter(|p| p.gap < 1e-6) {
                             let q = d.pose.pin_in_disc(&m.geometry, p.pin);
-                            let exact = profile.project(&q, p.profile_parameter).unwrap().distance
-                                - pin_radius;
+                            let foot = profile.project(&q, p.profile_parameter).unwrap();
+                            let exact = foot.distance - pin_radius;
                             let approach = law.approach(p.force, p.curvature);
                             w.beyond = w.beyond.max(-exact - approach);
                             w.excess = w.excess.max(-exact - 1.05 * approach);
+                            let rigid_fails = -exact - 1.05 * approach > 0.1e-6;
+                            w.rigid_fails += rigid_fails as usize;
+                            // The elastic check, on every pin that fails the rigid one and on
+                            // every loaded pin at every tenth crank angle: the approach that
+                            // carries the pin's force on the exact flank (non-Hertzian line
+                            // contact) against the approach on the law's circle.
+                            if p.force > 0.0 && (rigid_fails || k % 10 == 0) {
+                                let e = rvlife::contact::elastic::approach_excess(
+                                    profile,
+                                    &q,
+                                    pin_radius,
+                                    foot.point.t,
+                                    p.force,
+                                    p.half_width,
+                                    p.gap,
+                                    p.curvature,
+                                    law.width,
+                                    compliance,
+                                )
+                                .unwrap_or_else(|e| {
+                                    panic!("{hours} h, phi {phi}, {torque} N m: {e}")
+                                });
+                                w.elastic_checked += 1;
+                                let over = e - 0.05 * approach;
+                                if over > w.elastic.over {
+                                    w.elastic = ElasticWorst {
+                                        over,
+                                        excess: e,
+                                        approach,
+                                        force: p.force,
+                                        mesh_deg: p.mesh_angle.to_degrees(),
+                                        torque,
+                                    };
+                                }
+                            }
                         }
                     }
                 }
@@ -621,24 +702,39 @@ fn static_analysis_fine_scan() {
         eprintln!(
             "{hours} h: worst relative moment error {:.3e}; worst residual {:.3e} ({} solves \
              accepted at the round-off floor, largest floor {:.3e}); largest exact penetration \
-             beyond the law's approach {:.4} um, beyond 1.05 times it {:.4} um",
+             beyond the law's approach {:.4} um, beyond 1.05 times it {:.4} um ({} pins past \
+             that by 0.1 um); elastic check of {} loaded pins: largest excess beyond 5 % of the \
+             law's approach {:.4} um (excess {:.4} um, approach {:.4} um, {:.1} N at mesh angle \
+             {:.2} deg, {:.1} N m)",
             worst.moment,
             worst.residual,
             worst.floor_accepted,
             worst.floor,
             worst.beyond * 1e6,
-            worst.excess * 1e6
+            worst.excess * 1e6,
+            worst.rigid_fails,
+            worst.elastic_checked,
+            worst.elastic.over * 1e6,
+            worst.elastic.excess * 1e6,
+            worst.elastic.approach * 1e6,
+            worst.elastic.force,
+            worst.elastic.mesh_deg,
+            worst.elastic.torque,
         );
         if *hours == 0.0 {
             assert!(worst.moment < 1e-4, "{hours} h: {:e}", worst.moment);
         }
         // At 7500 h the band-averaged contact geometry departs from the exact worn flank by more
-        // than this (measured: 0.83 um beyond the approach, 0.42 um beyond 1.05 times it, at the
-        // steep edges of the wear scar): printed, not asserted.
+        // than this, rigidly and elastically (see the doc above): printed, not asserted.
         assert!(
             *hours > 5000.0 || worst.excess < 0.1e-6,
             "{hours} h: a pin penetrates {:.4} um beyond the law's approach",
             worst.beyond * 1e6
+        );
+        assert!(
+            *hours > 5000.0 || worst.elastic.over < 0.1e-6,
+            "{hours} h: elastic excess approach {:.4} um beyond 5 % of the law's",
+            worst.elastic.over * 1e6
         );
     }
 }

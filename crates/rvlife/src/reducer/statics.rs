@@ -310,6 +310,11 @@ impl<'a> StaticAnalysis<'a> {
         })
     }
 
+    /// The reducer analysed.
+    pub fn reducer(&self) -> &'a Reducer {
+        self.red
+    }
+
     /// The contact geometry.
     pub fn gap_field(&self) -> &GapField {
         &self.field
