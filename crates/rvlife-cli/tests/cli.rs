@@ -670,6 +670,16 @@ fn bad_load_share_above_one() {
 }
 
 #[test]
+fn bad_contact_band_force() {
+    for v in ["0.0", "-5.0", "1e300"] {
+        check_bad_config(
+            &add_line(&example_text(), "contact", &format!("band_force_n = {v}")),
+            &["contact.band_force_n"],
+        );
+    }
+}
+
+#[test]
 fn bad_poisson_ratio() {
     bad_key("materials.disc", "poisson_ratio", "0.6", &["poisson_ratio"]);
 }

@@ -328,9 +328,14 @@ impl Config {
             )?,
         };
         let mut reducer = reducer;
-        // Li's largest pin force at the rated torque on one disc (physics-notes section 4).
-        reducer.contact_band_force = 4.0 * 0.5 * rated_torque * reducer.twist_factor()
-            / (geometry.disc_pitch_radius() * pins as f64);
+        reducer.contact_band_force = match self.contact.band_force_n {
+            Some(f) => check("contact.band_force_n", f, Range::positive(1e7, "N"))?,
+            // Li's largest pin force at the rated torque on one disc (physics-notes section 4).
+            None => {
+                4.0 * 0.5 * rated_torque * reducer.twist_factor()
+                    / (geometry.disc_pitch_radius() * pins as f64)
+            }
+        };
         let spectrum = self.load_spectrum(rated_torque, input_speed_rpm)?;
         let w = &self.wear;
         let wear_model = match w.model.as_str() {

@@ -108,6 +108,10 @@ pub struct ContactConfig {
     /// Share of the output torque on the disc with `support = "rigid"` (paper eqs 8-9: 0.55).
     #[serde(default)]
     pub load_share: Option<f64>,
+    /// Force whose Hertz half-width sets the band over which the contact geometry averages the
+    /// worn flank, N (default: Li's largest pin force at the rated torque).
+    #[serde(default)]
+    pub band_force_n: Option<f64>,
 }
 
 fn default_law() -> String {
@@ -131,6 +135,7 @@ impl Default for ContactConfig {
             disc_depth: default_disc_depth(),
             support: default_support(),
             load_share: None,
+            band_force_n: None,
         }
     }
 }

@@ -141,7 +141,8 @@ pub struct Reducer {
     /// How the discs are held in the static analysis.
     pub support: Support,
     /// Force (N) whose Hertz half-width sets the band over which the contact geometry is
-    /// averaged ([`dynamics::GapField::new`]): Li's largest pin force at the rated torque.
+    /// averaged ([`dynamics::GapField::new`]): `[contact] band_force_n`, by default Li's
+    /// largest pin force at the rated torque.
     pub contact_band_force: f64,
     /// Mesh angles per tooth of the contact geometry's gap table.
     pub gap_points: usize,
