@@ -533,19 +533,14 @@ fn wear_depth_is_monotone_in_archard_coefficient_on_a_fixed_schedule() {
 /// - On the new disc the pin moments on the two discs carry the output torque through the
 ///   first stage, `sum_d M_d = T Zc / (Zp + Z1/Z2)`, within 1e-4 (measured 2.0e-5). On worn
 ///   discs the relation is not exact (measured 3.5e-3 at 1250 h, 1.2e-2 at 7500 h; printed).
-/// - Penetration against the exact worn flank (global closest point of the profile, not the
-///   gap table): within 5 % of the law's approach plus 0.1 um at 0 and 1250 h (measured 0 and
-///   0.083 um). The table is the flank averaged over one Hertz band (that of Li's largest force
-///   at the rated torque); at 7500 h it departs from the exact flank by up to 0.83 um: printed.
-/// - The same in the elastic sense ([`rvlife::contact::elastic`]): the approach on the law's
-///   circle minus the approach that carries the pin's force on the exact flank by non-Hertzian
-///   line contact, on every pin that fails the rigid check and every loaded pin at every tenth
-///   crank angle, within 5 % of the law's approach plus 0.1 um at 0 and 1250 h (measured 0 and
-///   0.077 um). At 7500 h it is 0.40 um beyond (excess 0.41 um for 35 N at mesh angle 25.7 deg
-///   and the rated torque, on the flank of the wear peak, where the contact is far narrower
-///   than the averaging band):
-///   printed. One band cannot serve contacts of 13 N and 4 kN; the averaging width must follow
-///   each pin's force.
+/// - No pin penetrates beyond the contact law's approach, in the elastic sense
+///   ([`rvlife::contact::elastic`]): the approach on the law's circle minus the approach that
+///   carries the pin's force on the exact worn flank by non-Hertzian line contact is within 5 %
+///   of the law's approach plus 0.1 um, on every loaded pin at every tenth crank angle and on
+///   every pin that the rigid comparison below flags (measured: MEASURED_ELASTIC).
+/// - The rigid comparison, printed: the exact flank's closest point against the law's approach
+///   (measured: MEASURED_RIGID). It ignores that the contact flattens features narrower
+///   than its band, which the elastic check includes.
 #[test]
 fn static_analysis_fine_scan() {
     use rayon::prelude::*;
@@ -577,6 +572,9 @@ fn static_analysis_fine_scan() {
         elastic_checked: usize,
         /// The pin whose elastic excess goes furthest beyond 5 % of the law's approach.
         elastic: ElasticWorst,
+        /// Most negative elastic excess, m (the law's geometry needs more approach than the
+        /// exact flank: the model's force is the higher).
+        stiff: f64,
     }
     /// One pin of the elastic check: excess approach (m) and its beyond 5 % of the law's
     /// approach (m), the law's approach (m), force (N), mesh angle (deg), output torque (N m).
@@ -603,6 +601,7 @@ fn static_analysis_fine_scan() {
         } else {
             a.elastic
         },
+        stiff: a.stiff.min(b.stiff),
     };
     for (hours, profile) in example_discs() {
         let sa = StaticAnalysis::new(&m.reducer, profile).unwrap();
@@ -681,6 +680,7 @@ fn static_analysis_fine_scan() {
                                     panic!("{hours} h, phi {phi}, {torque} N m: {e}")
                                 });
                                 w.elastic_checked += 1;
+                                w.stiff = w.stiff.min(e);
                                 let over = e - 0.05 * approach;
                                 if over > w.elastic.over {
                                     w.elastic = ElasticWorst {
@@ -705,7 +705,7 @@ fn static_analysis_fine_scan() {
              beyond the law's approach {:.4} um, beyond 1.05 times it {:.4} um ({} pins past \
              that by 0.1 um); elastic check of {} loaded pins: largest excess beyond 5 % of the \
              law's approach {:.4} um (excess {:.4} um, approach {:.4} um, {:.1} N at mesh angle \
-             {:.2} deg, {:.1} N m)",
+             {:.2} deg, {:.1} N m); most negative excess {:.4} um",
             worst.moment,
             worst.residual,
             worst.floor_accepted,
@@ -720,19 +720,14 @@ fn static_analysis_fine_scan() {
             worst.elastic.force,
             worst.elastic.mesh_deg,
             worst.elastic.torque,
+            worst.stiff * 1e6,
         );
         if *hours == 0.0 {
             assert!(worst.moment < 1e-4, "{hours} h: {:e}", worst.moment);
         }
-        // At 7500 h the band-averaged contact geometry departs from the exact worn flank by more
-        // than this, rigidly and elastically (see the doc above): printed, not asserted.
+        // Every pin the rigid comparison flags is checked elastically, and must pass.
         assert!(
-            *hours > 5000.0 || worst.excess < 0.1e-6,
-            "{hours} h: a pin penetrates {:.4} um beyond the law's approach",
-            worst.beyond * 1e6
-        );
-        assert!(
-            *hours > 5000.0 || worst.elastic.over < 0.1e-6,
+            worst.elastic.over < 0.1e-6,
             "{hours} h: elastic excess approach {:.4} um beyond 5 % of the law's",
             worst.elastic.over * 1e6
         );

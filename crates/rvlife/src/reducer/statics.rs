@@ -730,7 +730,17 @@ impl<'a> StaticAnalysis<'a> {
                 for i in 0..m {
                     z[2 + i] = base[2 + i] + alpha * step[i];
                 }
-                let trial = self.eval_bearings(fr, z, memory, true)?;
+                // A trial step long enough to take a contact out of the law's validity (a
+                // Newton step across a sharp feature of a worn flank) is shortened like one
+                // that raises the residual.
+                let trial = match self.eval_bearings(fr, z, memory, true) {
+                    Ok(trial) => trial,
+                    Err(_) if alpha >= 1e-4 => {
+                        alpha *= 0.5;
+                        continue;
+                    }
+                    Err(e) => return Err(e),
+                };
                 let mt = merit(&trial);
                 if mt <= m0 * (1.0 - 1e-4 * alpha) {
                     stalled = 0;
@@ -814,7 +824,11 @@ impl<'a> StaticAnalysis<'a> {
                 }
                 x *= 2.0;
                 self.mode_deviation(fr, start.psi0 + s * x, z);
-                ev = self.eval_bearings(fr, z, memory, true)?;
+                // A failed evaluation sends the solve to the twist-controlled path.
+                let Ok(next) = self.eval_bearings(fr, z, memory, true) else {
+                    return Ok(None);
+                };
+                ev = next;
             }
         }
         let mut kt: Option<DMatrix<f64>> = None;
@@ -849,7 +863,9 @@ impl<'a> StaticAnalysis<'a> {
                 for i in 0..m {
                     z[1 + i] = base[1 + i] + alpha * step[i];
                 }
-                let trial = self.eval_bearings(fr, z, memory, true)?;
+                let Ok(trial) = self.eval_bearings(fr, z, memory, true) else {
+                    return Ok(None);
+                };
                 let mt = merit(&trial);
                 if mt <= m0 * (1.0 - 1e-4 * alpha) {
                     ev = trial;
@@ -979,7 +995,7 @@ impl<'a> StaticAnalysis<'a> {
             for j in 0..zp {
                 let p = self.eval_pin(&pose, j, f64::NAN)?;
                 let m = Self::mode_lever(&p, dc);
-                if s * m > 0.0 {
+                if s * m > self.lever_floor() {
                     est.push((d, j, p.gap / m, p.t));
                 }
             }
@@ -1029,6 +1045,16 @@ impl<'a> StaticAnalysis<'a> {
         Ok(s * best)
     }
 
+    /// Smallest mode lever (m/rad) of a pin that can stop the mechanism: `1e-9 Rp` (64 pm for
+    /// the example). A pin at the exact tip or root of a tooth has no lever; its computed lever
+    /// is round-off (measured 2e-14 to 1.6e-13 m/rad at crank angle 0), and with a gap at
+    /// round-off too (1e-17 m) it would put a first contact anywhere within 3e-4 rad. A pin
+    /// with a lever of `1e-9 Rp` would need a billion times the force of one at the pin circle
+    /// to hold a torque: this is a floor of the arithmetic, not a cut-off of the physics.
+    fn lever_floor(&self) -> f64 {
+        1e-9 * self.red.geometry.pin_circle_radius
+    }
+
     /// Twist (rad) at which pin `j` of disc `d` touches, near the estimate `est`, turning in
     /// direction `s`; `None` if it moves away.
     fn touching_twist(
@@ -1044,7 +1070,7 @@ impl<'a> StaticAnalysis<'a> {
         let mut b = est;
         for _ in 0..12 {
             let (g, m) = self.mode_gap(phi, d, j, b, &mut hint)?;
-            if s * m <= 0.0 {
+            if s * m <= self.lever_floor() {
                 return Ok(None);
             }
             if g.abs() < 1e-14 {
