@@ -680,6 +680,14 @@ fn bad_contact_band_force() {
 }
 
 #[test]
+fn bad_contact_band() {
+    check_bad_config(
+        &add_line(&example_text(), "contact", "band = \"widest\""),
+        &["contact.band"],
+    );
+}
+
+#[test]
 fn bad_poisson_ratio() {
     bad_key("materials.disc", "poisson_ratio", "0.6", &["poisson_ratio"]);
 }

@@ -320,6 +320,17 @@ impl Config {
             contact,
             support,
             contact_band_force: 0.0,
+            contact_envelope: match self.contact.band.as_str() {
+                "single" => false,
+                "envelope" => true,
+                other => {
+                    return Err(Error::invalid(
+                        "contact.band",
+                        format!("\"{other}\""),
+                        "must be \"single\" or \"envelope\"",
+                    ))
+                }
+            },
             gap_points: whole(
                 "dynamics.gap_points_per_tooth",
                 self.dynamics.gap_points_per_tooth,

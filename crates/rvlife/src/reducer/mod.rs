@@ -144,11 +144,24 @@ pub struct Reducer {
     /// averaged ([`dynamics::GapField::new`]): `[contact] band_force_n`, by default Li's
     /// largest pin force at the rated torque.
     pub contact_band_force: f64,
+    /// `[contact] band = "envelope"`: the contact geometry is the upper envelope of the flank
+    /// averaged over a narrow and the wide band ([`dynamics::Band`]); `false` (default): the
+    /// flank averaged over the band.
+    pub contact_envelope: bool,
     /// Mesh angles per tooth of the contact geometry's gap table.
     pub gap_points: usize,
 }
 
 impl Reducer {
+    /// How the contact geometry sees the worn flank ([`dynamics::GapField::new`]).
+    pub fn contact_band(&self) -> dynamics::Band<'_> {
+        dynamics::Band {
+            contact: &self.contact,
+            force: self.contact_band_force,
+            envelope: self.contact_envelope,
+        }
+    }
+
     /// The coordinate layout.
     pub fn layout(&self) -> Layout {
         Layout {

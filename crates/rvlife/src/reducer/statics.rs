@@ -295,11 +295,7 @@ impl<'a> StaticAnalysis<'a> {
     /// # Errors
     /// [`Error::Numerical`] if a projection of the gap field fails.
     pub fn new(red: &'a Reducer, profile: &'a Profile) -> Result<Self> {
-        let field = GapField::new(
-            profile,
-            red.gap_points,
-            Some((&red.contact, red.contact_band_force)),
-        )?;
+        let field = GapField::new(profile, red.gap_points, Some(red.contact_band()))?;
         Ok(StaticAnalysis {
             red,
             profile,

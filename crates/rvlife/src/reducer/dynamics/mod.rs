@@ -33,7 +33,7 @@ use crate::error::{Error, Result};
 use crate::geometry::Profile;
 use crate::te::ARCMIN_PER_RAD;
 
-pub use gap::GapField;
+pub use gap::{Band, GapField};
 pub use params::DynamicsParams;
 pub use system::{PinForce, System};
 
@@ -121,7 +121,7 @@ pub fn simulate(
     let field = GapField::new(
         profile,
         params.gap_points,
-        Some((&params.reducer.contact, params.reducer.contact_band_force)),
+        Some(params.reducer.contact_band()),
     )?;
     let sys = System::new(params, [&field, &field]);
     let zp = params.reducer.geometry.pins;
