@@ -694,6 +694,11 @@ impl<'a> StaticAnalysis<'a> {
         // Newton method), and rebuilt otherwise.
         let mut kt: Option<DMatrix<f64>> = None;
         let mut last_res = f64::INFINITY;
+        // Levenberg-Marquardt damping of the Newton step (relative to the diagonal), raised
+        // when a step of the exact tangent finds no descent away from the round-off floor (a
+        // disc on a ridge of a worn flank, where the tangent is indefinite), reset after a
+        // descent.
+        let mut damping = 0.0;
         for _ in 0..100 {
             let res = self.inner_residual(&ev.g);
             let scale = ev.scale.max(force_floor).max(1e-300);
@@ -713,7 +718,12 @@ impl<'a> StaticAnalysis<'a> {
                 return Ok((ev, kt));
             }
             let kt = kt.as_ref().expect("tangent built above");
-            let kii = kt.view((2, 2), (m, m)).into_owned();
+            let mut kii = kt.view((2, 2), (m, m)).into_owned();
+            if damping > 0.0 {
+                for i in 0..m {
+                    kii[(i, i)] += damping * kii[(i, i)].abs();
+                }
+            }
             let rhs = DVector::from_iterator(m, (2..n).map(|i| ev.g[i]));
             let step = kii
                 .lu()
@@ -740,7 +750,14 @@ impl<'a> StaticAnalysis<'a> {
                 let mt = merit(&trial);
                 if mt <= m0 * (1.0 - 1e-4 * alpha) {
                     stalled = 0;
+                    damping = 0.0;
                     ev = trial;
+                    break;
+                }
+                if alpha < 1e-4 && res > 1e-6 * scale && damping < 1e8 {
+                    // No descent along this step: damp it and try again from the same state.
+                    damping = if damping == 0.0 { 1e-3 } else { 10.0 * damping };
+                    z[..n].copy_from_slice(&base);
                     break;
                 }
                 if res <= 1e-6 * scale || alpha < 1e-4 {
