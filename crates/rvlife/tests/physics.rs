@@ -18,19 +18,22 @@ fn model() -> Model {
 /// hours; integrated once for every test that reads it.
 fn example_discs() -> &'static [(f64, Profile)] {
     static DISCS: OnceLock<Vec<(f64, Profile)>> = OnceLock::new();
-    DISCS.get_or_init(|| {
-        let mut m = model();
-        m.stage_hours = vec![1250.0, 7500.0];
-        let hist = rvlife::wear::integrate(&m, &|_, _| {}).unwrap();
-        let mut profiles = vec![(0.0, m.profile(None).unwrap())];
-        for (h, map) in hist.hours.iter().zip(&hist.maps) {
-            profiles.push((
-                *h,
-                m.profile(Some(WearMap::new(map.clone()).unwrap())).unwrap(),
-            ));
-        }
-        profiles
-    })
+    DISCS.get_or_init(|| worn_discs(&model()))
+}
+
+/// The disc of `m` new and worn by its wear model for 1250 and 7500 h, with its hours.
+fn worn_discs(m: &Model) -> Vec<(f64, Profile)> {
+    let mut m = m.clone();
+    m.stage_hours = vec![1250.0, 7500.0];
+    let hist = rvlife::wear::integrate(&m, &|_, _| {}).unwrap();
+    let mut profiles = vec![(0.0, m.profile(None).unwrap())];
+    for (h, map) in hist.hours.iter().zip(&hist.maps) {
+        profiles.push((
+            *h,
+            m.profile(Some(WearMap::new(map.clone()).unwrap())).unwrap(),
+        ));
+    }
+    profiles
 }
 
 fn paper_geometry() -> CycloidGeometry {
@@ -559,16 +562,7 @@ fn static_analysis_fine_scan() {
 fn static_analysis_fine_scan_envelope() {
     let mut m = model();
     m.reducer.contact_envelope = true;
-    m.stage_hours = vec![1250.0, 7500.0];
-    let hist = rvlife::wear::integrate(&m, &|_, _| {}).unwrap();
-    let mut discs = vec![(0.0, m.profile(None).unwrap())];
-    for (h, map) in hist.hours.iter().zip(&hist.maps) {
-        discs.push((
-            *h,
-            m.profile(Some(WearMap::new(map.clone()).unwrap())).unwrap(),
-        ));
-    }
-    fine_scan(&m, &discs, &[0.0, 1250.0, 7500.0]);
+    fine_scan(&m, &worn_discs(&m), &[0.0, 1250.0, 7500.0]);
 }
 
 /// The fine scan of `m` on `discs` (hours, profile); the elastic check is asserted at the

@@ -195,11 +195,11 @@ impl GapField {
     /// # Errors
     /// [`crate::Error::Numerical`] if a projection fails.
     ///
-    /// With `band = Some((contact, force))` the offset and slope tables are then filtered over
-    /// two Hertz bands: every node becomes the semi-elliptic average over `+-b` of arc length
-    /// (two passes), `b` the half-width on the unworn flank there of [`NARROW_BAND`] times
-    /// `force` (N) and of `force`, and the field takes the upper envelope of the two, the flank
-    /// that stands further out (see the module docs).
+    /// With a `band` the offset and slope tables are then filtered over its Hertz band: every
+    /// node becomes the semi-elliptic average over `+-b` of arc length (two passes), `b` the
+    /// half-width of the band's force (N) on the unworn flank there; with `envelope`, over the
+    /// bands of [`NARROW_BAND`] times that force and of that force, and the field takes the
+    /// upper envelope of the two, the flank that stands further out (see the module docs).
     pub fn new(profile: &Profile, points: usize, band: Option<Band>) -> Result<Self> {
         let geo = profile.geometry();
         let (a, rp, r) = (geo.eccentricity, geo.pin_circle_radius, geo.pin_radius);
@@ -246,29 +246,22 @@ impl GapField {
             envelope,
         }) = band
         {
-            if !envelope {
+            if envelope {
+                let (narrow, wide) = rayon::join(
+                    || band_average(profile, contact, NARROW_BAND * force, &offset, &slope),
+                    || band_average(profile, contact, force, &offset, &slope),
+                );
+                // The upper envelope (the flank that stands further out) of the two; where
+                // they agree to a picometre (an unworn flank) the narrow band's tables.
+                for i in 0..n {
+                    (offset[i], slope[i]) = if wide.0[i] > narrow.0[i] + 1e-12 {
+                        (wide.0[i], wide.1[i])
+                    } else {
+                        (narrow.0[i], narrow.1[i])
+                    };
+                }
+            } else {
                 (offset, slope) = band_average(profile, contact, force, &offset, &slope);
-                return Ok(GapField {
-                    a,
-                    rp,
-                    zc,
-                    offset: PeriodicSpline::new(offset),
-                    slope: PeriodicSpline::new(slope),
-                    curvature: PeriodicSpline::new(curvature),
-                });
-            }
-            let (narrow, wide) = rayon::join(
-                || band_average(profile, contact, NARROW_BAND * force, &offset, &slope),
-                || band_average(profile, contact, force, &offset, &slope),
-            );
-            // The upper envelope (the flank that stands further out) of the two; where they
-            // agree to a picometre (an unworn flank) the narrow band's tables.
-            for i in 0..n {
-                (offset[i], slope[i]) = if wide.0[i] > narrow.0[i] + 1e-12 {
-                    (wide.0[i], wide.1[i])
-                } else {
-                    (narrow.0[i], narrow.1[i])
-                };
             }
         }
         Ok(GapField {
