@@ -682,7 +682,7 @@ fn bad_contact_band_force() {
 #[test]
 fn bad_contact_band() {
     check_bad_config(
-        &add_line(&example_text(), "contact", "band = \"widest\""),
+        &set_key(&example_text(), "contact", "band", "\"widest\""),
         &["contact.band"],
     );
 }

@@ -112,15 +112,15 @@ pub struct ContactConfig {
     /// worn flank, N (default: Li's largest pin force at the rated torque).
     #[serde(default)]
     pub band_force_n: Option<f64>,
-    /// How the contact geometry sees the worn flank: `"single"` (default: averaged over the
-    /// band of `band_force_n`) or `"envelope"` (the upper envelope of the flank averaged over a
-    /// sixteenth of that force and over that force).
+    /// How the contact geometry sees the worn flank: `"envelope"` (default: the upper envelope
+    /// of the flank averaged over a sixteenth of `band_force_n` and over `band_force_n`) or
+    /// `"single"` (averaged over the band of `band_force_n`).
     #[serde(default = "default_band")]
     pub band: String,
 }
 
 fn default_band() -> String {
-    "single".into()
+    "envelope".into()
 }
 
 fn default_law() -> String {

@@ -144,9 +144,9 @@ pub struct Reducer {
     /// averaged ([`dynamics::GapField::new`]): `[contact] band_force_n`, by default Li's
     /// largest pin force at the rated torque.
     pub contact_band_force: f64,
-    /// `[contact] band = "envelope"`: the contact geometry is the upper envelope of the flank
-    /// averaged over a narrow and the wide band ([`dynamics::Band`]); `false` (default): the
-    /// flank averaged over the band.
+    /// `[contact] band = "envelope"` (default): the contact geometry is the upper envelope of
+    /// the flank averaged over a narrow and the wide band ([`dynamics::Band`]); `false`
+    /// (`"single"`): the flank averaged over the band.
     pub contact_envelope: bool,
     /// Mesh angles per tooth of the contact geometry's gap table.
     pub gap_points: usize,

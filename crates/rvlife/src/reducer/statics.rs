@@ -1186,6 +1186,59 @@ impl<'a> StaticAnalysis<'a> {
                 format!("must be empty or {} finite values", 2 * zp),
             ));
         }
+        match self.solve_direct(phi, torque, psi0, near, offsets) {
+            Err(Error::Numerical { .. }) if torque != 0.0 => {
+                self.solve_in_load_steps(phi, torque, psi0, near, offsets)
+            }
+            result => result,
+        }
+    }
+
+    /// The last resort of [`StaticAnalysis::solve_with_offsets`]: the torque applied in steps
+    /// from `near` (when it lies on the way, else from zero), each solve started from the one
+    /// before, a step halved where it fails (a disc that moves onto other pins part of the way
+    /// up, as on a ridge of a worn flank, is followed along the loading path). The error of
+    /// the last step tried when the step falls below 1e-6 of the torque.
+    fn solve_in_load_steps(
+        &self,
+        phi: f64,
+        torque: f64,
+        psi0: f64,
+        near: Option<&StaticSolution>,
+        offsets: &[f64],
+    ) -> Result<StaticSolution> {
+        let mut prev = near
+            .filter(|x| x.output_torque * torque > 0.0 && x.output_torque.abs() < torque.abs())
+            .cloned();
+        let mut reached = prev.as_ref().map_or(0.0, |x| x.output_torque);
+        let mut step = (torque - reached) / 8.0;
+        loop {
+            let next = if (torque - reached).abs() <= 1.000001 * step.abs() {
+                torque
+            } else {
+                reached + step
+            };
+            match self.solve_direct(phi, next, psi0, prev.as_ref(), offsets) {
+                Ok(sol) if next == torque => return Ok(sol),
+                Ok(sol) => {
+                    reached = next;
+                    prev = Some(sol);
+                }
+                Err(e) if step.abs() < 1e-6 * torque.abs() => return Err(e),
+                Err(_) => step *= 0.5,
+            }
+        }
+    }
+
+    /// One attempt of [`StaticAnalysis::solve_with_offsets`]: from `near`, or cold.
+    fn solve_direct(
+        &self,
+        phi: f64,
+        torque: f64,
+        psi0: f64,
+        near: Option<&StaticSolution>,
+        offsets: &[f64],
+    ) -> Result<StaticSolution> {
         let s = if torque < 0.0 { -1.0 } else { 1.0 };
         let n = self.red.layout().dofs();
         let near = near.filter(|x| {

@@ -22,20 +22,21 @@
 //! **Contact bands.** A loaded pin meets the flank over its Hertz band, whose width grows with
 //! its force (0.03 mm at 13 N, 0.5 mm at 4 kN on the example's worn root). The analyses see the
 //! worn flank through a band ([`Band`]):
-//! - single (default): the flank averaged over the band of one force (Li's largest pin force at
+//! - single: the flank averaged over the band of one force (Li's largest pin force at
 //!   the rated torque). On the example's 7500 h disc this lets pins of 13-430 N near the wear
 //!   peak reach up to 0.40 um further into the exact flank than a non-Hertzian line contact on
 //!   it allows ([`crate::contact::elastic`]): their contacts are far narrower than the band.
-//! - envelope: the upper envelope of the flank averaged over a narrow band ([`NARROW_BAND`] of
+//! - envelope (default): the upper envelope of the flank averaged over a narrow band ([`NARROW_BAND`] of
 //!   the force: the contacts at the lost-motion measuring torque) and over the band. A concave
 //!   feature narrower than the wide band (a valley of the worn flank) is bridged, as a loaded
 //!   contact bridges it, while a convex one (a ridge, the shoulder of a wear scar) keeps the
 //!   height it has at the narrow band, where a wide average lets the pin sink into the shoulder
 //!   that carries it. Every pin of the static analysis's fine scan then stays within 5 % of the
 //!   law's approach plus 0.1 um of the elastic contact on the exact flank, at 0, 1250 and
-//!   7500 h, and the worn-disc results barely depend on the band force; but on some worn discs
-//!   (the example's with a 98 N band force, or with half-stiff crank bearings, at 6250 h and
-//!   crank angle 3 deg) the static solver does not converge yet, and says so.
+//!   7500 h, and the worn-disc results barely depend on the band force. A disc can move onto
+//!   other pins part of the way up the load (on the example's 6250 h disc at crank angle 3 deg
+//!   the two root pins carry everything up to 295 N m and 21 pins from 300 N m), which the
+//!   static analysis follows in load steps.
 //!
 //! Both averages smooth the exact flank below their own scale (near-conformal roots, where the
 //! exact closest point jumps between feet nanometres apart in distance).
