@@ -832,3 +832,38 @@ fn virtual_work_of_the_output_torque() {
         "only {checked} crank angles without a change of contact set"
     );
 }
+
+/// A disc that moves onto other pins part of the way up the load: the example's disc worn for
+/// 6250 h with a 98 N contact band (k = 6.845e-9) at crank angle 3 deg, where the two root pins
+/// carry the whole torque up to 295 N m and 21 pins carry it from 300 N m. A direct solve fails
+/// at several of these torques (200 N m the first); the static analysis follows the loading
+/// path in torque steps, and the twist grows with the torque through the change (14 torques
+/// from 200 to 330 N m).
+#[test]
+fn static_analysis_follows_the_loading_path_across_a_change_of_contacts() {
+    let mut m = model();
+    m.reducer.contact_band_force = 98.0;
+    m.archard = 6.844807e-9 * 1e-9;
+    m.stage_hours = vec![6250.0];
+    let hist = rvlife::wear::integrate(&m, &|_, _| {}).unwrap();
+    let profile = m
+        .profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))
+        .unwrap();
+    let sa = StaticAnalysis::new(&m.reducer, &profile).unwrap();
+    let phi = 3f64.to_radians();
+    let mut last = f64::NEG_INFINITY;
+    let (mut few, mut many) = (false, false);
+    for t in [
+        200.0, 240.0, 260.0, 280.0, 290.0, 295.0, 300.0, 305.0, 309.0, 312.0, 315.0, 320.0, 325.0,
+        330.0,
+    ] {
+        let sol = sa.solve(phi, t).unwrap_or_else(|e| panic!("{t} N m: {e}"));
+        assert!(sol.residual <= 1e-9_f64.max(sol.roundoff_floor));
+        assert!(sol.twist > last, "{t} N m");
+        last = sol.twist;
+        let pins = sol.discs[0].pins_in_contact();
+        few |= pins <= 3;
+        many |= pins >= 15;
+    }
+    assert!(few && many, "the contact set changes on the way");
+}

@@ -1196,9 +1196,10 @@ impl<'a> StaticAnalysis<'a> {
 
     /// The last resort of [`StaticAnalysis::solve_with_offsets`]: the torque applied in steps
     /// from `near` (when it lies on the way, else from zero), each solve started from the one
-    /// before, a step halved where it fails (a disc that moves onto other pins part of the way
-    /// up, as on a ridge of a worn flank, is followed along the loading path). The error of
-    /// the last step tried when the step falls below 1e-6 of the torque.
+    /// before, a step halved where it fails and doubled again (up to an eighth of the way)
+    /// where it succeeds (a disc that moves onto other pins part of the way up, as on a ridge of
+    /// a worn flank, is followed along the loading path). The error of the last step tried when
+    /// the step falls below 1e-6 of the torque.
     fn solve_in_load_steps(
         &self,
         phi: f64,
@@ -1211,7 +1212,8 @@ impl<'a> StaticAnalysis<'a> {
             .filter(|x| x.output_torque * torque > 0.0 && x.output_torque.abs() < torque.abs())
             .cloned();
         let mut reached = prev.as_ref().map_or(0.0, |x| x.output_torque);
-        let mut step = (torque - reached) / 8.0;
+        let first_step = (torque - reached) / 8.0;
+        let mut step = first_step;
         loop {
             let next = if (torque - reached).abs() <= 1.000001 * step.abs() {
                 torque
@@ -1223,6 +1225,10 @@ impl<'a> StaticAnalysis<'a> {
                 Ok(sol) => {
                     reached = next;
                     prev = Some(sol);
+                    // Back towards the first step after a success.
+                    if step.abs() < first_step.abs() {
+                        step *= 2.0;
+                    }
                 }
                 Err(e) if step.abs() < 1e-6 * torque.abs() => return Err(e),
                 Err(_) => step *= 0.5,
