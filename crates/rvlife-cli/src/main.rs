@@ -138,7 +138,7 @@ enum Command {
         /// Config file (default: the built-in example).
         config: Option<PathBuf>,
         /// Target maximum wear depth at the last stage, um.
-        #[arg(long, default_value_t = 60.0)]
+        #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
         target_wear_um: f64,
     },
 }
@@ -667,6 +667,14 @@ fn run(cli: Cli) -> Result<()> {
 }
 
 fn main() -> ExitCode {
+    // A closed pipe (`rvlife te --json | head -1`) ends the process quietly, as it ends `cat`,
+    // instead of making the next print panic: the default action of SIGPIPE, which the Rust
+    // runtime sets to ignore.
+    #[cfg(unix)]
+    // SAFETY: restores the default disposition of one signal before any thread is started.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,

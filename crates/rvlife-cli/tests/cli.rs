@@ -1203,3 +1203,37 @@ fn bad_load_tables_unsorted_gaps_nan() {
     );
     assert!(num(&v, "te_mean_arcmin") > 0.0, "{v}");
 }
+
+/// A reader that closes the pipe before rvlife prints (`rvlife te --json | head -c 0`) ends it
+/// quietly by SIGPIPE, as it ends `cat`: no panic (it exited 101 with "failed printing to
+/// stdout" before).
+#[test]
+#[cfg(unix)]
+fn closed_stdout_pipe_ends_quietly() {
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_rvlife"))
+        .args(["te", "--json"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(out.status.signal(), Some(13), "{:?}", out.status);
+}
+
+/// A negative target wear reaches the range check (exit 2 naming the option), not the argument
+/// parser.
+#[test]
+fn calibrate_negative_target_is_refused_by_the_range_check() {
+    let o = rvlife(["calibrate", "--target-wear-um", "-1"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("invalid --target-wear-um = -1"),
+        "{}",
+        stderr(&o)
+    );
+}
