@@ -55,6 +55,9 @@ enum Command {
         /// Ignore the config's modifications (the nominal profile).
         #[arg(long)]
         nominal: bool,
+        /// Replace an existing output file.
+        #[arg(long)]
+        force: bool,
         #[command(flatten)]
         wear: WearArgs,
     },
@@ -291,18 +294,24 @@ fn run(cli: Cli) -> Result<()> {
             config,
             out,
             nominal,
+            force,
             wear,
         } => {
             let format = ProfileFormat::from_path(&out)?;
+            rvlife::report::check_output_file(&out, force)?;
             let model = load_config(config.as_deref())?.validate()?;
             let profile = profile_for(&model, &wear, nominal)?;
-            // Write beside, then rename: no half-written file.
+            // Write beside, then rename: no half-written file, and none left on failure.
             let tmp = out.with_extension(format!(
                 "{}.tmp",
                 out.extension().and_then(|e| e.to_str()).unwrap_or("")
             ));
-            write_profile(&profile, &tmp, format)?;
-            std::fs::rename(&tmp, &out).map_err(|e| Error::io(&out, e))?;
+            let written = write_profile(&profile, &tmp, format)
+                .and_then(|()| std::fs::rename(&tmp, &out).map_err(|e| Error::io(&out, e)));
+            if written.is_err() {
+                let _ = std::fs::remove_file(&tmp);
+            }
+            written?;
             eprintln!("wrote {}", out.display());
         }
         Command::Contact {

@@ -1237,3 +1237,42 @@ fn calibrate_negative_target_is_refused_by_the_range_check() {
         stderr(&o)
     );
 }
+
+/// `profile --out FILE` follows the rules of `run --out`, checked before any work: an existing
+/// file is kept (exit 2) unless `--force`; a directory or a missing folder is refused (exit 2)
+/// and nothing is left behind.
+#[test]
+fn profile_out_is_checked_before_writing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("disc.csv");
+    std::fs::write(&out, "user data").unwrap();
+    let o = rvlife(["profile".as_ref(), "--out".as_ref(), out.as_os_str()]);
+    assert_input_error(&o, "profile --out existing", &["--out", "--force"]);
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "user data");
+    let o = rvlife([
+        "profile".as_ref(),
+        "--out".as_ref(),
+        out.as_os_str(),
+        "--force".as_ref(),
+    ]);
+    ok(&o, "profile --out existing --force");
+    assert!(std::fs::read_to_string(&out).unwrap().starts_with("x_mm"));
+    let sub = dir.path().join("folder.csv");
+    std::fs::create_dir(&sub).unwrap();
+    let o = rvlife([
+        "profile".as_ref(),
+        "--out".as_ref(),
+        sub.as_os_str(),
+        "--force".as_ref(),
+    ]);
+    assert_input_error(&o, "profile --out directory", &["--out", "directory"]);
+    let missing = dir.path().join("no/such/folder/disc.csv");
+    let o = rvlife(["profile".as_ref(), "--out".as_ref(), missing.as_os_str()]);
+    assert_input_error(&o, "profile --out missing folder", &["--out", "folder"]);
+    let mut left: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    left.sort();
+    assert_eq!(left, ["disc.csv", "folder.csv"], "left behind: {left:?}");
+}

@@ -447,6 +447,40 @@ pub fn write_atomically(
     Ok(out.to_path_buf())
 }
 
+/// Checks that the file `out` can be written: not a directory, in a folder that exists, and
+/// absent unless `replace`.
+///
+/// # Errors
+/// [`Error::Invalid`] naming `--out`.
+pub fn check_output_file(out: &Path, replace: bool) -> Result<()> {
+    if out.is_dir() {
+        return Err(Error::invalid(
+            "--out",
+            out.display(),
+            "is a directory; name a file",
+        ));
+    }
+    let parent = match out.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if !parent.is_dir() {
+        return Err(Error::invalid(
+            "--out",
+            out.display(),
+            "its folder does not exist",
+        ));
+    }
+    if out.exists() && !replace {
+        return Err(Error::invalid(
+            "--out",
+            out.display(),
+            "exists; pass --force to replace it",
+        ));
+    }
+    Ok(())
+}
+
 /// Checks that `out` can receive results: absent, an empty directory, or (with `replace`) any
 /// directory.
 ///
