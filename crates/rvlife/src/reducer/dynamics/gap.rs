@@ -113,27 +113,33 @@ impl PeriodicSpline {
 /// thirtieth of that at the rated torque).
 pub const NARROW_BAND: f64 = 1.0 / 16.0;
 
-/// The offset and slope tables (`n` nodes over one tooth) averaged over the Hertz band of
-/// `force` (N) on the unworn flank at each node: the semi-elliptic average over `+-b` of arc
-/// length, applied twice.
+/// Arc length (m) of each step of a grid of `n` profile parameters over one tooth.
+fn arc_steps(profile: &Profile, n: usize) -> Vec<f64> {
+    let dt = TAU / n as f64;
+    (0..n)
+        .map(|i| profile.point(i as f64 * dt).dp.norm() * dt)
+        .collect()
+}
+
+/// The offset and slope tables (`n` nodes over one tooth, arc steps `ds` from [`arc_steps`])
+/// averaged over the Hertz band of `force` (N) on the unworn flank at each node: the
+/// semi-elliptic average over `+-b` of arc length, applied twice.
 fn band_average(
     profile: &Profile,
     contact: &ContactModel,
     force: f64,
+    ds: &[f64],
     offset: &[f64],
     slope: &[f64],
 ) -> (Vec<f64>, Vec<f64>) {
     let n = offset.len();
     let dt = TAU / n as f64;
-    let ds: Vec<f64> = (0..n)
-        .map(|i| profile.point(i as f64 * dt).dp.norm() * dt)
-        .collect();
     let weights: Vec<Vec<(usize, f64)>> = (0..n)
         .map(|i| {
             let b = contact
                 .hertz(force, profile.macro_curvature(i as f64 * dt))
                 .half_width;
-            let w = band_shape(&ds, i, b);
+            let w = band_shape(ds, i, b);
             let total: f64 = w.iter().map(|&(k, x)| x * ds[k]).sum();
             w.iter().map(|&(k, x)| (k, x * ds[k] / total)).collect()
         })
@@ -247,10 +253,11 @@ impl GapField {
             envelope,
         }) = band
         {
+            let ds = arc_steps(profile, n);
             if envelope {
                 let (narrow, wide) = rayon::join(
-                    || band_average(profile, contact, NARROW_BAND * force, &offset, &slope),
-                    || band_average(profile, contact, force, &offset, &slope),
+                    || band_average(profile, contact, NARROW_BAND * force, &ds, &offset, &slope),
+                    || band_average(profile, contact, force, &ds, &offset, &slope),
                 );
                 // The upper envelope (the flank that stands further out) of the two; where
                 // they agree to a picometre (an unworn flank) the narrow band's tables.
@@ -262,7 +269,7 @@ impl GapField {
                     };
                 }
             } else {
-                (offset, slope) = band_average(profile, contact, force, &offset, &slope);
+                (offset, slope) = band_average(profile, contact, force, &ds, &offset, &slope);
             }
         }
         Ok(GapField {
@@ -532,11 +539,13 @@ mod banded_tests {
         // The envelope: against each band's average, node by node.
         let exact = GapField::new(&profile, red.gap_points, None).unwrap();
         let f = red.contact_band_force;
+        let ds = arc_steps(&profile, exact.offset.value.len());
         let average = |f: f64| {
             band_average(
                 &profile,
                 &red.contact,
                 f,
+                &ds,
                 &exact.offset.value,
                 &exact.slope.value,
             )
