@@ -26,6 +26,11 @@ use serde_json::json;
     about = "Accuracy-life prediction of RV reducers: cycloid profile, loaded contact, Archard wear, transmission error"
 )]
 struct Cli {
+    /// Work budget, minutes of estimated computing on a 2-core machine: a config or command
+    /// whose estimated work exceeds it is refused before it starts, naming the key that drives
+    /// it.
+    #[arg(long, global = true, default_value_t = rvlife::budget::DEFAULT_MINUTES)]
+    work_budget_min: f64,
     #[command(subcommand)]
     command: Command,
 }
@@ -156,11 +161,14 @@ struct WearArgs {
     hours: Option<f64>,
 }
 
-fn load_config(path: Option<&Path>) -> Result<Config> {
-    match path {
-        Some(p) => Config::from_file(p),
-        None => Ok(Config::example()),
-    }
+/// The config file (or the built-in example) with the command line's work budget.
+fn load_config(path: Option<&Path>, budget_min: f64) -> Result<Config> {
+    let mut cfg = match path {
+        Some(p) => Config::from_file(p)?,
+        None => Config::example(),
+    };
+    cfg.work_budget_minutes = budget_min;
+    Ok(cfg)
 }
 
 /// The profile for the wear arguments: uniform depth, or the wear map after some hours.
@@ -184,12 +192,44 @@ fn profile_for(model: &Model, wear: &WearArgs, nominal: bool) -> Result<Profile>
                 .transpose()?
         }
         (None, Some(h)) => {
-            if !h.is_finite() || h < 0.0 {
-                return Err(Error::invalid("--hours", h, "must be a finite number >= 0"));
+            if !(h.is_finite() && (0.0..=1e7).contains(&h)) {
+                return Err(Error::invalid(
+                    "--hours",
+                    h,
+                    "must be a finite number in [0, 1e7] h",
+                ));
+            }
+            if model.update_hours > 0.0 && h / model.update_hours > 100_000.0 {
+                return Err(Error::invalid(
+                    "--hours",
+                    h,
+                    format!(
+                        "would need more than 100000 profile updates of \
+                         wear.profile_update_hours = {} h",
+                        model.update_hours
+                    ),
+                ));
             }
             let mut m = model.clone();
             m.stage_hours = vec![h];
-            let hist = rvlife::wear::integrate(&m, &|_, _| {})?;
+            let pb = spinner("wear");
+            let hist = rvlife::wear::integrate(&m, &|done, total| {
+                pb.set_length(total as u64);
+                pb.set_position(done as u64);
+            });
+            pb.finish_and_clear();
+            let hist = hist?;
+            if let Some(l) = &hist.limit {
+                return Err(Error::invalid(
+                    "--hours",
+                    h,
+                    format!(
+                        "is beyond the validity of the wear model, which it leaves at {:.0} h \
+                         with {:.2} um of wear: {}; give fewer hours",
+                        l.hours, l.max_wear_um, l.reason
+                    ),
+                ));
+            }
             let map = hist.maps.into_iter().next().unwrap_or_default();
             if map.iter().any(|&x| x > 0.0) {
                 Some(WearMap::new(map)?)
@@ -217,6 +257,27 @@ fn v_twist(t: &TwistTable) -> Vec<f64> {
     t.curve().twist.iter().map(|x| x * ARCMIN_PER_RAD).collect()
 }
 
+/// A progress bar on stderr for work that can take more than a second (drawn only on a
+/// terminal), with `what` as its message.
+fn spinner(what: &str) -> ProgressBar {
+    let pb = progress_bar(1);
+    pb.set_message(what.to_string());
+    pb
+}
+
+/// A spinner with the elapsed time on stderr (drawn only on a terminal) for work without a
+/// step count.
+fn busy(what: &str) -> ProgressBar {
+    let pb = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+    pb.set_style(
+        ProgressStyle::with_template("{spinner} {msg} {elapsed}")
+            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+    );
+    pb.set_message(what.to_string());
+    pb.enable_steady_tick(std::time::Duration::from_millis(250));
+    pb
+}
+
 fn progress_bar(len: u64) -> ProgressBar {
     let pb = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
     pb.set_style(
@@ -229,14 +290,16 @@ fn progress_bar(len: u64) -> ProgressBar {
 }
 
 fn run(cli: Cli) -> Result<()> {
+    let budget = cli.work_budget_min;
     match cli.command {
         Command::Example => {
             print!("{EXAMPLE_TOML}");
         }
         Command::Run { config, out, force } => {
-            let cfg = load_config(config.as_deref())?;
+            let cfg = load_config(config.as_deref(), budget)?;
             let model = cfg.validate()?;
-            rvlife::report::check_output_dir(&out, force)?;
+            // The results folder is checked and its temporary directory made before any work.
+            let staging = rvlife::report::Staging::prepare(&out, force)?;
             let pb = progress_bar(1);
             let start = std::time::Instant::now();
             let study = rvlife::study::run(&model, &|done, total| {
@@ -244,7 +307,7 @@ fn run(cli: Cli) -> Result<()> {
                 pb.set_position(done as u64);
             })?;
             pb.set_message("writing");
-            rvlife::report::write_study(&study, &out, force)?;
+            staging.commit(|dir| rvlife::report::write_files(&study, dir))?;
             pb.finish_and_clear();
             let s = study.summary();
             println!(
@@ -289,6 +352,13 @@ fn run(cli: Cli) -> Result<()> {
                 "STE {:.4} arcmin per 10 um of wear (paper, rigid Adams model: 0.5351 at 10 um)",
                 s.paper_comparison.ste_per_10um_arcmin
             );
+            if let Some(l) = &s.validity_limit {
+                println!(
+                    "the model leaves its validity at {:.0} h ({:.2} um of wear): {}; the stages \
+                     from there on are not reported",
+                    l.hours, l.max_wear_um, l.reason
+                );
+            }
         }
         Command::Profile {
             config,
@@ -299,19 +369,12 @@ fn run(cli: Cli) -> Result<()> {
         } => {
             let format = ProfileFormat::from_path(&out)?;
             rvlife::report::check_output_file(&out, force)?;
-            let model = load_config(config.as_deref())?.validate()?;
+            let model = load_config(config.as_deref(), budget)?.validate()?;
             let profile = profile_for(&model, &wear, nominal)?;
-            // Write beside, then rename: no half-written file, and none left on failure.
-            let tmp = out.with_extension(format!(
-                "{}.tmp",
-                out.extension().and_then(|e| e.to_str()).unwrap_or("")
-            ));
-            let written = write_profile(&profile, &tmp, format)
-                .and_then(|()| std::fs::rename(&tmp, &out).map_err(|e| Error::io(&out, e)));
-            if written.is_err() {
-                let _ = std::fs::remove_file(&tmp);
-            }
-            written?;
+            // Written beside, then renamed: no half-written file, none left on failure.
+            rvlife::report::write_file_atomically(&out, force, |tmp| {
+                write_profile(&profile, tmp, format)
+            })?;
             eprintln!("wrote {}", out.display());
         }
         Command::Contact {
@@ -326,7 +389,8 @@ fn run(cli: Cli) -> Result<()> {
                     return Err(Error::invalid(f, v, "must be a finite number"));
                 }
             }
-            let model = load_config(config.as_deref())?.validate()?;
+            let model = load_config(config.as_deref(), budget)?.validate()?;
+            model.check_torque("--torque-nm", torque_nm)?;
             let profile = profile_for(&model, &wear, false)?;
             let sa = StaticAnalysis::new(&model.reducer, &profile)?;
             let sol = sa.solve(crank_deg.to_radians(), torque_nm)?;
@@ -425,18 +489,24 @@ fn run(cli: Cli) -> Result<()> {
                     return Err(Error::invalid("--torque-nm", t, "must be a finite number"));
                 }
             }
-            let model = load_config(config.as_deref())?.validate()?;
+            let model = load_config(config.as_deref(), budget)?.validate()?;
+            if let Some(t) = torque_nm {
+                model.check_torque("--torque-nm", t)?;
+            }
             let profile = profile_for(&model, &wear, false)?;
             let red = &model.reducer;
             let phis = mesh_cycle_angles(red.geometry.pins, model.te_samples);
             let sa = StaticAnalysis::new(red, &profile)?;
-            let (tables, mean) = hysteresis_with(
+            let pb = busy("static TE");
+            let curves = hysteresis_with(
                 &sa,
                 &phis,
                 model.rated_torque,
                 model.measuring_torque_fraction,
                 1,
-            )?;
+            );
+            pb.finish_and_clear();
+            let (tables, mean) = curves?;
             let ste = StaticTe {
                 crank_angle: phis,
                 forward: tables.iter().map(|t| t.positive[0]).collect(),
@@ -524,19 +594,22 @@ fn run(cli: Cli) -> Result<()> {
                     "must be a whole number from 1 to 1000",
                 ));
             }
-            let model = load_config(config.as_deref())?.validate()?;
+            let model = load_config(config.as_deref(), budget)?.validate()?;
             let profile = profile_for(&model, &wear, false)?;
             let red = &model.reducer;
             let mut phis = mesh_cycle_angles(red.geometry.pins, model.te_samples);
             phis.push(crank_deg.to_radians());
-            let (mut tables, mean) = hysteresis(
+            let pb = busy("hysteresis");
+            let curves = hysteresis(
                 red,
                 &profile,
                 &phis,
                 model.rated_torque,
                 model.measuring_torque_fraction,
                 levels as usize,
-            )?;
+            );
+            pb.finish_and_clear();
+            let (mut tables, mean) = curves?;
             let at_crank = tables.pop().expect("the crank angle's table");
             let mean = {
                 // The mean over the mesh cycle only (not the extra crank angle).
@@ -608,7 +681,7 @@ fn run(cli: Cli) -> Result<()> {
             json,
             wear,
         } => {
-            let mut cfg = load_config(config.as_deref())?;
+            let mut cfg = load_config(config.as_deref(), budget)?;
             if let Some(kind) = load {
                 cfg.dynamics.load.kind = kind;
             }
@@ -623,15 +696,19 @@ fn run(cli: Cli) -> Result<()> {
                 cfg.dynamics.load.torque_nm = Some(t);
             }
             let model = cfg.validate()?;
-            if let Some(dir) = &out {
-                rvlife::report::check_output_dir(dir, force)?;
-            }
+            let staging = match &out {
+                Some(dir) => Some(rvlife::report::Staging::prepare(dir, force)?),
+                None => None,
+            };
             let profile = profile_for(&model, &wear, false)?;
             let start = std::time::Instant::now();
-            let res = rvlife::reducer::dynamics::simulate(&profile, &model.dynamics, pin_forces)?;
+            let pb = busy("simulating");
+            let res = rvlife::reducer::dynamics::simulate(&profile, &model.dynamics, pin_forces);
+            pb.finish_and_clear();
+            let res = res?;
             let wall = start.elapsed().as_secs_f64();
-            if let Some(dir) = &out {
-                rvlife::report::write_dynamics(&res, dir, force)?;
+            if let Some(staging) = staging {
+                staging.commit(|dir| rvlife::report::write_dynamics_files(&res, dir))?;
             }
             let s = &res.summary;
             let mut v =
@@ -662,8 +739,11 @@ fn run(cli: Cli) -> Result<()> {
             config,
             target_wear_um,
         } => {
-            let model = load_config(config.as_deref())?.validate()?;
-            let (k, achieved) = rvlife::wear::calibrate(&model, target_wear_um * 1e-6)?;
+            let model = load_config(config.as_deref(), budget)?.validate()?;
+            let pb = busy("calibrating");
+            let calibrated = rvlife::wear::calibrate(&model, target_wear_um * 1e-6);
+            pb.finish_and_clear();
+            let (k, achieved) = calibrated?;
             println!(
                 "archard_coefficient_mm3_per_n_m = {:.6e}   # max wear {:.4} um at {} h",
                 k * 1e9,
@@ -684,6 +764,12 @@ fn main() -> ExitCode {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
+    // SIGINT, SIGTERM and SIGHUP remove this run's temporary outputs before it ends (exit 130,
+    // as a shell reports an interrupted command).
+    let _ = ctrlc::set_handler(|| {
+        rvlife::report::remove_pending();
+        std::process::exit(130);
+    });
     let cli = Cli::parse();
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,

@@ -10,6 +10,9 @@ use std::process::{Command, Output};
 
 use serde_json::Value;
 
+mod common;
+use common::{assert_all_finite, rvlife_within};
+
 /// Arc minutes per radian.
 const ARCMIN_PER_RAD: f64 = 180.0 * 60.0 / PI;
 /// Example reducer: eccentricity (m), disc teeth, pins, overall ratio, load share, rated torque.
@@ -250,36 +253,6 @@ fn leftover_tmp_dirs(dir: &Path) -> Vec<String> {
         .map(|e| e.file_name().to_string_lossy().into_owned())
         .filter(|n| n.starts_with(".rvlife-tmp-"))
         .collect()
-}
-
-/// Walks a JSON tree and fails on any null (serde_json writes non-finite floats as null) or
-/// non-finite number.
-fn assert_all_finite(v: &Value, path: &str) {
-    match v {
-        Value::Null => panic!("null (NaN or infinity?) at {path}"),
-        Value::Number(n) => {
-            let x = n.as_f64().unwrap_or(f64::NAN);
-            assert!(x.is_finite(), "non-finite number at {path}: {n}");
-        }
-        Value::String(s) => {
-            let l = s.to_ascii_lowercase();
-            assert!(
-                l != "nan" && !l.contains("inf"),
-                "non-finite string at {path}: {s}"
-            );
-        }
-        Value::Array(a) => {
-            for (i, x) in a.iter().enumerate() {
-                assert_all_finite(x, &format!("{path}[{i}]"));
-            }
-        }
-        Value::Object(o) => {
-            for (k, x) in o {
-                assert_all_finite(x, &format!("{path}.{k}"));
-            }
-        }
-        Value::Bool(_) => {}
-    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1275,4 +1248,520 @@ fn profile_out_is_checked_before_writing() {
         .collect();
     left.sort();
     assert_eq!(left, ["disc.csv", "folder.csv"], "left behind: {left:?}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reliability: no hang, no lost data, every bad input refused by the key the user wrote.
+
+/// The example without the dynamics and the flexible disc (a study of about a second).
+fn fast_text() -> String {
+    let t = set_key(&example_text(), "dynamics", "enabled", "false");
+    set_key(&t, "fem", "enabled", "false")
+}
+
+/// Writes `text` as a config in a fresh folder and runs `args` (the config path first) with a
+/// time limit of 120 s.
+fn run_config(text: &str, args: &[&str]) -> (tempfile::TempDir, Output) {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "c.toml", text);
+    let mut all: Vec<std::ffi::OsString> = vec![args[0].into(), cfg.into_os_string()];
+    all.extend(args[1..].iter().map(|a| std::ffi::OsString::from(*a)));
+    let o = rvlife_within(120, all);
+    (dir, o)
+}
+
+/// `rvlife run CFG --out DIR/r` with a time limit of 120 s: the results folder and the output.
+fn run_study(dir: &Path, cfg: &Path) -> (PathBuf, Output) {
+    let out = dir.join("r");
+    let o = rvlife_within(
+        120,
+        [
+            "run".as_ref(),
+            cfg.as_os_str(),
+            "--out".as_ref(),
+            out.as_os_str(),
+        ],
+    );
+    (out, o)
+}
+
+/// The wear integration always advances: with an update step below the old 1e-9 h round-off
+/// margin (a huge Archard coefficient over 2e-9 h) it used to loop for ever.
+#[test]
+fn wear_integration_advances_below_the_old_hour_margin() {
+    let t = set_key(
+        &fast_text(),
+        "wear",
+        "archard_coefficient_mm3_per_n_m",
+        "1e3",
+    );
+    let (_d, o) = run_config(&t, &["te", "--hours", "2e-9", "--json"]);
+    let v: Value = serde_json::from_str(&ok(&o, "te --hours 2e-9")).unwrap();
+    assert!(num(&v, "max_wear_um") > 0.0, "{v}");
+    assert_all_finite(&v, "te");
+}
+
+/// Configs whose work exceeds the budget are refused before the work, naming the key that
+/// drives it and the estimate: 10 000 load levels; a wear step of 0.01 um at ten times the
+/// example's wear rate; a duty cycle of 200 000 distinct rows.
+#[test]
+fn work_beyond_the_budget_is_refused_by_its_key() {
+    let t = replace_table(
+        &fast_text(),
+        "load",
+        "kind = \"sinusoidal\"\namplitude_nm = 412.0\nlevels = 10000",
+    );
+    let (_d, o) = run_config(&t, &["te"]);
+    assert_input_error(
+        &o,
+        "load.levels",
+        &["load.levels", "contact solves", "budget"],
+    );
+    let t = set_key(&fast_text(), "wear", "max_wear_step_um", "0.01");
+    let t = set_key(&t, "wear", "archard_coefficient_mm3_per_n_m", "6.8e-8");
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "c.toml", &t);
+    let (out, o) = run_study(dir.path(), &cfg);
+    assert_input_error(
+        &o,
+        "max_wear_step_um",
+        &["wear.max_wear_step_um", "profile updates", "budget"],
+    );
+    assert!(!out.exists());
+    assert_eq!(leftover_tmp_dirs(dir.path()), Vec::<String>::new());
+    let mut csv = String::from("duration_s,torque_nm,speed_rpm\n");
+    for i in 0..200_000 {
+        csv.push_str(&format!("1,{},1500\n", 100.0 + i as f64 * 1e-3));
+    }
+    std::fs::write(dir.path().join("dc.csv"), csv).unwrap();
+    let t = replace_table(
+        &fast_text(),
+        "load",
+        "kind = \"duty_cycle\"\nfile = \"dc.csv\"",
+    );
+    let cfg = write_config(dir.path(), "dc.toml", &t);
+    let o = rvlife_within(120, ["te".as_ref(), cfg.as_os_str()]);
+    assert_input_error(
+        &o,
+        "duty cycle rows",
+        &["load.file", "200000 levels", "budget"],
+    );
+}
+
+/// Torques the unworn stage cannot carry are refused before any analysis (exit 2, not a
+/// solver failure), naming the key and the torque the stage does carry: a wear load of 1e12
+/// and of 12.7 kN N m, a dynamic amplitude of 5e5 N m, `--torque-nm 1e30`, and an eccentricity
+/// so small (0.014-0.033 mm) that the rated torque is beyond the stage.
+#[test]
+fn torques_beyond_the_stage_are_refused_by_their_key() {
+    for (torque, why) in [("1e12", "static analysis"), ("12700", "Hertz pressure")] {
+        let t = set_key(&fast_text(), "load", "torque_nm", torque);
+        let (_d, o) = run_config(&t, &["te", "--hours", "100"]);
+        assert_input_error(&o, torque, &["load.torque_nm", why, "carries at most"]);
+    }
+    let t = set_key(&fast_text(), "dynamics.load", "amplitude_nm", "5e5");
+    let (_d, o) = run_config(&t, &["dynamics"]);
+    assert_input_error(
+        &o,
+        "amplitude",
+        &["dynamics.load.amplitude_nm", "carries at most"],
+    );
+    let o = rvlife_within(60, ["te", "--torque-nm", "1e30"]);
+    assert_input_error(&o, "--torque-nm", &["--torque-nm", "carries at most"]);
+    let o = rvlife_within(60, ["contact", "--crank-deg", "0", "--torque-nm", "-1e30"]);
+    assert_input_error(&o, "contact --torque-nm", &["--torque-nm", "clockwise"]);
+    // Disc bearings a hundred times softer: the disc would move by most of the eccentricity
+    // under the rated torque (the load steps ran for hours, advancing by ever smaller steps).
+    let t = set_key(
+        &fast_text(),
+        "reducer.bearings",
+        "crank_disc_stiffness_n_per_um",
+        "5",
+    );
+    let (_d, o) = run_config(&t, &["contact", "--crank-deg", "0", "--torque-nm", "100"]);
+    assert_input_error(
+        &o,
+        "soft bearings",
+        &["reducer.rated_torque_nm", "carries at most"],
+    );
+    for e in ["0.014", "0.033"] {
+        let t = set_key(&fast_text(), "cycloid", "eccentricity_mm", e);
+        let (_d, o) = run_config(&t, &["te"]);
+        assert_input_error(
+            &o,
+            e,
+            &["reducer.rated_torque_nm", "carries at most", "[cycloid]"],
+        );
+    }
+}
+
+/// Modifications that take the flank out of mesh or into the pins are refused by their key.
+#[test]
+fn non_physical_modifications_are_refused_by_their_key() {
+    for (key, value, words) in [
+        ("offset_mm", "2.75", "no pin stops"),
+        ("equidistant_mm", "-1", "interferes"),
+        ("rotation_deg", "-2e8", "half a tooth pitch"),
+        ("rotation_deg", "1e300", "half a tooth pitch"),
+    ] {
+        let t = set_key(&fast_text(), "cycloid.modification", key, value);
+        let (_d, o) = run_config(&t, &["te"]);
+        assert_input_error(&o, key, &[&format!("cycloid.modification.{key}"), words]);
+    }
+}
+
+/// Long horizons and deep targets: `--hours 1e12` and `calibrate --target-wear-um 1e9` are
+/// refused by their option (exit 2), not by a solver after minutes.
+#[test]
+fn horizons_and_targets_beyond_the_model_are_refused() {
+    let o = rvlife_within(60, ["te", "--hours", "1e12"]);
+    assert_input_error(&o, "--hours", &["--hours", "1e7"]);
+    let o = rvlife_within(60, ["calibrate", "--target-wear-um", "1e9"]);
+    assert_input_error(&o, "target", &["--target-wear-um", "tooth height"]);
+}
+
+/// Errors blame the key the user wrote: lengths out of the physical range name themselves
+/// (not the contact stiffness of the dynamics); `calibrate` over a zero-hour study names
+/// `wear.stage_hours`; a default the file does not set is named as a default, with the key it
+/// depends on.
+#[test]
+fn errors_blame_the_key_the_user_wrote() {
+    for (table, key, value) in [
+        ("cycloid", "pin_circle_radius_mm", "1e308"),
+        ("cycloid", "width_mm", "1e-12"),
+        ("reducer", "rated_torque_nm", "1e300"),
+    ] {
+        let t = set_key(&fast_text(), table, key, value);
+        let (_d, o) = run_config(&t, &["te"]);
+        let what = format!("{table}.{key}");
+        assert_input_error(&o, &what, &[&format!("invalid {what} = ")]);
+        assert!(!stderr(&o).contains("dynamics.impact"), "{}", stderr(&o));
+        assert!(stderr(&o).len() < 400, "{}", stderr(&o));
+    }
+    let t = set_key(&fast_text(), "wear", "stage_hours", "[0.0]");
+    let (_d, o) = run_config(&t, &["calibrate"]);
+    assert_input_error(&o, "stage_hours", &["wear.stage_hours", "0 h"]);
+    // The bore default (2 x dynamics.inertia.crank_bore_radius_mm) cuts the teeth.
+    let t = set_key(
+        &example_text(),
+        "dynamics.inertia",
+        "crank_bore_radius_mm",
+        "19.0",
+    );
+    let (_d, o) = run_config(&t, &["te"]);
+    assert_input_error(
+        &o,
+        "default bore",
+        &[
+            "fem.crank_bore_diameter_mm (not in your file",
+            "dynamics.inertia.crank_bore_radius_mm",
+        ],
+    );
+}
+
+/// Duty-cycle durations that would overflow their sum are refused by row; long but finite ones
+/// keep their shares (the old sum became infinite, every weight 0, and the study reported no
+/// wear with exit 0).
+#[test]
+fn duty_cycle_durations_cannot_overflow() {
+    let dir = tempfile::tempdir().unwrap();
+    let t = replace_table(
+        &fast_text(),
+        "load",
+        "kind = \"duty_cycle\"\nfile = \"dc.csv\"",
+    );
+    let t = set_key(&t, "wear", "stage_hours", "[0.0, 500.0]");
+    let cfg = write_config(dir.path(), "c.toml", &t);
+    std::fs::write(
+        dir.path().join("dc.csv"),
+        "duration_s,torque_nm,speed_rpm\n1e308,412,1500\n1e308,-412,1500\n",
+    )
+    .unwrap();
+    let o = rvlife_within(60, ["te".as_ref(), cfg.as_os_str()]);
+    assert_input_error(&o, "1e308", &["row 1 column duration_s", "1e12"]);
+    std::fs::write(
+        dir.path().join("dc.csv"),
+        "duration_s,torque_nm,speed_rpm\n1e12,412,1500\n1e12,412,1500\n1e12,-412,1500\n",
+    )
+    .unwrap();
+    let (out, o) = run_study(dir.path(), &cfg);
+    ok(&o, "run with 1e12 s rows");
+    let s: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let wear = num(&s["stages"][1], "max_wear_um");
+    assert!(wear > 1.0, "no wear from a finite duty cycle: {wear}");
+}
+
+/// A study past the model's validity reports the stages before it, says where and why it
+/// stopped, and exits 0 (it exited 1 with no result).
+#[test]
+fn study_stops_at_the_validity_limit_with_the_stages_before_it() {
+    let t = set_key(
+        &fast_text(),
+        "wear",
+        "archard_coefficient_mm3_per_n_m",
+        "3.4e-7",
+    );
+    let t = set_key(&t, "wear", "max_wear_step_um", "20.0");
+    let t = set_key(
+        &t,
+        "wear",
+        "stage_hours",
+        "[0.0, 2000.0, 4000.0, 6000.0, 8000.0, 10000.0]",
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "c.toml", &t);
+    let (out, o) = run_study(dir.path(), &cfg);
+    let text = ok(&o, "run past validity");
+    assert!(text.contains("leaves its validity at"), "{text}");
+    let s: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let lim = &s["validity_limit"];
+    let stages = s["stages"].as_array().unwrap();
+    assert!(!stages.is_empty() && stages.len() < 6, "{}", stages.len());
+    let last = num(stages.last().unwrap(), "hours");
+    let at = num(lim, "hours");
+    assert!(
+        at > last && at <= 10000.0,
+        "limit {at} h, last stage {last} h"
+    );
+    assert!(
+        num(lim, "max_wear_um") > 0.0 && lim["reason"].is_string(),
+        "{lim}"
+    );
+    assert_all_finite(&s["stages"], "stages");
+    // The wear-only command says the same by its option.
+    let o = rvlife_within(
+        120,
+        [
+            "te".as_ref(),
+            cfg.as_os_str(),
+            "--hours".as_ref(),
+            "9000".as_ref(),
+        ],
+    );
+    assert_input_error(&o, "--hours past validity", &["--hours", "validity"]);
+}
+
+/// `--force` replaces only a results directory rvlife wrote: a folder of user files is refused
+/// with exit 2 and left intact; `.`, `..` and the current folder are refused before any work;
+/// an unwritable `--out` is found before the study.
+#[test]
+fn run_out_never_deletes_user_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "c.toml", &fast_text());
+    let user = dir.path().join("thesis");
+    std::fs::create_dir(&user).unwrap();
+    std::fs::write(user.join("chapter1.tex"), "years of work").unwrap();
+    let o = rvlife([
+        "run".as_ref(),
+        cfg.as_os_str(),
+        "--out".as_ref(),
+        user.as_os_str(),
+        "--force".as_ref(),
+    ]);
+    assert_input_error(&o, "user folder", &["--out", ".rvlife-results"]);
+    assert_eq!(
+        std::fs::read_to_string(user.join("chapter1.tex")).unwrap(),
+        "years of work"
+    );
+    for bad in [".", ".."] {
+        let o = Command::new(env!("CARGO_BIN_EXE_rvlife"))
+            .current_dir(&user)
+            .args([
+                "run".as_ref(),
+                cfg.as_os_str(),
+                "--out".as_ref(),
+                bad.as_ref(),
+                "--force".as_ref(),
+            ])
+            .output()
+            .unwrap();
+        assert_input_error(&o, bad, &["--out", "current"]);
+    }
+    let o = Command::new(env!("CARGO_BIN_EXE_rvlife"))
+        .current_dir(&user)
+        .args([
+            "run".as_ref(),
+            cfg.as_os_str(),
+            "--out".as_ref(),
+            user.as_os_str(),
+            "--force".as_ref(),
+        ])
+        .output()
+        .unwrap();
+    assert_input_error(&o, "cwd", &["--out"]);
+    assert_eq!(leftover_tmp_dirs(&user), Vec::<String>::new());
+    assert_eq!(leftover_tmp_dirs(dir.path()), Vec::<String>::new());
+    #[cfg(target_os = "linux")]
+    {
+        let o = rvlife([
+            "run".as_ref(),
+            cfg.as_os_str(),
+            "--out".as_ref(),
+            "/proc/rvlife-results".as_ref(),
+        ]);
+        assert_input_error(&o, "/proc", &["--out", "cannot be written"]);
+        assert!(!stdout(&o).contains("rvlife study"), "{}", stdout(&o));
+    }
+    // A results directory of rvlife is replaced with --force.
+    let out = dir.path().join("r");
+    ok(
+        &rvlife([
+            "run".as_ref(),
+            cfg.as_os_str(),
+            "--out".as_ref(),
+            out.as_os_str(),
+        ]),
+        "first run",
+    );
+    assert!(out.join(".rvlife-results").is_file());
+    ok(
+        &rvlife([
+            "run".as_ref(),
+            cfg.as_os_str(),
+            "--out".as_ref(),
+            out.as_os_str(),
+            "--force".as_ref(),
+        ]),
+        "replace",
+    );
+    assert_eq!(leftover_tmp_dirs(dir.path()), Vec::<String>::new());
+}
+
+/// Interrupted runs leave nothing behind: SIGINT at random moments of the compute and write
+/// phases removes the temporary directory; the temporary directory of a killed run (SIGKILL)
+/// is removed by the next run in the same folder.
+#[test]
+#[cfg(unix)]
+fn interrupted_runs_leave_no_temporary_directory() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "c.toml", &fast_text());
+    for (i, delay_ms) in [300u64, 600, 800, 900, 1000, 1100, 1200, 1400]
+        .iter()
+        .enumerate()
+    {
+        let out = dir.path().join(format!("r{i}"));
+        let child = Command::new(env!("CARGO_BIN_EXE_rvlife"))
+            .args([
+                "run".as_ref(),
+                cfg.as_os_str(),
+                "--out".as_ref(),
+                out.as_os_str(),
+            ])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(*delay_ms));
+        // SAFETY: sends SIGINT to our own child process.
+        unsafe {
+            libc::kill(child.id() as libc::pid_t, libc::SIGINT);
+        }
+        let mut child = child;
+        let status = child.wait().unwrap();
+        assert!(
+            matches!(status.code(), Some(0) | Some(130)),
+            "interrupted run: {status:?}"
+        );
+        assert_eq!(
+            leftover_tmp_dirs(dir.path()),
+            Vec::<String>::new(),
+            "after {delay_ms} ms"
+        );
+        if out.exists() {
+            assert!(
+                out.join(".rvlife-results").is_file(),
+                "partial results in {}",
+                out.display()
+            );
+        }
+    }
+    // A temporary directory of a dead run (a process that has exited) is removed.
+    let dead = Command::new("true").spawn().unwrap();
+    let pid = dead.id();
+    let mut dead = dead;
+    dead.wait().unwrap();
+    let stale = dir.path().join(format!(".rvlife-tmp-{pid}-abcdef"));
+    std::fs::create_dir(&stale).unwrap();
+    std::fs::write(stale.join("summary.json"), "{").unwrap();
+    ok(
+        &rvlife([
+            "run".as_ref(),
+            cfg.as_os_str(),
+            "--out".as_ref(),
+            dir.path().join("after").as_os_str(),
+        ]),
+        "run after a killed one",
+    );
+    assert!(
+        !stale.exists(),
+        "the stale temporary directory is still there"
+    );
+}
+
+/// Two runs to the same new `--out`: one writes it, the other exits 2 and replaces nothing
+/// (the later one used to replace the earlier silently).
+#[test]
+fn concurrent_runs_do_not_replace_each_other() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "c.toml", &fast_text());
+    let out = dir.path().join("r");
+    let spawn = || {
+        Command::new(env!("CARGO_BIN_EXE_rvlife"))
+            .args([
+                "run".as_ref(),
+                cfg.as_os_str(),
+                "--out".as_ref(),
+                out.as_os_str(),
+            ])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap()
+    };
+    let (a, b) = (spawn(), spawn());
+    let (a, b) = (a.wait_with_output().unwrap(), b.wait_with_output().unwrap());
+    let mut codes = [a.status.code(), b.status.code()];
+    codes.sort();
+    assert_eq!(codes, [Some(0), Some(2)], "{}\n{}", stderr(&a), stderr(&b));
+    let loser = if a.status.code() == Some(2) { &a } else { &b };
+    assert!(stderr(loser).contains("--out"), "{}", stderr(loser));
+    assert!(out.join(".rvlife-results").is_file());
+    assert_eq!(leftover_tmp_dirs(dir.path()), Vec::<String>::new());
+}
+
+/// Same input, same bytes: two runs write byte-identical results directories (DXF headers
+/// included).
+#[test]
+fn two_runs_write_identical_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let t = set_key(&fast_text(), "wear", "stage_hours", "[0.0, 500.0]");
+    let cfg = write_config(dir.path(), "c.toml", &t);
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    ok(
+        &rvlife([
+            "run".as_ref(),
+            cfg.as_os_str(),
+            "--out".as_ref(),
+            a.as_os_str(),
+        ]),
+        "run a",
+    );
+    std::thread::sleep(std::time::Duration::from_millis(1100));
+    ok(
+        &rvlife([
+            "run".as_ref(),
+            cfg.as_os_str(),
+            "--out".as_ref(),
+            b.as_os_str(),
+        ]),
+        "run b",
+    );
+    let (sa, sb) = (snapshot(&a), snapshot(&b));
+    assert_eq!(sa.keys().collect::<Vec<_>>(), sb.keys().collect::<Vec<_>>());
+    for (k, v) in &sa {
+        assert!(v == &sb[k], "{} differs between two runs", k.display());
+    }
+    assert!(sa.keys().any(|k| k.extension().is_some_and(|e| e == "dxf")));
 }

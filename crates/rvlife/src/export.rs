@@ -99,6 +99,23 @@ fn write_dxf(profile: &Profile, path: &Path) -> Result<()> {
     use dxf::{Drawing, LwPolylineVertex};
     let mut drawing = Drawing::new();
     drawing.header.version = AcadVersion::R2000;
+    // Same input, same bytes: the `dxf` crate stamps the clock and two random GUIDs into the
+    // header; they are fixed here (2000-01-01 00:00 UTC, GUIDs named from the content).
+    // The local-time fields are written as their wall-clock reading: 2000-01-01 00:00 in
+    // every time zone.
+    let epoch =
+        chrono::DateTime::<chrono::Utc>::from_timestamp(946_684_800, 0).expect("a valid date");
+    let local = {
+        use chrono::TimeZone;
+        chrono::Local
+            .from_local_datetime(&epoch.naive_utc())
+            .earliest()
+            .unwrap_or_else(|| epoch.with_timezone(&chrono::Local))
+    };
+    drawing.header.creation_date = local;
+    drawing.header.update_date = local;
+    drawing.header.creation_date_universal = epoch;
+    drawing.header.update_date_universal = epoch;
     let mut poly = LwPolyline::default();
     poly.set_is_closed(true);
     poly.vertices = sample_with_params(profile)
@@ -109,6 +126,19 @@ fn write_dxf(profile: &Profile, path: &Path) -> Result<()> {
             ..Default::default()
         })
         .collect();
+    let guid = {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        for v in &poly.vertices {
+            v.x.to_bits().hash(&mut h);
+            v.y.to_bits().hash(&mut h);
+        }
+        let a = h.finish();
+        a.rotate_left(17).hash(&mut h);
+        uuid::Uuid::from_u64_pair(a, h.finish())
+    };
+    drawing.header.fingerprint_guid = guid;
+    drawing.header.version_guid = guid;
     drawing.add_entity(Entity::new(EntityType::LwPolyline(poly)));
     drawing
         .save_file(path)

@@ -27,7 +27,7 @@ use crate::te::{
     hysteresis_with, loaded_te_with, mesh_cycle_angles, CurveStats, LoadedTe, StaticTe, TwistTable,
     ARCMIN_PER_RAD,
 };
-use crate::wear::{integrate, WearHistory};
+use crate::wear::{integrate, ValidityLimit, WearHistory};
 
 /// One stage of `summary.json` (engineering units in the names).
 #[derive(Debug, Clone, Serialize)]
@@ -208,8 +208,12 @@ pub struct Summary {
     pub mesh_cycles_per_hour: f64,
     /// Wear-rate evaluations (profile updates + 1).
     pub wear_rate_evaluations: usize,
-    /// Stages.
+    /// Stages (up to the validity limit).
     pub stages: Vec<StageSummary>,
+    /// Where the model leaves its validity, when it does before the last stage: the stages
+    /// from there on are not reported.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub validity_limit: Option<ValidityLimit>,
     /// Against the paper.
     pub paper_comparison: PaperComparison,
 }
@@ -331,8 +335,13 @@ pub fn analyse_profile(model: &Model, profile: &Profile, hours: f64) -> Result<P
 /// then stages, then, when dynamics are on, one multibody simulation per stage, run in
 /// parallel).
 ///
+/// Stops at the working hours where the worn profile leaves the model's validity (see
+/// [`crate::wear::integrate`]; also when a worn stage's analysis fails) and reports the stages
+/// before it, with [`crate::wear::WearHistory::limit`] set.
+///
 /// # Errors
-/// Solver failures; a worn profile that folds over itself; interfering modifications.
+/// Solver failures on the unworn profile; interfering modifications; [`Error::Invalid`] naming
+/// `wear.stage_hours` when no stage lies within the validity; the work budget.
 pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Study> {
     let n_stages = model.stage_hours.len();
     let wear_total = if model.wear_model == WearModelKind::Paper || model.update_hours <= 0.0 {
@@ -345,7 +354,7 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
     let dyn_total = if model.dynamics_enabled { n_stages } else { 0 };
     let fem_total = if model.fem_enabled { n_stages } else { 0 };
     let total = wear_total + n_stages + dyn_total + fem_total;
-    let wear = integrate(model, &|d, _| progress(d, total))?;
+    let mut wear = integrate(model, &|d, _| progress(d, total))?;
     let mut stages = Vec::with_capacity(n_stages);
     for (i, (hours, map)) in wear.hours.iter().zip(&wear.maps).enumerate() {
         let max = map.iter().copied().fold(0.0, f64::max);
@@ -358,8 +367,22 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
             (Some(_), WearModelKind::Paper) => Some(WearMap::uniform(map.len(), max)?),
             (w, _) => w.clone(),
         };
-        let profile = model.profile(te_map)?;
-        let a = analyse_profile(model, &profile, *hours)?;
+        let analysed = model
+            .profile(te_map)
+            .and_then(|p| analyse_profile(model, &p, *hours).map(|a| (p, a)));
+        let (profile, a) = match analysed {
+            Ok(x) => x,
+            Err(e) if max > 0.0 && !matches!(e, Error::Invalid { .. } | Error::Io { .. }) => {
+                // A worn stage the static analysis cannot follow: the validity limit.
+                wear.limit = Some(ValidityLimit {
+                    hours: *hours,
+                    max_wear_um: max * 1e6,
+                    reason: e.to_string(),
+                });
+                break;
+            }
+            Err(e) => return Err(e),
+        };
         stages.push(Stage {
             hours: *hours,
             wear: wear_map,
@@ -372,6 +395,22 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
             flexible: None,
         });
         progress(wear_total + i + 1, total);
+    }
+    wear.hours.truncate(stages.len());
+    wear.maps.truncate(stages.len());
+    if stages.is_empty() {
+        let l = wear.limit.as_ref();
+        return Err(Error::invalid(
+            "wear.stage_hours",
+            format!("{:?}", model.stage_hours),
+            format!(
+                "no stage lies within the validity of the wear model: it leaves it at {:.0} h \
+                 ({:.2} um of wear: {}); list earlier stages",
+                l.map_or(0.0, |l| l.hours),
+                l.map_or(0.0, |l| l.max_wear_um),
+                l.map_or("", |l| l.reason.as_str())
+            ),
+        ));
     }
     if model.dynamics_enabled {
         let done = AtomicUsize::new(wear_total + n_stages);
@@ -447,6 +486,7 @@ impl Study {
             loaded_te_torque_nm: m.loaded_torque,
             mesh_cycles_per_hour: m.mesh_cycles_per_hour(m.input_speed_rpm),
             wear_rate_evaluations: self.wear.rate_evaluations(),
+            validity_limit: self.wear.limit.clone(),
             paper_comparison: PaperComparison {
                 ste_per_10um_arcmin: slope * 10.0,
                 ste_last_stage_arcmin: stages.last().map_or(0.0, |s| s.ste_mean_arcmin),

@@ -257,10 +257,23 @@ impl BandSmoother {
     }
 }
 
+/// Where the wear model leaves its validity: the worn profile can no longer be analysed (the
+/// contact leaves the range of the line-contact law or of the static analysis, or the worn
+/// flank folds over itself).
+#[derive(Debug, Clone, Serialize)]
+pub struct ValidityLimit {
+    /// Working hours at which the worn profile could not be analysed, h.
+    pub hours: f64,
+    /// Largest wear depth of that profile, um.
+    pub max_wear_um: f64,
+    /// Which limit: the analysis' own message.
+    pub reason: String,
+}
+
 /// Wear maps at the model's stages.
 #[derive(Debug, Clone, Serialize)]
 pub struct WearHistory {
-    /// Stage working hours, h.
+    /// Stage working hours, h: the model's stages up to the validity limit.
     pub hours: Vec<f64>,
     /// Wear depth on the grid at each stage, m (`maps[s][m]` at mesh angle `2 pi m / n`),
     /// filtered at the Hertz band scale (the flank the pins meet).
@@ -268,6 +281,9 @@ pub struct WearHistory {
     /// Working hours at which the wear rate was evaluated (the profile-update schedule), h;
     /// starts with 0. Pass it to [`integrate_on_schedule`] to repeat the same schedule.
     pub update_hours: Vec<f64>,
+    /// Set when the integration stopped before the last stage because the worn profile left
+    /// the model's validity; `hours` and `maps` then hold the stages before it.
+    pub limit: Option<ValidityLimit>,
 }
 
 impl WearHistory {
@@ -292,9 +308,15 @@ impl WearHistory {
 /// Integrates Archard wear over the working hours with profile updates (see module docs).
 /// `progress(done, total)` is called after each wear-rate evaluation.
 ///
+/// Where the worn profile leaves the model's validity (the wear rate of a worn profile cannot
+/// be evaluated: the contact leaves the range of the contact law or the static analysis, or the
+/// flank folds over itself), the integration stops there and reports the stages before it with
+/// [`WearHistory::limit`] set.
+///
 /// # Errors
-/// Propagates solver failures; [`Error::Invalid`] if the wear grows so deep that the worn
-/// profile folds over itself.
+/// Propagates solver failures on the unworn profile; [`Error::Invalid`] naming the key that
+/// drives the work when the profile updates that `wear.max_wear_step_um` asks for exceed the
+/// work budget ([`crate::budget`]).
 pub fn integrate(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<WearHistory> {
     integrate_inner(model, None, progress)
 }
@@ -338,7 +360,11 @@ fn integrate_inner(
     };
     let mut update_hours = Vec::new();
     let stages = &model.stage_hours;
-    let eps = 1e-9;
+    // Round-off tolerance of the hour arithmetic, relative to the horizon: an update step is
+    // never shorter than horizon / budget (checked below), far above it.
+    let eps = 1e-12 * last;
+    let mut limit = None;
+    let mut budget_checked = false;
     let smoother = BandSmoother::new(model)?;
     let mut h = vec![0.0; n];
     let mut t = 0.0;
@@ -351,12 +377,39 @@ fn integrate_inner(
             continue;
         }
         // Rate from the current worn profile, held until the next update.
-        let wear = if h.iter().any(|&x| x > 0.0) {
-            Some(WearMap::new(smoother.apply(&h))?)
+        let worn = h.iter().any(|&x| x > 0.0);
+        let rate = if worn {
+            let smoothed = smoother.apply(&h);
+            let evaluated = WearMap::new(smoothed.clone())
+                .and_then(|w| model.profile(Some(w)))
+                .and_then(|p| wear_rate(&p, model));
+            match evaluated {
+                Ok(r) => r,
+                Err(e) => {
+                    limit = Some(ValidityLimit {
+                        hours: t,
+                        max_wear_um: smoothed.iter().copied().fold(0.0, f64::max) * 1e6,
+                        reason: e.to_string(),
+                    });
+                    break;
+                }
+            }
         } else {
-            None
+            wear_rate(&model.profile(None)?, model)?
         };
-        let rate = wear_rate(&model.profile(wear)?, model)?;
+        if rate.iter().any(|r| !r.is_finite()) {
+            return Err(Error::numerical("wear integration", "non-finite wear rate"));
+        }
+        let max_rate = rate.iter().copied().fold(0.0, f64::max);
+        if schedule.is_none() {
+            // The estimate from the first rate, and again whenever the updates run past twice
+            // the scheduled count (the rate grows as the flank wears).
+            let sched = (last / step).ceil();
+            if !budget_checked || (update_hours.len() as f64) > 2.0 * sched.max(1.0) {
+                crate::budget::check_wear_updates(model, last, max_rate)?;
+                budget_checked = true;
+            }
+        }
         update_hours.push(t);
         progress(update_hours.len().min(total), total);
         let seg_end = if let Some(sch) = schedule {
@@ -372,11 +425,11 @@ fn integrate_inner(
             };
             // Explicit Euler in hours is stable only while no point wears much more than the
             // contact approach between updates: cap the largest increment.
-            let max_rate = rate.iter().copied().fold(0.0, f64::max);
             if step.is_finite() && max_rate > 0.0 {
                 seg_end = seg_end.min(t + model.max_wear_step / max_rate);
             }
-            seg_end
+            // Every update advances the hours (the budget check bounds the count of them).
+            seg_end.max(t + 4.0 * eps)
         };
         let advance = |h: &mut Vec<f64>, to: f64, t: &mut f64| {
             for (x, r) in h.iter_mut().zip(&rate) {
@@ -400,9 +453,10 @@ fn integrate_inner(
         }
     }
     Ok(WearHistory {
-        hours: model.stage_hours.clone(),
+        hours: model.stage_hours[..maps.len()].to_vec(),
         maps,
         update_hours,
+        limit,
     })
 }
 
@@ -418,26 +472,53 @@ fn integrate_inner(
 /// within the rule's own jitter (a few 0.1 %) of it.
 ///
 /// # Errors
-/// [`Error::Invalid`] if the target is not positive or the model gives no wear;
-/// [`Error::Numerical`] if the fixed-schedule phase does not reach 0.1 % in 20 iterations.
+/// [`Error::Invalid`] if the target is not in `(0, 2a]` (`a` the eccentricity: the tooth
+/// height), the last stage is at 0 h, the model gives no wear, or the wear model leaves its
+/// validity before the target depth; [`Error::Numerical`] if the fixed-schedule phase does not
+/// reach 0.1 % in 20 iterations.
 pub fn calibrate(model: &Model, target_depth: f64) -> Result<(f64, f64)> {
-    if !(target_depth.is_finite() && target_depth > 0.0) {
+    let tooth = 2.0 * model.geometry.eccentricity;
+    if !(target_depth.is_finite() && target_depth > 0.0 && target_depth <= tooth) {
         return Err(Error::invalid(
             "--target-wear-um",
             target_depth * 1e6,
-            "must be a finite number > 0",
+            format!(
+                "must be a finite number in (0, {:.1}] um (the tooth height, twice \
+                 cycloid.eccentricity_mm)",
+                tooth * 1e6
+            ),
+        ));
+    }
+    let last = model.stage_hours.last().copied().unwrap_or(0.0);
+    if last <= 0.0 {
+        return Err(Error::invalid(
+            "wear.stage_hours",
+            format!("{:?}", model.stage_hours),
+            "the last stage is at 0 h, where there is no wear to calibrate; list a later stage",
         ));
     }
     let mut m = model.clone();
     let max_depth = |hist: &WearHistory| -> Result<f64> {
+        if let Some(l) = &hist.limit {
+            return Err(Error::invalid(
+                "--target-wear-um",
+                target_depth * 1e6,
+                format!(
+                    "the wear model leaves its validity at {:.0} h with {:.2} um of wear, before \
+                     the last stage ({last} h) reaches the target: {}; aim lower",
+                    l.hours, l.max_wear_um, l.reason
+                ),
+            ));
+        }
         let achieved = *hist.max_depths().last().unwrap_or(&0.0);
         if achieved > 0.0 {
             Ok(achieved)
         } else {
             Err(Error::invalid(
                 "load",
-                "zero",
-                "the load spectrum produces no wear; nothing to calibrate",
+                "no wear",
+                "the load spectrum (load.kind and its torques) produces no wear; nothing to \
+                 calibrate",
             ))
         }
     };
@@ -445,6 +526,14 @@ pub fn calibrate(model: &Model, target_depth: f64) -> Result<(f64, f64)> {
     let mut schedule = Vec::new();
     for _ in 0..20 {
         let hist = integrate(&m, &|_, _| {})?;
+        if let Some(l) = &hist.limit {
+            if l.max_wear_um * 1e-6 > target_depth && l.hours > 0.0 {
+                // Past the target before the limit: a smaller coefficient reaches the target
+                // at the last stage (depth about proportional to k times hours).
+                m.archard *= 0.5 * target_depth / (l.max_wear_um * 1e-6) * (l.hours / last);
+                continue;
+            }
+        }
         let achieved = max_depth(&hist)?;
         schedule = hist.update_hours;
         if (achieved / target_depth - 1.0).abs() < 0.02 {

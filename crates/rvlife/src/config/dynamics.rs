@@ -832,3 +832,35 @@ pub fn read_load_table(path: &Path, end_time: f64) -> Result<LoadProfile> {
     }
     Ok(LoadProfile::Table { time, torque })
 }
+
+/// The largest output torque of the dynamic load in each direction, with the key that sets
+/// it (for the physical check of [`crate::config::Config::validate`]).
+pub(crate) fn load_peaks(load: &LoadProfile) -> Vec<(String, f64)> {
+    match load {
+        LoadProfile::None => Vec::new(),
+        LoadProfile::Constant { torque, .. } => {
+            vec![("dynamics.load.torque_nm".to_string(), *torque)]
+        }
+        LoadProfile::Sinusoidal {
+            amplitude, offset, ..
+        } => {
+            let key = if *amplitude > 0.0 {
+                "dynamics.load.amplitude_nm"
+            } else {
+                "dynamics.load.offset_nm"
+            };
+            vec![
+                (key.to_string(), offset + amplitude),
+                (key.to_string(), offset - amplitude),
+            ]
+        }
+        LoadProfile::Table { torque, .. } => {
+            let hi = torque.iter().copied().fold(0.0, f64::max);
+            let lo = torque.iter().copied().fold(0.0, f64::min);
+            vec![
+                ("dynamics.load.file".to_string(), hi),
+                ("dynamics.load.file".to_string(), lo),
+            ]
+        }
+    }
+}

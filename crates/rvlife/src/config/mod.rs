@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 
 mod dynamics;
 mod fem;
+mod physical;
 mod range;
 mod raw;
 
@@ -18,6 +19,7 @@ pub use dynamics::{
     read_load_table, DriveConfig, DynLoadConfig, DynamicsConfig, ImpactConfig, InertiaConfig,
 };
 pub use fem::FemConfig;
+pub use physical::PROBES_PER_MESH_CYCLE;
 pub(crate) use range::{check, whole, Range};
 pub use raw::{
     BearingsConfig, ContactConfig, CycloidConfig, GearsConfig, LoadConfig, MaterialConfig,
@@ -64,6 +66,15 @@ pub struct Config {
     /// Directory of the config file (for relative paths); not a key.
     #[serde(skip)]
     pub base_dir: Option<PathBuf>,
+    /// The dotted keys the file sets (`cycloid.pins`), to tell a key the user wrote from a
+    /// default in messages; `None` for the built-in example (every key written). Not a key.
+    #[serde(skip)]
+    pub written: Option<std::collections::BTreeSet<String>>,
+    /// Work budget, minutes of estimated computing on the reference machine (2 cores): a
+    /// config whose estimate exceeds it is refused before the work starts, naming the key that
+    /// drives it ([`crate::budget`]). Not a key: the command line's `--work-budget-min`.
+    #[serde(skip, default = "crate::budget::default_minutes")]
+    pub work_budget_minutes: f64,
 }
 
 /// Wear model choice.
@@ -136,6 +147,12 @@ pub struct Model {
     pub fem: FemParams,
     /// Whether the study runs the flexible-disc analysis.
     pub fem_enabled: bool,
+    /// Largest Hertz pressure the contact may carry, Pa (`materials.max_contact_pressure_mpa`).
+    pub max_contact_pressure: f64,
+    /// Work budget in contact-solve equivalents ([`crate::budget`]).
+    pub work_budget: f64,
+    /// The key that sets the Archard coefficient, as the user wrote it.
+    pub archard_key: &'static str,
 }
 
 impl Model {
@@ -204,6 +221,7 @@ impl Config {
         })?;
         let mut c = Config::from_toml_str(&text, &path.display().to_string())?;
         c.base_dir = path.parent().map(Path::to_path_buf);
+        c.written = written_keys(&text);
         Ok(c)
     }
 
@@ -213,14 +231,61 @@ impl Config {
     }
 
     /// Checks every value and converts to SI: the reducer's mechanical model ([`Reducer`]), the
-    /// load spectrum, the wear and TE settings, and the `[dynamics]` and `[fem]` sections.
+    /// load spectrum, the wear and TE settings, and the `[dynamics]` and `[fem]` sections; then
+    /// the physics of the unworn stage (the modifications keep the disc in mesh, every torque
+    /// of the config is carried: [`PROBES_PER_MESH_CYCLE`]) and the work the config needs
+    /// against the budget ([`crate::budget`]).
     ///
     /// # Errors
-    /// [`Error::Invalid`] naming the key, the value and the allowed range.
+    /// [`Error::Invalid`] naming the key, the value and the allowed range. A key the file does
+    /// not set (a default) is named as such, with what its default depends on.
     pub fn validate(&self) -> Result<Model> {
+        self.validate_inner().map_err(|e| self.explain_default(e))
+    }
+
+    /// Marks the key of an [`Error::Invalid`] that the user's file does not set.
+    fn explain_default(&self, e: Error) -> Error {
+        let Some(written) = &self.written else {
+            return e;
+        };
+        match e {
+            Error::Invalid {
+                field,
+                value,
+                allowed,
+            } => {
+                let is_key = field.contains('.')
+                    && field
+                        .chars()
+                        .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || "._".contains(c));
+                let prefix = format!("{field}.");
+                if !is_key
+                    || written.contains(&field)
+                    || written.iter().any(|w| w.starts_with(&prefix))
+                {
+                    return Error::Invalid {
+                        field,
+                        value,
+                        allowed,
+                    };
+                }
+                let source = default_source(&field);
+                Error::Invalid {
+                    field: format!("{field} (not in your file: {source})"),
+                    value,
+                    allowed,
+                }
+            }
+            other => other,
+        }
+    }
+
+    fn validate_inner(&self) -> Result<Model> {
         let r = &self.reducer;
         let c = &self.cycloid;
-        let mm = |key: &str, v: f64| check(key, v, Range::positive(1e5, "mm")).map(|v| v * 1e-3);
+        // From a watch-size drive (0.01 mm) to beyond the largest reducers built (10 m).
+        let mm =
+            |key: &str, v: f64| check(key, v, Range::closed(0.01, 1e4, "mm")).map(|v| v * 1e-3);
         let pins = whole("cycloid.pins", c.pins, 3, 1000)?;
         let geometry = CycloidGeometry {
             pins,
@@ -241,10 +306,15 @@ impl Config {
                 m.offset_mm,
                 Range::finite("mm"),
             )? * 1e-3,
+            // Beyond half a tooth pitch a rotation is a renumbering of the teeth.
             rotation: check(
                 "cycloid.modification.rotation_deg",
                 m.rotation_deg,
-                Range::finite("deg"),
+                Range::closed(
+                    -180.0 / (pins - 1) as f64,
+                    180.0 / (pins - 1) as f64,
+                    "deg (half a tooth pitch, 180/Zc)",
+                ),
             )?
             .to_radians(),
         };
@@ -347,7 +417,12 @@ impl Config {
                     / (geometry.disc_pitch_radius() * pins as f64)
             }
         };
-        let spectrum = self.load_spectrum(rated_torque, input_speed_rpm)?;
+        let (spectrum, level_keys) = self.load_spectrum(rated_torque, input_speed_rpm)?;
+        let max_contact_pressure = check(
+            "materials.max_contact_pressure_mpa",
+            self.materials.max_contact_pressure_mpa,
+            Range::closed(10.0, 1e5, "MPa"),
+        )? * 1e6;
         let w = &self.wear;
         let wear_model = match w.model.as_str() {
             "flodin" => WearModelKind::Flodin,
@@ -359,6 +434,11 @@ impl Config {
                     "must be \"flodin\" or \"paper\"",
                 ))
             }
+        };
+        let archard_key = if w.archard_coefficient_m2_per_n.is_some() {
+            "wear.archard_coefficient_m2_per_n"
+        } else {
+            "wear.archard_coefficient_mm3_per_n_m"
         };
         let archard = match (
             w.archard_coefficient_mm3_per_n_m,
@@ -464,7 +544,14 @@ impl Config {
             e1,
             nu1,
         )?;
-        Ok(Model {
+        let model = Model {
+            max_contact_pressure,
+            work_budget: crate::budget::solves_in_minutes(check(
+                "--work-budget-min",
+                self.work_budget_minutes,
+                Range::positive(1e6, "min"),
+            )?),
+            archard_key,
             dynamics,
             dynamics_enabled: self.dynamics.enabled,
             fem,
@@ -487,7 +574,38 @@ impl Config {
             te_samples,
             loaded_torque,
             measuring_torque_fraction,
-        })
+        };
+        let levels_key = match self.load.kind.as_str() {
+            "duty_cycle" => "load.file",
+            "sinusoidal" => "load.levels",
+            _ => "load.kind",
+        };
+        crate::budget::check_config(&model, levels_key)?;
+        physical::check_mesh(
+            &model,
+            &nominal_profile,
+            &c.modification,
+            model.geometry.pin_circle_radius,
+        )?;
+        let mut uses = vec![
+            ("reducer.rated_torque_nm".to_string(), rated_torque),
+            ("reducer.rated_torque_nm".to_string(), -rated_torque),
+            ("te.loaded_torque_nm".to_string(), loaded_torque),
+        ];
+        for dir in [1.0, -1.0] {
+            let peak = model
+                .spectrum
+                .iter()
+                .zip(&level_keys)
+                .filter(|(l, _)| l.torque * dir > 0.0)
+                .max_by(|a, b| (a.0.torque * dir).total_cmp(&(b.0.torque * dir)));
+            if let Some((l, key)) = peak {
+                uses.push((key.clone(), l.torque));
+            }
+        }
+        uses.extend(dynamics::load_peaks(&model.dynamics.load));
+        physical::check_torques(&model, &nominal_profile, &uses)?;
+        Ok(model)
     }
 
     /// The `[contact]` law for the stage `geometry` and the elastic constants
@@ -560,7 +678,8 @@ impl Config {
         })
     }
 
-    fn load_spectrum(&self, rated: f64, speed: f64) -> Result<Vec<LoadLevel>> {
+    /// The load spectrum and, for every level, the key that sets its torque.
+    fn load_spectrum(&self, rated: f64, speed: f64) -> Result<(Vec<LoadLevel>, Vec<String>)> {
         let l = &self.load;
         let unused = |name: &str, v: bool| -> Result<()> {
             if v {
@@ -582,11 +701,14 @@ impl Config {
                     l.torque_nm.unwrap_or(rated),
                     Range::finite("N m"),
                 )?;
-                Ok(vec![LoadLevel {
-                    torque: t,
-                    speed_rpm: speed,
-                    fraction: 1.0,
-                }])
+                Ok((
+                    vec![LoadLevel {
+                        torque: t,
+                        speed_rpm: speed,
+                        fraction: 1.0,
+                    }],
+                    vec!["load.torque_nm".to_string()],
+                ))
             }
             "sinusoidal" => {
                 unused("torque_nm", l.torque_nm.is_some())?;
@@ -605,7 +727,7 @@ impl Config {
                     check("load.period_s", p, Range::positive(1e9, "s"))?;
                 }
                 let n = whole("load.levels", l.levels.unwrap_or(24), 4, 10_000)?;
-                Ok((0..n)
+                let levels: Vec<LoadLevel> = (0..n)
                     .map(|k| {
                         let ph = std::f64::consts::TAU * (k as f64 + 0.5) / n as f64;
                         LoadLevel {
@@ -614,7 +736,13 @@ impl Config {
                             fraction: 1.0 / n as f64,
                         }
                     })
-                    .collect())
+                    .collect();
+                let key = if amp > 0.0 {
+                    "load.amplitude_nm"
+                } else {
+                    "load.offset_nm"
+                };
+                Ok((levels, vec![key.to_string(); n]))
             }
             "duty_cycle" => {
                 unused("torque_nm", l.torque_nm.is_some())?;
@@ -630,7 +758,12 @@ impl Config {
                     Some(d) if file.is_relative() => d.join(file),
                     _ => file.clone(),
                 };
-                read_duty_cycle(&path)
+                let (levels, rows) = read_duty_cycle_rows(&path)?;
+                let keys = rows
+                    .iter()
+                    .map(|r| format!("{} row {r} column torque_nm", path.display()))
+                    .collect();
+                Ok((levels, keys))
             }
             other => Err(Error::invalid(
                 "load.kind",
@@ -725,11 +858,23 @@ impl BearingsConfig {
     }
 }
 
-/// Reads a duty-cycle CSV with header `duration_s,torque_nm,speed_rpm`.
+/// Longest duration of one duty-cycle row, s (about 31 700 years): the durations must add up
+/// to a finite total for the time shares.
+pub const MAX_ROW_DURATION_S: f64 = 1e12;
+
+/// Reads a duty-cycle CSV with header `duration_s,torque_nm,speed_rpm`: one load level per
+/// distinct `(torque, speed)` pair, with the share of the total duration of its rows (the
+/// shares sum to 1 to round-off).
 ///
 /// # Errors
-/// [`Error::Config`] if unreadable; [`Error::Invalid`] naming the row for a bad value.
+/// [`Error::Config`] if unreadable; [`Error::Invalid`] naming the row for a bad value (a
+/// duration must lie in `(0, MAX_ROW_DURATION_S]`).
 pub fn read_duty_cycle(path: &Path) -> Result<Vec<LoadLevel>> {
+    read_duty_cycle_rows(path).map(|(levels, _)| levels)
+}
+
+/// [`read_duty_cycle`], with the first row (1-based) of every level.
+fn read_duty_cycle_rows(path: &Path) -> Result<(Vec<LoadLevel>, Vec<usize>)> {
     let origin = path.display().to_string();
     let mut rdr = csv::Reader::from_path(path).map_err(|e| Error::Config {
         path: origin.clone(),
@@ -772,7 +917,7 @@ pub fn read_duty_cycle(path: &Path) -> Result<Vec<LoadLevel>> {
         check(
             &format!("{origin} row {} column duration_s", i + 1),
             v[0],
-            Range::positive(f64::MAX, "s"),
+            Range::positive(MAX_ROW_DURATION_S, "s"),
         )?;
         check(
             &format!("{origin} row {} column speed_rpm", i + 1),
@@ -787,15 +932,88 @@ pub fn read_duty_cycle(path: &Path) -> Result<Vec<LoadLevel>> {
             message: "the duty cycle has no rows".into(),
         });
     }
-    let total: f64 = rows.iter().map(|r| r.0).sum();
-    Ok(rows
-        .into_iter()
-        .map(|(d, t, n)| LoadLevel {
-            torque: t,
-            speed_rpm: n,
-            fraction: d / total,
-        })
-        .collect())
+    // Rows of the same torque and speed are one level; shares of the total time, summed with
+    // the durations scaled by the longest so that no sum can overflow.
+    let longest = rows.iter().map(|r| r.0).fold(0.0, f64::max);
+    let mut levels: Vec<LoadLevel> = Vec::new();
+    let mut first_rows: Vec<usize> = Vec::new();
+    let mut index = std::collections::HashMap::new();
+    for (i, &(d, t, n)) in rows.iter().enumerate() {
+        let k = *index.entry((t.to_bits(), n.to_bits())).or_insert_with(|| {
+            levels.push(LoadLevel {
+                torque: t,
+                speed_rpm: n,
+                fraction: 0.0,
+            });
+            first_rows.push(i + 1);
+            levels.len() - 1
+        });
+        levels[k].fraction += d / longest;
+    }
+    let total: f64 = levels.iter().map(|l| l.fraction).sum();
+    for l in &mut levels {
+        l.fraction /= total;
+    }
+    let sum: f64 = levels.iter().map(|l| l.fraction).sum();
+    if !(sum - 1.0).abs().le(&1e-9) || levels.iter().any(|l| !l.fraction.is_finite()) {
+        return Err(Error::invalid(
+            format!("{origin} column duration_s"),
+            format!("shares summing to {sum}"),
+            "the durations must give time shares that sum to 1",
+        ));
+    }
+    Ok((levels, first_rows))
+}
+
+/// The dotted keys a TOML text sets (`cycloid.modification.offset_mm`), or `None` if it does
+/// not parse.
+fn written_keys(text: &str) -> Option<std::collections::BTreeSet<String>> {
+    fn walk(prefix: &str, t: &toml::Table, out: &mut std::collections::BTreeSet<String>) {
+        for (k, v) in t {
+            let key = if prefix.is_empty() {
+                k.clone()
+            } else {
+                format!("{prefix}.{k}")
+            };
+            if let toml::Value::Table(sub) = v {
+                walk(&key, sub, out);
+            } else {
+                out.insert(key);
+            }
+        }
+    }
+    let table: toml::Table = text.parse().ok()?;
+    let mut out = std::collections::BTreeSet::new();
+    walk("", &table, &mut out);
+    Some(out)
+}
+
+/// What the default of a key not set in the user's file depends on.
+fn default_source(key: &str) -> &'static str {
+    match key {
+        "fem.crank_bore_diameter_mm" => {
+            "its default is 2 x dynamics.inertia.crank_bore_radius_mm; set it in [fem]"
+        }
+        "fem.crank_circle_radius_mm" => {
+            "its default is the crank circle, sun + planet pitch radius from [reducer.gears] \
+             and the tooth numbers; set it in [fem]"
+        }
+        "fem.output_pin_circle_radius_mm" => {
+            "its default is the crank circle radius; set it in [fem]"
+        }
+        "fem.output_pin_hole_phase_deg" => {
+            "its default is 180 / fem.output_pin_holes; set it in [fem]"
+        }
+        "contact.band_force_n" => {
+            "its default is Li's largest pin force at reducer.rated_torque_nm; set it in [contact]"
+        }
+        "te.loaded_torque_nm"
+        | "load.torque_nm"
+        | "load.amplitude_nm"
+        | "dynamics.load.torque_nm"
+        | "dynamics.load.amplitude_nm" => "its default is reducer.rated_torque_nm",
+        _ => "a built-in default; set the key to change it",
+    }
 }
 
 #[cfg(test)]

@@ -70,6 +70,16 @@ pub struct MaterialsConfig {
     pub disc: MaterialConfig,
     /// Pins.
     pub pin: MaterialConfig,
+    /// Largest Hertz pressure the disc-pin contact may carry, MPa (default 4000: the static
+    /// capacity of hardened bearing steel in line contact, ISO 76:2006 section 6.2.1, where the
+    /// permanent set reaches 1e-4 of the roller diameter). Every torque the study applies is
+    /// checked against it on the unworn disc before any analysis.
+    #[serde(default = "default_max_pressure")]
+    pub max_contact_pressure_mpa: f64,
+}
+
+fn default_max_pressure() -> f64 {
+    4000.0
 }
 
 /// One material.

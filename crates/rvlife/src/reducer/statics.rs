@@ -65,6 +65,9 @@ pub const ROUNDOFF_GAP_ULPS: f64 = 4.0;
 /// arcmin: 30 times the twist of the example at its rated torque).
 const MAX_TWIST: f64 = 0.01;
 
+/// Most solves of one loading path in [`StaticAnalysis::solve_in_load_steps`].
+pub const MAX_LOAD_STEPS: usize = 96;
+
 /// Consecutive crank angles solved in one run of [`StaticAnalysis::solve_sequence`], each
 /// started from the previous one.
 pub const SEQUENCE_RUN: usize = 16;
@@ -1199,7 +1202,8 @@ impl<'a> StaticAnalysis<'a> {
     /// before, a step halved where it fails and doubled again (up to an eighth of the way)
     /// where it succeeds (a disc that moves onto other pins part of the way up, as on a ridge of
     /// a worn flank, is followed along the loading path). The error of the last step tried when
-    /// the step falls below 1e-6 of the torque.
+    /// the step falls below 1e-6 of the torque, or after [`MAX_LOAD_STEPS`] solves (a path that
+    /// advances by ever smaller steps would otherwise run for hours).
     fn solve_in_load_steps(
         &self,
         phi: f64,
@@ -1214,7 +1218,9 @@ impl<'a> StaticAnalysis<'a> {
         let mut reached = prev.as_ref().map_or(0.0, |x| x.output_torque);
         let first_step = (torque - reached) / 8.0;
         let mut step = first_step;
+        let mut attempt = 0;
         loop {
+            attempt += 1;
             let next = if (torque - reached).abs() <= 1.000001 * step.abs() {
                 torque
             } else {
@@ -1231,6 +1237,16 @@ impl<'a> StaticAnalysis<'a> {
                     }
                 }
                 Err(e) if step.abs() < 1e-6 * torque.abs() => return Err(e),
+                Err(e) if attempt >= MAX_LOAD_STEPS => {
+                    return Err(Error::numerical(
+                        "static equilibrium",
+                        format!(
+                            "the load steps reached {reached:.6e} of {torque:.6e} N m in \
+                             {MAX_LOAD_STEPS} solves at crank angle {:.4} deg (last: {e})",
+                            phi.to_degrees()
+                        ),
+                    ))
+                }
                 Err(_) => step *= 0.5,
             }
         }

@@ -1,0 +1,284 @@
+//! Config and duty-cycle fuzzing of the `rvlife` binary (proptest).
+//!
+//! Each case is a mutated copy of the built-in example (dynamics and flexible disc off, a
+//! 1000 h study): one or two keys get an extreme, zero, negative, scaled, non-finite or
+//! wrongly typed value, or are removed; one case in four also swaps the load for a generated
+//! duty cycle (durations from 1e-300 to 1e308 s, zero and negative ones, NaN; torques beyond
+//! the stage; speeds from 0 to 1e300 rpm). `rvlife run` must end with exit 0 or 2, never a
+//! panic, a hang past the work budget (`--work-budget-min 1`, killed at 240 s), or a NaN or
+//! infinity in any output; an exit 2 must print one `error: invalid ...`/`error: config ...`
+//! line naming a key.
+//!
+//! `RVLIFE_FUZZ_CASES` sets the number of cases (default 60, the CI run; the seed is fixed, so
+//! CI runs the same cases every time, and `RVLIFE_FUZZ_SEED` picks others).
+
+use std::process::Command;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use proptest::prelude::*;
+use proptest::test_runner::{Config as RunnerConfig, RngAlgorithm, TestRng, TestRunner};
+use serde_json::Value;
+
+mod common;
+use common::{assert_all_finite, rvlife_within};
+
+/// The example, fast: no dynamics, no flexible disc, stages at 0, 500 and 1000 h.
+fn base_config() -> String {
+    let o = Command::new(env!("CARGO_BIN_EXE_rvlife"))
+        .arg("example")
+        .output()
+        .expect("rvlife example");
+    let text = String::from_utf8(o.stdout).expect("utf-8");
+    text.lines()
+        .map(|l| {
+            let key = l.split('=').next().unwrap_or("").trim();
+            match key {
+                "enabled" => "enabled = false".to_string(),
+                "stage_hours" => "stage_hours = [0.0, 500.0, 1000.0]".to_string(),
+                _ => l.to_string(),
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+        + "\n"
+}
+
+/// Indices of the `key = value` lines of `text`.
+fn key_lines(text: &str) -> Vec<usize> {
+    text.lines()
+        .enumerate()
+        .filter(|(_, l)| {
+            let t = l.trim_start();
+            !t.starts_with('#') && !t.starts_with('[') && t.contains('=')
+        })
+        .map(|(i, _)| i)
+        .collect()
+}
+
+/// Replacement values: extremes, zero, negatives, non-finite, wrong types, garbage strings.
+const VALUES: &[&str] = &[
+    "0",
+    "-1",
+    "1e300",
+    "-1e300",
+    "nan",
+    "inf",
+    "-inf",
+    "1e-300",
+    "1e-12",
+    "1e12",
+    "2.75",
+    "-2e8",
+    "0.5",
+    "1e6",
+    "10000",
+    "\"bogus\"",
+    "[]",
+    "true",
+    "[0.0]",
+    "[1e308]",
+    "-0.0",
+];
+
+#[derive(Debug, Clone)]
+enum Mutation {
+    /// Line index among the key lines, value index in [`VALUES`].
+    Set(usize, usize),
+    /// Line index, power of ten, negate.
+    Scale(usize, i32, bool),
+    /// Line index: the key is removed (its default applies).
+    Remove(usize),
+}
+
+fn mutation() -> impl Strategy<Value = Mutation> {
+    prop_oneof![
+        3 => (any::<usize>(), 0..VALUES.len()).prop_map(|(l, v)| Mutation::Set(l, v)),
+        4 => (
+            any::<usize>(),
+            prop_oneof![3 => -1..=1i32, 1 => -8..=8i32],
+            prop::bool::weighted(0.2)
+        )
+            .prop_map(|(l, p, n)| Mutation::Scale(l, p, n)),
+        1 => any::<usize>().prop_map(Mutation::Remove),
+    ]
+}
+
+fn apply(text: &str, m: &Mutation) -> String {
+    let keys = key_lines(text);
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let pick = |l: usize| keys[l % keys.len()];
+    match *m {
+        Mutation::Set(l, v) => {
+            let i = pick(l);
+            let key = lines[i].split('=').next().unwrap_or("").trim().to_string();
+            lines[i] = format!("{key} = {}", VALUES[v]);
+        }
+        Mutation::Scale(l, p, negate) => {
+            let i = pick(l);
+            let (key, rest) = lines[i].split_once('=').expect("a key line");
+            let value = rest.split('#').next().unwrap_or("").trim();
+            if let Ok(x) = value.parse::<f64>() {
+                let y = x * 10f64.powi(p) * if negate { -1.0 } else { 1.0 };
+                lines[i] = format!("{} = {y:e}", key.trim());
+            }
+        }
+        Mutation::Remove(l) => {
+            let i = pick(l);
+            lines[i] = format!("# {}", lines[i]);
+        }
+    }
+    lines.join("\n") + "\n"
+}
+
+const DURATIONS: &[&str] = &["1e-300", "1", "3600", "1e12", "1e308", "0", "-1", "nan"];
+const TORQUES: &[&str] = &["0", "412", "-412", "1000", "-3000", "12700", "1e300", "nan"];
+const SPEEDS: &[&str] = &["0", "1", "1500", "1e6", "1e300", "-5"];
+
+/// A duty cycle of 1 to 12 rows drawn from the lists above (mostly plausible rows).
+fn duty_cycle() -> impl Strategy<Value = String> {
+    prop::collection::vec(
+        (
+            prop_oneof![4 => Just(2usize), 1 => 0..DURATIONS.len()],
+            prop_oneof![4 => 0..3usize, 1 => 0..TORQUES.len()],
+            prop_oneof![4 => Just(2usize), 1 => 0..SPEEDS.len()],
+        ),
+        1..12,
+    )
+    .prop_map(|rows| {
+        let mut s = String::from("duration_s,torque_nm,speed_rpm\n");
+        for (d, t, n) in rows {
+            s.push_str(&format!("{},{},{}\n", DURATIONS[d], TORQUES[t], SPEEDS[n]));
+        }
+        s
+    })
+}
+
+/// Scans every CSV, JSON and SVG file under `dir` for a non-finite number.
+fn assert_outputs_finite(dir: &std::path::Path, case: &str) {
+    for e in std::fs::read_dir(dir).expect("read_dir").flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            assert_outputs_finite(&p, case);
+            continue;
+        }
+        let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");
+        if ext == "json" {
+            let v: Value = serde_json::from_str(&std::fs::read_to_string(&p).unwrap())
+                .unwrap_or_else(|e| panic!("{}: not JSON ({e})\n{case}", p.display()));
+            assert_all_finite(&v, &p.display().to_string());
+        } else if ext == "csv" {
+            let text = std::fs::read_to_string(&p).unwrap();
+            for cell in text.split([',', '\n']) {
+                let c = cell.trim().to_ascii_lowercase();
+                assert!(
+                    c != "nan" && c != "inf" && c != "-inf",
+                    "{}: non-finite cell {cell:?}\n{case}",
+                    p.display()
+                );
+            }
+        }
+    }
+}
+
+static EXIT_0: AtomicUsize = AtomicUsize::new(0);
+static EXIT_2: AtomicUsize = AtomicUsize::new(0);
+
+fn check_case(text: &str, duty: Option<&str>) {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("c.toml");
+    let mut text = text.to_string();
+    if let Some(csv) = duty {
+        std::fs::write(dir.path().join("dc.csv"), csv).unwrap();
+        text = text.replace(
+            "kind = \"constant\"",
+            "kind = \"duty_cycle\"\nfile = \"dc.csv\"",
+        );
+        text = text
+            .lines()
+            .filter(|l| !l.trim_start().starts_with("torque_nm = 412.0"))
+            .collect::<Vec<_>>()
+            .join("\n");
+    }
+    std::fs::write(&cfg, &text).unwrap();
+    let out = dir.path().join("results");
+    let o = rvlife_within(
+        240,
+        [
+            "--work-budget-min".as_ref(),
+            "1".as_ref(),
+            "run".as_ref(),
+            cfg.as_os_str(),
+            "--out".as_ref(),
+            out.as_os_str(),
+        ],
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    let case = format!(
+        "config:\n{text}\nduty cycle:\n{}\nstderr:\n{err}",
+        duty.unwrap_or("-")
+    );
+    assert!(!err.contains("panicked"), "panic\n{case}");
+    match o.status.code() {
+        Some(0) => {
+            EXIT_0.fetch_add(1, Ordering::Relaxed);
+            assert_outputs_finite(&out, &case);
+        }
+        Some(2) => {
+            EXIT_2.fetch_add(1, Ordering::Relaxed);
+            assert!(
+                err.lines().any(|l| l.starts_with("error: ")),
+                "exit 2 without an error line\n{case}"
+            );
+            assert!(!out.exists(), "exit 2 left results behind\n{case}");
+        }
+        other => panic!("exit {other:?}\n{case}"),
+    }
+    let left: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().starts_with(".rvlife-tmp-"))
+        .collect();
+    assert!(left.is_empty(), "temporary directory left\n{case}");
+}
+
+#[test]
+fn fuzzed_configs_end_with_exit_0_or_2_and_finite_outputs() {
+    let cases: u32 = std::env::var("RVLIFE_FUZZ_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(60);
+    let seed: u64 = std::env::var("RVLIFE_FUZZ_SEED")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(20261122);
+    let mut seed_bytes = [0u8; 32];
+    seed_bytes[..8].copy_from_slice(&seed.to_le_bytes());
+    let config = RunnerConfig {
+        cases,
+        max_shrink_iters: 32,
+        failure_persistence: None,
+        ..RunnerConfig::default()
+    };
+    let mut runner = TestRunner::new_with_rng(
+        config,
+        TestRng::from_seed(RngAlgorithm::ChaCha, &seed_bytes),
+    );
+    let base = base_config();
+    let strategy = (
+        prop::collection::vec(mutation(), 1..=2),
+        prop::option::weighted(0.25, duty_cycle()),
+    );
+    let result = runner.run(&strategy, |(mutations, duty)| {
+        let text = mutations.iter().fold(base.clone(), |t, m| apply(&t, m));
+        check_case(&text, duty.as_deref());
+        Ok(())
+    });
+    eprintln!(
+        "fuzz: {cases} cases (seed {seed}): {} exit 0, {} exit 2",
+        EXIT_0.load(Ordering::Relaxed),
+        EXIT_2.load(Ordering::Relaxed)
+    );
+    if let Err(e) = result {
+        panic!("{e}");
+    }
+}

@@ -1,0 +1,257 @@
+//! Physical checks of a validated model, made before any analysis starts, so that a
+//! non-physical input is refused by the key the user wrote (exit 2) instead of ending as a
+//! solver failure half-way through a study.
+//!
+//! - **Mesh:** with the modifications, the unworn disc must stay in mesh: turning it either way
+//!   from its nominal pose, a pin must stop it within the static analysis' twist range, and the
+//!   play between the two directions must not be negative (interference). Probed at
+//!   [`PROBES_PER_MESH_CYCLE`] crank angles of a mesh cycle.
+//! - **Torque:** every torque the study applies (rated torque both ways, loaded-TE torque, the
+//!   largest wear load in each direction, the peak of the dynamic load) must be carried by the
+//!   unworn stage at the same crank angles: the static analysis converges and the largest Hertz
+//!   pressure stays within `materials.max_contact_pressure_mpa` (ISO 76:2006 static capacity of
+//!   hardened steel in line contact, 4000 MPa, by default). A torque beyond is refused with the
+//!   torque the stage does carry in that direction.
+
+use std::f64::consts::TAU;
+
+use crate::config::{Model, ModificationConfig};
+use crate::error::{Error, Result};
+use crate::geometry::Profile;
+use crate::reducer::statics::StaticAnalysis;
+use crate::te::ARCMIN_PER_RAD;
+
+/// Crank angles per mesh cycle at which the unworn stage is probed.
+pub const PROBES_PER_MESH_CYCLE: usize = 4;
+
+/// Play below which the modified disc interferes with the pins, rad (the study's own test of
+/// the worn stages uses the same bound).
+const INTERFERENCE: f64 = 1e-9;
+
+fn probe_angles(pins: usize) -> Vec<f64> {
+    let n = PROBES_PER_MESH_CYCLE;
+    (0..n).map(|k| TAU * k as f64 / (pins * n) as f64).collect()
+}
+
+/// A bound in a message: `412`, `1.5e12`.
+fn show(v: f64) -> String {
+    if v != 0.0 && (v.abs() >= 1e6 || v.abs() < 1e-3) {
+        format!("{v:.4e}")
+    } else {
+        format!("{}", (v * 1e4).round() / 1e4)
+    }
+}
+
+/// Checks that the modified, unworn disc of `profile` stays in mesh (see the module docs);
+/// `mods` and the pin circle radius `rp` (m) name the modification that is to blame.
+///
+/// # Errors
+/// [`Error::Invalid`] naming the modification key that contributes most (its effect on the
+/// flank in mm: `|equidistant|`, `|offset|`, `|rotation| Rp`), its value and the play found.
+pub(crate) fn check_mesh(
+    model: &Model,
+    profile: &Profile,
+    mods: &ModificationConfig,
+    rp: f64,
+) -> Result<()> {
+    let sa = StaticAnalysis::new(&model.reducer, profile)?;
+    let blame = |why: String| {
+        let parts = [
+            (
+                "equidistant_mm",
+                mods.equidistant_mm,
+                mods.equidistant_mm.abs(),
+            ),
+            ("offset_mm", mods.offset_mm, mods.offset_mm.abs()),
+            (
+                "rotation_deg",
+                mods.rotation_deg,
+                mods.rotation_deg.to_radians().abs() * rp * 1e3,
+            ),
+        ];
+        let (key, value, effect) =
+            parts
+                .iter()
+                .copied()
+                .fold(parts[0], |a, b| if b.2 > a.2 { b } else { a });
+        if effect == 0.0 {
+            Error::invalid(
+                "cycloid",
+                "the nominal stage",
+                format!("{why}: check eccentricity_mm, pin_circle_radius_mm and pin_radius_mm"),
+            )
+        } else {
+            Error::invalid(
+                format!("cycloid.modification.{key}"),
+                show(value),
+                format!(
+                    "{why} (modifications: equidistant_mm = {}, offset_mm = {}, rotation_deg = \
+                     {}; real ones move the flank by micrometres to a few tens of micrometres)",
+                    show(mods.equidistant_mm),
+                    show(mods.offset_mm),
+                    show(mods.rotation_deg)
+                ),
+            )
+        }
+    };
+    for phi in probe_angles(model.geometry.pins) {
+        let forward = sa.first_contact(phi, 1.0);
+        let reverse = sa.first_contact(phi, -1.0);
+        let (fw, rv) = match (forward, reverse) {
+            (Ok(f), Ok(r)) => (f, r),
+            _ => {
+                return Err(blame(format!(
+                    "at crank angle {:.2} deg no pin stops the unworn disc when it turns (the \
+                     modifications take the flank out of reach of the pins)",
+                    phi.to_degrees()
+                )))
+            }
+        };
+        if fw - rv < -INTERFERENCE {
+            return Err(blame(format!(
+                "the unworn disc interferes with the pins: play {:.4} arcmin at crank angle \
+                 {:.2} deg; thin the teeth (equidistant_mm > 0 or offset_mm < 0)",
+                (fw - rv) * ARCMIN_PER_RAD,
+                phi.to_degrees()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Largest Hertz pressure (Pa) of the static solutions at the probe angles under `torque`, or
+/// why the stage does not carry it.
+fn carried(sa: &StaticAnalysis, model: &Model, torque: f64) -> std::result::Result<f64, String> {
+    let mut pmax: f64 = 0.0;
+    for phi in probe_angles(model.geometry.pins) {
+        match sa.solve(phi, torque) {
+            Ok(s) => pmax = pmax.max(s.max_pressure()),
+            Err(e) => return Err(format!("the static analysis cannot carry it ({e})")),
+        }
+    }
+    if pmax > model.max_contact_pressure {
+        Err(format!(
+            "the largest Hertz pressure would be {:.0} MPa, above \
+             materials.max_contact_pressure_mpa = {:.0} MPa",
+            pmax * 1e-6,
+            model.max_contact_pressure * 1e-6
+        ))
+    } else {
+        Ok(pmax)
+    }
+}
+
+/// The largest torque (N m, magnitude) in the direction of `sign` that the stage carries,
+/// below `above` which it does not: halving from `min(above, 64 x rated)`, then 12 steps of
+/// geometric bisection (within 2^-12 of an octave, 0.02 %). A failing solve costs up to
+/// 0.2 s, so the search starts near the rating rather than at an absurd torque.
+fn capacity(sa: &StaticAnalysis, model: &Model, sign: f64, above: f64) -> f64 {
+    let floor = 1e-9 * model.rated_torque;
+    let (mut lo, mut hi) = (above.min(64.0 * model.rated_torque), above);
+    while carried(sa, model, sign * lo).is_err() {
+        hi = lo;
+        lo *= 0.5;
+        if lo < floor {
+            return 0.0;
+        }
+    }
+    for _ in 0..12 {
+        let mid = (lo * hi).sqrt();
+        if carried(sa, model, sign * mid).is_ok() {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+/// Checks the torques `uses` (key as the user wrote it, output torque in N m) against what the
+/// unworn stage of `profile` carries (see the module docs).
+///
+/// # Errors
+/// [`Error::Invalid`] naming the first key whose torque is not carried, with the reason (the
+/// pressure above the limit, or the static analysis failing) and the largest torque the stage
+/// carries in that direction.
+pub(crate) fn check_torques(
+    model: &Model,
+    profile: &Profile,
+    uses: &[(String, f64)],
+) -> Result<()> {
+    let sa = StaticAnalysis::new(&model.reducer, profile)?;
+    let mut checked: Vec<f64> = Vec::new();
+    for (key, torque) in uses {
+        let t = *torque;
+        if t == 0.0 || checked.contains(&t) {
+            continue;
+        }
+        if let Err(reason) = carried(&sa, model, t) {
+            let sign = t.signum();
+            let cap = capacity(&sa, model, sign, t.abs());
+            return Err(Error::invalid(
+                key.as_str(),
+                show(t),
+                format!(
+                    "is more than the unworn stage carries: {reason}; it carries at most {} N m \
+                     {} (probed at {PROBES_PER_MESH_CYCLE} crank angles per mesh cycle); check \
+                     the torque, or the stage dimensions in [cycloid] and [materials]",
+                    show(cap),
+                    if sign > 0.0 {
+                        "counter-clockwise"
+                    } else {
+                        "clockwise"
+                    }
+                ),
+            ));
+        }
+        checked.push(t);
+    }
+    Ok(())
+}
+
+impl Model {
+    /// Checks that the unworn stage carries the output torque `torque` (N m), as every torque
+    /// of the config is checked by [`crate::config::Config::validate`]; `key` names the torque
+    /// in the message (a command-line flag such as `--torque-nm`).
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] naming `key`, with the largest torque the stage carries that way.
+    pub fn check_torque(&self, key: &str, torque: f64) -> Result<()> {
+        if !torque.is_finite() {
+            return Err(Error::invalid(key, torque, "must be a finite number"));
+        }
+        let profile = self.profile(None)?;
+        check_torques(self, &profile, &[(key.to_string(), torque)])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::Config;
+
+    /// The example's capacity is where its largest Hertz pressure reaches the limit: carried at
+    /// 0.99 of it, not at 1.01, both ways, and the pressure there within 1 % of 4000 MPa
+    /// (Hertz pressure grows as the square root of the force, so 2 % of torque is 1 % of
+    /// pressure).
+    #[test]
+    fn capacity_is_where_the_pressure_reaches_the_limit() {
+        let m = Config::example().validate().unwrap();
+        let p = m.profile(None).unwrap();
+        let sa = StaticAnalysis::new(&m.reducer, &p).unwrap();
+        for sign in [1.0, -1.0] {
+            let cap = capacity(&sa, &m, sign, 1e6);
+            assert!(cap > 10.0 * m.rated_torque, "{cap}");
+            let p_at = carried(&sa, &m, sign * 0.99 * cap).unwrap();
+            assert!(carried(&sa, &m, sign * 1.01 * cap).is_err());
+            let rel = p_at / m.max_contact_pressure - 1.0;
+            assert!(rel.abs() < 0.01, "pressure {p_at} at 0.99 x {cap} N m");
+            assert!(m.check_torque("t", sign * 0.99 * cap).is_ok());
+            let e = m
+                .check_torque("t", sign * 1.01 * cap)
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("carries at most") && e.contains("MPa"), "{e}");
+        }
+    }
+}
