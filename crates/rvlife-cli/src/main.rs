@@ -187,9 +187,16 @@ fn profile_for(model: &Model, wear: &WearArgs, nominal: bool) -> Result<Profile>
                     "must be a finite number >= 0",
                 ));
             }
+            // A worn profile must stay a profile: a wear deeper than the local convex radius
+            // of the flank folds it over itself.
             (w > 0.0)
                 .then(|| WearMap::uniform(n, w * 1e-6))
-                .transpose()?
+                .transpose()
+                .and_then(|m| model.profile(m.clone()).map(|_| m))
+                .map_err(|e| match e {
+                    Error::Invalid { allowed, .. } => Error::invalid("--wear-um", w, allowed),
+                    other => other,
+                })?
         }
         (None, Some(h)) => {
             if !(h.is_finite() && (0.0..=1e7).contains(&h)) {
@@ -695,7 +702,21 @@ fn run(cli: Cli) -> Result<()> {
                 }
                 cfg.dynamics.load.torque_nm = Some(t);
             }
-            let model = cfg.validate()?;
+            // The options set keys of [dynamics.load]: errors name the option.
+            let model = cfg.validate().map_err(|e| match e {
+                Error::Invalid {
+                    field,
+                    value,
+                    allowed,
+                } if torque_nm.is_some() && field.starts_with("dynamics.load.torque_nm") => {
+                    Error::Invalid {
+                        field: "--torque-nm".into(),
+                        value,
+                        allowed,
+                    }
+                }
+                other => other,
+            })?;
             let staging = match &out {
                 Some(dir) => Some(rvlife::report::Staging::prepare(dir, force)?),
                 None => None,

@@ -1401,8 +1401,9 @@ fn non_physical_modifications_are_refused_by_their_key() {
     for (key, value, words) in [
         ("offset_mm", "2.75", "no pin stops"),
         ("equidistant_mm", "-1", "interferes"),
-        ("rotation_deg", "-2e8", "half a tooth pitch"),
-        ("rotation_deg", "1e300", "half a tooth pitch"),
+        ("offset_mm", "-2.75", "contact geometry"),
+        ("rotation_deg", "-2e8", "30 arcmin"),
+        ("rotation_deg", "1e300", "30 arcmin"),
     ] {
         let t = set_key(&fast_text(), "cycloid.modification", key, value);
         let (_d, o) = run_config(&t, &["te"]);
@@ -1410,14 +1411,24 @@ fn non_physical_modifications_are_refused_by_their_key() {
     }
 }
 
-/// Long horizons and deep targets: `--hours 1e12` and `calibrate --target-wear-um 1e9` are
-/// refused by their option (exit 2), not by a solver after minutes.
+/// Long horizons, deep targets and options that set keys: `--hours 1e12`, `calibrate
+/// --target-wear-um 1e9`, `--wear-um 1e9` and `dynamics --torque-nm 1e5` are refused by their
+/// option (exit 2), not by a solver after minutes or by the key the option sets.
 #[test]
 fn horizons_and_targets_beyond_the_model_are_refused() {
     let o = rvlife_within(60, ["te", "--hours", "1e12"]);
     assert_input_error(&o, "--hours", &["--hours", "1e7"]);
     let o = rvlife_within(60, ["calibrate", "--target-wear-um", "1e9"]);
     assert_input_error(&o, "target", &["--target-wear-um", "tooth height"]);
+    let o = rvlife_within(60, ["te", "--wear-um", "1e9"]);
+    assert_input_error(&o, "--wear-um", &["invalid --wear-um", "folds"]);
+    // An option that sets a key is named as the option.
+    let o = rvlife_within(60, ["dynamics", "--load", "constant", "--torque-nm", "1e5"]);
+    assert_input_error(
+        &o,
+        "dynamics --torque-nm",
+        &["invalid --torque-nm", "carries at most"],
+    );
 }
 
 /// Errors blame the key the user wrote: lengths out of the physical range name themselves

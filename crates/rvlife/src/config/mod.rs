@@ -306,15 +306,12 @@ impl Config {
                 m.offset_mm,
                 Range::finite("mm"),
             )? * 1e-3,
-            // Beyond half a tooth pitch a rotation is a renumbering of the teeth.
+            // Real rotation modifications are a few arcminutes; the static analysis follows
+            // 34 arcmin of twist from the nominal pose.
             rotation: check(
                 "cycloid.modification.rotation_deg",
                 m.rotation_deg,
-                Range::closed(
-                    -180.0 / (pins - 1) as f64,
-                    180.0 / (pins - 1) as f64,
-                    "deg (half a tooth pitch, 180/Zc)",
-                ),
+                Range::closed(-0.5, 0.5, "deg (30 arcmin)"),
             )?
             .to_radians(),
         };

@@ -54,7 +54,6 @@ pub(crate) fn check_mesh(
     mods: &ModificationConfig,
     rp: f64,
 ) -> Result<()> {
-    let sa = StaticAnalysis::new(&model.reducer, profile)?;
     let blame = |why: String| {
         let parts = [
             (
@@ -94,6 +93,11 @@ pub(crate) fn check_mesh(
             )
         }
     };
+    let sa = StaticAnalysis::new(&model.reducer, profile).map_err(|e| {
+        blame(format!(
+            "the contact geometry of the modified disc cannot be built ({e})"
+        ))
+    })?;
     for phi in probe_angles(model.geometry.pins) {
         let forward = sa.first_contact(phi, 1.0);
         let reverse = sa.first_contact(phi, -1.0);
