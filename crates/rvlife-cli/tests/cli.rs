@@ -1350,11 +1350,14 @@ fn work_beyond_the_budget_is_refused_by_its_key() {
 
 /// Torques the unworn stage cannot carry are refused before any analysis (exit 2, not a
 /// solver failure), naming the key and the torque the stage does carry: a wear load of 1e12
-/// and of 12.7 kN N m, a dynamic amplitude of 5e5 N m, `--torque-nm 1e30`, and an eccentricity
+/// and of 12 700 N m, a dynamic amplitude of 5e5 N m, `--torque-nm 1e30`, and an eccentricity
 /// so small (0.014-0.033 mm) that the rated torque is beyond the stage.
 #[test]
 fn torques_beyond_the_stage_are_refused_by_their_key() {
-    for (torque, why) in [("1e12", "static analysis"), ("12700", "Hertz pressure")] {
+    for (torque, why) in [
+        ("1e12", "static analysis"),
+        ("12700", "twist beyond first contact"),
+    ] {
         let t = set_key(&fast_text(), "load", "torque_nm", torque);
         let (_d, o) = run_config(&t, &["te", "--hours", "100"]);
         assert_input_error(&o, torque, &["load.torque_nm", why, "carries at most"]);
@@ -1384,7 +1387,7 @@ fn torques_beyond_the_stage_are_refused_by_their_key() {
         "soft bearings",
         &["reducer.rated_torque_nm", "carries at most"],
     );
-    for e in ["0.014", "0.033"] {
+    for e in ["0.014", "0.033", "0.13"] {
         let t = set_key(&fast_text(), "cycloid", "eccentricity_mm", e);
         let (_d, o) = run_config(&t, &["te"]);
         assert_input_error(

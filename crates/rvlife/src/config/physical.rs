@@ -4,11 +4,12 @@
 //!
 //! - **Mesh:** with the modifications, the unworn disc must stay in mesh: turning it either way
 //!   from its nominal pose, a pin must stop it within the static analysis' twist range, and the
-//!   play between the two directions must not be negative (interference). Probed at
-//!   [`PROBES_PER_MESH_CYCLE`] crank angles of a mesh cycle.
+//!   play between the two directions must not be negative (interference). Probed at the
+//!   crank angles of a mesh cycle that the study solves, and [`PROBES_PER_MESH_CYCLE`] more.
 //! - **Torque:** every torque the study applies (rated torque both ways, loaded-TE torque, the
 //!   largest wear load in each direction, the peak of the dynamic load) must be carried by the
-//!   unworn stage at the same crank angles: the static analysis converges and the largest Hertz
+//!   unworn stage at the same crank angles: the static analysis converges, the twist beyond
+//!   first contact stays within half the range it follows ([`MAX_TWIST`]), and the largest Hertz
 //!   pressure stays within `materials.max_contact_pressure_mpa` (ISO 76:2006 static capacity of
 //!   hardened steel in line contact, 4000 MPa, by default). A torque beyond is refused with the
 //!   torque the stage does carry in that direction.
@@ -18,19 +19,32 @@ use std::f64::consts::TAU;
 use crate::config::{Model, ModificationConfig};
 use crate::error::{Error, Result};
 use crate::geometry::Profile;
-use crate::reducer::statics::StaticAnalysis;
+use crate::reducer::statics::{StaticAnalysis, MAX_TWIST};
 use crate::te::ARCMIN_PER_RAD;
 
-/// Crank angles per mesh cycle at which the unworn stage is probed.
+/// Crank angles per mesh cycle at which the unworn stage is probed besides the study's own.
 pub const PROBES_PER_MESH_CYCLE: usize = 4;
 
 /// Play below which the modified disc interferes with the pins, rad (the study's own test of
 /// the worn stages uses the same bound).
 const INTERFERENCE: f64 = 1e-9;
 
-fn probe_angles(pins: usize) -> Vec<f64> {
-    let n = PROBES_PER_MESH_CYCLE;
-    (0..n).map(|k| TAU * k as f64 / (pins * n) as f64).collect()
+/// The crank angles (rad, one mesh cycle, ascending, without repeats) at which the unworn
+/// stage is probed: the study's TE samples (`te.samples_per_mesh_cycle`), its wear steps
+/// (`wear.crank_steps_per_mesh_cycle`) and [`PROBES_PER_MESH_CYCLE`] more, so that a torque
+/// the check passes is solved at every crank angle the study solves it at.
+fn probe_angles(model: &Model) -> Vec<f64> {
+    let pins = model.geometry.pins;
+    let mut k: Vec<(usize, usize)> = [PROBES_PER_MESH_CYCLE, model.te_samples, model.wear_steps]
+        .iter()
+        .flat_map(|&n| (0..n).map(move |i| (i, n)))
+        .collect();
+    // Exact fractions i/n, sorted and deduplicated by cross-multiplication.
+    k.sort_by(|a, b| (a.0 * b.1).cmp(&(b.0 * a.1)));
+    k.dedup_by(|a, b| a.0 * b.1 == b.0 * a.1);
+    k.iter()
+        .map(|&(i, n)| TAU * i as f64 / (pins * n) as f64)
+        .collect()
 }
 
 /// A bound in a message: `412`, `1.5e12`.
@@ -98,7 +112,7 @@ pub(crate) fn check_mesh(
             "the contact geometry of the modified disc cannot be built ({e})"
         ))
     })?;
-    for phi in probe_angles(model.geometry.pins) {
+    for phi in probe_angles(model) {
         let forward = sa.first_contact(phi, 1.0);
         let reverse = sa.first_contact(phi, -1.0);
         let (fw, rv) = match (forward, reverse) {
@@ -127,9 +141,23 @@ pub(crate) fn check_mesh(
 /// why the stage does not carry it.
 fn carried(sa: &StaticAnalysis, model: &Model, torque: f64) -> std::result::Result<f64, String> {
     let mut pmax: f64 = 0.0;
-    for phi in probe_angles(model.geometry.pins) {
+    for phi in probe_angles(model) {
         match sa.solve(phi, torque) {
-            Ok(s) => pmax = pmax.max(s.max_pressure()),
+            Ok(s) => {
+                // Half the twist range of the static analysis: the loading paths of the study
+                // (warm starts, load steps, the hysteresis sweep) stay inside the range.
+                let beyond = (s.twist - s.first_contact_twist).abs();
+                if beyond > 0.5 * MAX_TWIST {
+                    return Err(format!(
+                        "the twist beyond first contact would be {:.1} arcmin at crank angle \
+                         {:.2} deg, more than half the {:.0} arcmin the static analysis follows",
+                        beyond * ARCMIN_PER_RAD,
+                        phi.to_degrees(),
+                        MAX_TWIST * ARCMIN_PER_RAD
+                    ));
+                }
+                pmax = pmax.max(s.max_pressure());
+            }
             Err(e) => return Err(format!("the static analysis cannot carry it ({e})")),
         }
     }
@@ -197,14 +225,15 @@ pub(crate) fn check_torques(
                 show(t),
                 format!(
                     "is more than the unworn stage carries: {reason}; it carries at most {} N m \
-                     {} (probed at {PROBES_PER_MESH_CYCLE} crank angles per mesh cycle); check \
+                     {} (probed at the {} crank angles of a mesh cycle the study solves); check \
                      the torque, or the stage dimensions in [cycloid] and [materials]",
                     show(cap),
                     if sign > 0.0 {
                         "counter-clockwise"
                     } else {
                         "clockwise"
-                    }
+                    },
+                    probe_angles(model).len()
                 ),
             ));
         }

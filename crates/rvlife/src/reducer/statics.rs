@@ -63,7 +63,7 @@ pub const ROUNDOFF_GAP_ULPS: f64 = 4.0;
 
 /// Largest elastic twist beyond first contact the static analysis follows, rad (about 34
 /// arcmin: 30 times the twist of the example at its rated torque).
-const MAX_TWIST: f64 = 0.01;
+pub const MAX_TWIST: f64 = 0.01;
 
 /// Most solves of one loading path in [`StaticAnalysis::solve_in_load_steps`].
 pub const MAX_LOAD_STEPS: usize = 96;
