@@ -689,6 +689,8 @@ fn run(cli: Cli) -> Result<()> {
             wear,
         } => {
             let mut cfg = load_config(config.as_deref(), budget)?;
+            // This command uses [dynamics]: it is checked (and its load) as if enabled.
+            cfg.dynamics.enabled = true;
             if let Some(kind) = load {
                 cfg.dynamics.load.kind = kind;
             }

@@ -550,10 +550,8 @@ fn bad_fem_bore_cuts_the_teeth() {
 
 #[test]
 fn bad_fem_holes_cut_each_other() {
-    bad_key(
-        "fem",
-        "centre_hole_diameter_mm",
-        "60.0",
+    check_bad_config(
+        &add_line(&example_text(), "fem", "centre_hole_diameter_mm = 60.0"),
         &["fem.", "cut each other"],
     );
 }
@@ -1444,6 +1442,7 @@ fn errors_blame_the_key_the_user_wrote() {
         ("cycloid", "pin_circle_radius_mm", "1e308"),
         ("cycloid", "width_mm", "1e-12"),
         ("reducer", "rated_torque_nm", "1e300"),
+        ("reducer", "rated_torque_nm", "1e-12"),
     ] {
         let t = set_key(&fast_text(), table, key, value);
         let (_d, o) = run_config(&t, &["te"]);
@@ -1456,11 +1455,10 @@ fn errors_blame_the_key_the_user_wrote() {
     let (_d, o) = run_config(&t, &["calibrate"]);
     assert_input_error(&o, "stage_hours", &["wear.stage_hours", "0 h"]);
     // The bore default (2 x dynamics.inertia.crank_bore_radius_mm) cuts the teeth.
-    let t = set_key(
+    let t = add_line(
         &example_text(),
         "dynamics.inertia",
-        "crank_bore_radius_mm",
-        "19.0",
+        "crank_bore_radius_mm = 19.0",
     );
     let (_d, o) = run_config(&t, &["te"]);
     assert_input_error(
@@ -1778,4 +1776,70 @@ fn two_runs_write_identical_bytes() {
         assert!(v == &sb[k], "{} differs between two runs", k.display());
     }
     assert!(sa.keys().any(|k| k.extension().is_some_and(|e| e == "dxf")));
+}
+
+/// The example with only `[cycloid]` changed to another stage.
+fn stage_text(pins: u32, e_mm: f64, rp_mm: f64, rrp_mm: f64, width_mm: f64) -> String {
+    let t = set_key(&example_text(), "cycloid", "pins", &pins.to_string());
+    let t = set_key(&t, "cycloid", "eccentricity_mm", &format!("{e_mm:?}"));
+    let t = set_key(&t, "cycloid", "pin_circle_radius_mm", &format!("{rp_mm:?}"));
+    let t = set_key(&t, "cycloid", "pin_radius_mm", &format!("{rrp_mm:?}"));
+    set_key(&t, "cycloid", "width_mm", &format!("{width_mm:?}"))
+}
+
+/// A user's own reducer: with only `[cycloid]` of the example edited (a Zp 30 stage, and Zp
+/// 20 and 60 stages), the sizes outside it (crank circle, crank bores, pillar and centre
+/// holes) default from the stage, and `te`, `contact` and `hysteresis` run; the Zp 30 stage
+/// runs the whole study, dynamics and flexible disc included. Before, `te` failed on the crank
+/// bores of the disabled-or-not `[dynamics]` section.
+#[test]
+fn a_reducer_with_only_cycloid_edited_runs() {
+    let stages = [
+        stage_text(30, 1.2, 50.0, 4.0, 10.0),
+        stage_text(20, 1.5, 50.0, 5.0, 10.0),
+        stage_text(60, 0.6, 60.0, 2.5, 10.0),
+    ];
+    for (i, t) in stages.iter().enumerate() {
+        for args in [
+            &["te", "--json"][..],
+            &[
+                "contact",
+                "--crank-deg",
+                "3",
+                "--torque-nm",
+                "200",
+                "--json",
+            ][..],
+            &["hysteresis", "--json"][..],
+        ] {
+            let (_d, o) = run_config(t, args);
+            let v: Value = serde_json::from_str(&ok(&o, &format!("stage {i}: {args:?}"))).unwrap();
+            assert_all_finite(&v, args[0]);
+        }
+    }
+    let t = short_dynamics(&set_key(&stages[0], "wear", "stage_hours", "[0.0, 1250.0]"));
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "c.toml", &t);
+    let (out, o) = run_study(dir.path(), &cfg);
+    ok(&o, "Zp 30 study");
+    let s: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_all_finite(&s, "summary");
+    let last = &s["stages"][1];
+    assert!(num(last, "max_wear_um") > 0.0 && last.get("dte_mean_arcmin").is_some());
+    assert!(last.get("flexible_ste_mean_arcmin").is_some(), "{last}");
+}
+
+/// A command checks only what it uses: a bad value in a disabled `[dynamics]` does not stop
+/// `te`, and the `dynamics` command, which uses the section, names it.
+#[test]
+fn commands_check_only_the_sections_they_use() {
+    let t = set_key(&fast_text(), "dynamics", "end_time_s", "-1.0");
+    let (_d, o) = run_config(&t, &["te"]);
+    ok(&o, "te with a bad, disabled [dynamics]");
+    let (_d, o) = run_config(&t, &["dynamics"]);
+    assert_input_error(&o, "dynamics command", &["dynamics.end_time_s"]);
+    let t = set_key(&fast_text(), "fem", "flank_element_size_mm", "0.001");
+    let (_d, o) = run_config(&t, &["contact", "--crank-deg", "0", "--torque-nm", "100"]);
+    ok(&o, "contact with a bad, disabled [fem]");
 }

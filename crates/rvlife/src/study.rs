@@ -229,6 +229,25 @@ fn arcmin(rad: f64) -> f64 {
     }
 }
 
+/// Fails loudly, naming the quantity, if a stage summary holds a NaN or an infinity (JSON has
+/// neither: they would be written as `null`, and as `NaN`/`inf` in CSV).
+fn check_finite(summary: &StageSummary) -> Result<()> {
+    let v =
+        serde_json::to_value(summary).map_err(|e| Error::numerical("summary", e.to_string()))?;
+    if let Some(obj) = v.as_object() {
+        for (k, x) in obj {
+            let bad = x.is_null() || x.as_array().is_some_and(|a| a.iter().any(|y| y.is_null()));
+            if bad {
+                return Err(Error::numerical(
+                    "stage summary",
+                    format!("{k} is not a finite number at {} h", summary.hours),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Torque levels per side of the study's hysteresis curves beyond the measuring torque.
 pub const HYSTERESIS_LEVELS: usize = 4;
 
@@ -323,6 +342,7 @@ pub fn analyse_profile(model: &Model, profile: &Profile, hours: f64) -> Result<P
         dte_rms_arcmin: None,
         dte_range_arcmin: None,
     };
+    check_finite(&summary)?;
     Ok(ProfileAnalysis {
         ste,
         loaded,

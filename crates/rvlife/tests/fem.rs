@@ -388,14 +388,14 @@ fn bad_fem_input_is_refused() {
         e.contains("fem.crank_bore_diameter_mm") && e.contains("cuts the teeth"),
         "{e}"
     );
-    let e = err(&|c| c.fem.output_pin_hole_diameter_mm = 40.0);
+    let e = err(&|c| c.fem.output_pin_hole_diameter_mm = Some(40.0));
     assert!(
         e.contains("fem.output_pin_hole_diameter_mm") && e.contains("cuts the teeth"),
         "{e}"
     );
     let e = err(&|c| c.fem.output_pin_hole_phase_deg = Some(10.0));
     assert!(e.contains("fem.") && e.contains("cut each other"), "{e}");
-    let e = err(&|c| c.fem.centre_hole_diameter_mm = 60.0);
+    let e = err(&|c| c.fem.centre_hole_diameter_mm = Some(60.0));
     assert!(e.contains("cut each other"), "{e}");
     let e = err(&|c| {
         c.fem.flank_element_size_mm = 0.01;

@@ -253,9 +253,10 @@ pub struct InertiaConfig {
     /// Carrier and output shaft density, kg/m^3 (20CrMnTi).
     #[serde(default = "d_rho_out")]
     pub output_density_kg_m3: f64,
-    /// Radius of the crank bores in the disc, mm.
-    #[serde(default = "d_bore")]
-    pub crank_bore_radius_mm: f64,
+    /// Radius of the crank bores in the disc, mm (default: the paper's 13 mm scaled with the
+    /// disc's root radius, [`crate::config::scaled_from_root`]).
+    #[serde(default)]
+    pub crank_bore_radius_mm: Option<f64>,
     /// Crankshaft journal radius, mm.
     #[serde(default = "d_journal")]
     pub crankshaft_radius_mm: f64,
@@ -301,9 +302,6 @@ fn d_rho_steel() -> f64 {
 fn d_rho_out() -> f64 {
     7860.0
 }
-fn d_bore() -> f64 {
-    13.0
-}
 fn d_journal() -> f64 {
     10.0
 }
@@ -326,7 +324,7 @@ impl Default for InertiaConfig {
             disc_density_kg_m3: d_rho_steel(),
             crank_density_kg_m3: d_rho_steel(),
             output_density_kg_m3: d_rho_out(),
-            crank_bore_radius_mm: d_bore(),
+            crank_bore_radius_mm: None,
             crankshaft_radius_mm: d_journal(),
             crankshaft_length_mm: d_crank_len(),
             carrier_thickness_mm: d_carrier(),
@@ -450,7 +448,8 @@ impl DynamicsConfig {
         )?;
         let bore = positive(
             "inertia.crank_bore_radius_mm",
-            ic.crank_bore_radius_mm,
+            ic.crank_bore_radius_mm
+                .unwrap_or_else(|| super::scaled_from_root(&geo, 13.0)),
             1e4,
             "mm",
         )? * 1e-3;

@@ -36,9 +36,10 @@ pub struct FemConfig {
     /// Number of output-pin (carrier pillar) holes; 0 for none.
     #[serde(default = "d_holes")]
     pub output_pin_holes: u32,
-    /// Diameter of the output-pin holes, mm.
-    #[serde(default = "d_hole_d")]
-    pub output_pin_hole_diameter_mm: f64,
+    /// Diameter of the output-pin holes, mm (default: the paper's 22 mm scaled with the disc's
+    /// root radius, [`crate::config::scaled_from_root`]).
+    #[serde(default)]
+    pub output_pin_hole_diameter_mm: Option<f64>,
     /// Radius of the circle of the output-pin holes, mm (default: the crank circle radius).
     #[serde(default)]
     pub output_pin_circle_radius_mm: Option<f64>,
@@ -46,9 +47,10 @@ pub struct FemConfig {
     /// between the bores).
     #[serde(default)]
     pub output_pin_hole_phase_deg: Option<f64>,
-    /// Diameter of the centre hole (input shaft passage), mm; 0 for none.
-    #[serde(default = "d_centre")]
-    pub centre_hole_diameter_mm: f64,
+    /// Diameter of the centre hole (input shaft passage), mm; 0 for none (default: the paper's
+    /// 30 mm scaled with the disc's root radius, [`crate::config::scaled_from_root`]).
+    #[serde(default)]
+    pub centre_hole_diameter_mm: Option<f64>,
     /// Element size along the tooth outline, mm.
     #[serde(default = "d_flank")]
     pub flank_element_size_mm: f64,
@@ -75,12 +77,6 @@ pub struct FemConfig {
 
 fn d_holes() -> u32 {
     2
-}
-fn d_hole_d() -> f64 {
-    22.0
-}
-fn d_centre() -> f64 {
-    30.0
 }
 fn d_flank() -> f64 {
     0.25
@@ -111,10 +107,10 @@ impl Default for FemConfig {
             crank_bore_diameter_mm: None,
             crank_circle_radius_mm: None,
             output_pin_holes: d_holes(),
-            output_pin_hole_diameter_mm: d_hole_d(),
+            output_pin_hole_diameter_mm: None,
             output_pin_circle_radius_mm: None,
             output_pin_hole_phase_deg: None,
-            centre_hole_diameter_mm: d_centre(),
+            centre_hole_diameter_mm: None,
             flank_element_size_mm: d_flank(),
             max_element_size_mm: d_max_size(),
             load_patch_half_width_mm: d_patch(),
@@ -170,6 +166,12 @@ impl FemConfig {
         let bore_d = self
             .crank_bore_diameter_mm
             .unwrap_or(2e3 * default_bore_radius);
+        let centre_d = self
+            .centre_hole_diameter_mm
+            .unwrap_or_else(|| super::scaled_from_root(profile.geometry(), 30.0));
+        let hole_d = self
+            .output_pin_hole_diameter_mm
+            .unwrap_or_else(|| super::scaled_from_root(profile.geometry(), 22.0));
         let bore_r = range("crank_bore_diameter_mm", bore_d, 1.0, root_mm, "mm")? * 0.5e-3;
         let circle = self
             .crank_circle_radius_mm
@@ -188,7 +190,7 @@ impl FemConfig {
         let mut holes = Vec::new();
         let centre_r = range(
             "centre_hole_diameter_mm",
-            self.centre_hole_diameter_mm,
+            centre_d,
             0.0,
             2.0 * root_mm,
             "mm",
@@ -202,13 +204,7 @@ impl FemConfig {
             ));
         }
         if n_holes > 0 {
-            let hole_r = range(
-                "output_pin_hole_diameter_mm",
-                self.output_pin_hole_diameter_mm,
-                0.5,
-                root_mm,
-                "mm",
-            )? * 0.5e-3;
+            let hole_r = range("output_pin_hole_diameter_mm", hole_d, 0.5, root_mm, "mm")? * 0.5e-3;
             let pc = self.output_pin_circle_radius_mm.unwrap_or(circle * 1e3);
             let pc = range("output_pin_circle_radius_mm", pc, 0.0, root_mm, "mm")? * 1e-3;
             let phase = self
@@ -236,13 +232,9 @@ impl FemConfig {
             .map(|h| ("crank_bore_diameter_mm", bore_d, h))
             .chain(holes.iter().map(|h| {
                 if h.centre.norm() == 0.0 {
-                    ("centre_hole_diameter_mm", self.centre_hole_diameter_mm, h)
+                    ("centre_hole_diameter_mm", centre_d, h)
                 } else {
-                    (
-                        "output_pin_hole_diameter_mm",
-                        self.output_pin_hole_diameter_mm,
-                        h,
-                    )
+                    ("output_pin_hole_diameter_mm", hole_d, h)
                 }
             }))
             .collect();

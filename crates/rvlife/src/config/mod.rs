@@ -343,10 +343,11 @@ impl Config {
             r.input_speed_rpm,
             Range::positive(1e6, "rpm"),
         )?;
+        // From miniature cycloid drives (0.1 N m) up.
         let rated_torque = check(
             "reducer.rated_torque_nm",
             r.rated_torque_nm,
-            Range::positive(1e7, "N m"),
+            Range::closed(0.1, 1e7, "N m"),
         )?;
         let support = match self.contact.support.as_str() {
             "bearings" => {
@@ -375,7 +376,7 @@ impl Config {
                 ))
             }
         };
-        let (mesh, mesh_zeta) = self.reducer.gears.validate(z1, z2)?;
+        let (mesh, mesh_zeta) = self.reducer.gears.validate(z1, z2, &geometry)?;
         let (bearings, bearing_zeta) = self.reducer.bearings.validate()?;
         let reducer = Reducer {
             geometry: geometry.clone(),
@@ -526,21 +527,45 @@ impl Config {
             self.te.measuring_torque_fraction,
             Range::closed(1e-4, 0.5, "of the rated torque"),
         )?;
-        let dynamics = self.dynamics.validate(
-            &reducer,
-            (mesh_zeta, bearing_zeta),
-            &nominal_profile,
-            rated_torque,
-            self.base_dir.as_deref(),
-        )?;
-        let fem = self.fem.validate(
-            &nominal_profile,
-            planets,
-            self.dynamics.inertia.crank_bore_radius_mm * 1e-3,
-            reducer.crank_circle_radius,
-            e1,
-            nu1,
-        )?;
+        // A disabled section is checked only as far as the enabled analyses read it: if it
+        // does not validate, its defaults stand in (nothing reads them), so that `te` and
+        // `contact` never fail on a `[dynamics]` or `[fem]` they do not use. The `dynamics`
+        // command enables its section.
+        let dynamics_of = |d: &DynamicsConfig| {
+            d.validate(
+                &reducer,
+                (mesh_zeta, bearing_zeta),
+                &nominal_profile,
+                rated_torque,
+                self.base_dir.as_deref(),
+            )
+        };
+        let dynamics = match dynamics_of(&self.dynamics) {
+            Err(e) if self.dynamics.enabled => return Err(e),
+            Err(e) => dynamics_of(&DynamicsConfig::default()).map_err(|_| e)?,
+            Ok(d) => d,
+        };
+        let default_bore = scaled_from_root(&geometry, 13.0);
+        let fem_of = |f: &FemConfig, bore_mm: f64| {
+            f.validate(
+                &nominal_profile,
+                planets,
+                bore_mm * 1e-3,
+                reducer.crank_circle_radius,
+                e1,
+                nu1,
+            )
+        };
+        let bore = self
+            .dynamics
+            .inertia
+            .crank_bore_radius_mm
+            .unwrap_or(default_bore);
+        let fem = match fem_of(&self.fem, bore) {
+            Err(e) if self.fem.enabled => return Err(e),
+            Err(e) => fem_of(&FemConfig::default(), default_bore).map_err(|_| e)?,
+            Ok(f) => f,
+        };
         let model = Model {
             max_contact_pressure,
             work_budget: crate::budget::solves_in_minutes(check(
@@ -600,7 +625,9 @@ impl Config {
                 uses.push((key.clone(), l.torque));
             }
         }
-        uses.extend(dynamics::load_peaks(&model.dynamics.load));
+        if model.dynamics_enabled {
+            uses.extend(dynamics::load_peaks(&model.dynamics.load));
+        }
         physical::check_torques(&model, &nominal_profile, &uses)?;
         Ok(model)
     }
@@ -772,13 +799,15 @@ impl Config {
 }
 
 impl GearsConfig {
-    /// The sun-planet mesh of `[reducer.gears]` for sun and planet teeth `z1`, `z2`, and the
-    /// mesh's damping ratio (applied by the dynamic analysis).
-    fn validate(&self, z1: usize, z2: usize) -> Result<(Mesh, f64)> {
+    /// The sun-planet mesh of `[reducer.gears]` for sun and planet teeth `z1`, `z2` and the
+    /// cycloid stage `geometry` (the default planet pitch radius), and the mesh's damping ratio
+    /// (applied by the dynamic analysis).
+    fn validate(&self, z1: usize, z2: usize, geometry: &CycloidGeometry) -> Result<(Mesh, f64)> {
         let key = |k: &str| format!("reducer.gears.{k}");
         let r_p = check(
             &key("planet_pitch_radius_mm"),
-            self.planet_pitch_radius_mm,
+            self.planet_pitch_radius_mm
+                .unwrap_or_else(|| scaled_from_root(geometry, 40.5) * z2 as f64 / (z1 + z2) as f64),
             Range::positive(1e4, "mm"),
         )? * 1e-3;
         let alpha = check(
@@ -985,11 +1014,37 @@ fn written_keys(text: &str) -> Option<std::collections::BTreeSet<String>> {
     Some(out)
 }
 
+/// Tooth-root radius of the paper's disc, mm: `Rp - rrp - a` = 64 - 3 - 1.3.
+pub const PAPER_ROOT_RADIUS_MM: f64 = 59.7;
+
+/// A size outside `[cycloid]` that defaults from the stage, mm: the paper's value `paper_mm`
+/// (RV-40E class: crank circle 40.5, crank bore radius 13, pillar holes 22 and centre hole 30
+/// mm diameter) scaled by the disc's tooth-root radius `Rp - rrp - a` against the paper's
+/// [`PAPER_ROOT_RADIUS_MM`] (geometric similarity with the paper's reducer). The paper's
+/// geometry gets the paper's values.
+pub fn scaled_from_root(geometry: &CycloidGeometry, paper_mm: f64) -> f64 {
+    let root_mm = (geometry.pin_circle_radius - geometry.pin_radius - geometry.eccentricity) * 1e3;
+    let scaled = paper_mm * root_mm / PAPER_ROOT_RADIUS_MM;
+    // The paper's own stage: its values exactly, not their round-off.
+    if (root_mm / PAPER_ROOT_RADIUS_MM - 1.0).abs() < 1e-12 {
+        paper_mm
+    } else {
+        scaled
+    }
+}
+
 /// What the default of a key not set in the user's file depends on.
 fn default_source(key: &str) -> &'static str {
     match key {
         "fem.crank_bore_diameter_mm" => {
             "its default is 2 x dynamics.inertia.crank_bore_radius_mm; set it in [fem]"
+        }
+        "dynamics.inertia.crank_bore_radius_mm"
+        | "fem.output_pin_hole_diameter_mm"
+        | "fem.centre_hole_diameter_mm"
+        | "reducer.gears.planet_pitch_radius_mm" => {
+            "its default scales the paper's reducer with the disc's root radius Rp - rrp - a \
+             of [cycloid]; set it to change it"
         }
         "fem.crank_circle_radius_mm" => {
             "its default is the crank circle, sun + planet pitch radius from [reducer.gears] \

@@ -274,9 +274,11 @@ impl Default for TeConfig {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GearsConfig {
-    /// Planet pitch radius, mm (paper Table 1: 27).
-    #[serde(default = "d_planet_r")]
-    pub planet_pitch_radius_mm: f64,
+    /// Planet pitch radius, mm (paper Table 1: 27). Default: the planet's share `Z2/(Z1 + Z2)`
+    /// of the crank circle, which scales the paper's 40.5 mm with the disc's root radius
+    /// ([`crate::config::scaled_from_root`]).
+    #[serde(default)]
+    pub planet_pitch_radius_mm: Option<f64>,
     /// Pressure angle, degrees (paper Table 1: 30).
     #[serde(default = "d_pressure")]
     pub pressure_angle_deg: f64,
@@ -295,9 +297,6 @@ pub struct GearsConfig {
     pub backlash_um: f64,
 }
 
-fn d_planet_r() -> f64 {
-    27.0
-}
 fn d_pressure() -> f64 {
     30.0
 }
@@ -314,7 +313,7 @@ fn d_zeta() -> f64 {
 impl Default for GearsConfig {
     fn default() -> Self {
         GearsConfig {
-            planet_pitch_radius_mm: d_planet_r(),
+            planet_pitch_radius_mm: None,
             pressure_angle_deg: d_pressure(),
             face_width_mm: d_face(),
             mesh_stiffness_n_per_um: d_mesh_k(),
