@@ -8,7 +8,7 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use rvlife::config::{Config, Model, EXAMPLE_TOML};
+use rvlife::config::{Config, Model};
 use rvlife::export::{write_profile, ProfileFormat};
 use rvlife::geometry::{Profile, WearMap};
 use rvlife::reducer::statics::StaticAnalysis;
@@ -37,8 +37,15 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Print the built-in example config (the paper's RV-40E-class reducer), fully commented.
-    Example,
+    /// Print a built-in config, fully commented: the paper's RV-40E-class reducer by default.
+    Example {
+        /// Which built-in reducer (`--list` shows them).
+        #[arg(long, default_value = "paper")]
+        preset: String,
+        /// List the built-in reducers with their sources.
+        #[arg(long)]
+        list: bool,
+    },
     /// Run the accuracy-life study and write the results directory.
     Run {
         /// Config file (default: the built-in example).
@@ -299,8 +306,14 @@ fn progress_bar(len: u64) -> ProgressBar {
 fn run(cli: Cli) -> Result<()> {
     let budget = cli.work_budget_min;
     match cli.command {
-        Command::Example => {
-            print!("{EXAMPLE_TOML}");
+        Command::Example { preset, list } => {
+            if list {
+                for p in rvlife::config::PRESETS {
+                    println!("{:8} {}", p.name, p.summary);
+                }
+            } else {
+                print!("{}", rvlife::config::preset_text(&preset)?);
+            }
         }
         Command::Run { config, out, force } => {
             let cfg = load_config(config.as_deref(), budget)?;

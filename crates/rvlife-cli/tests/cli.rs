@@ -1843,3 +1843,33 @@ fn commands_check_only_the_sections_they_use() {
     let (_d, o) = run_config(&t, &["contact", "--crank-deg", "0", "--torque-nm", "100"]);
     ok(&o, "contact with a bad, disabled [fem]");
 }
+
+/// Every built-in reducer (`rvlife example --list`) prints a config that runs `te` and
+/// `hysteresis`; the classes rank by stiffness as by size (RV-20E < RV-40E < RV-80E).
+#[test]
+fn every_preset_runs_te_and_hysteresis() {
+    let list = ok(&rvlife(["example", "--list"]), "example --list");
+    let names: Vec<&str> = list
+        .lines()
+        .filter_map(|l| l.split_whitespace().next())
+        .collect();
+    assert_eq!(names, ["paper", "rv-20e", "rv-40e", "rv-80e"], "{list}");
+    let mut stiffness = BTreeMap::new();
+    for name in &names {
+        let text = ok(&rvlife(["example", "--preset", name]), name);
+        let (_d, o) = run_config(&text, &["te", "--json"]);
+        let v: Value = serde_json::from_str(&ok(&o, &format!("{name} te"))).unwrap();
+        assert_all_finite(&v, name);
+        let (_d, o) = run_config(&text, &["hysteresis", "--json"]);
+        let v: Value = serde_json::from_str(&ok(&o, &format!("{name} hysteresis"))).unwrap();
+        assert_all_finite(&v, name);
+        stiffness.insert(
+            name.to_string(),
+            num(&v, "torsional_stiffness_nm_per_arcmin"),
+        );
+    }
+    assert!(stiffness["rv-20e"] < stiffness["rv-40e"] && stiffness["rv-40e"] < stiffness["rv-80e"]);
+    assert_eq!(stiffness["paper"], stiffness["rv-40e"]);
+    let o = rvlife(["example", "--preset", "rv-1000e"]);
+    assert_input_error(&o, "unknown preset", &["--preset", "rv-20e"]);
+}

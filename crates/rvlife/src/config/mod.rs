@@ -12,6 +12,7 @@ use serde::{Deserialize, Serialize};
 mod dynamics;
 mod fem;
 mod physical;
+mod presets;
 mod range;
 mod raw;
 
@@ -20,6 +21,7 @@ pub use dynamics::{
 };
 pub use fem::FemConfig;
 pub use physical::PROBES_PER_MESH_CYCLE;
+pub use presets::{preset_text, Preset, PRESETS};
 pub(crate) use range::{check, whole, Range};
 pub use raw::{
     BearingsConfig, ContactConfig, CycloidConfig, GearsConfig, LoadConfig, MaterialConfig,

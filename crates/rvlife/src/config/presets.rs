@@ -1,0 +1,171 @@
+//! Built-in reducers (`rvlife example --preset NAME`): the paper's reducer and RV-20E-, RV-40E-
+//! and RV-80E-class reducers, each the built-in example with the values that differ.
+//!
+//! Catalogue values (Nabtesco RV-E series catalogue: rated output torque 167, 412 and 784 N m;
+//! ratio 81 offered for each) are marked as such. The internal dimensions of the RV-20E and
+//! RV-80E classes are **estimates**: the paper's RV-40E-class stage (Tables 1-2) scaled by the
+//! cube root of the rated-torque ratio (geometric similarity at equal contact stress: torque
+//! goes as length cubed), with the stiffnesses of meshes and bearings scaled linearly; sizes
+//! outside `[cycloid]` then default from the stage ([`crate::config::scaled_from_root`]).
+
+use crate::config::EXAMPLE_TOML;
+use crate::error::{Error, Result};
+
+/// One built-in reducer.
+#[derive(Debug, Clone, Copy)]
+pub struct Preset {
+    /// Name given to `--preset`.
+    pub name: &'static str,
+    /// One line: what it is and where its numbers come from.
+    pub summary: &'static str,
+    /// `(table, key, value)` replacing the example's value.
+    edits: &'static [(&'static str, &'static str, &'static str)],
+}
+
+/// Length scale of an estimated class against the paper's RV-40E: `(T / 412 N m)^(1/3)`.
+/// RV-20E: (167/412)^(1/3) = 0.7400; RV-80E: (784/412)^(1/3) = 1.2391.
+const RV20E: &[(&str, &str, &str)] = &[
+    ("reducer", "rated_torque_nm", "167.0"),
+    ("reducer.gears", "face_width_mm", "7.4"),
+    ("reducer.gears", "mesh_stiffness_n_per_um", "148.0"),
+    (
+        "reducer.bearings",
+        "crank_carrier_stiffness_n_per_um",
+        "740.0",
+    ),
+    ("reducer.bearings", "crank_disc_stiffness_n_per_um", "370.0"),
+    ("cycloid", "eccentricity_mm", "0.96"),
+    ("cycloid", "pin_circle_radius_mm", "47.4"),
+    ("cycloid", "pin_radius_mm", "2.2"),
+    ("cycloid", "width_mm", "6.5"),
+    ("load", "torque_nm", "167.0"),
+    ("dynamics.load", "amplitude_nm", "167.0"),
+];
+
+const RV80E: &[(&str, &str, &str)] = &[
+    ("reducer", "rated_torque_nm", "784.0"),
+    ("reducer.gears", "face_width_mm", "12.4"),
+    ("reducer.gears", "mesh_stiffness_n_per_um", "248.0"),
+    (
+        "reducer.bearings",
+        "crank_carrier_stiffness_n_per_um",
+        "1239.0",
+    ),
+    ("reducer.bearings", "crank_disc_stiffness_n_per_um", "620.0"),
+    ("cycloid", "eccentricity_mm", "1.61"),
+    ("cycloid", "pin_circle_radius_mm", "79.3"),
+    ("cycloid", "pin_radius_mm", "3.72"),
+    ("cycloid", "width_mm", "10.84"),
+    ("load", "torque_nm", "784.0"),
+    ("dynamics.load", "amplitude_nm", "784.0"),
+];
+
+/// The built-in reducers; the first is the default of `rvlife example`.
+pub const PRESETS: &[Preset] = &[
+    Preset {
+        name: "paper",
+        summary: "the paper's RV-40E-class reducer (Tao et al. 2024, Tables 1-2), the default",
+        edits: &[],
+    },
+    Preset {
+        name: "rv-20e",
+        summary: "RV-20E class: catalogue rated torque 167 N m, ratio 81; internal dimensions \
+                  estimated (the paper's stage x 0.740)",
+        edits: RV20E,
+    },
+    Preset {
+        name: "rv-40e",
+        summary: "RV-40E class: catalogue rated torque 412 N m, ratio 81; internal dimensions \
+                  of the paper's reducer",
+        edits: &[],
+    },
+    Preset {
+        name: "rv-80e",
+        summary: "RV-80E class: catalogue rated torque 784 N m, ratio 81; internal dimensions \
+                  estimated (the paper's stage x 1.239)",
+        edits: RV80E,
+    },
+];
+
+/// Replaces the value of `key` in `[table]` of a commented TOML text, keeping the comment.
+fn set_value(text: &str, table: &str, key: &str, value: &str) -> Option<String> {
+    let mut current = String::new();
+    let mut done = false;
+    let mut out = Vec::new();
+    for line in text.lines() {
+        let code = line.split('#').next().unwrap_or("").trim();
+        if let Some(t) = code.strip_prefix('[').and_then(|c| c.strip_suffix(']')) {
+            current = t.trim().to_string();
+        }
+        let is_key = code.split_once('=').is_some_and(|(k, _)| k.trim() == key);
+        if !done && current == table && is_key {
+            out.push(format!("{key} = {value}  # (preset)"));
+            done = true;
+        } else {
+            out.push(line.to_string());
+        }
+    }
+    done.then(|| out.join("\n") + "\n")
+}
+
+/// The config text of the preset `name`: the example with the preset's values and a header
+/// naming the preset and its sources.
+///
+/// # Errors
+/// [`Error::Invalid`] naming `--preset` for an unknown name, with the list.
+pub fn preset_text(name: &str) -> Result<String> {
+    let p = PRESETS.iter().find(|p| p.name == name).ok_or_else(|| {
+        Error::invalid(
+            "--preset",
+            format!("\"{name}\""),
+            format!(
+                "must be one of {}",
+                PRESETS
+                    .iter()
+                    .map(|p| p.name)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        )
+    })?;
+    if p.name == "paper" {
+        return Ok(EXAMPLE_TOML.to_string());
+    }
+    let mut text = format!(
+        "# preset {}: {}.\n# Values marked (preset) replace the paper's; sizes left out default \
+         from [cycloid].\n#\n{EXAMPLE_TOML}",
+        p.name, p.summary
+    );
+    for (table, key, value) in p.edits {
+        text = set_value(&text, table, key, value).ok_or_else(|| {
+            Error::numerical(
+                "preset",
+                format!("the example has no key {table}.{key} for the preset"),
+            )
+        })?;
+    }
+    Ok(text)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::Config;
+
+    /// Every preset parses and validates (physical checks included), and the estimated classes
+    /// keep the paper's proportions: the same K1 = a Zp / Rp to 1 %.
+    #[test]
+    fn every_preset_validates_with_the_paper_proportions() {
+        let paper = Config::example().validate().unwrap();
+        let k1 = |m: &crate::config::Model| m.geometry.k1();
+        for p in PRESETS {
+            let text = preset_text(p.name).unwrap();
+            let m = Config::from_toml_str(&text, p.name)
+                .unwrap()
+                .validate()
+                .unwrap_or_else(|e| panic!("{}: {e}", p.name));
+            assert!((k1(&m) / k1(&paper) - 1.0).abs() < 0.01, "{}", p.name);
+        }
+        assert!(preset_text("rv-1000e").is_err());
+    }
+}
