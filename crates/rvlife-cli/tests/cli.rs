@@ -1641,6 +1641,21 @@ fn run_out_never_deletes_user_files() {
     assert_eq!(leftover_tmp_dirs(dir.path()), Vec::<String>::new());
 }
 
+/// Starts `rvlife run CFG --out OUT` in the background, its output piped.
+fn spawn_run(cfg: &Path, out: &Path) -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_rvlife"))
+        .args([
+            "run".as_ref(),
+            cfg.as_os_str(),
+            "--out".as_ref(),
+            out.as_os_str(),
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
 /// Interrupted runs leave nothing behind: SIGINT at random moments of the compute and write
 /// phases removes the temporary directory; the temporary directory of a killed run (SIGKILL)
 /// is removed by the next run in the same folder.
@@ -1654,17 +1669,7 @@ fn interrupted_runs_leave_no_temporary_directory() {
         .enumerate()
     {
         let out = dir.path().join(format!("r{i}"));
-        let child = Command::new(env!("CARGO_BIN_EXE_rvlife"))
-            .args([
-                "run".as_ref(),
-                cfg.as_os_str(),
-                "--out".as_ref(),
-                out.as_os_str(),
-            ])
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::null())
-            .spawn()
-            .unwrap();
+        let child = spawn_run(&cfg, &out);
         std::thread::sleep(std::time::Duration::from_millis(*delay_ms));
         // SAFETY: sends SIGINT to our own child process.
         unsafe {
@@ -1719,20 +1724,7 @@ fn concurrent_runs_do_not_replace_each_other() {
     let dir = tempfile::tempdir().unwrap();
     let cfg = write_config(dir.path(), "c.toml", &fast_text());
     let out = dir.path().join("r");
-    let spawn = || {
-        Command::new(env!("CARGO_BIN_EXE_rvlife"))
-            .args([
-                "run".as_ref(),
-                cfg.as_os_str(),
-                "--out".as_ref(),
-                out.as_os_str(),
-            ])
-            .stdout(std::process::Stdio::piped())
-            .stderr(std::process::Stdio::piped())
-            .spawn()
-            .unwrap()
-    };
-    let (a, b) = (spawn(), spawn());
+    let (a, b) = (spawn_run(&cfg, &out), spawn_run(&cfg, &out));
     let (a, b) = (a.wait_with_output().unwrap(), b.wait_with_output().unwrap());
     let mut codes = [a.status.code(), b.status.code()];
     codes.sort();
