@@ -3,6 +3,8 @@
 //! - CSV: `x_mm,y_mm,mesh_angle_deg,wear_um`, one row per point, clockwise, closed implicitly.
 //! - DXF: one closed `LWPOLYLINE` in millimetres, header version AutoCAD 2000 (the R12 default
 //!   of the `dxf` crate silently drops LWPOLYLINE), so it opens in CAD as a closed polyline.
+//!   The header's dates and GUIDs are fixed, not taken from the clock or a random generator:
+//!   same input, same bytes.
 //! - SVG: the closed outline in millimetres, y up, with the pin circle for reference.
 
 use std::io::Write;
@@ -99,23 +101,6 @@ fn write_dxf(profile: &Profile, path: &Path) -> Result<()> {
     use dxf::{Drawing, LwPolylineVertex};
     let mut drawing = Drawing::new();
     drawing.header.version = AcadVersion::R2000;
-    // Same input, same bytes: the `dxf` crate stamps the clock and two random GUIDs into the
-    // header; they are fixed here (2000-01-01 00:00 UTC, GUIDs named from the content).
-    // The local-time fields are written as their wall-clock reading: 2000-01-01 00:00 in
-    // every time zone.
-    let epoch =
-        chrono::DateTime::<chrono::Utc>::from_timestamp(946_684_800, 0).expect("a valid date");
-    let local = {
-        use chrono::TimeZone;
-        chrono::Local
-            .from_local_datetime(&epoch.naive_utc())
-            .earliest()
-            .unwrap_or_else(|| epoch.with_timezone(&chrono::Local))
-    };
-    drawing.header.creation_date = local;
-    drawing.header.update_date = local;
-    drawing.header.creation_date_universal = epoch;
-    drawing.header.update_date_universal = epoch;
     let mut poly = LwPolyline::default();
     poly.set_is_closed(true);
     poly.vertices = sample_with_params(profile)
@@ -126,23 +111,66 @@ fn write_dxf(profile: &Profile, path: &Path) -> Result<()> {
             ..Default::default()
         })
         .collect();
-    let guid = {
-        use std::hash::{Hash, Hasher};
-        let mut h = std::collections::hash_map::DefaultHasher::new();
-        for v in &poly.vertices {
-            v.x.to_bits().hash(&mut h);
-            v.y.to_bits().hash(&mut h);
-        }
-        let a = h.finish();
-        a.rotate_left(17).hash(&mut h);
-        uuid::Uuid::from_u64_pair(a, h.finish())
-    };
-    drawing.header.fingerprint_guid = guid;
-    drawing.header.version_guid = guid;
+    let guid = content_guid(poly.vertices.iter().flat_map(|v| [v.x, v.y]));
+    fix_header(&mut drawing.header, guid);
     drawing.add_entity(Entity::new(EntityType::LwPolyline(poly)));
     drawing
         .save_file(path)
         .map_err(|e| Error::io(path, std::io::Error::other(e.to_string())))
+}
+
+/// Days from 1900-01-01 to 2000-01-01: the fixed header dates are this far from the `dxf`
+/// crate's own epoch (1900-01-01 00:00, written 2415021.0), so they are written 2451545.0
+/// (the DXF convention: Julian day counted from midnight, 2000-01-01 00:00).
+const DAYS_1900_TO_2000: i64 = 36_524;
+
+/// Sets every header field the `dxf` crate fills from the clock or from a random generator
+/// to a fixed value, so that the same profile gives the same bytes on every run, on every
+/// machine and in every time zone.
+///
+/// - `$TDCREATE`, `$TDUPDATE` (local) and `$TDUCREATE`, `$TDUUPDATE` (universal), which
+///   `Header::default` takes from `Local::now()` and `Utc::now()`: all written as
+///   2000-01-01 00:00 (2451545.0).
+/// - `$TDINDWG`, `$TDUSRTIMER`: zero (already the crate's default, set here so it stays so).
+/// - `$FINGERPRINTGUID`, `$VERSIONGUID`, which the crate draws with `Uuid::new_v4()`:
+///   `guid`, named from the drawing's content by the caller.
+///
+/// The crate writes a local date as the wall-clock days since its local 1900-01-01 00:00, an
+/// instant whose offset (the local mean time of many zones) differs from today's; the local
+/// dates are therefore built from that same instant, which makes them 2451545.0 in every
+/// zone. Handles are allocated in order from a fixed seed and nothing is written from a hash
+/// map, so the rest of the file is already a function of the entities alone.
+fn fix_header(header: &mut dxf::Header, guid: uuid::Uuid) {
+    use chrono::TimeZone;
+    let days = chrono::TimeDelta::days(DAYS_1900_TO_2000);
+    let utc = chrono::Utc.with_ymd_and_hms(1900, 1, 1, 0, 0, 0).unwrap() + days;
+    let local = chrono::Local
+        .with_ymd_and_hms(1900, 1, 1, 0, 0, 0)
+        .single()
+        .map_or_else(|| utc.with_timezone(&chrono::Local), |e| e + days);
+    header.creation_date = local;
+    header.update_date = local;
+    header.creation_date_universal = utc;
+    header.update_date_universal = utc;
+    header.time_in_drawing = std::time::Duration::ZERO;
+    header.user_elapsed_timer = std::time::Duration::ZERO;
+    header.fingerprint_guid = guid;
+    header.version_guid = guid;
+}
+
+/// A GUID named from `values` (their exact bits, little-endian): a name-based UUID version 5
+/// (SHA-1, RFC 9562 section 5.5) in the URL namespace of rvlife's repository. Same values,
+/// same GUID, on every run, machine and toolchain.
+fn content_guid(values: impl IntoIterator<Item = f64>) -> uuid::Uuid {
+    let namespace = uuid::Uuid::new_v5(
+        &uuid::Uuid::NAMESPACE_URL,
+        b"https://github.com/rvlife/rvlife",
+    );
+    let bytes: Vec<u8> = values
+        .into_iter()
+        .flat_map(|v| v.to_bits().to_le_bytes())
+        .collect();
+    uuid::Uuid::new_v5(&namespace, &bytes)
 }
 
 fn write_svg(profile: &Profile, path: &Path) -> Result<()> {
@@ -176,4 +204,76 @@ fn write_svg(profile: &Profile, path: &Path) -> Result<()> {
     );
     let mut f = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
     f.write_all(text.as_bytes()).map_err(|e| Error::io(path, e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn example_profile() -> Profile {
+        let model = crate::config::Config::example().validate().unwrap();
+        model.profile(None).unwrap()
+    }
+
+    /// The value written after the header variable `name` (name, group code, value lines).
+    fn header_value<'a>(text: &'a str, name: &str) -> &'a str {
+        let lines: Vec<&str> = text.lines().collect();
+        let i = lines
+            .iter()
+            .position(|l| l.trim() == name)
+            .unwrap_or_else(|| panic!("{name} not in the header"));
+        lines[i + 2].trim()
+    }
+
+    #[test]
+    fn dxf_export_is_byte_deterministic() {
+        let profile = example_profile();
+        let dir = tempfile::tempdir().unwrap();
+        let (a, b) = (dir.path().join("a.dxf"), dir.path().join("b.dxf"));
+        write_profile(&profile, &a, ProfileFormat::Dxf).unwrap();
+        // A later clock reading and fresh random GUIDs would show up in the second file.
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        write_profile(&profile, &b, ProfileFormat::Dxf).unwrap();
+        let (a, b) = (std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+        assert!(a == b, "two exports of the same profile differ");
+
+        let text = String::from_utf8(a).unwrap();
+        // 2000-01-01 00:00 in every time zone, zero timers.
+        for name in ["$TDCREATE", "$TDUPDATE", "$TDUCREATE", "$TDUUPDATE"] {
+            assert_eq!(header_value(&text, name), "2451545.0", "{name}");
+        }
+        for name in ["$TDINDWG", "$TDUSRTIMER"] {
+            assert_eq!(header_value(&text, name), "0.0", "{name}");
+        }
+        let guid = content_guid(
+            sample_with_params(&profile)
+                .into_iter()
+                .flat_map(|(x, y, _, _)| [x, y]),
+        )
+        .to_string();
+        assert_eq!(header_value(&text, "$FINGERPRINTGUID"), guid);
+        assert_eq!(header_value(&text, "$VERSIONGUID"), guid);
+        // Today's date, as the header would write it (days since 1970-01-01 plus 2440588),
+        // appears nowhere; the coordinates are millimetres well below 1e6.
+        let days = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .unwrap()
+            .as_secs()
+            / 86_400;
+        let today = format!("{}", 2_440_588 + days);
+        assert!(!text.contains(&today), "today's date {today} in the DXF");
+    }
+
+    #[test]
+    fn content_guid_is_fixed_and_follows_the_content() {
+        // Pinned: the GUID must not change with the toolchain or between runs.
+        let g = content_guid([1.0, 2.0]);
+        assert_eq!(g, content_guid([1.0, 2.0]));
+        assert_eq!(g.get_version_num(), 5);
+        assert_ne!(g, content_guid([1.0, 2.000_000_1]));
+        assert_eq!(content_guid([]).to_string(), GUID_OF_NOTHING);
+    }
+
+    /// UUID v5 of no bytes in rvlife's namespace (the same value from Python: `uuid5(uuid5(NAMESPACE_URL, url), "")`).
+    const GUID_OF_NOTHING: &str = "6ba24191-7fa7-55e4-b9e6-22960ff06131";
 }
