@@ -407,6 +407,7 @@ impl Config {
                 64,
                 65536,
             )?,
+            errors: Default::default(),
         };
         let mut reducer = reducer;
         reducer.contact_band_force = match self.contact.band_force_n {

@@ -23,6 +23,7 @@
 //! kinematics still apply (turning the carrier with the input locked turns the cranks too).
 
 pub mod dynamics;
+pub mod errors;
 pub mod statics;
 
 use std::f64::consts::PI;
@@ -150,6 +151,9 @@ pub struct Reducer {
     pub contact_envelope: bool,
     /// Mesh angles per tooth of the contact geometry's gap table.
     pub gap_points: usize,
+    /// Part errors (pins, pin circle, cranks) seen by the static analysis; zero for the
+    /// nominal reducer. The multibody model uses the nominal parts.
+    pub errors: errors::PartErrors,
 }
 
 impl Reducer {

@@ -183,6 +183,30 @@ impl StaticSolution {
     }
 }
 
+/// One pin at the pose where it first touches (see [`StaticAnalysis::touching_pins`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TouchingPin {
+    /// Disc index (0 or 1).
+    pub disc: usize,
+    /// Pin index.
+    pub pin: usize,
+    /// Carrier twist at which the pin touches, rad.
+    pub twist: f64,
+    /// Mode lever `m = -d gap / d psi` there, m/rad (positive turning counter-clockwise).
+    pub lever: f64,
+    /// Gradient of the gap with respect to the pin centre there, fixed frame (unit length to
+    /// 1e-3: the flank's outward normal).
+    pub gradient: Vec2,
+    /// Pin centre relative to the disc centre there, fixed frame, m.
+    pub position: Vec2,
+    /// `d lever / d psi` there, m/rad^2.
+    pub lever_rate: f64,
+    /// `d gradient / d psi` there, 1/rad.
+    pub gradient_rate: Vec2,
+    /// `d (position x gradient) / d psi` there, m/rad.
+    pub arm_rate: f64,
+}
+
 /// One pin at one pose.
 #[derive(Debug, Clone, Copy)]
 struct PinEval {
@@ -286,8 +310,10 @@ pub struct StaticAnalysis<'a> {
     red: &'a Reducer,
     profile: &'a Profile,
     field: GapField,
-    /// Pin centres, ground frame, m.
+    /// Pin centres, ground frame, m (with the reducer's part errors).
     pin_centres: Vec<Vec2>,
+    /// Added to each pin's gap, m: minus the pin's radius error.
+    pin_gap: Vec<f64>,
 }
 
 impl<'a> StaticAnalysis<'a> {
@@ -304,7 +330,10 @@ impl<'a> StaticAnalysis<'a> {
             profile,
             field,
             pin_centres: (0..red.geometry.pins)
-                .map(|j| red.geometry.pin_centre(j))
+                .map(|j| red.geometry.pin_centre(j) + red.errors.pin_displacement(red, j))
+                .collect(),
+            pin_gap: (0..red.geometry.pins)
+                .map(|j| -red.errors.pin_radius_error(j))
                 .collect(),
         })
     }
@@ -392,12 +421,23 @@ impl<'a> StaticAnalysis<'a> {
 
     /// Pose of disc `d` at deviations `z` (bearing support).
     fn pose_from(&self, fr: &Frame, z: &[f64], d: usize) -> DiscPose {
-        let i = self.red.layout().disc(d);
+        let lay = self.red.layout();
+        let i = lay.disc(d);
         let q0 = &fr.q0;
+        let (dc, dpsi) = if self.red.errors.has_crank_errors() {
+            let k = lay.crank(0) + 2;
+            self.red.errors.disc_correction(
+                self.red,
+                q0[k] + z[k] + Reducer::phase(d),
+                q0[Layout::OUT] + z[Layout::OUT],
+            )
+        } else {
+            (Vec2::zeros(), 0.0)
+        };
         DiscPose {
             crank_angle: fr.phi + Reducer::phase(d),
-            centre: Vec2::new(q0[i] + z[i], q0[i + 1] + z[i + 1]),
-            angle: q0[i + 2] + z[i + 2] + self.red.profile_turn(d),
+            centre: Vec2::new(q0[i] + z[i], q0[i + 1] + z[i + 1]) + dc,
+            angle: q0[i + 2] + z[i + 2] + self.red.profile_turn(d) + dpsi,
         }
     }
 
@@ -410,11 +450,13 @@ impl<'a> StaticAnalysis<'a> {
                 let zc = geo.disc_teeth() as f64;
                 let ang = phi + ratio * psi;
                 let c = Vec2::new(ang.cos(), ang.sin()) * geo.eccentricity;
+                let carrier = self.red.input_angle_for_crank(phi) / self.red.ratio + psi;
+                let (dc, dpsi) = self.red.errors.disc_correction(self.red, ang, carrier);
                 (
                     DiscPose {
                         crank_angle: phi,
-                        centre: c,
-                        angle: -phi / zc + psi,
+                        centre: c + dc,
+                        angle: -phi / zc + psi + dpsi,
                     },
                     Vec2::new(-c.y, c.x) * ratio,
                 )
@@ -461,7 +503,7 @@ impl<'a> StaticAnalysis<'a> {
             guess
         };
         let (ge, t) = self.field.eval(&q, start);
-        let gap = ge.gap + offset;
+        let gap = ge.gap + offset + self.pin_gap[j];
         let (force, stiffness) = if gap < 0.0 {
             self.red
                 .contact
@@ -1059,6 +1101,133 @@ impl<'a> StaticAnalysis<'a> {
             }
         }
         Ok(s * best)
+    }
+
+    /// Every pin that can stop the unloaded mechanism turned in direction `direction` at crank
+    /// angle `phi`, with its own touching twist: the pins whose linear estimate `gap_j / m_j`
+    /// could fall below the smallest if every gap changed by up to `gap_reach` (m), each
+    /// solved as in
+    /// [`StaticAnalysis::first_contact`] (which is the extreme of these twists over every
+    /// pin). Each entry carries what a small error needs to move that twist to first order
+    /// (the gap's gradient and the pin's position at the touching pose):
+    /// [`crate::te::revolution`] builds the transmission error of a reducer with part errors
+    /// from these entries.
+    ///
+    /// # Errors
+    /// [`Error::Numerical`] if no pin can stop the mechanism.
+    pub fn touching_pins(
+        &self,
+        phi: f64,
+        direction: f64,
+        gap_reach: f64,
+    ) -> Result<Vec<TouchingPin>> {
+        let s = if direction < 0.0 { -1.0 } else { 1.0 };
+        let zp = self.red.geometry.pins;
+        let mut est = Vec::with_capacity(2 * zp);
+        for d in 0..self.discs() {
+            let (pose, dc) = self.mode_pose(phi, d, 0.0);
+            for j in 0..zp {
+                let p = self.eval_pin(&pose, j, f64::NAN)?;
+                let m = Self::mode_lever(&p, dc);
+                if s * m > self.lever_floor() {
+                    est.push((d, j, p.gap / m, p.t, m));
+                }
+            }
+        }
+        let Some(&(_, _, e_best, _, m_best)) =
+            est.iter().min_by(|a, b| (s * a.2).total_cmp(&(s * b.2)))
+        else {
+            return Err(self.fail(phi, "no pin can stop the mechanism"));
+        };
+        let lin_min = s * e_best;
+        let mut out = Vec::new();
+        for &(d, j, e, t, m) in &est {
+            let reach = gap_reach * (1.0 / m.abs() + 1.0 / m_best.abs());
+            if s * e - lin_min > reach + 0.25 * lin_min.abs() + 1e-6 {
+                continue;
+            }
+            let Some(b) = self.touching_twist(phi, d, j, e, s, t)? else {
+                continue;
+            };
+            let at = |psi: f64| -> Result<(f64, Vec2, f64, Vec2)> {
+                let (pose, dc) = self.mode_pose(phi, d, psi);
+                let p = self.eval_pin(&pose, j, t)?;
+                Ok((Self::mode_lever(&p, dc), p.w, cross(&p.rel, &p.w), p.rel))
+            };
+            let (m, w, arm, rel) = at(b)?;
+            // Rates along the mode by central differences over 1e-6 rad (2 arcsec, a hundredth
+            // of the twists they extrapolate over).
+            let h = 1e-6;
+            let (hi, lo) = (at(b + h)?, at(b - h)?);
+            out.push(TouchingPin {
+                disc: d,
+                pin: j,
+                twist: b,
+                lever: m,
+                gradient: w,
+                position: rel,
+                lever_rate: (hi.0 - lo.0) / (2.0 * h),
+                gradient_rate: (hi.1 - lo.1) / (2.0 * h),
+                arm_rate: (hi.2 - lo.2) / (2.0 * h),
+            });
+            let _ = arm;
+        }
+        if out.is_empty() {
+            return Err(self.fail(phi, "no pin stops the mechanism"));
+        }
+        Ok(out)
+    }
+
+    /// Twist (rad) at which pin `pin` of disc `disc` touches when the unloaded mechanism is
+    /// turned in direction `direction` at crank angle `phi`, solved from the estimate
+    /// `estimate` (rad) as in [`StaticAnalysis::first_contact`]; `None` if the pin moves away.
+    ///
+    /// # Errors
+    /// [`Error::Numerical`] if the contact geometry cannot be evaluated.
+    pub fn pin_touching_twist(
+        &self,
+        phi: f64,
+        disc: usize,
+        pin: usize,
+        estimate: f64,
+        direction: f64,
+    ) -> Result<Option<f64>> {
+        let s = if direction < 0.0 { -1.0 } else { 1.0 };
+        self.touching_twist(phi, disc, pin, estimate, s, f64::NAN)
+    }
+
+    /// The same analysis for the reducer `red` (same profile and contact geometry, e.g. the
+    /// reducer without its part errors), without rebuilding the contact geometry.
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] if `red` has another gap table or band than this analysis's reducer.
+    pub fn for_reducer<'b>(&self, red: &'b Reducer) -> Result<StaticAnalysis<'b>>
+    where
+        'a: 'b,
+    {
+        if red.geometry != self.red.geometry
+            || red.gap_points != self.red.gap_points
+            || red.contact_band_force != self.red.contact_band_force
+            || red.contact_envelope != self.red.contact_envelope
+            || red.contact != self.red.contact
+        {
+            return Err(Error::invalid(
+                "static analysis reducer",
+                "another stage or contact geometry",
+                "must share the stage and the contact geometry of the analysis",
+            ));
+        }
+        Ok(StaticAnalysis {
+            red,
+            profile: self.profile,
+            field: self.field.clone(),
+            pin_centres: (0..red.geometry.pins)
+                .map(|j| red.geometry.pin_centre(j) + red.errors.pin_displacement(red, j))
+                .collect(),
+            pin_gap: (0..red.geometry.pins)
+                .map(|j| -red.errors.pin_radius_error(j))
+                .collect(),
+        })
     }
 
     /// Smallest mode lever (m/rad) of a pin that can stop the mechanism: `1e-9 Rp` (64 pm for
