@@ -148,6 +148,47 @@ enum Command {
         #[command(flatten)]
         wear: WearArgs,
     },
+    /// Monte Carlo over the part tolerances (`[tolerances]`): sampled reducers through the
+    /// accuracy-life study; per-sample results, percentiles, the accuracy life's distribution.
+    Montecarlo {
+        /// Config file (default: the built-in example).
+        config: Option<PathBuf>,
+        /// Number of sampled reducers of the whole run.
+        #[arg(long, default_value_t = 100)]
+        samples: usize,
+        /// Seed: same seed, same bytes.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// `I/N`: run only the I-th (1-based) of N disjoint parts of the samples (cluster job
+        /// arrays: `--shard $SLURM_ARRAY_TASK_ID/N` with `--array=1-N`); `rvlife merge`
+        /// combines the parts.
+        #[arg(long)]
+        shard: Option<String>,
+        /// Integrate every sample's own wear instead of sharing the nominal reducer's.
+        #[arg(long)]
+        full_wear: bool,
+        /// Crank angles per mesh cycle of the hysteresis curves and the revolution TE.
+        #[arg(long, default_value_t = 4)]
+        samples_per_mesh_cycle: usize,
+        /// Results directory.
+        #[arg(long, default_value = "rvlife-montecarlo")]
+        out: PathBuf,
+        /// Replace an existing results directory.
+        #[arg(long)]
+        force: bool,
+    },
+    /// Combine the shards of a Monte Carlo run into exactly the files the unsharded run writes.
+    Merge {
+        /// The shards' results directories.
+        #[arg(required = true)]
+        shards: Vec<PathBuf>,
+        /// Results directory.
+        #[arg(long)]
+        out: PathBuf,
+        /// Replace an existing results directory.
+        #[arg(long)]
+        force: bool,
+    },
     /// Find the Archard coefficient that gives a target maximum wear at the last stage.
     Calibrate {
         /// Config file (default: the built-in example).
@@ -166,6 +207,86 @@ struct WearArgs {
     /// Wear map from the config's wear model after this many working hours.
     #[arg(long, allow_hyphen_values = true)]
     hours: Option<f64>,
+}
+
+/// The Monte Carlo plan from the command line, checked before any work.
+fn montecarlo_plan(
+    model: &Model,
+    samples: usize,
+    seed: u64,
+    shard: Option<&str>,
+    full_wear: bool,
+    per_cycle: usize,
+) -> Result<rvlife::montecarlo::Plan> {
+    if !(1..=1_000_000).contains(&samples) {
+        return Err(Error::invalid("--samples", samples, "must be 1 to 1000000"));
+    }
+    if !(1..=64).contains(&per_cycle) {
+        return Err(Error::invalid(
+            "--samples-per-mesh-cycle",
+            per_cycle,
+            "must be 1 to 64",
+        ));
+    }
+    let shard = match shard {
+        None => (1, 1),
+        Some(text) => {
+            let parsed = text.split_once('/').and_then(|(i, n)| {
+                Some((
+                    i.trim().parse::<usize>().ok()?,
+                    n.trim().parse::<usize>().ok()?,
+                ))
+            });
+            match parsed {
+                Some((i, n)) if n >= 1 && (1..=n).contains(&i) && n <= samples => (i, n),
+                _ => {
+                    return Err(Error::invalid(
+                        "--shard",
+                        format!("\"{text}\""),
+                        format!("must be I/N with 1 <= I <= N <= --samples ({samples})"),
+                    ))
+                }
+            }
+        }
+    };
+    if model.tolerances.is_empty() {
+        return Err(Error::invalid(
+            "tolerances",
+            "no tolerance given",
+            "give at least one distribution in [tolerances] (e.g. pin_radial_um = { normal = 1.0 })",
+        ));
+    }
+    Ok(rvlife::montecarlo::Plan {
+        samples,
+        seed,
+        shard,
+        full_wear,
+        samples_per_mesh_cycle: per_cycle,
+    })
+}
+
+/// The percentiles at the last stage and the life distribution, to stdout.
+fn print_montecarlo(model: &Model, records: &[rvlife::montecarlo::SampleRecord]) {
+    let pct = rvlife::montecarlo::percentiles(records, &model.stage_hours);
+    let last = model.stage_hours.last().copied().unwrap_or(0.0);
+    println!("at {last:.0} h: quantity, p5, p50, p95");
+    for p in pct.iter().filter(|p| p.hours == last) {
+        println!(
+            "  {:36} {:10.4} {:10.4} {:10.4}",
+            p.quantity, p.p5, p.p50, p.p95
+        );
+    }
+    if model.life.any() {
+        let l = rvlife::montecarlo::life_distribution(records);
+        let h = |v: Option<f64>| v.map_or(format!("> {last:.0} h"), |x| format!("{x:.0} h"));
+        println!(
+            "accuracy life: B10 {}, B50 {}, {:.1} % beyond {last:.0} h; limited by {:?}",
+            h(l.b10_h),
+            h(l.b50_h),
+            100.0 * l.censored_fraction,
+            l.limited_by
+        );
+    }
 }
 
 /// The config file (or the built-in example) with the command line's work budget.
@@ -314,6 +435,76 @@ fn run(cli: Cli) -> Result<()> {
             } else {
                 print!("{}", rvlife::config::preset_text(&preset)?);
             }
+        }
+        Command::Montecarlo {
+            config,
+            samples,
+            seed,
+            shard,
+            full_wear,
+            samples_per_mesh_cycle,
+            out,
+            force,
+        } => {
+            let text = match &config {
+                Some(p) => std::fs::read_to_string(p).unwrap_or_default(),
+                None => rvlife::config::EXAMPLE_TOML.to_string(),
+            };
+            let cfg = load_config(config.as_deref(), budget)?;
+            let model = cfg.validate()?;
+            let plan = montecarlo_plan(
+                &model,
+                samples,
+                seed,
+                shard.as_deref(),
+                full_wear,
+                samples_per_mesh_cycle,
+            )?;
+            let staging = rvlife::report::Staging::prepare(&out, force)?;
+            let pb = progress_bar(plan.indices().len() as u64);
+            pb.set_message("samples");
+            let start = std::time::Instant::now();
+            let records = rvlife::montecarlo::run(&model, &plan, &|done, total| {
+                pb.set_length(total as u64);
+                pb.set_position(done as u64);
+            })?;
+            pb.finish_and_clear();
+            let meta = rvlife::montecarlo::ShardMeta {
+                rvlife_version: env!("CARGO_PKG_VERSION").into(),
+                plan,
+                stage_hours: model.stage_hours.clone(),
+                config_toml: text,
+            };
+            let whole = plan.shard == (1, 1);
+            staging.commit(|dir| {
+                if whole {
+                    rvlife::montecarlo::write_results(dir, &meta, &records)
+                } else {
+                    rvlife::montecarlo::write_shard(dir, &meta, &records)
+                }
+            })?;
+            let ok = records.iter().filter(|r| r.status == "ok").count();
+            println!(
+                "rvlife montecarlo: {} samples ({} ok), {:.2} s; results in {}",
+                records.len(),
+                ok,
+                start.elapsed().as_secs_f64(),
+                out.display()
+            );
+            if whole {
+                print_montecarlo(&model, &records);
+            }
+        }
+        Command::Merge { shards, out, force } => {
+            let (meta, records) = rvlife::montecarlo::merge(&shards)?;
+            let staging = rvlife::report::Staging::prepare(&out, force)?;
+            staging.commit(|dir| rvlife::montecarlo::write_results(dir, &meta, &records))?;
+            println!(
+                "rvlife merge: {} shards, {} samples; results in {}",
+                shards.len(),
+                records.len(),
+                out.display()
+            );
         }
         Command::Run { config, out, force } => {
             let cfg = load_config(config.as_deref(), budget)?;

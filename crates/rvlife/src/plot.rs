@@ -787,3 +787,109 @@ pub fn dynamics(res: &crate::reducer::dynamics::DynamicsResult, dir: &Path) -> R
         time_panels(root, "Dynamic transmission error", &te)
     })
 }
+
+/// A fan chart: the median of a quantity against working hours with its 5-95 % band, written
+/// to `<stem>.{svg,png}` in `dir`. `hours` and the three bands (5, 50 and 95 %) have one
+/// value per stage.
+///
+/// # Errors
+/// [`Error::Io`] if a file cannot be written.
+pub fn fan_chart(
+    dir: &Path,
+    stem: &str,
+    title: &str,
+    y_desc: &str,
+    hours: &[f64],
+    [p5, p50, p95]: [&[f64]; 3],
+) -> Result<()> {
+    let h_max = hours.iter().copied().fold(1.0, f64::max);
+    let (lo, hi) = series_range(p5.iter().chain(p95).copied());
+    figure!(
+        dir,
+        stem,
+        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+            let mut chart = ChartBuilder::on(root)
+                .caption(title, ("sans-serif", 26))
+                .margin(15)
+                .x_label_area_size(45)
+                .y_label_area_size(65)
+                .build_cartesian_2d(0.0..h_max * 1.04, lo.min(0.0)..hi)?;
+            chart
+                .configure_mesh()
+                .x_desc("working hours (h)")
+                .y_desc(y_desc)
+                .draw()?;
+            let band: Vec<(f64, f64)> = hours
+                .iter()
+                .zip(p95)
+                .map(|(h, v)| (*h, *v))
+                .chain(hours.iter().zip(p5).rev().map(|(h, v)| (*h, *v)))
+                .collect();
+            chart
+                .draw_series(std::iter::once(Polygon::new(band, BLUE.mix(0.2).filled())))?
+                .label("5-95 %")
+                .legend(|(x, y)| {
+                    Rectangle::new([(x, y - 5), (x + 20, y + 5)], BLUE.mix(0.2).filled())
+                });
+            chart
+                .draw_series(LineSeries::new(
+                    hours.iter().zip(p50).map(|(h, v)| (*h, *v)),
+                    BLUE.stroke_width(2),
+                ))?
+                .label("median")
+                .legend(legend_line(BLUE));
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperLeft)
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .draw()?;
+            Ok(())
+        }
+    )
+}
+
+/// A histogram of `values` in `bins` equal bins, written to `<stem>.{svg,png}` in `dir`.
+///
+/// # Errors
+/// [`Error::Io`] if a file cannot be written.
+pub fn histogram(
+    dir: &Path,
+    stem: &str,
+    title: &str,
+    x_desc: &str,
+    values: &[f64],
+    bins: usize,
+) -> Result<()> {
+    let (lo, hi) = series_range(values.iter().copied());
+    let bins = bins.max(1);
+    let width = (hi - lo) / bins as f64;
+    let mut counts = vec![0usize; bins];
+    for v in values {
+        let i = (((v - lo) / width) as usize).min(bins - 1);
+        counts[i] += 1;
+    }
+    let top = counts.iter().copied().max().unwrap_or(1).max(1) as f64 * 1.1;
+    figure!(
+        dir,
+        stem,
+        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+            let mut chart = ChartBuilder::on(root)
+                .caption(title, ("sans-serif", 26))
+                .margin(15)
+                .x_label_area_size(45)
+                .y_label_area_size(65)
+                .build_cartesian_2d(lo..hi, 0.0..top)?;
+            chart
+                .configure_mesh()
+                .x_desc(x_desc)
+                .y_desc("samples")
+                .draw()?;
+            chart.draw_series(counts.iter().enumerate().map(|(i, &c)| {
+                let x0 = lo + i as f64 * width;
+                Rectangle::new([(x0, 0.0), (x0 + width, c as f64)], BLUE.mix(0.5).filled())
+            }))?;
+            Ok(())
+        }
+    )
+}

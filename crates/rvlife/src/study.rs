@@ -24,8 +24,8 @@ use crate::geometry::{Profile, WearMap};
 use crate::reducer::dynamics::{simulate, DynamicsSummary};
 use crate::reducer::statics::StaticAnalysis;
 use crate::te::{
-    hysteresis_with, loaded_te_with, mesh_cycle_angles, CurveStats, LoadedTe, StaticTe, TwistTable,
-    ARCMIN_PER_RAD,
+    hysteresis_with, loaded_te_with, mesh_cycle_angles, revolution, CurveStats, LoadedTe, StaticTe,
+    TwistTable, ARCMIN_PER_RAD,
 };
 use crate::wear::{integrate, ValidityLimit, WearHistory};
 
@@ -45,8 +45,12 @@ pub struct StageSummary {
     /// Backlash: width of the hysteresis curve at zero torque (the play between the two
     /// directions), mean over a mesh cycle, arcmin.
     pub backlash_arcmin: f64,
-    /// Largest play over a mesh cycle, arcmin.
+    /// Largest play over a mesh cycle, arcmin (over the output revolution with part errors).
     pub backlash_max_arcmin: f64,
+    /// Angular transmission error (catalogue): peak-to-peak of the forward STE over one output
+    /// revolution, arcmin ([`crate::te::revolution`]; the mesh-cycle ripple without part
+    /// errors).
+    pub angular_te_arcmin: f64,
     /// Lost motion (catalogue): twist between the hysteresis curve's midpoints at `+-` the
     /// measuring torque (3 % of rated), curve averaged over a mesh cycle, arcmin.
     pub lost_motion_arcmin: f64,
@@ -162,6 +166,8 @@ pub struct Study {
     pub wear: WearHistory,
     /// Stages.
     pub stages: Vec<Stage>,
+    /// The accuracy life against `[life]` (when thresholds are set).
+    pub life: Option<crate::life::AccuracyLife>,
 }
 
 /// Comparison with the paper's headline numbers (physics-notes section 7).
@@ -214,6 +220,9 @@ pub struct Summary {
     /// from there on are not reported.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub validity_limit: Option<ValidityLimit>,
+    /// The accuracy life against `[life]` (when thresholds are set).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub accuracy_life: Option<crate::life::AccuracyLife>,
     /// Against the paper.
     pub paper_comparison: PaperComparison,
 }
@@ -310,6 +319,12 @@ pub fn analyse_profile(model: &Model, profile: &Profile, hours: f64) -> Result<P
         }
     };
     let max_wear_um = profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6;
+    let (angular_te, play_max) = if red.errors.is_zero() {
+        (s.peak_to_peak, play.max)
+    } else {
+        let rev = revolution(&sa, model.te_samples)?;
+        (rev.angular_te(), rev.play_stats().max)
+    };
     let summary = StageSummary {
         hours,
         max_wear_um,
@@ -317,7 +332,8 @@ pub fn analyse_profile(model: &Model, profile: &Profile, hours: f64) -> Result<P
         ste_peak_to_peak_arcmin: arcmin(s.peak_to_peak),
         ste_reverse_mean_arcmin: arcmin(CurveStats::of(&ste.reverse).mean),
         backlash_arcmin: arcmin(acc.backlash),
-        backlash_max_arcmin: arcmin(play.max),
+        backlash_max_arcmin: arcmin(play_max),
+        angular_te_arcmin: arcmin(angular_te),
         lost_motion_arcmin: arcmin(acc.lost_motion),
         hysteresis_loss_arcmin: arcmin(acc.hysteresis_loss),
         loaded_te_mean_arcmin: arcmin(l.mean),
@@ -478,10 +494,13 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
             st.flexible = Some((fl, mesh));
         }
     }
+    let summaries: Vec<StageSummary> = stages.iter().map(|s| s.summary.clone()).collect();
+    let life = crate::life::study_life(model, &summaries, &wear.update_hours)?;
     Ok(Study {
         model: model.clone(),
         wear,
         stages,
+        life,
     })
 }
 
@@ -507,6 +526,7 @@ impl Study {
             mesh_cycles_per_hour: m.mesh_cycles_per_hour(m.input_speed_rpm),
             wear_rate_evaluations: self.wear.rate_evaluations(),
             validity_limit: self.wear.limit.clone(),
+            accuracy_life: self.life.clone(),
             paper_comparison: PaperComparison {
                 ste_per_10um_arcmin: slope * 10.0,
                 ste_last_stage_arcmin: stages.last().map_or(0.0, |s| s.ste_mean_arcmin),

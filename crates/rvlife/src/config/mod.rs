@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+mod accuracy;
 mod dynamics;
 mod fem;
 mod physical;
@@ -16,6 +17,10 @@ mod presets;
 mod range;
 mod raw;
 
+pub use accuracy::{
+    iso_it, ErrorsConfig, LifeConfig, LifeThresholds, Tolerance, ToleranceConfig, Tolerances,
+    TolerancesConfig,
+};
 pub use dynamics::{
     read_load_table, DriveConfig, DynLoadConfig, DynamicsConfig, ImpactConfig, InertiaConfig,
 };
@@ -65,6 +70,15 @@ pub struct Config {
     /// The disc as a finite-element body (rigid-flexible model).
     #[serde(default)]
     pub fem: FemConfig,
+    /// Known part errors of this reducer.
+    #[serde(default)]
+    pub errors: ErrorsConfig,
+    /// Tolerance distributions of the part errors (Monte Carlo).
+    #[serde(default)]
+    pub tolerances: TolerancesConfig,
+    /// Accuracy spec: the thresholds that end the accuracy life.
+    #[serde(default)]
+    pub life: LifeConfig,
     /// Directory of the config file (for relative paths); not a key.
     #[serde(skip)]
     pub base_dir: Option<PathBuf>,
@@ -155,6 +169,10 @@ pub struct Model {
     pub work_budget: f64,
     /// The key that sets the Archard coefficient, as the user wrote it.
     pub archard_key: &'static str,
+    /// Tolerance distributions of the part errors (`[tolerances]`; empty: none).
+    pub tolerances: Tolerances,
+    /// Accuracy thresholds (`[life]`; none set: no accuracy life).
+    pub life: LifeThresholds,
 }
 
 impl Model {
@@ -407,7 +425,7 @@ impl Config {
                 64,
                 65536,
             )?,
-            errors: Default::default(),
+            errors: self.errors.validate(pins, planets)?,
         };
         let mut reducer = reducer;
         reducer.contact_band_force = match self.contact.band_force_n {
@@ -577,6 +595,8 @@ impl Config {
                 Range::positive(1e6, "min"),
             )?),
             archard_key,
+            tolerances: self.tolerances.validate(&geometry)?,
+            life: self.life.validate()?,
             dynamics,
             dynamics_enabled: self.dynamics.enabled,
             fem,

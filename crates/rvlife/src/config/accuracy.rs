@@ -1,0 +1,547 @@
+//! `[errors]`, `[tolerances]` and `[life]`: the part errors of one reducer, their tolerance
+//! distributions for Monte Carlo sampling, and the accuracy thresholds that end a reducer's
+//! accuracy life.
+
+use rand::Rng;
+use rand_distr::{Distribution, Normal, Uniform};
+use serde::{Deserialize, Serialize};
+
+use super::range::{check, Range};
+use crate::error::{Error, Result};
+use crate::geometry::{CycloidGeometry, Modification, Vec2};
+use crate::reducer::errors::PartErrors;
+
+/// `[errors]`: known part errors of one reducer (measured, or a case to study), engineering
+/// units. Per-pin lists hold `cycloid.pins` values, per-crank lists `reducer.planets` values;
+/// an absent list is all zero.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ErrorsConfig {
+    /// Radial position error of each pin centre (outward positive), um.
+    #[serde(default)]
+    pub pin_radial_um: Vec<f64>,
+    /// Tangential position error of each pin centre (counter-clockwise positive), um.
+    #[serde(default)]
+    pub pin_tangential_um: Vec<f64>,
+    /// Radius error of each pin (oversize positive), um.
+    #[serde(default)]
+    pub pin_radius_um: Vec<f64>,
+    /// Radial run-out of the pin circle (total indicator reading), um.
+    #[serde(default)]
+    pub pin_circle_runout_um: f64,
+    /// Direction of the pin circle's largest radius, degrees from pin 1.
+    #[serde(default)]
+    pub pin_circle_runout_deg: f64,
+    /// Eccentricity error of each crank (larger positive), um.
+    #[serde(default)]
+    pub crank_eccentricity_um: Vec<f64>,
+    /// Phase error of each crank's eccentrics (ahead positive), arcmin.
+    #[serde(default)]
+    pub crank_phase_arcmin: Vec<f64>,
+}
+
+/// One tolerance: a distribution of an error about zero.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ToleranceConfig {
+    /// Normal distribution with this standard deviation (the key's unit).
+    #[serde(default)]
+    pub normal: Option<f64>,
+    /// Uniform distribution within `+-` this limit (the key's unit).
+    #[serde(default)]
+    pub uniform: Option<f64>,
+    /// ISO 286-1 standard tolerance grade (5 to 11) of the feature's size: normal with
+    /// `sigma = IT/12` (the tolerance zone of the diameter is `+-3 sigma` of the process, and
+    /// the error is a radius or a position: half the diameter's deviation). Lengths only.
+    #[serde(default)]
+    pub iso_grade: Option<i64>,
+}
+
+/// `[tolerances]`: the distributions of the part errors of a batch of reducers, sampled
+/// independently for every pin and crank by `rvlife montecarlo`.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TolerancesConfig {
+    /// Radial position of each pin centre, um (ISO grade of the pin circle diameter).
+    #[serde(default)]
+    pub pin_radial_um: Option<ToleranceConfig>,
+    /// Tangential position of each pin centre, um (ISO grade of the pin circle diameter).
+    #[serde(default)]
+    pub pin_tangential_um: Option<ToleranceConfig>,
+    /// Radius of each pin, um (ISO grade of the pin diameter).
+    #[serde(default)]
+    pub pin_radius_um: Option<ToleranceConfig>,
+    /// Pin circle radial run-out (TIR), um: its magnitude is the absolute value of a draw, its
+    /// direction uniform (ISO grade of the pin circle diameter).
+    #[serde(default)]
+    pub pin_circle_runout_um: Option<ToleranceConfig>,
+    /// Eccentricity of each crank, um (ISO grade of the eccentric's throw, `2 a`).
+    #[serde(default)]
+    pub crank_eccentricity_um: Option<ToleranceConfig>,
+    /// Phase of each crank's eccentrics, arcmin.
+    #[serde(default)]
+    pub crank_phase_arcmin: Option<ToleranceConfig>,
+    /// Equidistant modification error, um (ISO grade of the pin circle diameter).
+    #[serde(default)]
+    pub equidistant_um: Option<ToleranceConfig>,
+    /// Offset modification error, um (ISO grade of the pin circle diameter).
+    #[serde(default)]
+    pub offset_um: Option<ToleranceConfig>,
+    /// Rotation modification error, arcmin.
+    #[serde(default)]
+    pub rotation_arcmin: Option<ToleranceConfig>,
+}
+
+/// `[life]`: the accuracy spec. The accuracy life is the working hours at which the first of
+/// the given thresholds is crossed.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LifeConfig {
+    /// Largest lost motion (catalogue, +-3 % of rated torque), arcmin.
+    #[serde(default)]
+    pub lost_motion_arcmin: Option<f64>,
+    /// Largest backlash, arcmin.
+    #[serde(default)]
+    pub backlash_arcmin: Option<f64>,
+    /// Largest angular transmission error (peak-to-peak over an output revolution), arcmin.
+    #[serde(default)]
+    pub angular_te_arcmin: Option<f64>,
+    /// Smallest torsional stiffness, N m/arcmin.
+    #[serde(default)]
+    pub torsional_stiffness_min_nm_per_arcmin: Option<f64>,
+}
+
+/// A validated distribution of one error about zero (SI: m or rad).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub enum Tolerance {
+    /// Normal, standard deviation.
+    Normal(f64),
+    /// Uniform within `+-` the limit.
+    Uniform(f64),
+}
+
+impl Tolerance {
+    /// One draw.
+    pub fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> f64 {
+        match *self {
+            Tolerance::Normal(s) if s > 0.0 => Normal::new(0.0, s)
+                .expect("validated: finite positive sigma")
+                .sample(rng),
+            Tolerance::Uniform(l) if l > 0.0 => Uniform::new_inclusive(-l, l)
+                .expect("validated: finite positive limit")
+                .sample(rng),
+            _ => 0.0,
+        }
+    }
+}
+
+/// The validated `[tolerances]` (SI), `None` where not given.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Tolerances {
+    /// Pin radial position, m.
+    pub pin_radial: Option<Tolerance>,
+    /// Pin tangential position, m.
+    pub pin_tangential: Option<Tolerance>,
+    /// Pin radius, m.
+    pub pin_radius: Option<Tolerance>,
+    /// Pin circle run-out (TIR), m.
+    pub pin_circle_runout: Option<Tolerance>,
+    /// Crank eccentricity, m.
+    pub crank_eccentricity: Option<Tolerance>,
+    /// Crank phase, rad.
+    pub crank_phase: Option<Tolerance>,
+    /// Equidistant modification, m.
+    pub equidistant: Option<Tolerance>,
+    /// Offset modification, m.
+    pub offset: Option<Tolerance>,
+    /// Rotation modification, rad.
+    pub rotation: Option<Tolerance>,
+}
+
+impl Tolerances {
+    /// Whether no tolerance is given.
+    pub fn is_empty(&self) -> bool {
+        *self == Tolerances::default()
+    }
+
+    /// One sampled reducer: its part errors and its modification (the nominal `modification`
+    /// plus the sampled modification errors), for `pins` pins and `cranks` cranks. The draws
+    /// are made in a fixed order (pins radial, tangential, radius; run-out magnitude and
+    /// direction; crank eccentricities, phases; equidistant, offset, rotation), each list
+    /// drawn whether or not its tolerance is given (zero then), so that adding one tolerance
+    /// does not reshuffle the others.
+    pub fn sample<R: Rng + ?Sized>(
+        &self,
+        rng: &mut R,
+        pins: usize,
+        cranks: usize,
+        modification: Modification,
+    ) -> (PartErrors, Modification) {
+        fn draw<R: Rng + ?Sized>(rng: &mut R, t: &Option<Tolerance>) -> f64 {
+            match t {
+                Some(t) => t.sample(rng),
+                None => {
+                    // Keep the stream's position independent of which tolerances are given.
+                    let _: f64 = rng.random();
+                    0.0
+                }
+            }
+        }
+        let pin_radial: Vec<f64> = (0..pins).map(|_| draw(rng, &self.pin_radial)).collect();
+        let pin_tangential: Vec<f64> = (0..pins).map(|_| draw(rng, &self.pin_tangential)).collect();
+        let pin_radius: Vec<f64> = (0..pins).map(|_| draw(rng, &self.pin_radius)).collect();
+        let runout = draw(rng, &self.pin_circle_runout).abs();
+        let dir = rng.random::<f64>() * std::f64::consts::TAU;
+        let crank_eccentricity: Vec<f64> = (0..cranks)
+            .map(|_| draw(rng, &self.crank_eccentricity))
+            .collect();
+        let crank_phase: Vec<f64> = (0..cranks).map(|_| draw(rng, &self.crank_phase)).collect();
+        let m = Modification {
+            equidistant: modification.equidistant + draw(rng, &self.equidistant),
+            offset: modification.offset + draw(rng, &self.offset),
+            rotation: modification.rotation + draw(rng, &self.rotation),
+        };
+        (
+            PartErrors {
+                pin_radial,
+                pin_tangential,
+                pin_radius,
+                pin_circle_offset: Vec2::new(dir.cos(), dir.sin()) * (0.5 * runout),
+                crank_eccentricity,
+                crank_phase,
+            },
+            m,
+        )
+    }
+}
+
+/// The validated `[life]` thresholds (engineering units, as the study reports them).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct LifeThresholds {
+    /// Largest lost motion, arcmin.
+    pub lost_motion_arcmin: Option<f64>,
+    /// Largest backlash, arcmin.
+    pub backlash_arcmin: Option<f64>,
+    /// Largest angular TE, arcmin.
+    pub angular_te_arcmin: Option<f64>,
+    /// Smallest torsional stiffness, N m/arcmin.
+    pub torsional_stiffness_min_nm_per_arcmin: Option<f64>,
+}
+
+impl LifeThresholds {
+    /// Whether any threshold is set.
+    pub fn any(&self) -> bool {
+        *self != LifeThresholds::default()
+    }
+}
+
+/// ISO 286-1:2010 standard tolerance `IT` (m) of grade `grade` (5 to 11) for the nominal size
+/// `size` (m, up to 3150 mm): `IT = k i`, `k` = 7, 10, 16, 25, 40, 64, 100 for IT5-IT11, with
+/// the tolerance factor `i = 0.45 D^(1/3) + 0.001 D` um up to 500 mm and `I = 0.004 D + 2.1` um
+/// above, `D` (mm) the geometric mean of the size step that holds `size` (the standard's
+/// table values are these, rounded).
+pub fn iso_it(grade: i64, size: f64) -> Option<f64> {
+    const STEPS: [f64; 23] = [
+        0.0,
+        3.0,
+        6.0,
+        10.0,
+        18.0,
+        30.0,
+        50.0,
+        80.0,
+        120.0,
+        180.0,
+        250.0,
+        315.0,
+        400.0,
+        500.0,
+        630.0,
+        800.0,
+        1000.0,
+        1250.0,
+        1600.0,
+        2000.0,
+        2500.0,
+        3150.0,
+        f64::INFINITY,
+    ];
+    let k = match grade {
+        5 => 7.0,
+        6 => 10.0,
+        7 => 16.0,
+        8 => 25.0,
+        9 => 40.0,
+        10 => 64.0,
+        11 => 100.0,
+        _ => return None,
+    };
+    let mm = size * 1e3;
+    if !(mm > 0.0 && mm <= 3150.0) {
+        return None;
+    }
+    let i = STEPS.windows(2).position(|w| mm > w[0] && mm <= w[1])?;
+    let (lo, hi) = (STEPS[i].max(1.0), STEPS[i + 1]);
+    let d = (lo * hi).sqrt();
+    let factor = if hi <= 500.0 {
+        0.45 * d.cbrt() + 0.001 * d
+    } else {
+        0.004 * d + 2.1
+    };
+    Some(k * factor * 1e-6)
+}
+
+fn tolerance(
+    key: &str,
+    t: &ToleranceConfig,
+    unit: &'static str,
+    to_si: f64,
+    size: Option<f64>,
+) -> Result<Tolerance> {
+    let given = [
+        t.normal.is_some(),
+        t.uniform.is_some(),
+        t.iso_grade.is_some(),
+    ]
+    .iter()
+    .filter(|&&b| b)
+    .count();
+    if given != 1 {
+        return Err(Error::invalid(
+            key,
+            format!("{given} distributions"),
+            "give exactly one of normal = sigma, uniform = limit, iso_grade = 5..11",
+        ));
+    }
+    // Part errors beyond a millimetre (or 10 degrees) are not tolerances.
+    let hi = if unit == "um" { 1000.0 } else { 600.0 };
+    if let Some(s) = t.normal {
+        return Ok(Tolerance::Normal(
+            check(&format!("{key}.normal"), s, Range::non_negative(hi, unit))? * to_si,
+        ));
+    }
+    if let Some(l) = t.uniform {
+        return Ok(Tolerance::Uniform(
+            check(&format!("{key}.uniform"), l, Range::non_negative(hi, unit))? * to_si,
+        ));
+    }
+    let grade = t.iso_grade.unwrap_or(0);
+    let Some(size) = size else {
+        return Err(Error::invalid(
+            format!("{key}.iso_grade"),
+            grade,
+            "ISO grades apply to lengths; give normal = sigma or uniform = limit",
+        ));
+    };
+    let it = iso_it(grade, size).ok_or_else(|| {
+        Error::invalid(
+            format!("{key}.iso_grade"),
+            grade,
+            format!(
+                "must be a whole number from 5 to 11 (ISO 286-1, sizes up to 3150 mm; this \
+                 feature is {:.3} mm)",
+                size * 1e3
+            ),
+        )
+    })?;
+    Ok(Tolerance::Normal(it / 12.0))
+}
+
+impl TolerancesConfig {
+    /// Checks every distribution and converts to SI; ISO grades take the feature sizes from
+    /// `geometry` (pin diameter, pin circle diameter, the eccentric's throw `2 a`).
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] naming the key (`tolerances.pin_radial_um.normal`), the value and
+    /// the allowed range.
+    pub fn validate(&self, geometry: &CycloidGeometry) -> Result<Tolerances> {
+        let um = 1e-6;
+        let arcmin = (1.0_f64 / 60.0).to_radians();
+        let circle = 2.0 * geometry.pin_circle_radius;
+        let t = |key: &str, v: &Option<ToleranceConfig>, unit, si, size| -> Result<_> {
+            v.as_ref()
+                .map(|v| tolerance(&format!("tolerances.{key}"), v, unit, si, size))
+                .transpose()
+        };
+        Ok(Tolerances {
+            pin_radial: t("pin_radial_um", &self.pin_radial_um, "um", um, Some(circle))?,
+            pin_tangential: t(
+                "pin_tangential_um",
+                &self.pin_tangential_um,
+                "um",
+                um,
+                Some(circle),
+            )?,
+            pin_radius: t(
+                "pin_radius_um",
+                &self.pin_radius_um,
+                "um",
+                um,
+                Some(2.0 * geometry.pin_radius),
+            )?,
+            pin_circle_runout: t(
+                "pin_circle_runout_um",
+                &self.pin_circle_runout_um,
+                "um",
+                um,
+                Some(circle),
+            )?,
+            crank_eccentricity: t(
+                "crank_eccentricity_um",
+                &self.crank_eccentricity_um,
+                "um",
+                um,
+                Some(2.0 * geometry.eccentricity),
+            )?,
+            crank_phase: t(
+                "crank_phase_arcmin",
+                &self.crank_phase_arcmin,
+                "arcmin",
+                arcmin,
+                None,
+            )?,
+            equidistant: t(
+                "equidistant_um",
+                &self.equidistant_um,
+                "um",
+                um,
+                Some(circle),
+            )?,
+            offset: t("offset_um", &self.offset_um, "um", um, Some(circle))?,
+            rotation: t(
+                "rotation_arcmin",
+                &self.rotation_arcmin,
+                "arcmin",
+                arcmin,
+                None,
+            )?,
+        })
+    }
+}
+
+impl ErrorsConfig {
+    /// Checks the lists' lengths and values (|error| up to 1 mm, 600 arcmin) and converts to
+    /// SI.
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] naming the key (`errors.pin_radial_um`), the value and the allowed
+    /// range (a list of the wrong length names its length and the one needed).
+    pub fn validate(&self, pins: usize, cranks: usize) -> Result<PartErrors> {
+        let list = |key: &str, v: &[f64], n: usize, what: &str, unit, si: f64| {
+            if !(v.is_empty() || v.len() == n) {
+                return Err(Error::invalid(
+                    format!("errors.{key}"),
+                    format!("a list of {} values", v.len()),
+                    format!("must hold one value per {what}: {n} values (or be left out)"),
+                ));
+            }
+            let hi = if unit == "um" { 1000.0 } else { 600.0 };
+            v.iter()
+                .enumerate()
+                .map(|(i, &x)| {
+                    check(
+                        &format!("errors.{key}[{i}]"),
+                        x,
+                        Range::closed(-hi, hi, unit),
+                    )
+                    .map(|x| x * si)
+                })
+                .collect::<Result<Vec<f64>>>()
+        };
+        let um = 1e-6;
+        let arcmin = (1.0_f64 / 60.0).to_radians();
+        let runout = check(
+            "errors.pin_circle_runout_um",
+            self.pin_circle_runout_um,
+            Range::non_negative(1000.0, "um"),
+        )? * um;
+        let dir = check(
+            "errors.pin_circle_runout_deg",
+            self.pin_circle_runout_deg,
+            Range::closed(-360.0, 360.0, "deg"),
+        )?
+        .to_radians();
+        Ok(PartErrors {
+            pin_radial: list("pin_radial_um", &self.pin_radial_um, pins, "pin", "um", um)?,
+            pin_tangential: list(
+                "pin_tangential_um",
+                &self.pin_tangential_um,
+                pins,
+                "pin",
+                "um",
+                um,
+            )?,
+            pin_radius: list("pin_radius_um", &self.pin_radius_um, pins, "pin", "um", um)?,
+            pin_circle_offset: Vec2::new(dir.cos(), dir.sin()) * (0.5 * runout),
+            crank_eccentricity: list(
+                "crank_eccentricity_um",
+                &self.crank_eccentricity_um,
+                cranks,
+                "crank (reducer.planets)",
+                "um",
+                um,
+            )?,
+            crank_phase: list(
+                "crank_phase_arcmin",
+                &self.crank_phase_arcmin,
+                cranks,
+                "crank (reducer.planets)",
+                "arcmin",
+                arcmin,
+            )?,
+        })
+    }
+}
+
+impl LifeConfig {
+    /// Checks the thresholds (positive, finite).
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] naming the key, the value and the allowed range.
+    pub fn validate(&self) -> Result<LifeThresholds> {
+        let t = |key: &str, v: Option<f64>, hi: f64, unit| {
+            v.map(|x| check(&format!("life.{key}"), x, Range::positive(hi, unit)))
+                .transpose()
+        };
+        Ok(LifeThresholds {
+            lost_motion_arcmin: t(
+                "lost_motion_arcmin",
+                self.lost_motion_arcmin,
+                600.0,
+                "arcmin",
+            )?,
+            backlash_arcmin: t("backlash_arcmin", self.backlash_arcmin, 600.0, "arcmin")?,
+            angular_te_arcmin: t("angular_te_arcmin", self.angular_te_arcmin, 600.0, "arcmin")?,
+            torsional_stiffness_min_nm_per_arcmin: t(
+                "torsional_stiffness_min_nm_per_arcmin",
+                self.torsional_stiffness_min_nm_per_arcmin,
+                1e9,
+                "N m/arcmin",
+            )?,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// ISO 286-1 Table 1 values (um): IT5 and IT7 at 18-30 mm are 9 and 21, IT6 at 80-120
+    /// mm is 22, IT11 at 3-6 mm is 75; the formula gives them to the standard's rounding.
+    #[test]
+    fn iso_tolerances_match_the_standard_table() {
+        for (grade, size_mm, table_um) in [
+            (5, 25.0, 9.0),
+            (7, 25.0, 21.0),
+            (6, 100.0, 22.0),
+            (11, 5.0, 75.0),
+        ] {
+            let it = iso_it(grade, size_mm * 1e-3).unwrap() * 1e6;
+            assert!(
+                (it - table_um).abs() / table_um < 0.06,
+                "IT{grade} {size_mm} mm: {it}"
+            );
+        }
+        assert!(iso_it(4, 0.01).is_none() && iso_it(12, 0.01).is_none());
+    }
+}

@@ -1,0 +1,201 @@
+//! Accuracy life: the working hours at which a reducer first leaves its accuracy spec
+//! (`[life]`: lost motion, backlash, angular TE above, torsional stiffness below a
+//! threshold).
+//!
+//! The quantities are found at the study's stages; where a threshold is crossed between two
+//! stages the crossing is located by bisection on the working hours, each trial a wear
+//! integration to those hours and an analysis of the worn reducer (not an interpolation
+//! between the stages: lost motion and backlash grow unevenly as the worn band spreads over
+//! the flank), down to [`LIFE_TOLERANCE`]; the last bracket is interpolated linearly.
+
+use serde::Serialize;
+
+use crate::config::{LifeThresholds, Model};
+use crate::error::Result;
+use crate::study::StageSummary;
+
+/// Relative width of the last bisection bracket (of the hours at its upper end): 0.5 %.
+pub const LIFE_TOLERANCE: f64 = 0.005;
+
+/// The accuracy quantities that `[life]` limits, at one working-hour point.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct AccuracyPoint {
+    /// Working hours, h.
+    pub hours: f64,
+    /// Maximum wear depth, um.
+    pub max_wear_um: f64,
+    /// Backlash, arcmin.
+    pub backlash_arcmin: f64,
+    /// Lost motion (catalogue), arcmin.
+    pub lost_motion_arcmin: f64,
+    /// Angular TE over an output revolution, arcmin.
+    pub angular_te_arcmin: f64,
+    /// Torsional stiffness, N m/arcmin.
+    pub torsional_stiffness_nm_per_arcmin: f64,
+}
+
+impl AccuracyPoint {
+    /// The point of a stage summary.
+    pub fn of(s: &StageSummary) -> AccuracyPoint {
+        AccuracyPoint {
+            hours: s.hours,
+            max_wear_um: s.max_wear_um,
+            backlash_arcmin: s.backlash_arcmin,
+            lost_motion_arcmin: s.lost_motion_arcmin,
+            angular_te_arcmin: s.angular_te_arcmin,
+            torsional_stiffness_nm_per_arcmin: s.torsional_stiffness_nm_per_arcmin,
+        }
+    }
+}
+
+/// The accuracy life found.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AccuracyLife {
+    /// Working hours at which the first threshold is crossed, h; `None` when none is within
+    /// the hours studied (the life exceeds `horizon_h`).
+    pub accuracy_life_h: Option<f64>,
+    /// The threshold crossed first (its `[life]` key).
+    pub limited_by: Option<&'static str>,
+    /// The last working hours studied, h.
+    pub horizon_h: f64,
+}
+
+/// Margins of `p` against every threshold set, relative to the threshold: positive inside the
+/// spec, `(limit - value)/limit` (`(value - limit)/limit` for the stiffness), with the key.
+pub fn margins(th: &LifeThresholds, p: &AccuracyPoint) -> Vec<(&'static str, f64)> {
+    let mut out = Vec::new();
+    let mut upper = |key, limit: Option<f64>, v: f64| {
+        if let Some(l) = limit {
+            out.push((key, (l - v) / l));
+        }
+    };
+    upper(
+        "lost_motion_arcmin",
+        th.lost_motion_arcmin,
+        p.lost_motion_arcmin,
+    );
+    upper("backlash_arcmin", th.backlash_arcmin, p.backlash_arcmin);
+    upper(
+        "angular_te_arcmin",
+        th.angular_te_arcmin,
+        p.angular_te_arcmin,
+    );
+    if let Some(l) = th.torsional_stiffness_min_nm_per_arcmin {
+        out.push((
+            "torsional_stiffness_min_nm_per_arcmin",
+            (p.torsional_stiffness_nm_per_arcmin - l) / l,
+        ));
+    }
+    out
+}
+
+/// The smallest margin and its key (`None` without thresholds).
+fn worst(th: &LifeThresholds, p: &AccuracyPoint) -> Option<(&'static str, f64)> {
+    margins(th, p)
+        .into_iter()
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+}
+
+/// The accuracy life from the quantities at increasing working hours `points`, refining a
+/// crossing between two of them with `at(hours)` (the quantities after that many hours of
+/// wear), by bisection down to [`LIFE_TOLERANCE`] and linear interpolation of the crossing
+/// margin in the last bracket. `None` without thresholds.
+///
+/// # Errors
+/// Those of `at`.
+pub fn accuracy_life(
+    th: &LifeThresholds,
+    points: &[AccuracyPoint],
+    mut at: impl FnMut(f64) -> Result<AccuracyPoint>,
+) -> Result<Option<AccuracyLife>> {
+    if !th.any() || points.is_empty() {
+        return Ok(None);
+    }
+    let horizon_h = points.last().map_or(0.0, |p| p.hours);
+    let Some(i) = points
+        .iter()
+        .position(|p| worst(th, p).is_some_and(|w| w.1 < 0.0))
+    else {
+        return Ok(Some(AccuracyLife {
+            accuracy_life_h: None,
+            limited_by: None,
+            horizon_h,
+        }));
+    };
+    if i == 0 {
+        return Ok(Some(AccuracyLife {
+            accuracy_life_h: Some(points[0].hours),
+            limited_by: worst(th, &points[0]).map(|w| w.0),
+            horizon_h,
+        }));
+    }
+    let (mut lo, mut hi) = (points[i - 1], points[i]);
+    while hi.hours - lo.hours > LIFE_TOLERANCE * hi.hours {
+        let mid = at(0.5 * (lo.hours + hi.hours))?;
+        if worst(th, &mid).is_some_and(|w| w.1 < 0.0) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    let (h, key) = crossing(th, &lo, &hi);
+    Ok(Some(AccuracyLife {
+        accuracy_life_h: Some(h),
+        limited_by: Some(key),
+        horizon_h,
+    }))
+}
+
+/// The crossing between `lo` (inside the spec) and `hi` (outside): the threshold crossed at
+/// `hi` (the smallest margin there) and the hours at which its margin, interpolated linearly,
+/// is zero.
+pub fn crossing(
+    th: &LifeThresholds,
+    lo: &AccuracyPoint,
+    hi: &AccuracyPoint,
+) -> (f64, &'static str) {
+    let (key, m_hi) = worst(th, hi).unwrap_or(("", 0.0));
+    let m_lo = margins(th, lo)
+        .into_iter()
+        .find(|m| m.0 == key)
+        .map_or(0.0, |m| m.1);
+    let f = if m_lo > m_hi {
+        m_lo / (m_lo - m_hi)
+    } else {
+        1.0
+    };
+    (lo.hours + f.clamp(0.0, 1.0) * (hi.hours - lo.hours), key)
+}
+
+/// [`accuracy_life`] of a study of `model`: the stages' summaries, each bisection trial a wear
+/// integration on the study's own profile-update schedule (`update_hours`) to the trial hours
+/// and [`crate::study::analyse_profile`] of the worn profile.
+///
+/// # Errors
+/// Wear integration and analysis failures.
+pub fn study_life(
+    model: &Model,
+    stages: &[StageSummary],
+    update_hours: &[f64],
+) -> Result<Option<AccuracyLife>> {
+    let points: Vec<AccuracyPoint> = stages.iter().map(AccuracyPoint::of).collect();
+    accuracy_life(&model.life, &points, |h| {
+        let mut m = model.clone();
+        m.stage_hours = vec![h];
+        let hist = crate::wear::integrate_on_schedule(&m, update_hours, &|_, _| {})?;
+        let map = &hist.maps[0];
+        let max = map.iter().copied().fold(0.0, f64::max);
+        let wear = match model.wear_model {
+            _ if max <= 0.0 => None,
+            crate::config::WearModelKind::Paper => {
+                Some(crate::geometry::WearMap::uniform(map.len(), max)?)
+            }
+            crate::config::WearModelKind::Flodin => {
+                Some(crate::geometry::WearMap::new(map.clone())?)
+            }
+        };
+        let profile = model.profile(wear)?;
+        let a = crate::study::analyse_profile(model, &profile, h)?;
+        Ok(AccuracyPoint::of(&a.summary))
+    })
+}

@@ -1,0 +1,793 @@
+//! Monte Carlo over the part tolerances: a batch of sampled reducers through the accuracy-life
+//! study, with percentiles of the accuracy quantities and the accuracy life's distribution.
+//!
+//! Sample `i` of seed `s` draws its part errors and modification errors
+//! ([`crate::config::Tolerances::sample`]) from its own ChaCha8 stream (seed `s`, stream `i`),
+//! so a sample's numbers do not depend on how many samples run, on which shard, or on the
+//! thread count: shards merged give the unsharded run's files byte for byte.
+//!
+//! **Shared wear** (the default): the wear maps are those of the nominal reducer, integrated
+//! once at the study's stages and at [`SUBDIVISIONS`] points between each two; every sample is
+//! analysed with its own errors on those maps. A sample's errors change its load sharing and so
+//! its wear a little; `full_wear` integrates every sample's own wear instead (the cost and the
+//! difference are measured in the README).
+//!
+//! Each sampled reducer at each working-hour point: backlash, lost motion and torsional
+//! stiffness from the hysteresis curve averaged over one mesh cycle
+//! ([`crate::te::hysteresis_with`], the measuring torque and the rated torque), the angular TE
+//! over an output revolution ([`crate::te::revolution_perturbed`]); the accuracy life by
+//! bisection over the shared maps between the stages, then linear interpolation.
+
+use std::ops::Range;
+use std::path::Path;
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::config::Model;
+use crate::error::{Error, Result};
+use crate::geometry::WearMap;
+use crate::life::{accuracy_life, AccuracyPoint};
+use crate::reducer::statics::StaticAnalysis;
+use crate::te::{hysteresis_with, mesh_cycle_angles, revolution_perturbed, ARCMIN_PER_RAD};
+
+/// Wear maps between two stages of the shared wear history (the accuracy life is located to
+/// an eighth of a stage interval by bisection, then interpolated).
+pub const SUBDIVISIONS: usize = 8;
+
+/// What to run: `samples` reducers of seed `seed`, the part `shard = (I, N)` (1-based) of them.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Plan {
+    /// Number of sampled reducers of the whole run.
+    pub samples: usize,
+    /// Seed.
+    pub seed: u64,
+    /// `(I, N)`: this run is the `I`-th of `N` disjoint contiguous parts; `(1, 1)`: all.
+    pub shard: (usize, usize),
+    /// Integrate every sample's own wear instead of sharing the nominal reducer's.
+    pub full_wear: bool,
+    /// Crank angles per mesh cycle of the hysteresis curves and the revolution TE.
+    pub samples_per_mesh_cycle: usize,
+}
+
+impl Plan {
+    /// The sample indices of this shard: `[floor((I-1) S/N), floor(I S/N))`.
+    pub fn indices(&self) -> Range<usize> {
+        let (i, n) = self.shard;
+        (i - 1) * self.samples / n..i * self.samples / n
+    }
+}
+
+/// One sampled reducer's results.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SampleRecord {
+    /// Sample index.
+    pub sample: usize,
+    /// `ok`, `interference` (the sampled parts cannot be assembled without preload: negative
+    /// play somewhere on the revolution), or `failed: <reason>` (the analysis failed at some
+    /// working hours; the points before are kept).
+    pub status: String,
+    /// The accuracy quantities at each stage.
+    pub points: Vec<AccuracyPoint>,
+    /// Accuracy life, h (`None`: beyond the last stage, or no thresholds).
+    pub accuracy_life_h: Option<f64>,
+    /// The threshold crossed first.
+    pub limited_by: Option<String>,
+}
+
+/// The nominal reducer's wear maps at the stages and between them.
+pub struct SharedWear {
+    /// Working hours of every map, h (stages and subdivisions).
+    pub hours: Vec<f64>,
+    /// Wear maps (None: unworn).
+    pub maps: Vec<Option<WearMap>>,
+    /// Index in `hours` of each stage.
+    pub stage_index: Vec<usize>,
+}
+
+/// Stages and their subdivisions: `(hours, index of each stage)`.
+fn dense_hours(stages: &[f64]) -> (Vec<f64>, Vec<usize>) {
+    let mut hours = Vec::new();
+    let mut idx = Vec::new();
+    let mut prev: Option<f64> = None;
+    for &h in stages {
+        if let Some(p) = prev {
+            for k in 1..SUBDIVISIONS {
+                hours.push(p + (h - p) * k as f64 / SUBDIVISIONS as f64);
+            }
+        }
+        idx.push(hours.len());
+        hours.push(h);
+        prev = Some(h);
+    }
+    (hours, idx)
+}
+
+/// The wear history of `model` at its stages and [`SUBDIVISIONS`] points between each two.
+///
+/// # Errors
+/// Wear integration failures; [`Error::Invalid`] naming `wear.stage_hours` if the wear
+/// model's validity ends before the last stage.
+pub fn shared_wear(model: &Model) -> Result<SharedWear> {
+    let (hours, stage_index) = dense_hours(&model.stage_hours);
+    let mut m = model.clone();
+    m.stage_hours = hours.clone();
+    let hist = crate::wear::integrate(&m, &|_, _| {})?;
+    if let Some(l) = &hist.limit {
+        return Err(Error::invalid(
+            "wear.stage_hours",
+            format!("{:?}", model.stage_hours),
+            format!(
+                "the nominal reducer leaves the wear model's validity at {:.0} h ({}); \
+                 end the stages before",
+                l.hours, l.reason
+            ),
+        ));
+    }
+    let maps = hist
+        .maps
+        .iter()
+        .map(|map| wear_map(model, map))
+        .collect::<Result<_>>()?;
+    Ok(SharedWear {
+        hours,
+        maps,
+        stage_index,
+    })
+}
+
+fn wear_map(model: &Model, map: &[f64]) -> Result<Option<WearMap>> {
+    let max = map.iter().copied().fold(0.0, f64::max);
+    Ok(match model.wear_model {
+        _ if max <= 0.0 => None,
+        crate::config::WearModelKind::Paper => Some(WearMap::uniform(map.len(), max)?),
+        crate::config::WearModelKind::Flodin => Some(WearMap::new(map.to_vec())?),
+    })
+}
+
+/// The sampled reducer `index` of `seed`: `model` with its part errors and modification drawn
+/// from `model.tolerances`.
+pub fn sample_model(model: &Model, seed: u64, index: usize) -> Model {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(index as u64);
+    let (errors, modification) = model.tolerances.sample(
+        &mut rng,
+        model.geometry.pins,
+        model.reducer.cranks,
+        model.modification,
+    );
+    let mut m = model.clone();
+    m.reducer.errors = errors;
+    m.modification = modification;
+    m
+}
+
+/// Why a sample is not analysed further.
+enum Stop {
+    Interference,
+    Failed(String),
+}
+
+/// The accuracy quantities of `model` (a sampled reducer) with wear `wear` at `hours`.
+fn accuracy_at(
+    model: &Model,
+    wear: Option<WearMap>,
+    hours: f64,
+    per_cycle: usize,
+) -> std::result::Result<AccuracyPoint, Stop> {
+    let fail = |e: Error| Stop::Failed(e.to_string());
+    let profile = model.profile(wear).map_err(fail)?;
+    let sa = StaticAnalysis::new(&model.reducer, &profile).map_err(fail)?;
+    let rev = revolution_perturbed(&sa, per_cycle).map_err(fail)?;
+    if rev.play_stats().min < -1e-9 {
+        return Err(Stop::Interference);
+    }
+    let phis = mesh_cycle_angles(model.geometry.pins, per_cycle);
+    let (_, mean) = hysteresis_with(
+        &sa,
+        &phis,
+        model.rated_torque,
+        model.measuring_torque_fraction,
+        1,
+    )
+    .map_err(fail)?;
+    let acc = mean.accuracy();
+    Ok(AccuracyPoint {
+        hours,
+        max_wear_um: profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
+        backlash_arcmin: acc.backlash * ARCMIN_PER_RAD,
+        lost_motion_arcmin: acc.lost_motion * ARCMIN_PER_RAD,
+        angular_te_arcmin: rev.angular_te() * ARCMIN_PER_RAD,
+        torsional_stiffness_nm_per_arcmin: acc.torsional_stiffness / ARCMIN_PER_RAD,
+    })
+}
+
+/// Runs one sampled reducer through the study (module documentation). `shared`: the nominal
+/// wear history, or `None` to integrate the sample's own.
+pub fn run_sample(
+    model: &Model,
+    plan: &Plan,
+    shared: Option<&SharedWear>,
+    index: usize,
+) -> SampleRecord {
+    let m = sample_model(model, plan.seed, index);
+    let own;
+    let wear = match shared {
+        Some(s) => s,
+        None => match shared_wear(&m) {
+            Ok(w) => {
+                own = w;
+                &own
+            }
+            Err(e) => {
+                return SampleRecord {
+                    sample: index,
+                    status: format!("failed: {e}"),
+                    points: Vec::new(),
+                    accuracy_life_h: None,
+                    limited_by: None,
+                }
+            }
+        },
+    };
+    let per_cycle = plan.samples_per_mesh_cycle;
+    let at = |i: usize| accuracy_at(&m, wear.maps[i].clone(), wear.hours[i], per_cycle);
+    let mut points = Vec::new();
+    let mut status = "ok".to_string();
+    for &i in &wear.stage_index {
+        match at(i) {
+            Ok(p) => points.push(p),
+            Err(Stop::Interference) if points.is_empty() => {
+                status = "interference".into();
+                break;
+            }
+            Err(Stop::Interference) => {
+                status = format!("failed: negative play at {} h", wear.hours[i]);
+                break;
+            }
+            Err(Stop::Failed(e)) => {
+                status = format!("failed: {e}");
+                break;
+            }
+        }
+    }
+    // Bisection over the shared maps between the stages: `at` by hours maps to the nearest
+    // map (the bisection's trial hours are the maps' own: the bracket halves over indices).
+    let life = if points.is_empty() {
+        None
+    } else {
+        let mut lookup = |h: f64| -> Result<AccuracyPoint> {
+            let i = wear
+                .hours
+                .iter()
+                .position(|&x| (x - h).abs() <= 1e-9 * h.max(1.0))
+                .ok_or_else(|| Error::numerical("accuracy life", "no wear map at those hours"))?;
+            at(i).map_err(|s| match s {
+                Stop::Interference => Error::numerical("accuracy life", "negative play"),
+                Stop::Failed(e) => Error::numerical("accuracy life", e),
+            })
+        };
+        bracket_life(&model.life, &points, &wear.hours, &mut lookup)
+            .ok()
+            .flatten()
+    };
+    SampleRecord {
+        sample: index,
+        status,
+        points,
+        accuracy_life_h: life.as_ref().and_then(|l| l.accuracy_life_h),
+        limited_by: life.and_then(|l| l.limited_by.map(str::to_string)),
+    }
+}
+
+/// The accuracy life from the stage points, the crossing bracket narrowed by bisection over
+/// the hours of `grid` (`at` evaluates a grid point) and the last grid interval interpolated.
+fn bracket_life(
+    th: &crate::config::LifeThresholds,
+    points: &[AccuracyPoint],
+    grid: &[f64],
+    at: &mut dyn FnMut(f64) -> Result<AccuracyPoint>,
+) -> Result<Option<crate::life::AccuracyLife>> {
+    if !th.any() {
+        return Ok(None);
+    }
+    let inside = |p: &AccuracyPoint| crate::life::margins(th, p).iter().all(|m| m.1 >= 0.0);
+    let Some(i) = points.iter().position(|p| !inside(p)) else {
+        return accuracy_life(th, points, |_| unreachable!("no crossing"));
+    };
+    if i == 0 {
+        return accuracy_life(th, &points[..1], |_| unreachable!("crossed at the start"));
+    }
+    let idx = |h: f64| grid.iter().position(|&x| x == h).unwrap_or(0);
+    let (mut a, mut b) = (idx(points[i - 1].hours), idx(points[i].hours));
+    let (mut pa, mut pb) = (points[i - 1], points[i]);
+    while b - a > 1 {
+        let mid = (a + b) / 2;
+        let pm = at(grid[mid])?;
+        if inside(&pm) {
+            a = mid;
+            pa = pm;
+        } else {
+            b = mid;
+            pb = pm;
+        }
+    }
+    let life = crate::life::crossing(th, &pa, &pb);
+    Ok(Some(crate::life::AccuracyLife {
+        accuracy_life_h: Some(life.0),
+        limited_by: Some(life.1),
+        horizon_h: points.last().map_or(0.0, |p| p.hours),
+    }))
+}
+
+/// Runs the plan's samples in parallel (rayon); `progress(done, total)` after each.
+///
+/// # Errors
+/// The shared wear integration's failures.
+pub fn run(
+    model: &Model,
+    plan: &Plan,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Vec<SampleRecord>> {
+    let shared = if plan.full_wear {
+        None
+    } else {
+        Some(shared_wear(model)?)
+    };
+    let idx: Vec<usize> = plan.indices().collect();
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let total = idx.len();
+    Ok(idx
+        .par_iter()
+        .map(|&i| {
+            let r = run_sample(model, plan, shared.as_ref(), i);
+            progress(
+                done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,
+                total,
+            );
+            r
+        })
+        .collect())
+}
+
+/// Percentiles of one quantity at one stage over the samples that reached it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Percentiles {
+    /// Working hours, h.
+    pub hours: f64,
+    /// Quantity (column name of `stages.csv`).
+    pub quantity: &'static str,
+    /// Samples with a value.
+    pub n: usize,
+    /// 5th percentile.
+    pub p5: f64,
+    /// Median.
+    pub p50: f64,
+    /// 95th percentile.
+    pub p95: f64,
+    /// Mean.
+    pub mean: f64,
+}
+
+/// The `q`-quantile (0..1) of sorted `v` by linear interpolation between order statistics
+/// (Hyndman and Fan 1996, definition 7; NumPy's default).
+pub fn quantile(v: &[f64], q: f64) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    let h = (v.len() - 1) as f64 * q;
+    let (lo, hi) = (h.floor() as usize, h.ceil() as usize);
+    v[lo] + (h - lo as f64) * (v[hi] - v[lo])
+}
+
+/// One quantity of an [`AccuracyPoint`]: its column name and accessor.
+pub type Quantity = (&'static str, fn(&AccuracyPoint) -> f64);
+
+/// Quantities of `stages.csv` and `percentiles.csv`, with their accessor.
+pub const QUANTITIES: [Quantity; 5] = [
+    ("max_wear_um", |p| p.max_wear_um),
+    ("backlash_arcmin", |p| p.backlash_arcmin),
+    ("lost_motion_arcmin", |p| p.lost_motion_arcmin),
+    ("angular_te_arcmin", |p| p.angular_te_arcmin),
+    ("torsional_stiffness_nm_per_arcmin", |p| {
+        p.torsional_stiffness_nm_per_arcmin
+    }),
+];
+
+/// Percentiles (5/50/95) of every quantity at every stage over the records with status `ok`.
+pub fn percentiles(records: &[SampleRecord], stage_hours: &[f64]) -> Vec<Percentiles> {
+    let mut out = Vec::new();
+    for (s, &h) in stage_hours.iter().enumerate() {
+        for (name, f) in QUANTITIES {
+            let mut v: Vec<f64> = records
+                .iter()
+                .filter(|r| r.status == "ok")
+                .filter_map(|r| r.points.get(s).map(f))
+                .collect();
+            v.sort_by(f64::total_cmp);
+            out.push(Percentiles {
+                hours: h,
+                quantity: name,
+                n: v.len(),
+                p5: quantile(&v, 0.05),
+                p50: quantile(&v, 0.5),
+                p95: quantile(&v, 0.95),
+                mean: v.iter().sum::<f64>() / v.len().max(1) as f64,
+            });
+        }
+    }
+    out
+}
+
+/// The accuracy-life distribution over the records with status `ok`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LifeDistribution {
+    /// Samples counted.
+    pub n: usize,
+    /// Fraction whose life exceeds the last stage (censored).
+    pub censored_fraction: f64,
+    /// B10 life: the hours by which 10 % have left the spec, h (`None`: fewer than 10 % by the
+    /// last stage).
+    pub b10_h: Option<f64>,
+    /// B50 (median) life, h (`None`: fewer than half by the last stage).
+    pub b50_h: Option<f64>,
+    /// How many samples each threshold limited.
+    pub limited_by: std::collections::BTreeMap<String, usize>,
+}
+
+/// The life distribution: empirical quantiles with the censored lives (beyond the last
+/// stage) counted as longer than every observed one.
+pub fn life_distribution(records: &[SampleRecord]) -> LifeDistribution {
+    let ok: Vec<&SampleRecord> = records.iter().filter(|r| r.status == "ok").collect();
+    let mut lives: Vec<f64> = ok.iter().filter_map(|r| r.accuracy_life_h).collect();
+    lives.sort_by(f64::total_cmp);
+    let n = ok.len();
+    let q = |p: f64| {
+        // Position of the p-quantile among all n (censored at the top).
+        let h = (n.saturating_sub(1)) as f64 * p;
+        if n == 0 || h.ceil() as usize >= lives.len() {
+            None
+        } else {
+            let (lo, hi) = (h.floor() as usize, h.ceil() as usize);
+            Some(lives[lo] + (h - lo as f64) * (lives[hi] - lives[lo]))
+        }
+    };
+    let mut limited_by = std::collections::BTreeMap::new();
+    for r in &ok {
+        if let Some(k) = &r.limited_by {
+            *limited_by.entry(k.clone()).or_insert(0) += 1;
+        }
+    }
+    LifeDistribution {
+        n,
+        censored_fraction: if n > 0 {
+            (n - lives.len()) as f64 / n as f64
+        } else {
+            0.0
+        },
+        b10_h: q(0.1),
+        b50_h: q(0.5),
+        limited_by,
+    }
+}
+
+/// `summary.json` of a Monte Carlo run.
+#[derive(Debug, Clone, Serialize)]
+pub struct McSummary {
+    /// rvlife version.
+    pub rvlife_version: &'static str,
+    /// Samples, seed and options.
+    pub plan: Plan,
+    /// Samples by status: ok, interference, failed.
+    pub status_counts: std::collections::BTreeMap<String, usize>,
+    /// The accuracy life's distribution (with `[life]` thresholds).
+    pub life: LifeDistribution,
+    /// Percentiles of every quantity at every stage.
+    pub percentiles: Vec<Percentiles>,
+    /// Standard error of a percentile `p` estimated from `n` samples, relative to the
+    /// quantity's spread: `sqrt(p (1-p) / n) / f(x_p)`; for a normal quantity this is
+    /// `1.25 sigma / sqrt(n)` at the median and `2.11 sigma / sqrt(n)` at 5 and 95 %.
+    pub percentile_standard_error_note: &'static str,
+}
+
+/// The meta-data a shard carries so that merging can check the shards belong together.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ShardMeta {
+    /// rvlife version.
+    pub rvlife_version: String,
+    /// The plan (with this shard's `(I, N)`).
+    pub plan: Plan,
+    /// The stages, h.
+    pub stage_hours: Vec<f64>,
+    /// The config text the run read (`<built-in>` example: its text).
+    pub config_toml: String,
+}
+
+fn fmt_opt(v: Option<f64>) -> String {
+    v.map_or(String::new(), |x| format!("{x}"))
+}
+
+/// Writes `samples.csv` (one row per sample) and `stages.csv` (one row per sample and stage)
+/// into `dir`; floats in Rust's shortest round-trip form, so reading them back gives the same
+/// bits.
+///
+/// # Errors
+/// [`Error::Io`].
+pub fn write_records(dir: &Path, records: &[SampleRecord]) -> Result<()> {
+    let mut s = String::from("sample,status,accuracy_life_h,limited_by\n");
+    let mut t = String::from("sample,hours");
+    for (q, _) in QUANTITIES {
+        t.push(',');
+        t.push_str(q);
+    }
+    t.push('\n');
+    for r in records {
+        s.push_str(&format!(
+            "{},{},{},{}\n",
+            r.sample,
+            csv_field(&r.status),
+            fmt_opt(r.accuracy_life_h),
+            r.limited_by.clone().unwrap_or_default()
+        ));
+        for p in &r.points {
+            t.push_str(&format!("{},{}", r.sample, p.hours));
+            for (_, f) in QUANTITIES {
+                t.push_str(&format!(",{}", f(p)));
+            }
+            t.push('\n');
+        }
+    }
+    write(dir, "samples.csv", &s)?;
+    write(dir, "stages.csv", &t)
+}
+
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\"").replace('\n', " "))
+    } else {
+        s.to_string()
+    }
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> Result<()> {
+    let p = dir.join(name);
+    std::fs::write(&p, text).map_err(|e| Error::io(&p, e))
+}
+
+/// Reads the records written by [`write_records`].
+///
+/// # Errors
+/// [`Error::Invalid`] naming the file if it is missing or malformed.
+pub fn read_records(dir: &Path) -> Result<Vec<SampleRecord>> {
+    let bad = |p: &Path, what: String| {
+        Error::invalid(
+            p.display().to_string(),
+            what,
+            "must be a samples.csv / stages.csv written by rvlife montecarlo",
+        )
+    };
+    let sp = dir.join("samples.csv");
+    let mut rd = csv::Reader::from_path(&sp).map_err(|e| bad(&sp, e.to_string()))?;
+    let mut records = Vec::new();
+    for row in rd.records() {
+        let row = row.map_err(|e| bad(&sp, e.to_string()))?;
+        let num = |i: usize| -> Result<Option<f64>> {
+            let f = row.get(i).unwrap_or("");
+            if f.is_empty() {
+                Ok(None)
+            } else {
+                f.parse::<f64>()
+                    .map(Some)
+                    .map_err(|e| bad(&sp, format!("{f}: {e}")))
+            }
+        };
+        records.push(SampleRecord {
+            sample: row
+                .get(0)
+                .unwrap_or("")
+                .parse()
+                .map_err(|e| bad(&sp, format!("sample: {e}")))?,
+            status: row.get(1).unwrap_or("").to_string(),
+            points: Vec::new(),
+            accuracy_life_h: num(2)?,
+            limited_by: row.get(3).filter(|s| !s.is_empty()).map(str::to_string),
+        });
+    }
+    let tp = dir.join("stages.csv");
+    let mut rd = csv::Reader::from_path(&tp).map_err(|e| bad(&tp, e.to_string()))?;
+    for row in rd.records() {
+        let row = row.map_err(|e| bad(&tp, e.to_string()))?;
+        let v: Vec<f64> = row
+            .iter()
+            .map(|f| f.parse::<f64>().map_err(|e| bad(&tp, format!("{f}: {e}"))))
+            .collect::<Result<_>>()?;
+        if v.len() != 2 + QUANTITIES.len() {
+            return Err(bad(&tp, format!("{} columns", v.len())));
+        }
+        let sample = v[0] as usize;
+        let r = records
+            .iter_mut()
+            .find(|r| r.sample == sample)
+            .ok_or_else(|| bad(&tp, format!("sample {sample} not in samples.csv")))?;
+        r.points.push(AccuracyPoint {
+            hours: v[1],
+            max_wear_um: v[2],
+            backlash_arcmin: v[3],
+            lost_motion_arcmin: v[4],
+            angular_te_arcmin: v[5],
+            torsional_stiffness_nm_per_arcmin: v[6],
+        });
+    }
+    Ok(records)
+}
+
+/// Writes the results of a whole run (all samples, sorted by index) into `dir`: the records,
+/// `percentiles.csv`, `summary.json`, `config.toml`, and `plots/` (histogram of the accuracy
+/// life and of each quantity at the last stage, a fan chart of each quantity against hours).
+///
+/// # Errors
+/// [`Error::Io`].
+pub fn write_results(dir: &Path, meta: &ShardMeta, records: &[SampleRecord]) -> Result<()> {
+    let mut plan = meta.plan;
+    plan.shard = (1, 1);
+    write_records(dir, records)?;
+    write(dir, "config.toml", &meta.config_toml)?;
+    let pct = percentiles(records, &meta.stage_hours);
+    let mut p = String::from("hours,quantity,n,p5,p50,p95,mean\n");
+    for x in &pct {
+        p.push_str(&format!(
+            "{},{},{},{},{},{},{}\n",
+            x.hours, x.quantity, x.n, x.p5, x.p50, x.p95, x.mean
+        ));
+    }
+    write(dir, "percentiles.csv", &p)?;
+    let mut status_counts = std::collections::BTreeMap::new();
+    for r in records {
+        let key = if r.status.starts_with("failed") {
+            "failed".to_string()
+        } else {
+            r.status.clone()
+        };
+        *status_counts.entry(key).or_insert(0) += 1;
+    }
+    let summary = McSummary {
+        rvlife_version: env!("CARGO_PKG_VERSION"),
+        plan,
+        status_counts,
+        life: life_distribution(records),
+        percentiles: pct.clone(),
+        percentile_standard_error_note: "standard error of a percentile p from n samples: \
+            sqrt(p (1 - p) / n) / f(x_p); for a normal quantity 1.25 sigma / sqrt(n) at the \
+            median, 2.11 sigma / sqrt(n) at 5 and 95 %",
+    };
+    let json = serde_json::to_string_pretty(&summary)
+        .map_err(|e| Error::numerical("summary", e.to_string()))?;
+    write(dir, "summary.json", &(json + "\n"))?;
+    let plots = dir.join("plots");
+    std::fs::create_dir_all(&plots).map_err(|e| Error::io(&plots, e))?;
+    let lives: Vec<f64> = records.iter().filter_map(|r| r.accuracy_life_h).collect();
+    if !lives.is_empty() {
+        crate::plot::histogram(
+            &plots,
+            "life_histogram",
+            "Accuracy life of the sampled reducers",
+            "accuracy life (h)",
+            &lives,
+            30,
+        )?;
+    }
+    for (name, f) in QUANTITIES {
+        let rows: Vec<&Percentiles> = pct.iter().filter(|x| x.quantity == name).collect();
+        let col = |g: fn(&Percentiles) -> f64| rows.iter().map(|x| g(x)).collect::<Vec<f64>>();
+        if rows.iter().all(|x| x.n > 0) && !rows.is_empty() {
+            crate::plot::fan_chart(
+                &plots,
+                &format!("fan_{name}"),
+                &format!("{name}: median and 5-95 % of the sampled reducers"),
+                name,
+                &col(|x| x.hours),
+                [&col(|x| x.p5), &col(|x| x.p50), &col(|x| x.p95)],
+            )?;
+        }
+        let last: Vec<f64> = records
+            .iter()
+            .filter(|r| r.status == "ok")
+            .filter_map(|r| {
+                r.points
+                    .get(meta.stage_hours.len().saturating_sub(1))
+                    .map(f)
+            })
+            .collect();
+        if !last.is_empty() {
+            crate::plot::histogram(
+                &plots,
+                &format!("hist_{name}"),
+                &format!("{name} at the last stage"),
+                name,
+                &last,
+                30,
+            )?;
+        }
+    }
+    Ok(())
+}
+
+/// Writes a shard's results: its records and `shard.json` ([`ShardMeta`]).
+///
+/// # Errors
+/// [`Error::Io`].
+pub fn write_shard(dir: &Path, meta: &ShardMeta, records: &[SampleRecord]) -> Result<()> {
+    write_records(dir, records)?;
+    let json =
+        serde_json::to_string_pretty(meta).map_err(|e| Error::numerical("shard", e.to_string()))?;
+    write(dir, "shard.json", &(json + "\n"))
+}
+
+/// Reads shards written by [`write_shard`] and checks that they are the parts of one run:
+/// same version, samples, seed, options, stages and config, every shard of `1..=N` present
+/// once, and every sample index once.
+///
+/// # Errors
+/// [`Error::Invalid`] naming the directory and what does not match.
+pub fn merge(dirs: &[std::path::PathBuf]) -> Result<(ShardMeta, Vec<SampleRecord>)> {
+    let mut metas: Vec<ShardMeta> = Vec::new();
+    let mut records = Vec::new();
+    for d in dirs {
+        let p = d.join("shard.json");
+        let text = std::fs::read_to_string(&p).map_err(|e| {
+            Error::invalid(
+                d.display().to_string(),
+                format!("no shard.json ({e})"),
+                "must be a results directory of rvlife montecarlo --shard I/N",
+            )
+        })?;
+        let meta: ShardMeta = serde_json::from_str(&text).map_err(|e| {
+            Error::invalid(
+                p.display().to_string(),
+                e.to_string(),
+                "must be a shard.json of rvlife",
+            )
+        })?;
+        if let Some(first) = metas.first() {
+            let mut a = first.clone();
+            a.plan.shard.0 = meta.plan.shard.0;
+            if a != meta {
+                return Err(Error::invalid(
+                    d.display().to_string(),
+                    format!("shard {}/{}", meta.plan.shard.0, meta.plan.shard.1),
+                    format!(
+                        "belongs to another run than {} (samples, seed, options, stages, \
+                         config and version must match)",
+                        dirs[0].display()
+                    ),
+                ));
+            }
+        }
+        records.extend(read_records(d)?);
+        metas.push(meta);
+    }
+    let n = metas[0].plan.shard.1;
+    let mut seen: Vec<usize> = metas.iter().map(|m| m.plan.shard.0).collect();
+    seen.sort_unstable();
+    if seen != (1..=n).collect::<Vec<_>>() {
+        return Err(Error::invalid(
+            "shards",
+            format!("{seen:?} of {n}"),
+            format!("must be every shard 1..={n} once"),
+        ));
+    }
+    records.sort_by_key(|r| r.sample);
+    let total = metas[0].plan.samples;
+    if records.len() != total || records.iter().enumerate().any(|(i, r)| r.sample != i) {
+        return Err(Error::invalid(
+            "shards",
+            format!("{} sample records", records.len()),
+            format!("must hold every sample 0..{total} once"),
+        ));
+    }
+    let mut meta = metas.swap_remove(0);
+    meta.plan.shard = (1, 1);
+    Ok((meta, records))
+}
