@@ -52,9 +52,11 @@ impl AccuracyPoint {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct AccuracyLife {
     /// Working hours at which the first threshold is crossed, h; `None` when none is within
-    /// the hours studied (the life exceeds `horizon_h`).
+    /// the hours studied (the life exceeds `horizon_h`; absent from JSON).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub accuracy_life_h: Option<f64>,
     /// The threshold crossed first (its `[life]` key).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub limited_by: Option<&'static str>,
     /// The last working hours studied, h.
     pub horizon_h: f64,

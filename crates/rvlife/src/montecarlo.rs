@@ -396,7 +396,8 @@ pub const QUANTITIES: [Quantity; 5] = [
     }),
 ];
 
-/// Percentiles (5/50/95) of every quantity at every stage over the records with status `ok`.
+/// Percentiles (5/50/95) of every quantity at every stage over the records with status `ok`
+/// (a stage no sample reached has no row).
 pub fn percentiles(records: &[SampleRecord], stage_hours: &[f64]) -> Vec<Percentiles> {
     let mut out = Vec::new();
     for (s, &h) in stage_hours.iter().enumerate() {
@@ -407,6 +408,9 @@ pub fn percentiles(records: &[SampleRecord], stage_hours: &[f64]) -> Vec<Percent
                 .filter_map(|r| r.points.get(s).map(f))
                 .collect();
             v.sort_by(f64::total_cmp);
+            if v.is_empty() {
+                continue;
+            }
             out.push(Percentiles {
                 hours: h,
                 quantity: name,
@@ -428,10 +432,12 @@ pub struct LifeDistribution {
     pub n: usize,
     /// Fraction whose life exceeds the last stage (censored).
     pub censored_fraction: f64,
-    /// B10 life: the hours by which 10 % have left the spec, h (`None`: fewer than 10 % by the
-    /// last stage).
+    /// B10 life: the hours by which 10 % have left the spec, h (absent: fewer than 10 % by
+    /// the last stage).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub b10_h: Option<f64>,
-    /// B50 (median) life, h (`None`: fewer than half by the last stage).
+    /// B50 (median) life, h (absent: fewer than half by the last stage).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub b50_h: Option<f64>,
     /// How many samples each threshold limited.
     pub limited_by: std::collections::BTreeMap<String, usize>,

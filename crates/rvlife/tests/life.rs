@@ -1,0 +1,70 @@
+//! Accuracy life: the hours at which the first `[life]` threshold is crossed.
+
+use rvlife::config::{Config, Model};
+use rvlife::geometry::WearMap;
+use rvlife::life::study_life;
+
+fn model() -> Model {
+    let text = rvlife::config::EXAMPLE_TOML
+        .replace("equidistant_mm = 0.0 ", "equidistant_mm = 0.008 ")
+        .replace("offset_mm = 0.0 ", "offset_mm = -0.005 ")
+        .replace("enabled = true ", "enabled = false ");
+    Config::from_toml_str(&text, "test")
+        .unwrap()
+        .validate()
+        .unwrap()
+}
+
+/// A lost-motion threshold halfway between two stages' values: the life lies between those
+/// stages, is limited by lost motion, and the lost motion of the reducer worn for exactly
+/// that many hours (its own wear integration and analysis) equals the threshold to 1 % of the
+/// rise between the stages (the bisection stops at 0.5 % of the hours, the last bracket is
+/// interpolated linearly). A threshold beyond the last stage gives no life within the horizon;
+/// one below the unworn value a life of zero.
+#[test]
+fn accuracy_life_is_where_the_worn_reducer_reaches_the_threshold() {
+    let mut m = model();
+    let study = rvlife::study::run(&m, &|_, _| {}).unwrap();
+    let s: Vec<_> = study.stages.iter().map(|s| s.summary.clone()).collect();
+    let (a, b) = (&s[2], &s[3]);
+    assert!(b.lost_motion_arcmin > a.lost_motion_arcmin);
+    let limit = 0.5 * (a.lost_motion_arcmin + b.lost_motion_arcmin);
+    m.life.lost_motion_arcmin = Some(limit);
+    let life = study_life(&m, &s, &study.wear.update_hours)
+        .unwrap()
+        .unwrap();
+    let h = life.accuracy_life_h.unwrap();
+    assert_eq!(life.limited_by, Some("lost_motion_arcmin"));
+    assert!(
+        h > a.hours && h < b.hours,
+        "life {h} h outside [{}, {}]",
+        a.hours,
+        b.hours
+    );
+    let mut at = m.clone();
+    at.stage_hours = vec![h];
+    let hist =
+        rvlife::wear::integrate_on_schedule(&at, &study.wear.update_hours, &|_, _| {}).unwrap();
+    let p = m
+        .profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))
+        .unwrap();
+    let lm = rvlife::study::analyse_profile(&m, &p, h)
+        .unwrap()
+        .summary
+        .lost_motion_arcmin;
+    let rise = b.lost_motion_arcmin - a.lost_motion_arcmin;
+    assert!(
+        (lm - limit).abs() < 0.01 * rise,
+        "lost motion at the life ({h:.1} h): {lm} against the threshold {limit}"
+    );
+    m.life.lost_motion_arcmin = Some(s.last().unwrap().lost_motion_arcmin * 1.1);
+    let none = study_life(&m, &s, &study.wear.update_hours)
+        .unwrap()
+        .unwrap();
+    assert_eq!(none.accuracy_life_h, None);
+    m.life.lost_motion_arcmin = Some(s[0].lost_motion_arcmin * 0.9);
+    let zero = study_life(&m, &s, &study.wear.update_hours)
+        .unwrap()
+        .unwrap();
+    assert_eq!(zero.accuracy_life_h, Some(0.0));
+}
