@@ -253,8 +253,8 @@ fn bad_montecarlo_input_is_refused_with_its_key() {
             "life.lost_motion_arcmin",
         ),
         (
-            "[life]",
-            "[errors]\npin_radial_um = [1.0, 2.0]\n[life]",
+            "\n[life]\n",
+            "\n[errors]\npin_radial_um = [1.0, 2.0]\n[life]\n",
             "errors.pin_radial_um",
         ),
     ] {
