@@ -1845,7 +1845,11 @@ fn every_preset_runs_te_and_hysteresis() {
         .lines()
         .filter_map(|l| l.split_whitespace().next())
         .collect();
-    assert_eq!(names, ["paper", "rv-20e", "rv-40e", "rv-80e"], "{list}");
+    assert_eq!(
+        names,
+        ["paper", "rv-20e", "rv-40e", "rv-80e", "single-stage"],
+        "{list}"
+    );
     let mut stiffness = BTreeMap::new();
     for name in &names {
         let text = ok(&rvlife(["example", "--preset", name]), name);

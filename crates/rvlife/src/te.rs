@@ -595,7 +595,7 @@ fn revolution_with(sa: &StaticAnalysis, samples: usize, polish: bool) -> Result<
     let dp: Vec<Vec2> = (0..zp).map(|j| errors.pin_displacement(red, j)).collect();
     let dr: Vec<f64> = (0..zp).map(|j| errors.pin_radius_error(j)).collect();
     let discs = match red.support {
-        Support::Bearings => 2,
+        Support::Bearings => red.discs(),
         Support::Rigid { .. } => 1,
     };
     let pairs: Vec<(f64, f64)> = all
@@ -606,7 +606,7 @@ fn revolution_with(sa: &StaticAnalysis, samples: usize, polish: bool) -> Result<
             let rot = Rotation2::new(c as f64 * period);
             let carrier = red.input_angle_for_crank(phi) / red.ratio;
             let corr: Vec<(Vec2, f64)> = (0..discs)
-                .map(|d| errors.disc_correction(red, phi + Reducer::phase(d), carrier))
+                .map(|d| errors.disc_correction(red, phi + red.phase(d), carrier))
                 .collect();
             let twist = |t: &TouchingPin| {
                 let j = (t.pin + c) % zp;

@@ -30,7 +30,7 @@ pub use presets::{preset_text, Preset, PRESETS};
 pub(crate) use range::{check, whole, Range};
 pub use raw::{
     BearingsConfig, ContactConfig, CycloidConfig, GearsConfig, LoadConfig, MaterialConfig,
-    MaterialsConfig, ModificationConfig, ReducerConfig, TeConfig, WearConfig,
+    MaterialsConfig, ModificationConfig, OutputPinsConfig, ReducerConfig, TeConfig, WearConfig,
 };
 
 use crate::contact::{ApproachLaw, ContactModel, Materials};
@@ -39,7 +39,7 @@ use crate::error::{Error, Result};
 use crate::fem::FemParams;
 use crate::geometry::{CycloidGeometry, Modification, Profile, WearMap};
 use crate::reducer::dynamics::DynamicsParams;
-use crate::reducer::{Bearings, Mesh, Reducer, Support};
+use crate::reducer::{Bearings, Drive, Mesh, OutputPins, Reducer, Support};
 
 /// The built-in example: the paper's reducer, fully commented.
 pub const EXAMPLE_TOML: &str = include_str!("../example.toml");
@@ -180,7 +180,7 @@ impl Model {
     /// `60 n_in Zp / i_H` (physics-notes section 1: one mesh cycle per crank revolution relative
     /// to the carrier). The paper's eq 19 uses `n_in` instead; see [`crate::wear`].
     pub fn mesh_cycles_per_hour(&self, speed_rpm: f64) -> f64 {
-        60.0 * speed_rpm * self.geometry.pins as f64 / self.ratio
+        60.0 * speed_rpm * self.geometry.pins as f64 / self.ratio.abs()
     }
 
     /// Share of the output torque on one disc for the closed-form estimates (Li's distribution,
@@ -300,6 +300,119 @@ impl Config {
         }
     }
 
+    /// The disc phases (rad) and, for a single-stage drive, its output mechanism, from
+    /// `reducer.discs`, `reducer.disc_phases_deg` and `[reducer.output_pins]` (sizes left out
+    /// scaled from the stage like the RV crank circle: [`scaled_from_root`]).
+    fn single_stage(
+        &self,
+        single: bool,
+        geometry: &CycloidGeometry,
+    ) -> Result<(Vec<f64>, Option<OutputPins>)> {
+        let r = &self.reducer;
+        if !single {
+            let only = "applies only to drive = \"single_stage\" (an RV reducer has two discs \
+                        180 deg apart and takes its output through the cranks)";
+            if r.discs.is_some_and(|d| d != 2) {
+                return Err(Error::invalid("reducer.discs", r.discs.unwrap_or(0), only));
+            }
+            if r.disc_phases_deg.is_some() {
+                return Err(Error::invalid("reducer.disc_phases_deg", "given", only));
+            }
+            if r.output_pins.is_some() {
+                return Err(Error::invalid("reducer.output_pins", "given", only));
+            }
+            return Ok((vec![0.0, std::f64::consts::PI], None));
+        }
+        let n = whole("reducer.discs", r.discs.unwrap_or(2), 1, 3)?;
+        let phases = match &r.disc_phases_deg {
+            None => (0..n)
+                .map(|d| std::f64::consts::TAU * d as f64 / n as f64)
+                .collect(),
+            Some(p) => {
+                if p.len() != n {
+                    return Err(Error::invalid(
+                        "reducer.disc_phases_deg",
+                        format!("a list of {} values", p.len()),
+                        format!("must hold one phase per disc: {n} values (reducer.discs)"),
+                    ));
+                }
+                p.iter()
+                    .enumerate()
+                    .map(|(i, &x)| {
+                        check(
+                            &format!("reducer.disc_phases_deg[{i}]"),
+                            x,
+                            Range::closed(-360.0, 360.0, "deg"),
+                        )
+                        .map(f64::to_radians)
+                    })
+                    .collect::<Result<Vec<f64>>>()?
+            }
+        };
+        let w = r.output_pins.clone().unwrap_or_default();
+        let key = |k: &str| format!("reducer.output_pins.{k}");
+        let count = whole(&key("count"), w.count.unwrap_or(8), 3, 64)?;
+        let mm =
+            |k: &str, v: f64| check(&key(k), v, Range::closed(0.01, 1e4, "mm")).map(|v| v * 1e-3);
+        let circle = mm(
+            "circle_radius_mm",
+            w.circle_radius_mm
+                .unwrap_or_else(|| scaled_from_root(geometry, 40.5)),
+        )?;
+        let pin = mm(
+            "pin_radius_mm",
+            w.pin_radius_mm
+                .unwrap_or_else(|| scaled_from_root(geometry, 8.0)),
+        )?;
+        let clearance = check(
+            &key("hole_clearance_um"),
+            w.hole_clearance_um,
+            Range::non_negative(1e3, "um"),
+        )? * 1e-6;
+        let stiffness = match w.stiffness_n_per_um {
+            Some(k) => check(&key("stiffness_n_per_um"), k, Range::positive(1e7, "N/um"))? * 1e6,
+            None => 0.0,
+        };
+        // The holes (pin radius + eccentricity + clearance) must lie inside the tooth roots,
+        // clear of the centre and of each other.
+        let hole = pin + geometry.eccentricity + clearance;
+        let root = geometry.pin_circle_radius - geometry.pin_radius - geometry.eccentricity;
+        let neighbours = 2.0 * circle * (std::f64::consts::PI / count as f64).sin();
+        let fits = circle + hole < root && circle - hole > 0.0 && neighbours > 2.0 * hole;
+        if !fits {
+            let k = if w.circle_radius_mm.is_some() || w.pin_radius_mm.is_none() {
+                "circle_radius_mm"
+            } else {
+                "pin_radius_mm"
+            };
+            return Err(Error::invalid(
+                key(k),
+                format!(
+                    "{:.3} mm",
+                    if k == "pin_radius_mm" { pin } else { circle } * 1e3
+                ),
+                format!(
+                    "the holes (radius {:.3} mm: pin + eccentricity + clearance) at radius \
+                     {:.3} mm must clear the tooth roots (radius {:.3} mm), the centre and \
+                     each other ({} holes)",
+                    hole * 1e3,
+                    circle * 1e3,
+                    root * 1e3,
+                    count
+                ),
+            ));
+        }
+        Ok((
+            phases,
+            Some(OutputPins {
+                count,
+                circle_radius: circle,
+                hole_clearance: clearance,
+                stiffness,
+            }),
+        ))
+    }
+
     fn validate_inner(&self) -> Result<Model> {
         let r = &self.reducer;
         let c = &self.cycloid;
@@ -354,10 +467,42 @@ impl Config {
         let (e1, nu1) = mat("disc", &self.materials.disc)?;
         let (e2, nu2) = mat("pin", &self.materials.pin)?;
         let contact = self.contact_model(&geometry, (e1, nu1, e2, nu2))?;
-        let z1 = whole("reducer.sun_teeth", r.sun_teeth as i64, 1, 10_000)?;
-        let z2 = whole("reducer.planet_teeth", r.planet_teeth as i64, 1, 10_000)?;
-        let planets = whole("reducer.planets", r.planets as i64, 1, 12)?;
-        let ratio = 1.0 + z2 as f64 / z1 as f64 * pins as f64;
+        let single = match r.drive.as_str() {
+            "rv" => false,
+            "single_stage" => true,
+            other => {
+                return Err(Error::invalid(
+                    "reducer.drive",
+                    format!("\"{other}\""),
+                    "must be \"rv\" or \"single_stage\"",
+                ))
+            }
+        };
+        let first_stage = |key: &str, v: Option<u32>, lo: i64, hi: i64| -> Result<usize> {
+            match (v, single) {
+                (Some(_), true) => Err(Error::invalid(
+                    format!("reducer.{key}"),
+                    "given",
+                    "applies only to drive = \"rv\" (a single-stage drive has no first stage)",
+                )),
+                (None, true) => Ok(0),
+                (Some(x), false) => whole(&format!("reducer.{key}"), x as i64, lo, hi),
+                (None, false) => Err(Error::invalid(
+                    format!("reducer.{key}"),
+                    "missing",
+                    "required for drive = \"rv\"",
+                )),
+            }
+        };
+        let z1 = first_stage("sun_teeth", r.sun_teeth, 1, 10_000)?;
+        let z2 = first_stage("planet_teeth", r.planet_teeth, 1, 10_000)?;
+        let planets = first_stage("planets", r.planets, 1, 12)?;
+        let (disc_phases, output_pins) = self.single_stage(single, &geometry)?;
+        let ratio = if single {
+            -(geometry.disc_teeth() as f64)
+        } else {
+            1.0 + z2 as f64 / z1 as f64 * pins as f64
+        };
         let input_speed_rpm = check(
             "reducer.input_speed_rpm",
             r.input_speed_rpm,
@@ -396,14 +541,37 @@ impl Config {
                 ))
             }
         };
-        let (mesh, mesh_zeta) = self.reducer.gears.validate(z1, z2, &geometry)?;
+        // A single-stage drive's multibody and FE data are those of its RV twin (the same
+        // stage on a 1:3 first stage with two cranks on the output pin circle): never read,
+        // since both analyses are refused for it.
+        let (mesh, mesh_zeta) = if single {
+            self.reducer.gears.validate(10, 30, &geometry)?
+        } else {
+            self.reducer.gears.validate(z1, z2, &geometry)?
+        };
         let (bearings, bearing_zeta) = self.reducer.bearings.validate()?;
+        let (drive, cranks, crank_circle_radius, stage_mesh) = match output_pins {
+            Some(mut w) => {
+                if w.stiffness <= 0.0 {
+                    w.stiffness = bearings.disc_stiffness;
+                }
+                let mut m = mesh;
+                m.sun_planet_ratio = -1.0;
+                (Drive::SingleStage(w), 0, w.circle_radius, m)
+            }
+            None => (
+                Drive::Rv,
+                planets,
+                mesh.sun_pitch_radius + mesh.planet_pitch_radius,
+                mesh,
+            ),
+        };
         let reducer = Reducer {
             geometry: geometry.clone(),
             ratio,
-            cranks: planets,
-            crank_circle_radius: mesh.sun_pitch_radius + mesh.planet_pitch_radius,
-            mesh,
+            cranks,
+            crank_circle_radius,
+            mesh: stage_mesh,
             bearings,
             contact,
             support,
@@ -425,7 +593,9 @@ impl Config {
                 64,
                 65536,
             )?,
-            errors: self.errors.validate(pins, planets)?,
+            errors: self.errors.validate(pins, cranks)?,
+            drive,
+            disc_phases,
         };
         let mut reducer = reducer;
         reducer.contact_band_force = match self.contact.band_force_n {
@@ -552,9 +722,35 @@ impl Config {
         // does not validate, its defaults stand in (nothing reads them), so that `te` and
         // `contact` never fail on a `[dynamics]` or `[fem]` they do not use. The `dynamics`
         // command enables its section.
+        if single {
+            for (key, on) in [
+                ("dynamics.enabled", self.dynamics.enabled),
+                ("fem.enabled", self.fem.enabled),
+            ] {
+                if on {
+                    return Err(Error::invalid(
+                        key,
+                        "true",
+                        "the multibody and finite-element models are built for RV reducers; \
+                         set enabled = false for drive = \"single_stage\"",
+                    ));
+                }
+            }
+        }
+        let twin = Reducer {
+            drive: Drive::Rv,
+            cranks: 2,
+            crank_circle_radius: mesh.sun_pitch_radius + mesh.planet_pitch_radius,
+            mesh,
+            disc_phases: vec![0.0, std::f64::consts::PI],
+            errors: Default::default(),
+            ..reducer.clone()
+        };
+        let rv = if single { &twin } else { &reducer };
+        let planets = rv.cranks;
         let dynamics_of = |d: &DynamicsConfig| {
             d.validate(
-                &reducer,
+                rv,
                 (mesh_zeta, bearing_zeta),
                 &nominal_profile,
                 rated_torque,
@@ -572,7 +768,7 @@ impl Config {
                 &nominal_profile,
                 planets,
                 bore_mm * 1e-3,
-                reducer.crank_circle_radius,
+                rv.crank_circle_radius,
                 e1,
                 nu1,
             )

@@ -1,5 +1,6 @@
-//! Built-in reducers (`rvlife example --preset NAME`): the paper's reducer and RV-20E-, RV-40E-
-//! and RV-80E-class reducers, each the built-in example with the values that differ.
+//! Built-in reducers (`rvlife example --preset NAME`): the paper's reducer, RV-20E-, RV-40E-
+//! and RV-80E-class reducers and a single-stage cycloid drive, each the built-in example with
+//! the values that differ.
 //!
 //! Catalogue values (Nabtesco RV-E series catalogue: rated output torque 167, 412 and 784 N m;
 //! ratio 81 offered for each) are marked as such. The internal dimensions of the RV-20E and
@@ -85,7 +86,38 @@ pub const PRESETS: &[Preset] = &[
                   estimated (the paper's stage x 1.239)",
         edits: RV80E,
     },
+    Preset {
+        name: "single-stage",
+        summary: "single-stage cycloid drive, estimated: the paper's cycloid stage with the \
+                  input on the eccentric shaft (ratio 39), two discs 180 deg apart, output by 8 \
+                  pins in holes on the 40.5 mm circle (pin radius 8 mm), rated torque taken as \
+                  the RV's 412 N m (same discs and pins); no multibody or FE model",
+        edits: &[
+            ("dynamics", "enabled", "false"),
+            ("fem", "enabled", "false"),
+        ],
+    },
 ];
+
+/// The example's first-stage lines, replaced by the single-stage drive's.
+const FIRST_STAGE: &str = "sun_teeth = 20                 # Z1, input sun gear
+planet_teeth = 40              # Z2, planet gear on each crankshaft (Z2/Z1 = 2)
+planets = 2                    # planets = crankshafts
+";
+
+const SINGLE_STAGE: &str =
+    "drive = \"single_stage\"         # (preset) input on the eccentric shaft, ratio -Zc
+discs = 2                      # (preset) 1 to 3; disc_phases_deg default 360 d / discs
+";
+
+const OUTPUT_PINS: &str = "
+[reducer.output_pins]          # (preset) pins in holes: the single-stage drive's output
+count = 8
+circle_radius_mm = 40.5
+pin_radius_mm = 8.0            # hole radius = pin + eccentricity + clearance
+hole_clearance_um = 0.0
+# stiffness_n_per_um = 500.0   # default: reducer.bearings.crank_disc_stiffness_n_per_um
+";
 
 /// Replaces the value of `key` in `[table]` of a commented TOML text, keeping the comment.
 fn set_value(text: &str, table: &str, key: &str, value: &str) -> Option<String> {
@@ -136,6 +168,22 @@ pub fn preset_text(name: &str) -> Result<String> {
          from [cycloid].\n#\n{EXAMPLE_TOML}",
         p.name, p.summary
     );
+    if p.name == "single-stage" {
+        if !text.contains(FIRST_STAGE) {
+            return Err(Error::numerical(
+                "preset",
+                "the example's first stage is not where the preset expects it",
+            ));
+        }
+        text = text.replace(FIRST_STAGE, SINGLE_STAGE).replace(
+            "# overall ratio i_H = 1 + (Z2/Z1) Zp = 81\n",
+            "# ratio -Zc = -39: the output turns against the input; [reducer.gears] is not used\n",
+        );
+        text = text.replace(
+            "\n[reducer.gears]",
+            &format!("{OUTPUT_PINS}\n[reducer.gears]"),
+        );
+    }
     for (table, key, value) in p.edits {
         text = set_value(&text, table, key, value).ok_or_else(|| {
             Error::numerical(

@@ -6,16 +6,32 @@ use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 
-/// `[reducer]`: the planetary first stage and the rating.
+/// `[reducer]`: the drive (RV with its planetary first stage, or single-stage) and the rating.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ReducerConfig {
-    /// Sun (input) gear teeth `Z1`.
-    pub sun_teeth: u32,
-    /// Planet gear teeth `Z2`.
-    pub planet_teeth: u32,
-    /// Number of planets / crankshafts (2 or 3).
-    pub planets: u32,
+    /// `"rv"` (default): planetary first stage, cranks on the output carrier, two discs;
+    /// `"single_stage"`: the input shaft is the eccentric, output by pins in holes.
+    #[serde(default = "default_drive")]
+    pub drive: String,
+    /// Sun (input) gear teeth `Z1` (RV).
+    #[serde(default)]
+    pub sun_teeth: Option<u32>,
+    /// Planet gear teeth `Z2` (RV).
+    #[serde(default)]
+    pub planet_teeth: Option<u32>,
+    /// Number of planets / crankshafts (RV: 2 or 3).
+    #[serde(default)]
+    pub planets: Option<u32>,
+    /// Number of discs (single-stage: 1 to 3, default 2; RV: 2).
+    #[serde(default)]
+    pub discs: Option<i64>,
+    /// Eccentric phase of each disc, degrees (single-stage; default `360 d / discs`).
+    #[serde(default)]
+    pub disc_phases_deg: Option<Vec<f64>>,
+    /// The pins-in-holes output mechanism (single-stage).
+    #[serde(default)]
+    pub output_pins: Option<OutputPinsConfig>,
     /// Input speed, rpm.
     pub input_speed_rpm: f64,
     /// Rated output torque, N m.
@@ -26,6 +42,35 @@ pub struct ReducerConfig {
     /// The crank bearings.
     #[serde(default)]
     pub bearings: BearingsConfig,
+}
+
+fn default_drive() -> String {
+    "rv".into()
+}
+
+/// `[reducer.output_pins]`: the output mechanism of a single-stage drive, pins on the output
+/// flange in holes of the discs. Sizes left out default from the stage (module docs of
+/// [`super::Config`]: the paper's proportions scaled by the tooth-root radius).
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputPinsConfig {
+    /// Number of pins (default 8).
+    #[serde(default)]
+    pub count: Option<i64>,
+    /// Radius of their circle, mm (default: the RV crank circle's scaling, 40.5 mm for the
+    /// paper's stage).
+    #[serde(default)]
+    pub circle_radius_mm: Option<f64>,
+    /// Pin radius, mm (default: 8 mm scaled; the hole's radius is this plus the eccentricity
+    /// plus the clearance).
+    #[serde(default)]
+    pub pin_radius_mm: Option<f64>,
+    /// Radial clearance of a pin in its hole beyond the eccentricity, um (default 0).
+    #[serde(default)]
+    pub hole_clearance_um: f64,
+    /// Contact stiffness of one pin on one disc, N/um (default: the crank-disc bearing's).
+    #[serde(default)]
+    pub stiffness_n_per_um: Option<f64>,
 }
 
 /// `[cycloid]`.

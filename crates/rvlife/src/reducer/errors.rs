@@ -88,7 +88,7 @@ impl PartErrors {
     /// and the carrier angle `carrier` (rad). Least-squares fit of the bores' displacements
     /// (module documentation). Zero without crank errors.
     pub fn disc_correction(&self, red: &Reducer, alpha: f64, carrier: f64) -> (Vec2, f64) {
-        if !self.has_crank_errors() {
+        if !self.has_crank_errors() || red.cranks == 0 {
             return (Vec2::zeros(), 0.0);
         }
         let e = red.geometry.eccentricity;

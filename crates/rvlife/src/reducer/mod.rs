@@ -96,8 +96,10 @@ pub struct Bearings {
 /// Indices of the generalised coordinates.
 #[derive(Debug, Clone, Copy)]
 pub struct Layout {
-    /// Number of cranks (planets).
+    /// Number of cranks (planets; 0 for a single-stage drive).
     pub cranks: usize,
+    /// Number of discs.
+    pub discs: usize,
 }
 
 impl Layout {
@@ -115,12 +117,42 @@ impl Layout {
     }
     /// Number of generalised coordinates.
     pub fn dofs(&self) -> usize {
-        2 + 3 * self.cranks + 6
+        2 + 3 * self.cranks + 3 * self.discs
     }
 }
 
-/// Largest number of generalised coordinates (3 cranks).
+/// Largest number of generalised coordinates (3 cranks and 2 discs; a single-stage drive
+/// with 3 discs has 11).
 pub const MAX_DOFS: usize = 2 + 3 * 3 + 6;
+
+/// What drives the discs and takes their torque out.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Drive {
+    /// RV reducer: a planetary first stage (sun on the input, planets on 2 or 3 crankshafts),
+    /// the cranks on the output carrier, two discs on the cranks' eccentrics.
+    Rv,
+    /// Single-stage cycloid drive: the input shaft is the eccentric (1 to 3 discs on it), the
+    /// output flange takes the discs' rotation through pins in holes.
+    SingleStage(OutputPins),
+}
+
+/// The pins-in-holes output mechanism of a single-stage drive (SI): `count` pins on the
+/// output flange at radius `circle_radius`, each in a hole of the disc whose radius exceeds
+/// the pin's by the eccentricity plus `hole_clearance`; a pin pushes on its hole's wall
+/// (frictionless, unilateral) with `stiffness` per unit of approach, so about half the pins
+/// carry the torque (the parallel-crank equivalence of the W mechanism: Blagojevic et al.,
+/// Strojniski vestnik 57, 2011; Gorla et al., Proc. IMechE C 222, 2008).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OutputPins {
+    /// Number of output pins (holes per disc).
+    pub count: usize,
+    /// Radius of their circle, m.
+    pub circle_radius: f64,
+    /// Radial clearance of a pin in its hole beyond the eccentricity, m.
+    pub hole_clearance: f64,
+    /// Contact stiffness of one pin on one disc, N/m.
+    pub stiffness: f64,
+}
 
 /// The reducer's mechanical model (SI): what the static and the dynamic analysis share.
 #[derive(Debug, Clone, PartialEq)]
@@ -154,6 +186,11 @@ pub struct Reducer {
     /// Part errors (pins, pin circle, cranks) seen by the static analysis; zero for the
     /// nominal reducer. The multibody model uses the nominal parts.
     pub errors: errors::PartErrors,
+    /// The drive: RV (first stage, cranks) or single-stage (eccentric input shaft, pins in
+    /// holes).
+    pub drive: Drive,
+    /// Eccentric phase of each disc, rad (RV: 0 and pi; single-stage: 1 to 3 discs).
+    pub disc_phases: Vec<f64>,
 }
 
 impl Reducer {
@@ -170,6 +207,24 @@ impl Reducer {
     pub fn layout(&self) -> Layout {
         Layout {
             cranks: self.cranks,
+            discs: self.disc_phases.len(),
+        }
+    }
+
+    /// Number of discs.
+    pub fn discs(&self) -> usize {
+        self.disc_phases.len()
+    }
+
+    /// Absolute angle of the eccentric (crank angle, rad) at positions `q0 + dq`: crank 1's
+    /// angle in an RV reducer, the input angle of a single-stage drive.
+    pub fn eccentric_angle(&self, q0: &[f64], dq: &[f64]) -> f64 {
+        match self.drive {
+            Drive::Rv => {
+                let k = self.layout().crank(0) + 2;
+                q0[k] + dq[k]
+            }
+            Drive::SingleStage(_) => q0[Layout::SUN] + dq[Layout::SUN],
         }
     }
 
@@ -201,23 +256,16 @@ impl Reducer {
         e * self.mesh.pressure_angle.sin() + perp(e) * self.mesh.pressure_angle.cos()
     }
 
-    /// Eccentric phase of disc `d` (0, pi).
-    pub fn phase(d: usize) -> f64 {
-        if d == 0 {
-            0.0
-        } else {
-            PI
-        }
+    /// Eccentric phase of disc `d`, rad (RV: 0 and pi).
+    pub fn phase(&self, d: usize) -> f64 {
+        self.disc_phases[d]
     }
 
-    /// Angle (rad) by which the profile of disc `d` is turned in its own frame: 0 and `-pi/Zc`
-    /// (disc 2's crank angle is `phi + pi`, so its profile sits half a tooth turned).
+    /// Angle (rad) by which the profile of disc `d` is turned in its own frame,
+    /// `-phase / Zc`: a disc whose eccentric leads by `phase` sits that much of a tooth
+    /// turned (RV: 0 and `-pi/Zc`, half a tooth).
     pub fn profile_turn(&self, d: usize) -> f64 {
-        if d == 0 {
-            0.0
-        } else {
-            -PI / self.geometry.disc_teeth() as f64
-        }
+        -self.phase(d) / self.geometry.disc_teeth() as f64
     }
 
     /// Input angle (rad) at which disc 1's eccentric points at crank angle `phi` (rad):
@@ -270,8 +318,8 @@ impl Reducer {
             put(lay.crank(k), rotate(&self.seat(k), th_o), w_o, a_o);
         }
         let e = self.geometry.eccentricity;
-        for d in 0..2 {
-            let ang = th_k + Self::phase(d);
+        for d in 0..self.discs() {
+            let ang = th_k + self.phase(d);
             put(lay.disc(d), Vec2::new(ang.cos(), ang.sin()) * e, w_k, a_k);
         }
         for k in 0..self.cranks {
@@ -280,7 +328,7 @@ impl Reducer {
             qd[i] = w_k;
             qdd[i] = a_k;
         }
-        for d in 0..2 {
+        for d in 0..self.discs() {
             let i = lay.disc(d) + 2;
             q[i] = th_o;
             qd[i] = w_o;
@@ -343,9 +391,9 @@ impl Reducer {
             g[ic + 1] -= fb.y;
             g[Layout::OUT] += fb.dot(&dseat);
             // Crank-disc bearings: eccentric centre minus bore centre, zero nominally.
-            for d in 0..2 {
+            for d in 0..self.discs() {
                 let id = lay.disc(d);
-                let ang0 = q0[ic + 2] + Self::phase(d);
+                let ang0 = q0[ic + 2] + self.phase(d);
                 let ecc = Vec2::new((ang0 + dq[ic + 2]).cos(), (ang0 + dq[ic + 2]).sin()) * a;
                 let decc = rotation_difference(&Vec2::new(a, 0.0), ang0, dq[ic + 2]);
                 let de_dth = perp(ecc);
@@ -365,6 +413,96 @@ impl Reducer {
                 g[id + 2] += fe.dot(&perp(arm));
             }
         }
+        if let Drive::SingleStage(w) = self.drive {
+            self.single_stage_forces(&w, q0, dq, qd, g);
+        }
+    }
+
+    /// Generalised forces of a single-stage drive's eccentric bearings (input shaft to each
+    /// disc) and pins in holes (each disc to the output flange), added to `g`
+    /// ([`Reducer::structural_forces`]; every force derives from
+    /// [`Reducer::single_stage_energy`], plus the bearings' damping).
+    fn single_stage_forces(
+        &self,
+        w: &OutputPins,
+        q0: &[f64],
+        dq: &[f64],
+        qd: &[f64],
+        g: &mut [f64],
+    ) {
+        let lay = self.layout();
+        let a = self.geometry.eccentricity;
+        let b = &self.bearings;
+        let w_s = qd[Layout::SUN];
+        let th_o = q0[Layout::OUT] + dq[Layout::OUT];
+        for d in 0..self.discs() {
+            let id = lay.disc(d);
+            let ang0 = q0[Layout::SUN] + self.phase(d);
+            let ecc = Vec2::new(
+                (ang0 + dq[Layout::SUN]).cos(),
+                (ang0 + dq[Layout::SUN]).sin(),
+            ) * a;
+            let decc = rotation_difference(&Vec2::new(a, 0.0), ang0, dq[Layout::SUN]);
+            let dc = Vec2::new(dq[id], dq[id + 1]);
+            let cd = Vec2::new(qd[id], qd[id + 1]);
+            // Eccentric bearing: eccentric centre minus disc centre, zero nominally.
+            let r = decc - dc;
+            let rdot = perp(ecc) * w_s - cd;
+            let fe = spring(r, rdot, b.disc_stiffness, b.disc_damping, b.clearance);
+            g[Layout::SUN] -= fe.dot(&perp(ecc));
+            g[id] += fe.x;
+            g[id + 1] += fe.y;
+            // Pins in holes: pin centre minus hole centre, of length `a` nominally.
+            let c0 = Vec2::new(q0[id], q0[id + 1]);
+            let psi = q0[id + 2] + dq[id + 2];
+            for k in 0..w.count {
+                let beta = std::f64::consts::TAU * k as f64 / w.count as f64;
+                let wk = Vec2::new(beta.cos(), beta.sin()) * w.circle_radius;
+                let dvec = rotation_difference(&wk, q0[Layout::OUT], dq[Layout::OUT])
+                    - rotation_difference(&wk, q0[id + 2], dq[id + 2])
+                    - c0
+                    - dc;
+                let len = dvec.norm();
+                let pen = len - (a + w.hole_clearance);
+                if pen <= 0.0 || len == 0.0 {
+                    continue;
+                }
+                let f = dvec * (w.stiffness * pen / len);
+                g[Layout::OUT] -= f.dot(&perp(rotate(&wk, th_o)));
+                g[id] += f.x;
+                g[id + 1] += f.y;
+                g[id + 2] += f.dot(&perp(rotate(&wk, psi)));
+            }
+        }
+    }
+
+    /// Elastic energy (J) of a single-stage drive's eccentric bearings and pins in holes at
+    /// positions `q0 + dq`.
+    fn single_stage_energy(&self, w: &OutputPins, q0: &[f64], dq: &[f64]) -> f64 {
+        let lay = self.layout();
+        let a = self.geometry.eccentricity;
+        let b = &self.bearings;
+        let mut e = 0.0;
+        for d in 0..self.discs() {
+            let id = lay.disc(d);
+            let ang0 = q0[Layout::SUN] + self.phase(d);
+            let decc = rotation_difference(&Vec2::new(a, 0.0), ang0, dq[Layout::SUN]);
+            let dc = Vec2::new(dq[id], dq[id + 1]);
+            let x = ((decc - dc).norm() - b.clearance).max(0.0);
+            e += 0.5 * b.disc_stiffness * x * x;
+            let c0 = Vec2::new(q0[id], q0[id + 1]);
+            for k in 0..w.count {
+                let beta = std::f64::consts::TAU * k as f64 / w.count as f64;
+                let wk = Vec2::new(beta.cos(), beta.sin()) * w.circle_radius;
+                let dvec = rotation_difference(&wk, q0[Layout::OUT], dq[Layout::OUT])
+                    - rotation_difference(&wk, q0[id + 2], dq[id + 2])
+                    - c0
+                    - dc;
+                let pen = (dvec.norm() - (a + w.hole_clearance)).max(0.0);
+                e += 0.5 * w.stiffness * pen * pen;
+            }
+        }
+        e
     }
 
     /// Elastic energy of the meshes and the crank bearings (J) at positions `q0 + dq` (see
@@ -393,14 +531,17 @@ impl Reducer {
             let dl = (delta.abs() - 0.5 * m.backlash).max(0.0);
             e += 0.5 * m.stiffness * dl * dl;
             e += spring_energy(rel, b.carrier_stiffness);
-            for d in 0..2 {
+            for d in 0..self.discs() {
                 let id = lay.disc(d);
-                let ang0 = q0[ic + 2] + Self::phase(d);
+                let ang0 = q0[ic + 2] + self.phase(d);
                 let decc = rotation_difference(&Vec2::new(a, 0.0), ang0, dq[ic + 2]);
                 let dc = Vec2::new(dq[id], dq[id + 1]);
                 let darm = rotation_difference(&seat0, q0[id + 2], dq[id + 2]);
                 e += spring_energy(dx + decc - dc - darm, b.disc_stiffness);
             }
+        }
+        if let Drive::SingleStage(w) = self.drive {
+            e += self.single_stage_energy(&w, q0, dq);
         }
         e
     }

@@ -38,7 +38,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::dynamics::GapField;
-use super::{perp, rotation_difference, Layout, Reducer, Support, MAX_DOFS};
+use super::{perp, rotation_difference, Drive, Layout, Reducer, Support, MAX_DOFS};
 use crate::contact::DiscPose;
 use crate::error::{Error, Result};
 use crate::geometry::{cross, mesh_angle, Profile, Vec2};
@@ -350,7 +350,7 @@ impl<'a> StaticAnalysis<'a> {
 
     fn discs(&self) -> usize {
         match self.red.support {
-            Support::Bearings => 2,
+            Support::Bearings => self.red.discs(),
             Support::Rigid { .. } => 1,
         }
     }
@@ -409,9 +409,9 @@ impl<'a> StaticAnalysis<'a> {
             z[i + 2] = dk;
         }
         let a = red.geometry.eccentricity;
-        for d in 0..2 {
+        for d in 0..red.discs() {
             let i = lay.disc(d);
-            let ang0 = q0[lay.crank(0) + 2] + Reducer::phase(d);
+            let ang0 = red.eccentric_angle(q0, &[0.0; MAX_DOFS]) + red.phase(d);
             let dc = rotation_difference(&Vec2::new(a, 0.0), ang0, dk);
             z[i] = dc.x;
             z[i + 1] = dc.y;
@@ -425,17 +425,16 @@ impl<'a> StaticAnalysis<'a> {
         let i = lay.disc(d);
         let q0 = &fr.q0;
         let (dc, dpsi) = if self.red.errors.has_crank_errors() {
-            let k = lay.crank(0) + 2;
             self.red.errors.disc_correction(
                 self.red,
-                q0[k] + z[k] + Reducer::phase(d),
+                self.red.eccentric_angle(q0, z) + self.red.phase(d),
                 q0[Layout::OUT] + z[Layout::OUT],
             )
         } else {
             (Vec2::zeros(), 0.0)
         };
         DiscPose {
-            crank_angle: fr.phi + Reducer::phase(d),
+            crank_angle: fr.phi + self.red.phase(d),
             centre: Vec2::new(q0[i] + z[i], q0[i + 1] + z[i + 1]) + dc,
             angle: q0[i + 2] + z[i + 2] + self.red.profile_turn(d) + dpsi,
         }
@@ -642,8 +641,15 @@ impl<'a> StaticAnalysis<'a> {
         let zero = [0.0; MAX_DOFS];
         let mut zz = [0.0; MAX_DOFS];
         zz[..n].copy_from_slice(&z[..n]);
+        // The pins in holes of a single-stage drive touch at zero load: steps well below their
+        // approach at the smallest loads solved (1e-8 m at 1 N m) keep the tangent of each
+        // contact on its own side of the kink.
+        let step = match red.drive {
+            Drive::Rv => 1e-8,
+            Drive::SingleStage(_) => 1e-12,
+        };
         for c in 0..n {
-            let h = if is_angle(c) { 1e-8 / rp } else { 1e-8 };
+            let h = if is_angle(c) { step / rp } else { step };
             let (mut gp, mut gm) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
             zz[c] = z[c] + h;
             red.structural_forces(&fr.q0[..n], &zz[..n], &zero[..n], &mut gp[..n]);
@@ -668,7 +674,19 @@ impl<'a> StaticAnalysis<'a> {
     /// fixed frame. The law's flank curvature follows the contact along the flank, so
     /// `dF/dz` also has `dF/dkappa B^T grad kappa` (about 5e-4 of the contact term at the
     /// rated torque, and not symmetric).
-    fn tangent(&self, k_struct: &DMatrix<f64>, ev: &Eval) -> DMatrix<f64> {
+    ///
+    /// `k_struct` is the structural stiffness of the frame, kept over the solve (the bearings
+    /// and meshes are linear springs); the pins in holes of a single-stage drive engage and
+    /// release with the load, so there it is rebuilt at `z`.
+    fn tangent(&self, k_struct: &DMatrix<f64>, ev: &Eval, fr: &Frame, z: &[f64]) -> DMatrix<f64> {
+        if let Drive::SingleStage(_) = self.red.drive {
+            let ks = self.structural_stiffness(fr, z);
+            return self.tangent_with(&ks, ev);
+        }
+        self.tangent_with(k_struct, ev)
+    }
+
+    fn tangent_with(&self, k_struct: &DMatrix<f64>, ev: &Eval) -> DMatrix<f64> {
         let lay = self.red.layout();
         let mut k = k_struct.clone();
         let law = &self.red.contact;
@@ -750,7 +768,7 @@ impl<'a> StaticAnalysis<'a> {
             // Whether `kt` is the tangent at the current state `ev`.
             let fresh = kt.is_none() || res > 0.25 * last_res;
             if fresh {
-                kt = Some(self.tangent(k_struct, &ev));
+                kt = Some(self.tangent(k_struct, &ev, fr, z));
             }
             last_res = res;
             // Converged to a hundredth of the acceptance tolerance, or at the round-off floor of
@@ -758,7 +776,7 @@ impl<'a> StaticAnalysis<'a> {
             if res <= 0.01 * RESIDUAL_TOLERANCE * scale || stalled >= 2 {
                 let kt = match kt {
                     Some(kt) if fresh => kt,
-                    _ => self.tangent(k_struct, &ev),
+                    _ => self.tangent(k_struct, &ev, fr, z),
                 };
                 return Ok((ev, kt));
             }
@@ -898,13 +916,13 @@ impl<'a> StaticAnalysis<'a> {
             // at every step unless the residual fell a thousandfold.
             let fresh = kt.is_none() || res > 1e-3 * last_res;
             if fresh {
-                kt = Some(self.tangent(k_struct, &ev));
+                kt = Some(self.tangent(k_struct, &ev, fr, z));
             }
             last_res = res;
             if res <= 0.01 * RESIDUAL_TOLERANCE * scale {
                 let kt = match kt {
                     Some(kt) if fresh => kt,
-                    _ => self.tangent(k_struct, &ev),
+                    _ => self.tangent(k_struct, &ev, fr, z),
                 };
                 return Ok(Some((ev, kt)));
             }
@@ -929,7 +947,7 @@ impl<'a> StaticAnalysis<'a> {
                     ev = trial;
                     // At the round-off floor a step barely reduces the residual: accept there.
                     if mt > 0.25 * m0 && res <= 0.5 * ev.roundoff {
-                        let kt = self.tangent(k_struct, &ev);
+                        let kt = self.tangent(k_struct, &ev, fr, z);
                         return Ok(Some((ev, kt)));
                     }
                     break;
@@ -938,7 +956,7 @@ impl<'a> StaticAnalysis<'a> {
                     // At the round-off floor of the contact forces the residual no longer
                     // falls: accept there (the caller's check applies the floor).
                     if res <= 0.5 * ev.roundoff {
-                        let kt = self.tangent(k_struct, &ev);
+                        let kt = self.tangent(k_struct, &ev, fr, z);
                         return Ok(Some((ev, kt)));
                     }
                     return Ok(None);
@@ -1609,13 +1627,13 @@ impl<'a> StaticAnalysis<'a> {
         let rp = red.geometry.pin_circle_radius;
         let mut fr = self.frame(phi);
         fr.offsets = start.offsets.to_vec();
-        let mut memory = vec![vec![PinMemory::NONE; zp]; 2];
+        let mut memory = vec![vec![PinMemory::NONE; zp]; self.red.discs()];
         let mut z = [0.0; MAX_DOFS];
         self.mode_deviation(&fr, psi0, &mut z[..n]);
         let k_struct = self.structural_stiffness(&fr, &z[..n]);
         if torque == 0.0 {
             let ev = self.eval_bearings(&fr, &z, &mut memory, false)?;
-            let kt = self.tangent(&k_struct, &ev);
+            let kt = self.tangent(&k_struct, &ev, &fr, &z);
             return self.check(self.assemble(&fr, &z, ev, &kt, 0.0, psi0));
         }
         let mut zt = z;
@@ -1705,7 +1723,7 @@ impl<'a> StaticAnalysis<'a> {
         let out_res = (ev.g[Layout::OUT] + torque).abs() / rp;
         let residual = self.inner_residual(&ev.g).max(out_res) / scale;
         let unloaded = torque == 0.0;
-        let discs = (0..2)
+        let discs = (0..self.red.discs())
             .map(|d| {
                 let id = lay.disc(d);
                 self.disc_load(
@@ -1851,7 +1869,7 @@ mod tests {
                 let mut memory = vec![vec![PinMemory::NONE; red.geometry.pins]; 2];
                 let ev = sa.eval_bearings(&fr, &z, &mut memory, false).unwrap();
                 let ks = sa.structural_stiffness(&fr, &z);
-                let kt = sa.tangent(&ks, &ev);
+                let kt = sa.tangent_with(&ks, &ev);
                 let mut worst: f64 = 0.0;
                 for c in 0..n {
                     let h = if is_angle(c) { 1e-11 / rp } else { 1e-11 };
