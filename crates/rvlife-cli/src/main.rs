@@ -289,6 +289,21 @@ fn print_montecarlo(model: &Model, records: &[rvlife::montecarlo::SampleRecord])
     }
 }
 
+/// The validated model; a measured profile's fit is reported on stderr.
+fn validated(cfg: &Config) -> Result<Model> {
+    let model = cfg.validate()?;
+    if let Some(m) = &model.measured {
+        eprintln!(
+            "measured profile {}: {} points, fit residual RMS {:.3} um, max {:.3} um",
+            m.source.display(),
+            m.points,
+            m.fit_rms * 1e6,
+            m.fit_max * 1e6
+        );
+    }
+    Ok(model)
+}
+
 /// The config file (or the built-in example) with the command line's work budget.
 fn load_config(path: Option<&Path>, budget_min: f64) -> Result<Config> {
     let mut cfg = match path {
@@ -304,6 +319,7 @@ fn profile_for(model: &Model, wear: &WearArgs, nominal: bool) -> Result<Profile>
     let mut model = model.clone();
     if nominal {
         model.modification = Default::default();
+        model.measured = None;
     }
     let n = rvlife::wear::grid_points(&model);
     let map = match (wear.wear_um, wear.hours) {
@@ -451,7 +467,7 @@ fn run(cli: Cli) -> Result<()> {
                 None => rvlife::config::EXAMPLE_TOML.to_string(),
             };
             let cfg = load_config(config.as_deref(), budget)?;
-            let model = cfg.validate()?;
+            let model = validated(&cfg)?;
             let plan = montecarlo_plan(
                 &model,
                 samples,
@@ -508,7 +524,7 @@ fn run(cli: Cli) -> Result<()> {
         }
         Command::Run { config, out, force } => {
             let cfg = load_config(config.as_deref(), budget)?;
-            let model = cfg.validate()?;
+            let model = validated(&cfg)?;
             // The results folder is checked and its temporary directory made before any work.
             let staging = rvlife::report::Staging::prepare(&out, force)?;
             let pb = progress_bar(1);
@@ -580,7 +596,7 @@ fn run(cli: Cli) -> Result<()> {
         } => {
             let format = ProfileFormat::from_path(&out)?;
             rvlife::report::check_output_file(&out, force)?;
-            let model = load_config(config.as_deref(), budget)?.validate()?;
+            let model = validated(&load_config(config.as_deref(), budget)?)?;
             let profile = profile_for(&model, &wear, nominal)?;
             // Written beside, then renamed: no half-written file, none left on failure.
             rvlife::report::write_file_atomically(&out, force, |tmp| {
@@ -600,7 +616,7 @@ fn run(cli: Cli) -> Result<()> {
                     return Err(Error::invalid(f, v, "must be a finite number"));
                 }
             }
-            let model = load_config(config.as_deref(), budget)?.validate()?;
+            let model = validated(&load_config(config.as_deref(), budget)?)?;
             model.check_torque("--torque-nm", torque_nm)?;
             let profile = profile_for(&model, &wear, false)?;
             let sa = StaticAnalysis::new(&model.reducer, &profile)?;
@@ -700,7 +716,7 @@ fn run(cli: Cli) -> Result<()> {
                     return Err(Error::invalid("--torque-nm", t, "must be a finite number"));
                 }
             }
-            let model = load_config(config.as_deref(), budget)?.validate()?;
+            let model = validated(&load_config(config.as_deref(), budget)?)?;
             if let Some(t) = torque_nm {
                 model.check_torque("--torque-nm", t)?;
             }
@@ -805,7 +821,7 @@ fn run(cli: Cli) -> Result<()> {
                     "must be a whole number from 1 to 1000",
                 ));
             }
-            let model = load_config(config.as_deref(), budget)?.validate()?;
+            let model = validated(&load_config(config.as_deref(), budget)?)?;
             let profile = profile_for(&model, &wear, false)?;
             let red = &model.reducer;
             let mut phis = mesh_cycle_angles(red.geometry.pins, model.te_samples);
@@ -966,7 +982,7 @@ fn run(cli: Cli) -> Result<()> {
             config,
             target_wear_um,
         } => {
-            let model = load_config(config.as_deref(), budget)?.validate()?;
+            let model = validated(&load_config(config.as_deref(), budget)?)?;
             let pb = busy("calibrating");
             let calibrated = rvlife::wear::calibrate(&model, target_wear_um * 1e-6);
             pb.finish_and_clear();

@@ -51,21 +51,43 @@ impl ProfileFormat {
     }
 }
 
-/// Writes `profile` to `path` in `format`.
+/// Writes `profile` to `path` in `format`, with at least two points per node of its
+/// deviation map ([`points_per_tooth`]), so that the file determines the profile: read back
+/// as `cycloid.measured_profile` it gives the same profile to the file's rounding.
 ///
 /// # Errors
 /// [`Error::Io`] if the file cannot be written.
 pub fn write_profile(profile: &Profile, path: &Path, format: ProfileFormat) -> Result<()> {
+    write_profile_sampled(profile, path, format, points_per_tooth(profile))
+}
+
+/// Points per tooth of [`write_profile`]: [`EXPORT_POINTS_PER_TOOTH`], or twice the nodes of
+/// the profile's wear (deviation) map if more.
+pub fn points_per_tooth(profile: &Profile) -> usize {
+    EXPORT_POINTS_PER_TOOTH.max(2 * profile.wear().map_or(0, |w| w.depths().len()))
+}
+
+/// [`write_profile`] with `per_tooth` points per tooth (the study's stage profiles for CAD use
+/// [`EXPORT_POINTS_PER_TOOTH`]).
+///
+/// # Errors
+/// [`Error::Io`] if the file cannot be written.
+pub fn write_profile_sampled(
+    profile: &Profile,
+    path: &Path,
+    format: ProfileFormat,
+    per_tooth: usize,
+) -> Result<()> {
     match format {
-        ProfileFormat::Csv => write_csv(profile, path),
-        ProfileFormat::Dxf => write_dxf(profile, path),
-        ProfileFormat::Svg => write_svg(profile, path),
+        ProfileFormat::Csv => write_csv(profile, path, per_tooth),
+        ProfileFormat::Dxf => write_dxf(profile, path, per_tooth),
+        ProfileFormat::Svg => write_svg(profile, path, per_tooth),
     }
 }
 
-fn sample_with_params(profile: &Profile) -> Vec<(f64, f64, f64, f64)> {
+fn sample_with_params(profile: &Profile, per_tooth: usize) -> Vec<(f64, f64, f64, f64)> {
     let zc = profile.geometry().disc_teeth();
-    let n = EXPORT_POINTS_PER_TOOTH * zc;
+    let n = per_tooth * zc;
     let dt = std::f64::consts::TAU * zc as f64 / n as f64;
     (0..n)
         .map(|k| {
@@ -77,13 +99,13 @@ fn sample_with_params(profile: &Profile) -> Vec<(f64, f64, f64, f64)> {
         .collect()
 }
 
-fn write_csv(profile: &Profile, path: &Path) -> Result<()> {
+fn write_csv(profile: &Profile, path: &Path, per_tooth: usize) -> Result<()> {
     let mut w = csv::Writer::from_path(path)
         .map_err(|e| Error::io(path, std::io::Error::other(e.to_string())))?;
     let io = |e: csv::Error| Error::io(path, std::io::Error::other(e.to_string()));
     w.write_record(["x_mm", "y_mm", "mesh_angle_deg", "wear_um"])
         .map_err(io)?;
-    for (x, y, t, h) in sample_with_params(profile) {
+    for (x, y, t, h) in sample_with_params(profile, per_tooth) {
         w.write_record([
             format!("{x:.9}"),
             format!("{y:.9}"),
@@ -95,7 +117,7 @@ fn write_csv(profile: &Profile, path: &Path) -> Result<()> {
     w.flush().map_err(|e| Error::io(path, e))
 }
 
-fn write_dxf(profile: &Profile, path: &Path) -> Result<()> {
+fn write_dxf(profile: &Profile, path: &Path, per_tooth: usize) -> Result<()> {
     use dxf::entities::{Entity, EntityType, LwPolyline};
     use dxf::enums::AcadVersion;
     use dxf::{Drawing, LwPolylineVertex};
@@ -103,7 +125,7 @@ fn write_dxf(profile: &Profile, path: &Path) -> Result<()> {
     drawing.header.version = AcadVersion::R2000;
     let mut poly = LwPolyline::default();
     poly.set_is_closed(true);
-    poly.vertices = sample_with_params(profile)
+    poly.vertices = sample_with_params(profile, per_tooth)
         .into_iter()
         .map(|(x, y, _, _)| LwPolylineVertex {
             x,
@@ -173,10 +195,10 @@ fn content_guid(values: impl IntoIterator<Item = f64>) -> uuid::Uuid {
     uuid::Uuid::new_v5(&namespace, &bytes)
 }
 
-fn write_svg(profile: &Profile, path: &Path) -> Result<()> {
+fn write_svg(profile: &Profile, path: &Path, per_tooth: usize) -> Result<()> {
     let g = profile.geometry();
     let r = (g.pin_circle_radius + g.pin_radius) * 1e3 * 1.05;
-    let pts = sample_with_params(profile);
+    let pts = sample_with_params(profile, per_tooth);
     let mut d = String::with_capacity(pts.len() * 24);
     for (i, (x, y, _, _)) in pts.iter().enumerate() {
         d.push_str(if i == 0 { "M" } else { "L" });
@@ -246,7 +268,7 @@ mod tests {
             assert_eq!(header_value(&text, name), "0.0", "{name}");
         }
         let guid = content_guid(
-            sample_with_params(&profile)
+            sample_with_params(&profile, points_per_tooth(&profile))
                 .into_iter()
                 .flat_map(|(x, y, _, _)| [x, y]),
         )

@@ -161,6 +161,22 @@ impl WearMap {
     /// # Errors
     /// [`Error::Invalid`] if fewer than 4 points or a depth is negative or not finite.
     pub fn new(depth: Vec<f64>) -> Result<Self> {
+        if let Some((m, v)) = depth.iter().enumerate().find(|(_, v)| **v < 0.0) {
+            return Err(Error::invalid(
+                format!("wear map point {m}"),
+                v,
+                "wear depth must be finite and >= 0",
+            ));
+        }
+        Self::deviation(depth)
+    }
+
+    /// A normal deviation map (a measured profile, with its wear): like [`WearMap::new`] but
+    /// negative depths (material in excess of the described profile) are allowed.
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] if fewer than 4 points or a depth is not finite.
+    pub fn deviation(depth: Vec<f64>) -> Result<Self> {
         if depth.len() < 4 {
             return Err(Error::invalid(
                 "wear map",
@@ -168,15 +184,11 @@ impl WearMap {
                 "needs at least 4 points per tooth",
             ));
         }
-        if let Some((m, v)) = depth
-            .iter()
-            .enumerate()
-            .find(|(_, v)| !v.is_finite() || **v < 0.0)
-        {
+        if let Some((m, v)) = depth.iter().enumerate().find(|(_, v)| !v.is_finite()) {
             return Err(Error::invalid(
                 format!("wear map point {m}"),
                 v,
-                "wear depth must be finite and >= 0",
+                "wear depth must be finite",
             ));
         }
         let n = depth.len();

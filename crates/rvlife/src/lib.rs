@@ -22,6 +22,7 @@ pub mod export;
 pub mod fem;
 pub mod geometry;
 pub mod life;
+pub mod measured;
 pub mod montecarlo;
 pub mod plot;
 pub mod reducer;

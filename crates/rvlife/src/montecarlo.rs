@@ -196,7 +196,7 @@ fn accuracy_at(
     let acc = mean.accuracy();
     Ok(AccuracyPoint {
         hours,
-        max_wear_um: profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
+        max_wear_um: model.wear_depth(&profile) * 1e6,
         backlash_arcmin: acc.backlash * ARCMIN_PER_RAD,
         lost_motion_arcmin: acc.lost_motion * ARCMIN_PER_RAD,
         angular_te_arcmin: rev.angular_te() * ARCMIN_PER_RAD,

@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::export::{write_profile, ProfileFormat};
+use crate::export::{write_profile_sampled, ProfileFormat, EXPORT_POINTS_PER_TOOTH};
 use crate::study::Study;
 use crate::te::{over_revolution, ARCMIN_PER_RAD};
 
@@ -309,7 +309,12 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
                 .try_for_each(|(s, tag)| {
                     for (ext, format) in [("dxf", ProfileFormat::Dxf), ("csv", ProfileFormat::Csv)]
                     {
-                        write_profile(&s.profile, &pdir.join(format!("worn_{tag}.{ext}")), format)?;
+                        write_profile_sampled(
+                            &s.profile,
+                            &pdir.join(format!("worn_{tag}.{ext}")),
+                            format,
+                            EXPORT_POINTS_PER_TOOTH,
+                        )?;
                     }
                     Ok(())
                 })

@@ -223,6 +223,10 @@ pub struct Summary {
     /// The accuracy life against `[life]` (when thresholds are set).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub accuracy_life: Option<crate::life::AccuracyLife>,
+    /// The measured profile's fit (when `cycloid.measured_profile` is set): file, points, RMS
+    /// and largest residual, um.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub measured_profile_fit: Option<serde_json::Value>,
     /// Against the paper.
     pub paper_comparison: PaperComparison,
 }
@@ -318,7 +322,7 @@ pub fn analyse_profile(model: &Model, profile: &Profile, hours: f64) -> Result<P
                 / loaded.solutions.len() as f64
         }
     };
-    let max_wear_um = profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6;
+    let max_wear_um = model.wear_depth(profile) * 1e6;
     let (angular_te, play_max) = if red.errors.is_zero() {
         (s.peak_to_peak, play.max)
     } else {
@@ -527,6 +531,14 @@ impl Study {
             wear_rate_evaluations: self.wear.rate_evaluations(),
             validity_limit: self.wear.limit.clone(),
             accuracy_life: self.life.clone(),
+            measured_profile_fit: m.measured.as_ref().map(|x| {
+                serde_json::json!({
+                    "source": x.source.display().to_string(),
+                    "points": x.points,
+                    "fit_rms_um": x.fit_rms * 1e6,
+                    "fit_max_um": x.fit_max * 1e6,
+                })
+            }),
             paper_comparison: PaperComparison {
                 ste_per_10um_arcmin: slope * 10.0,
                 ste_last_stage_arcmin: stages.last().map_or(0.0, |s| s.ste_mean_arcmin),

@@ -173,6 +173,9 @@ pub struct Model {
     pub tolerances: Tolerances,
     /// Accuracy thresholds (`[life]`; none set: no accuracy life).
     pub life: LifeThresholds,
+    /// The measured profile (`cycloid.measured_profile`), whose deviation map every profile of
+    /// this model carries under its wear ([`Model::profile`]).
+    pub measured: Option<crate::measured::MeasuredProfile>,
 }
 
 impl Model {
@@ -200,10 +203,64 @@ impl Model {
         self.disc_share() * torque * self.reducer.twist_factor()
     }
 
-    /// The profile with this model's modifications and the given wear map.
+    /// The profile with this model's modifications and the given wear map, on the measured
+    /// profile's deviation map when there is one (the deviation added to the wear depth,
+    /// resampled linearly when the grids differ).
+    ///
+    /// # Errors
+    /// Those of [`Profile::new`].
     pub fn profile(&self, wear: Option<WearMap>) -> Result<Profile> {
-        Profile::new(self.geometry.clone(), self.modification, wear)
+        let Some(m) = &self.measured else {
+            return Profile::new(self.geometry.clone(), self.modification, wear);
+        };
+        let n = wear
+            .as_ref()
+            .map_or(m.deviation.len(), |w| w.depths().len());
+        let dev = resample(&m.deviation, n);
+        let depth: Vec<f64> = match &wear {
+            Some(w) => w.depths().iter().zip(&dev).map(|(a, b)| a + b).collect(),
+            None => dev,
+        };
+        Profile::new(
+            self.geometry.clone(),
+            self.modification,
+            Some(WearMap::deviation(depth)?),
+        )
     }
+
+    /// Largest wear depth (m) of a profile of this model: its map's depth less the measured
+    /// deviation (which is not wear).
+    pub fn wear_depth(&self, profile: &Profile) -> f64 {
+        let Some(w) = profile.wear() else {
+            return 0.0;
+        };
+        match &self.measured {
+            None => w.max_depth(),
+            Some(m) => {
+                let dev = resample(&m.deviation, w.depths().len());
+                w.depths()
+                    .iter()
+                    .zip(&dev)
+                    .map(|(a, b)| a - b)
+                    .fold(0.0, f64::max)
+            }
+        }
+    }
+}
+
+/// `v` (periodic, uniform grid) linearly resampled to `n` points.
+fn resample(v: &[f64], n: usize) -> Vec<f64> {
+    if v.len() == n {
+        return v.to_vec();
+    }
+    (0..n)
+        .map(|i| {
+            let s = i as f64 * v.len() as f64 / n as f64;
+            let k = s.floor() as usize % v.len();
+            let u = s - s.floor();
+            v[k] * (1.0 - u) + v[(k + 1) % v.len()] * u
+        })
+        .collect()
 }
 
 impl Config {
@@ -693,6 +750,22 @@ impl Config {
             2,
             1000,
         )?;
+        let measured = match &c.measured_profile {
+            None => None,
+            Some(p) => {
+                let path = match &self.base_dir {
+                    Some(dir) if p.is_relative() => dir.join(p),
+                    _ => p.clone(),
+                };
+                let points = crate::measured::read_points(&path)?;
+                Some(crate::measured::fit(
+                    &nominal_profile,
+                    &points,
+                    pins * wear_steps,
+                    &path,
+                )?)
+            }
+        };
         let pin_rolling_fraction = check(
             "wear.pin_rolling_fraction",
             w.pin_rolling_fraction,
@@ -793,6 +866,7 @@ impl Config {
             archard_key,
             tolerances: self.tolerances.validate(&geometry)?,
             life: self.life.validate()?,
+            measured,
             dynamics,
             dynamics_enabled: self.dynamics.enabled,
             fem,

@@ -90,6 +90,10 @@ pub struct CycloidConfig {
     /// Profile modifications.
     #[serde(default)]
     pub modification: ModificationConfig,
+    /// A measured profile (CSV `x_mm,y_mm` or DXF polyline, mm, disc frame; path relative to
+    /// the config file), fitted as a deviation map over the described profile.
+    #[serde(default)]
+    pub measured_profile: Option<PathBuf>,
 }
 
 /// `[cycloid.modification]`.
