@@ -742,21 +742,30 @@ fn run(cli: Cli) -> Result<()> {
             let st = ste.stats();
             let play = ste.backlash_stats();
             let acc = mean.accuracy();
-            let (input_deg, te) = over_revolution(
-                &ste.crank_angle,
-                &ste.forward,
-                model.geometry.pins,
-                model.ratio,
-            );
-            let te_arcmin: Vec<f64> = te.iter().map(|v| v * ARCMIN_PER_RAD).collect();
+            // Over the output revolution: the mesh cycle tiled, or with part errors every mesh
+            // cycle of the revolution.
+            let rev = rvlife::te::revolution(&sa, model.te_samples)?;
+            let zc = (model.geometry.pins - 1) as f64;
+            let input_deg: Vec<f64> = rev
+                .crank_angle
+                .iter()
+                .map(|p| (model.ratio * p / zc).to_degrees())
+                .collect();
+            let te_arcmin: Vec<f64> = rev.forward.iter().map(|v| v * ARCMIN_PER_RAD).collect();
+            let play_max = if red.errors.is_zero() {
+                play.max
+            } else {
+                rev.play_stats().max
+            };
             let mut v = json!({
-                "max_wear_um": profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
+                "max_wear_um": model.wear_depth(&profile) * 1e6,
+                "angular_te_arcmin": rev.angular_te() * ARCMIN_PER_RAD,
                 "support": support_name(&model),
                 "te_mean_arcmin": st.mean * ARCMIN_PER_RAD,
                 "te_peak_to_peak_arcmin": st.peak_to_peak * ARCMIN_PER_RAD,
                 "te_reverse_mean_arcmin": CurveStats::of(&ste.reverse).mean * ARCMIN_PER_RAD,
                 "backlash_arcmin": acc.backlash * ARCMIN_PER_RAD,
-                "backlash_max_arcmin": play.max * ARCMIN_PER_RAD,
+                "backlash_max_arcmin": play_max * ARCMIN_PER_RAD,
                 "lost_motion_arcmin": acc.lost_motion * ARCMIN_PER_RAD,
                 "measuring_torque_nm": model.measuring_torque_fraction * model.rated_torque,
                 "torsional_stiffness_nm_per_arcmin": acc.torsional_stiffness / ARCMIN_PER_RAD,
@@ -783,11 +792,12 @@ fn run(cli: Cli) -> Result<()> {
                 println!("{v}");
             } else {
                 println!(
-                    "STE mean {:.5} arcmin, peak-to-peak {:.5} arcmin; backlash {:.5} arcmin (largest {:.5}); lost motion {:.5} arcmin (+-{:.1} N m)",
+                    "STE mean {:.5} arcmin, peak-to-peak {:.5} arcmin; angular TE {:.5} arcmin over an output revolution; backlash {:.5} arcmin (largest {:.5}); lost motion {:.5} arcmin (+-{:.1} N m)",
                     st.mean * ARCMIN_PER_RAD,
                     st.peak_to_peak * ARCMIN_PER_RAD,
+                    rev.angular_te() * ARCMIN_PER_RAD,
                     acc.backlash * ARCMIN_PER_RAD,
-                    play.max * ARCMIN_PER_RAD,
+                    play_max * ARCMIN_PER_RAD,
                     acc.lost_motion * ARCMIN_PER_RAD,
                     model.measuring_torque_fraction * model.rated_torque
                 );

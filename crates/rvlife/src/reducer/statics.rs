@@ -325,16 +325,13 @@ impl<'a> StaticAnalysis<'a> {
     /// [`Error::Numerical`] if a projection of the gap field fails.
     pub fn new(red: &'a Reducer, profile: &'a Profile) -> Result<Self> {
         let field = GapField::new(profile, red.gap_points, Some(red.contact_band()))?;
+        let (pin_centres, pin_gap) = pins_of(red);
         Ok(StaticAnalysis {
             red,
             profile,
             field,
-            pin_centres: (0..red.geometry.pins)
-                .map(|j| red.geometry.pin_centre(j) + red.errors.pin_displacement(red, j))
-                .collect(),
-            pin_gap: (0..red.geometry.pins)
-                .map(|j| -red.errors.pin_radius_error(j))
-                .collect(),
+            pin_centres,
+            pin_gap,
         })
     }
 
@@ -1235,16 +1232,13 @@ impl<'a> StaticAnalysis<'a> {
                 "must share the stage and the contact geometry of the analysis",
             ));
         }
+        let (pin_centres, pin_gap) = pins_of(red);
         Ok(StaticAnalysis {
             red,
             profile: self.profile,
             field: self.field.clone(),
-            pin_centres: (0..red.geometry.pins)
-                .map(|j| red.geometry.pin_centre(j) + red.errors.pin_displacement(red, j))
-                .collect(),
-            pin_gap: (0..red.geometry.pins)
-                .map(|j| -red.errors.pin_radius_error(j))
-                .collect(),
+            pin_centres,
+            pin_gap,
         })
     }
 
@@ -1819,6 +1813,18 @@ impl<'a> StaticAnalysis<'a> {
 
 /// True for the angle coordinates of [`Layout`] (input, output, and the third of every body).
 /// A finite crank angle (rad) and torque (N m).
+/// The pins of `red` with its part errors: centres (fixed frame, m) and the gap offsets of
+/// their radius errors (m).
+fn pins_of(red: &Reducer) -> (Vec<Vec2>, Vec<f64>) {
+    let zp = red.geometry.pins;
+    (
+        (0..zp)
+            .map(|j| red.geometry.pin_centre(j) + red.errors.pin_displacement(red, j))
+            .collect(),
+        (0..zp).map(|j| -red.errors.pin_radius_error(j)).collect(),
+    )
+}
+
 fn check_input(phi: f64, torque: f64) -> Result<()> {
     if phi.is_finite() && torque.is_finite() {
         Ok(())
