@@ -68,6 +68,10 @@ fn resample_periodic(mut samples: Vec<(f64, f64)>, n: usize) -> Vec<f64> {
     out
 }
 
+/// Mesh cycles of the output revolution whose wear is averaged for a reducer with part errors
+/// (spread evenly over the revolution; the nominal reducer needs one).
+pub const REVOLUTION_POSITIONS: usize = 8;
+
 /// Wear depth per mesh cycle (m) on the wear-map grid, for the output torque `torque` (N m),
 /// on the actual profile `profile` (default model, see the module docs).
 ///
@@ -87,13 +91,25 @@ pub fn wear_per_mesh_cycle(profile: &Profile, model: &Model, torque: f64) -> Res
     let phis: Vec<f64> = (0..steps)
         .map(|k| TAU * k as f64 / (zp * steps as f64))
         .collect();
-    let solutions = sa.solve_sequence(&phis, torque)?;
+    // The nominal reducer repeats every mesh cycle and its discs wear alike (disc 2 meets the
+    // same crank angles half a crank revolution later): disc 1 over one mesh cycle. With part
+    // errors every mesh cycle differs while every tooth meets every pin: the mean over
+    // `REVOLUTION_POSITIONS` mesh cycles spread over the output revolution, and over the discs.
+    let errors = !model.reducer.errors.is_zero();
+    let positions = if errors { REVOLUTION_POSITIONS } else { 1 };
+    let cycles = (zp * zc) as usize;
+    let mut solutions = Vec::with_capacity(positions * steps);
+    for r in 0..positions {
+        let c = (r * cycles / positions) as f64;
+        let at: Vec<f64> = phis.iter().map(|p| p + c * TAU / zp).collect();
+        solutions.extend(sa.solve_sequence(&at, torque)?);
+    }
+    let discs = if errors { solutions[0].discs.len() } else { 1 };
+    let weight = 1.0 / (positions * discs) as f64;
     let per_step: Vec<Vec<(f64, f64, f64)>> = solutions
         .par_iter()
-        .map(|sol| -> Result<Vec<(f64, f64, f64)>> {
-            // Disc 1 (both discs wear alike: disc 2 meets the same crank angles half a crank
-            // revolution later).
-            let disc = &sol.discs[0];
+        .flat_map(|sol| sol.discs[..discs].par_iter())
+        .map(|disc| -> Result<Vec<(f64, f64, f64)>> {
             let (centre, psi) = (disc.pose.centre, disc.pose.angle);
             let mut out = Vec::with_capacity(disc.pins.len());
             for p in &disc.pins {
@@ -110,15 +126,31 @@ pub fn wear_per_mesh_cycle(profile: &Profile, model: &Model, torque: f64) -> Res
                 let tangent = rotate(&(pt.dp / pt.dp.norm()), psi);
                 let v_slide = (v.dot(&tangent) * slide_scale).abs();
                 let v_disc = pt.dp.norm();
-                let dh = model.archard * p.force * v_slide / (geo.width * v_disc);
+                let dh = weight * model.archard * p.force * v_slide / (geo.width * v_disc);
                 out.push((p.mesh_angle, dh, p.half_width));
             }
             Ok(out)
         })
         .collect::<Result<_>>()?;
-    let samples: Vec<(f64, f64, f64)> = per_step.into_iter().flatten().collect();
-    let depth = resample_periodic(samples.iter().map(|s| (s.0, s.1)).collect(), n);
-    let half_width = resample_periodic(samples.iter().map(|s| (s.0, s.2)).collect(), n);
+    // Each (position, disc) is resampled on the grid on its own and the grids summed (their
+    // weights make the mean).
+    let group = steps;
+    let mut depth = vec![0.0; n];
+    let mut half_width = vec![0.0; n];
+    let groups = positions * discs;
+    for g in 0..groups {
+        // Rows of one position and disc: steps solutions (position-major), disc `g % discs`.
+        let rows: Vec<&Vec<(f64, f64, f64)>> = (0..group)
+            .map(|k| &per_step[((g / discs) * group + k) * discs + g % discs])
+            .collect();
+        let samples: Vec<(f64, f64, f64)> = rows.into_iter().flatten().copied().collect();
+        let d = resample_periodic(samples.iter().map(|s| (s.0, s.1)).collect(), n);
+        let h = resample_periodic(samples.iter().map(|s| (s.0, s.2)).collect(), n);
+        for m in 0..n {
+            depth[m] += d[m];
+            half_width[m] += h[m] / groups as f64;
+        }
+    }
     Ok(spread_over_band(profile, &depth, &half_width))
 }
 
