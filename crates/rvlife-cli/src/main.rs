@@ -159,8 +159,8 @@ enum Command {
         /// Seed: same seed, same bytes.
         #[arg(long, default_value_t = 1)]
         seed: u64,
-        /// `I/N`: run only the I-th (1-based) of N disjoint parts of the samples (cluster job
-        /// arrays: `--shard $SLURM_ARRAY_TASK_ID/N` with `--array=1-N`); `rvlife merge`
+        /// `I/N`: run only the I-th (1-based) of N disjoint parts of the samples; `/N` takes I
+        /// from SLURM_ARRAY_TASK_ID (cluster job arrays with `--array=1-N`); `rvlife merge`
         /// combines the parts.
         #[arg(long)]
         shard: Option<String>,
@@ -231,6 +231,21 @@ fn montecarlo_plan(
     let shard = match shard {
         None => (1, 1),
         Some(text) => {
+            // `/N`: the index from the job array (SLURM numbers tasks as `--array` says).
+            let owned;
+            let text = if let Some(n) = text.strip_prefix('/') {
+                let id = std::env::var("SLURM_ARRAY_TASK_ID").map_err(|_| {
+                    Error::invalid(
+                        "--shard",
+                        format!("\"{text}\""),
+                        "takes its index from SLURM_ARRAY_TASK_ID, which is not set; give I/N",
+                    )
+                })?;
+                owned = format!("{}/{n}", id.trim());
+                owned.as_str()
+            } else {
+                text
+            };
             let parsed = text.split_once('/').and_then(|(i, n)| {
                 Some((
                     i.trim().parse::<usize>().ok()?,

@@ -213,6 +213,7 @@ fn bad_montecarlo_input_is_refused_with_its_key() {
         (&["--shard", "4/3"][..], "--shard"),
         (&["--shard", "x"][..], "--shard"),
         (&["--shard", "0/3"][..], "--shard"),
+        (&["--shard", "/3"][..], "SLURM_ARRAY_TASK_ID"),
         (&["--samples", "0"][..], "--samples"),
         (
             &["--samples-per-mesh-cycle", "0"][..],
