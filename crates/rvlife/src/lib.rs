@@ -3,7 +3,8 @@
 //! Accuracy-life prediction of RV reducers and cycloid drives: the cycloid disc profile
 //! ([`geometry`]), the loaded contact between disc and pins ([`contact`]), Archard wear over
 //! working hours with profile updates ([`wear`]), static and loaded transmission error and lost
-//! motion ([`te`]), and the study that strings them together ([`study`]), configured by TOML
+//! motion ([`te`]), and the study that strings them together ([`study`]), calibrated against
+//! measurements ([`calibration`]), configured by TOML
 //! ([`config`]) and reported as JSON, CSV, DXF and plots ([`report`], [`export`], [`plot`]).
 //!
 //! SI units inside; engineering units only in config keys and output columns. The method follows
@@ -13,6 +14,7 @@
 #![warn(missing_docs)]
 
 pub mod budget;
+pub mod calibration;
 pub mod config;
 pub mod contact;
 
