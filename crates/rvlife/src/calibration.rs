@@ -32,16 +32,20 @@
 //!
 //! # Least squares and confidence interval
 //!
-//! Each measured column `j` has its own noise level `sigma_j`, estimated from the data
-//! (iteratively reweighted: `sigma_j^2 = RSS_j / n_j x N / (N - p)`), and the fit minimises
-//! `sum_j sum_i ((y_ij - model_ij) / sigma_j)^2` over `ln k` (Brent's method, argmin, after a
+//! The columns of one unit share one noise level `sigma_u` (lost motion and backlash are read
+//! off one hysteresis measurement with one encoder; wear depth is another instrument),
+//! estimated from the data when both units are present (iteratively reweighted:
+//! `sigma_u^2 = RSS_u / n_u x N / (N - p)`; with one unit the weights cancel and the fit is
+//! ordinary least squares). Per-column levels were tried and rejected: estimated from 8 values
+//! each they scatter by +-25 %, and the interval, which ignores that, covered the true `k`
+//! too rarely in repeated trials. The fit minimises `sum ((y - model) / sigma_u)^2` over `ln k` (Brent's method, argmin, after a
 //! scan of the bracket); `b0` enters linearly and is eliminated in closed form for every `k`
 //! (variable projection). `k` is fitted as `ln k` because it acts as a scale of the hours: the
 //! model is a shift along `ln h`, which keeps the linearisation good and the interval positive.
 //!
 //! The 95 % confidence interval is the Gauss-Newton (Wald) one: covariance
 //! `s^2 (J^T W J)^-1` at the optimum, `J` the Jacobian of the model in `(ln k, b0)` (analytic
-//! derivative of the interpolant), `W = diag(1/sigma_j^2)`, `s^2 = weighted RSS / (N - p)` the
+//! derivative of the interpolant), `W = diag(1/sigma_u^2)`, `s^2 = weighted RSS / (N - p)` the
 //! residual variance from the data, and the Student-t quantile with `N - p` degrees of freedom
 //! (`N` measured values, `p` = 1 or 2 parameters): `ln k +- t sd(ln k)`, mapped to `k`. It
 //! assumes independent Gaussian errors and a model that is nearly linear in `ln k` over the
@@ -162,8 +166,8 @@ impl Measurements {
     /// the study does not compute yet; a cell that is not a number or out of range (with its
     /// row and column); no quantity column or no value at all.
     pub fn read(path: &Path) -> Result<Measurements> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| bad(path, format!("cannot be read: {e}")))?;
+        let text =
+            std::fs::read_to_string(path).map_err(|e| bad(path, format!("cannot be read: {e}")))?;
         Self::parse(path, &text)
     }
 
@@ -279,9 +283,7 @@ impl Measurements {
             if !(h.is_finite() && (0.0..=MAX_HOURS).contains(&h)) {
                 return Err(bad(
                     path,
-                    format!(
-                        "row {row}, column hours = {h}: must be a finite number in [0, 1e7] h"
-                    ),
+                    format!("row {row}, column hours = {h}: must be a finite number in [0, 1e7] h"),
                 ));
             }
             for (s, &i) in series.iter_mut().zip(&cols) {
@@ -357,7 +359,12 @@ impl Measurements {
                  cannot be found; give measurements after some working hours",
             ));
         }
-        if fit_running_in && !self.series.iter().any(|s| QUANTITIES[s.quantity].running_in) {
+        if fit_running_in
+            && !self
+                .series
+                .iter()
+                .any(|s| QUANTITIES[s.quantity].running_in)
+        {
             return Err(Error::invalid(
                 "--fit-running-in",
                 "set",
@@ -534,7 +541,8 @@ pub struct QuantityFit {
     pub points: usize,
     /// Root mean square of the residuals (measured - model), in the unit.
     pub rms_residual: f64,
-    /// Noise level used as its weight, in the unit (estimated from the residuals).
+    /// Noise level used as its weight, in the unit (one per unit, estimated from the
+    /// residuals when the file has two units).
     pub sigma: f64,
 }
 
@@ -650,14 +658,13 @@ fn profile_cost(
         .collect();
     let ri = |j: usize| QUANTITIES[data.series[j].quantity].running_in;
     let b0 = if fit_b0 {
-        let (num, den) = pts
-            .iter()
-            .zip(&model)
-            .filter(|((j, _, _), _)| ri(*j))
-            .fold((0.0, 0.0), |(a, b), ((j, _, y), m)| {
+        let (num, den) = pts.iter().zip(&model).filter(|((j, _, _), _)| ri(*j)).fold(
+            (0.0, 0.0),
+            |(a, b), ((j, _, y), m)| {
                 let w = sigma[*j].powi(-2);
                 (a + w * (y - m), b + w)
-            });
+            },
+        );
         num / den
     } else {
         0.0
@@ -706,7 +713,11 @@ fn minimise(
         .run()
         .map_err(|e| Error::numerical("calibration", e.to_string()))?;
     let x = res.state.best_param.unwrap_or(xs[best]);
-    Ok(if cost(x) <= cost(xs[best]) { x } else { xs[best] })
+    Ok(if cost(x) <= cost(xs[best]) {
+        x
+    } else {
+        xs[best]
+    })
 }
 
 /// Iteratively reweighted fit on one reference, `ln k` in `[lo, hi]`.
@@ -719,32 +730,48 @@ fn fit_on(
 ) -> Result<Fit> {
     let n_total = data.len() as f64;
     let p = 1.0 + f64::from(u8::from(fit_b0));
-    // Start: every series scaled by its own size.
+    // Start: every unit scaled by the size of its values.
+    let size = |u: &str| {
+        let (ss, n) = data
+            .series
+            .iter()
+            .filter(|s| QUANTITIES[s.quantity].unit == u)
+            .flat_map(|s| s.values.iter())
+            .fold((0.0, 0), |(a, b), v| (a + v * v, b + 1));
+        (ss / n as f64).sqrt().max(1e-9)
+    };
     let mut sigma: Vec<f64> = data
         .series
         .iter()
-        .map(|s| {
-            let ms = s.values.iter().map(|v| v * v).sum::<f64>() / s.values.len() as f64;
-            ms.sqrt().max(1e-9)
-        })
+        .map(|s| size(QUANTITIES[s.quantity].unit))
         .collect();
+    // Series of one unit share one noise level (lost motion and backlash are read off one
+    // hysteresis measurement).
+    let unit = |j: usize| QUANTITIES[data.series[j].quantity].unit;
+    let groups = {
+        let mut u: Vec<&str> = (0..data.series.len()).map(unit).collect();
+        u.dedup();
+        u.sort_unstable();
+        u.dedup();
+        u.len()
+    };
     let mut ln_k = f64::NAN;
     for _ in 0..8 {
         let x = minimise(reference, data, &sigma, fit_b0, lo, hi)?;
         let converged = (x - ln_k).abs() < 1e-7;
         ln_k = x;
-        if data.series.len() == 1 || converged {
+        if groups == 1 || converged {
             break;
         }
         let (b0, _) = profile_cost(reference, data, &sigma, fit_b0, ln_k);
         let k = ln_k.exp();
-        let floor = 1e-9;
-        sigma = data
+        // Sum of squared residuals and count of each series.
+        let per_series: Vec<(f64, usize)> = data
             .series
             .iter()
             .map(|s| {
                 let q = QUANTITIES[s.quantity];
-                let rss: f64 = s
+                let rss = s
                     .hours
                     .iter()
                     .zip(&s.values)
@@ -754,9 +781,17 @@ fn fit_on(
                         (y - m).powi(2)
                     })
                     .sum();
-                (rss / s.values.len() as f64 * n_total / (n_total - p))
-                    .sqrt()
-                    .max(floor)
+                (rss, s.values.len())
+            })
+            .collect();
+        sigma = (0..data.series.len())
+            .map(|j| {
+                let (rss, n) = (0..data.series.len())
+                    .filter(|&i| unit(i) == unit(j))
+                    .fold((0.0, 0), |(a, b), i| {
+                        (a + per_series[i].0, b + per_series[i].1)
+                    });
+                (rss / n as f64 * n_total / (n_total - p)).sqrt().max(1e-9)
             })
             .collect();
     }
@@ -776,8 +811,8 @@ fn run_reference(
     let h_max = data.max_hours();
     crate::budget::check_config(&m, "load.kind")
         .map_err(|e| budget_error(&data.path, h_max, horizon, e))?;
-    let study =
-        crate::study::run(&m, &|_, _| {}).map_err(|e| budget_error(&data.path, h_max, horizon, e))?;
+    let study = crate::study::run(&m, &|_, _| {})
+        .map_err(|e| budget_error(&data.path, h_max, horizon, e))?;
     let sums: Vec<StageSummary> = study.stages.iter().map(|s| s.summary.clone()).collect();
     if sums.len() < 3 {
         let why = study
@@ -1014,7 +1049,7 @@ fn summarise(
         confidence: CONFIDENCE,
         interval_method: "Gauss-Newton (Wald) covariance s^2 (J^T W J)^-1 in (ln k, b0), \
                           residual variance from the data, Student-t with N - p degrees of \
-                          freedom; per-quantity weights 1/sigma^2 estimated from the residuals",
+                          freedom; weights 1/sigma^2 per unit, estimated from the residuals",
         points: n,
         parameters: p,
         degrees_of_freedom: dof,
@@ -1089,9 +1124,8 @@ mod tests {
     #[test]
     fn measurements_columns_are_checked() {
         let p = Path::new("m.csv");
-        let m =
-            Measurements::parse(p, "hours,backlash_arcmin,max_wear_um\n0,0.1,\n100,0.5,3\n")
-                .unwrap();
+        let m = Measurements::parse(p, "hours,backlash_arcmin,max_wear_um\n0,0.1,\n100,0.5,3\n")
+            .unwrap();
         assert_eq!(m.series.len(), 2);
         assert_eq!(m.series[1].values, vec![3.0]);
         assert_eq!(m.len(), 3);

@@ -841,17 +841,17 @@ pub fn calibration(cal: &crate::calibration::Calibration, dir: &Path) -> Result<
                     .draw()?;
                 chart
                     .draw_series(LineSeries::new(
-                        curve.hours.iter().copied().zip(curve.values.iter().copied()),
+                        curve
+                            .hours
+                            .iter()
+                            .copied()
+                            .zip(curve.values.iter().copied()),
                         c.stroke_width(2),
                     ))?
                     .label("fitted model")
                     .legend(legend_line(c));
                 chart
-                    .draw_series(
-                        measured
-                            .iter()
-                            .map(|&p| Circle::new(p, 4, BLACK.filled())),
-                    )?
+                    .draw_series(measured.iter().map(|&p| Circle::new(p, 4, BLACK.filled())))?
                     .label("measured")
                     .legend(|(x, y)| Circle::new((x + 10, y), 4, BLACK.filled()));
                 chart

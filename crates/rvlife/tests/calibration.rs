@@ -4,6 +4,9 @@ use rvlife::config::{Config, Model};
 use rvlife::study::StageSummary;
 use rvlife::wear::{integrate, integrate_on_schedule};
 
+/// One number of a stage summary.
+type StageValue = fn(&StageSummary) -> f64;
+
 /// The example without dynamics and the flexible disc, stages at `hours`.
 fn fast_model(hours: &[f64]) -> Model {
     let mut cfg = Config::example();
@@ -53,7 +56,7 @@ fn direct_run_at_twice_k_matches_the_reference_at_twice_the_hours() {
     let wall = t.elapsed().as_secs_f64();
     let m = fast_model(&hours.iter().map(|h| 2.0 * h).collect::<Vec<_>>());
     let reference = rvlife::study::run(&m, &|_, _| {}).unwrap();
-    let quantities: [(&str, fn(&StageSummary) -> f64); 3] = [
+    let quantities: [(&str, StageValue); 3] = [
         ("lost_motion_arcmin", |s| s.lost_motion_arcmin),
         ("backlash_arcmin", |s| s.backlash_arcmin),
         ("max_wear_um", |s| s.max_wear_um),
