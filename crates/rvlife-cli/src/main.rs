@@ -189,13 +189,31 @@ enum Command {
         #[arg(long)]
         force: bool,
     },
-    /// Find the Archard coefficient that gives a target maximum wear at the last stage.
+    /// Find the Archard coefficient that gives a target maximum wear at the last stage, or
+    /// (with --measured) fit it to measured lost motion, backlash or wear against hours.
     Calibrate {
         /// Config file (default: the built-in example).
         config: Option<PathBuf>,
         /// Target maximum wear depth at the last stage, um.
         #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
         target_wear_um: f64,
+        /// Measurements CSV: a column `hours` (h) and one or more of `lost_motion_arcmin`,
+        /// `backlash_arcmin`, `angular_te_arcmin`, `max_wear_um` (empty cell: not measured). Fits the Archard
+        /// coefficient by weighted least squares with a 95 % confidence interval (Gauss-Newton,
+        /// Student-t) instead of aiming at --target-wear-um.
+        #[arg(long, conflicts_with = "target_wear_um")]
+        measured: Option<PathBuf>,
+        /// Also fit a running-in play b0 (arcmin) added to backlash and lost motion (the
+        /// assembly play of a new reducer, which the model does not have).
+        #[arg(long, requires = "measured")]
+        fit_running_in: bool,
+        /// Results directory for the fit: calibration.json, residuals.csv, calibration.svg/png
+        /// (created; must not exist or be empty unless --force).
+        #[arg(long, requires = "measured")]
+        out: Option<PathBuf>,
+        /// Replace an existing results directory.
+        #[arg(long, requires = "out")]
+        force: bool,
     },
 }
 
@@ -1006,6 +1024,26 @@ fn run(cli: Cli) -> Result<()> {
         Command::Calibrate {
             config,
             target_wear_um,
+            measured: Some(path),
+            fit_running_in,
+            out,
+            force,
+        } => {
+            let _ = target_wear_um;
+            calibrate_measured(
+                config.as_deref(),
+                budget,
+                &path,
+                fit_running_in,
+                out.as_deref(),
+                force,
+            )?;
+        }
+        Command::Calibrate {
+            config,
+            target_wear_um,
+            measured: None,
+            ..
         } => {
             let model = validated(&load_config(config.as_deref(), budget)?)?;
             let pb = busy("calibrating");
@@ -1020,6 +1058,81 @@ fn run(cli: Cli) -> Result<()> {
             );
         }
     }
+    Ok(())
+}
+
+/// `rvlife calibrate --measured`: every input is checked (the file, the config, the work
+/// budget, the results directory) before the reference studies run.
+fn calibrate_measured(
+    config: Option<&Path>,
+    budget: f64,
+    path: &Path,
+    fit_running_in: bool,
+    out: Option<&Path>,
+    force: bool,
+) -> Result<()> {
+    use rvlife::calibration::{calibrate, check_budget, write_files, Measurements, Options};
+    let data = Measurements::read(path)?;
+    data.check_for_fit(fit_running_in)?;
+    let model = load_config(config, budget)?.validate()?;
+    check_budget(&model, &data)?;
+    let staging = match out {
+        Some(dir) => Some(rvlife::report::Staging::prepare(dir, force)?),
+        None => None,
+    };
+    let start = std::time::Instant::now();
+    let pb = busy("calibrating");
+    let cal = calibrate(&model, &data, Options { fit_running_in }, &|pass| {
+        pb.set_message(format!("calibrating: reference study {pass}"));
+    });
+    pb.finish_and_clear();
+    let cal = cal?;
+    if let Some(staging) = staging {
+        staging.commit(|dir| write_files(&cal, dir))?;
+    }
+    let wall = start.elapsed().as_secs_f64();
+    let pct = cal.confidence * 100.0;
+    let (k, unit) = if model.archard_key.ends_with("m2_per_n") {
+        (&cal.archard_coefficient_m2_per_n, "m^2/N")
+    } else {
+        (&cal.archard_coefficient_mm3_per_n_m, "mm^3/(N m)")
+    };
+    println!(
+        "{} = {:.6e}   # {unit}; {pct:.0} % CI [{:.6e}, {:.6e}]; {:.4} x the config's",
+        model.archard_key.trim_start_matches("wear."),
+        k.value,
+        k.lower,
+        k.upper,
+        cal.archard_coefficient_m2_per_n.value / cal.config_archard_coefficient_m2_per_n
+    );
+    println!(
+        "k = {:.6e} m^2/N, {pct:.0} % CI [{:.6e}, {:.6e}] (Gauss-Newton covariance, Student-t \
+         with {} degrees of freedom, {} values, residual variance from the data)",
+        cal.archard_coefficient_m2_per_n.value,
+        cal.archard_coefficient_m2_per_n.lower,
+        cal.archard_coefficient_m2_per_n.upper,
+        cal.degrees_of_freedom,
+        cal.points
+    );
+    if let Some(b) = &cal.running_in_backlash_arcmin {
+        println!(
+            "running-in play b0 = {:.5} arcmin, {pct:.0} % CI [{:.5}, {:.5}]",
+            b.value, b.lower, b.upper
+        );
+    }
+    for q in &cal.quantities {
+        println!(
+            "{}: RMS residual {:.5} {} over {} values",
+            q.column, q.rms_residual, q.unit, q.points
+        );
+    }
+    println!(
+        "{} reference studies ({} stages), {:.2} s{}",
+        cal.reference_runs,
+        cal.reference_stages,
+        wall,
+        out.map_or(String::new(), |d| format!("; results in {}", d.display()))
+    );
     Ok(())
 }
 

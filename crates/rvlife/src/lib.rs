@@ -4,7 +4,8 @@
 //! ([`geometry`]), the loaded contact between disc and pins ([`contact`]), Archard wear over
 //! working hours with profile updates ([`wear`]), static and loaded transmission error and lost
 //! motion ([`te`]), and the study that strings them together ([`study`]) up to the accuracy
-//! life ([`life`]), for one reducer or a toleranced batch ([`montecarlo`]), configured by TOML
+//! life ([`life`]), for one reducer or a toleranced batch ([`montecarlo`]), calibrated against
+//! measurements ([`calibration`]), configured by TOML
 //! ([`config`]) and reported as JSON, CSV, DXF and plots ([`report`], [`export`], [`plot`]).
 //!
 //! SI units inside; engineering units only in config keys and output columns. The method follows
@@ -14,6 +15,7 @@
 #![warn(missing_docs)]
 
 pub mod budget;
+pub mod calibration;
 pub mod config;
 pub mod contact;
 

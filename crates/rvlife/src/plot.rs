@@ -893,3 +893,81 @@ pub fn histogram(
         }
     )
 }
+
+/// `calibration.{svg,png}`: the measured values (markers) and the fitted model (line) of every
+/// measured quantity against working hours, one panel per quantity, with the fitted Archard
+/// coefficient and its interval in the title ([`crate::calibration`]).
+///
+/// # Errors
+/// [`Error::Io`] if a file cannot be written.
+pub fn calibration(cal: &crate::calibration::Calibration, dir: &Path) -> Result<()> {
+    let k = &cal.archard_coefficient_mm3_per_n_m;
+    let mut title = format!(
+        "Calibration: k = {:.4e} mm^3/(N m), {:.0} % CI [{:.4e}, {:.4e}]",
+        k.value,
+        cal.confidence * 100.0,
+        k.lower,
+        k.upper
+    );
+    if let Some(b) = &cal.running_in_backlash_arcmin {
+        title.push_str(&format!(", b0 = {:.3} arcmin", b.value));
+    }
+    let colours = [RED, BLUE, GREEN, MAGENTA];
+    figure!(
+        dir,
+        "calibration",
+        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+            let areas = root.split_evenly((cal.curves.len().max(1), 1));
+            for (i, (curve, area)) in cal.curves.iter().zip(areas.iter()).enumerate() {
+                let c = colours[i % colours.len()];
+                let measured: Vec<(f64, f64)> = cal
+                    .residuals
+                    .iter()
+                    .filter(|r| r.column == curve.column)
+                    .map(|r| (r.hours, r.measured))
+                    .collect();
+                let h_end = curve.hours.last().copied().unwrap_or(1.0).max(1e-6);
+                let (lo, hi) = series_range(
+                    curve
+                        .values
+                        .iter()
+                        .copied()
+                        .chain(measured.iter().map(|p| p.1)),
+                );
+                let mut b = ChartBuilder::on(area);
+                b.margin(12).x_label_area_size(40).y_label_area_size(75);
+                if i == 0 {
+                    b.caption(title.as_str(), ("sans-serif", 22));
+                }
+                let mut chart = b.build_cartesian_2d(0.0..h_end, lo.min(0.0)..hi)?;
+                chart
+                    .configure_mesh()
+                    .x_desc("working hours (h)")
+                    .y_desc(format!("{} ({})", curve.column, curve.unit))
+                    .draw()?;
+                chart
+                    .draw_series(LineSeries::new(
+                        curve
+                            .hours
+                            .iter()
+                            .copied()
+                            .zip(curve.values.iter().copied()),
+                        c.stroke_width(2),
+                    ))?
+                    .label("fitted model")
+                    .legend(legend_line(c));
+                chart
+                    .draw_series(measured.iter().map(|&p| Circle::new(p, 4, BLACK.filled())))?
+                    .label("measured")
+                    .legend(|(x, y)| Circle::new((x + 10, y), 4, BLACK.filled()));
+                chart
+                    .configure_series_labels()
+                    .position(SeriesLabelPosition::UpperLeft)
+                    .background_style(WHITE.mix(0.8))
+                    .border_style(BLACK)
+                    .draw()?;
+            }
+            Ok(())
+        }
+    )
+}
