@@ -311,9 +311,10 @@ fn print_montecarlo(model: &Model, records: &[rvlife::montecarlo::SampleRecord])
     }
     if model.life.any() {
         let l = rvlife::montecarlo::life_distribution(records);
-        let h = |v: Option<f64>| v.map_or(format!("> {last:.0} h"), |x| format!("{x:.0} h"));
+        let horizon = model.life.max_hours.unwrap_or(10.0 * last);
+        let h = |v: Option<f64>| v.map_or(format!("> {horizon:.0} h"), |x| format!("{x:.0} h"));
         println!(
-            "accuracy life: B10 {}, B50 {}, {:.1} % beyond {last:.0} h; limited by {:?}",
+            "accuracy life: B10 {}, B50 {}, {:.1} % beyond {horizon:.0} h; limited by {:?}",
             h(l.b10_h),
             h(l.b50_h),
             100.0 * l.censored_fraction,

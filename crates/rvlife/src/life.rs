@@ -51,14 +51,15 @@ impl AccuracyPoint {
 /// The accuracy life found.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct AccuracyLife {
-    /// Working hours at which the first threshold is crossed, h; `None` when none is within
-    /// the hours studied (the life exceeds `horizon_h`; absent from JSON).
+    /// Working hours at which the first threshold is crossed, h; `None` when none is crossed
+    /// within the horizon (the life exceeds `horizon_h`; absent from JSON).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub accuracy_life_h: Option<f64>,
     /// The threshold crossed first (its `[life]` key).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub limited_by: Option<&'static str>,
-    /// The last working hours studied, h.
+    /// The last working hours studied, h: the last stage, or beyond it as far as the
+    /// integration was stepped to find the crossing (`life.max_hours`).
     pub horizon_h: f64,
 }
 
@@ -101,7 +102,9 @@ fn worst(th: &LifeThresholds, p: &AccuracyPoint) -> Option<(&'static str, f64)> 
 /// The accuracy life from the quantities at increasing working hours `points`, refining a
 /// crossing between two of them with `at(hours)` (the quantities after that many hours of
 /// wear), by bisection down to [`LIFE_TOLERANCE`] and linear interpolation of the crossing
-/// margin in the last bracket. `None` without thresholds.
+/// margin in the last bracket. Without a crossing among `points`, `at` steps on beyond the last
+/// one (x 1.5 in hours) up to `th.max_hours` (default 10 x the last point's hours). `None`
+/// without thresholds.
 ///
 /// # Errors
 /// Those of `at`.
@@ -113,11 +116,31 @@ pub fn accuracy_life(
     if !th.any() || points.is_empty() {
         return Ok(None);
     }
-    let horizon_h = points.last().map_or(0.0, |p| p.hours);
-    let Some(i) = points
-        .iter()
-        .position(|p| worst(th, p).is_some_and(|w| w.1 < 0.0))
-    else {
+    let mut horizon_h = points.last().map_or(0.0, |p| p.hours);
+    let out = |p: &AccuracyPoint| worst(th, p).is_some_and(|w| w.1 < 0.0);
+    let Some(i) = points.iter().position(out) else {
+        // Beyond the stages: the wear integration stepped on (x 1.5 in hours) up to the
+        // horizon `max_hours` (default 10 x the last stage), or until the wear model leaves
+        // its validity.
+        let last = points.last().copied().expect("points is not empty");
+        let max_h = th.max_hours.unwrap_or(10.0 * last.hours);
+        let mut lo = last;
+        while lo.hours < max_h && lo.hours > 0.0 {
+            let next = (1.5 * lo.hours).min(max_h);
+            let Ok(p) = at(next) else {
+                break;
+            };
+            horizon_h = next;
+            if out(&p) {
+                let (h, key) = bisect(th, lo, p, &mut at)?;
+                return Ok(Some(AccuracyLife {
+                    accuracy_life_h: Some(h),
+                    limited_by: Some(key),
+                    horizon_h,
+                }));
+            }
+            lo = p;
+        }
         return Ok(Some(AccuracyLife {
             accuracy_life_h: None,
             limited_by: None,
@@ -131,7 +154,22 @@ pub fn accuracy_life(
             horizon_h,
         }));
     }
-    let (mut lo, mut hi) = (points[i - 1], points[i]);
+    let (h, key) = bisect(th, points[i - 1], points[i], &mut at)?;
+    Ok(Some(AccuracyLife {
+        accuracy_life_h: Some(h),
+        limited_by: Some(key),
+        horizon_h,
+    }))
+}
+
+/// Bisection of the bracket `lo` (inside the spec) .. `hi` (outside) on the hours down to
+/// [`LIFE_TOLERANCE`], then [`crossing`].
+fn bisect(
+    th: &LifeThresholds,
+    mut lo: AccuracyPoint,
+    mut hi: AccuracyPoint,
+    at: &mut dyn FnMut(f64) -> Result<AccuracyPoint>,
+) -> Result<(f64, &'static str)> {
     while hi.hours - lo.hours > LIFE_TOLERANCE * hi.hours {
         let mid = at(0.5 * (lo.hours + hi.hours))?;
         if worst(th, &mid).is_some_and(|w| w.1 < 0.0) {
@@ -140,12 +178,7 @@ pub fn accuracy_life(
             lo = mid;
         }
     }
-    let (h, key) = crossing(th, &lo, &hi);
-    Ok(Some(AccuracyLife {
-        accuracy_life_h: Some(h),
-        limited_by: Some(key),
-        horizon_h,
-    }))
+    Ok(crossing(th, &lo, &hi))
 }
 
 /// The crossing between `lo` (inside the spec) and `hi` (outside): the threshold crossed at
@@ -181,10 +214,22 @@ pub fn study_life(
     update_hours: &[f64],
 ) -> Result<Option<AccuracyLife>> {
     let points: Vec<AccuracyPoint> = stages.iter().map(AccuracyPoint::of).collect();
+    let last = stages.last().map_or(0.0, |s| s.hours);
     accuracy_life(&model.life, &points, |h| {
         let mut m = model.clone();
         m.stage_hours = vec![h];
-        let hist = crate::wear::integrate_on_schedule(&m, update_hours, &|_, _| {})?;
+        // Within the stages on the study's own update schedule; beyond, by the model's rule.
+        let hist = if h <= last {
+            crate::wear::integrate_on_schedule(&m, update_hours, &|_, _| {})?
+        } else {
+            crate::wear::integrate(&m, &|_, _| {})?
+        };
+        if let Some(l) = &hist.limit {
+            return Err(crate::error::Error::numerical(
+                "accuracy life",
+                l.reason.clone(),
+            ));
+        }
         let map = &hist.maps[0];
         let max = map.iter().copied().fold(0.0, f64::max);
         let wear = match model.wear_model {

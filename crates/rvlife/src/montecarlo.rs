@@ -85,47 +85,74 @@ pub struct SharedWear {
     pub maps: Vec<Option<WearMap>>,
     /// Index in `hours` of each stage.
     pub stage_index: Vec<usize>,
+    /// Index in `hours` of each point beyond the last stage where the accuracy life is looked
+    /// for.
+    pub extension_index: Vec<usize>,
 }
 
-/// Stages and their subdivisions: `(hours, index of each stage)`.
-fn dense_hours(stages: &[f64]) -> (Vec<f64>, Vec<usize>) {
+/// Stages and their subdivisions, then (with life thresholds) the points beyond the last
+/// stage where the accuracy life is looked for (x 1.5 in hours up to `life.max_hours`, default
+/// 10 x the last stage) with their subdivisions: `(hours, index of each stage, index of each
+/// point beyond)`.
+fn dense_hours(model: &Model) -> (Vec<f64>, Vec<usize>, Vec<usize>) {
     let mut hours = Vec::new();
     let mut idx = Vec::new();
     let mut prev: Option<f64> = None;
-    for &h in stages {
-        if let Some(p) = prev {
+    let push = |hours: &mut Vec<f64>, prev: &mut Option<f64>, h: f64| {
+        if let Some(p) = *prev {
             for k in 1..SUBDIVISIONS {
                 hours.push(p + (h - p) * k as f64 / SUBDIVISIONS as f64);
             }
         }
-        idx.push(hours.len());
         hours.push(h);
-        prev = Some(h);
+        *prev = Some(h);
+        hours.len() - 1
+    };
+    for &h in &model.stage_hours {
+        idx.push(push(&mut hours, &mut prev, h));
     }
-    (hours, idx)
+    let mut ext = Vec::new();
+    let last = model.stage_hours.last().copied().unwrap_or(0.0);
+    if model.life.any() && last > 0.0 {
+        let max_h = model.life.max_hours.unwrap_or(10.0 * last);
+        let mut h = last;
+        while h < max_h {
+            h = (1.5 * h).min(max_h);
+            ext.push(push(&mut hours, &mut prev, h));
+        }
+    }
+    (hours, idx, ext)
 }
 
-/// The wear history of `model` at its stages and [`SUBDIVISIONS`] points between each two.
+/// The wear history of `model` at its stages and [`SUBDIVISIONS`] points between each two,
+/// and beyond the last stage where the accuracy life is looked for ([`dense_hours`]; up to
+/// where the wear model leaves its validity).
 ///
 /// # Errors
 /// Wear integration failures; [`Error::Invalid`] naming `wear.stage_hours` if the wear
 /// model's validity ends before the last stage.
 pub fn shared_wear(model: &Model) -> Result<SharedWear> {
-    let (hours, stage_index) = dense_hours(&model.stage_hours);
+    let (mut hours, stage_index, mut extension_index) = dense_hours(model);
     let mut m = model.clone();
     m.stage_hours = hours.clone();
     let hist = crate::wear::integrate(&m, &|_, _| {})?;
+    let last_stage = stage_index.last().copied().unwrap_or(0);
     if let Some(l) = &hist.limit {
-        return Err(Error::invalid(
-            "wear.stage_hours",
-            format!("{:?}", model.stage_hours),
-            format!(
-                "the nominal reducer leaves the wear model's validity at {:.0} h ({}); \
-                 end the stages before",
-                l.hours, l.reason
-            ),
-        ));
+        if hist.maps.len() <= last_stage {
+            return Err(Error::invalid(
+                "wear.stage_hours",
+                format!("{:?}", model.stage_hours),
+                format!(
+                    "the nominal reducer leaves the wear model's validity at {:.0} h ({}); \
+                     end the stages before",
+                    l.hours, l.reason
+                ),
+            ));
+        }
     }
+    // Beyond the validity limit there is no extension.
+    hours.truncate(hist.maps.len());
+    extension_index.retain(|&i| i < hours.len());
     let maps = hist
         .maps
         .iter()
@@ -135,6 +162,7 @@ pub fn shared_wear(model: &Model) -> Result<SharedWear> {
         hours,
         maps,
         stage_index,
+        extension_index,
     })
 }
 
@@ -269,7 +297,12 @@ pub fn run_sample(
                 Stop::Failed(e) => Error::numerical("accuracy life", e),
             })
         };
-        bracket_life(&model.life, &points, &wear.hours, &mut lookup)
+        let ext: Vec<f64> = wear
+            .extension_index
+            .iter()
+            .map(|&i| wear.hours[i])
+            .collect();
+        bracket_life(&model.life, &points, &wear.hours, &ext, &mut lookup)
             .ok()
             .flatten()
     };
@@ -288,22 +321,50 @@ fn bracket_life(
     th: &crate::config::LifeThresholds,
     points: &[AccuracyPoint],
     grid: &[f64],
+    extension: &[f64],
     at: &mut dyn FnMut(f64) -> Result<AccuracyPoint>,
 ) -> Result<Option<crate::life::AccuracyLife>> {
-    if !th.any() {
+    if !th.any() || points.is_empty() {
         return Ok(None);
     }
     let inside = |p: &AccuracyPoint| crate::life::margins(th, p).iter().all(|m| m.1 >= 0.0);
-    let Some(i) = points.iter().position(|p| !inside(p)) else {
-        return accuracy_life(th, points, |_| unreachable!("no crossing"));
+    let mut horizon_h = points.last().map_or(0.0, |p| p.hours);
+    let (pa, pb) = match points.iter().position(|p| !inside(p)) {
+        Some(0) => {
+            return accuracy_life(th, &points[..1], |_| unreachable!("crossed at the start"));
+        }
+        Some(i) => (points[i - 1], points[i]),
+        None => {
+            // Beyond the stages, at the shared maps' points there.
+            let mut lo = *points.last().expect("points is not empty");
+            let mut found = None;
+            for &h in extension {
+                let Ok(p) = at(h) else {
+                    break;
+                };
+                horizon_h = h;
+                if !inside(&p) {
+                    found = Some((lo, p));
+                    break;
+                }
+                lo = p;
+            }
+            match found {
+                Some(pair) => pair,
+                None => {
+                    return Ok(Some(crate::life::AccuracyLife {
+                        accuracy_life_h: None,
+                        limited_by: None,
+                        horizon_h,
+                    }))
+                }
+            }
+        }
     };
-    if i == 0 {
-        return accuracy_life(th, &points[..1], |_| unreachable!("crossed at the start"));
-    }
     let idx = |h: f64| grid.iter().position(|&x| x == h).unwrap_or(0);
-    let (mut a, mut b) = (idx(points[i - 1].hours), idx(points[i].hours));
-    let (mut pa, mut pb) = (points[i - 1], points[i]);
-    while b - a > 1 {
+    let (mut a, mut b) = (idx(pa.hours), idx(pb.hours));
+    let (mut pa, mut pb) = (pa, pb);
+    while b > a + 1 {
         let mid = (a + b) / 2;
         let pm = at(grid[mid])?;
         if inside(&pm) {
@@ -318,7 +379,7 @@ fn bracket_life(
     Ok(Some(crate::life::AccuracyLife {
         accuracy_life_h: Some(life.0),
         limited_by: Some(life.1),
-        horizon_h: points.last().map_or(0.0, |p| p.hours),
+        horizon_h,
     }))
 }
 
@@ -430,13 +491,14 @@ pub fn percentiles(records: &[SampleRecord], stage_hours: &[f64]) -> Vec<Percent
 pub struct LifeDistribution {
     /// Samples counted.
     pub n: usize,
-    /// Fraction whose life exceeds the last stage (censored).
+    /// Fraction whose life exceeds the horizon (censored: the last stage, or `life.max_hours`
+    /// beyond it, or where the wear model leaves its validity).
     pub censored_fraction: f64,
-    /// B10 life: the hours by which 10 % have left the spec, h (absent: fewer than 10 % by
-    /// the last stage).
+    /// B10 life: the hours by which 10 % have left the spec, h (absent: fewer than 10 % within
+    /// the horizon).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub b10_h: Option<f64>,
-    /// B50 (median) life, h (absent: fewer than half by the last stage).
+    /// B50 (median) life, h (absent: fewer than half within the horizon).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub b50_h: Option<f64>,
     /// How many samples each threshold limited.

@@ -19,8 +19,10 @@ fn model() -> Model {
 /// stages, is limited by lost motion, and the lost motion of the reducer worn for exactly
 /// that many hours (its own wear integration and analysis) equals the threshold to 1 % of the
 /// rise between the stages (the bisection stops at 0.5 % of the hours, the last bracket is
-/// interpolated linearly). A threshold beyond the last stage gives no life within the horizon;
-/// one below the unworn value a life of zero.
+/// interpolated linearly). A threshold above the last stage's value is found beyond it, the
+/// integration stepped on (to 2 % of the last rise: the wear there is integrated on the
+/// model's own update rule); one never reached gives no life within the horizon
+/// (`life.max_hours`); one below the unworn value a life of zero.
 #[test]
 fn accuracy_life_is_where_the_worn_reducer_reaches_the_threshold() {
     let mut m = model();
@@ -57,11 +59,42 @@ fn accuracy_life_is_where_the_worn_reducer_reaches_the_threshold() {
         (lm - limit).abs() < 0.01 * rise,
         "lost motion at the life ({h:.1} h): {lm} against the threshold {limit}"
     );
-    m.life.lost_motion_arcmin = Some(s.last().unwrap().lost_motion_arcmin * 1.1);
+    // Beyond the last stage the integration steps on (x 1.5): a threshold a little above the
+    // last stage's lost motion is crossed there, and the reducer worn that long has it.
+    let (p, q) = (&s[s.len() - 2], &s[s.len() - 1]);
+    let beyond = q.lost_motion_arcmin + 0.5 * (q.lost_motion_arcmin - p.lost_motion_arcmin);
+    m.life.lost_motion_arcmin = Some(beyond);
+    m.life.max_hours = Some(2.0 * q.hours);
+    let later = study_life(&m, &s, &study.wear.update_hours)
+        .unwrap()
+        .unwrap();
+    let h = later
+        .accuracy_life_h
+        .expect("crossed beyond the last stage");
+    assert!(h > q.hours && h <= 2.0 * q.hours, "life {h} h");
+    let mut at = m.clone();
+    at.stage_hours = vec![h];
+    let hist = rvlife::wear::integrate(&at, &|_, _| {}).unwrap();
+    let pr = m
+        .profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))
+        .unwrap();
+    let lm = rvlife::study::analyse_profile(&m, &pr, h)
+        .unwrap()
+        .summary
+        .lost_motion_arcmin;
+    let rise = q.lost_motion_arcmin - p.lost_motion_arcmin;
+    assert!(
+        (lm - beyond).abs() < 0.02 * rise,
+        "beyond: {lm} against {beyond} at {h:.0} h"
+    );
+    // Not crossed within the horizon.
+    m.life.lost_motion_arcmin = Some(q.lost_motion_arcmin * 1.1);
+    m.life.max_hours = Some(1.2 * q.hours);
     let none = study_life(&m, &s, &study.wear.update_hours)
         .unwrap()
         .unwrap();
     assert_eq!(none.accuracy_life_h, None);
+    assert_eq!(none.horizon_h, 1.2 * q.hours);
     m.life.lost_motion_arcmin = Some(s[0].lost_motion_arcmin * 0.9);
     let zero = study_life(&m, &s, &study.wear.update_hours)
         .unwrap()

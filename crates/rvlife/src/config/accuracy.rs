@@ -109,6 +109,10 @@ pub struct LifeConfig {
     /// Smallest torsional stiffness, N m/arcmin.
     #[serde(default)]
     pub torsional_stiffness_min_nm_per_arcmin: Option<f64>,
+    /// How far beyond the last stage the wear integration steps on to find the crossing, h
+    /// (default 10 x the last stage).
+    #[serde(default)]
+    pub max_hours: Option<f64>,
 }
 
 /// A validated distribution of one error about zero (SI: m or rad).
@@ -226,12 +230,17 @@ pub struct LifeThresholds {
     pub angular_te_arcmin: Option<f64>,
     /// Smallest torsional stiffness, N m/arcmin.
     pub torsional_stiffness_min_nm_per_arcmin: Option<f64>,
+    /// Horizon of the search beyond the last stage, h (`None`: 10 x the last stage).
+    pub max_hours: Option<f64>,
 }
 
 impl LifeThresholds {
     /// Whether any threshold is set.
     pub fn any(&self) -> bool {
-        *self != LifeThresholds::default()
+        self.lost_motion_arcmin.is_some()
+            || self.backlash_arcmin.is_some()
+            || self.angular_te_arcmin.is_some()
+            || self.torsional_stiffness_min_nm_per_arcmin.is_some()
     }
 }
 
@@ -518,6 +527,7 @@ impl LifeConfig {
                 1e9,
                 "N m/arcmin",
             )?,
+            max_hours: t("max_hours", self.max_hours, 1e7, "h")?,
         })
     }
 }
