@@ -215,6 +215,7 @@ fn bad_montecarlo_input_is_refused_with_its_key() {
         (&["--shard", "0/3"][..], "--shard"),
         (&["--shard", "/3"][..], "SLURM_ARRAY_TASK_ID"),
         (&["--samples", "0"][..], "--samples"),
+        (&["--samples", "1000000"][..], "work budget"),
         (
             &["--samples-per-mesh-cycle", "0"][..],
             "--samples-per-mesh-cycle",
