@@ -456,12 +456,7 @@ impl Reducer {
             let c0 = Vec2::new(q0[id], q0[id + 1]);
             let psi = q0[id + 2] + dq[id + 2];
             for k in 0..w.count {
-                let beta = std::f64::consts::TAU * k as f64 / w.count as f64;
-                let wk = Vec2::new(beta.cos(), beta.sin()) * w.circle_radius;
-                let dvec = rotation_difference(&wk, q0[Layout::OUT], dq[Layout::OUT])
-                    - rotation_difference(&wk, q0[id + 2], dq[id + 2])
-                    - c0
-                    - dc;
+                let (wk, dvec) = pin_in_hole(w, k, q0, dq, id, c0 + dc);
                 let len = dvec.norm();
                 let pen = len - (a + w.hole_clearance);
                 if pen <= 0.0 || len == 0.0 {
@@ -492,12 +487,7 @@ impl Reducer {
             e += 0.5 * b.disc_stiffness * x * x;
             let c0 = Vec2::new(q0[id], q0[id + 1]);
             for k in 0..w.count {
-                let beta = std::f64::consts::TAU * k as f64 / w.count as f64;
-                let wk = Vec2::new(beta.cos(), beta.sin()) * w.circle_radius;
-                let dvec = rotation_difference(&wk, q0[Layout::OUT], dq[Layout::OUT])
-                    - rotation_difference(&wk, q0[id + 2], dq[id + 2])
-                    - c0
-                    - dc;
+                let (_, dvec) = pin_in_hole(w, k, q0, dq, id, c0 + dc);
                 let pen = (dvec.norm() - (a + w.hole_clearance)).max(0.0);
                 e += 0.5 * w.stiffness * pen * pen;
             }
@@ -545,6 +535,26 @@ impl Reducer {
         }
         e
     }
+}
+
+/// Output pin `k` of `w` at carrier angle 0 (m), and its centre minus its hole's centre (m)
+/// at positions `q0 + dq` for the disc whose coordinates start at `id` and whose centre is at
+/// `centre`: of length `a` in the nominal kinematics (the disc turns with the output), formed
+/// from the deviations so that it keeps full precision.
+fn pin_in_hole(
+    w: &OutputPins,
+    k: usize,
+    q0: &[f64],
+    dq: &[f64],
+    id: usize,
+    centre: Vec2,
+) -> (Vec2, Vec2) {
+    let beta = std::f64::consts::TAU * k as f64 / w.count as f64;
+    let wk = Vec2::new(beta.cos(), beta.sin()) * w.circle_radius;
+    let d = rotation_difference(&wk, q0[Layout::OUT], dq[Layout::OUT])
+        - rotation_difference(&wk, q0[id + 2], dq[id + 2])
+        - centre;
+    (wk, d)
 }
 
 /// `R(a0 + da) v - R(a0) v`, accurate for small `da`: `R(a0) ((cos da - 1) v + sin da J v)`

@@ -207,6 +207,10 @@ pub struct TouchingPin {
     pub arm_rate: f64,
 }
 
+/// A pin that can stop the unloaded mechanism: `(disc, pin, linear estimate gap/m of its
+/// touching twist (rad), path parameter, mode lever m (m/rad))`.
+type Stopping = (usize, usize, f64, f64, f64);
+
 /// One pin at one pose.
 #[derive(Debug, Clone, Copy)]
 struct PinEval {
@@ -1062,24 +1066,14 @@ impl<'a> StaticAnalysis<'a> {
     pub fn first_contact(&self, phi: f64, direction: f64) -> Result<f64> {
         let s = if direction < 0.0 { -1.0 } else { 1.0 };
         let zp = self.red.geometry.pins;
-        let mut est: Vec<(usize, usize, f64, f64)> = Vec::with_capacity(2 * zp);
-        for d in 0..self.discs() {
-            let (pose, dc) = self.mode_pose(phi, d, 0.0);
-            for j in 0..zp {
-                let p = self.eval_pin(&pose, j, f64::NAN)?;
-                let m = Self::mode_lever(&p, dc);
-                if s * m > self.lever_floor() {
-                    est.push((d, j, p.gap / m, p.t));
-                }
-            }
-        }
+        let est = self.stopping_pins(phi, s)?;
         let lin_min = est.iter().map(|e| s * e.2).fold(f64::INFINITY, f64::min);
         if !lin_min.is_finite() {
             return Err(self.fail(phi, "no pin can stop the mechanism"));
         }
         let mut best = f64::INFINITY;
         for margin in [0.25 * lin_min.abs() + 1e-6, f64::INFINITY] {
-            for &(d, j, e, t) in &est {
+            for &(d, j, e, t, _) in &est {
                 if s * e - lin_min > margin {
                     continue;
                 }
@@ -1137,18 +1131,7 @@ impl<'a> StaticAnalysis<'a> {
         gap_reach: f64,
     ) -> Result<Vec<TouchingPin>> {
         let s = if direction < 0.0 { -1.0 } else { 1.0 };
-        let zp = self.red.geometry.pins;
-        let mut est = Vec::with_capacity(2 * zp);
-        for d in 0..self.discs() {
-            let (pose, dc) = self.mode_pose(phi, d, 0.0);
-            for j in 0..zp {
-                let p = self.eval_pin(&pose, j, f64::NAN)?;
-                let m = Self::mode_lever(&p, dc);
-                if s * m > self.lever_floor() {
-                    est.push((d, j, p.gap / m, p.t, m));
-                }
-            }
-        }
+        let est = self.stopping_pins(phi, s)?;
         let Some(&(_, _, e_best, _, m_best)) =
             est.iter().min_by(|a, b| (s * a.2).total_cmp(&(s * b.2)))
         else {
@@ -1240,6 +1223,24 @@ impl<'a> StaticAnalysis<'a> {
             pin_centres,
             pin_gap,
         })
+    }
+
+    /// The pins of every disc that can stop the unloaded mechanism turned in direction `s`
+    /// (+-1) at crank angle `phi` ([`Stopping`]).
+    fn stopping_pins(&self, phi: f64, s: f64) -> Result<Vec<Stopping>> {
+        let zp = self.red.geometry.pins;
+        let mut est = Vec::with_capacity(2 * zp);
+        for d in 0..self.discs() {
+            let (pose, dc) = self.mode_pose(phi, d, 0.0);
+            for j in 0..zp {
+                let p = self.eval_pin(&pose, j, f64::NAN)?;
+                let m = Self::mode_lever(&p, dc);
+                if s * m > self.lever_floor() {
+                    est.push((d, j, p.gap / m, p.t, m));
+                }
+            }
+        }
+        Ok(est)
     }
 
     /// Smallest mode lever (m/rad) of a pin that can stop the mechanism: `1e-9 Rp` (64 pm for
