@@ -314,9 +314,11 @@ fn print_montecarlo(model: &Model, records: &[rvlife::montecarlo::SampleRecord])
         let horizon = model.life.max_hours.unwrap_or(10.0 * last);
         let h = |v: Option<f64>| v.map_or(format!("> {horizon:.0} h"), |x| format!("{x:.0} h"));
         println!(
-            "accuracy life: B10 {}, B50 {}, {:.1} % beyond {horizon:.0} h; limited by {:?}",
+            "accuracy life: 5 % {}, B10 {}, B50 {}, 95 % {}; {:.1} % beyond {horizon:.0} h; limited by {:?}",
+            h(l.p5_h),
             h(l.b10_h),
             h(l.b50_h),
+            h(l.p95_h),
             100.0 * l.censored_fraction,
             l.limited_by
         );

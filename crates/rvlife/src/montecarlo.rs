@@ -501,6 +501,12 @@ pub struct LifeDistribution {
     /// B50 (median) life, h (absent: fewer than half within the horizon).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub b50_h: Option<f64>,
+    /// 5th percentile of the life, h (absent: fewer than 5 % within the horizon).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub p5_h: Option<f64>,
+    /// 95th percentile of the life, h (absent: fewer than 95 % within the horizon).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub p95_h: Option<f64>,
     /// How many samples each threshold limited.
     pub limited_by: std::collections::BTreeMap<String, usize>,
 }
@@ -537,6 +543,8 @@ pub fn life_distribution(records: &[SampleRecord]) -> LifeDistribution {
         },
         b10_h: q(0.1),
         b50_h: q(0.5),
+        p5_h: q(0.05),
+        p95_h: q(0.95),
         limited_by,
     }
 }
