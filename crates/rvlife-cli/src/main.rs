@@ -513,11 +513,14 @@ fn run(cli: Cli) -> Result<()> {
                 samples_per_mesh_cycle,
             )?;
             let last = model.stage_hours.last().copied().unwrap_or(0.0);
-            let beyond = if model.life.any() && last > 0.0 {
+            let (beyond, horizon) = if model.life.any() && last > 0.0 {
                 let max_h = model.life.max_hours.unwrap_or(10.0 * last);
-                ((max_h / last).ln() / 1.5f64.ln()).ceil().max(0.0) as usize
+                (
+                    ((max_h / last).ln() / 1.5f64.ln()).ceil().max(0.0) as usize,
+                    max_h / last,
+                )
             } else {
-                0
+                (0, 1.0)
             };
             rvlife::budget::check_montecarlo(
                 &model,
@@ -525,6 +528,7 @@ fn run(cli: Cli) -> Result<()> {
                 model.stage_hours.len() + beyond / 2,
                 plan.samples_per_mesh_cycle,
                 plan.full_wear,
+                horizon,
             )?;
             let staging = rvlife::report::Staging::prepare(&out, force)?;
             let pb = progress_bar(plan.indices().len() as u64);

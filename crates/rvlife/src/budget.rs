@@ -199,7 +199,7 @@ pub const MONTE_CARLO_SOLVES_PER_ANGLE: f64 = 20.0;
 /// `samples x points x per_cycle x` [`MONTE_CARLO_SOLVES_PER_ANGLE`], `points` the stages and
 /// half the points beyond them where the life is looked for; with `full_wear` each sample
 /// also integrates its own wear (the study's wear work, times the 8 mesh cycles of a reducer
-/// with errors).
+/// with errors, times `horizon`, the hours integrated over the last stage's).
 ///
 /// # Errors
 /// [`Error::Invalid`] naming `--samples` with the estimate and the budget.
@@ -209,10 +209,12 @@ pub fn check_montecarlo(
     points: usize,
     per_cycle: usize,
     full_wear: bool,
+    horizon: f64,
 ) -> Result<()> {
     let mut per_sample = points as f64 * per_cycle as f64 * MONTE_CARLO_SOLVES_PER_ANGLE;
     if full_wear {
-        per_sample += 8.0 * scheduled_updates(model) * per_rate_evaluation(model);
+        per_sample +=
+            8.0 * horizon.max(1.0) * scheduled_updates(model) * per_rate_evaluation(model);
     }
     let total = samples as f64 * per_sample;
     if total <= model.work_budget {
