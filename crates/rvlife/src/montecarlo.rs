@@ -222,6 +222,18 @@ fn accuracy_at(
     )
     .map_err(fail)?;
     let acc = mean.accuracy();
+    let values = [
+        acc.backlash,
+        acc.lost_motion,
+        acc.torsional_stiffness,
+        rev.angular_te(),
+    ];
+    if values.iter().any(|v| !v.is_finite()) {
+        return Err(Stop::Failed(format!(
+            "a non-finite accuracy quantity at {hours} h (backlash, lost motion, stiffness, \
+             angular TE: {values:?})"
+        )));
+    }
     Ok(AccuracyPoint {
         hours,
         max_wear_um: model.wear_depth(&profile) * 1e6,
@@ -283,7 +295,7 @@ pub fn run_sample(
     }
     // Bisection over the shared maps between the stages: `at` by hours maps to the nearest
     // map (the bisection's trial hours are the maps' own: the bracket halves over indices).
-    let life = if points.is_empty() {
+    let life = if points.is_empty() || status != "ok" {
         None
     } else {
         let mut lookup = |h: f64| -> Result<AccuracyPoint> {
@@ -366,7 +378,11 @@ fn bracket_life(
     let (mut pa, mut pb) = (pa, pb);
     while b > a + 1 {
         let mid = (a + b) / 2;
-        let pm = at(grid[mid])?;
+        // A map between that cannot be analysed: the crossing is interpolated on the bracket
+        // known so far.
+        let Ok(pm) = at(grid[mid]) else {
+            break;
+        };
         if inside(&pm) {
             a = mid;
             pa = pm;
@@ -440,6 +456,9 @@ pub fn quantile(v: &[f64], q: f64) -> f64 {
     }
     let h = (v.len() - 1) as f64 * q;
     let (lo, hi) = (h.floor() as usize, h.ceil() as usize);
+    if lo == hi {
+        return v[lo];
+    }
     v[lo] + (h - lo as f64) * (v[hi] - v[lo])
 }
 
@@ -743,7 +762,11 @@ pub fn write_results(dir: &Path, meta: &ShardMeta, records: &[SampleRecord]) -> 
     write(dir, "summary.json", &(json + "\n"))?;
     let plots = dir.join("plots");
     std::fs::create_dir_all(&plots).map_err(|e| Error::io(&plots, e))?;
-    let lives: Vec<f64> = records.iter().filter_map(|r| r.accuracy_life_h).collect();
+    let lives: Vec<f64> = records
+        .iter()
+        .filter(|r| r.status == "ok")
+        .filter_map(|r| r.accuracy_life_h)
+        .collect();
     if !lives.is_empty() {
         crate::plot::histogram(
             &plots,

@@ -69,7 +69,8 @@ fn resample_periodic(mut samples: Vec<(f64, f64)>, n: usize) -> Vec<f64> {
 }
 
 /// Mesh cycles of the output revolution whose wear is averaged for a reducer with part errors
-/// (spread evenly over the revolution; the nominal reducer needs one).
+/// or a single-stage drive (spread evenly over the revolution; the nominal RV reducer needs
+/// one).
 pub const REVOLUTION_POSITIONS: usize = 8;
 
 /// Wear depth per mesh cycle (m) on the wear-map grid, for the output torque `torque` (N m),
@@ -95,7 +96,10 @@ pub fn wear_per_mesh_cycle(profile: &Profile, model: &Model, torque: f64) -> Res
     // same crank angles half a crank revolution later): disc 1 over one mesh cycle. With part
     // errors every mesh cycle differs while every tooth meets every pin: the mean over
     // `REVOLUTION_POSITIONS` mesh cycles spread over the output revolution, and over the discs.
-    let errors = !model.reducer.errors.is_zero();
+    // A single-stage drive repeats only where the output pins' pattern does (and its discs
+    // may be unevenly phased): it is averaged like a reducer with errors.
+    let errors = !model.reducer.errors.is_zero()
+        || matches!(model.reducer.drive, crate::reducer::Drive::SingleStage(_));
     let positions = if errors { REVOLUTION_POSITIONS } else { 1 };
     let cycles = (zp * zc) as usize;
     let mut solutions = Vec::with_capacity(positions * steps);

@@ -9,9 +9,10 @@ fn config_text(discs: usize, equidistant_mm: f64) -> String {
         .unwrap()
         .replace("discs = 2 ", &format!("discs = {discs} "))
         .replace(
-            "equidistant_mm = 0.0 ",
-            &format!("equidistant_mm = {equidistant_mm} "),
+            "equidistant_mm = 0.008  # (preset)",
+            &format!("equidistant_mm = {equidistant_mm}"),
         )
+        .replace("offset_mm = -0.005  # (preset)", "offset_mm = 0.0")
 }
 
 fn model(discs: usize, equidistant_mm: f64) -> Model {

@@ -134,7 +134,11 @@ impl Tolerance {
             Tolerance::Uniform(l) if l > 0.0 => Uniform::new_inclusive(-l, l)
                 .expect("validated: finite positive limit")
                 .sample(rng),
-            _ => 0.0,
+            _ => {
+                // Zero width: one draw, like a tolerance left out.
+                let _: f64 = rng.random();
+                0.0
+            }
         }
     }
 }
@@ -172,8 +176,10 @@ impl Tolerances {
     /// plus the sampled modification errors), for `pins` pins and `cranks` cranks. The draws
     /// are made in a fixed order (pins radial, tangential, radius; run-out magnitude and
     /// direction; crank eccentricities, phases; equidistant, offset, rotation), each list
-    /// drawn whether or not its tolerance is given (zero then), so that adding one tolerance
-    /// does not reshuffle the others.
+    /// drawn whether or not its tolerance is given (zero then, from one uniform draw). A
+    /// normal draw may take more than one number from the stream (rand_distr's ziggurat
+    /// rejects a few per cent), so adding or changing a tolerance does change the later draws:
+    /// compare batches by their statistics, not sample by sample.
     pub fn sample<R: Rng + ?Sized>(
         &self,
         rng: &mut R,

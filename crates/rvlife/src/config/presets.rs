@@ -91,10 +91,13 @@ pub const PRESETS: &[Preset] = &[
         summary: "single-stage cycloid drive, estimated: the paper's cycloid stage with the \
                   input on the eccentric shaft (ratio 39), two discs 180 deg apart, output by 8 \
                   pins in holes on the 40.5 mm circle (pin radius 8 mm), rated torque taken as \
-                  the RV's 412 N m (same discs and pins); no multibody or FE model",
+                  the RV's 412 N m (same discs and pins); modifications 8 um equidistant and \
+                  -5 um offset (estimated assembly play); no multibody or FE model",
         edits: &[
             ("dynamics", "enabled", "false"),
             ("fem", "enabled", "false"),
+            ("cycloid.modification", "equidistant_mm", "0.008"),
+            ("cycloid.modification", "offset_mm", "-0.005"),
         ],
     },
 ];

@@ -186,7 +186,7 @@ impl StaticSolution {
 /// One pin at the pose where it first touches (see [`StaticAnalysis::touching_pins`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TouchingPin {
-    /// Disc index (0 or 1).
+    /// Disc index (from 0).
     pub disc: usize,
     /// Pin index.
     pub pin: usize,
