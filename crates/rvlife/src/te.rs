@@ -117,12 +117,9 @@ impl StaticTe {
 pub fn static_te(red: &Reducer, profile: &Profile, samples: usize) -> Result<StaticTe> {
     let phis = mesh_cycle_angles(red.geometry.pins, samples);
     let sa = StaticAnalysis::new(red, profile)?;
-    let pairs: Vec<(f64, f64)> = phis
-        .par_iter()
-        .map(|&phi| Ok((sa.first_contact(phi, 1.0)?, sa.first_contact(phi, -1.0)?)))
-        .collect::<Result<_>>()?;
-    let forward: Vec<f64> = pairs.iter().map(|p| p.0).collect();
-    let reverse: Vec<f64> = pairs.iter().map(|p| -p.1).collect();
+    let StaticTe {
+        forward, reverse, ..
+    } = static_te_with(&sa, &phis)?;
     if let Some(k) = (0..samples).find(|&k| forward[k] + reverse[k] < -1e-9) {
         return Err(Error::invalid(
             "cycloid.modification",
