@@ -146,6 +146,9 @@ pub struct DiscModel {
     /// Compliance between stations, m/N: `(tooth a, station i) x (tooth b, station k)`, row-major
     /// over `Zc * stations_per_flank` entries.
     pub compliance: Vec<f64>,
+    /// Reduced loads of the stations (`(equation, N)` pairs of a unit pin force), in the
+    /// order of the compliance matrix's rows.
+    pub station_loads: Vec<Vec<(usize, f64)>>,
     /// Arc-length table of the driving flank: `t` and `s` (m).
     arc_t: Vec<f64>,
     arc_s: Vec<f64>,
@@ -200,6 +203,7 @@ impl DiscModel {
             params: params.clone(),
             station_t,
             compliance: Vec::new(),
+            station_loads: Vec::new(),
             arc_t,
             arc_s,
             teeth,
@@ -217,6 +221,7 @@ impl DiscModel {
             })
             .collect();
         model.compliance = condense(&model.fe, &loads);
+        model.station_loads = loads;
         let t3 = std::time::Instant::now();
         model.timings = [
             (t1 - t0).as_secs_f64(),
@@ -256,7 +261,7 @@ impl DiscModel {
 
     /// Station index and Catmull-Rom weights of a contact at profile parameter `t` (rad): up to
     /// four `(global station, weight)` pairs. Parameters off the driving flank clamp to its ends.
-    fn weights(&self, t: f64) -> [(usize, f64); 4] {
+    pub fn weights(&self, t: f64) -> [(usize, f64); 4] {
         let m = self.params.stations_per_flank;
         let tooth = (t / TAU).floor().rem_euclid(self.teeth as f64) as usize;
         let local = t.rem_euclid(TAU);
