@@ -145,6 +145,10 @@ enum Command {
         /// Print the summary as one JSON object.
         #[arg(long)]
         json: bool,
+        /// The discs, overriding `[dynamics] disc`: rigid, or the FE disc of `[fem]` modally
+        /// reduced (`[dynamics.flexible]`).
+        #[arg(long, value_parser = ["rigid", "flexible"])]
+        disc: Option<String>,
         #[command(flatten)]
         wear: WearArgs,
     },
@@ -970,11 +974,15 @@ fn run(cli: Cli) -> Result<()> {
             force,
             pin_forces,
             json,
+            disc,
             wear,
         } => {
             let mut cfg = load_config(config.as_deref(), budget)?;
             // This command uses [dynamics]: it is checked (and its load) as if enabled.
             cfg.dynamics.enabled = true;
+            if let Some(d) = disc {
+                cfg.dynamics.disc = d;
+            }
             if let Some(kind) = load {
                 cfg.dynamics.load.kind = kind;
             }
@@ -1010,7 +1018,13 @@ fn run(cli: Cli) -> Result<()> {
             let profile = profile_for(&model, &wear, false)?;
             let start = std::time::Instant::now();
             let pb = busy("simulating");
-            let res = rvlife::reducer::dynamics::simulate(&profile, &model.dynamics, pin_forces);
+            let res = rvlife::reducer::dynamics::simulate_discs(
+                &profile,
+                &model.dynamics,
+                &model.fem,
+                None,
+                pin_forces,
+            );
             pb.finish_and_clear();
             let res = res?;
             let wall = start.elapsed().as_secs_f64();
@@ -1037,6 +1051,9 @@ fn run(cli: Cli) -> Result<()> {
                     s.rhs_evaluations,
                     wall
                 );
+                if s.disc_modes > 0 {
+                    println!("flexible discs: {} elastic modes each", s.disc_modes);
+                }
                 if let Some(dir) = &out {
                     println!("results in {}", dir.display());
                 }

@@ -21,7 +21,7 @@ use crate::fem::flex::{analyse_stage, FlexibleStage};
 use crate::fem::mesh::Mesh;
 use crate::fem::DiscModel;
 use crate::geometry::{Profile, WearMap};
-use crate::reducer::dynamics::{simulate, DynamicsSummary};
+use crate::reducer::dynamics::{simulate_discs, DynamicsSummary};
 use crate::reducer::statics::StaticAnalysis;
 use crate::te::{
     hysteresis_with, loaded_te_with, mesh_cycle_angles, revolution, CurveStats, LoadedTe, StaticTe,
@@ -452,35 +452,62 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
             ),
         ));
     }
-    if model.dynamics_enabled {
+    if model.dynamics_enabled || model.fem_enabled {
+        // Per stage, in parallel: the FE disc (when the flexible disc or flexible dynamics
+        // need it, built once), the multibody simulation and the flexible analysis.
         let done = AtomicUsize::new(wear_total + n_stages);
-        let results: Vec<DynamicsSummary> = stages
+        let flexible_dynamics = model.dynamics_enabled && model.dynamics.flexible.is_some();
+        type StageRow = (Option<DynamicsSummary>, Option<(FlexibleStage, Mesh)>);
+        let results: Vec<StageRow> = stages
             .par_iter()
-            .map(|st| {
-                let r = simulate(&st.profile, &model.dynamics, false)?;
-                progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
-                Ok(r.summary)
+            .map(|st| -> Result<StageRow> {
+                let disc = if model.fem_enabled || flexible_dynamics {
+                    Some(DiscModel::build(&st.profile, &model.fem)?)
+                } else {
+                    None
+                };
+                let (dynamics, flexible) = rayon::join(
+                    || -> Result<Option<DynamicsSummary>> {
+                        if !model.dynamics_enabled {
+                            return Ok(None);
+                        }
+                        let r = simulate_discs(
+                            &st.profile,
+                            &model.dynamics,
+                            &model.fem,
+                            disc.as_ref(),
+                            false,
+                        )?;
+                        progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
+                        Ok(Some(r.summary))
+                    },
+                    || -> Result<Option<FlexibleStage>> {
+                        let (true, Some(disc)) = (model.fem_enabled, disc.as_ref()) else {
+                            return Ok(None);
+                        };
+                        let fl =
+                            analyse_stage(&st.profile, &model.reducer, disc, model.rated_torque)?;
+                        progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
+                        Ok(Some(fl))
+                    },
+                );
+                let flexible = flexible?;
+                let mesh = disc.map(|d| d.fe.mesh);
+                Ok((dynamics?, flexible.zip(mesh)))
             })
             .collect::<Result<_>>()?;
-        for (st, d) in stages.iter_mut().zip(results) {
-            st.summary.dte_mean_arcmin = Some(d.te_mean_arcmin);
-            st.summary.dte_peak_to_peak_arcmin = Some(d.te_peak_to_peak_arcmin);
-            st.summary.dte_rms_arcmin = Some(d.te_rms_arcmin);
-            st.summary.dte_range_arcmin = Some([d.te_min_arcmin, d.te_max_arcmin]);
-            st.dynamics = Some(d);
+        let mut flex_rows = Vec::new();
+        for (st, (dynamics, flexible)) in stages.iter_mut().zip(results) {
+            if let Some(d) = dynamics {
+                st.summary.dte_mean_arcmin = Some(d.te_mean_arcmin);
+                st.summary.dte_peak_to_peak_arcmin = Some(d.te_peak_to_peak_arcmin);
+                st.summary.dte_rms_arcmin = Some(d.te_rms_arcmin);
+                st.summary.dte_range_arcmin = Some([d.te_min_arcmin, d.te_max_arcmin]);
+                st.dynamics = Some(d);
+            }
+            flex_rows.push(flexible);
         }
-    }
-    if model.fem_enabled {
-        let done = AtomicUsize::new(wear_total + n_stages + dyn_total);
-        let results: Vec<(FlexibleStage, Mesh)> = stages
-            .par_iter()
-            .map(|st| {
-                let disc = DiscModel::build(&st.profile, &model.fem)?;
-                let fl = analyse_stage(&st.profile, &model.reducer, &disc, model.rated_torque)?;
-                progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
-                Ok((fl, disc.fe.mesh))
-            })
-            .collect::<Result<_>>()?;
+        let results: Vec<(FlexibleStage, Mesh)> = flex_rows.into_iter().flatten().collect();
         for (st, (fl, mesh)) in stages.iter_mut().zip(results) {
             let ste = CurveStats::of(&fl.flexible_ste);
             let loaded = CurveStats::of(&fl.flexible_loaded_te);

@@ -16,6 +16,7 @@ use crate::geometry::Profile;
 use crate::reducer::dynamics::params::{
     disc_inertia, Drive, DynamicsParams, Impact, ImpactLaw, Inertias, LoadProfile,
 };
+use crate::reducer::dynamics::ModalSettings;
 use crate::reducer::Reducer;
 
 /// `[dynamics]`.
@@ -52,6 +53,53 @@ pub struct DynamicsConfig {
     /// Densities, sizes and overrides of the inertias.
     #[serde(default)]
     pub inertia: InertiaConfig,
+    /// The discs: `"rigid"` (the default) or `"flexible"` (the FE disc of `[fem]`, modally
+    /// reduced, [`crate::fem::modal`]).
+    #[serde(default = "d_disc")]
+    pub disc: String,
+    /// Modal reduction of the flexible disc.
+    #[serde(default)]
+    pub flexible: FlexibleConfig,
+}
+
+fn d_disc() -> String {
+    "rigid".into()
+}
+
+/// `[dynamics.flexible]`: the modal reduction of the flexible disc.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FlexibleConfig {
+    /// Cut-off frequency, kHz: every fixed-interface mode of the disc (bores held) below it is
+    /// kept; the rest enter through their residual flexibility.
+    #[serde(default = "d_cutoff")]
+    pub cutoff_khz: f64,
+    /// Modal damping ratio of every mode (structural steel, 0.5-2 %).
+    #[serde(default = "d_modal_zeta")]
+    pub damping_ratio: f64,
+    /// Largest number of modes per disc.
+    #[serde(default = "d_max_modes")]
+    pub max_modes: i64,
+}
+
+fn d_cutoff() -> f64 {
+    60.0
+}
+fn d_modal_zeta() -> f64 {
+    0.02
+}
+fn d_max_modes() -> i64 {
+    128
+}
+
+impl Default for FlexibleConfig {
+    fn default() -> Self {
+        FlexibleConfig {
+            cutoff_khz: d_cutoff(),
+            damping_ratio: d_modal_zeta(),
+            max_modes: d_max_modes(),
+        }
+    }
 }
 
 fn d_end() -> f64 {
@@ -83,6 +131,8 @@ impl Default for DynamicsConfig {
             load: Default::default(),
             impact: Default::default(),
             inertia: Default::default(),
+            disc: d_disc(),
+            flexible: Default::default(),
         }
     }
 }
@@ -678,7 +728,49 @@ impl DynamicsConfig {
             }
         };
         let load = self.load.validate(rated_torque, end_time, base_dir)?;
+        let flexible = match self.disc.as_str() {
+            "rigid" => None,
+            "flexible" => {
+                if !matches!(impact.law, ImpactLaw::Hertz) {
+                    return Err(Error::invalid(
+                        "dynamics.impact.stiffness_n_per_m_e",
+                        format!("{:?}", self.impact.stiffness_n_per_m_e),
+                        "must be left out with disc = \"flexible\": the flexible disc uses the \
+                         [contact] law with its disc term cut at the load patch (the FE body \
+                         supplies the rest)",
+                    ));
+                }
+                let fc = &self.flexible;
+                let max_modes = fc.max_modes;
+                if !(1..=1000).contains(&max_modes) {
+                    return Err(Error::invalid(
+                        "dynamics.flexible.max_modes",
+                        max_modes,
+                        "must be a whole number from 1 to 1000",
+                    ));
+                }
+                Some(ModalSettings {
+                    cutoff_hz: positive("flexible.cutoff_khz", fc.cutoff_khz, 1e4, "kHz")? * 1e3,
+                    damping_ratio: non_negative(
+                        "flexible.damping_ratio",
+                        fc.damping_ratio,
+                        1.0,
+                        "",
+                    )?,
+                    max_modes: max_modes as usize,
+                    density: self.inertia.disc_density_kg_m3,
+                })
+            }
+            other => {
+                return Err(Error::invalid(
+                    "dynamics.disc",
+                    format!("\"{other}\""),
+                    "must be \"rigid\" or \"flexible\"",
+                ))
+            }
+        };
         Ok(DynamicsParams {
+            flexible,
             reducer: red,
             contact: impact,
             inertia,

@@ -851,8 +851,11 @@ impl Config {
             .inertia
             .crank_bore_radius_mm
             .unwrap_or(default_bore);
+        // The flexible disc of the dynamics reads `[fem]` (its mesh and holes).
+        let fem_read =
+            self.fem.enabled || (self.dynamics.enabled && self.dynamics.disc == "flexible");
         let fem = match fem_of(&self.fem, bore) {
-            Err(e) if self.fem.enabled => return Err(e),
+            Err(e) if fem_read => return Err(e),
             Err(e) => fem_of(&FemConfig::default(), default_bore).map_err(|_| e)?,
             Ok(f) => f,
         };

@@ -23,6 +23,7 @@
 
 pub mod flex;
 pub mod mesh;
+pub mod modal;
 pub mod plane;
 
 use std::f64::consts::{PI, TAU};

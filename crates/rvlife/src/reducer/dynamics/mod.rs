@@ -30,9 +30,12 @@ pub mod system;
 use serde::Serialize;
 
 use crate::error::{Error, Result};
+use crate::fem::modal::ModalDisc;
+use crate::fem::{DiscModel, FemParams};
 use crate::geometry::Profile;
 use crate::te::ARCMIN_PER_RAD;
 
+pub use crate::fem::modal::ModalSettings;
 pub use gap::{Band, GapField};
 pub use params::DynamicsParams;
 pub use system::{PinForce, System};
@@ -89,6 +92,10 @@ pub struct DynamicsSummary {
     pub steps: usize,
     /// Right-hand-side evaluations.
     pub rhs_evaluations: usize,
+    /// Elastic modes per disc (0: rigid discs).
+    pub disc_modes: usize,
+    /// Natural frequencies of the flexible disc's modes (bores held), Hz.
+    pub disc_mode_frequencies_hz: Vec<f64>,
 }
 
 /// Result of one simulation.
@@ -118,12 +125,59 @@ pub fn simulate(
     params: &DynamicsParams,
     pin_forces: bool,
 ) -> Result<DynamicsResult> {
+    simulate_with(profile, params, None, pin_forces)
+}
+
+/// [`simulate_with`] with the discs that `params.flexible` asks for: rigid, or the FE disc of
+/// `fem` (mesh and holes of `[fem]`) on `profile`, modally reduced ([`ModalDisc::build`]).
+/// `disc` reuses an FE disc already built on `profile` with `fem`.
+///
+/// # Errors
+/// As [`simulate_with`], and the FE model's and the modal reduction's errors.
+pub fn simulate_discs(
+    profile: &Profile,
+    params: &DynamicsParams,
+    fem: &FemParams,
+    disc: Option<&DiscModel>,
+    pin_forces: bool,
+) -> Result<DynamicsResult> {
+    let Some(settings) = &params.flexible else {
+        return simulate_with(profile, params, None, pin_forces);
+    };
+    let built;
+    let disc = match disc {
+        Some(d) => d,
+        None => {
+            built = DiscModel::build(profile, fem)?;
+            &built
+        }
+    };
+    let modal = ModalDisc::build(disc, settings)?;
+    simulate_with(profile, params, Some(&modal), pin_forces)
+}
+
+/// [`simulate`] with rigid discs (`modal` = `None`) or with flexible discs: both discs the
+/// modal FE disc `modal` (fixed-interface modes and residual flexibility at the load stations,
+/// [`crate::fem::modal`]) of the same profile, each at its own contact parameters.
+///
+/// # Errors
+/// As [`simulate`]; [`Error::Invalid`] if the disc inertia is below the modes' effective mass;
+/// [`Error::Numerical`] also if a flexible contact problem fails to converge.
+pub fn simulate_with(
+    profile: &Profile,
+    params: &DynamicsParams,
+    modal: Option<&ModalDisc>,
+    pin_forces: bool,
+) -> Result<DynamicsResult> {
     let field = GapField::new(
         profile,
         params.gap_points,
         Some(params.reducer.contact_band()),
     )?;
-    let sys = System::new(params, [&field, &field]);
+    let sys = match modal {
+        Some(md) => System::flexible(params, [&field, &field], md)?,
+        None => System::new(params, [&field, &field]),
+    };
     let zp = params.reducer.geometry.pins;
     let n_out = (params.end_time / params.output_interval).round() as usize;
     let times: Vec<f64> = (0..=n_out)
@@ -174,6 +228,11 @@ pub fn simulate(
     })?;
     let mut summary = summarize(&samples, params, stats);
     summary.max_wear_um = profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6;
+    summary.disc_modes = sys.modes();
+    if let Some(md) = modal {
+        summary.disc_mode_frequencies_hz =
+            md.omega.iter().map(|w| w / std::f64::consts::TAU).collect();
+    }
     Ok(DynamicsResult {
         samples,
         pin_forces: forces_out,
@@ -220,5 +279,7 @@ fn summarize(samples: &[Sample], p: &DynamicsParams, stats: ode::Stats) -> Dynam
         max_pin_force_n: win.iter().map(|s| s.max_pin_force_n).fold(0.0, f64::max),
         steps: stats.steps,
         rhs_evaluations: stats.rhs_evaluations,
+        disc_modes: 0,
+        disc_mode_frequencies_hz: Vec::new(),
     }
 }

@@ -192,6 +192,8 @@ pub struct DynamicsParams {
     pub gap_points: usize,
     /// Reference pin force (Li's largest force at the rated torque), N.
     pub reference_force: f64,
+    /// Flexible discs: the modal reduction of the FE disc (`None`: rigid discs).
+    pub flexible: Option<crate::fem::modal::ModalSettings>,
 }
 
 /// Mass (kg) and polar inertia about the centre (kg m^2) of the disc: the profile polygon

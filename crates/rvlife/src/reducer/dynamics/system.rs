@@ -27,6 +27,10 @@
 use std::cell::RefCell;
 use std::f64::consts::PI;
 
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+
+use crate::fem::flex::FlexibleLaw;
+use crate::fem::modal::ModalDisc;
 use crate::geometry::{cross, rotate, Vec2};
 
 use super::gap::GapField;
@@ -106,6 +110,34 @@ pub struct System<'a> {
     /// Last contact force of every pin (disc-major), N: the warm start of the contact law's
     /// inversion.
     f_cache: RefCell<Vec<f64>>,
+    /// The flexible disc (both discs use it at their own contact parameters), if any.
+    flex: Option<Flexible<'a>>,
+}
+
+/// The flexible-disc data of a [`System`]: the modal disc, its contact law and the inverse of
+/// each disc's rigid mass less the modes' effective mass.
+struct Flexible<'a> {
+    modal: &'a ModalDisc<'a>,
+    law: FlexibleLaw,
+    /// `(M_r - L^T L)^-1` in the disc frame (`x, y, rotation`).
+    schur_inv: Matrix3<f64>,
+    /// Largest station compliance, m/N (bounds the body deflection at open pins).
+    max_compliance: f64,
+    /// Largest station amplitude of every mode, m kg^-1/2 (bounds the modal displacement).
+    max_amplitude: Vec<f64>,
+}
+
+/// One pin that may touch a flexible disc.
+struct FlexPin {
+    j: usize,
+    t: f64,
+    gap: f64,
+    modal: f64,
+    modal_rate: f64,
+    rel: Vec2,
+    w: Vec2,
+    curvature: f64,
+    gap_dot: f64,
 }
 
 impl<'a> System<'a> {
@@ -143,7 +175,74 @@ impl<'a> System<'a> {
             zp: geo.pins,
             t_cache: RefCell::new(vec![f64::NAN; 2 * geo.pins]),
             f_cache: RefCell::new(vec![0.0; 2 * geo.pins]),
+            flex: None,
         }
+    }
+
+    /// Assembles the system with flexible discs: both discs are `modal` (the fixed-interface
+    /// modes and residual flexibility of the FE disc, [`crate::fem::modal`]) at their own
+    /// contact parameters, the contact's local approach from [`FlexibleLaw`] (the Hertz law
+    /// with its disc term cut at the load patch, the FE body supplying the rest), as in the
+    /// quasi-static flexible analysis ([`crate::fem::flex::solve_flexible_bearings`]).
+    ///
+    /// # Errors
+    /// [`crate::error::Error::Invalid`] if the disc mass and inertia of `p.inertia` are below
+    /// the modes' effective mass (the rigid-body mass of the flexible disc must stay positive
+    /// definite).
+    pub fn flexible(
+        p: &'a DynamicsParams,
+        gaps: [&'a GapField; 2],
+        modal: &'a ModalDisc<'a>,
+    ) -> crate::error::Result<Self> {
+        let mut sys = System::new(p, gaps);
+        let m = modal.modes();
+        let mr = Matrix3::from_diagonal(&Vector3::new(
+            p.inertia.disc_mass,
+            p.inertia.disc_mass,
+            p.inertia.disc,
+        ));
+        let mut ll = Matrix3::zeros();
+        for l in &modal.participation {
+            let v = Vector3::from(*l);
+            ll += v * v.transpose();
+        }
+        let schur = mr - ll;
+        let schur_inv = schur.cholesky().map(|c| c.inverse()).ok_or_else(|| {
+            crate::error::Error::invalid(
+                "dynamics.inertia.disc_density_kg_m3",
+                p.inertia.disc_mass,
+                format!(
+                    "the disc mass (kg) and inertia must exceed the effective mass of its {m} \
+                         elastic modes"
+                ),
+            )
+        })?;
+        let ns = modal.disc.stations();
+        let max_compliance = (0..ns)
+            .map(|g| modal.disc.compliance[g * ns + g])
+            .fold(0.0, f64::max);
+        sys.flex = Some(Flexible {
+            modal,
+            law: FlexibleLaw {
+                model: p.reducer.contact,
+                patch: modal.disc.params.patch,
+            },
+            schur_inv,
+            max_compliance,
+            max_amplitude: (0..m)
+                .map(|i| {
+                    (0..ns)
+                        .map(|g| modal.station_modes[g * m + i].abs())
+                        .fold(0.0, f64::max)
+                })
+                .collect(),
+        });
+        Ok(sys)
+    }
+
+    /// Modes per disc (0 for rigid discs).
+    pub fn modes(&self) -> usize {
+        self.flex.as_ref().map_or(0, |f| f.modal.modes())
     }
 
     /// The coordinate layout.
@@ -151,9 +250,10 @@ impl<'a> System<'a> {
         self.layout
     }
 
-    /// Number of states (`2 x dofs`).
+    /// Number of states: `2 x dofs`, then for flexible discs the modal coordinates of disc 1
+    /// and 2 (`modes` each), then their rates.
     pub fn states(&self) -> usize {
-        2 * self.layout.dofs()
+        2 * self.layout.dofs() + 4 * self.modes()
     }
 
     /// Prescribed input angle (rad) and speed (rad/s) at time `t` for a speed drive.
@@ -180,7 +280,7 @@ impl<'a> System<'a> {
     /// touches every pin with zero force.
     pub fn initial_state(&self) -> Vec<f64> {
         let n = self.layout.dofs();
-        let mut z = vec![0.0; 2 * n];
+        let mut z = vec![0.0; self.states()];
         if let Drive::Torque { initial_speed, .. } = self.p.drive {
             z[n + Layout::SUN] = initial_speed;
         }
@@ -224,7 +324,9 @@ impl<'a> System<'a> {
         let prescribed = self.absolute(t, z, &mut k);
         let (q, qd, mut qdd) = (k.q, k.qd, k.qdd);
         let mut g = [0.0; MAX_DOFS];
-        self.forces(t, &k, &mut g[..n], forces);
+        let m = self.modes();
+        let mut modal_force = vec![0.0; 2 * m];
+        self.forces(t, z, &k, &mut g[..n], &mut modal_force, forces);
         let a_s = match prescribed {
             Some(a) => a,
             None => {
@@ -245,10 +347,51 @@ impl<'a> System<'a> {
             dz[i] = z[n + i];
             dz[n + i] = g[i] * self.inv_mass[i] - qdd[i];
         }
+        if let Some(fl) = &self.flex {
+            let om = &fl.modal.omega;
+            let zeta = fl.modal.damping_ratio;
+            let (eta0, rate0) = (2 * n, 2 * n + 2 * m);
+            for d in 0..2 {
+                let id = self.layout.disc(d);
+                let ang = q[id + 2] + self.chi[d];
+                // Disc-frame generalised forces on the rigid body.
+                let fb = rotate(&Vec2::new(g[id], g[id + 1]), -ang);
+                let qb = Vector3::new(fb.x, fb.y, g[id + 2]);
+                // Modal forces less the modal stiffness and damping.
+                let f_eta: Vec<f64> = (0..m)
+                    .map(|i| {
+                        let (eta, rate) = (z[eta0 + d * m + i], z[rate0 + d * m + i]);
+                        modal_force[d * m + i] - 2.0 * zeta * om[i] * rate - om[i] * om[i] * eta
+                    })
+                    .collect();
+                let mut rhs = qb;
+                for (l, f) in fl.modal.participation.iter().zip(&f_eta) {
+                    rhs -= Vector3::from(*l) * *f;
+                }
+                let acc = fl.schur_inv * rhs;
+                for i in 0..m {
+                    let l = Vector3::from(fl.modal.participation[i]);
+                    dz[eta0 + d * m + i] = z[rate0 + d * m + i];
+                    dz[rate0 + d * m + i] = f_eta[i] - l.dot(&acc);
+                }
+                let a_abs = rotate(&Vec2::new(acc.x, acc.y), ang);
+                dz[n + id] = a_abs.x - qdd[id];
+                dz[n + id + 1] = a_abs.y - qdd[id + 1];
+                dz[n + id + 2] = acc.z - qdd[id + 2];
+            }
+        }
     }
 
     /// Generalised forces `Q` (N or N m per coordinate) at the positions and speeds `k`.
-    fn forces(&self, t: f64, k: &Kinematics, g: &mut [f64], mut pin_out: Option<&mut [PinForce]>) {
+    fn forces(
+        &self,
+        t: f64,
+        z: &[f64],
+        k: &Kinematics,
+        g: &mut [f64],
+        modal_force: &mut [f64],
+        mut pin_out: Option<&mut [PinForce]>,
+    ) {
         let p = self.p;
         let lay = self.layout;
         let n = lay.dofs();
@@ -262,6 +405,13 @@ impl<'a> System<'a> {
         let ct = &p.contact;
         let mut cache = self.t_cache.borrow_mut();
         let mut fcache = self.f_cache.borrow_mut();
+        if let Some(fl) = &self.flex {
+            drop((cache, fcache));
+            for d in 0..2 {
+                self.flexible_contacts(fl, d, z, k, g, modal_force, pin_out.as_deref_mut());
+            }
+            return;
+        }
         for d in 0..2 {
             let id = lay.disc(d);
             let c = Vec2::new(q[id], q[id + 1]);
@@ -301,21 +451,7 @@ impl<'a> System<'a> {
                 let fnorm = (elastic
                     - step(pen, 0.0, 0.0, ct.penetration, ct.max_damping) * gap_dot)
                     .max(0.0);
-                // Q = F d(gap)/dx: d gap/dc = -w, d gap/dpsi = -(p - c) x w.
-                g[id] -= fnorm * w.x;
-                g[id + 1] -= fnorm * w.y;
-                g[id + 2] -= fnorm * cross(&rel, &w);
-                if ct.friction > 0.0 {
-                    let wn = w / w.norm();
-                    let tau = perp(wn);
-                    let xc = rel - wn * p.reducer.geometry.pin_radius;
-                    let v = cd + perp(xc) * wpsi;
-                    let vt = v.dot(&tau);
-                    let ff = tau * (-ct.friction * fnorm * (vt / ct.friction_velocity).tanh());
-                    g[id] += ff.x;
-                    g[id + 1] += ff.y;
-                    g[id + 2] += cross(&xc, &ff);
-                }
+                self.apply_pin_force(g, id, fnorm, rel, w, cd, wpsi);
                 if let Some(out) = pin_out.as_deref_mut() {
                     // The force vector is `F w`; `|w|` (the gap field's gradient) departs
                     // from 1 by up to a few per cent where the band-averaged field meets a
@@ -329,9 +465,227 @@ impl<'a> System<'a> {
         }
     }
 
+    /// Adds the generalised forces of a pin force `fnorm w` (N; `w` the gap's gradient in the
+    /// fixed frame, `rel` the pin centre relative to the disc centre, m) on the disc whose
+    /// coordinates start at `id` (speed `cd`, m/s, and `wpsi`, rad/s), with the smoothed
+    /// Coulomb friction of the contact.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn apply_pin_force(
+        &self,
+        g: &mut [f64],
+        id: usize,
+        fnorm: f64,
+        rel: Vec2,
+        w: Vec2,
+        cd: Vec2,
+        wpsi: f64,
+    ) {
+        let ct = &self.p.contact;
+        // Q = F d(gap)/dx: d gap/dc = -w, d gap/dpsi = -(p - c) x w.
+        g[id] -= fnorm * w.x;
+        g[id + 1] -= fnorm * w.y;
+        g[id + 2] -= fnorm * cross(&rel, &w);
+        if ct.friction > 0.0 {
+            let wn = w / w.norm();
+            let tau = perp(wn);
+            let xc = rel - wn * self.p.reducer.geometry.pin_radius;
+            let v = cd + perp(xc) * wpsi;
+            let vt = v.dot(&tau);
+            let ff = tau * (-ct.friction * fnorm * (vt / ct.friction_velocity).tanh());
+            g[id] += ff.x;
+            g[id + 1] += ff.y;
+            g[id + 2] += cross(&xc, &ff);
+        }
+    }
+
+    /// Pin contacts of flexible disc `d`: the rigid gaps from the gap field, the modal
+    /// displacement `sum_i b_i(t_j) eta_i` of the flank under each pin, and the elastic forces
+    /// from the contact problem `w_flex(F_j) + g_j + sum_i b_i(t_j) eta_i + sum_k R_jk F_k = 0`
+    /// on the loaded pins (`>= 0` gaps on the others; [`crate::fem::modal`]), solved by Newton
+    /// on the active set with a ratio test (warm-started from the last forces), to 1e-13 m.
+    /// The IMPACT damping is added on the local approach with the rigid and modal gap rates
+    /// (the residual flexibility's rate is left out). Adds the rigid-body forces to `g` and the
+    /// modal forces `sum_j b_i(t_j) F_j` to `modal_force`. A contact problem that fails to
+    /// converge makes the modal forces NaN (the simulation then stops with an error).
+    #[allow(clippy::too_many_arguments)]
+    fn flexible_contacts(
+        &self,
+        fl: &Flexible,
+        d: usize,
+        z: &[f64],
+        k: &Kinematics,
+        g: &mut [f64],
+        modal_force: &mut [f64],
+        mut pin_out: Option<&mut [PinForce]>,
+    ) {
+        let p = self.p;
+        let ct = &p.contact;
+        let n = self.layout.dofs();
+        let m = fl.modal.modes();
+        let zp = self.zp;
+        let eta = &z[2 * n + d * m..2 * n + (d + 1) * m];
+        let rate = &z[2 * n + 2 * m + d * m..2 * n + 2 * m + (d + 1) * m];
+        let (q, qd) = (&k.q[..n], &k.qd[..n]);
+        let id = self.layout.disc(d);
+        let c = Vec2::new(q[id], q[id + 1]);
+        let cd = Vec2::new(qd[id], qd[id + 1]);
+        let (psi, wpsi) = (q[id + 2], qd[id + 2]);
+        let ang = psi + self.chi[d];
+        let phi = c.y.atan2(c.x);
+        let base = -phi + self.zc * (ang + phi / self.zc);
+        let (sa, ca) = ang.sin_cos();
+        let mut cache = self.t_cache.borrow_mut();
+        let mut fcache = self.f_cache.borrow_mut();
+        let last_total: f64 = fcache[d * zp..(d + 1) * zp].iter().sum();
+        // A pin open by more than the body deflection the forces can cause cannot touch.
+        let reach = 5e-6 + 2.0 * fl.max_compliance * last_total;
+        let modal_bound: f64 = fl
+            .max_amplitude
+            .iter()
+            .zip(eta)
+            .map(|(b, e)| b * e.abs())
+            .sum();
+        let mut pins: Vec<FlexPin> = Vec::new();
+        let mut amps: Vec<f64> = Vec::new();
+        let mut b = vec![0.0; m];
+        for j in 0..zp {
+            let pj = self.pins[j];
+            let rel = pj - c;
+            let ql = Vec2::new(ca * rel.x + sa * rel.y, -sa * rel.x + ca * rel.y);
+            let tg = base - 2.0 * PI * j as f64 * self.zc / zp as f64;
+            let slot = &mut cache[d * zp + j];
+            let start = if slot.abs() < 0.3 { tg + *slot } else { tg };
+            let (ge, t_found) = self.gaps[d].eval(&ql, start);
+            *slot = t_found - tg;
+            if ge.gap >= reach + modal_bound {
+                fcache[d * zp + j] = 0.0;
+                continue;
+            }
+            fl.modal.amplitudes(t_found, &mut b);
+            let modal: f64 = b.iter().zip(eta).map(|(b, e)| b * e).sum();
+            if ge.gap + modal >= reach {
+                fcache[d * zp + j] = 0.0;
+                continue;
+            }
+            let modal_rate: f64 = b.iter().zip(rate).map(|(b, e)| b * e).sum();
+            let w = Vec2::new(
+                ca * ge.grad.x - sa * ge.grad.y,
+                sa * ge.grad.x + ca * ge.grad.y,
+            );
+            pins.push(FlexPin {
+                j,
+                t: t_found,
+                gap: ge.gap,
+                modal,
+                modal_rate,
+                rel,
+                w,
+                curvature: ge.curvature,
+                gap_dot: -w.dot(&(cd + perp(rel) * wpsi)),
+            });
+            amps.extend_from_slice(&b);
+        }
+        let nc = pins.len();
+        if nc == 0 {
+            return;
+        }
+        let ts: Vec<f64> = pins.iter().map(|p| p.t).collect();
+        let r = fl.modal.residual_compliance(&ts, &amps);
+        let mut f: Vec<f64> = pins.iter().map(|p| fcache[d * zp + p.j]).collect();
+        let free_gap = |a: usize, f: &[f64]| -> f64 {
+            pins[a].gap + pins[a].modal + (0..nc).map(|k| r[a * nc + k] * f[k]).sum::<f64>()
+        };
+        let mut active: Vec<bool> = (0..nc)
+            .map(|a| f[a] > 0.0 || free_gap(a, &f) < 0.0)
+            .collect();
+        let tol = 1e-13;
+        let mut converged = false;
+        for _ in 0..200 {
+            let idx: Vec<usize> = (0..nc).filter(|&a| active[a]).collect();
+            let na = idx.len();
+            let mut res = DVector::<f64>::zeros(na);
+            let mut jac = DMatrix::<f64>::zeros(na, na);
+            for (x, &a) in idx.iter().enumerate() {
+                let (w, dw) = fl.law.approach(f[a], pins[a].curvature);
+                res[x] = w + free_gap(a, &f);
+                for (y, &bb) in idx.iter().enumerate() {
+                    jac[(x, y)] = r[a * nc + bb];
+                }
+                jac[(x, x)] += dw;
+            }
+            if res.iter().all(|v| v.abs() < tol) {
+                let worst = (0..nc)
+                    .filter(|&a| !active[a])
+                    .map(|a| (a, free_gap(a, &f)))
+                    .filter(|(_, gp)| *gp < -tol)
+                    .min_by(|x, y| x.1.total_cmp(&y.1));
+                match worst {
+                    Some((a, _)) => {
+                        active[a] = true;
+                        f[a] = 0.0;
+                        continue;
+                    }
+                    None => {
+                        converged = true;
+                        break;
+                    }
+                }
+            }
+            let Some(delta) = jac.lu().solve(&(-res)) else {
+                break;
+            };
+            let mut alpha = 1.0;
+            let mut blocking = None;
+            for (x, &a) in idx.iter().enumerate() {
+                if f[a] + delta[x] < 0.0 {
+                    let al = f[a] / (-delta[x]);
+                    if al < alpha {
+                        alpha = al;
+                        blocking = Some(a);
+                    }
+                }
+            }
+            for (x, &a) in idx.iter().enumerate() {
+                f[a] = (f[a] + alpha * delta[x]).max(0.0);
+            }
+            if let Some(a) = blocking {
+                active[a] = false;
+                f[a] = 0.0;
+            }
+        }
+        if !converged {
+            modal_force[d * m..(d + 1) * m]
+                .iter_mut()
+                .for_each(|v| *v = f64::NAN);
+            return;
+        }
+        for (a, pin) in pins.iter().enumerate() {
+            fcache[d * zp + pin.j] = f[a];
+            if f[a] <= 0.0 {
+                continue;
+            }
+            let pen = fl.law.approach(f[a], pin.curvature).0;
+            let gap_dot = pin.gap_dot + pin.modal_rate;
+            let fnorm =
+                (f[a] - step(pen, 0.0, 0.0, ct.penetration, ct.max_damping) * gap_dot).max(0.0);
+            self.apply_pin_force(g, id, fnorm, pin.rel, pin.w, cd, wpsi);
+            for i in 0..m {
+                modal_force[d * m + i] += amps[a * m + i] * fnorm;
+            }
+            if let Some(out) = pin_out.as_deref_mut() {
+                out[d * zp + pin.j] = PinForce {
+                    normal: fnorm * pin.w.norm(),
+                    penetration: pen,
+                };
+            }
+        }
+    }
+
     /// Total mechanical energy (J): kinetic energy of all bodies plus the elastic energy of
     /// the mesh, bearing and contact springs. Conserved when damping, friction, load and drive
-    /// torque are zero (torque drive).
+    /// torque are zero (torque drive). Rigid discs only (the modal coordinates of flexible discs
+    /// are not counted).
     pub fn energy(&self, t: f64, z: &[f64]) -> f64 {
         let p = self.p;
         let lay = self.layout;
@@ -454,7 +808,7 @@ impl super::ode::OdeSystem for System<'_> {
         let n = self.layout.dofs();
         let len = 1e-4 * rtol;
         let ang = len / self.p.reducer.geometry.pin_circle_radius;
-        let mut a = vec![0.0; 2 * n];
+        let mut a = vec![0.0; self.states()];
         for k in 0..self.p.reducer.cranks {
             let i = self.layout.crank(k);
             a[i..i + 3].copy_from_slice(&[len, len, ang]);
@@ -469,6 +823,18 @@ impl super::ode::OdeSystem for System<'_> {
         }
         a[Layout::SUN] = 1e-2 * rtol;
         a[n + Layout::SUN] = rtol;
+        if let Some(fl) = &self.flex {
+            // Modal coordinates to the station displacement `len`, their rates to that times
+            // the mode's frequency.
+            let m = fl.modal.modes();
+            for d in 0..2 {
+                for i in 0..m {
+                    let e = len / fl.max_amplitude[i].max(1e-30);
+                    a[2 * n + d * m + i] = e;
+                    a[2 * n + 2 * m + d * m + i] = e * fl.modal.omega[i];
+                }
+            }
+        }
         a
     }
 }
