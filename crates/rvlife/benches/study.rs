@@ -1,6 +1,7 @@
 //! Speed: one static solve of the reducer model at the rated torque (new and 7500 h disc, with
 //! the contact geometry built once), the contact geometry of one profile, the static TE of one
-//! stage, one 0.8 s multibody simulation, the flexible disc, and the built-in study. Run with
+//! stage, 0.8 s multibody simulations (rigid discs at 10 um and 7500 h, flexible discs at 10 um), the
+//! flexible disc, and the built-in study. Run with
 //! `cargo bench -p rvlife`.
 
 use std::hint::black_box;
@@ -47,6 +48,30 @@ fn benches(c: &mut Criterion) {
     group.bench_function("simulate_0p8s_10um_sinusoidal", |b| {
         b.iter(|| {
             rvlife::reducer::dynamics::simulate(black_box(&worn10), &model.dynamics, false).unwrap()
+        })
+    });
+    group.bench_function("simulate_0p8s_7500h_sinusoidal", |b| {
+        b.iter(|| {
+            rvlife::reducer::dynamics::simulate(black_box(&worn), &model.dynamics, false).unwrap()
+        })
+    });
+    // Flexible discs: the FE disc, its modal reduction and the 0.8 s run.
+    let flexible = {
+        let mut c = Config::example();
+        c.dynamics.disc = "flexible".into();
+        c.validate().expect("flexible example validates").dynamics
+    };
+    group.measurement_time(Duration::from_secs(80));
+    group.bench_function("simulate_flexible_0p8s_10um_sinusoidal", |b| {
+        b.iter(|| {
+            rvlife::reducer::dynamics::simulate_discs(
+                black_box(&worn10),
+                &flexible,
+                &model.fem,
+                None,
+                false,
+            )
+            .unwrap()
         })
     });
     group.finish();

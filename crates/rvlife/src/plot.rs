@@ -788,6 +788,59 @@ pub fn dynamics(res: &crate::reducer::dynamics::DynamicsResult, dir: &Path) -> R
     })
 }
 
+/// Named curves `(label, points (hours, value))` against working hours, written to
+/// `<stem>.{svg,png}` in `dir` with the caption `title` and the y-axis label `y_desc` (the
+/// paper's Fig. 19b style: one line with markers per model).
+///
+/// # Errors
+/// [`Error::Io`] if a file cannot be written.
+pub fn curves_against_hours(
+    dir: &Path,
+    stem: &str,
+    title: &str,
+    y_desc: &str,
+    curves: &[(String, Vec<(f64, f64)>)],
+) -> Result<()> {
+    let h_max = curves
+        .iter()
+        .flat_map(|c| c.1.iter().map(|p| p.0))
+        .fold(1.0, f64::max);
+    let (lo, hi) = series_range(curves.iter().flat_map(|c| c.1.iter().map(|p| p.1)));
+    let colours = [BLUE, RED, GREEN, MAGENTA, CYAN, BLACK];
+    figure!(
+        dir,
+        stem,
+        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+            let mut chart = ChartBuilder::on(root)
+                .caption(title, ("sans-serif", 26))
+                .margin(15)
+                .x_label_area_size(45)
+                .y_label_area_size(65)
+                .build_cartesian_2d(0.0..h_max * 1.04, lo.min(0.0)..hi)?;
+            chart
+                .configure_mesh()
+                .x_desc("working hours (h)")
+                .y_desc(y_desc)
+                .draw()?;
+            for (k, (label, pts)) in curves.iter().enumerate() {
+                let c = colours[k % colours.len()];
+                chart
+                    .draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?
+                    .label(label.as_str())
+                    .legend(legend_line(c));
+                chart.draw_series(pts.iter().map(|p| Circle::new(*p, 4, c.filled())))?;
+            }
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperLeft)
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .draw()?;
+            Ok(())
+        }
+    )
+}
+
 /// A fan chart: the median of a quantity against working hours with its 5-95 % band, written
 /// to `<stem>.{svg,png}` in `dir`. `hours` and the three bands (5, 50 and 95 %) have one
 /// value per stage.

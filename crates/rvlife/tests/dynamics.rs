@@ -1,9 +1,9 @@
 //! Physics checks of the multibody model that can fail.
 
-use rvlife::config::{Config, Model};
+use rvlife::config::{Config, Model, WearModelKind};
 use rvlife::geometry::WearMap;
 use rvlife::reducer::dynamics::ode::OdeSystem;
-use rvlife::reducer::dynamics::params::{Drive, LoadProfile};
+use rvlife::reducer::dynamics::params::{Drive, LoadProfile, Method};
 use rvlife::reducer::dynamics::system::Layout;
 use rvlife::reducer::dynamics::{ode, simulate, GapField, System};
 use rvlife::te::{loaded_te, ARCMIN_PER_RAD};
@@ -121,6 +121,9 @@ fn slow_model(edit: impl FnOnce(&mut Config)) -> Model {
         d.load.torque_nm = Some(412.0);
         d.load.ramp_s = 1.0;
         d.impact.damping_ratio = 1.0;
+        // Per-sample pin forces and disc translations are compared, not only the DTE
+        // statistics that the default 1e-3 keeps within 0.5 %.
+        d.relative_tolerance = 1e-5;
     })
 }
 
@@ -258,16 +261,24 @@ fn energy_is_conserved_without_damping() {
     let mut elastic: f64 = 0.0;
     let mut dz = vec![0.0; sys.states()];
     let mut pins = vec![Default::default(); 80];
-    ode::integrate(&kicked, rtol, 0.05, &times, |t, z| {
-        drift = drift.max((sys.energy(t, z) - e0).abs());
-        sys.rhs(t, z, &mut dz, Some(&mut pins));
-        elastic = elastic.max(
-            pins.iter()
-                .map(|p: &rvlife::reducer::dynamics::PinForce| p.normal)
-                .sum(),
-        );
-        Ok(())
-    })
+    ode::integrate(
+        &kicked,
+        Method::Tsit45,
+        rtol,
+        false,
+        0.05,
+        &times,
+        |t, z| {
+            drift = drift.max((sys.energy(t, z) - e0).abs());
+            sys.rhs(t, z, &mut dz, Some(&mut pins));
+            elastic = elastic.max(
+                pins.iter()
+                    .map(|p: &rvlife::reducer::dynamics::PinForce| p.normal)
+                    .sum(),
+            );
+            Ok(())
+        },
+    )
     .unwrap();
     eprintln!("energy: drift {drift:e} J of {e0} J, largest total pin force {elastic} N");
     assert!(elastic > 1.0, "the contacts never closed ({elastic} N)");
@@ -277,39 +288,112 @@ fn energy_is_conserved_without_damping() {
     );
 }
 
-/// Halving the integrator's tolerance changes the mean DTE by less than 1 % (built-in example
-/// over a shortened window: 10 um wear, sinusoidal 412 N m).
+/// The fast settings (ESDIRK34 at the default relative tolerance 1e-3) keep the DTE within
+/// 0.5 % of a tight reference (Tsitouras 5(4) at 1e-7) at every stage of the built-in study
+/// (paper section 4.2 run: sinusoidal 412 N m, 0.8 s): peak-to-peak and RMS relative; the mean,
+/// which is near zero under the symmetric load of the unworn stages, within 0.5 % of the RMS.
 #[test]
-fn dte_does_not_depend_on_the_tolerance() {
-    let run = |rtol: f64| {
-        let m = model_with(|c| {
-            c.dynamics.end_time_s = 0.3;
-            c.dynamics.window_s = [0.1, 0.3];
-            c.dynamics.relative_tolerance = rtol;
-        });
-        let profile = m
-            .profile(Some(WearMap::uniform(720, 10e-6).unwrap()))
-            .unwrap();
-        simulate(&profile, &m.dynamics, false).unwrap().summary
-    };
-    let a = run(1e-5);
-    let b = run(5e-6);
-    eprintln!(
-        "tolerance: mean {} / {}, p-p {} / {} arcmin",
-        a.te_mean_arcmin, b.te_mean_arcmin, a.te_peak_to_peak_arcmin, b.te_peak_to_peak_arcmin
-    );
-    let rel = (a.te_mean_arcmin - b.te_mean_arcmin).abs() / a.te_mean_arcmin.abs();
+fn fast_integrator_matches_a_tight_reference_at_every_stage() {
+    let m = model_with(|_| {});
+    assert_eq!(m.dynamics.integrator, Method::Esdirk34);
+    let mut tight = m.dynamics.clone();
+    tight.integrator = Method::Tsit45;
+    tight.rtol = 1e-7;
+    let hist = rvlife::wear::integrate(&m, &|_, _| {}).unwrap();
+    for (hours, map) in hist.hours.iter().zip(&hist.maps) {
+        // The stage profile as the study analyses it (the paper's uniform wear of the largest
+        // depth, or the wear map).
+        let max = map.iter().copied().fold(0.0, f64::max);
+        let wear = match m.wear_model {
+            WearModelKind::Paper => WearMap::uniform(map.len(), max).unwrap(),
+            _ => WearMap::new(map.clone()).unwrap(),
+        };
+        let profile = m.profile((max > 0.0).then_some(wear)).unwrap();
+        let fast = simulate(&profile, &m.dynamics, false).unwrap().summary;
+        let reference = simulate(&profile, &tight, false).unwrap().summary;
+        eprintln!(
+            "{:6.0} h: mean {:.5} / {:.5}, p-p {:.5} / {:.5}, RMS {:.5} / {:.5} arcmin; steps {} / {}",
+            hours,
+            fast.te_mean_arcmin,
+            reference.te_mean_arcmin,
+            fast.te_peak_to_peak_arcmin,
+            reference.te_peak_to_peak_arcmin,
+            fast.te_rms_arcmin,
+            reference.te_rms_arcmin,
+            fast.steps,
+            reference.steps
+        );
+        let rms = reference.te_rms_arcmin;
+        assert!(
+            (fast.te_mean_arcmin - reference.te_mean_arcmin).abs() < 0.005 * rms,
+            "{} h: mean {} vs {}",
+            hours,
+            fast.te_mean_arcmin,
+            reference.te_mean_arcmin
+        );
+        let pp = reference.te_peak_to_peak_arcmin;
+        assert!(
+            (fast.te_peak_to_peak_arcmin - pp).abs() < 0.005 * pp,
+            "{} h: p-p {} vs {pp}",
+            hours,
+            fast.te_peak_to_peak_arcmin
+        );
+        assert!(
+            (fast.te_rms_arcmin - rms).abs() < 0.005 * rms,
+            "{} h: RMS {} vs {rms}",
+            hours,
+            fast.te_rms_arcmin
+        );
+    }
+}
+
+/// The skip of open pins and the warm starts do not change the right-hand side: along the
+/// paper's run on the disc worn for 7500 h, the derivative from the integrator's warm caches
+/// equals the one from cold caches (every pin evaluated, every search from its kinematic guess)
+/// within 1e-6 of its largest term, at 800 states. (The warm starts alone leave 1.7e-7, the
+/// skip with them 3.2e-7: a skipped pin that had closed would change a term by a whole pin
+/// force.)
+#[test]
+fn open_pin_skip_and_warm_starts_leave_the_rhs_unchanged() {
+    let m = model_with(|_| {});
+    let mut m7500 = m.clone();
+    m7500.stage_hours = vec![7500.0];
+    let hist = rvlife::wear::integrate(&m7500, &|_, _| {}).unwrap();
+    let max = hist.maps[0].iter().copied().fold(0.0, f64::max);
+    let profile = m
+        .profile(Some(WearMap::uniform(hist.maps[0].len(), max).unwrap()))
+        .unwrap();
+    let field = GapField::new(
+        &profile,
+        m.dynamics.gap_points,
+        Some(m.reducer.contact_band()),
+    )
+    .unwrap();
+    let sys = System::new(&m.dynamics, [&field, &field]);
+    let times: Vec<f64> = (0..=800).map(|k| k as f64 * 1e-3).collect();
+    let (mut warm, mut cold) = (vec![0.0; sys.states()], vec![0.0; sys.states()]);
+    let mut worst: f64 = 0.0;
+    let mut pins = vec![Default::default(); 2 * m.geometry.pins];
+    let mut loaded = 0usize;
+    ode::integrate(&sys, Method::Esdirk34, 1e-3, false, 0.8, &times, |t, z| {
+        sys.rhs(t, z, &mut warm, None);
+        sys.reset_caches();
+        sys.rhs(t, z, &mut cold, Some(&mut pins));
+        loaded += pins
+            .iter()
+            .filter(|p: &&rvlife::reducer::dynamics::PinForce| p.normal > 0.0)
+            .count();
+        let scale = cold.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+        for (a, b) in warm.iter().zip(&cold) {
+            worst = worst.max((a - b).abs() / scale);
+        }
+        Ok(())
+    })
+    .unwrap();
+    eprintln!("warm vs cold right-hand side: largest difference {worst:.2e} of the largest term; {loaded} loaded pin samples");
+    assert!(loaded > 800, "too few contacts to test ({loaded})");
     assert!(
-        rel < 0.01,
-        "mean DTE {} vs {} arcmin",
-        a.te_mean_arcmin,
-        b.te_mean_arcmin
-    );
-    let pp = (a.te_peak_to_peak_arcmin - b.te_peak_to_peak_arcmin).abs() / a.te_peak_to_peak_arcmin;
-    assert!(
-        pp < 0.01,
-        "p-p {} vs {}",
-        a.te_peak_to_peak_arcmin,
-        b.te_peak_to_peak_arcmin
+        worst < 1e-6,
+        "warm and cold right-hand sides differ by {worst:e}"
     );
 }

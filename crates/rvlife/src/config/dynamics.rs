@@ -14,7 +14,7 @@ use super::range::{check, Range};
 use crate::error::{Error, Result};
 use crate::geometry::Profile;
 use crate::reducer::dynamics::params::{
-    disc_inertia, Drive, DynamicsParams, Impact, ImpactLaw, Inertias, LoadProfile,
+    disc_inertia, Drive, DynamicsParams, Impact, ImpactLaw, Inertias, LoadProfile, Method,
 };
 use crate::reducer::dynamics::ModalSettings;
 use crate::reducer::Reducer;
@@ -38,6 +38,10 @@ pub struct DynamicsConfig {
     /// Relative tolerance of the integrator (absolute tolerances scale with it).
     #[serde(default = "d_rtol")]
     pub relative_tolerance: f64,
+    /// Time integrator: `"esdirk34"` (implicit, steps set by accuracy) or `"tsit45"` (explicit,
+    /// steps set by the stiffest mode) ([`crate::reducer::dynamics::ode`]).
+    #[serde(default = "d_integrator")]
+    pub integrator: String,
     /// Mesh angles per tooth of the tabulated gap field.
     #[serde(default = "d_gap_points")]
     pub gap_points_per_tooth: i64,
@@ -83,7 +87,7 @@ pub struct FlexibleConfig {
 }
 
 fn d_cutoff() -> f64 {
-    60.0
+    30.0
 }
 fn d_modal_zeta() -> f64 {
     0.02
@@ -111,8 +115,11 @@ fn d_window() -> [f64; 2] {
 fn d_interval() -> f64 {
     2e-4
 }
+fn d_integrator() -> String {
+    "esdirk34".into()
+}
 fn d_rtol() -> f64 {
-    1e-5
+    1e-3
 }
 fn d_gap_points() -> i64 {
     1024
@@ -126,6 +133,7 @@ impl Default for DynamicsConfig {
             window_s: d_window(),
             output_interval_s: d_interval(),
             relative_tolerance: d_rtol(),
+            integrator: d_integrator(),
             gap_points_per_tooth: d_gap_points(),
             drive: Default::default(),
             load: Default::default(),
@@ -453,6 +461,17 @@ impl DynamicsConfig {
                 "must be in [1e-10, 1e-2]",
             ));
         }
+        let integrator = match self.integrator.as_str() {
+            "tsit45" => Method::Tsit45,
+            "esdirk34" => Method::Esdirk34,
+            other => {
+                return Err(Error::invalid(
+                    "dynamics.integrator",
+                    format!("\"{other}\""),
+                    "must be \"esdirk34\" or \"tsit45\"",
+                ))
+            }
+        };
         let gap_points = self.gap_points_per_tooth;
         if !(64..=65536).contains(&gap_points) {
             return Err(Error::invalid(
@@ -780,6 +799,7 @@ impl DynamicsConfig {
             window: (w0, w1),
             output_interval,
             rtol,
+            integrator,
             gap_points: gap_points as usize,
             reference_force: f_ref,
         })

@@ -96,8 +96,9 @@ impl<'a> ModalDisc<'a> {
         let mass = fe.mass_matrix(settings.density)?;
         let cutoff = std::f64::consts::TAU * settings.cutoff_hz;
         let mut wanted = 8usize.min(settings.max_modes);
+        let mut start: Option<Mat<f64>> = None;
         let (omega2, modes, next) = loop {
-            let (lambda, x) = lowest_modes(disc, &mass, wanted)?;
+            let (lambda, x) = lowest_modes(disc, &mass, wanted, cutoff * cutoff, start.as_ref())?;
             let below = lambda[..wanted]
                 .iter()
                 .take_while(|l| l.sqrt() < cutoff)
@@ -119,6 +120,7 @@ impl<'a> ModalDisc<'a> {
                 ));
             }
             wanted = (2 * wanted).min(settings.max_modes);
+            start = Some(x);
         };
         let m = omega2.len();
         let ns = disc.stations();
@@ -194,21 +196,15 @@ impl<'a> ModalDisc<'a> {
 
 /// `y = M x` for the columns of `x`.
 fn mass_times(mass: &SparseColMat<usize, f64>, x: &Mat<f64>) -> Mat<f64> {
-    let n = x.nrows();
-    let mut y = Mat::<f64>::zeros(n, x.ncols());
-    let sym = mass.symbolic();
-    let (cp, ri, val) = (sym.col_ptr(), sym.row_idx(), mass.val());
-    for c in 0..x.ncols() {
-        for j in 0..n {
-            let xj = x[(j, c)];
-            if xj == 0.0 {
-                continue;
-            }
-            for k in cp[j]..cp[j + 1] {
-                y[(ri[k], c)] += val[k] * xj;
-            }
-        }
-    }
+    let mut y = Mat::<f64>::zeros(x.nrows(), x.ncols());
+    faer::sparse::linalg::matmul::sparse_dense_matmul(
+        y.as_mut(),
+        faer::Accum::Replace,
+        mass.as_ref(),
+        x.as_ref(),
+        1.0,
+        faer::get_global_parallelism(),
+    );
     y
 }
 
@@ -219,19 +215,27 @@ fn gram(a: &Mat<f64>, b: &Mat<f64>) -> DMatrix<f64> {
     DMatrix::from_fn(q, q, |i, j| 0.5 * (g[(i, j)] + g[(j, i)]))
 }
 
-/// The `wanted` lowest eigenpairs `K phi = lambda M phi` of the disc (bores held), by subspace
-/// iteration on `min(2 wanted, wanted + 8)` vectors; eigenvalues (rad^2/s^2) of the whole
-/// subspace, ascending, and the mass-normalised vectors as columns.
+/// The lowest eigenpairs `K phi = lambda M phi` of the disc (bores held), by subspace iteration
+/// on `max(2 wanted, wanted + 8)` vectors (Bathe's choice); eigenvalues (rad^2/s^2) of the whole
+/// subspace, ascending, and the mass-normalised vectors as columns. Converged when the first
+/// `wanted` eigenvalues, or those below `cutoff2` (rad^2/s^2) and the first above it, change by
+/// less than [`EIGEN_TOLERANCE`]. `start` (vectors of an earlier, smaller run) fills the first
+/// columns of the start subspace; the rest are random.
 fn lowest_modes(
     disc: &DiscModel,
     mass: &SparseColMat<usize, f64>,
     wanted: usize,
+    cutoff2: f64,
+    start: Option<&Mat<f64>>,
 ) -> Result<(Vec<f64>, Mat<f64>)> {
     let fe = &disc.fe;
     let n = fe.equations();
-    let q = (2 * wanted).min(wanted + 8).min(n);
+    let q = (2 * wanted).max(wanted + 8).min(n);
     let mut rng = ChaCha8Rng::seed_from_u64(0x5eed_d15c);
-    let mut x = Mat::<f64>::from_fn(n, q, |_, _| rng.random_range(-1.0..1.0));
+    let mut x = Mat::<f64>::from_fn(n, q, |i, c| match start {
+        Some(s) if c < s.ncols() => s[(i, c)],
+        _ => rng.random_range(-1.0..1.0),
+    });
     let mut prev = vec![f64::INFINITY; q];
     for _ in 0..200 {
         let y = mass_times(mass, &x);
@@ -258,10 +262,11 @@ fn lowest_modes(
         let coef = linv.transpose() * &eig.eigenvectors;
         let coef = Mat::<f64>::from_fn(q, q, |k, c| coef[(k, order[c])]);
         x = &xb * &coef;
+        let check = (lambda.iter().take_while(|l| **l < cutoff2).count() + 1).min(wanted);
         let converged = lambda
             .iter()
             .zip(&prev)
-            .take(wanted)
+            .take(check)
             .all(|(l, p)| (l - p).abs() <= EIGEN_TOLERANCE * l.abs());
         prev = lambda;
         if converged {

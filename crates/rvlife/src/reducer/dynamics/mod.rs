@@ -38,6 +38,7 @@ use crate::te::ARCMIN_PER_RAD;
 pub use crate::fem::modal::ModalSettings;
 pub use gap::{Band, GapField};
 pub use params::DynamicsParams;
+use params::Method;
 pub use system::{PinForce, System};
 
 /// One sample of the time series (engineering units, as written to `dynamics.csv`).
@@ -96,6 +97,12 @@ pub struct DynamicsSummary {
     pub disc_modes: usize,
     /// Natural frequencies of the flexible disc's modes (bores held), Hz.
     pub disc_mode_frequencies_hz: Vec<f64>,
+    /// The integrator that produced the result: `"esdirk34"` or `"tsit45"`.
+    pub integrator: String,
+    /// Why the configured integrator was replaced, when it was: ESDIRK34's Newton iteration
+    /// can stall at a non-smooth contact event (its step size then falls below 1e-13 s); the
+    /// run is then repeated with Tsitouras 5(4) at the same tolerance.
+    pub integrator_fallback: Option<String>,
 }
 
 /// Result of one simulation.
@@ -183,50 +190,79 @@ pub fn simulate_with(
     let times: Vec<f64> = (0..=n_out)
         .map(|i| (i as f64 * params.output_interval).min(params.end_time))
         .collect();
-    let mut samples = Vec::with_capacity(times.len());
-    let mut forces_out = pin_forces.then(|| Vec::with_capacity(times.len()));
-    let mut deviations_out = pin_forces.then(|| Vec::with_capacity(times.len()));
     let dofs = sys.layout().dofs();
     let mut dz = vec![0.0; sys.states()];
     let mut pins = vec![PinForce::default(); 2 * zp];
-    let stats = ode::integrate(&sys, params.rtol, params.end_time, &times, |t, z| {
-        pins.iter_mut().for_each(|p| *p = PinForce::default());
-        sys.rhs(t, z, &mut dz, Some(&mut pins));
-        let [th_i, th_o, w_i, w_o] = sys.shafts(t, z);
-        let te = sys.transmission_error(z) * ARCMIN_PER_RAD;
-        let count = |d: usize| {
-            pins[d * zp..(d + 1) * zp]
-                .iter()
-                .filter(|p| p.normal > 0.0)
-                .count()
-        };
-        samples.push(Sample {
-            time_s: t,
-            input_angle_deg: th_i.to_degrees(),
-            output_angle_deg: th_o.to_degrees(),
-            input_speed_deg_s: w_i.to_degrees(),
-            output_speed_deg_s: w_o.to_degrees(),
-            te_arcmin: te,
-            load_nm: params.load.torque(t),
-            pins_in_contact: [count(0), count(1)],
-            max_pin_force_n: pins.iter().map(|p| p.normal).fold(0.0, f64::max),
-        });
-        if let Some(f) = forces_out.as_mut() {
-            f.push(pins.iter().map(|p| p.normal).collect());
+    let mut samples = Vec::with_capacity(times.len());
+    let mut forces_out = pin_forces.then(|| Vec::with_capacity(times.len()));
+    let mut deviations_out = pin_forces.then(|| Vec::with_capacity(times.len()));
+    let mut method = params.integrator;
+    let mut fallback = None;
+    let stats = loop {
+        samples.clear();
+        forces_out.iter_mut().for_each(|v| v.clear());
+        deviations_out.iter_mut().for_each(|v| v.clear());
+        sys.reset_caches();
+        let run = ode::integrate(
+            &sys,
+            method,
+            params.rtol,
+            pin_forces,
+            params.end_time,
+            &times,
+            |t, z| {
+                pins.iter_mut().for_each(|p| *p = PinForce::default());
+                sys.rhs(t, z, &mut dz, Some(&mut pins));
+                let [th_i, th_o, w_i, w_o] = sys.shafts(t, z);
+                let te = sys.transmission_error(z) * ARCMIN_PER_RAD;
+                let count = |d: usize| {
+                    pins[d * zp..(d + 1) * zp]
+                        .iter()
+                        .filter(|p| p.normal > 0.0)
+                        .count()
+                };
+                samples.push(Sample {
+                    time_s: t,
+                    input_angle_deg: th_i.to_degrees(),
+                    output_angle_deg: th_o.to_degrees(),
+                    input_speed_deg_s: w_i.to_degrees(),
+                    output_speed_deg_s: w_o.to_degrees(),
+                    te_arcmin: te,
+                    load_nm: params.load.torque(t),
+                    pins_in_contact: [count(0), count(1)],
+                    max_pin_force_n: pins.iter().map(|p| p.normal).fold(0.0, f64::max),
+                });
+                if let Some(f) = forces_out.as_mut() {
+                    f.push(pins.iter().map(|p| p.normal).collect());
+                }
+                if let Some(d) = deviations_out.as_mut() {
+                    d.push(z[..dofs].to_vec());
+                }
+                if te.is_finite() {
+                    Ok(())
+                } else {
+                    Err(Error::numerical(
+                        "dynamics",
+                        format!("the state became non-finite at t = {t:.6} s"),
+                    ))
+                }
+            },
+        );
+        match run {
+            Err(Error::Numerical { message, .. }) if method == Method::Esdirk34 => {
+                fallback = Some(message);
+                method = Method::Tsit45;
+            }
+            other => break other?,
         }
-        if let Some(d) = deviations_out.as_mut() {
-            d.push(z[..dofs].to_vec());
-        }
-        if te.is_finite() {
-            Ok(())
-        } else {
-            Err(Error::numerical(
-                "dynamics",
-                format!("the state became non-finite at t = {t:.6} s"),
-            ))
-        }
-    })?;
+    };
     let mut summary = summarize(&samples, params, stats);
+    summary.integrator = match method {
+        Method::Esdirk34 => "esdirk34",
+        Method::Tsit45 => "tsit45",
+    }
+    .into();
+    summary.integrator_fallback = fallback;
     summary.max_wear_um = profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6;
     summary.disc_modes = sys.modes();
     if let Some(md) = modal {
@@ -281,5 +317,7 @@ fn summarize(samples: &[Sample], p: &DynamicsParams, stats: ode::Stats) -> Dynam
         rhs_evaluations: stats.rhs_evaluations,
         disc_modes: 0,
         disc_mode_frequencies_hz: Vec::new(),
+        integrator: String::new(),
+        integrator_fallback: None,
     }
 }

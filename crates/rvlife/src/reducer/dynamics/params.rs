@@ -188,12 +188,23 @@ pub struct DynamicsParams {
     pub output_interval: f64,
     /// Relative tolerance.
     pub rtol: f64,
+    /// Time integrator.
+    pub integrator: Method,
     /// Gap-table resolution per tooth.
     pub gap_points: usize,
     /// Reference pin force (Li's largest force at the rated torque), N.
     pub reference_force: f64,
     /// Flexible discs: the modal reduction of the FE disc (`None`: rigid discs).
     pub flexible: Option<crate::fem::modal::ModalSettings>,
+}
+
+/// Time integrator of the multibody model ([`super::ode`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// Explicit Tsitouras 5(4) ([`super::ode::Tsit45`]).
+    Tsit45,
+    /// Implicit ESDIRK 3(4) ([`super::ode::Esdirk34`]).
+    Esdirk34,
 }
 
 /// Mass (kg) and polar inertia about the centre (kg m^2) of the disc: the profile polygon

@@ -24,7 +24,7 @@
 //! - the output torque on the carrier (positive counter-clockwise: a load resisting forward
 //!   rotation is negative) and the motor torque on the input.
 
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::f64::consts::PI;
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
@@ -37,6 +37,10 @@ use super::gap::GapField;
 use super::params::{Drive, DynamicsParams, LoadProfile};
 use crate::reducer::perp;
 pub use crate::reducer::{Layout, MAX_DOFS};
+
+/// Gap margin of the open-pin skip, m: a pin is evaluated again once its last gap minus the
+/// largest change its move since then can make falls below this.
+const SKIP_MARGIN: f64 = 1e-6;
 
 /// Adams `STEP(x, x0, h0, x1, h1)`: cubic blend from `h0` at `x0` to `h1` at `x1`, constant
 /// outside (MSC Adams function reference).
@@ -110,6 +114,11 @@ pub struct System<'a> {
     /// Last contact force of every pin (disc-major), N: the warm start of the contact law's
     /// inversion.
     f_cache: RefCell<Vec<f64>>,
+    /// Gap (m) of every pin at its last evaluation and the pin centre in the disc's profile
+    /// frame then (disc-major), to skip pins that cannot have closed since (rigid discs).
+    open_cache: RefCell<Vec<(f64, Vec2)>>,
+    /// Largest gap gradient `|grad g|` met so far (at least 1).
+    max_gradient: Cell<f64>,
     /// The flexible disc (both discs use it at their own contact parameters), if any.
     flex: Option<Flexible<'a>>,
 }
@@ -175,6 +184,8 @@ impl<'a> System<'a> {
             zp: geo.pins,
             t_cache: RefCell::new(vec![f64::NAN; 2 * geo.pins]),
             f_cache: RefCell::new(vec![0.0; 2 * geo.pins]),
+            open_cache: RefCell::new(vec![(f64::NAN, Vec2::zeros()); 2 * geo.pins]),
+            max_gradient: Cell::new(1.0),
             flex: None,
         }
     }
@@ -405,8 +416,9 @@ impl<'a> System<'a> {
         let ct = &p.contact;
         let mut cache = self.t_cache.borrow_mut();
         let mut fcache = self.f_cache.borrow_mut();
+        let mut open_cache = self.open_cache.borrow_mut();
         if let Some(fl) = &self.flex {
-            drop((cache, fcache));
+            drop((cache, fcache, open_cache));
             for d in 0..2 {
                 self.flexible_contacts(fl, d, z, k, g, modal_force, pin_out.as_deref_mut());
             }
@@ -427,11 +439,26 @@ impl<'a> System<'a> {
                 let pj = self.pins[j];
                 let rel = pj - c;
                 let ql = Vec2::new(ca * rel.x + sa * rel.y, -sa * rel.x + ca * rel.y);
+                // A pin whose last gap exceeds what its move since then can close stays open:
+                // the gap changes by at most |grad g| |dq| (with twice the steepest gradient
+                // met, and 1 um to spare).
+                let open = &mut open_cache[d * self.zp + j];
+                if open.0 > SKIP_MARGIN
+                    && open.0 > SKIP_MARGIN + 2.0 * self.max_gradient.get() * (ql - open.1).norm()
+                {
+                    fcache[d * self.zp + j] = 0.0;
+                    continue;
+                }
                 let tg = base - 2.0 * PI * j as f64 * self.zc / self.zp as f64;
                 let slot = &mut cache[d * self.zp + j];
                 let start = if slot.abs() < 0.3 { tg + *slot } else { tg };
                 let (ge, t_found) = self.gaps[d].eval(&ql, start);
                 *slot = t_found - tg;
+                *open = (ge.gap, ql);
+                let gn = ge.grad.norm();
+                if gn > self.max_gradient.get() {
+                    self.max_gradient.set(gn);
+                }
                 if ge.gap >= 0.0 {
                     fcache[d * self.zp + j] = 0.0;
                     continue;
@@ -680,6 +707,15 @@ impl<'a> System<'a> {
                 };
             }
         }
+    }
+
+    /// Forgets the warm starts of the contact solves (closest-point parameters, last pin
+    /// forces), so that a new integration starts as from [`System::new`].
+    pub fn reset_caches(&self) {
+        self.t_cache.borrow_mut().fill(f64::NAN);
+        self.f_cache.borrow_mut().fill(0.0);
+        self.open_cache.borrow_mut().fill((f64::NAN, Vec2::zeros()));
+        self.max_gradient.set(1.0);
     }
 
     /// Total mechanical energy (J): kinetic energy of all bodies plus the elastic energy of
