@@ -6,7 +6,7 @@
 //! `cargo run --release --example paper_dynamics -- OUT_DIR` writes `OUT_DIR/paper_dynamics.csv`
 //! (one row per wear state, load and disc model: DTE mean, peak-to-peak, RMS, largest pin
 //! force, the largest inertia torque on the output, steps, wall time), the TE time histories of
-//! the 10 um runs (`OUT_DIR/<case>/plots/te.{svg,png}`; the flexible run without load is the
+//! the 10 um runs (`OUT_DIR/10um_<load>_<disc>/te.{svg,png}`; the flexible run without load is the
 //! paper's Fig. 17), and `OUT_DIR/te_hours.{svg,png}` (mean TE over hours, rigid against
 //! flexible, without load and under load: the paper's Fig. 19b).
 
@@ -38,7 +38,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         f64::NAN,
         m.profile(Some(WearMap::uniform(720, 10e-6)?))?,
     )];
-    states.push(("0h".into(), 0.0, m.profile(None)?));
     let hist = rvlife::wear::integrate(&m, &|_, _| {})?;
     for (h, map) in hist.hours.iter().zip(&hist.maps) {
         let max = map.iter().copied().fold(0.0, f64::max);
@@ -46,7 +45,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             WearModelKind::Paper => WearMap::uniform(map.len(), max)?,
             _ => WearMap::new(map.clone())?,
         };
-        states.push((format!("{h:.0}h"), *h, m.profile(Some(wear))?));
+        states.push((format!("{h:.0}h"), *h, m.profile((max > 0.0).then_some(wear))?));
     }
     let mut csv = String::from(
         "case,hours,max_wear_um,load,disc,modes,dte_mean_arcmin,dte_peak_to_peak_arcmin,\

@@ -6,6 +6,7 @@
 //! 7th ed., ch. 6 (plane elasticity) and ch. 5 (quadratic triangles); 6-point Gauss rule of
 //! Dunavant (1985), exact to degree 4.
 
+use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Mat, Side};
 
@@ -216,10 +217,7 @@ pub struct FeModel {
     spider_dofs: Vec<[DofExpr; 3]>,
     equations: usize,
     lift: Vec<f64>,
-    /// Supernodal Cholesky factor of the stiffness: its symbolic structure (AMD ordering) and
-    /// values.
-    symbolic: faer::sparse::linalg::cholesky::SymbolicCholesky<usize>,
-    factor: Vec<f64>,
+    llt: faer::sparse::linalg::solvers::Llt<usize, f64>,
     nonzeros: usize,
 }
 
@@ -358,7 +356,12 @@ impl FeModel {
             .map_err(|e| Error::numerical("fem assembly", format!("{e:?}")))?;
         drop(triplets);
         let nonzeros = k.compute_nnz();
-        let (symbolic, factor) = supernodal_cholesky(&k)?;
+        let llt = k.sp_cholesky(Side::Lower).map_err(|e| {
+            Error::numerical(
+                "fem solve",
+                format!("stiffness not positive definite ({e:?}): the disc is not held"),
+            )
+        })?;
         Ok(FeModel {
             mesh,
             material,
@@ -367,8 +370,7 @@ impl FeModel {
             spider_dofs,
             equations,
             lift,
-            symbolic,
-            factor,
+            llt,
             nonzeros,
         })
     }
@@ -492,14 +494,7 @@ impl FeModel {
 
     /// Solves for reduced loads given as the columns of `rhs` (equations x n), in place.
     pub fn solve_reduced(&self, rhs: &mut Mat<f64>) {
-        use faer::dyn_stack::{MemBuffer, MemStack};
-        let par = faer::get_global_parallelism();
-        let mut mem = MemBuffer::new(
-            self.symbolic
-                .solve_in_place_scratch::<f64>(rhs.ncols(), par),
-        );
-        faer::sparse::linalg::cholesky::LltRef::new(&self.symbolic, &self.factor)
-            .solve_in_place_with_conj(faer::Conj::No, rhs.as_mut(), par, MemStack::new(&mut mem));
+        self.llt.solve_in_place(rhs.as_mut());
     }
 
     /// Node displacements (`2 N`, m) for the nodal load vector `load` (`2 N`, N), with the
@@ -615,54 +610,3 @@ pub const GAUSS_LEGENDRE8: [(f64, f64); 8] = [
     (0.796_666_477_413_626_7, 0.222_381_034_453_374_5),
     (0.960_289_856_497_536_2, 0.101_228_536_290_376_3),
 ];
-
-/// Supernodal Cholesky factorisation `K = L L^T` of the lower triangle of `k` (faer: AMD
-/// ordering, supernodal blocks forced, which halves the solve time of the disc's many right-hand
-/// sides against the simplicial factor faer picks by default for a 2D mesh).
-///
-/// # Errors
-/// [`Error::Numerical`] if `k` is not positive definite (the disc is not held).
-fn supernodal_cholesky(
-    k: &SparseColMat<usize, f64>,
-) -> Result<(
-    faer::sparse::linalg::cholesky::SymbolicCholesky<usize>,
-    Vec<f64>,
-)> {
-    use faer::dyn_stack::{MemBuffer, MemStack};
-    use faer::sparse::linalg::cholesky::{
-        factorize_symbolic_cholesky, CholeskySymbolicParams, SymmetricOrdering,
-    };
-    use faer::sparse::linalg::SupernodalThreshold;
-    let not_pd = |e: String| {
-        Error::numerical(
-            "fem solve",
-            format!("stiffness not positive definite ({e}): the disc is not held"),
-        )
-    };
-    let symbolic = factorize_symbolic_cholesky(
-        k.symbolic(),
-        Side::Lower,
-        SymmetricOrdering::Amd,
-        CholeskySymbolicParams {
-            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-            ..Default::default()
-        },
-    )
-    .map_err(|e| not_pd(format!("{e:?}")))?;
-    let par = faer::get_global_parallelism();
-    let mut factor = vec![0.0; symbolic.len_val()];
-    let mut mem =
-        MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()));
-    symbolic
-        .factorize_numeric_llt(
-            &mut factor,
-            k.as_ref(),
-            Side::Lower,
-            faer::linalg::cholesky::llt::factor::LltRegularization::default(),
-            par,
-            MemStack::new(&mut mem),
-            Default::default(),
-        )
-        .map_err(|e| not_pd(format!("{e:?}")))?;
-    Ok((symbolic, factor))
-}
