@@ -45,7 +45,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             WearModelKind::Paper => WearMap::uniform(map.len(), max)?,
             _ => WearMap::new(map.clone())?,
         };
-        states.push((format!("{h:.0}h"), *h, m.profile((max > 0.0).then_some(wear))?));
+        states.push((
+            format!("{h:.0}h"),
+            *h,
+            m.profile((max > 0.0).then_some(wear))?,
+        ));
     }
     let mut csv = String::from(
         "case,hours,max_wear_um,load,disc,modes,dte_mean_arcmin,dte_peak_to_peak_arcmin,\

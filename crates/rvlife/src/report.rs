@@ -92,6 +92,10 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
         "flexible_ste_peak_to_peak_arcmin",
         "flexible_loaded_te_mean_arcmin",
         "flexible_loaded_te_peak_to_peak_arcmin",
+        "flexible_ste_reverse_mean_arcmin",
+        "flexible_loaded_te_reverse_mean_arcmin",
+        "flexible_backlash_arcmin",
+        "flexible_lost_motion_arcmin",
         "max_von_mises_mpa",
         "max_root_stress_mpa",
     ]
@@ -130,6 +134,10 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
                 opt(s.flexible_ste_peak_to_peak_arcmin),
                 opt(s.flexible_loaded_te_mean_arcmin),
                 opt(s.flexible_loaded_te_peak_to_peak_arcmin),
+                opt(s.flexible_ste_reverse_mean_arcmin),
+                opt(s.flexible_loaded_te_reverse_mean_arcmin),
+                opt(s.flexible_backlash_arcmin),
+                opt(s.flexible_lost_motion_arcmin),
                 opt(s.max_von_mises_mpa),
                 opt(s.max_root_stress_mpa),
             ]
@@ -272,6 +280,9 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
             "flexible_ste_arcmin",
             "flexible_loaded_te_arcmin",
             "max_force_n",
+            "rigid_ste_reverse_arcmin",
+            "flexible_ste_reverse_arcmin",
+            "flexible_loaded_te_reverse_arcmin",
         ]
         .iter()
         .map(|s| s.to_string())
@@ -288,11 +299,28 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
                         f(fl.flexible_ste[k] * ARCMIN_PER_RAD),
                         f(fl.flexible_loaded_te[k] * ARCMIN_PER_RAD),
                         f(fl.max_force[k]),
+                        f(fl.rigid_ste_reverse[k] * ARCMIN_PER_RAD),
+                        f(fl.flexible_ste_reverse[k] * ARCMIN_PER_RAD),
+                        f(fl.flexible_loaded_te_reverse[k] * ARCMIN_PER_RAD),
                     ]);
                 }
             }
         }
         write_rows(&dir.join("te_flexible.csv"), &header, &rows)?;
+        // hysteresis_flexible.csv: the flexible hysteresis curve of every stage.
+        let header: Vec<String> = ["hours", "torque_nm", "twist_arcmin"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        let mut rows = Vec::new();
+        for s in &study.stages {
+            if let Some((fl, _)) = &s.flexible {
+                for (t, w) in fl.hysteresis_torque.iter().zip(&fl.hysteresis_twist) {
+                    rows.push(vec![f(s.hours), f(*t), f(w * ARCMIN_PER_RAD)]);
+                }
+            }
+        }
+        write_rows(&dir.join("hysteresis_flexible.csv"), &header, &rows)?;
     }
 
     // Profiles and plots are independent: write them side by side.

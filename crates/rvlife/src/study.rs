@@ -80,9 +80,26 @@ pub struct StageSummary {
     /// Mean tangent stiffness `dT/dpsi` at the loaded-TE torque, N m/arcmin.
     pub tangent_stiffness_nm_per_arcmin: f64,
     /// Secant torsional stiffness of the flexible-disc model between the STE measuring torque
-    /// and the rated torque (when the flexible disc is on), N m/arcmin.
+    /// and the rated torque, mean of both senses (when the flexible disc is on), N m/arcmin.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub flexible_torsional_stiffness_nm_per_arcmin: Option<f64>,
+    /// Mean TE of the flexible disc at minus the STE measuring torque over a crank revolution,
+    /// arcmin (when the flexible disc is on).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flexible_ste_reverse_mean_arcmin: Option<f64>,
+    /// Mean TE of the flexible disc at minus the rated torque over a crank revolution, arcmin.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flexible_loaded_te_reverse_mean_arcmin: Option<f64>,
+    /// Backlash of the flexible-disc model: the play between the two senses' first contacts,
+    /// mean over a crank revolution, arcmin (the disc does not deform without load, so it is
+    /// the rigid play over those crank angles).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flexible_backlash_arcmin: Option<f64>,
+    /// Lost motion of the flexible-disc model (catalogue): the twist between the flexible TEs
+    /// at plus and minus the measuring torque (3 % of rated; the hysteresis curve's midpoints,
+    /// as this model has no friction), mean over a crank revolution, arcmin.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flexible_lost_motion_arcmin: Option<f64>,
     /// Mean TE of the flexible disc at the STE measuring torque (`fem.ste_torque_fraction` of
     /// the rated torque) over a crank revolution, arcmin (when the flexible disc is on).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -350,6 +367,10 @@ pub fn analyse_profile(model: &Model, profile: &Profile, hours: f64) -> Result<P
         torsional_stiffness_nm_per_arcmin: acc.torsional_stiffness / ARCMIN_PER_RAD,
         tangent_stiffness_nm_per_arcmin: loaded.mean_stiffness() / ARCMIN_PER_RAD,
         flexible_torsional_stiffness_nm_per_arcmin: None,
+        flexible_ste_reverse_mean_arcmin: None,
+        flexible_loaded_te_reverse_mean_arcmin: None,
+        flexible_backlash_arcmin: None,
+        flexible_lost_motion_arcmin: None,
         flexible_ste_mean_arcmin: None,
         flexible_ste_peak_to_peak_arcmin: None,
         flexible_loaded_te_mean_arcmin: None,
@@ -520,6 +541,16 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
             s.rigid_loaded_te_revolution_mean_arcmin = Some(arcmin(rigid.mean));
             s.flexible_torsional_stiffness_nm_per_arcmin =
                 Some(fl.torsional_stiffness / ARCMIN_PER_RAD);
+            let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
+            let gap = |a: &[f64], b: &[f64]| {
+                let d: Vec<f64> = a.iter().zip(b).map(|(x, y)| x - y).collect();
+                arcmin(mean(&d))
+            };
+            s.flexible_ste_reverse_mean_arcmin = Some(arcmin(mean(&fl.flexible_ste_reverse)));
+            s.flexible_loaded_te_reverse_mean_arcmin =
+                Some(arcmin(mean(&fl.flexible_loaded_te_reverse)));
+            s.flexible_backlash_arcmin = Some(gap(&fl.rigid_ste, &fl.rigid_ste_reverse));
+            s.flexible_lost_motion_arcmin = Some(gap(&fl.flexible_ste, &fl.flexible_ste_reverse));
             s.max_von_mises_mpa = Some(fl.stress.max_von_mises * 1e-6);
             s.max_root_stress_mpa = Some(fl.stress.max_root_stress * 1e-6);
             st.flexible = Some((fl, mesh));

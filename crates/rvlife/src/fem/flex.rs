@@ -137,8 +137,7 @@ fn candidates(profile: &Profile, phi: f64, beta: f64, s: f64, reach: f64) -> Res
 /// `disc_torque` (N m; its sign picks the flank). A zero torque gives the rigid first contact.
 ///
 /// # Errors
-/// [`Error::Numerical`] if the rigid start or the Newton iteration fails, or if the contact
-/// points leave the driving flank on which the stations lie (negative torques).
+/// [`Error::Numerical`] if the rigid start or the Newton iteration fails.
 pub fn solve_flexible(
     profile: &Profile,
     model: &ContactModel,
@@ -157,18 +156,11 @@ pub fn solve_flexible(
             pins: Vec::new(),
         });
     }
-    if disc_torque < 0.0 {
-        return Err(Error::invalid(
-            "flexible contact torque",
-            disc_torque,
-            "must be >= 0: the load stations lie on the driving flank",
-        ));
-    }
     let law = FlexibleLaw {
         model: *model,
         patch: disc.params.patch,
     };
-    let s = 1.0;
+    let s = disc_torque.signum();
     let cand = candidates(profile, phi, rigid.disc_rotation, s, 5e-3)?;
     let mut force: Vec<f64> = cand.iter().map(|&j| rigid.pins[j].force).collect();
     let mut active: Vec<bool> = force.iter().map(|f| *f > 0.0).collect();
@@ -286,8 +278,9 @@ pub const FLEX_OFFSET_TOLERANCE: f64 = 1e-9;
 /// `kappa_j`) the gap offset is `sum_k C(t_j, t_k) F_k + w_flex(F_j) - w(F_j)`: the FE body's
 /// normal approach ([`DiscModel::compliance_at`], disc clamped at its crank bores), plus the
 /// local Hertz approach of the FE-loaded disc ([`FlexibleLaw`]) in place of the whole-body
-/// approach of the rigid law `w` (the static solution's overlap). Open pins facing the driving
-/// flank get the body term (the flank under them moves with the body), so a pin at the edge of
+/// approach of the rigid law `w` (the static solution's overlap). Open pins facing the loaded
+/// flank (the driving flank for a positive torque, the other for a negative one) get the body
+/// term (the flank under them moves with the body), so a pin at the edge of
 /// the contact zone does not flip between open and loaded from one sweep to the next. The
 /// offsets are iterated to a fixed point (each sweep a warm-started static solve; about 15
 /// sweeps on the example; the step is halved, down to 1/64, whenever a sweep fails to shrink
@@ -297,7 +290,6 @@ pub const FLEX_OFFSET_TOLERANCE: f64 = 1e-9;
 /// Returns the solution and the offsets (m, `2 x Zp`, disc-major).
 ///
 /// # Errors
-/// [`Error::Invalid`] for a negative torque (the stations lie on the driving flank);
 /// [`Error::Numerical`] if a static solve fails or the fixed point is not reached in 400
 /// sweeps (naming the crank angle and torque).
 pub fn solve_flexible_bearings(
@@ -311,14 +303,8 @@ pub fn solve_flexible_bearings(
         rigid.output_torque,
         rigid.first_contact_twist,
     );
-    if torque < 0.0 {
-        return Err(Error::invalid(
-            "flexible contact torque",
-            torque,
-            "must be >= 0: the load stations lie on the driving flank",
-        ));
-    }
     let zp = red.geometry.pins;
+    let sense = torque.signum();
     let law = FlexibleLaw {
         model: red.contact,
         patch: disc.params.patch,
@@ -332,12 +318,12 @@ pub fn solve_flexible_bearings(
     for _ in 0..400 {
         let mut target = vec![0.0; 2 * zp];
         for (d, dl) in sol.discs.iter().enumerate() {
-            // Every pin facing the driving flank: the loaded ones and the open ones the body's
+            // Every pin facing the loaded flank: the loaded ones and the open ones the body's
             // deflection moves the flank under.
             let facing: Vec<&PinLoad> = dl
                 .pins
                 .iter()
-                .filter(|p| p.force > 0.0 || faces_driving_flank(p.profile_parameter))
+                .filter(|p| p.force > 0.0 || faces_loaded_flank(p.profile_parameter, sense))
                 .collect();
             let ts: Vec<f64> = facing.iter().map(|p| p.profile_parameter).collect();
             let c = disc.compliance_at(&ts);
@@ -391,8 +377,19 @@ pub fn solve_flexible_bearings(
 /// loaded on one side of the end and open on the other from one sweep to the next; its body
 /// deflection must not vanish when it opens).
 pub fn faces_driving_flank(t: f64) -> bool {
+    faces_loaded_flank(t, 1.0)
+}
+
+/// Whether a pin with contact parameter `t` (rad) faces the flank that a torque of sign `sense`
+/// loads: the driving flank `[0, pi]` for `sense >= 0`, the other flank `[pi, 2 pi]` for a
+/// negative one, with a margin of [`FACING_MARGIN`] round both ends.
+pub fn faces_loaded_flank(t: f64, sense: f64) -> bool {
     let local = t.rem_euclid(TAU);
-    local <= PI + FACING_MARGIN || local >= TAU - FACING_MARGIN
+    if sense >= 0.0 {
+        local <= PI + FACING_MARGIN || local >= TAU - FACING_MARGIN
+    } else {
+        local >= PI - FACING_MARGIN || local <= FACING_MARGIN
+    }
 }
 
 /// Margin of [`faces_driving_flank`] in profile parameter, rad.
@@ -510,9 +507,21 @@ pub struct FlexibleStage {
     pub flexible_loaded_te: Vec<f64>,
     /// Largest pin force of the flexible solution at the rated torque, N.
     pub max_force: Vec<f64>,
+    /// Rigid first contact in the reverse sense (the other flank, no load), rad.
+    pub rigid_ste_reverse: Vec<f64>,
+    /// Flexible-disc TE at minus the STE measuring torque, rad.
+    pub flexible_ste_reverse: Vec<f64>,
+    /// Flexible-disc TE at minus the rated torque, rad.
+    pub flexible_loaded_te_reverse: Vec<f64>,
     /// Secant torsional stiffness of the stage between the STE torque and the rated torque,
-    /// from the mean TEs, N m/rad.
+    /// from the mean TEs, mean of both senses (catalogue definition), N m/rad.
     pub torsional_stiffness: f64,
+    /// Output torques of the flexible hysteresis curve, N m (from minus to plus rated; the
+    /// curve of this frictionless model is the same loading and unloading).
+    pub hysteresis_torque: Vec<f64>,
+    /// Flexible output twist at each of those torques, mean over [`HYSTERESIS_CRANK_ANGLES`]
+    /// crank angles of the revolution, rad.
+    pub hysteresis_twist: Vec<f64>,
     /// Stress at the rated torque at the crank angle with the largest pin force.
     pub stress: DiscStress,
 }
@@ -524,10 +533,45 @@ impl FlexibleStage {
     }
 }
 
+/// Crank angles over one revolution at which the flexible hysteresis curve is averaged.
+pub const HYSTERESIS_CRANK_ANGLES: usize = 12;
+
+/// Torques of the flexible hysteresis curve as fractions of the rated torque; the STE measuring
+/// fraction `f` is added each way.
+const HYSTERESIS_LEVELS: [f64; 4] = [0.25, 0.5, 0.75, 1.0];
+
+/// The torques (N m, ascending) of the flexible hysteresis curve: `+-f rated` and
+/// `+-HYSTERESIS_LEVELS rated`.
+fn hysteresis_torques(rated: f64, f: f64) -> Vec<f64> {
+    let mut t: Vec<f64> = std::iter::once(f)
+        .chain(HYSTERESIS_LEVELS)
+        .flat_map(|x| [x * rated, -x * rated])
+        .collect();
+    t.sort_by(f64::total_cmp);
+    t
+}
+
+/// Torsional stiffness `b/a` of both senses, N m/rad (catalogue definition, as
+/// [`crate::te::Accuracy::torsional_stiffness`]): `(T_r - T_m)` over the mean of the two
+/// senses' mean twists between the measuring torque `T_m` and the rated torque `T_r`.
+fn two_sense_stiffness(st: &FlexibleStage) -> f64 {
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
+    let a = 0.5
+        * ((mean(&st.flexible_loaded_te) - mean(&st.flexible_ste))
+            + (mean(&st.flexible_ste_reverse) - mean(&st.flexible_loaded_te_reverse)));
+    if a > 0.0 {
+        (st.rated_torque - st.ste_torque) / a
+    } else {
+        f64::INFINITY
+    }
+}
+
 /// Runs the flexible analysis of one stage: rigid and flexible TE at the STE measuring torque
 /// and at the rated torque (output torques), at `disc.params.crank_angles` crank angles over one
-/// crank revolution (the load moves once round the disc relative to the bores), in parallel;
-/// the torsional stiffness; and the stress at the crank angle of the largest pin force.
+/// crank revolution (the load moves once round the disc relative to the bores), in parallel,
+/// in both senses; the torsional stiffness (mean of both senses); the hysteresis curve from
+/// minus to plus the rated torque (mean over [`HYSTERESIS_CRANK_ANGLES`] crank angles); and
+/// the stress at the crank angle of the largest forward pin force.
 ///
 /// With bearing support (the default) both discs sit on their bearings and the TEs are the
 /// reducer's output twists ([`solve_flexible_bearings`]). With the rigid support the disc is
@@ -563,6 +607,18 @@ pub fn analyse_stage(
             Ok((lo, hi))
         })
         .collect::<Result<_>>()?;
+    let reverse: Vec<(FlexSolution, FlexSolution)> = phis
+        .par_iter()
+        .map(|&phi| -> Result<(FlexSolution, FlexSolution)> {
+            let lo = solve_flexible(profile, model, disc, phi, disc_torque(-ste_torque))?;
+            let hi = solve_flexible(profile, model, disc, phi, disc_torque(-rated_torque))?;
+            Ok((lo, hi))
+        })
+        .collect::<Result<_>>()?;
+    let hysteresis_torque = hysteresis_torques(rated_torque, disc.params.ste_torque_fraction);
+    let hysteresis_twist = curve_mean(&phis, &hysteresis_torque, |phi, t| {
+        Ok(factor * solve_flexible(profile, model, disc, phi, disc_torque(t))?.disc_rotation)
+    })?;
     let flexible_ste: Vec<f64> = rows.iter().map(|r| factor * r.0.disc_rotation).collect();
     let flexible_loaded_te: Vec<f64> = rows.iter().map(|r| factor * r.1.disc_rotation).collect();
     let torsional_stiffness =
@@ -572,7 +628,7 @@ pub fn analyse_stage(
         .max_by(|a, b| a.1.max_force().total_cmp(&b.1.max_force()))
         .expect("at least four crank angles");
     let stress = disc_stress(profile, disc, &worst.1, rated_torque);
-    Ok(FlexibleStage {
+    let mut st = FlexibleStage {
         crank_angle: phis,
         ste_torque,
         rated_torque,
@@ -584,9 +640,40 @@ pub fn analyse_stage(
         flexible_ste,
         flexible_loaded_te,
         max_force: rows.iter().map(|r| r.1.max_force()).collect(),
+        rigid_ste_reverse: reverse
+            .iter()
+            .map(|r| factor * r.1.first_contact_rotation)
+            .collect(),
+        flexible_ste_reverse: reverse.iter().map(|r| factor * r.0.disc_rotation).collect(),
+        flexible_loaded_te_reverse: reverse.iter().map(|r| factor * r.1.disc_rotation).collect(),
         torsional_stiffness,
+        hysteresis_torque,
+        hysteresis_twist,
         stress,
-    })
+    };
+    st.torsional_stiffness = two_sense_stiffness(&st);
+    Ok(st)
+}
+
+/// Mean over every `n / HYSTERESIS_CRANK_ANGLES`-th crank angle of `phis` of `twist(phi, T)`
+/// (rad) at each torque of `torques`, in parallel.
+fn curve_mean(
+    phis: &[f64],
+    torques: &[f64],
+    twist: impl Fn(f64, f64) -> Result<f64> + Sync,
+) -> Result<Vec<f64>> {
+    let step = (phis.len() / HYSTERESIS_CRANK_ANGLES).max(1);
+    let sub: Vec<f64> = phis.iter().copied().step_by(step).collect();
+    torques
+        .par_iter()
+        .map(|&t| -> Result<f64> {
+            let mut sum = 0.0;
+            for &phi in &sub {
+                sum += twist(phi, t)?;
+            }
+            Ok(sum / sub.len() as f64)
+        })
+        .collect()
 }
 
 /// Secant torsional stiffness (N m/rad) between torques `lo_torque` and `hi_torque` (N m)
@@ -625,6 +712,23 @@ fn analyse_stage_bearings(
             Ok((psi0, rigid, lo, hi, offsets))
         })
         .collect::<Result<_>>()?;
+    let reverse: Vec<(f64, f64, f64)> = phis
+        .par_iter()
+        .map(|&phi| -> Result<(f64, f64, f64)> {
+            let psi0 = sa.first_contact(phi, -1.0)?;
+            let rigid_lo = sa.solve_from(phi, -ste_torque, psi0)?;
+            let rigid_hi = sa.solve_from(phi, -rated_torque, psi0)?;
+            let (lo, _) = solve_flexible_bearings(&sa, reducer, disc, rigid_lo)?;
+            let (hi, _) = solve_flexible_bearings(&sa, reducer, disc, rigid_hi)?;
+            Ok((psi0, lo.twist, hi.twist))
+        })
+        .collect::<Result<_>>()?;
+    let hysteresis_torque = hysteresis_torques(rated_torque, disc.params.ste_torque_fraction);
+    let hysteresis_twist = curve_mean(&phis, &hysteresis_torque, |phi, t| {
+        let psi0 = sa.first_contact(phi, t.signum())?;
+        let rigid = sa.solve_from(phi, t, psi0)?;
+        Ok(solve_flexible_bearings(&sa, reducer, disc, rigid)?.0.twist)
+    })?;
     let flexible_ste: Vec<f64> = rows.iter().map(|r| r.2.twist).collect();
     let flexible_loaded_te: Vec<f64> = rows.iter().map(|r| r.3.twist).collect();
     let torsional_stiffness =
@@ -643,7 +747,7 @@ fn analyse_stage_bearings(
         &disc_one(&worst.3, &worst.4, worst.0, worst.1),
         rated_torque,
     );
-    Ok(FlexibleStage {
+    let mut st = FlexibleStage {
         crank_angle: phis,
         ste_torque,
         rated_torque,
@@ -652,7 +756,14 @@ fn analyse_stage_bearings(
         flexible_ste,
         flexible_loaded_te,
         max_force: rows.iter().map(|r| r.3.max_force()).collect(),
+        rigid_ste_reverse: reverse.iter().map(|r| r.0).collect(),
+        flexible_ste_reverse: reverse.iter().map(|r| r.1).collect(),
+        flexible_loaded_te_reverse: reverse.iter().map(|r| r.2).collect(),
         torsional_stiffness,
+        hysteresis_torque,
+        hysteresis_twist,
         stress,
-    })
+    };
+    st.torsional_stiffness = two_sense_stiffness(&st);
+    Ok(st)
 }

@@ -18,8 +18,11 @@
 //! under mesh refinement (a point load's does not, in 2D). The local contact compliance inside
 //! the patch comes from the Hertz law instead, with the disc's depth term cut at `w`
 //! ([`flex::FlexibleLaw`]). Stations sit at equal arc length along the driving flank
-//! (`0 < mesh angle < pi`) of every tooth; compliances between arbitrary contact points are
-//! Catmull-Rom interpolated between stations (diagonal terms along the diagonal).
+//! (`0 < mesh angle < pi`)
+//! and on the other flank of every tooth (so that both senses of torque, backlash and lost
+//! motion have a flexible disc); compliances between arbitrary contact points are Catmull-Rom
+//! interpolated between the stations of the flank they lie on (diagonal terms along the
+//! diagonal).
 
 pub mod flex;
 pub mod mesh;
@@ -142,15 +145,18 @@ pub struct DiscModel {
     pub fe: FeModel,
     /// Parameters.
     pub params: FemParams,
-    /// Profile parameters `t` of the stations of tooth 0 (`[0, pi]`, equal arc length).
+    /// Profile parameters `t` of the stations of tooth 0: `stations_per_flank` on the driving
+    /// flank (`[0, pi]`), then as many on the other flank (`[pi, 2 pi]`), each at equal arc
+    /// length.
     pub station_t: Vec<f64>,
-    /// Compliance between stations, m/N: `(tooth a, station i) x (tooth b, station k)`, row-major
-    /// over `Zc * stations_per_flank` entries.
+    /// Compliance between stations, m/N: `(tooth a, flank f, station i) x (tooth b, flank g,
+    /// station k)`, row-major over `2 Zc stations_per_flank` entries (global station index
+    /// `(2 tooth + flank) stations_per_flank + station`).
     pub compliance: Vec<f64>,
     /// Reduced loads of the stations (`(equation, N)` pairs of a unit pin force), in the
     /// order of the compliance matrix's rows.
     pub station_loads: Vec<Vec<(usize, f64)>>,
-    /// Arc-length table of the driving flank: `t` and `s` (m).
+    /// Arc-length table of one tooth: `t` and `s` (m) over `[0, 2 pi]`.
     arc_t: Vec<f64>,
     arc_s: Vec<f64>,
     teeth: usize,
@@ -187,16 +193,17 @@ impl DiscModel {
         let t2 = std::time::Instant::now();
         let teeth = profile.geometry().disc_teeth();
         let m = params.stations_per_flank;
-        let (arc_t, arc_s) = {
-            let half = ts.partition_point(|t| *t <= PI);
-            (ts[..half].to_vec(), ss[..half].to_vec())
-        };
-        let flank_len = *arc_s.last().expect("table");
-        let station_t: Vec<f64> = (0..m)
-            .map(|i| {
-                // Stations from 2 % to 98 % of the flank: the very root and tip carry no load.
-                let s = flank_len * (0.02 + 0.96 * i as f64 / (m - 1) as f64);
-                interp(&arc_s, &arc_t, s)
+        let (arc_t, arc_s) = (ts.clone(), ss.clone());
+        let station_t: Vec<f64> = (0..2)
+            .flat_map(|flank| {
+                let (s0, len) = flank_span(&arc_t, &arc_s, flank);
+                let (arc_t, arc_s) = (&arc_t, &arc_s);
+                (0..m).map(move |i| {
+                    // Stations from 2 % to 98 % of each flank: the very root and tip carry no
+                    // load.
+                    let s = s0 + len * (0.02 + 0.96 * i as f64 / (m - 1) as f64);
+                    interp(arc_s, arc_t, s)
+                })
             })
             .collect();
         let mut model = DiscModel {
@@ -211,10 +218,10 @@ impl DiscModel {
             outline_edges,
             timings: [0.0; 3],
         };
-        let loads: Vec<Vec<(usize, f64)>> = (0..teeth * m)
+        let loads: Vec<Vec<(usize, f64)>> = (0..2 * teeth * m)
             .into_par_iter()
             .map(|g| {
-                let t = model.station_t[g % m] + TAU * (g / m) as f64;
+                let t = model.station_t[g % (2 * m)] + TAU * (g / (2 * m)) as f64;
                 let pp = profile.point(t);
                 model
                     .fe
@@ -261,22 +268,16 @@ impl DiscModel {
     }
 
     /// Station index and Catmull-Rom weights of a contact at profile parameter `t` (rad): up to
-    /// four `(global station, weight)` pairs. Parameters off the driving flank clamp to its ends.
+    /// four `(global station, weight)` pairs on the flank the parameter lies on (driving:
+    /// local `t` in `[0, pi]`; the other flank otherwise). Parameters within 2 % of a flank's
+    /// ends take the end station's compliance.
     pub fn weights(&self, t: f64) -> [(usize, f64); 4] {
         let m = self.params.stations_per_flank;
         let tooth = (t / TAU).floor().rem_euclid(self.teeth as f64) as usize;
         let local = t.rem_euclid(TAU);
-        let flank_len = *self.arc_s.last().expect("table");
-        let s = if local > PI {
-            // The other flank: clamp to the nearer end of the driving flank.
-            if local > 1.5 * PI {
-                0.0
-            } else {
-                flank_len
-            }
-        } else {
-            interp(&self.arc_t, &self.arc_s, local)
-        };
+        let flank = usize::from(local > PI);
+        let (s0, flank_len) = flank_span(&self.arc_t, &self.arc_s, flank);
+        let s = interp(&self.arc_t, &self.arc_s, local) - s0;
         let u = ((s / flank_len - 0.02) / 0.96 * (m - 1) as f64).clamp(0.0, (m - 1) as f64);
         let i = (u.floor() as usize).min(m - 2);
         let f = u - i as f64;
@@ -289,7 +290,7 @@ impl DiscModel {
         ];
         let idx = |d: isize| -> usize {
             let k = (i as isize + d).clamp(0, m as isize - 1) as usize;
-            tooth * m + k
+            (2 * tooth + flank) * m + k
         };
         [
             (idx(-1), w[0]),
@@ -304,7 +305,7 @@ impl DiscModel {
     /// Diagonal terms are interpolated along the station diagonal.
     pub fn compliance_at(&self, ts: &[f64]) -> Vec<f64> {
         let n = ts.len();
-        let ns = self.teeth * self.params.stations_per_flank;
+        let ns = self.stations();
         let ws: Vec<[(usize, f64); 4]> = ts.iter().map(|&t| self.weights(t)).collect();
         let mut c = vec![0.0; n * n];
         for a in 0..n {
@@ -336,9 +337,21 @@ impl DiscModel {
         c
     }
 
-    /// Number of stations in all.
+    /// Number of stations in all (both flanks of every tooth).
     pub fn stations(&self) -> usize {
-        self.teeth * self.params.stations_per_flank
+        2 * self.teeth * self.params.stations_per_flank
+    }
+}
+
+/// Start (m) and length (m) in arc length of flank `flank` (0: `t` in `[0, pi]`, 1: `[pi, 2 pi]`)
+/// of the one-tooth table `(ts, ss)`.
+fn flank_span(ts: &[f64], ss: &[f64], flank: usize) -> (f64, f64) {
+    let mid = interp(ts, ss, PI);
+    let end = *ss.last().expect("table");
+    if flank == 0 {
+        (0.0, mid)
+    } else {
+        (mid, end - mid)
     }
 }
 
