@@ -102,6 +102,7 @@ pub struct DynamicsSummary {
     /// Why the configured integrator was replaced, when it was: ESDIRK34's Newton iteration
     /// can stall at a non-smooth contact event (its step size then falls below 1e-13 s); the
     /// run is then repeated with Tsitouras 5(4) at the same tolerance.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub integrator_fallback: Option<String>,
 }
 
