@@ -373,32 +373,39 @@ fn node_bcs(mesh: &Mesh) -> Vec<NodeBc> {
 fn condense(fe: &FeModel, loads: &[Vec<(usize, f64)>]) -> Vec<f64> {
     let n = loads.len();
     let neq = fe.equations();
-    let mut c = vec![0.0; n * n];
     let batch = 64;
-    let mut start = 0;
-    while start < n {
-        let end = (start + batch).min(n);
-        let mut rhs = Mat::<f64>::zeros(neq, end - start);
-        for (col, l) in loads[start..end].iter().enumerate() {
-            for &(q, v) in l {
-                rhs[(q, col)] += v;
+    // Batches in parallel (one factor, read-only): each solves its columns and projects them
+    // on every station's load.
+    let columns: Vec<(usize, Vec<f64>)> = (0..n)
+        .step_by(batch)
+        .collect::<Vec<_>>()
+        .into_par_iter()
+        .with_max_len(1)
+        .map(|start| {
+            let end = (start + batch).min(n);
+            let mut rhs = Mat::<f64>::zeros(neq, end - start);
+            for (col, l) in loads[start..end].iter().enumerate() {
+                for &(q, v) in l {
+                    rhs[(q, col)] += v;
+                }
             }
-        }
-        fe.solve_reduced(&mut rhs);
-        let block: Vec<Vec<f64>> = (0..n)
-            .into_par_iter()
-            .map(|i| {
-                (0..end - start)
-                    .map(|col| loads[i].iter().map(|&(q, v)| v * rhs[(q, col)]).sum())
-                    .collect()
-            })
-            .collect();
-        for (i, row) in block.iter().enumerate() {
-            for (col, v) in row.iter().enumerate() {
-                c[i * n + start + col] = *v;
+            fe.solve_reduced(&mut rhs);
+            let mut block = vec![0.0; n * (end - start)];
+            for (i, load) in loads.iter().enumerate() {
+                for col in 0..end - start {
+                    block[i * (end - start) + col] =
+                        load.iter().map(|&(q, v)| v * rhs[(q, col)]).sum();
+                }
             }
+            (start, block)
+        })
+        .collect();
+    let mut c = vec![0.0; n * n];
+    for (start, block) in columns {
+        let w = block.len() / n;
+        for i in 0..n {
+            c[i * n + start..i * n + start + w].copy_from_slice(&block[i * w..(i + 1) * w]);
         }
-        start = end;
     }
     c
 }
