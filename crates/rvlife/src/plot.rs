@@ -595,20 +595,13 @@ pub fn flexible_te_hours(study: &Study, dir: &Path) -> Result<()> {
         dir,
         "flexible_te_hours",
         |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-            let mut chart = ChartBuilder::on(root)
-                .caption(
-                    "Rigid against flexible disc: TE over working hours",
-                    ("sans-serif", 26),
-                )
-                .margin(15)
-                .x_label_area_size(45)
-                .y_label_area_size(65)
-                .build_cartesian_2d(0.0..h_max * 1.04, 0.0..hi.max(1e-3))?;
-            chart
-                .configure_mesh()
-                .x_desc("working hours (h)")
-                .y_desc("TE (arcmin)")
-                .draw()?;
+            let mut chart = hours_axes(
+                root,
+                "Rigid against flexible disc: TE over working hours",
+                "TE (arcmin)",
+                h_max,
+                (0.0, hi.max(1e-3)),
+            )?;
             stage_lines(&mut chart, &sums, &lines)?;
             chart
                 .configure_series_labels()
@@ -788,6 +781,39 @@ pub fn dynamics(res: &crate::reducer::dynamics::DynamicsResult, dir: &Path) -> R
     })
 }
 
+/// Axes of a quantity against working hours (`0 ..= 1.04 h_max` by `y`), captioned `title`,
+/// the y axis labelled `y_desc`.
+fn hours_axes<'a, DB: DrawingBackend>(
+    root: &'a DrawingArea<DB, Shift>,
+    title: &str,
+    y_desc: &str,
+    h_max: f64,
+    y: (f64, f64),
+) -> std::result::Result<
+    ChartContext<
+        'a,
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    Box<dyn std::error::Error>,
+>
+where
+    DB::ErrorType: 'static,
+{
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, ("sans-serif", 26))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(65)
+        .build_cartesian_2d(0.0..h_max * 1.04, y.0..y.1)?;
+    chart
+        .configure_mesh()
+        .x_desc("working hours (h)")
+        .y_desc(y_desc)
+        .draw()?;
+    Ok(chart)
+}
+
 /// Named curves `(label, points (hours, value))` against working hours, written to
 /// `<stem>.{svg,png}` in `dir` with the caption `title` and the y-axis label `y_desc` (the
 /// paper's Fig. 19b style: one line with markers per model).
@@ -811,17 +837,7 @@ pub fn curves_against_hours(
         dir,
         stem,
         |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-            let mut chart = ChartBuilder::on(root)
-                .caption(title, ("sans-serif", 26))
-                .margin(15)
-                .x_label_area_size(45)
-                .y_label_area_size(65)
-                .build_cartesian_2d(0.0..h_max * 1.04, lo.min(0.0)..hi)?;
-            chart
-                .configure_mesh()
-                .x_desc("working hours (h)")
-                .y_desc(y_desc)
-                .draw()?;
+            let mut chart = hours_axes(root, title, y_desc, h_max, (lo.min(0.0), hi))?;
             for (k, (label, pts)) in curves.iter().enumerate() {
                 let c = colours[k % colours.len()];
                 chart
@@ -861,17 +877,7 @@ pub fn fan_chart(
         dir,
         stem,
         |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-            let mut chart = ChartBuilder::on(root)
-                .caption(title, ("sans-serif", 26))
-                .margin(15)
-                .x_label_area_size(45)
-                .y_label_area_size(65)
-                .build_cartesian_2d(0.0..h_max * 1.04, lo.min(0.0)..hi)?;
-            chart
-                .configure_mesh()
-                .x_desc("working hours (h)")
-                .y_desc(y_desc)
-                .draw()?;
+            let mut chart = hours_axes(root, title, y_desc, h_max, (lo.min(0.0), hi))?;
             let band: Vec<(f64, f64)> = hours
                 .iter()
                 .zip(p95)
