@@ -33,10 +33,43 @@ use crate::fem::flex::FlexibleLaw;
 use crate::fem::modal::ModalDisc;
 use crate::geometry::{cross, rotate, Vec2};
 
-use super::gap::GapField;
+use super::gap::{GapEval, GapField};
 use super::params::{Drive, DynamicsParams, LoadProfile};
 use crate::reducer::perp;
 pub use crate::reducer::{Layout, MAX_DOFS};
+
+/// A disc's pose for its pin contacts: coordinate index `id`, centre `c` (m) and its speed
+/// `cd` (m/s), angular speed `wpsi` (rad/s), the base of the pins' contact-parameter guesses
+/// (rad), and the sine and cosine of the profile's angle.
+struct DiscFrame {
+    id: usize,
+    c: Vec2,
+    cd: Vec2,
+    wpsi: f64,
+    base: f64,
+    sa: f64,
+    ca: f64,
+}
+
+impl DiscFrame {
+    /// A pin centre `p` (fixed frame, m) relative to the disc centre, in the fixed frame and in
+    /// the disc's profile frame.
+    #[inline]
+    fn pin(&self, p: Vec2) -> (Vec2, Vec2) {
+        let rel = p - self.c;
+        let ql = Vec2::new(
+            self.ca * rel.x + self.sa * rel.y,
+            -self.sa * rel.x + self.ca * rel.y,
+        );
+        (rel, ql)
+    }
+
+    /// A profile-frame vector in the fixed frame.
+    #[inline]
+    fn to_fixed(&self, v: Vec2) -> Vec2 {
+        Vec2::new(self.ca * v.x - self.sa * v.y, self.sa * v.x + self.ca * v.y)
+    }
+}
 
 /// Gap margin of the open-pin skip, m: a pin is evaluated again once its last gap minus the
 /// largest change its move since then can make falls below this.
@@ -425,20 +458,10 @@ impl<'a> System<'a> {
             return;
         }
         for d in 0..2 {
-            let id = lay.disc(d);
-            let c = Vec2::new(q[id], q[id + 1]);
-            let cd = Vec2::new(qd[id], qd[id + 1]);
-            let (psi, wpsi) = (q[id + 2], qd[id + 2]);
-            let ang = psi + self.chi[d];
-            // Kinematic crank angle of this disc and the contact-parameter guess of pin j:
-            // t_j = -phi - 2 pi j Zc / Zp + Zc (psi + phi / Zc) (geometry::contact_parameter_guess).
-            let phi = c.y.atan2(c.x);
-            let base = -phi + self.zc * (ang + phi / self.zc);
-            let (sa, ca) = ang.sin_cos();
+            let fr = self.disc_frame(d, q, qd);
+            let (id, cd, wpsi) = (fr.id, fr.cd, fr.wpsi);
             for j in 0..self.zp {
-                let pj = self.pins[j];
-                let rel = pj - c;
-                let ql = Vec2::new(ca * rel.x + sa * rel.y, -sa * rel.x + ca * rel.y);
+                let (rel, ql) = fr.pin(self.pins[j]);
                 // A pin whose last gap exceeds what its move since then can close stays open:
                 // the gap changes by at most |grad g| |dq| (with twice the steepest gradient
                 // met, and 1 um to spare).
@@ -449,11 +472,7 @@ impl<'a> System<'a> {
                     fcache[d * self.zp + j] = 0.0;
                     continue;
                 }
-                let tg = base - 2.0 * PI * j as f64 * self.zc / self.zp as f64;
-                let slot = &mut cache[d * self.zp + j];
-                let start = if slot.abs() < 0.3 { tg + *slot } else { tg };
-                let (ge, t_found) = self.gaps[d].eval(&ql, start);
-                *slot = t_found - tg;
+                let (ge, _) = self.pin_gap(&fr, d, j, &ql, &mut cache[d * self.zp + j]);
                 *open = (ge.gap, ql);
                 let gn = ge.grad.norm();
                 if gn > self.max_gradient.get() {
@@ -463,10 +482,7 @@ impl<'a> System<'a> {
                     fcache[d * self.zp + j] = 0.0;
                     continue;
                 }
-                let w = Vec2::new(
-                    ca * ge.grad.x - sa * ge.grad.y,
-                    sa * ge.grad.x + ca * ge.grad.y,
-                );
+                let w = fr.to_fixed(ge.grad);
                 let pen = -ge.gap;
                 // d(gap)/dt = w . (-c' - psi' J (p - c)).
                 let gap_dot = -w.dot(&(cd + perp(rel) * wpsi));
@@ -490,6 +506,46 @@ impl<'a> System<'a> {
                 }
             }
         }
+    }
+
+    /// The pose of disc `d` at the coordinates `q` and speeds `qd` (deviations included).
+    #[inline]
+    fn disc_frame(&self, d: usize, q: &[f64], qd: &[f64]) -> DiscFrame {
+        let id = self.layout.disc(d);
+        let c = Vec2::new(q[id], q[id + 1]);
+        let ang = q[id + 2] + self.chi[d];
+        // Kinematic crank angle of this disc and the contact-parameter guess of pin j:
+        // t_j = -phi - 2 pi j Zc / Zp + Zc (psi + phi / Zc) (geometry::contact_parameter_guess).
+        let phi = c.y.atan2(c.x);
+        let (sa, ca) = ang.sin_cos();
+        DiscFrame {
+            id,
+            c,
+            cd: Vec2::new(qd[id], qd[id + 1]),
+            wpsi: qd[id + 2],
+            base: -phi + self.zc * (ang + phi / self.zc),
+            sa,
+            ca,
+        }
+    }
+
+    /// Gap of pin `j` (disc-frame centre `ql`) against disc `d` and its contact parameter, the
+    /// search started from the kinematic guess plus the offset in `slot` (when below 0.3 rad),
+    /// which it updates.
+    #[inline]
+    fn pin_gap(
+        &self,
+        fr: &DiscFrame,
+        d: usize,
+        j: usize,
+        ql: &Vec2,
+        slot: &mut f64,
+    ) -> (GapEval, f64) {
+        let tg = fr.base - 2.0 * PI * j as f64 * self.zc / self.zp as f64;
+        let start = if slot.abs() < 0.3 { tg + *slot } else { tg };
+        let (ge, t_found) = self.gaps[d].eval(ql, start);
+        *slot = t_found - tg;
+        (ge, t_found)
     }
 
     /// Adds the generalised forces of a pin force `fnorm w` (N; `w` the gap's gradient in the
@@ -554,14 +610,8 @@ impl<'a> System<'a> {
         let eta = &z[2 * n + d * m..2 * n + (d + 1) * m];
         let rate = &z[2 * n + 2 * m + d * m..2 * n + 2 * m + (d + 1) * m];
         let (q, qd) = (&k.q[..n], &k.qd[..n]);
-        let id = self.layout.disc(d);
-        let c = Vec2::new(q[id], q[id + 1]);
-        let cd = Vec2::new(qd[id], qd[id + 1]);
-        let (psi, wpsi) = (q[id + 2], qd[id + 2]);
-        let ang = psi + self.chi[d];
-        let phi = c.y.atan2(c.x);
-        let base = -phi + self.zc * (ang + phi / self.zc);
-        let (sa, ca) = ang.sin_cos();
+        let fr = self.disc_frame(d, q, qd);
+        let (id, cd, wpsi) = (fr.id, fr.cd, fr.wpsi);
         let mut cache = self.t_cache.borrow_mut();
         let mut fcache = self.f_cache.borrow_mut();
         let last_total: f64 = fcache[d * zp..(d + 1) * zp].iter().sum();
@@ -577,14 +627,8 @@ impl<'a> System<'a> {
         let mut amps: Vec<f64> = Vec::new();
         let mut b = vec![0.0; m];
         for j in 0..zp {
-            let pj = self.pins[j];
-            let rel = pj - c;
-            let ql = Vec2::new(ca * rel.x + sa * rel.y, -sa * rel.x + ca * rel.y);
-            let tg = base - 2.0 * PI * j as f64 * self.zc / zp as f64;
-            let slot = &mut cache[d * zp + j];
-            let start = if slot.abs() < 0.3 { tg + *slot } else { tg };
-            let (ge, t_found) = self.gaps[d].eval(&ql, start);
-            *slot = t_found - tg;
+            let (rel, ql) = fr.pin(self.pins[j]);
+            let (ge, t_found) = self.pin_gap(&fr, d, j, &ql, &mut cache[d * zp + j]);
             if ge.gap >= reach + modal_bound {
                 fcache[d * zp + j] = 0.0;
                 continue;
@@ -596,10 +640,7 @@ impl<'a> System<'a> {
                 continue;
             }
             let modal_rate: f64 = b.iter().zip(rate).map(|(b, e)| b * e).sum();
-            let w = Vec2::new(
-                ca * ge.grad.x - sa * ge.grad.y,
-                sa * ge.grad.x + ca * ge.grad.y,
-            );
+            let w = fr.to_fixed(ge.grad);
             pins.push(FlexPin {
                 j,
                 t: t_found,
