@@ -137,7 +137,8 @@ fn candidates(profile: &Profile, phi: f64, beta: f64, s: f64, reach: f64) -> Res
 /// `disc_torque` (N m; its sign picks the flank). A zero torque gives the rigid first contact.
 ///
 /// # Errors
-/// [`Error::Numerical`] if the rigid start or the Newton iteration fails.
+/// [`Error::Numerical`] if the rigid start fails or the Newton iteration does not converge in
+/// 200 steps.
 pub fn solve_flexible(
     profile: &Profile,
     model: &ContactModel,
@@ -170,6 +171,7 @@ pub fn solve_flexible(
     let tol_m = 1e-10 * disc_torque.abs();
     let mut geoms: Vec<PinGeometry> = Vec::with_capacity(n);
     let mut c = Vec::new();
+    let mut converged_all = false;
     for _ in 0..200 {
         geoms.clear();
         for &j in &cand {
@@ -210,7 +212,10 @@ pub fn solve_flexible(
                     force[i] = 0.0;
                     continue;
                 }
-                None => break,
+                None => {
+                    converged_all = true;
+                    break;
+                }
             }
         }
         let delta = jac
@@ -240,6 +245,16 @@ pub fn solve_flexible(
         if !beta.is_finite() {
             return Err(Error::numerical("flexible contact", "rotation diverged"));
         }
+    }
+    if !converged_all {
+        return Err(Error::numerical(
+            "flexible contact",
+            format!(
+                "the contact of the flexible disc did not converge in 200 Newton steps at crank \
+                 angle {:.4} deg, disc torque {disc_torque:.6e} N m",
+                phi.to_degrees()
+            ),
+        ));
     }
     let pins = (0..n)
         .filter(|&i| force[i] > 0.0)
