@@ -603,36 +603,7 @@ fn run(cli: Cli) -> Result<()> {
                 start.elapsed().as_secs_f64(),
                 out.display()
             );
-            println!(
-                "{:>8} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9} {:>5} {:>6}",
-                "hours",
-                "wear_um",
-                "STE'",
-                "STE_pp'",
-                "backl'",
-                "LM'",
-                "loadTE'",
-                "Fmax_N",
-                "pmax_MPa",
-                "pins",
-                "share"
-            );
-            for st in &s.stages {
-                println!(
-                    "{:>8.0} {:>9.2} {:>9.4} {:>9.4} {:>9.4} {:>9.4} {:>10.4} {:>9.1} {:>9.1} {:>5} {:>6.3}",
-                    st.hours,
-                    st.max_wear_um,
-                    st.ste_mean_arcmin,
-                    st.ste_peak_to_peak_arcmin,
-                    st.backlash_arcmin,
-                    st.lost_motion_arcmin,
-                    st.loaded_te_mean_arcmin,
-                    st.max_force_n,
-                    st.max_pressure_mpa,
-                    st.pins_in_contact,
-                    st.disc_load_share
-                );
-            }
+            print_stage_table(&s.stages);
             println!(
                 "STE {:.4} arcmin per 10 um of wear (paper, rigid Adams model: 0.5351 at 10 um)",
                 s.paper_comparison.ste_per_10um_arcmin
@@ -1204,5 +1175,75 @@ fn main() -> ExitCode {
                 ExitCode::from(1)
             }
         }
+    }
+}
+
+/// One column of the console's stage table: header, width and the formatted value.
+type Column = (
+    &'static str,
+    usize,
+    fn(&rvlife::study::StageSummary) -> Option<String>,
+);
+
+/// Prints the stage table: units in a line above it, then one row per stage; the DTE columns
+/// appear when the dynamic model ran, the flexible-disc columns when the FE disc did.
+fn print_stage_table(stages: &[rvlife::study::StageSummary]) {
+    let columns: [Column; 16] = [
+        ("hours", 7, |s| Some(format!("{:.0}", s.hours))),
+        ("wear", 7, |s| Some(format!("{:.2}", s.max_wear_um))),
+        ("STE", 8, |s| Some(format!("{:.4}", s.ste_mean_arcmin))),
+        ("STE_pp", 8, |s| {
+            Some(format!("{:.4}", s.ste_peak_to_peak_arcmin))
+        }),
+        ("backlash", 8, |s| Some(format!("{:.4}", s.backlash_arcmin))),
+        ("LM", 8, |s| Some(format!("{:.4}", s.lost_motion_arcmin))),
+        ("loadTE", 8, |s| {
+            Some(format!("{:.4}", s.loaded_te_mean_arcmin))
+        }),
+        ("DTE", 8, |s| s.dte_mean_arcmin.map(|v| format!("{v:.4}"))),
+        ("DTE_pp", 8, |s| {
+            s.dte_peak_to_peak_arcmin.map(|v| format!("{v:.4}"))
+        }),
+        ("flexSTE", 8, |s| {
+            s.flexible_ste_mean_arcmin.map(|v| format!("{v:.4}"))
+        }),
+        ("flexLTE", 8, |s| {
+            s.flexible_loaded_te_mean_arcmin.map(|v| format!("{v:.4}"))
+        }),
+        ("flexLM", 8, |s| {
+            s.flexible_lost_motion_arcmin.map(|v| format!("{v:.4}"))
+        }),
+        ("Fmax", 7, |s| Some(format!("{:.0}", s.max_force_n))),
+        ("pmax", 6, |s| Some(format!("{:.0}", s.max_pressure_mpa))),
+        ("pins", 4, |s| Some(format!("{}", s.pins_in_contact))),
+        ("share", 5, |s| Some(format!("{:.3}", s.disc_load_share))),
+    ];
+    // A column is shown when every stage has its value.
+    let shown: Vec<&Column> = columns
+        .iter()
+        .filter(|c| stages.iter().all(|s| (c.2)(s).is_some()))
+        .collect();
+    let flexible = shown.iter().any(|c| c.0.starts_with("flex"));
+    let dynamic = shown.iter().any(|c| c.0.starts_with("DTE"));
+    println!(
+        "units: hours h, wear um (largest depth), Fmax N, pmax MPa, every other column arcmin"
+    );
+    println!(
+        "STE, STE_pp: no-load mean and peak-to-peak; LM: lost motion (+-3 % of rated torque); \
+         loadTE: loaded TE{}{}",
+        if dynamic { "; DTE: dynamic run" } else { "" },
+        if flexible { "; flex*: FE disc" } else { "" }
+    );
+    let header: Vec<String> = shown
+        .iter()
+        .map(|c| format!("{:>w$}", c.0, w = c.1))
+        .collect();
+    println!("{}", header.join(" "));
+    for st in stages {
+        let row: Vec<String> = shown
+            .iter()
+            .map(|c| format!("{:>w$}", (c.2)(st).unwrap_or_default(), w = c.1))
+            .collect();
+        println!("{}", row.join(" "));
     }
 }

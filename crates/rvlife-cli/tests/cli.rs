@@ -830,6 +830,7 @@ fn run_writes_the_results_directory() {
     assert!(png.starts_with(b"\x89PNG"), "plots/wear.png is not a PNG");
     let svg = std::fs::read_to_string(out.join("plots/wear.svg")).unwrap();
     assert!(svg.contains("<svg"), "plots/wear.svg is not an SVG");
+    assert_report(&out);
     let stages_csv = std::fs::read_to_string(out.join("stages.csv")).unwrap();
     assert!(stages_csv.starts_with("hours,"), "stages.csv header");
     assert_eq!(
@@ -2185,4 +2186,95 @@ fn calibrate_measured_bad_inputs_exit_2_before_work() {
     // --fit-running-in and --out need --measured (clap: exit 2).
     let o = rvlife(["calibrate", "--fit-running-in"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
+
+/// `report.html` of a results directory `out`: self-contained (every plot inline, no address,
+/// no script, no external resource), under 5 MB, and rendered by headless Chromium without a
+/// console message into a screenshot that is not blank. Chromium is required when
+/// `RVLIFE_REQUIRE_BROWSER` is set (CI sets it); otherwise a machine without it skips the
+/// rendering with a note on stderr.
+fn assert_report(out: &Path) {
+    let path = out.join("report.html");
+    let html = std::fs::read_to_string(&path).expect("report.html");
+    assert!(html.len() < 5 << 20, "report.html is {} bytes", html.len());
+    let svg_files = std::fs::read_dir(out.join("plots"))
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.path().extension().is_some_and(|x| x == "svg"))
+        .count();
+    assert!(svg_files >= 6, "{svg_files} SVG plots");
+    assert_eq!(html.matches("<svg").count(), svg_files, "plots inline");
+    for needle in [
+        "http:", "https:", "<script", "<link", "src=", "@import", "url(",
+    ] {
+        assert!(!html.contains(needle), "report.html contains {needle:?}");
+    }
+    for needle in [
+        "Reducer",
+        "Model options",
+        "Stages",
+        "Comparison with the paper",
+        "lost_motion_arcmin",
+        env!("CARGO_PKG_VERSION"),
+    ] {
+        assert!(html.contains(needle), "report.html lacks {needle:?}");
+    }
+    let browser = ["chromium", "chromium-browser", "google-chrome"]
+        .into_iter()
+        .find(|b| {
+            Command::new(b)
+                .arg("--version")
+                .output()
+                .is_ok_and(|o| o.status.success())
+        });
+    let Some(browser) = browser else {
+        assert!(
+            std::env::var_os("RVLIFE_REQUIRE_BROWSER").is_none(),
+            "RVLIFE_REQUIRE_BROWSER is set but no chromium is on the PATH"
+        );
+        eprintln!("report.html: no chromium on the PATH, rendering not checked");
+        return;
+    };
+    let shot = out.join("report_screenshot.png");
+    let o = Command::new(browser)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--hide-scrollbars",
+            "--enable-logging=stderr",
+            "--v=0",
+            "--window-size=1200,2400",
+        ])
+        .arg(format!("--screenshot={}", shot.display()))
+        .arg(format!("file://{}", path.canonicalize().unwrap().display()))
+        .output()
+        .expect("chromium runs");
+    let log = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "chromium failed:\n{log}");
+    let console: Vec<&str> = log.lines().filter(|l| l.contains(":CONSOLE")).collect();
+    assert!(console.is_empty(), "console messages: {console:?}");
+    // The screenshot: decoded, and far from one colour (tables, text and plots on white).
+    let decoder = png::Decoder::new(std::io::BufReader::new(
+        std::fs::File::open(&shot).expect("screenshot written"),
+    ));
+    let mut reader = decoder.read_info().expect("screenshot is a PNG");
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).expect("PNG frame");
+    let px = &buf[..info.buffer_size()];
+    let step = info.color_type.samples();
+    let dark = px
+        .chunks(step)
+        .filter(|p| p[..3].iter().all(|c| *c < 128))
+        .count();
+    let colour = px
+        .chunks(step)
+        .filter(|p| p[..3].iter().max().unwrap() - p[..3].iter().min().unwrap() > 60)
+        .count();
+    let n = px.len() / step;
+    assert!(
+        dark > n / 1000 && colour > n / 1000,
+        "screenshot looks blank: {dark} dark and {colour} coloured of {n} pixels"
+    );
+    std::fs::remove_file(&shot).unwrap();
 }

@@ -23,6 +23,7 @@ pub mod error;
 pub mod export;
 pub mod fem;
 pub mod geometry;
+pub mod html;
 pub mod life;
 pub mod measured;
 pub mod montecarlo;

@@ -75,9 +75,116 @@ macro_rules! figure {
     };
 }
 
-/// The legend's sample line of a series drawn in colour `c`.
-fn legend_line(c: RGBColor) -> impl Fn((i32, i32)) -> PathElement<(i32, i32)> {
-    move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+/// Width of the legend strip at the right of every figure, px: legends never cover data.
+const LEGEND_WIDTH: u32 = 235;
+
+/// What a legend entry's sample shows.
+#[derive(Debug, Clone, Copy)]
+enum Key {
+    /// A solid line, 2 px.
+    Line(RGBColor),
+    /// A solid line, 1 px.
+    Thin(RGBColor),
+    /// A dashed line.
+    Dashed(RGBColor),
+    /// A line with a filled circle.
+    Marker(RGBColor),
+    /// A shaded band (translucent fill).
+    Band(RGBColor),
+    /// A vertical range bar with caps.
+    Range(RGBColor),
+}
+
+/// A legend: `(label, sample)` per entry, drawn in the strip beside the plot.
+type Legend = Vec<(String, Key)>;
+
+/// Splits a figure area into the plot (left) and the legend strip (right, [`LEGEND_WIDTH`]).
+fn with_legend_strip<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+) -> (DrawingArea<DB, Shift>, DrawingArea<DB, Shift>) {
+    let w = root.dim_in_pixel().0;
+    root.split_horizontally(w.saturating_sub(LEGEND_WIDTH))
+}
+
+/// Draws `entries` top-down in the legend strip `area`, starting `top` px below its top edge;
+/// labels longer than a line are wrapped at spaces.
+fn draw_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    top: i32,
+    entries: &[(String, Key)],
+) -> std::result::Result<(), Box<dyn std::error::Error>>
+where
+    DB::ErrorType: 'static,
+{
+    let font = ("sans-serif", 14).into_font().color(&BLACK);
+    let line_h = 17;
+    let mut y = top;
+    for (label, key) in entries {
+        let mut lines: Vec<String> = Vec::new();
+        for word in label.split(' ') {
+            match lines.last_mut() {
+                Some(l) if l.len() + 1 + word.len() <= 26 => {
+                    l.push(' ');
+                    l.push_str(word);
+                }
+                _ => lines.push(word.to_string()),
+            }
+        }
+        let yc = y + line_h / 2;
+        let (x0, x1) = (6, 32);
+        match *key {
+            Key::Line(c) => area.draw(&PathElement::new(
+                vec![(x0, yc), (x1, yc)],
+                c.stroke_width(2),
+            ))?,
+            Key::Thin(c) => area.draw(&PathElement::new(
+                vec![(x0, yc), (x1, yc)],
+                c.stroke_width(1),
+            ))?,
+            Key::Dashed(c) => {
+                for k in 0..3 {
+                    let a = x0 + k * 10;
+                    area.draw(&PathElement::new(
+                        vec![(a, yc), (a + 6, yc)],
+                        c.stroke_width(1),
+                    ))?;
+                }
+            }
+            Key::Marker(c) => {
+                area.draw(&PathElement::new(
+                    vec![(x0, yc), (x1, yc)],
+                    c.stroke_width(2),
+                ))?;
+                area.draw(&Circle::new(((x0 + x1) / 2, yc), 4, c.filled()))?;
+            }
+            Key::Band(c) => area.draw(&Rectangle::new(
+                [(x0, yc - 6), (x1, yc + 6)],
+                c.mix(0.25).filled(),
+            ))?,
+            Key::Range(c) => {
+                let xm = (x0 + x1) / 2;
+                for (a, b) in [
+                    ((xm, yc - 7), (xm, yc + 7)),
+                    ((xm - 4, yc - 7), (xm + 4, yc - 7)),
+                ] {
+                    area.draw(&PathElement::new(vec![a, b], c.stroke_width(1)))?;
+                }
+                area.draw(&PathElement::new(
+                    vec![(xm - 4, yc + 7), (xm + 4, yc + 7)],
+                    c.stroke_width(1),
+                ))?;
+            }
+        }
+        for (k, l) in lines.iter().enumerate() {
+            area.draw(&Text::new(
+                l.clone(),
+                (x1 + 6, y + k as i32 * line_h),
+                font.clone(),
+            ))?;
+        }
+        y += line_h * lines.len() as i32 + 7;
+    }
+    Ok(())
 }
 
 fn series_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
@@ -87,7 +194,11 @@ fn series_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     if !lo.is_finite() {
         return (0.0, 1.0);
     }
-    let pad = ((hi - lo) * 0.08).max(1e-6);
+    // A constant series (a constant load, say) gets +-2 % of its magnitude, so the axis
+    // ticks stay distinct.
+    let pad = ((hi - lo) * 0.08)
+        .max(2e-2 * hi.abs().max(lo.abs()))
+        .max(1e-9);
     (lo - pad, hi + pad)
 }
 
@@ -114,7 +225,8 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
         dir,
         "wear",
         |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-            let mut chart = ChartBuilder::on(root)
+            let (plot, strip) = with_legend_strip(root);
+            let mut chart = ChartBuilder::on(&plot)
                 .caption("Wear depth along the tooth profile", ("sans-serif", 26))
                 .margin(15)
                 .x_label_area_size(45)
@@ -122,103 +234,111 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
                 .build_cartesian_2d(0.0..360.0, 0.0..wear_max * 1.08)?;
             chart
                 .configure_mesh()
-                .x_desc("mesh angle (deg): 0 root, 180 tip; 0-180 flank loaded by positive torque")
+                .x_desc("mesh angle (deg): 0 root, 180 tip; 0-180 loaded by positive torque")
                 .y_desc("wear depth (um)")
                 .draw()?;
+            let mut legend = Legend::new();
             for (i, map) in study.wear.maps.iter().enumerate() {
                 let c = stage_color(i, n);
-                chart
-                    .draw_series(LineSeries::new(
-                        angles.iter().zip(map).map(|(a, h)| (*a, h * 1e6)),
-                        c.stroke_width(2),
-                    ))?
-                    .label(format!("{:.0} h", hours[i]))
-                    .legend(legend_line(c));
+                chart.draw_series(LineSeries::new(
+                    angles.iter().zip(map).map(|(a, h)| (*a, h * 1e6)),
+                    c.stroke_width(2),
+                ))?;
+                legend.push((format!("{:.0} h", hours[i]), Key::Line(c)));
             }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()?;
+            draw_legend(&strip, 60, &legend)?;
             Ok(())
         }
     )?;
 
-    // 2. Profile with magnified wear: three teeth around the top of the disc.
-    let last = study.stages.last().expect("at least one stage");
+    // 2. Profile with magnified wear: the loaded flank (root to tip) of the tooth at the top of
+    //    the disc, at equal scales on both axes.
     let max_wear = study.wear.max_depths().into_iter().fold(0.0, f64::max);
+    let geo = study
+        .stages
+        .last()
+        .expect("at least one stage")
+        .profile
+        .geometry()
+        .clone();
+    let nominal = study.model.profile(None)?;
+    let flank = |wear: Option<&crate::geometry::WearMap>, magnify: f64| -> Vec<(f64, f64)> {
+        let k = 400;
+        (0..=k)
+            .map(|i| {
+                // Local parameter from just before the root (0) to just past the tip (pi).
+                let t = std::f64::consts::PI * (-0.08 + 1.16 * i as f64 / k as f64);
+                let pt = nominal.point(t);
+                let h = wear.map_or(0.0, |w| w.eval(t).0) * magnify;
+                let p: Vec2 = pt.p - pt.normal * h;
+                let r = rotate(&p, std::f64::consts::FRAC_PI_2);
+                (r.x * 1e3, r.y * 1e3)
+            })
+            .collect()
+    };
+    let outline = flank(None, 0.0);
+    let (x0, x1) = series_range(outline.iter().map(|p| p.0));
+    let (y0, y1) = series_range(outline.iter().map(|p| p.1));
+    // The largest wear drawn as about 8 % of the flank's extent, at a 1-2-5 magnification.
+    let extent_mm = (x1 - x0).max(y1 - y0);
     let magnify = if max_wear > 0.0 {
-        (0.25e-3 / max_wear).round().max(1.0)
+        let raw = (0.08 * extent_mm * 1e-3 / max_wear).max(1.0);
+        let decade = 10f64.powf(raw.log10().floor());
+        [1.0, 2.0, 5.0, 10.0]
+            .into_iter()
+            .map(|m| m * decade)
+            .filter(|m| *m <= raw)
+            .fold(1.0, f64::max)
     } else {
         1.0
     };
-    let geo = last.profile.geometry().clone();
-    let nominal = study.model.profile(None)?;
-    let zc = geo.disc_teeth() as f64;
-    let tooth_profiles: Vec<Curve> = {
-        let mut v = Vec::new();
-        let pts = |wear: Option<&crate::geometry::WearMap>| -> Vec<(f64, f64)> {
-            let k = 600;
-            (0..=k)
-                .map(|i| {
-                    // Teeth around the +y axis: t in [-1.5, 1.5] teeth about the tooth at 90 deg.
-                    let t = std::f64::consts::TAU * (-1.5 + 3.0 * i as f64 / k as f64);
-                    let pt = nominal.point(t);
-                    let h = wear.map_or(0.0, |w| w.eval(t).0) * magnify;
-                    let p: Vec2 = pt.p - pt.normal * h;
-                    let r = rotate(&p, std::f64::consts::FRAC_PI_2);
-                    (r.x * 1e3, r.y * 1e3)
-                })
-                .collect()
-        };
-        v.push(("nominal".to_string(), pts(None), BLACK));
-        for (i, s) in study.stages.iter().enumerate().skip(1) {
-            v.push((
-                format!("{:.0} h", s.hours),
-                pts(s.wear.as_ref()),
-                stage_color(i, n),
-            ));
-        }
-        v
-    };
-    let _ = zc;
-    let (x0, x1) = series_range(tooth_profiles[0].1.iter().map(|p| p.0));
+    let mut tooth_profiles: Vec<Curve> = vec![("nominal".to_string(), outline, BLACK)];
+    for (i, s) in study.stages.iter().enumerate().skip(1) {
+        tooth_profiles.push((
+            format!("{:.0} h ({:.1} um max)", s.hours, s.summary.max_wear_um),
+            flank(s.wear.as_ref(), magnify),
+            stage_color(i, n),
+        ));
+    }
+    let (x0, x1) = series_range(tooth_profiles.iter().flat_map(|t| t.1.iter().map(|p| p.0)));
     let (y0, y1) = series_range(tooth_profiles.iter().flat_map(|t| t.1.iter().map(|p| p.1)));
-    let span = (x1 - x0).max((y1 - y0) * SIZE.0 as f64 / SIZE.1 as f64);
-    let xc = 0.5 * (x0 + x1);
+    // Equal scales: the plot area is about (figure - legend - labels) by (figure - caption -
+    // labels) px; widen the range of the axis with room to spare.
+    let area_px = ((SIZE.0 - LEGEND_WIDTH - 95) as f64, (SIZE.1 - 110) as f64);
+    let mm_per_px = ((x1 - x0) / area_px.0).max((y1 - y0) / area_px.1);
+    let (xc, yc) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+    let (hx, hy) = (0.5 * mm_per_px * area_px.0, 0.5 * mm_per_px * area_px.1);
     figure!(
         dir,
         "profile_wear",
         |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-            let mut chart = ChartBuilder::on(root)
+            let (plot, strip) = with_legend_strip(root);
+            let mut chart = ChartBuilder::on(&plot)
                 .caption(
-                    format!("Tooth profile, wear magnified x{magnify:.0}"),
-                    ("sans-serif", 26),
+                    format!(
+                        "Loaded flank of the top tooth, wear magnified x{magnify:.0} (equal scales)"
+                    ),
+                    ("sans-serif", 22),
                 )
                 .margin(15)
                 .x_label_area_size(45)
                 .y_label_area_size(65)
-                .build_cartesian_2d(
-                    xc - span / 2.0..xc + span / 2.0,
-                    y0..y0 + span * SIZE.1 as f64 / SIZE.0 as f64,
-                )?;
+                .build_cartesian_2d(xc - hx..xc + hx, yc - hy..yc + hy)?;
             chart
                 .configure_mesh()
                 .x_desc("x (mm)")
-                .y_desc("y (mm)")
+                .y_desc("y (mm), disc frame")
                 .draw()?;
+            let mut legend = Legend::new();
             for (label, pts, c) in &tooth_profiles {
-                let c = *c;
-                chart
-                    .draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?
-                    .label(label.clone())
-                    .legend(legend_line(c));
+                chart.draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?;
+                legend.push((label.clone(), Key::Line(*c)));
             }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()?;
+            legend.push((
+                format!("wear depth drawn x{magnify:.0} along the normal; root left, tip right"),
+                Key::Thin(WHITE),
+            ));
+            draw_legend(&strip, 60, &legend)?;
             Ok(())
         }
     )?;
@@ -235,13 +355,14 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
         dir,
         "load",
         |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-            let mut chart = ChartBuilder::on(root)
+            let (plot, strip) = with_legend_strip(root);
+            let mut chart = ChartBuilder::on(&plot)
                 .caption(
                     format!(
                         "Pin forces on disc 1 at {:.0} N m, crank angle of the largest force",
                         study.model.loaded_torque
                     ),
-                    ("sans-serif", 26),
+                    ("sans-serif", 22),
                 )
                 .margin(15)
                 .x_label_area_size(45)
@@ -249,54 +370,79 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
                 .build_cartesian_2d(-0.5..zp as f64 - 0.5, 0.0..fmax * 1.1)?;
             chart
                 .configure_mesh()
-                .x_desc("pin j")
-                .y_desc("force (N)")
+                .x_desc("pin number j (counter-clockwise from the +x axis)")
+                .y_desc("pin force (N)")
+                .x_label_formatter(&|v| format!("{v:.0}"))
+                .y_label_formatter(&|v| format!("{v:.0}"))
                 .draw()?;
+            let mut legend = Legend::new();
             for (i, s) in study.stages.iter().enumerate() {
                 let c = stage_color(i, n);
                 let w = s.loaded.worst();
                 let pins = &w.discs[0].pins;
-                chart
-                    .draw_series(LineSeries::new(
-                        pins.iter().map(|p| (p.pin as f64, p.force)),
-                        c.stroke_width(2),
-                    ))?
-                    .label(format!(
-                        "{:.0} h, crank {:.2} deg",
-                        s.hours,
-                        w.crank_angle.to_degrees()
-                    ))
-                    .legend(legend_line(c));
+                chart.draw_series(LineSeries::new(
+                    pins.iter().map(|p| (p.pin as f64, p.force)),
+                    c.stroke_width(2),
+                ))?;
                 chart.draw_series(
                     pins.iter()
                         .map(|p| Circle::new((p.pin as f64, p.force), 3, c.filled())),
                 )?;
+                legend.push((
+                    format!(
+                        "{:.0} h, crank {:.2} deg",
+                        s.hours,
+                        w.crank_angle.to_degrees()
+                    ),
+                    Key::Marker(c),
+                ));
             }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()?;
+            draw_legend(&strip, 60, &legend)?;
             Ok(())
         }
     )?;
 
-    // 4. STE over one output revolution (top: the band of the mesh ripple; bottom: three mesh
-    //    cycles of it, in input degrees, with the reverse direction dashed).
+    // 4. STE over one output revolution (top: per stage the mean over each bin of whole mesh
+    //    cycles, as a line, and for the last stage the ripple's range in each bin, as a band;
+    //    bottom: three mesh cycles in input degrees, the reverse direction dashed).
     let ratio = study.model.ratio;
     let zc = (zp - 1) as f64;
-    let curves: Vec<(Vec<f64>, Vec<f64>)> = study
+    let mesh_cycles = zp * (zp - 1);
+    // The most bins (at most 360) holding a whole number of mesh cycles each.
+    let bins = (1..=mesh_cycles.min(360))
+        .rev()
+        .find(|b| mesh_cycles % b == 0)
+        .unwrap_or(1);
+    // Per stage: (bin centre deg, min, mean, max) in arcmin.
+    let envelopes: Vec<Vec<[f64; 4]>> = study
         .stages
         .iter()
         .map(|s| {
-            let (x, y) = over_revolution(&s.ste.crank_angle, &s.ste.forward, zp, ratio);
-            (
-                x.iter().map(|v| v / ratio).collect(),
-                y.iter().map(|v| v * ARCMIN_PER_RAD).collect(),
-            )
+            let (_, y) = over_revolution(&s.ste.crank_angle, &s.ste.forward, zp, ratio);
+            let mut acc = vec![(f64::INFINITY, 0.0, f64::NEG_INFINITY, 0usize); bins];
+            let per_cycle = s.ste.crank_angle.len().max(1);
+            for (k, yi) in y.iter().enumerate() {
+                // Samples run mesh cycle by mesh cycle (te::over_revolution).
+                let b = (k / per_cycle * bins / mesh_cycles).min(bins - 1);
+                let v = yi * ARCMIN_PER_RAD;
+                let a = &mut acc[b];
+                *a = (a.0.min(v), a.1 + v, a.2.max(v), a.3 + 1);
+            }
+            acc.iter()
+                .enumerate()
+                .filter(|(_, a)| a.3 > 0)
+                .map(|(b, a)| {
+                    [
+                        (b as f64 + 0.5) * 360.0 / bins as f64,
+                        a.0,
+                        a.1 / a.3 as f64,
+                        a.2,
+                    ]
+                })
+                .collect()
         })
         .collect();
-    let (t0, t1) = series_range(curves.iter().flat_map(|c| c.1.iter().copied()));
+    let (t0, t1) = series_range(envelopes.iter().flatten().flat_map(|e| [e[1], e[3]]));
     // Three mesh cycles: input angle of crank angle phi is i_H phi / Zc.
     let cycles = 3usize;
     let zoom: Vec<(Polyline, Polyline)> = study
@@ -328,11 +474,12 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
         dir,
         "te",
         |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-            let (top, bottom) = root.split_vertically(SIZE.1 / 2);
+            let (plots, strip) = with_legend_strip(root);
+            let (top, bottom) = plots.split_vertically(SIZE.1 / 2);
             let mut chart = ChartBuilder::on(&top)
                 .caption(
-                    "Static transmission error over one output revolution",
-                    ("sans-serif", 22),
+                    format!("STE over one output revolution ({mesh_cycles} mesh cycles)"),
+                    ("sans-serif", 20),
                 )
                 .margin(10)
                 .x_label_area_size(35)
@@ -343,26 +490,25 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
                 .x_desc(format!("output angle (deg) = input angle / {ratio:.0}"))
                 .y_desc("STE (arcmin)")
                 .draw()?;
-            for (i, (x, y)) in curves.iter().enumerate() {
+            let mut legend = Legend::new();
+            for (i, env) in envelopes.iter().enumerate() {
                 let c = stage_color(i, n);
-                chart
-                    .draw_series(LineSeries::new(
-                        x.iter().copied().zip(y.iter().copied()),
-                        c.stroke_width(1),
-                    ))?
-                    .label(format!("{:.0} h", hours[i]))
-                    .legend(legend_line(c));
+                if i + 1 == envelopes.len() {
+                    let band: Vec<(f64, f64)> = env
+                        .iter()
+                        .map(|e| (e[0], e[3]))
+                        .chain(env.iter().rev().map(|e| (e[0], e[1])))
+                        .collect();
+                    chart.draw_series(std::iter::once(Polygon::new(band, c.mix(0.25).filled())))?;
+                }
+                chart.draw_series(LineSeries::new(
+                    env.iter().map(|e| (e[0], e[2])),
+                    c.stroke_width(2),
+                ))?;
+                legend.push((format!("{:.0} h", hours[i]), Key::Line(c)));
             }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()?;
             let mut chart = ChartBuilder::on(&bottom)
-                .caption(
-                    format!("{cycles} mesh cycles: forward (solid), reverse (dashed)"),
-                    ("sans-serif", 20),
-                )
+                .caption(format!("{cycles} mesh cycles"), ("sans-serif", 20))
                 .margin(10)
                 .x_label_area_size(40)
                 .y_label_area_size(65)
@@ -382,76 +528,108 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
                     c.stroke_width(1),
                 ))?;
             }
+            let grey = RGBColor(90, 90, 90);
+            legend.push((
+                format!(
+                    "top: mean over each {:.2} deg bin of whole mesh cycles",
+                    360.0 / bins as f64
+                ),
+                Key::Line(grey),
+            ));
+            legend.push((
+                format!(
+                    "top: range of the ripple in each bin, {:.0} h",
+                    hours.last().copied().unwrap_or(0.0)
+                ),
+                Key::Band(stage_color(n - 1, n)),
+            ));
+            legend.push(("bottom: forward (solid)".to_string(), Key::Line(grey)));
+            legend.push((
+                "bottom: reverse direction (dashed)".to_string(),
+                Key::Dashed(grey),
+            ));
+            draw_legend(&strip, 40, &legend)?;
             Ok(())
         }
     )?;
 
-    // 5. TE and lost motion against working hours.
+    // 5. TE and lost motion against working hours, with the DTE's range over its run.
     let sums: Vec<_> = study.stages.iter().map(|s| s.summary.clone()).collect();
-    let ymax = sums
+    let (ymin, ymax) = sums
         .iter()
         .flat_map(|s| {
+            let [lo, hi] = s.dte_range_arcmin.unwrap_or([0.0, 0.0]);
             [
                 s.ste_mean_arcmin,
                 s.lost_motion_arcmin,
                 s.backlash_arcmin,
                 s.loaded_te_mean_arcmin,
                 s.ste_mean_arcmin + s.ste_peak_to_peak_arcmin,
-                s.dte_range_arcmin.map_or(0.0, |r| r[1]),
+                lo,
+                hi,
             ]
         })
-        .fold(0.0, f64::max)
-        .max(0.1);
+        .fold((0.0f64, 0.1f64), |(a, b), v| (a.min(v), b.max(v)));
+    let pad = 0.06 * (ymax - ymin);
     let hmax = hours.last().copied().unwrap_or(1.0).max(1.0);
     figure!(
         dir,
         "te_hours",
         |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-            let mut chart = ChartBuilder::on(root)
+            let (plot, strip) = with_legend_strip(root);
+            let mut chart = ChartBuilder::on(&plot)
                 .caption(
-                    "Transmission error, backlash and lost motion against working hours",
-                    ("sans-serif", 26),
+                    "TE, backlash and lost motion against working hours",
+                    ("sans-serif", 24),
                 )
                 .margin(15)
                 .x_label_area_size(45)
                 .y_label_area_size(65)
-                .build_cartesian_2d(0.0..hmax * 1.02, 0.0..ymax * 1.1)?;
+                .build_cartesian_2d(
+                    -0.02 * hmax..hmax * 1.04,
+                    (ymin - if ymin < 0.0 { pad } else { 0.0 })..ymax + pad,
+                )?;
             chart
                 .configure_mesh()
                 .x_desc("working hours (h)")
                 .y_desc("arcmin")
+                .x_label_formatter(&|v| format!("{v:.0}"))
                 .draw()?;
             let lines: [(&str, RGBColor, StageValue); 4] = [
-                ("STE mean", BLUE, |s| s.ste_mean_arcmin),
+                ("STE mean (no load)", BLUE, |s| s.ste_mean_arcmin),
                 ("backlash", CYAN, |s| s.backlash_arcmin),
-                ("lost motion (+-3 % rated)", RED, |s| s.lost_motion_arcmin),
-                ("loaded TE mean", GREEN, |s| s.loaded_te_mean_arcmin),
+                ("lost motion (+-3 % of rated torque)", RED, |s| {
+                    s.lost_motion_arcmin
+                }),
+                ("loaded TE mean (rated torque)", GREEN, |s| {
+                    s.loaded_te_mean_arcmin
+                }),
             ];
-            stage_lines(&mut chart, &sums, &lines)?;
+            let mut legend = stage_lines(&mut chart, &sums, &lines)?;
             if sums.iter().all(|s| s.dte_mean_arcmin.is_some()) {
                 let c = MAGENTA;
-                chart
-                    .draw_series(LineSeries::new(
-                        sums.iter()
-                            .map(|s| (s.hours, s.dte_mean_arcmin.unwrap_or(0.0))),
-                        c.stroke_width(2),
-                    ))?
-                    .label("DTE mean (dynamic model)")
-                    .legend(legend_line(c));
-                chart.draw_series(sums.iter().map(|s| {
+                chart.draw_series(LineSeries::new(
+                    sums.iter()
+                        .map(|s| (s.hours, s.dte_mean_arcmin.unwrap_or(0.0))),
+                    c.stroke_width(2),
+                ))?;
+                legend.push(("DTE mean (dynamic model)".to_string(), Key::Line(c)));
+                let cap = 0.008 * hmax;
+                chart.draw_series(sums.iter().flat_map(|s| {
                     let [lo, hi] = s.dte_range_arcmin.unwrap_or([0.0, 0.0]);
-                    PathElement::new(
-                        vec![(s.hours, lo.max(0.0)), (s.hours, hi)],
-                        c.stroke_width(1),
-                    )
+                    [
+                        vec![(s.hours, lo), (s.hours, hi)],
+                        vec![(s.hours - cap, lo), (s.hours + cap, lo)],
+                        vec![(s.hours - cap, hi), (s.hours + cap, hi)],
+                    ]
+                    .map(|v| PathElement::new(v, c.stroke_width(1)))
                 }))?;
+                legend.push((
+                    "DTE range (min to max over the dynamic run)".to_string(),
+                    Key::Range(c),
+                ));
             }
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperLeft)
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()?;
+            draw_legend(&strip, 60, &legend)?;
             Ok(())
         }
     )?;
@@ -460,14 +638,20 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
         flexible_te_hours(study, dir)?;
         if let Some((fl, mesh)) = study.stages.last().and_then(|s| s.flexible.as_ref()) {
             let hours = study.stages.last().map_or(0.0, |s| s.hours);
+            // The crank angle within the mesh cycle, as in the load plot (the mesh repeats every
+            // 360 / Zp degrees of crank angle).
+            let cycle_deg = 360.0 / zp as f64;
+            let crank_deg = fl.stress.crank_angle.to_degrees();
             von_mises(
                 mesh,
                 &fl.stress.nodal,
                 &format!(
-                    "Von Mises stress at {:.0} h, {:.0} N m, crank {:.1} deg (max {:.1} MPa away from the pin patches)",
+                    "{:.0} h, {:.0} N m, crank {:.1} deg ({:.2} deg into its {:.0} deg mesh cycle): max {:.0} MPa off the pin patches",
                     hours,
                     fl.stress.torque,
-                    fl.stress.crank_angle.to_degrees(),
+                    crank_deg,
+                    crank_deg.rem_euclid(cycle_deg),
+                    cycle_deg,
                     fl.stress.max_von_mises * 1e-6
                 ),
                 fl.stress.max_von_mises,
@@ -488,25 +672,24 @@ fn stage_lines<DB: DrawingBackend>(
     >,
     sums: &[crate::study::StageSummary],
     lines: &[(&str, RGBColor, StageValue)],
-) -> std::result::Result<(), Box<dyn std::error::Error>>
+) -> std::result::Result<Legend, Box<dyn std::error::Error>>
 where
     DB::ErrorType: 'static,
 {
+    let mut legend = Legend::new();
     for (label, c, f) in lines {
         let c = *c;
-        chart
-            .draw_series(LineSeries::new(
-                sums.iter().map(|s| (s.hours, f(s))),
-                c.stroke_width(2),
-            ))?
-            .label(*label)
-            .legend(legend_line(c));
+        chart.draw_series(LineSeries::new(
+            sums.iter().map(|s| (s.hours, f(s))),
+            c.stroke_width(2),
+        ))?;
         chart.draw_series(
             sums.iter()
                 .map(|s| Circle::new((s.hours, f(s)), 4, c.filled())),
         )?;
+        legend.push((label.to_string(), Key::Marker(c)));
     }
-    Ok(())
+    Ok(legend)
 }
 
 /// `hysteresis.{svg,png}`: the hysteresis loop of every stage (twist against output torque,
@@ -534,10 +717,11 @@ pub fn hysteresis(study: &Study, dir: &Path) -> Result<()> {
         dir,
         "hysteresis",
         |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-            let mut chart = ChartBuilder::on(root)
+            let (plot, strip) = with_legend_strip(root);
+            let mut chart = ChartBuilder::on(&plot)
                 .caption(
-                    "Hysteresis curves over working hours (input locked, mean over a mesh cycle)",
-                    ("sans-serif", 24),
+                    "Hysteresis curves (input locked, mean over a mesh cycle)",
+                    ("sans-serif", 22),
                 )
                 .margin(15)
                 .x_label_area_size(45)
@@ -548,19 +732,13 @@ pub fn hysteresis(study: &Study, dir: &Path) -> Result<()> {
                 .x_desc("output torque (N m)")
                 .y_desc("output twist (arcmin)")
                 .draw()?;
+            let mut legend = Legend::new();
             for (i, (h, pts)) in curves.iter().enumerate() {
                 let c = stage_color(i, n);
-                chart
-                    .draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?
-                    .label(format!("{h:.0} h"))
-                    .legend(legend_line(c));
+                chart.draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?;
+                legend.push((format!("{h:.0} h"), Key::Line(c)));
             }
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::LowerRight)
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()?;
+            draw_legend(&strip, 60, &legend)?;
             Ok(())
         }
     )
@@ -595,20 +773,16 @@ pub fn flexible_te_hours(study: &Study, dir: &Path) -> Result<()> {
         dir,
         "flexible_te_hours",
         |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+            let (plot, strip) = with_legend_strip(root);
             let mut chart = hours_axes(
-                root,
+                &plot,
                 "Rigid against flexible disc: TE over working hours",
                 "TE (arcmin)",
                 h_max,
                 (0.0, hi.max(1e-3)),
             )?;
-            stage_lines(&mut chart, &sums, &lines)?;
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperLeft)
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()?;
+            let legend = stage_lines(&mut chart, &sums, &lines)?;
+            draw_legend(&strip, 60, &legend)?;
             Ok(())
         }
     )
@@ -640,9 +814,9 @@ pub fn von_mises(
         dir,
         stem,
         |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-            let (plot, bar) = root.split_horizontally(SIZE.0 - 130);
+            let (plot, bar) = root.split_horizontally(SIZE.0 - 150);
             let mut chart = ChartBuilder::on(&plot)
-                .caption(title, ("sans-serif", 18))
+                .caption(title, ("sans-serif", 17))
                 .margin(10)
                 .x_label_area_size(35)
                 .y_label_area_size(45)
@@ -663,25 +837,45 @@ pub fn von_mises(
                     RGBColor(c.0, c.1, c.2).filled(),
                 )
             }))?;
-            // Colour bar.
-            let mut cb = ChartBuilder::on(&bar)
-                .margin_top(40)
-                .margin_bottom(45)
-                .margin_right(10)
-                .y_label_area_size(60)
-                .build_cartesian_2d(0.0..1.0, 0.0..scale * 1e-6)?;
-            cb.configure_mesh()
-                .disable_mesh()
-                .disable_x_axis()
-                .y_desc("von Mises (MPa)")
-                .draw()?;
+            // Colour bar with its ticks to the right.
+            let (_, h) = bar.dim_in_pixel();
+            let (top, bottom) = (60i32, h as i32 - 45);
+            let (x0, x1) = (12i32, 42i32);
             let steps = 64;
-            cb.draw_series((0..steps).map(|k| {
-                let lo = scale * 1e-6 * k as f64 / steps as f64;
-                let hi = scale * 1e-6 * (k + 1) as f64 / steps as f64;
+            for k in 0..steps {
+                let ya = bottom - (bottom - top) * k / steps;
+                let yb = bottom - (bottom - top) * (k + 1) / steps;
                 let c = ViridisRGB::get_color_normalized(k as f64 + 0.5, 0.0, steps as f64);
-                Rectangle::new([(0.0, lo), (1.0, hi)], RGBColor(c.0, c.1, c.2).filled())
-            }))?;
+                bar.draw(&Rectangle::new(
+                    [(x0, yb), (x1, ya)],
+                    RGBColor(c.0, c.1, c.2).filled(),
+                ))?;
+            }
+            bar.draw(&Rectangle::new(
+                [(x0, top), (x1, bottom)],
+                BLACK.stroke_width(1),
+            ))?;
+            let font = ("sans-serif", 15).into_font().color(&BLACK);
+            bar.draw(&Text::new("von Mises", (4, top - 40), font.clone()))?;
+            bar.draw(&Text::new("stress (MPa)", (4, top - 22), font.clone()))?;
+            let max_mpa = scale * 1e-6;
+            let raw = max_mpa / 5.0;
+            let mag = 10f64.powf(raw.log10().floor());
+            let step = [1.0, 2.0, 5.0, 10.0]
+                .into_iter()
+                .map(|m| m * mag)
+                .find(|m| *m >= raw)
+                .unwrap_or(raw);
+            let mut v = 0.0;
+            while v <= max_mpa * (1.0 + 1e-9) {
+                let y = bottom - ((bottom - top) as f64 * v / max_mpa).round() as i32;
+                bar.draw(&PathElement::new(
+                    vec![(x1, y), (x1 + 5, y)],
+                    BLACK.stroke_width(1),
+                ))?;
+                bar.draw(&Text::new(format!("{v:.0}"), (x1 + 8, y - 8), font.clone()))?;
+                v += step;
+            }
             Ok(())
         }
     )
@@ -696,8 +890,15 @@ fn time_panels<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
-    let areas = root.split_evenly((panels.len(), 1));
-    for (k, ((ylabel, curves), area)) in panels.iter().zip(areas.iter()).enumerate() {
+    let (plots, strip) = with_legend_strip(root);
+    let areas = plots.split_evenly((panels.len(), 1));
+    let strips = strip.split_evenly((panels.len(), 1));
+    for (k, (((ylabel, curves), area), strip)) in panels
+        .iter()
+        .zip(areas.iter())
+        .zip(strips.iter())
+        .enumerate()
+    {
         let t_end = curves
             .iter()
             .flat_map(|c| c.1.last().map(|p| p.0))
@@ -715,19 +916,12 @@ where
             .x_desc("time (s)")
             .y_desc(*ylabel)
             .draw()?;
+        let mut legend = Legend::new();
         for (label, pts, c) in curves {
-            let c = *c;
-            chart
-                .draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(1)))?
-                .label(label.as_str())
-                .legend(legend_line(c));
+            chart.draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(1)))?;
+            legend.push((label.clone(), Key::Line(*c)));
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()?;
+        draw_legend(strip, if k == 0 { 50 } else { 15 }, &legend)?;
     }
     Ok(())
 }
@@ -801,7 +995,7 @@ where
     DB::ErrorType: 'static,
 {
     let mut chart = ChartBuilder::on(root)
-        .caption(title, ("sans-serif", 26))
+        .caption(title, ("sans-serif", 22))
         .margin(15)
         .x_label_area_size(45)
         .y_label_area_size(65)
@@ -810,6 +1004,7 @@ where
         .configure_mesh()
         .x_desc("working hours (h)")
         .y_desc(y_desc)
+        .x_label_formatter(&|v| format!("{v:.0}"))
         .draw()?;
     Ok(chart)
 }
@@ -837,21 +1032,16 @@ pub fn curves_against_hours(
         dir,
         stem,
         |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-            let mut chart = hours_axes(root, title, y_desc, h_max, (lo.min(0.0), hi))?;
+            let (plot, strip) = with_legend_strip(root);
+            let mut chart = hours_axes(&plot, title, y_desc, h_max, (lo.min(0.0), hi))?;
+            let mut legend = Legend::new();
             for (k, (label, pts)) in curves.iter().enumerate() {
                 let c = colours[k % colours.len()];
-                chart
-                    .draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?
-                    .label(label.as_str())
-                    .legend(legend_line(c));
+                chart.draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?;
                 chart.draw_series(pts.iter().map(|p| Circle::new(*p, 4, c.filled())))?;
+                legend.push((label.clone(), Key::Marker(c)));
             }
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperLeft)
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()?;
+            draw_legend(&strip, 60, &legend)?;
             Ok(())
         }
     )
@@ -877,32 +1067,24 @@ pub fn fan_chart(
         dir,
         stem,
         |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-            let mut chart = hours_axes(root, title, y_desc, h_max, (lo.min(0.0), hi))?;
+            let (plot, strip) = with_legend_strip(root);
+            let mut chart = hours_axes(&plot, title, y_desc, h_max, (lo.min(0.0), hi))?;
             let band: Vec<(f64, f64)> = hours
                 .iter()
                 .zip(p95)
                 .map(|(h, v)| (*h, *v))
                 .chain(hours.iter().zip(p5).rev().map(|(h, v)| (*h, *v)))
                 .collect();
-            chart
-                .draw_series(std::iter::once(Polygon::new(band, BLUE.mix(0.2).filled())))?
-                .label("5-95 %")
-                .legend(|(x, y)| {
-                    Rectangle::new([(x, y - 5), (x + 20, y + 5)], BLUE.mix(0.2).filled())
-                });
-            chart
-                .draw_series(LineSeries::new(
-                    hours.iter().zip(p50).map(|(h, v)| (*h, *v)),
-                    BLUE.stroke_width(2),
-                ))?
-                .label("median")
-                .legend(legend_line(BLUE));
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperLeft)
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()?;
+            chart.draw_series(std::iter::once(Polygon::new(band, BLUE.mix(0.2).filled())))?;
+            chart.draw_series(LineSeries::new(
+                hours.iter().zip(p50).map(|(h, v)| (*h, *v)),
+                BLUE.stroke_width(2),
+            ))?;
+            let legend = vec![
+                ("5-95 % of the samples".to_string(), Key::Band(BLUE)),
+                ("median".to_string(), Key::Line(BLUE)),
+            ];
+            draw_legend(&strip, 60, &legend)?;
             Ok(())
         }
     )
@@ -976,8 +1158,16 @@ pub fn calibration(cal: &crate::calibration::Calibration, dir: &Path) -> Result<
         dir,
         "calibration",
         |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-            let areas = root.split_evenly((cal.curves.len().max(1), 1));
-            for (i, (curve, area)) in cal.curves.iter().zip(areas.iter()).enumerate() {
+            let (plots, strip) = with_legend_strip(root);
+            let areas = plots.split_evenly((cal.curves.len().max(1), 1));
+            let strips = strip.split_evenly((cal.curves.len().max(1), 1));
+            for (i, ((curve, area), strip)) in cal
+                .curves
+                .iter()
+                .zip(areas.iter())
+                .zip(strips.iter())
+                .enumerate()
+            {
                 let c = colours[i % colours.len()];
                 let measured: Vec<(f64, f64)> = cal
                     .residuals
@@ -1004,27 +1194,20 @@ pub fn calibration(cal: &crate::calibration::Calibration, dir: &Path) -> Result<
                     .x_desc("working hours (h)")
                     .y_desc(format!("{} ({})", curve.column, curve.unit))
                     .draw()?;
-                chart
-                    .draw_series(LineSeries::new(
-                        curve
-                            .hours
-                            .iter()
-                            .copied()
-                            .zip(curve.values.iter().copied()),
-                        c.stroke_width(2),
-                    ))?
-                    .label("fitted model")
-                    .legend(legend_line(c));
-                chart
-                    .draw_series(measured.iter().map(|&p| Circle::new(p, 4, BLACK.filled())))?
-                    .label("measured")
-                    .legend(|(x, y)| Circle::new((x + 10, y), 4, BLACK.filled()));
-                chart
-                    .configure_series_labels()
-                    .position(SeriesLabelPosition::UpperLeft)
-                    .background_style(WHITE.mix(0.8))
-                    .border_style(BLACK)
-                    .draw()?;
+                chart.draw_series(LineSeries::new(
+                    curve
+                        .hours
+                        .iter()
+                        .copied()
+                        .zip(curve.values.iter().copied()),
+                    c.stroke_width(2),
+                ))?;
+                chart.draw_series(measured.iter().map(|&p| Circle::new(p, 4, BLACK.filled())))?;
+                let legend = vec![
+                    ("fitted model".to_string(), Key::Line(c)),
+                    ("measured".to_string(), Key::Marker(BLACK)),
+                ];
+                draw_legend(strip, if i == 0 { 50 } else { 15 }, &legend)?;
             }
             Ok(())
         }

@@ -56,7 +56,8 @@ fn hours_tag(h: f64) -> String {
     }
 }
 
-/// Writes all result files of `study` into the existing, empty directory `dir`.
+/// Writes all result files of `study` into the existing, empty directory `dir`, ending with
+/// `report.html` ([`crate::html::write_report`]).
 ///
 /// # Errors
 /// [`Error::Io`] on any write failure.
@@ -351,7 +352,7 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
     );
     profiles?;
     figures?;
-    Ok(())
+    crate::html::write_report(study, &summary, dir)
 }
 
 /// Writes the results of `study` to `out` atomically: into a temporary directory beside `out`,

@@ -1,0 +1,327 @@
+//! `report.html`: one self-contained page of a study (inline SVG plots, inline CSS, no script
+//! and no network reference) with the reducer's parameters, the model options, the stage table
+//! (every quantity of `stages.csv`, one column per stage), the accuracy life, the paper
+//! comparison and every plot of `plots/`.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use crate::error::{Error, Result};
+use crate::study::{Study, Summary};
+
+/// Escapes `&`, `<`, `>` and `"` for HTML text and attribute values.
+fn esc(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            _ => out.push(c),
+        }
+    }
+    out
+}
+
+/// A number as the report prints it: up to 6 significant digits, no trailing noise.
+fn num(v: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    let mag = v.abs().log10().floor() as i32;
+    if !(-4..6).contains(&mag) {
+        return format!("{v:.4e}");
+    }
+    let decimals = (5 - mag).clamp(0, 9) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// A JSON value as table text (numbers by [`num`], arrays joined, null as a dash).
+fn json_text(v: &serde_json::Value) -> String {
+    match v {
+        serde_json::Value::Null => "-".into(),
+        serde_json::Value::Number(n) => n.as_f64().map_or_else(|| n.to_string(), num),
+        serde_json::Value::String(s) => s.clone(),
+        serde_json::Value::Array(a) => a.iter().map(json_text).collect::<Vec<_>>().join(", "),
+        other => other.to_string(),
+    }
+}
+
+/// A two-column table of `(name, value)` rows.
+fn key_value_table(out: &mut String, rows: &[(String, String)]) {
+    out.push_str("<table class=\"kv\">\n");
+    for (k, v) in rows {
+        let _ = writeln!(out, "<tr><th>{}</th><td>{}</td></tr>", esc(k), esc(v));
+    }
+    out.push_str("</table>\n");
+}
+
+/// The `(key, value)` pairs of a serialisable struct's JSON object (nested objects flattened
+/// with `.`).
+fn fields(value: &serde_json::Value, prefix: &str, out: &mut Vec<(String, String)>) {
+    if let serde_json::Value::Object(map) = value {
+        for (k, v) in map {
+            let key = if prefix.is_empty() {
+                k.clone()
+            } else {
+                format!("{prefix}.{k}")
+            };
+            match v {
+                serde_json::Value::Object(_) => fields(v, &key, out),
+                _ => out.push((key, json_text(v))),
+            }
+        }
+    }
+}
+
+/// Writes `report.html` into the results directory `dir`, whose `plots/` already holds the
+/// study's SVG plots.
+///
+/// # Errors
+/// [`Error::Io`] if a plot cannot be read or the report cannot be written.
+pub fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Result<()> {
+    let m = &study.model;
+    let g = &m.geometry;
+    let mut h = String::with_capacity(2 << 20);
+    let _ = write!(
+        h,
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <title>rvlife report</title>\n<style>\n\
+         body {{ font-family: sans-serif; margin: 2em auto; max-width: 1100px; color: #222; }}\n\
+         h1 {{ font-size: 1.6em; }} h2 {{ font-size: 1.25em; margin-top: 1.6em; \
+         border-bottom: 1px solid #ccc; }}\n\
+         table {{ border-collapse: collapse; font-size: 0.85em; margin: 0.5em 0; }}\n\
+         th, td {{ border: 1px solid #ccc; padding: 2px 6px; text-align: right; }}\n\
+         th {{ background: #f2f2f2; }} table.kv th {{ text-align: left; }}\n\
+         figure {{ margin: 1em 0; }} figure svg {{ max-width: 100%; height: auto; }}\n\
+         figcaption {{ font-size: 0.9em; color: #555; }}\n\
+         </style>\n</head>\n<body>\n<h1>rvlife report</h1>\n\
+         <p>rvlife {} &middot; cycloid drive of {} pins, {} disc teeth, ratio i<sub>H</sub> = \
+         {:.2} &middot; {} stages up to {:.0} h.</p>\n",
+        summary.rvlife_version,
+        g.pins,
+        g.disc_teeth(),
+        m.ratio,
+        study.stages.len(),
+        study.stages.last().map_or(0.0, |s| s.hours)
+    );
+
+    h.push_str("<h2>Reducer</h2>\n");
+    let mm = |v: f64| num(v * 1e3);
+    let um = |v: f64| num(v * 1e6);
+    key_value_table(
+        &mut h,
+        &[
+            ("pins Zp".into(), g.pins.to_string()),
+            ("disc teeth Zc".into(), g.disc_teeth().to_string()),
+            ("pin circle radius (mm)".into(), mm(g.pin_circle_radius)),
+            ("pin radius (mm)".into(), mm(g.pin_radius)),
+            ("eccentricity (mm)".into(), mm(g.eccentricity)),
+            ("disc width (mm)".into(), mm(g.width)),
+            (
+                "equidistant modification (um)".into(),
+                um(m.modification.equidistant),
+            ),
+            ("offset modification (um)".into(), um(m.modification.offset)),
+            (
+                "rotation modification (arcmin)".into(),
+                num(m.modification.rotation.to_degrees() * 60.0),
+            ),
+            ("overall ratio i_H".into(), num(m.ratio)),
+            ("rated torque (N m)".into(), num(m.rated_torque)),
+            ("input speed (rpm)".into(), num(m.input_speed_rpm)),
+        ],
+    );
+
+    h.push_str("<h2>Model options</h2>\n");
+    let mut opts: Vec<(String, String)> = vec![
+        ("wear model".into(), format!("{:?}", m.wear_model)),
+        (
+            "Archard coefficient (mm^3/(N m))".into(),
+            num(summary.archard_coefficient_mm3_per_n_m),
+        ),
+        (
+            "stage hours (h)".into(),
+            m.stage_hours
+                .iter()
+                .map(|v| num(*v))
+                .collect::<Vec<_>>()
+                .join(", "),
+        ),
+        ("profile update interval (h)".into(), num(m.update_hours)),
+        (
+            "STE samples per mesh cycle".into(),
+            m.te_samples.to_string(),
+        ),
+        ("loaded-TE torque (N m)".into(), num(m.loaded_torque)),
+        (
+            "lost-motion measuring torque (% of rated)".into(),
+            num(m.measuring_torque_fraction * 100.0),
+        ),
+        (
+            "dynamic model".into(),
+            if m.dynamics_enabled {
+                format!(
+                    "on: {} discs, {:?} integrator, rtol {}, {} s simulated",
+                    if m.dynamics.flexible.is_some() {
+                        "flexible"
+                    } else {
+                        "rigid"
+                    },
+                    m.dynamics.integrator,
+                    num(m.dynamics.rtol),
+                    num(m.dynamics.end_time)
+                )
+            } else {
+                "off".into()
+            },
+        ),
+        (
+            "FE disc (quasi-static)".into(),
+            if m.fem_enabled {
+                format!(
+                    "on: flank elements {} mm, largest {} mm, {} stations per flank, {} crank angles",
+                    mm(m.fem.flank_size),
+                    mm(m.fem.max_size),
+                    m.fem.stations_per_flank,
+                    m.fem.crank_angles
+                )
+            } else {
+                "off".into()
+            },
+        ),
+    ];
+    if let Some(l) = &summary.validity_limit {
+        opts.push((
+            "validity limit".into(),
+            format!(
+                "{} h ({} um of wear): {}",
+                num(l.hours),
+                num(l.max_wear_um),
+                l.reason
+            ),
+        ));
+    }
+    key_value_table(&mut h, &opts);
+
+    h.push_str(
+        "<h2>Stages</h2>\n<p>One column per stage; every quantity of <code>stages.csv</code> \
+         (units in the names).</p>\n<table>\n<tr><th>quantity</th>",
+    );
+    let stage_values: Vec<serde_json::Value> = summary
+        .stages
+        .iter()
+        .map(|s| serde_json::to_value(s).unwrap_or(serde_json::Value::Null))
+        .collect();
+    for s in &summary.stages {
+        let _ = write!(h, "<th>{} h</th>", num(s.hours));
+    }
+    h.push_str("</tr>\n");
+    if let Some(serde_json::Value::Object(first)) = stage_values.first() {
+        for key in first.keys() {
+            if key == "hours" {
+                continue;
+            }
+            let cells: Vec<String> = stage_values
+                .iter()
+                .map(|v| json_text(&v[key.as_str()]))
+                .collect();
+            if cells.iter().all(|c| c == "-") {
+                continue;
+            }
+            let _ = write!(h, "<tr><th>{}</th>", esc(key));
+            for c in cells {
+                let _ = write!(h, "<td>{}</td>", esc(&c));
+            }
+            h.push_str("</tr>\n");
+        }
+    }
+    h.push_str("</table>\n");
+
+    if let Some(life) = &summary.accuracy_life {
+        h.push_str("<h2>Accuracy life</h2>\n");
+        let mut rows = Vec::new();
+        fields(
+            &serde_json::to_value(life).unwrap_or_default(),
+            "",
+            &mut rows,
+        );
+        key_value_table(&mut h, &rows);
+    }
+
+    h.push_str("<h2>Comparison with the paper</h2>\n");
+    let mut rows = Vec::new();
+    fields(
+        &serde_json::to_value(&summary.paper_comparison).unwrap_or_default(),
+        "",
+        &mut rows,
+    );
+    key_value_table(&mut h, &rows);
+
+    h.push_str("<h2>Plots</h2>\n");
+    let plots = dir.join("plots");
+    let mut svgs: Vec<_> = std::fs::read_dir(&plots)
+        .map_err(|e| Error::io(&plots, e))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "svg"))
+        .collect();
+    // The order of the study's narrative, then any other plot by name.
+    let order = [
+        "wear",
+        "profile_wear",
+        "load",
+        "te",
+        "te_hours",
+        "hysteresis",
+        "flexible_te_hours",
+        "von_mises",
+    ];
+    let rank = |p: &std::path::PathBuf| {
+        let stem = p.file_stem().and_then(|s| s.to_str()).unwrap_or("");
+        (
+            order.iter().position(|o| *o == stem).unwrap_or(order.len()),
+            stem.to_string(),
+        )
+    };
+    svgs.sort_by_key(rank);
+    for p in &svgs {
+        let svg = std::fs::read_to_string(p).map_err(|e| Error::io(p, e))?;
+        let body = match svg.find("<svg") {
+            Some(i) => &svg[i..],
+            None => continue,
+        };
+        // Inline SVG in HTML needs no namespace declaration: the page then names no address.
+        let body = body.replacen(" xmlns=\"http://www.w3.org/2000/svg\"", "", 1);
+        let stem = p.file_stem().and_then(|s| s.to_str()).unwrap_or("");
+        let _ = write!(
+            h,
+            "<figure id=\"{0}\">\n{1}\n<figcaption>plots/{0}.svg</figcaption>\n</figure>\n",
+            esc(stem),
+            body.trim_end()
+        );
+    }
+    h.push_str("</body>\n</html>\n");
+    let path = dir.join("report.html");
+    std::fs::write(&path, h).map_err(|e| Error::io(&path, e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_and_escapes() {
+        assert_eq!(num(0.0), "0");
+        assert_eq!(num(1.25), "1.25");
+        assert_eq!(num(412.0), "412");
+        assert_eq!(num(0.035612345), "0.0356123");
+        assert_eq!(num(1.5e-7), "1.5000e-7");
+        assert_eq!(esc("a<b & \"c\">"), "a&lt;b &amp; &quot;c&quot;&gt;");
+    }
+}
