@@ -8,16 +8,12 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rvlife::api::{Spelling, Wear};
 use rvlife::config::{Config, Model};
 use rvlife::export::{write_profile, ProfileFormat};
-use rvlife::geometry::{Profile, WearMap};
-use rvlife::reducer::statics::StaticAnalysis;
-use rvlife::te::{
-    hysteresis, hysteresis_with, loaded_te_with, mesh_cycle_angles, over_revolution, CurveStats,
-    StaticTe, TwistTable, ARCMIN_PER_RAD,
-};
-use rvlife::{Error, Result};
-use serde_json::json;
+use rvlife::geometry::Profile;
+use rvlife::Result;
+use serde_json::{json, Value};
 
 #[derive(Parser)]
 #[command(
@@ -231,75 +227,13 @@ struct WearArgs {
     hours: Option<f64>,
 }
 
-/// The Monte Carlo plan from the command line, checked before any work.
-fn montecarlo_plan(
-    model: &Model,
-    samples: usize,
-    seed: u64,
-    shard: Option<&str>,
-    full_wear: bool,
-    per_cycle: usize,
-) -> Result<rvlife::montecarlo::Plan> {
-    if !(1..=1_000_000).contains(&samples) {
-        return Err(Error::invalid("--samples", samples, "must be 1 to 1000000"));
-    }
-    if !(1..=64).contains(&per_cycle) {
-        return Err(Error::invalid(
-            "--samples-per-mesh-cycle",
-            per_cycle,
-            "must be 1 to 64",
-        ));
-    }
-    let shard = match shard {
-        None => (1, 1),
-        Some(text) => {
-            // `/N`: the index from the job array (SLURM numbers tasks as `--array` says).
-            let owned;
-            let text = if let Some(n) = text.strip_prefix('/') {
-                let id = std::env::var("SLURM_ARRAY_TASK_ID").map_err(|_| {
-                    Error::invalid(
-                        "--shard",
-                        format!("\"{text}\""),
-                        "takes its index from SLURM_ARRAY_TASK_ID, which is not set; give I/N",
-                    )
-                })?;
-                owned = format!("{}/{n}", id.trim());
-                owned.as_str()
-            } else {
-                text
-            };
-            let parsed = text.split_once('/').and_then(|(i, n)| {
-                Some((
-                    i.trim().parse::<usize>().ok()?,
-                    n.trim().parse::<usize>().ok()?,
-                ))
-            });
-            match parsed {
-                Some((i, n)) if n >= 1 && (1..=n).contains(&i) && n <= samples => (i, n),
-                _ => {
-                    return Err(Error::invalid(
-                        "--shard",
-                        format!("\"{text}\""),
-                        format!("must be I/N with 1 <= I <= N <= --samples ({samples})"),
-                    ))
-                }
-            }
+impl WearArgs {
+    fn get(&self) -> Wear {
+        Wear {
+            wear_um: self.wear_um,
+            hours: self.hours,
         }
-    };
-    if model.tolerances.is_empty() {
-        return Err(Error::invalid(
-            "tolerances",
-            "no tolerance given",
-            "give at least one distribution in [tolerances] (e.g. pin_radial_um = { normal = 1.0 })",
-        ));
     }
-    Ok(rvlife::montecarlo::Plan {
-        samples,
-        seed,
-        shard,
-        full_wear,
-        samples_per_mesh_cycle: per_cycle,
-    })
 }
 
 /// The percentiles at the last stage and the life distribution, to stdout.
@@ -354,98 +288,12 @@ fn load_config(path: Option<&Path>, budget_min: f64) -> Result<Config> {
     Ok(cfg)
 }
 
-/// The profile for the wear arguments: uniform depth, or the wear map after some hours.
+/// The profile for the wear arguments (a spinner while the wear model integrates).
 fn profile_for(model: &Model, wear: &WearArgs, nominal: bool) -> Result<Profile> {
-    let mut model = model.clone();
-    if nominal {
-        model.modification = Default::default();
-        model.measured = None;
-    }
-    let n = rvlife::wear::grid_points(&model);
-    let map = match (wear.wear_um, wear.hours) {
-        (Some(w), _) => {
-            if !w.is_finite() || w < 0.0 {
-                return Err(Error::invalid(
-                    "--wear-um",
-                    w,
-                    "must be a finite number >= 0",
-                ));
-            }
-            // A worn profile must stay a profile: a wear deeper than the local convex radius
-            // of the flank folds it over itself.
-            (w > 0.0)
-                .then(|| WearMap::uniform(n, w * 1e-6))
-                .transpose()
-                .and_then(|m| model.profile(m.clone()).map(|_| m))
-                .map_err(|e| match e {
-                    Error::Invalid { allowed, .. } => Error::invalid("--wear-um", w, allowed),
-                    other => other,
-                })?
-        }
-        (None, Some(h)) => {
-            if !(h.is_finite() && (0.0..=1e7).contains(&h)) {
-                return Err(Error::invalid(
-                    "--hours",
-                    h,
-                    "must be a finite number in [0, 1e7] h",
-                ));
-            }
-            if model.update_hours > 0.0 && h / model.update_hours > 100_000.0 {
-                return Err(Error::invalid(
-                    "--hours",
-                    h,
-                    format!(
-                        "would need more than 100000 profile updates of \
-                         wear.profile_update_hours = {} h",
-                        model.update_hours
-                    ),
-                ));
-            }
-            let mut m = model.clone();
-            m.stage_hours = vec![h];
-            let pb = spinner("wear");
-            let hist = rvlife::wear::integrate(&m, &|done, total| {
-                pb.set_length(total as u64);
-                pb.set_position(done as u64);
-            });
-            pb.finish_and_clear();
-            let hist = hist?;
-            if let Some(l) = &hist.limit {
-                return Err(Error::invalid(
-                    "--hours",
-                    h,
-                    format!(
-                        "is beyond the validity of the wear model, which it leaves at {:.0} h \
-                         with {:.2} um of wear: {}; give fewer hours",
-                        l.hours, l.max_wear_um, l.reason
-                    ),
-                ));
-            }
-            let map = hist.maps.into_iter().next().unwrap_or_default();
-            if map.iter().any(|&x| x > 0.0) {
-                Some(WearMap::new(map)?)
-            } else {
-                None
-            }
-        }
-        (None, None) => None,
-    };
-    model.profile(map)
-}
-
-fn support_name(model: &Model) -> &'static str {
-    match model.reducer.support {
-        rvlife::reducer::Support::Bearings => "bearings",
-        rvlife::reducer::Support::Rigid { .. } => "rigid",
-    }
-}
-
-fn v_torque(t: &TwistTable) -> Vec<f64> {
-    t.curve().torque
-}
-
-fn v_twist(t: &TwistTable) -> Vec<f64> {
-    t.curve().twist.iter().map(|x| x * ARCMIN_PER_RAD).collect()
+    let pb = spinner("wear");
+    let p = rvlife::api::profile_for(model, wear.get(), nominal, Spelling::Cli, &progress_to(&pb));
+    pb.finish_and_clear();
+    p
 }
 
 /// A progress bar on stderr for work that can take more than a second (drawn only on a
@@ -454,6 +302,14 @@ fn spinner(what: &str) -> ProgressBar {
     let pb = progress_bar(1);
     pb.set_message(what.to_string());
     pb
+}
+
+/// A progress callback `(done, total)` that moves `pb`.
+fn progress_to(pb: &ProgressBar) -> impl Fn(usize, usize) + Sync + '_ {
+    move |done, total| {
+        pb.set_length(total as u64);
+        pb.set_position(done as u64);
+    }
 }
 
 /// A spinner with the elapsed time on stderr (drawn only on a terminal) for work without a
@@ -508,40 +364,20 @@ fn run(cli: Cli) -> Result<()> {
             };
             let cfg = load_config(config.as_deref(), budget)?;
             let model = validated(&cfg)?;
-            let plan = montecarlo_plan(
+            let plan = rvlife::api::montecarlo_plan(
                 &model,
                 samples,
                 seed,
                 shard.as_deref(),
                 full_wear,
                 samples_per_mesh_cycle,
-            )?;
-            let last = model.stage_hours.last().copied().unwrap_or(0.0);
-            let (beyond, horizon) = if model.life.any() && last > 0.0 {
-                let max_h = model.life.max_hours.unwrap_or(10.0 * last);
-                (
-                    ((max_h / last).ln() / 1.5f64.ln()).ceil().max(0.0) as usize,
-                    max_h / last,
-                )
-            } else {
-                (0, 1.0)
-            };
-            rvlife::budget::check_montecarlo(
-                &model,
-                plan.indices().len(),
-                model.stage_hours.len() + beyond / 2,
-                plan.samples_per_mesh_cycle,
-                plan.full_wear,
-                horizon,
+                Spelling::Cli,
             )?;
             let staging = rvlife::report::Staging::prepare(&out, force)?;
             let pb = progress_bar(plan.indices().len() as u64);
             pb.set_message("samples");
             let start = std::time::Instant::now();
-            let records = rvlife::montecarlo::run(&model, &plan, &|done, total| {
-                pb.set_length(total as u64);
-                pb.set_position(done as u64);
-            })?;
+            let records = rvlife::montecarlo::run(&model, &plan, &progress_to(&pb))?;
             pb.finish_and_clear();
             let meta = rvlife::montecarlo::ShardMeta {
                 rvlife_version: env!("CARGO_PKG_VERSION").into(),
@@ -640,95 +476,55 @@ fn run(cli: Cli) -> Result<()> {
             json,
             wear,
         } => {
-            for (f, v) in [("--crank-deg", crank_deg), ("--torque-nm", torque_nm)] {
-                if !v.is_finite() {
-                    return Err(Error::invalid(f, v, "must be a finite number"));
-                }
-            }
             let model = validated(&load_config(config.as_deref(), budget)?)?;
-            model.check_torque("--torque-nm", torque_nm)?;
-            let profile = profile_for(&model, &wear, false)?;
-            let sa = StaticAnalysis::new(&model.reducer, &profile)?;
-            let sol = sa.solve(crank_deg.to_radians(), torque_nm)?;
-            let discs: Vec<_> = sol
-                .discs
-                .iter()
-                .map(|d| {
-                    let pins: Vec<_> = d
-                        .pins
-                        .iter()
-                        .map(|p| {
-                            json!({
-                                "pin": p.pin,
-                                "mesh_angle_deg": p.mesh_angle.to_degrees(),
-                                "gap_um": p.gap * 1e6,
-                                "force_n": p.force,
-                                "lever_arm_mm": p.lever_arm * 1e3,
-                                "half_width_um": p.half_width * 1e6,
-                                "max_pressure_mpa": p.max_pressure * 1e-6,
-                            })
-                        })
-                        .collect();
-                    json!({
-                        "translation_um": [d.translation.x * 1e6, d.translation.y * 1e6],
-                        "rotation_arcmin": d.rotation * ARCMIN_PER_RAD,
-                        "pin_moment_nm": d.torque,
-                        "max_force_n": d.max_force(),
-                        "pins_in_contact": d.pins_in_contact(),
-                        "pin_forces_n": d.pins.iter().map(|p| p.force).collect::<Vec<_>>(),
-                        "pins": pins,
-                    })
-                })
-                .collect();
-            let v = json!({
-                "crank_deg": crank_deg,
-                "torque_nm": torque_nm,
-                "support": support_name(&model),
-                "twist_arcmin": sol.twist * ARCMIN_PER_RAD,
-                "first_contact_arcmin": sol.first_contact_twist * ARCMIN_PER_RAD,
-                "max_force_n": sol.max_force(),
-                "pins_in_contact": sol.pins_in_contact(),
-                "max_pressure_mpa": sol.max_pressure() * 1e-6,
-                "torsional_stiffness_nm_per_arcmin": sol.stiffness / ARCMIN_PER_RAD,
-                "residual": sol.residual,
-                "residual_roundoff_floor": sol.roundoff_floor,
-                "max_wear_um": profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
-                "discs": discs,
-            });
+            let pb = spinner("wear");
+            let v = rvlife::api::contact(
+                &model,
+                wear.get(),
+                crank_deg,
+                torque_nm,
+                Spelling::Cli,
+                &progress_to(&pb),
+            );
+            pb.finish_and_clear();
+            let v = v?;
             if json {
                 println!("{v}");
             } else {
+                let f = |v: &Value, k: &str| v[k].as_f64().unwrap_or(f64::NAN);
                 println!(
                     "crank {crank_deg} deg, output torque {torque_nm} N m ({} support): twist {:.5} arcmin (first contact {:.5}), max force {:.1} N, max pressure {:.1} MPa, residual {:.1e}",
-                    support_name(&model),
-                    sol.twist * ARCMIN_PER_RAD,
-                    sol.first_contact_twist * ARCMIN_PER_RAD,
-                    sol.max_force(),
-                    sol.max_pressure() * 1e-6,
-                    sol.residual
+                    v["support"].as_str().unwrap_or(""),
+                    f(&v, "twist_arcmin"),
+                    f(&v, "first_contact_arcmin"),
+                    f(&v, "max_force_n"),
+                    f(&v, "max_pressure_mpa"),
+                    f(&v, "residual")
                 );
-                for (i, d) in sol.discs.iter().enumerate() {
+                let discs = v["discs"].as_array().map_or(&[][..], |d| d.as_slice());
+                for (i, d) in discs.iter().enumerate() {
                     println!(
                         "disc {}: pin moment {:.2} N m, translation ({:.3}, {:.3}) um, {} pins in contact",
                         i + 1,
-                        d.torque,
-                        d.translation.x * 1e6,
-                        d.translation.y * 1e6,
-                        d.pins_in_contact()
+                        f(d, "pin_moment_nm"),
+                        d["translation_um"][0].as_f64().unwrap_or(f64::NAN),
+                        d["translation_um"][1].as_f64().unwrap_or(f64::NAN),
+                        d["pins_in_contact"]
                     );
                     println!(
                         "{:>4} {:>10} {:>10} {:>10} {:>10} {:>10}",
                         "pin", "mesh_deg", "gap_um", "force_N", "b_um", "p0_MPa"
                     );
-                    for p in d.pins.iter().filter(|p| p.force > 0.0) {
+                    let pins = d["pins"].as_array().map_or(&[][..], |p| p.as_slice());
+                    for p in pins.iter().filter(|p| f(p, "force_n") > 0.0) {
                         println!(
                             "{:>4} {:>10.3} {:>10.4} {:>10.2} {:>10.3} {:>10.1}",
-                            p.pin,
-                            p.mesh_angle.to_degrees(),
-                            p.gap * 1e6,
-                            p.force,
-                            p.half_width * 1e6,
-                            p.max_pressure * 1e-6
+                            p["pin"],
+                            f(p, "mesh_angle_deg"),
+                            f(p, "gap_um"),
+                            f(p, "force_n"),
+                            f(p, "half_width_um"),
+                            f(p, "max_pressure_mpa")
                         );
                     }
                 }
@@ -740,101 +536,30 @@ fn run(cli: Cli) -> Result<()> {
             json,
             wear,
         } => {
-            if let Some(t) = torque_nm {
-                if !t.is_finite() {
-                    return Err(Error::invalid("--torque-nm", t, "must be a finite number"));
-                }
-            }
             let model = validated(&load_config(config.as_deref(), budget)?)?;
-            if let Some(t) = torque_nm {
-                model.check_torque("--torque-nm", t)?;
-            }
-            let profile = profile_for(&model, &wear, false)?;
-            let red = &model.reducer;
-            let phis = mesh_cycle_angles(red.geometry.pins, model.te_samples);
-            let sa = StaticAnalysis::new(red, &profile)?;
             let pb = busy("static TE");
-            let curves = hysteresis_with(
-                &sa,
-                &phis,
-                model.rated_torque,
-                model.measuring_torque_fraction,
-                1,
-            );
+            let v = rvlife::api::te(&model, wear.get(), torque_nm, Spelling::Cli, &|_, _| {});
             pb.finish_and_clear();
-            let (tables, mean) = curves?;
-            let ste = StaticTe {
-                crank_angle: phis,
-                forward: tables.iter().map(|t| t.positive[0]).collect(),
-                reverse: tables.iter().map(|t| -t.negative[0]).collect(),
-            };
-            let st = ste.stats();
-            let play = ste.backlash_stats();
-            let acc = mean.accuracy();
-            // Over the output revolution: the mesh cycle tiled, or with part errors every mesh
-            // cycle of the revolution.
-            let rev = rvlife::te::revolution(&sa, model.te_samples)?;
-            let zc = (model.geometry.pins - 1) as f64;
-            let input_deg: Vec<f64> = rev
-                .crank_angle
-                .iter()
-                .map(|p| (model.ratio * p / zc).to_degrees())
-                .collect();
-            let te_arcmin: Vec<f64> = rev.forward.iter().map(|v| v * ARCMIN_PER_RAD).collect();
-            let play_max = if red.errors.is_zero() {
-                play.max
-            } else {
-                rev.play_stats().max
-            };
-            let mut v = json!({
-                "max_wear_um": model.wear_depth(&profile) * 1e6,
-                "angular_te_arcmin": rev.angular_te() * ARCMIN_PER_RAD,
-                "support": support_name(&model),
-                "te_mean_arcmin": st.mean * ARCMIN_PER_RAD,
-                "te_peak_to_peak_arcmin": st.peak_to_peak * ARCMIN_PER_RAD,
-                "te_reverse_mean_arcmin": CurveStats::of(&ste.reverse).mean * ARCMIN_PER_RAD,
-                "backlash_arcmin": acc.backlash * ARCMIN_PER_RAD,
-                "backlash_max_arcmin": play_max * ARCMIN_PER_RAD,
-                "lost_motion_arcmin": acc.lost_motion * ARCMIN_PER_RAD,
-                "measuring_torque_nm": model.measuring_torque_fraction * model.rated_torque,
-                "torsional_stiffness_nm_per_arcmin": acc.torsional_stiffness / ARCMIN_PER_RAD,
-                "samples_per_mesh_cycle": model.te_samples,
-            });
-            let mut loaded_summary = None;
-            if let Some(t) = torque_nm {
-                let l = loaded_te_with(&sa, t, model.te_samples)?;
-                let ls = l.stats();
-                let (_, lte) =
-                    over_revolution(&l.crank_angle, &l.te, model.geometry.pins, model.ratio);
-                v["torque_nm"] = json!(t);
-                v["loaded_te_mean_arcmin"] = json!(ls.mean * ARCMIN_PER_RAD);
-                v["loaded_te_peak_to_peak_arcmin"] = json!(ls.peak_to_peak * ARCMIN_PER_RAD);
-                v["max_force_n"] = json!(l.max_force());
-                v["pins_in_contact"] = json!(l.pins_in_contact().0);
-                v["loaded_te_arcmin"] =
-                    json!(lte.iter().map(|x| x * ARCMIN_PER_RAD).collect::<Vec<_>>());
-                loaded_summary = Some(ls);
-            }
+            let v = v?;
             if json {
-                v["input_deg"] = json!(input_deg);
-                v["te_arcmin"] = json!(te_arcmin);
                 println!("{v}");
             } else {
+                let f = |k: &str| v[k].as_f64().unwrap_or(f64::NAN);
                 println!(
                     "STE mean {:.5} arcmin, peak-to-peak {:.5} arcmin; angular TE {:.5} arcmin over an output revolution; backlash {:.5} arcmin (largest {:.5}); lost motion {:.5} arcmin (+-{:.1} N m)",
-                    st.mean * ARCMIN_PER_RAD,
-                    st.peak_to_peak * ARCMIN_PER_RAD,
-                    rev.angular_te() * ARCMIN_PER_RAD,
-                    acc.backlash * ARCMIN_PER_RAD,
-                    play_max * ARCMIN_PER_RAD,
-                    acc.lost_motion * ARCMIN_PER_RAD,
-                    model.measuring_torque_fraction * model.rated_torque
+                    f("te_mean_arcmin"),
+                    f("te_peak_to_peak_arcmin"),
+                    f("angular_te_arcmin"),
+                    f("backlash_arcmin"),
+                    f("backlash_max_arcmin"),
+                    f("lost_motion_arcmin"),
+                    f("measuring_torque_nm")
                 );
-                if let (Some(ls), Some(t)) = (loaded_summary, torque_nm) {
+                if let Some(t) = torque_nm {
                     println!(
                         "loaded TE at {t} N m: mean {:.5} arcmin, peak-to-peak {:.5} arcmin",
-                        ls.mean * ARCMIN_PER_RAD,
-                        ls.peak_to_peak * ARCMIN_PER_RAD
+                        f("loaded_te_mean_arcmin"),
+                        f("loaded_te_peak_to_peak_arcmin")
                     );
                 }
             }
@@ -846,94 +571,45 @@ fn run(cli: Cli) -> Result<()> {
             json,
             wear,
         } => {
-            if !crank_deg.is_finite() {
-                return Err(Error::invalid(
-                    "--crank-deg",
-                    crank_deg,
-                    "must be a finite number",
-                ));
-            }
-            if !(1..=1000).contains(&levels) {
-                return Err(Error::invalid(
-                    "--levels",
-                    levels,
-                    "must be a whole number from 1 to 1000",
-                ));
-            }
             let model = validated(&load_config(config.as_deref(), budget)?)?;
-            let profile = profile_for(&model, &wear, false)?;
-            let red = &model.reducer;
-            let mut phis = mesh_cycle_angles(red.geometry.pins, model.te_samples);
-            phis.push(crank_deg.to_radians());
             let pb = busy("hysteresis");
-            let curves = hysteresis(
-                red,
-                &profile,
-                &phis,
-                model.rated_torque,
-                model.measuring_torque_fraction,
+            let v = rvlife::api::hysteresis_curve(
+                &model,
+                wear.get(),
+                crank_deg,
                 levels as usize,
+                Spelling::Cli,
+                &|_, _| {},
             );
             pb.finish_and_clear();
-            let (mut tables, mean) = curves?;
-            let at_crank = tables.pop().expect("the crank angle's table");
-            let mean = {
-                // The mean over the mesh cycle only (not the extra crank angle).
-                let _ = mean;
-                TwistTable::mean_of(&tables)
-            };
-            let describe = |t: &TwistTable| {
-                let a = t.accuracy();
-                let c = t.curve();
-                json!({
-                    "torque_nm": c.torque,
-                    "twist_arcmin": c.twist.iter().map(|x| x * ARCMIN_PER_RAD).collect::<Vec<_>>(),
-                    "backlash_arcmin": a.backlash * ARCMIN_PER_RAD,
-                    "lost_motion_arcmin": a.lost_motion * ARCMIN_PER_RAD,
-                    "hysteresis_loss_arcmin": a.hysteresis_loss * ARCMIN_PER_RAD,
-                    "torsional_stiffness_nm_per_arcmin": a.torsional_stiffness / ARCMIN_PER_RAD,
-                })
-            };
-            let v = json!({
-                "max_wear_um": profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
-                "support": support_name(&model),
-                "rated_torque_nm": model.rated_torque,
-                "measuring_torque_fraction": model.measuring_torque_fraction,
-                "torsional_stiffness_definition": "b/a: (rated - measuring torque) over the mean twist of the two loading branches between them",
-                "crank_deg": crank_deg,
-                "at_crank_angle": describe(&at_crank),
-                "mesh_cycle_mean": describe(&mean),
-                "samples_per_mesh_cycle": model.te_samples,
-                "torque_nm": v_torque(&mean),
-                "twist_arcmin": v_twist(&mean),
-                "backlash_arcmin": mean.accuracy().backlash * ARCMIN_PER_RAD,
-                "lost_motion_arcmin": mean.accuracy().lost_motion * ARCMIN_PER_RAD,
-                "hysteresis_loss_arcmin": mean.accuracy().hysteresis_loss * ARCMIN_PER_RAD,
-                "torsional_stiffness_nm_per_arcmin": mean.accuracy().torsional_stiffness / ARCMIN_PER_RAD,
-            });
+            let v = v?;
             if json {
                 println!("{v}");
             } else {
-                let a = mean.accuracy();
-                let b = at_crank.accuracy();
+                let f = |v: &Value, k: &str| v[k].as_f64().unwrap_or(f64::NAN);
+                let (a, b) = (&v["mesh_cycle_mean"], &v["at_crank_angle"]);
                 println!(
                     "mean over a mesh cycle: backlash {:.5} arcmin, lost motion {:.5} arcmin (+-{:.1} N m), hysteresis loss {:.5} arcmin, torsional stiffness {:.1} N m/arcmin (b/a)",
-                    a.backlash * ARCMIN_PER_RAD,
-                    a.lost_motion * ARCMIN_PER_RAD,
-                    model.measuring_torque_fraction * model.rated_torque,
-                    a.hysteresis_loss * ARCMIN_PER_RAD,
-                    a.torsional_stiffness / ARCMIN_PER_RAD
+                    f(a, "backlash_arcmin"),
+                    f(a, "lost_motion_arcmin"),
+                    f(&v, "measuring_torque_fraction") * f(&v, "rated_torque_nm"),
+                    f(a, "hysteresis_loss_arcmin"),
+                    f(a, "torsional_stiffness_nm_per_arcmin")
                 );
                 println!(
                     "at crank {crank_deg} deg: backlash {:.5} arcmin, lost motion {:.5} arcmin, torsional stiffness {:.1} N m/arcmin",
-                    b.backlash * ARCMIN_PER_RAD,
-                    b.lost_motion * ARCMIN_PER_RAD,
-                    b.torsional_stiffness / ARCMIN_PER_RAD
+                    f(b, "backlash_arcmin"),
+                    f(b, "lost_motion_arcmin"),
+                    f(b, "torsional_stiffness_nm_per_arcmin")
                 );
                 println!("{:>12} {:>14}", "torque_N_m", "twist_arcmin");
-                let c = mean.curve();
-                for (t, x) in c.torque.iter().zip(&c.twist) {
-                    println!("{:>12.3} {:>14.6}", t, x * ARCMIN_PER_RAD);
+                let col = |k: &str| -> Vec<f64> {
+                    a[k].as_array()
+                        .map(|x| x.iter().filter_map(Value::as_f64).collect())
+                        .unwrap_or_default()
+                };
+                for (t, x) in col("torque_nm").iter().zip(col("twist_arcmin")) {
+                    println!("{t:>12.3} {x:>14.6}");
                 }
             }
         }
@@ -948,63 +624,28 @@ fn run(cli: Cli) -> Result<()> {
             disc,
             wear,
         } => {
-            let mut cfg = load_config(config.as_deref(), budget)?;
-            // This command uses [dynamics]: it is checked (and its load) as if enabled.
-            cfg.dynamics.enabled = true;
-            if let Some(d) = disc {
-                cfg.dynamics.disc = d;
-            }
-            if let Some(kind) = load {
-                cfg.dynamics.load.kind = kind;
-            }
-            if let Some(t) = torque_nm {
-                if cfg.dynamics.load.kind != "constant" {
-                    return Err(Error::invalid(
-                        "--torque-nm",
-                        t,
-                        "applies only to a constant load (--load constant)",
-                    ));
-                }
-                cfg.dynamics.load.torque_nm = Some(t);
-            }
-            // The options set keys of [dynamics.load]: errors name the option.
-            let model = cfg.validate().map_err(|e| match e {
-                Error::Invalid {
-                    field,
-                    value,
-                    allowed,
-                } if torque_nm.is_some() && field.starts_with("dynamics.load.torque_nm") => {
-                    Error::Invalid {
-                        field: "--torque-nm".into(),
-                        value,
-                        allowed,
-                    }
-                }
-                other => other,
-            })?;
+            let cfg = load_config(config.as_deref(), budget)?;
+            let opts = rvlife::api::DynamicsOptions {
+                load,
+                torque_nm,
+                disc,
+            };
+            let model = rvlife::api::dynamics_model(&cfg, &opts, Spelling::Cli)?;
             let staging = match &out {
                 Some(dir) => Some(rvlife::report::Staging::prepare(dir, force)?),
                 None => None,
             };
-            let profile = profile_for(&model, &wear, false)?;
             let start = std::time::Instant::now();
             let pb = busy("simulating");
-            let res = rvlife::reducer::dynamics::simulate_discs(
-                &profile,
-                &model.dynamics,
-                &model.fem,
-                None,
-                pin_forces,
-            );
+            let res =
+                rvlife::api::dynamics(&model, wear.get(), pin_forces, Spelling::Cli, &|_, _| {});
             pb.finish_and_clear();
-            let res = res?;
+            let (res, mut v) = res?;
             let wall = start.elapsed().as_secs_f64();
             if let Some(staging) = staging {
                 staging.commit(|dir| rvlife::report::write_dynamics_files(&res, dir))?;
             }
             let s = &res.summary;
-            let mut v =
-                serde_json::to_value(s).map_err(|e| Error::numerical("json", e.to_string()))?;
             v["wall_time_s"] = json!(wall);
             if json {
                 println!("{v}");

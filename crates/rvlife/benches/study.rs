@@ -33,6 +33,24 @@ fn benches(c: &mut Criterion) {
     c.bench_function("contact_geometry_worn_7500h", |b| {
         b.iter(|| StaticAnalysis::new(red, black_box(&worn)).unwrap())
     });
+    // The `te` command as a library call (what the Python package's `te` runs): 10 um uniform
+    // wear, loaded TE at 412 N m.
+    c.bench_function("api_te_10um_412nm", |b| {
+        let wear = rvlife::api::Wear {
+            wear_um: Some(10.0),
+            hours: None,
+        };
+        b.iter(|| {
+            rvlife::api::te(
+                &model,
+                black_box(wear),
+                Some(412.0),
+                rvlife::api::Spelling::Python,
+                &|_, _| {},
+            )
+            .unwrap()
+        })
+    });
     c.bench_function("static_te_worn_7500h", |b| {
         b.iter(|| rvlife::te::static_te(red, black_box(&worn), model.te_samples).unwrap())
     });

@@ -85,7 +85,10 @@ pub fn write_profile_sampled(
     }
 }
 
-fn sample_with_params(profile: &Profile, per_tooth: usize) -> Vec<(f64, f64, f64, f64)> {
+/// `per_tooth` points per tooth of the whole profile, from parameter 0: `(x_mm, y_mm,
+/// mesh_angle_deg, wear_um)` each (disc frame; mesh angle 0 at the root, 180 at the tip; wear
+/// depth along the normal).
+pub fn profile_points(profile: &Profile, per_tooth: usize) -> Vec<(f64, f64, f64, f64)> {
     let zc = profile.geometry().disc_teeth();
     let n = per_tooth * zc;
     let dt = std::f64::consts::TAU * zc as f64 / n as f64;
@@ -105,7 +108,7 @@ fn write_csv(profile: &Profile, path: &Path, per_tooth: usize) -> Result<()> {
     let io = |e: csv::Error| Error::io(path, std::io::Error::other(e.to_string()));
     w.write_record(["x_mm", "y_mm", "mesh_angle_deg", "wear_um"])
         .map_err(io)?;
-    for (x, y, t, h) in sample_with_params(profile, per_tooth) {
+    for (x, y, t, h) in profile_points(profile, per_tooth) {
         w.write_record([
             format!("{x:.9}"),
             format!("{y:.9}"),
@@ -125,7 +128,7 @@ fn write_dxf(profile: &Profile, path: &Path, per_tooth: usize) -> Result<()> {
     drawing.header.version = AcadVersion::R2000;
     let mut poly = LwPolyline::default();
     poly.set_is_closed(true);
-    poly.vertices = sample_with_params(profile, per_tooth)
+    poly.vertices = profile_points(profile, per_tooth)
         .into_iter()
         .map(|(x, y, _, _)| LwPolylineVertex {
             x,
@@ -198,7 +201,7 @@ fn content_guid(values: impl IntoIterator<Item = f64>) -> uuid::Uuid {
 fn write_svg(profile: &Profile, path: &Path, per_tooth: usize) -> Result<()> {
     let g = profile.geometry();
     let r = (g.pin_circle_radius + g.pin_radius) * 1e3 * 1.05;
-    let pts = sample_with_params(profile, per_tooth);
+    let pts = profile_points(profile, per_tooth);
     let mut d = String::with_capacity(pts.len() * 24);
     for (i, (x, y, _, _)) in pts.iter().enumerate() {
         d.push_str(if i == 0 { "M" } else { "L" });
@@ -268,7 +271,7 @@ mod tests {
             assert_eq!(header_value(&text, name), "0.0", "{name}");
         }
         let guid = content_guid(
-            sample_with_params(&profile, points_per_tooth(&profile))
+            profile_points(&profile, points_per_tooth(&profile))
                 .into_iter()
                 .flat_map(|(x, y, _, _)| [x, y]),
         )

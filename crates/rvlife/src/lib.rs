@@ -14,6 +14,7 @@
 
 #![warn(missing_docs)]
 
+pub mod api;
 pub mod budget;
 pub mod calibration;
 pub mod config;

@@ -611,6 +611,13 @@ fn fmt_opt(v: Option<f64>) -> String {
 /// # Errors
 /// [`Error::Io`].
 pub fn write_records(dir: &Path, records: &[SampleRecord]) -> Result<()> {
+    let (s, t) = records_csv(records);
+    write(dir, "samples.csv", &s)?;
+    write(dir, "stages.csv", &t)
+}
+
+/// The texts of `samples.csv` and `stages.csv` of [`write_records`].
+pub fn records_csv(records: &[SampleRecord]) -> (String, String) {
     let mut s = String::from("sample,status,accuracy_life_h,limited_by\n");
     let mut t = String::from("sample,hours");
     for (q, _) in QUANTITIES {
@@ -634,8 +641,7 @@ pub fn write_records(dir: &Path, records: &[SampleRecord]) -> Result<()> {
             t.push('\n');
         }
     }
-    write(dir, "samples.csv", &s)?;
-    write(dir, "stages.csv", &t)
+    (s, t)
 }
 
 fn csv_field(s: &str) -> String {

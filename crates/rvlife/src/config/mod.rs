@@ -296,9 +296,20 @@ impl Config {
             path: path.display().to_string(),
             message: format!("cannot read the file: {e}"),
         })?;
-        let mut c = Config::from_toml_str(&text, &path.display().to_string())?;
-        c.base_dir = path.parent().map(Path::to_path_buf);
-        c.written = written_keys(&text);
+        Config::from_toml_in(&text, &path.display().to_string(), path.parent())
+    }
+
+    /// Parses TOML text as if read from a file in `base_dir` (relative paths in it, such as a
+    /// measured profile, are taken from there; `None`: the working directory), recording the
+    /// keys it writes so that errors about defaults say so ([`Config::from_file`] without the
+    /// file).
+    ///
+    /// # Errors
+    /// [`Error::Config`] for syntax errors, wrong types and unknown keys (with the key path).
+    pub fn from_toml_in(text: &str, origin: &str, base_dir: Option<&Path>) -> Result<Config> {
+        let mut c = Config::from_toml_str(text, origin)?;
+        c.base_dir = base_dir.map(Path::to_path_buf);
+        c.written = written_keys(text);
         Ok(c)
     }
 

@@ -1,0 +1,77 @@
+"""Type stubs of the native module ``rvlife._rvlife`` (PyO3). A config is loaded once
+(:func:`load`: TOML text, origin, base folder) and passed to every command; results are the command line's JSON objects as dicts, lists
+of floats as numpy float64 arrays. Bad input raises ValueError naming the key."""
+
+from typing import Any, Callable, Dict, List, Optional, Tuple
+
+Progress = Optional[Callable[[int, int], None]]
+
+def version() -> str: ...
+def example_toml(preset: str = "paper") -> str: ...
+def presets() -> List[Tuple[str, str]]: ...
+class Loaded:
+    """A parsed and validated config."""
+
+def load(text: str, origin: str, base_dir: Optional[str] = None) -> Loaded: ...
+def toml_from_json(json: str) -> str: ...
+def profile(
+    cfg: Loaded,
+    wear_um: Optional[float],
+    hours: Optional[float],
+    nominal: bool,
+    points_per_tooth: int,
+    progress: Progress = None,
+) -> Dict[str, Any]: ...
+def contact(
+    cfg: Loaded,
+    crank_deg: float,
+    torque_nm: float,
+    wear_um: Optional[float],
+    hours: Optional[float],
+    progress: Progress = None,
+) -> Dict[str, Any]: ...
+def te(
+    cfg: Loaded,
+    torque_nm: Optional[float],
+    wear_um: Optional[float],
+    hours: Optional[float],
+    progress: Progress = None,
+) -> Dict[str, Any]: ...
+def hysteresis(
+    cfg: Loaded,
+    crank_deg: float,
+    levels: int,
+    wear_um: Optional[float],
+    hours: Optional[float],
+    progress: Progress = None,
+) -> Dict[str, Any]: ...
+def dynamics(
+    cfg: Loaded,
+    load: Optional[str],
+    torque_nm: Optional[float],
+    disc: Optional[str],
+    wear_um: Optional[float],
+    hours: Optional[float],
+    pin_forces: bool,
+    out: Optional[str],
+    force: bool,
+    progress: Progress = None,
+) -> Dict[str, Any]: ...
+def run_study(
+    cfg: Loaded,
+    out: Optional[str],
+    force: bool,
+    progress: Progress = None,
+) -> Dict[str, Any]: ...
+def montecarlo(
+    cfg: Loaded,
+    samples: int,
+    seed: int,
+    shard: Optional[str],
+    full_wear: bool,
+    samples_per_mesh_cycle: int,
+    out: Optional[str],
+    force: bool,
+    progress: Progress = None,
+) -> Dict[str, str]: ...
+def merge(dirs: List[str], out: str, force: bool) -> None: ...

@@ -1,0 +1,625 @@
+//! The commands of rvlife as library calls: each takes a validated [`Model`] and the command's
+//! arguments and returns the JSON object the command line prints with `--json` (the Python
+//! package returns the same objects). Arguments are checked here, and an error names the
+//! argument as the caller spells it ([`Spelling`]: `--crank-deg` on the command line,
+//! `crank_deg` in Python).
+
+use serde_json::{json, Value};
+
+use crate::config::Model;
+use crate::error::{Error, Result};
+use crate::geometry::{Profile, WearMap};
+use crate::reducer::statics::StaticAnalysis;
+use crate::te::{
+    hysteresis, hysteresis_with, loaded_te_with, mesh_cycle_angles, over_revolution, CurveStats,
+    StaticTe, TwistTable, ARCMIN_PER_RAD,
+};
+
+/// How a caller writes argument names in error messages.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Spelling {
+    /// Command-line options: `crank_deg` is `--crank-deg`.
+    Cli,
+    /// Keyword arguments: `crank_deg` as is.
+    Python,
+}
+
+impl Spelling {
+    /// The argument `key` (snake case) as this caller writes it.
+    pub fn name(self, key: &str) -> String {
+        match self {
+            Spelling::Cli => format!("--{}", key.replace('_', "-")),
+            Spelling::Python => key.to_string(),
+        }
+    }
+}
+
+/// Which worn profile a command analyses: at most one of a uniform depth (um) and working
+/// hours (h) of the config's wear model; neither is the unworn profile.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Wear {
+    /// Uniform wear depth along the whole profile, um.
+    pub wear_um: Option<f64>,
+    /// Working hours of the config's wear model, h.
+    pub hours: Option<f64>,
+}
+
+/// A finite-number check naming the argument.
+fn finite(spelling: Spelling, key: &str, v: f64) -> Result<()> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            spelling.name(key),
+            v,
+            "must be a finite number",
+        ))
+    }
+}
+
+/// `"bearings"` or `"rigid"`: how the model supports the discs.
+pub fn support_name(model: &Model) -> &'static str {
+    match model.reducer.support {
+        crate::reducer::Support::Bearings => "bearings",
+        crate::reducer::Support::Rigid { .. } => "rigid",
+    }
+}
+
+/// The profile of a command: nominal (`nominal`: no modification, no measured profile), worn
+/// uniformly by `wear.wear_um` (um, the paper's conservative model), or by the config's wear
+/// model after `wear.hours` (h; `progress(done, total)` reports the wear integration), or the
+/// config's unworn profile.
+///
+/// # Errors
+/// [`Error::Invalid`] naming the argument as `spelling` writes it (a negative or non-finite
+/// depth, a depth that folds the flank, hours out of `[0, 1e7]`, too many profile updates, or
+/// hours beyond the wear model's validity); the wear integration's failures.
+pub fn profile_for(
+    model: &Model,
+    wear: Wear,
+    nominal: bool,
+    spelling: Spelling,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Profile> {
+    let mut model = model.clone();
+    if nominal {
+        model.modification = Default::default();
+        model.measured = None;
+    }
+    let n = crate::wear::grid_points(&model);
+    let map = match (wear.wear_um, wear.hours) {
+        (Some(w), _) => {
+            if !w.is_finite() || w < 0.0 {
+                return Err(Error::invalid(
+                    spelling.name("wear_um"),
+                    w,
+                    "must be a finite number >= 0",
+                ));
+            }
+            // A worn profile must stay a profile: a wear deeper than the local convex radius
+            // of the flank folds it over itself.
+            (w > 0.0)
+                .then(|| WearMap::uniform(n, w * 1e-6))
+                .transpose()
+                .and_then(|m| model.profile(m.clone()).map(|_| m))
+                .map_err(|e| match e {
+                    Error::Invalid { allowed, .. } => {
+                        Error::invalid(spelling.name("wear_um"), w, allowed)
+                    }
+                    other => other,
+                })?
+        }
+        (None, Some(h)) => {
+            if !(h.is_finite() && (0.0..=1e7).contains(&h)) {
+                return Err(Error::invalid(
+                    spelling.name("hours"),
+                    h,
+                    "must be a finite number in [0, 1e7] h",
+                ));
+            }
+            if model.update_hours > 0.0 && h / model.update_hours > 100_000.0 {
+                return Err(Error::invalid(
+                    spelling.name("hours"),
+                    h,
+                    format!(
+                        "would need more than 100000 profile updates of \
+                         wear.profile_update_hours = {} h",
+                        model.update_hours
+                    ),
+                ));
+            }
+            let mut m = model.clone();
+            m.stage_hours = vec![h];
+            let hist = crate::wear::integrate(&m, progress)?;
+            if let Some(l) = &hist.limit {
+                return Err(Error::invalid(
+                    spelling.name("hours"),
+                    h,
+                    format!(
+                        "is beyond the validity of the wear model, which it leaves at {:.0} h \
+                         with {:.2} um of wear: {}; give fewer hours",
+                        l.hours, l.max_wear_um, l.reason
+                    ),
+                ));
+            }
+            let map = hist.maps.into_iter().next().unwrap_or_default();
+            if map.iter().any(|&x| x > 0.0) {
+                Some(WearMap::new(map)?)
+            } else {
+                None
+            }
+        }
+        (None, None) => None,
+    };
+    model.profile(map)
+}
+
+/// Static equilibrium of the reducer at crank angle `crank_deg` (deg) under output torque
+/// `torque_nm` (N m), input locked (`rvlife contact --json`): twist, first-contact twist,
+/// largest force and pressure, stiffness, residual, and per disc its translation, rotation and
+/// pins (mesh angle, gap, force, lever arm, Hertz half-width and pressure).
+///
+/// `progress(done, total)` reports the wear integration of `wear.hours`.
+///
+/// # Errors
+/// [`Error::Invalid`] for a non-finite argument or a torque the unworn stage cannot carry;
+/// solver failures.
+pub fn contact(
+    model: &Model,
+    wear: Wear,
+    crank_deg: f64,
+    torque_nm: f64,
+    spelling: Spelling,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Value> {
+    finite(spelling, "crank_deg", crank_deg)?;
+    finite(spelling, "torque_nm", torque_nm)?;
+    model.check_torque(&spelling.name("torque_nm"), torque_nm)?;
+    let profile = profile_for(model, wear, false, spelling, progress)?;
+    let sa = StaticAnalysis::new(&model.reducer, &profile)?;
+    let sol = sa.solve(crank_deg.to_radians(), torque_nm)?;
+    let discs: Vec<_> = sol
+        .discs
+        .iter()
+        .map(|d| {
+            let pins: Vec<_> = d
+                .pins
+                .iter()
+                .map(|p| {
+                    json!({
+                        "pin": p.pin,
+                        "mesh_angle_deg": p.mesh_angle.to_degrees(),
+                        "gap_um": p.gap * 1e6,
+                        "force_n": p.force,
+                        "lever_arm_mm": p.lever_arm * 1e3,
+                        "half_width_um": p.half_width * 1e6,
+                        "max_pressure_mpa": p.max_pressure * 1e-6,
+                    })
+                })
+                .collect();
+            json!({
+                "translation_um": [d.translation.x * 1e6, d.translation.y * 1e6],
+                "rotation_arcmin": d.rotation * ARCMIN_PER_RAD,
+                "pin_moment_nm": d.torque,
+                "max_force_n": d.max_force(),
+                "pins_in_contact": d.pins_in_contact(),
+                "pin_forces_n": d.pins.iter().map(|p| p.force).collect::<Vec<_>>(),
+                "pins": pins,
+            })
+        })
+        .collect();
+    let v = json!({
+        "crank_deg": crank_deg,
+        "torque_nm": torque_nm,
+        "support": support_name(model),
+        "twist_arcmin": sol.twist * ARCMIN_PER_RAD,
+        "first_contact_arcmin": sol.first_contact_twist * ARCMIN_PER_RAD,
+        "max_force_n": sol.max_force(),
+        "pins_in_contact": sol.pins_in_contact(),
+        "max_pressure_mpa": sol.max_pressure() * 1e-6,
+        "torsional_stiffness_nm_per_arcmin": sol.stiffness / ARCMIN_PER_RAD,
+        "residual": sol.residual,
+        "residual_roundoff_floor": sol.roundoff_floor,
+        "max_wear_um": profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
+        "discs": discs,
+    });
+    Ok(v)
+}
+
+/// STE over a mesh cycle and an output revolution, backlash, lost motion and torsional
+/// stiffness (`rvlife te --json`), with the loaded TE at `torque_nm` (N m) when given.
+/// Arrays: `input_deg` and `te_arcmin` over the output revolution, `loaded_te_arcmin` likewise.
+///
+/// # Errors
+/// [`Error::Invalid`] for a non-finite torque or one the unworn stage cannot carry; solver
+/// failures.
+pub fn te(
+    model: &Model,
+    wear: Wear,
+    torque_nm: Option<f64>,
+    spelling: Spelling,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Value> {
+    if let Some(t) = torque_nm {
+        finite(spelling, "torque_nm", t)?;
+        model.check_torque(&spelling.name("torque_nm"), t)?;
+    }
+    let profile = profile_for(model, wear, false, spelling, progress)?;
+    let red = &model.reducer;
+    let phis = mesh_cycle_angles(red.geometry.pins, model.te_samples);
+    let sa = StaticAnalysis::new(red, &profile)?;
+    let curves = hysteresis_with(
+        &sa,
+        &phis,
+        model.rated_torque,
+        model.measuring_torque_fraction,
+        1,
+    );
+    let (tables, mean) = curves?;
+    let ste = StaticTe {
+        crank_angle: phis,
+        forward: tables.iter().map(|t| t.positive[0]).collect(),
+        reverse: tables.iter().map(|t| -t.negative[0]).collect(),
+    };
+    let st = ste.stats();
+    let play = ste.backlash_stats();
+    let acc = mean.accuracy();
+    // Over the output revolution: the mesh cycle tiled, or with part errors every mesh
+    // cycle of the revolution.
+    let rev = crate::te::revolution(&sa, model.te_samples)?;
+    let zc = (model.geometry.pins - 1) as f64;
+    let input_deg: Vec<f64> = rev
+        .crank_angle
+        .iter()
+        .map(|p| (model.ratio * p / zc).to_degrees())
+        .collect();
+    let te_arcmin: Vec<f64> = rev.forward.iter().map(|v| v * ARCMIN_PER_RAD).collect();
+    let play_max = if red.errors.is_zero() {
+        play.max
+    } else {
+        rev.play_stats().max
+    };
+    let mut v = json!({
+        "max_wear_um": model.wear_depth(&profile) * 1e6,
+        "angular_te_arcmin": rev.angular_te() * ARCMIN_PER_RAD,
+        "support": support_name(model),
+        "te_mean_arcmin": st.mean * ARCMIN_PER_RAD,
+        "te_peak_to_peak_arcmin": st.peak_to_peak * ARCMIN_PER_RAD,
+        "te_reverse_mean_arcmin": CurveStats::of(&ste.reverse).mean * ARCMIN_PER_RAD,
+        "backlash_arcmin": acc.backlash * ARCMIN_PER_RAD,
+        "backlash_max_arcmin": play_max * ARCMIN_PER_RAD,
+        "lost_motion_arcmin": acc.lost_motion * ARCMIN_PER_RAD,
+        "measuring_torque_nm": model.measuring_torque_fraction * model.rated_torque,
+        "torsional_stiffness_nm_per_arcmin": acc.torsional_stiffness / ARCMIN_PER_RAD,
+        "samples_per_mesh_cycle": model.te_samples,
+    });
+    if let Some(t) = torque_nm {
+        let l = loaded_te_with(&sa, t, model.te_samples)?;
+        let ls = l.stats();
+        let (_, lte) = over_revolution(&l.crank_angle, &l.te, model.geometry.pins, model.ratio);
+        v["torque_nm"] = json!(t);
+        v["loaded_te_mean_arcmin"] = json!(ls.mean * ARCMIN_PER_RAD);
+        v["loaded_te_peak_to_peak_arcmin"] = json!(ls.peak_to_peak * ARCMIN_PER_RAD);
+        v["max_force_n"] = json!(l.max_force());
+        v["pins_in_contact"] = json!(l.pins_in_contact().0);
+        v["loaded_te_arcmin"] = json!(lte.iter().map(|x| x * ARCMIN_PER_RAD).collect::<Vec<_>>());
+    }
+    v["input_deg"] = json!(input_deg);
+    v["te_arcmin"] = json!(te_arcmin);
+    Ok(v)
+}
+
+/// The hysteresis curve (output torque 0 -> +rated -> -rated -> +rated in `levels` steps per
+/// quarter, input locked) averaged over a mesh cycle and at crank angle `crank_deg` (deg), with
+/// backlash, lost motion, hysteresis loss and torsional stiffness (`rvlife hysteresis --json`).
+///
+/// # Errors
+/// [`Error::Invalid`] for a non-finite crank angle or `levels` outside 1-1000; solver failures.
+pub fn hysteresis_curve(
+    model: &Model,
+    wear: Wear,
+    crank_deg: f64,
+    levels: usize,
+    spelling: Spelling,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Value> {
+    finite(spelling, "crank_deg", crank_deg)?;
+    if !(1..=1000).contains(&levels) {
+        return Err(Error::invalid(
+            spelling.name("levels"),
+            levels,
+            "must be a whole number from 1 to 1000",
+        ));
+    }
+    let profile = profile_for(model, wear, false, spelling, progress)?;
+    let red = &model.reducer;
+    let mut phis = mesh_cycle_angles(red.geometry.pins, model.te_samples);
+    phis.push(crank_deg.to_radians());
+    let curves = hysteresis(
+        red,
+        &profile,
+        &phis,
+        model.rated_torque,
+        model.measuring_torque_fraction,
+        levels,
+    );
+    let (mut tables, mean) = curves?;
+    let at_crank = tables.pop().expect("the crank angle's table");
+    let mean = {
+        // The mean over the mesh cycle only (not the extra crank angle).
+        let _ = mean;
+        TwistTable::mean_of(&tables)
+    };
+    let describe = |t: &TwistTable| {
+        let a = t.accuracy();
+        let c = t.curve();
+        json!({
+            "torque_nm": c.torque,
+            "twist_arcmin": c.twist.iter().map(|x| x * ARCMIN_PER_RAD).collect::<Vec<_>>(),
+            "backlash_arcmin": a.backlash * ARCMIN_PER_RAD,
+            "lost_motion_arcmin": a.lost_motion * ARCMIN_PER_RAD,
+            "hysteresis_loss_arcmin": a.hysteresis_loss * ARCMIN_PER_RAD,
+            "torsional_stiffness_nm_per_arcmin": a.torsional_stiffness / ARCMIN_PER_RAD,
+        })
+    };
+    let v = json!({
+        "max_wear_um": profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
+        "support": support_name(model),
+        "rated_torque_nm": model.rated_torque,
+        "measuring_torque_fraction": model.measuring_torque_fraction,
+        "torsional_stiffness_definition": "b/a: (rated - measuring torque) over the mean twist of the two loading branches between them",
+        "crank_deg": crank_deg,
+        "at_crank_angle": describe(&at_crank),
+        "mesh_cycle_mean": describe(&mean),
+        "samples_per_mesh_cycle": model.te_samples,
+        "torque_nm": v_torque(&mean),
+        "twist_arcmin": v_twist(&mean),
+        "backlash_arcmin": mean.accuracy().backlash * ARCMIN_PER_RAD,
+        "lost_motion_arcmin": mean.accuracy().lost_motion * ARCMIN_PER_RAD,
+        "hysteresis_loss_arcmin": mean.accuracy().hysteresis_loss * ARCMIN_PER_RAD,
+        "torsional_stiffness_nm_per_arcmin": mean.accuracy().torsional_stiffness / ARCMIN_PER_RAD,
+    });
+    Ok(v)
+}
+
+fn v_torque(t: &TwistTable) -> Vec<f64> {
+    t.curve().torque
+}
+
+fn v_twist(t: &TwistTable) -> Vec<f64> {
+    t.curve().twist.iter().map(|x| x * ARCMIN_PER_RAD).collect()
+}
+
+/// The profile's points (`rvlife profile` writes them as CSV): `x_mm`, `y_mm`,
+/// `mesh_angle_deg`, `wear_um`, each `Zc per_tooth` long, and `points_per_tooth`.
+/// `per_tooth` 0 takes the export's default ([`crate::export::points_per_tooth`]).
+///
+/// # Errors
+/// As [`profile_for`]; [`Error::Invalid`] for `per_tooth` above 100000.
+pub fn profile_points(
+    model: &Model,
+    wear: Wear,
+    nominal: bool,
+    per_tooth: usize,
+    spelling: Spelling,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Value> {
+    if per_tooth > 100_000 {
+        return Err(Error::invalid(
+            spelling.name("points_per_tooth"),
+            per_tooth,
+            "must be 0 (the export's default) to 100000",
+        ));
+    }
+    let profile = profile_for(model, wear, nominal, spelling, progress)?;
+    let n = if per_tooth == 0 {
+        crate::export::points_per_tooth(&profile)
+    } else {
+        per_tooth
+    };
+    let pts = crate::export::profile_points(&profile, n);
+    let col = |f: fn(&(f64, f64, f64, f64)) -> f64| pts.iter().map(f).collect::<Vec<f64>>();
+    Ok(json!({
+        "points_per_tooth": n,
+        "max_wear_um": profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
+        "x_mm": col(|p| p.0),
+        "y_mm": col(|p| p.1),
+        "mesh_angle_deg": col(|p| p.2),
+        "wear_um": col(|p| p.3),
+    }))
+}
+
+/// Overrides of `rvlife dynamics` on the config: the dynamic model is checked as enabled,
+/// and `load` (`[dynamics.load] kind`), `torque_nm` (a constant load's torque, N m) and `disc`
+/// (`"rigid"` or `"flexible"`) replace the config's values when given.
+#[derive(Debug, Clone, Default)]
+pub struct DynamicsOptions {
+    /// Load kind: `none`, `constant`, `sinusoidal` or `table`.
+    pub load: Option<String>,
+    /// Constant output torque, N m (only with a constant load).
+    pub torque_nm: Option<f64>,
+    /// Disc model: `rigid` or `flexible`.
+    pub disc: Option<String>,
+}
+
+/// The validated model of `cfg` for a dynamic simulation with the overrides `opts`.
+///
+/// # Errors
+/// [`Error::Invalid`] as [`crate::config::Config::validate`], naming `torque_nm` as `spelling`
+/// writes it when the torque override is what is out of range.
+pub fn dynamics_model(
+    cfg: &crate::config::Config,
+    opts: &DynamicsOptions,
+    spelling: Spelling,
+) -> Result<Model> {
+    let mut cfg = cfg.clone();
+    // The dynamic model is checked (and its load) as if enabled.
+    cfg.dynamics.enabled = true;
+    if let Some(d) = &opts.disc {
+        cfg.dynamics.disc = d.clone();
+    }
+    if let Some(kind) = &opts.load {
+        cfg.dynamics.load.kind = kind.clone();
+    }
+    if let Some(t) = opts.torque_nm {
+        if cfg.dynamics.load.kind != "constant" {
+            return Err(Error::invalid(
+                spelling.name("torque_nm"),
+                t,
+                format!(
+                    "applies only to a constant load ({})",
+                    match spelling {
+                        Spelling::Cli => "--load constant",
+                        Spelling::Python => "load=\"constant\"",
+                    }
+                ),
+            ));
+        }
+        cfg.dynamics.load.torque_nm = Some(t);
+    }
+    cfg.validate().map_err(|e| match e {
+        Error::Invalid {
+            field,
+            value,
+            allowed,
+        } if opts.torque_nm.is_some() && field.starts_with("dynamics.load.torque_nm") => {
+            Error::Invalid {
+                field: spelling.name("torque_nm"),
+                value,
+                allowed,
+            }
+        }
+        other => other,
+    })
+}
+
+/// The multibody simulation of `rvlife dynamics` on the profile `wear` selects, and its
+/// summary as the JSON object `rvlife dynamics --json` prints (without `wall_time_s`).
+///
+/// # Errors
+/// As [`profile_for`]; the simulation's failures.
+pub fn dynamics(
+    model: &Model,
+    wear: Wear,
+    pin_forces: bool,
+    spelling: Spelling,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<(crate::reducer::dynamics::DynamicsResult, Value)> {
+    let profile = profile_for(model, wear, false, spelling, progress)?;
+    let res = crate::reducer::dynamics::simulate_discs(
+        &profile,
+        &model.dynamics,
+        &model.fem,
+        None,
+        pin_forces,
+    )?;
+    let v =
+        serde_json::to_value(&res.summary).map_err(|e| Error::numerical("json", e.to_string()))?;
+    Ok((res, v))
+}
+
+/// The Monte Carlo plan of `rvlife montecarlo`, checked before any work: `samples` (1 to
+/// 1e6) reducers of seed `seed`, the shard `"I/N"` of them (`"/N"`: `I` from
+/// `SLURM_ARRAY_TASK_ID`), each sample's own wear (`full_wear`), `per_cycle` (1-64) crank angles
+/// per mesh cycle; the work is checked against the model's budget
+/// ([`crate::budget::check_montecarlo`]).
+///
+/// # Errors
+/// [`Error::Invalid`] naming the argument as `spelling` writes it; no `[tolerances]`; the
+/// budget.
+pub fn montecarlo_plan(
+    model: &Model,
+    samples: usize,
+    seed: u64,
+    shard: Option<&str>,
+    full_wear: bool,
+    per_cycle: usize,
+    spelling: Spelling,
+) -> Result<crate::montecarlo::Plan> {
+    if !(1..=1_000_000).contains(&samples) {
+        return Err(Error::invalid(
+            spelling.name("samples"),
+            samples,
+            "must be 1 to 1000000",
+        ));
+    }
+    if !(1..=64).contains(&per_cycle) {
+        return Err(Error::invalid(
+            spelling.name("samples_per_mesh_cycle"),
+            per_cycle,
+            "must be 1 to 64",
+        ));
+    }
+    let shard = match shard {
+        None => (1, 1),
+        Some(text) => {
+            // `/N`: the index from the job array (SLURM numbers tasks as `--array` says).
+            let owned;
+            let text = if let Some(n) = text.strip_prefix('/') {
+                let id = std::env::var("SLURM_ARRAY_TASK_ID").map_err(|_| {
+                    Error::invalid(
+                        spelling.name("shard"),
+                        format!("\"{text}\""),
+                        "takes its index from SLURM_ARRAY_TASK_ID, which is not set; give I/N",
+                    )
+                })?;
+                owned = format!("{}/{n}", id.trim());
+                owned.as_str()
+            } else {
+                text
+            };
+            let parsed = text.split_once('/').and_then(|(i, n)| {
+                Some((
+                    i.trim().parse::<usize>().ok()?,
+                    n.trim().parse::<usize>().ok()?,
+                ))
+            });
+            match parsed {
+                Some((i, n)) if n >= 1 && (1..=n).contains(&i) && n <= samples => (i, n),
+                _ => {
+                    return Err(Error::invalid(
+                        spelling.name("shard"),
+                        format!("\"{text}\""),
+                        format!(
+                            "must be I/N with 1 <= I <= N <= {} ({samples})",
+                            spelling.name("samples")
+                        ),
+                    ))
+                }
+            }
+        }
+    };
+    if model.tolerances.is_empty() {
+        return Err(Error::invalid(
+            "tolerances",
+            "no tolerance given",
+            "give at least one distribution in [tolerances] (e.g. pin_radial_um = { normal = 1.0 })",
+        ));
+    }
+    let plan = crate::montecarlo::Plan {
+        samples,
+        seed,
+        shard,
+        full_wear,
+        samples_per_mesh_cycle: per_cycle,
+    };
+    let last = model.stage_hours.last().copied().unwrap_or(0.0);
+    let (beyond, horizon) = if model.life.any() && last > 0.0 {
+        let max_h = model.life.max_hours.unwrap_or(10.0 * last);
+        (
+            ((max_h / last).ln() / 1.5f64.ln()).ceil().max(0.0) as usize,
+            max_h / last,
+        )
+    } else {
+        (0, 1.0)
+    };
+    crate::budget::check_montecarlo(
+        model,
+        plan.indices().len(),
+        model.stage_hours.len() + beyond / 2,
+        plan.samples_per_mesh_cycle,
+        plan.full_wear,
+        horizon,
+    )?;
+    Ok(plan)
+}
