@@ -799,6 +799,16 @@ fn main() -> ExitCode {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
+    // glibc raises its mmap threshold whenever a large block is freed, after which the
+    // FE solver's 20 MB right-hand-side blocks come from the per-thread heaps and stay there
+    // when freed: the built-in study then peaks at 350 MB resident for a 145 MB heap. A fixed
+    // 1 MB threshold (mallopt(3), M_MMAP_THRESHOLD) maps every large block and returns it on
+    // free: 165 MB.
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: sets an allocator parameter before any thread is started.
+    unsafe {
+        libc::mallopt(libc::M_MMAP_THRESHOLD, 1 << 20);
+    }
     // SIGINT, SIGTERM and SIGHUP remove this run's temporary outputs before it ends (exit 130,
     // as a shell reports an interrupted command).
     let _ = ctrlc::set_handler(|| {

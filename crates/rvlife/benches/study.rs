@@ -100,7 +100,7 @@ fn benches(c: &mut Criterion) {
     group.bench_function("disc_mesh_assembly_reduction_10um", |b| {
         b.iter(|| rvlife::fem::DiscModel::build(black_box(&worn10), &model.fem).unwrap())
     });
-    let disc = rvlife::fem::DiscModel::build(&worn10, &model.fem).expect("disc");
+    let disc = rvlife::fem::DiscSet::build(&worn10, &model.fem, &model.reducer).expect("disc");
     group.bench_function("flexible_stage_72_crank_angles_10um", |b| {
         b.iter(|| {
             rvlife::fem::flex::analyse_stage(

@@ -16,10 +16,10 @@ use std::time::Instant;
 
 use rvlife::config::{Config, Model, WearModelKind};
 use rvlife::fem::modal::ModalDisc;
-use rvlife::fem::DiscModel;
+use rvlife::fem::DiscSet;
 use rvlife::geometry::{Profile, WearMap};
 use rvlife::reducer::dynamics::params::LoadProfile;
-use rvlife::reducer::dynamics::{simulate_with, DynamicsResult};
+use rvlife::reducer::dynamics::{simulate_with, DynamicsResult, FlexibleDiscs};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = PathBuf::from(
@@ -66,8 +66,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     .collect();
     for (name, hours, profile) in &states {
         let t0 = Instant::now();
-        let disc = DiscModel::build(profile, &m.fem)?;
-        let modal = ModalDisc::build(&disc, &m.dynamics.flexible.expect("flexible"))?;
+        let discs = DiscSet::build(profile, &m.fem, &m.reducer)?;
+        let modal = ModalDisc::build(&discs.models[0], &m.dynamics.flexible.expect("flexible"))?;
+        let fd = FlexibleDiscs::new(&modal, &discs)?;
         let build_s = t0.elapsed().as_secs_f64();
         for (k, (load_name, load)) in [
             ("none", LoadProfile::None),
@@ -78,7 +79,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         {
             let mut p = m.dynamics.clone();
             p.load = load;
-            for (f, flexible) in [None, Some(&modal)].into_iter().enumerate() {
+            for (f, flexible) in [None, Some(fd)].into_iter().enumerate() {
                 let t = Instant::now();
                 let r = simulate_with(profile, &p, flexible, false)?;
                 let wall = t.elapsed().as_secs_f64() + if f == 1 { build_s } else { 0.0 };

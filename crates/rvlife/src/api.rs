@@ -489,6 +489,15 @@ pub fn dynamics_model(
                 allowed,
             }
         }
+        Error::Invalid {
+            field,
+            value,
+            allowed,
+        } if opts.disc.is_some() && field.starts_with("dynamics.disc") => Error::Invalid {
+            field: spelling.name("disc"),
+            value,
+            allowed,
+        },
         other => other,
     })
 }

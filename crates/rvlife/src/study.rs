@@ -19,7 +19,7 @@ use crate::error::Error;
 use crate::error::Result;
 use crate::fem::flex::{analyse_stage, FlexibleStage};
 use crate::fem::mesh::Mesh;
-use crate::fem::DiscModel;
+use crate::fem::DiscSet;
 use crate::geometry::{Profile, WearMap};
 use crate::reducer::dynamics::{simulate_discs, DynamicsSummary};
 use crate::reducer::statics::StaticAnalysis;
@@ -483,7 +483,7 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
             .par_iter()
             .map(|st| -> Result<StageRow> {
                 let disc = if model.fem_enabled || flexible_dynamics {
-                    Some(DiscModel::build(&st.profile, &model.fem)?)
+                    Some(DiscSet::build(&st.profile, &model.fem, &model.reducer)?)
                 } else {
                     None
                 };
@@ -513,7 +513,7 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
                     },
                 );
                 let flexible = flexible?;
-                let mesh = disc.map(|d| d.fe.mesh);
+                let mesh = disc.map(|d| d.models.into_iter().next().expect("a model").fe.mesh);
                 Ok((dynamics?, flexible.zip(mesh)))
             })
             .collect::<Result<_>>()?;

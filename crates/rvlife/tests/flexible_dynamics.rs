@@ -4,9 +4,9 @@
 use rvlife::config::{Config, Model};
 use rvlife::fem::flex::solve_flexible_bearings;
 use rvlife::fem::modal::{ModalDisc, ModalSettings};
-use rvlife::fem::DiscModel;
+use rvlife::fem::DiscSet;
 use rvlife::geometry::{Profile, WearMap};
-use rvlife::reducer::dynamics::{simulate_with, DynamicsParams};
+use rvlife::reducer::dynamics::{simulate_with, DynamicsParams, FlexibleDiscs};
 use rvlife::reducer::statics::StaticAnalysis;
 use rvlife::te::ARCMIN_PER_RAD;
 
@@ -83,12 +83,13 @@ fn slow_flexible_dte_equals_the_static_flexible_analysis() {
     let m = slow_model();
     for hours in [0.0, 7500.0] {
         let profile = stage(&m, hours);
-        let disc = DiscModel::build(&profile, &m.fem).unwrap();
+        let discs = DiscSet::build(&profile, &m.fem, &m.reducer).unwrap();
         let p = heavy(&m.dynamics);
-        let modal = ModalDisc::build(&disc, &settings(100.0, 6e3)).unwrap();
+        let modal = ModalDisc::build(&discs.models[0], &settings(100.0, 6e3)).unwrap();
         let t0 = std::time::Instant::now();
         // Samples at step ends (`pin_forces`), not from the dense output.
-        let r = simulate_with(&profile, &p, Some(&modal), true).unwrap();
+        let fd = FlexibleDiscs::new(&modal, &discs).unwrap();
+        let r = simulate_with(&profile, &p, Some(fd), true).unwrap();
         eprintln!(
             "{hours} h: {} modes ({:.0}..{:.0} Hz at density x 100), {} steps, {:.1} s",
             modal.modes(),
@@ -109,7 +110,7 @@ fn slow_flexible_dte_equals_the_static_flexible_analysis() {
             let s = window[k * (window.len() - 1) / 23];
             let phi = kappa * s.input_angle_deg.to_radians();
             let rigid = sa.solve(phi, 412.0).unwrap();
-            let (flex, _) = solve_flexible_bearings(&sa, &m.reducer, &disc, rigid).unwrap();
+            let (flex, _) = solve_flexible_bearings(&sa, &m.reducer, &discs, rigid).unwrap();
             let te_static = flex.twist * ARCMIN_PER_RAD;
             worst = worst.max((s.te_arcmin - te_static).abs() / te_static);
             sum_dyn += s.te_arcmin;
@@ -156,12 +157,13 @@ fn stiff_flexible_disc_gives_the_rigid_dte() {
         ),
         ("7500 h", stage(&m, 7500.0)),
     ] {
-        let disc = DiscModel::build(&profile, &m.fem).unwrap();
+        let discs = DiscSet::build(&profile, &m.fem, &m.reducer).unwrap();
         // The modes scale with sqrt(E): keep those below 100 x the default cut-off.
         let mut s = m.dynamics.flexible.unwrap();
         s.cutoff_hz *= 100.0;
-        let modal = ModalDisc::build(&disc, &s).unwrap();
-        let flex = simulate_with(&profile, &m.dynamics, Some(&modal), false)
+        let modal = ModalDisc::build(&discs.models[0], &s).unwrap();
+        let fd = FlexibleDiscs::new(&modal, &discs).unwrap();
+        let flex = simulate_with(&profile, &m.dynamics, Some(fd), false)
             .unwrap()
             .summary;
         let rigid = simulate_with(&profile, &m.dynamics, None, false)
@@ -202,12 +204,13 @@ fn dte_converges_in_the_number_of_modes() {
         let profile = m
             .profile(Some(WearMap::uniform(720, 10e-6).unwrap()))
             .unwrap();
-        let disc = DiscModel::build(&profile, &m.fem).unwrap();
+        let discs = DiscSet::build(&profile, &m.fem, &m.reducer).unwrap();
         let run = |cutoff_hz: f64| {
             let mut s = m.dynamics.flexible.unwrap();
             s.cutoff_hz = cutoff_hz;
-            let modal = ModalDisc::build(&disc, &s).unwrap();
-            let r = simulate_with(&profile, &m.dynamics, Some(&modal), false)
+            let modal = ModalDisc::build(&discs.models[0], &s).unwrap();
+            let fd = FlexibleDiscs::new(&modal, &discs).unwrap();
+            let r = simulate_with(&profile, &m.dynamics, Some(fd), false)
                 .unwrap()
                 .summary;
             (modal.modes(), r)

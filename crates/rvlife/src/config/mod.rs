@@ -870,6 +870,29 @@ impl Config {
             Err(e) => fem_of(&FemConfig::default(), default_bore).map_err(|_| e)?,
             Ok(f) => f,
         };
+        // The multibody model carries one modal FE disc: every disc must be its part turned by
+        // a symmetry of the holes (checked here, before any work).
+        if self.dynamics.enabled && self.dynamics.disc == "flexible" {
+            let zc = geometry.disc_teeth();
+            if let Some(d) = (0..reducer.discs())
+                .find(|&d| crate::fem::mount_teeth(zc, reducer.profile_turn(d), &fem).is_none())
+            {
+                return Err(Error::invalid(
+                    "dynamics.disc",
+                    "\"flexible\"",
+                    format!(
+                        "needs every disc to be disc 1's part turned onto itself: disc {} is \
+                         turned by its eccentric phase ({:.1} deg) and half a tooth, which maps \
+                         the crank bores and holes of [fem] onto themselves only for an even \
+                         number of cranks and an odd tooth count (here {planets} cranks, {zc} \
+                         teeth); use \"rigid\" discs, or the quasi-static flexible disc of \
+                         [fem] (fem.enabled), which models each disc",
+                        d + 1,
+                        reducer.phase(d).to_degrees()
+                    ),
+                ));
+            }
+        }
         let model = Model {
             max_contact_pressure,
             work_budget: crate::budget::solves_in_minutes(check(

@@ -24,7 +24,7 @@ use serde::Serialize;
 use crate::contact::{pin_geometry, solve_start, ApproachLaw, ContactModel, PinGeometry};
 use crate::error::{Error, Result};
 use crate::fem::mesh::LoopKind;
-use crate::fem::{outline_radii, DiscModel};
+use crate::fem::{outline_radii, DiscModel, DiscSet};
 use crate::geometry::{Profile, Vec2};
 use crate::reducer::statics::{PinLoad, StaticAnalysis, StaticSolution};
 use crate::reducer::{Reducer, Support};
@@ -300,7 +300,8 @@ pub const FLEX_OFFSET_TOLERANCE: f64 = 1e-9;
 /// offsets are iterated to a fixed point (each sweep a warm-started static solve; about 15
 /// sweeps on the example; the step is halved, down to 1/64, whenever a sweep fails to shrink
 /// the change by a tenth) until they change by less than [`FLEX_OFFSET_TOLERANCE`] of the
-/// largest. Both discs use the FE model of disc 1 at their own contact parameters.
+/// largest. Each disc's body compliance is that of its FE model at its own contact parameters
+/// mapped onto the model ([`DiscSet`]: disc 2 of an RV reducer is disc 1's part turned by pi).
 ///
 /// Returns the solution and the offsets (m, `2 x Zp`, disc-major).
 ///
@@ -310,7 +311,7 @@ pub const FLEX_OFFSET_TOLERANCE: f64 = 1e-9;
 pub fn solve_flexible_bearings(
     sa: &StaticAnalysis,
     red: &Reducer,
-    disc: &DiscModel,
+    discs: &DiscSet,
     rigid: StaticSolution,
 ) -> Result<(StaticSolution, Vec<f64>)> {
     let (phi, torque, psi0) = (
@@ -322,7 +323,7 @@ pub fn solve_flexible_bearings(
     let sense = torque.signum();
     let law = FlexibleLaw {
         model: red.contact,
-        patch: disc.params.patch,
+        patch: discs.params().patch,
     };
     let mut offsets = vec![0.0; 2 * zp];
     let mut sol = rigid;
@@ -341,7 +342,7 @@ pub fn solve_flexible_bearings(
                 .filter(|p| p.force > 0.0 || faces_loaded_flank(p.profile_parameter, sense))
                 .collect();
             let ts: Vec<f64> = facing.iter().map(|p| p.profile_parameter).collect();
-            let c = disc.compliance_at(&ts);
+            let c = discs.compliance_at(d, &ts);
             let n = facing.len();
             for (a, p) in facing.iter().enumerate() {
                 let body: f64 = (0..n).map(|b| c[a * n + b] * facing[b].force).sum();
@@ -599,9 +600,11 @@ fn two_sense_stiffness(st: &FlexibleStage) -> f64 {
 pub fn analyse_stage(
     profile: &Profile,
     reducer: &Reducer,
-    disc: &DiscModel,
+    discs: &DiscSet,
     rated_torque: f64,
 ) -> Result<FlexibleStage> {
+    // The fixed-centre model is disc 1 carrying its load share.
+    let disc = discs.disc(0).0;
     let model = &reducer.contact;
     let factor = reducer.twist_factor();
     let n = disc.params.crank_angles;
@@ -610,7 +613,7 @@ pub fn analyse_stage(
     let share = match reducer.support {
         Support::Rigid { load_share } => load_share,
         Support::Bearings => {
-            return analyse_stage_bearings(profile, reducer, disc, rated_torque, phis, ste_torque)
+            return analyse_stage_bearings(profile, reducer, discs, rated_torque, phis, ste_torque)
         }
     };
     let disc_torque = |t: f64| share * t * factor;
@@ -708,7 +711,7 @@ fn secant_stiffness(lo_torque: f64, hi_torque: f64, lo: &[f64], hi: &[f64]) -> f
 fn analyse_stage_bearings(
     profile: &Profile,
     reducer: &Reducer,
-    disc: &DiscModel,
+    discs: &DiscSet,
     rated_torque: f64,
     phis: Vec<f64>,
     ste_torque: f64,
@@ -722,8 +725,8 @@ fn analyse_stage_bearings(
             let rigid_lo = sa.solve_from(phi, ste_torque, psi0)?;
             let rigid_hi = sa.solve_from(phi, rated_torque, psi0)?;
             let rigid = rigid_hi.twist;
-            let (lo, _) = solve_flexible_bearings(&sa, reducer, disc, rigid_lo)?;
-            let (hi, offsets) = solve_flexible_bearings(&sa, reducer, disc, rigid_hi)?;
+            let (lo, _) = solve_flexible_bearings(&sa, reducer, discs, rigid_lo)?;
+            let (hi, offsets) = solve_flexible_bearings(&sa, reducer, discs, rigid_hi)?;
             Ok((psi0, rigid, lo, hi, offsets))
         })
         .collect::<Result<_>>()?;
@@ -733,16 +736,16 @@ fn analyse_stage_bearings(
             let psi0 = sa.first_contact(phi, -1.0)?;
             let rigid_lo = sa.solve_from(phi, -ste_torque, psi0)?;
             let rigid_hi = sa.solve_from(phi, -rated_torque, psi0)?;
-            let (lo, _) = solve_flexible_bearings(&sa, reducer, disc, rigid_lo)?;
-            let (hi, _) = solve_flexible_bearings(&sa, reducer, disc, rigid_hi)?;
+            let (lo, _) = solve_flexible_bearings(&sa, reducer, discs, rigid_lo)?;
+            let (hi, _) = solve_flexible_bearings(&sa, reducer, discs, rigid_hi)?;
             Ok((psi0, lo.twist, hi.twist))
         })
         .collect::<Result<_>>()?;
-    let hysteresis_torque = hysteresis_torques(rated_torque, disc.params.ste_torque_fraction);
+    let hysteresis_torque = hysteresis_torques(rated_torque, discs.params().ste_torque_fraction);
     let hysteresis_twist = curve_mean(&phis, &hysteresis_torque, |phi, t| {
         let psi0 = sa.first_contact(phi, t.signum())?;
         let rigid = sa.solve_from(phi, t, psi0)?;
-        Ok(solve_flexible_bearings(&sa, reducer, disc, rigid)?.0.twist)
+        Ok(solve_flexible_bearings(&sa, reducer, discs, rigid)?.0.twist)
     })?;
     let flexible_ste: Vec<f64> = rows.iter().map(|r| r.2.twist).collect();
     let flexible_loaded_te: Vec<f64> = rows.iter().map(|r| r.3.twist).collect();
@@ -756,12 +759,14 @@ fn analyse_stage_bearings(
                 .total_cmp(&b.3.discs[0].max_force())
         })
         .expect("at least four crank angles");
-    let stress = disc_stress(
-        profile,
-        disc,
-        &disc_one(&worst.3, &worst.4, worst.0, worst.1),
-        rated_torque,
-    );
+    // Disc 1's pins in its model's frame.
+    let (model1, mount1) = discs.disc(0);
+    let mut one = disc_one(&worst.3, &worst.4, worst.0, worst.1);
+    for p in &mut one.pins {
+        p.point = mount1.to_model(&p.point);
+        p.normal = mount1.to_model(&p.normal);
+    }
+    let stress = disc_stress(profile, model1, &one, rated_torque);
     let mut st = FlexibleStage {
         crank_angle: phis,
         ste_torque,

@@ -410,6 +410,126 @@ fn condense(fe: &FeModel, loads: &[Vec<(usize, f64)>]) -> Vec<f64> {
     c
 }
 
+/// How disc `d` of the reducer sits on an FE disc model. The discs of a reducer are one part
+/// mounted turned by their eccentric phase (RV: disc 2 is disc 1 turned by pi, which for an
+/// odd tooth count puts its teeth half a pitch round, [`crate::reducer::Reducer::profile_turn`]):
+/// disc `d`'s profile is turned by `turn_d` against its crank bores and holes. When a rotation
+/// `alpha = -turn_d + 2 pi k / Zc` maps the bores and holes of `[fem]` onto themselves, disc `d`
+/// is the FE model of an unturned profile rotated by `alpha`: its contact at profile parameter
+/// `t` is the model's at `t - 2 pi k` (`P(t + 2 pi) = R(-2 pi / Zc) P(t)`), and a vector in its
+/// profile frame is `R(2 pi k / Zc)` of the vector in the model's frame. Otherwise it gets a
+/// model of its own, meshed with the holes turned by `-turn_d` ([`DiscSet::build`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mount {
+    /// Index of the disc's model in [`DiscSet::models`].
+    pub model: usize,
+    /// Whole teeth added to the disc's profile parameters to give the model's.
+    pub teeth: isize,
+    /// Rotation (rad) from the disc's profile frame to the model's.
+    pub rotation: f64,
+}
+
+impl Mount {
+    /// The model's profile parameter (rad) of the disc's contact at `t` (rad).
+    pub fn parameter(&self, t: f64) -> f64 {
+        t + TAU * self.teeth as f64
+    }
+
+    /// A disc-frame vector in the model's frame.
+    pub fn to_model(&self, v: &Vec2) -> Vec2 {
+        crate::geometry::rotate(v, self.rotation)
+    }
+}
+
+/// The whole-tooth rotation that carries a disc whose profile is turned by `turn` (rad) against
+/// its holes onto the FE model of `params` (profile unturned): `Some(k)` for the rotation
+/// `alpha = -turn + 2 pi k / Zc` (the smallest `k` in `0..Zc`) that maps every crank bore and
+/// hole onto one of the same kind and radius (within 1 nm), `None` if none does.
+pub fn mount_teeth(zc: usize, turn: f64, params: &FemParams) -> Option<usize> {
+    let same = |a: &[Hole], alpha: f64| {
+        a.iter().all(|h| {
+            let c = crate::geometry::rotate(&h.centre, alpha);
+            a.iter()
+                .any(|g| (g.centre - c).norm() < 1e-9 && (g.radius - h.radius).abs() < 1e-9)
+        })
+    };
+    (0..zc).find(|&k| {
+        let alpha = -turn + TAU * k as f64 / zc as f64;
+        same(&params.bores, alpha) && same(&params.holes, alpha)
+    })
+}
+
+/// The FE models of the reducer's discs and how each disc sits on one ([`Mount`]): one model
+/// when every disc is the first one's part turned by a symmetry of its holes (RV reducers with
+/// an even number of cranks and an odd tooth count), otherwise one more per disc that is not.
+#[derive(Debug)]
+pub struct DiscSet {
+    /// The models; the first is the unturned profile with the holes of `[fem]`.
+    pub models: Vec<DiscModel>,
+    /// Per disc of the reducer, its model and mount.
+    pub mounts: Vec<Mount>,
+}
+
+impl DiscSet {
+    /// Builds the FE model of `profile` with `params` and, for every disc of `reducer` that
+    /// cannot sit on it ([`mount_teeth`]), a model with the holes turned by `-turn_d`.
+    ///
+    /// # Errors
+    /// As [`DiscModel::build`].
+    pub fn build(
+        profile: &Profile,
+        params: &FemParams,
+        reducer: &crate::reducer::Reducer,
+    ) -> Result<DiscSet> {
+        let zc = profile.geometry().disc_teeth();
+        let mut models = vec![DiscModel::build(profile, params)?];
+        let mut mounts = Vec::new();
+        for d in 0..reducer.discs() {
+            let turn = reducer.profile_turn(d);
+            let mount = match mount_teeth(zc, turn, params) {
+                Some(k) => Mount {
+                    model: 0,
+                    teeth: -(k as isize),
+                    rotation: TAU * k as f64 / zc as f64,
+                },
+                None => {
+                    let mut p = params.clone();
+                    for h in p.bores.iter_mut().chain(p.holes.iter_mut()) {
+                        h.centre = crate::geometry::rotate(&h.centre, -turn);
+                    }
+                    models.push(DiscModel::build(profile, &p)?);
+                    Mount {
+                        model: models.len() - 1,
+                        teeth: 0,
+                        rotation: 0.0,
+                    }
+                }
+            };
+            mounts.push(mount);
+        }
+        Ok(DiscSet { models, mounts })
+    }
+
+    /// Disc `d`'s model and mount.
+    pub fn disc(&self, d: usize) -> (&DiscModel, Mount) {
+        let m = self.mounts[d];
+        (&self.models[m.model], m)
+    }
+
+    /// Compliance (m/N, row-major) between disc `d`'s contacts at its profile parameters `ts`
+    /// ([`DiscModel::compliance_at`] at the model's parameters).
+    pub fn compliance_at(&self, d: usize, ts: &[f64]) -> Vec<f64> {
+        let (model, mount) = self.disc(d);
+        let t: Vec<f64> = ts.iter().map(|&t| mount.parameter(t)).collect();
+        model.compliance_at(&t)
+    }
+
+    /// The parameters of the models (the same for all but the holes' turn).
+    pub fn params(&self) -> &FemParams {
+        &self.models[0].params
+    }
+}
+
 /// Meshes the disc: the outline sampled at equal arc length `flank_size`, bores and holes as
 /// circles with segments of about a third of the largest element size (at least 32).
 ///

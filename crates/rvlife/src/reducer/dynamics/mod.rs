@@ -31,7 +31,7 @@ use serde::Serialize;
 
 use crate::error::{Error, Result};
 use crate::fem::modal::ModalDisc;
-use crate::fem::{DiscModel, FemParams};
+use crate::fem::{DiscSet, FemParams, Mount};
 use crate::geometry::Profile;
 use crate::te::ARCMIN_PER_RAD;
 
@@ -136,37 +136,74 @@ pub fn simulate(
     simulate_with(profile, params, None, pin_forces)
 }
 
+/// Flexible discs of the multibody model: the modal FE disc and how each of the two discs sits
+/// on it ([`Mount`]: disc 2 of an RV reducer is disc 1's part turned by pi).
+#[derive(Debug, Clone, Copy)]
+pub struct FlexibleDiscs<'a> {
+    /// The modal reduction of the discs' FE model.
+    pub modal: &'a ModalDisc<'a>,
+    /// Per disc, its mount on the model.
+    pub mounts: [Mount; 2],
+}
+
+impl<'a> FlexibleDiscs<'a> {
+    /// Both discs of `discs` on `modal` (the reduction of `discs.models[0]`).
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] (key `dynamics.disc`) if a disc needs a model of its own (its turn
+    /// is no symmetry of the holes of `[fem]`): the multibody model carries one modal disc.
+    pub fn new(modal: &'a ModalDisc<'a>, discs: &DiscSet) -> Result<FlexibleDiscs<'a>> {
+        if discs.mounts.len() != 2 || discs.mounts.iter().any(|m| m.model != 0) {
+            return Err(crate::error::Error::invalid(
+                "dynamics.disc",
+                "\"flexible\"",
+                "needs the discs to be one part turned by the eccentric phase onto itself: the \
+                 crank bores and holes of [fem] must map onto themselves under that turn (an \
+                 even number of cranks and an odd tooth count do); use \"rigid\" discs, or the \
+                 quasi-static flexible disc of [fem], which models each disc",
+            ));
+        }
+        Ok(FlexibleDiscs {
+            modal,
+            mounts: [discs.mounts[0], discs.mounts[1]],
+        })
+    }
+}
+
 /// [`simulate_with`] with the discs that `params.flexible` asks for: rigid, or the FE disc of
 /// `fem` (mesh and holes of `[fem]`) on `profile`, modally reduced ([`ModalDisc::build`]).
-/// `disc` reuses an FE disc already built on `profile` with `fem`.
+/// `discs` reuses the FE discs already built on `profile` with `fem`.
 ///
 /// # Errors
-/// As [`simulate_with`], and the FE model's and the modal reduction's errors.
+/// As [`simulate_with`], and the FE model's and the modal reduction's errors;
+/// [`FlexibleDiscs::new`]'s.
 pub fn simulate_discs(
     profile: &Profile,
     params: &DynamicsParams,
     fem: &FemParams,
-    disc: Option<&DiscModel>,
+    discs: Option<&DiscSet>,
     pin_forces: bool,
 ) -> Result<DynamicsResult> {
     let Some(settings) = &params.flexible else {
         return simulate_with(profile, params, None, pin_forces);
     };
     let built;
-    let disc = match disc {
+    let discs = match discs {
         Some(d) => d,
         None => {
-            built = DiscModel::build(profile, fem)?;
+            built = DiscSet::build(profile, fem, &params.reducer)?;
             &built
         }
     };
-    let modal = ModalDisc::build(disc, settings)?;
-    simulate_with(profile, params, Some(&modal), pin_forces)
+    let modal = ModalDisc::build(&discs.models[0], settings)?;
+    let flexible = FlexibleDiscs::new(&modal, discs)?;
+    simulate_with(profile, params, Some(flexible), pin_forces)
 }
 
-/// [`simulate`] with rigid discs (`modal` = `None`) or with flexible discs: both discs the
-/// modal FE disc `modal` (fixed-interface modes and residual flexibility at the load stations,
-/// [`crate::fem::modal`]) of the same profile, each at its own contact parameters.
+/// [`simulate`] with rigid discs (`flexible` = `None`) or with flexible discs: each disc the
+/// modal FE disc (fixed-interface modes and residual flexibility at the load stations,
+/// [`crate::fem::modal`]) of the same profile, at its own contact parameters mapped by its
+/// mount.
 ///
 /// # Errors
 /// As [`simulate`]; [`Error::Invalid`] if the disc inertia is below the modes' effective mass;
@@ -174,7 +211,7 @@ pub fn simulate_discs(
 pub fn simulate_with(
     profile: &Profile,
     params: &DynamicsParams,
-    modal: Option<&ModalDisc>,
+    flexible: Option<FlexibleDiscs>,
     pin_forces: bool,
 ) -> Result<DynamicsResult> {
     let field = GapField::new(
@@ -182,8 +219,8 @@ pub fn simulate_with(
         params.gap_points,
         Some(params.reducer.contact_band()),
     )?;
-    let sys = match modal {
-        Some(md) => System::flexible(params, [&field, &field], md)?,
+    let sys = match flexible {
+        Some(fd) => System::flexible(params, [&field, &field], fd)?,
         None => System::new(params, [&field, &field]),
     };
     let zp = params.reducer.geometry.pins;
@@ -266,9 +303,13 @@ pub fn simulate_with(
     summary.integrator_fallback = fallback;
     summary.max_wear_um = profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6;
     summary.disc_modes = sys.modes();
-    if let Some(md) = modal {
-        summary.disc_mode_frequencies_hz =
-            md.omega.iter().map(|w| w / std::f64::consts::TAU).collect();
+    if let Some(fd) = flexible {
+        summary.disc_mode_frequencies_hz = fd
+            .modal
+            .omega
+            .iter()
+            .map(|w| w / std::f64::consts::TAU)
+            .collect();
     }
     Ok(DynamicsResult {
         samples,

@@ -25,7 +25,7 @@
 //!   rotation is negative) and the motor torque on the input.
 
 use std::cell::{Cell, RefCell};
-use std::f64::consts::PI;
+use std::f64::consts::{PI, TAU};
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
@@ -152,7 +152,7 @@ pub struct System<'a> {
     open_cache: RefCell<Vec<(f64, Vec2)>>,
     /// Largest gap gradient `|grad g|` met so far (at least 1).
     max_gradient: Cell<f64>,
-    /// The flexible disc (both discs use it at their own contact parameters), if any.
+    /// The flexible discs (the modal FE disc, each disc on it by its mount), if any.
     flex: Option<Flexible<'a>>,
 }
 
@@ -161,8 +161,13 @@ pub struct System<'a> {
 struct Flexible<'a> {
     modal: &'a ModalDisc<'a>,
     law: FlexibleLaw,
-    /// `(M_r - L^T L)^-1` in the disc frame (`x, y, rotation`).
-    schur_inv: Matrix3<f64>,
+    /// Per disc: whole teeth from its contact parameters to the model's.
+    shift: [f64; 2],
+    /// Per disc: the modes' participation factors in its profile frame (the model's turned
+    /// back by the mount's rotation).
+    participation: [Vec<[f64; 3]>; 2],
+    /// Per disc: `(M_r - L^T L)^-1` in its profile frame (`x, y, rotation`).
+    schur_inv: [Matrix3<f64>; 2],
     /// Largest station compliance, m/N (bounds the body deflection at open pins).
     max_compliance: f64,
     /// Largest station amplitude of every mode, m kg^-1/2 (bounds the modal displacement).
@@ -236,8 +241,9 @@ impl<'a> System<'a> {
     pub fn flexible(
         p: &'a DynamicsParams,
         gaps: [&'a GapField; 2],
-        modal: &'a ModalDisc<'a>,
+        discs: super::FlexibleDiscs<'a>,
     ) -> crate::error::Result<Self> {
+        let modal = discs.modal;
         let mut sys = System::new(p, gaps);
         let m = modal.modes();
         let mr = Matrix3::from_diagonal(&Vector3::new(
@@ -245,28 +251,44 @@ impl<'a> System<'a> {
             p.inertia.disc_mass,
             p.inertia.disc,
         ));
-        let mut ll = Matrix3::zeros();
-        for l in &modal.participation {
-            let v = Vector3::from(*l);
-            ll += v * v.transpose();
+        let mut participation: [Vec<[f64; 3]>; 2] = [Vec::new(), Vec::new()];
+        let mut schur_inv = [Matrix3::zeros(); 2];
+        for d in 0..2 {
+            // A model-frame vector v is R(rotation) of the disc-frame one: L . A_model =
+            // (R(-rotation) L) . A_disc.
+            let rot = discs.mounts[d].rotation;
+            participation[d] = modal
+                .participation
+                .iter()
+                .map(|l| {
+                    let v = rotate(&Vec2::new(l[0], l[1]), -rot);
+                    [v.x, v.y, l[2]]
+                })
+                .collect();
+            let mut ll = Matrix3::zeros();
+            for l in &participation[d] {
+                let v = Vector3::from(*l);
+                ll += v * v.transpose();
+            }
+            schur_inv[d] = (mr - ll).cholesky().map(|c| c.inverse()).ok_or_else(|| {
+                crate::error::Error::invalid(
+                    "dynamics.inertia.disc_density_kg_m3",
+                    p.inertia.disc_mass,
+                    format!(
+                        "the disc mass (kg) and inertia must exceed the effective mass of its \
+                         {m} elastic modes"
+                    ),
+                )
+            })?;
         }
-        let schur = mr - ll;
-        let schur_inv = schur.cholesky().map(|c| c.inverse()).ok_or_else(|| {
-            crate::error::Error::invalid(
-                "dynamics.inertia.disc_density_kg_m3",
-                p.inertia.disc_mass,
-                format!(
-                    "the disc mass (kg) and inertia must exceed the effective mass of its {m} \
-                         elastic modes"
-                ),
-            )
-        })?;
         let ns = modal.disc.stations();
         let max_compliance = (0..ns)
             .map(|g| modal.disc.compliance[g * ns + g])
             .fold(0.0, f64::max);
         sys.flex = Some(Flexible {
             modal,
+            shift: [0, 1].map(|d| TAU * discs.mounts[d].teeth as f64),
+            participation,
             law: FlexibleLaw {
                 model: p.reducer.contact,
                 patch: modal.disc.params.patch,
@@ -409,12 +431,12 @@ impl<'a> System<'a> {
                     })
                     .collect();
                 let mut rhs = qb;
-                for (l, f) in fl.modal.participation.iter().zip(&f_eta) {
+                for (l, f) in fl.participation[d].iter().zip(&f_eta) {
                     rhs -= Vector3::from(*l) * *f;
                 }
-                let acc = fl.schur_inv * rhs;
+                let acc = fl.schur_inv[d] * rhs;
                 for i in 0..m {
-                    let l = Vector3::from(fl.modal.participation[i]);
+                    let l = Vector3::from(fl.participation[d][i]);
                     dz[eta0 + d * m + i] = z[rate0 + d * m + i];
                     dz[rate0 + d * m + i] = f_eta[i] - l.dot(&acc);
                 }
@@ -633,7 +655,7 @@ impl<'a> System<'a> {
                 fcache[d * zp + j] = 0.0;
                 continue;
             }
-            fl.modal.amplitudes(t_found, &mut b);
+            fl.modal.amplitudes(t_found + fl.shift[d], &mut b);
             let modal: f64 = b.iter().zip(eta).map(|(b, e)| b * e).sum();
             if ge.gap + modal >= reach {
                 fcache[d * zp + j] = 0.0;
@@ -658,7 +680,7 @@ impl<'a> System<'a> {
         if nc == 0 {
             return;
         }
-        let ts: Vec<f64> = pins.iter().map(|p| p.t).collect();
+        let ts: Vec<f64> = pins.iter().map(|p| p.t + fl.shift[d]).collect();
         let r = fl.modal.residual_compliance(&ts, &amps);
         let mut f: Vec<f64> = pins.iter().map(|p| fcache[d * zp + p.j]).collect();
         let free_gap = |a: usize, f: &[f64]| -> f64 {
