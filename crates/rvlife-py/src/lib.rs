@@ -137,6 +137,17 @@ fn toml_from_json(json: &str) -> PyResult<String> {
     toml::to_string(&v).map_err(|e| PyValueError::new_err(format!("invalid config: {e}")))
 }
 
+/// Runs `f` (a command on the validated model, with the progress callback) without the GIL
+/// and returns its JSON result as Python objects ([`to_py`]).
+fn command<F>(py: Python<'_>, progress: Option<Py<PyAny>>, f: F) -> PyResult<Py<PyAny>>
+where
+    F: FnOnce(&(dyn Fn(usize, usize) + Sync)) -> rvlife::Result<Value> + Send,
+{
+    let p = progress_fn(progress);
+    let v = py.detach(|| f(&p).map_err(py_err))?;
+    Ok(to_py(py, &v)?.unbind())
+}
+
 /// `rvlife profile`: the profile's points (`x_mm`, `y_mm`, `mesh_angle_deg`, `wear_um`).
 #[pyfunction]
 #[pyo3(signature = (cfg, wear_um, hours, nominal, points_per_tooth, progress = None))]
@@ -150,26 +161,22 @@ fn profile(
     points_per_tooth: usize,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Py<PyAny>> {
-    let p = progress_fn(progress);
-    let v = py.detach(|| {
-        let m = &cfg.model;
+    let wear = Wear { wear_um, hours };
+    command(py, progress, |p| {
         rvlife::api::profile_points(
-            m,
-            Wear { wear_um, hours },
+            &cfg.model,
+            wear,
             nominal,
             points_per_tooth,
             Spelling::Python,
-            &p,
+            p,
         )
-        .map_err(py_err)
-    })?;
-    Ok(to_py(py, &v)?.unbind())
+    })
 }
 
 /// `rvlife contact --json`.
 #[pyfunction]
 #[pyo3(signature = (cfg, crank_deg, torque_nm, wear_um, hours, progress = None))]
-#[allow(clippy::too_many_arguments)]
 fn contact(
     py: Python<'_>,
     cfg: &Loaded,
@@ -179,26 +186,15 @@ fn contact(
     hours: Option<f64>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Py<PyAny>> {
-    let p = progress_fn(progress);
-    let v = py.detach(|| {
-        let m = &cfg.model;
-        rvlife::api::contact(
-            m,
-            Wear { wear_um, hours },
-            crank_deg,
-            torque_nm,
-            Spelling::Python,
-            &p,
-        )
-        .map_err(py_err)
-    })?;
-    Ok(to_py(py, &v)?.unbind())
+    let wear = Wear { wear_um, hours };
+    command(py, progress, |p| {
+        rvlife::api::contact(&cfg.model, wear, crank_deg, torque_nm, Spelling::Python, p)
+    })
 }
 
 /// `rvlife te --json`.
 #[pyfunction]
 #[pyo3(signature = (cfg, torque_nm, wear_um, hours, progress = None))]
-#[allow(clippy::too_many_arguments)]
 fn te(
     py: Python<'_>,
     cfg: &Loaded,
@@ -207,18 +203,15 @@ fn te(
     hours: Option<f64>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Py<PyAny>> {
-    let p = progress_fn(progress);
-    let v = py.detach(|| {
-        let m = &cfg.model;
-        rvlife::api::te(m, Wear { wear_um, hours }, torque_nm, Spelling::Python, &p).map_err(py_err)
-    })?;
-    Ok(to_py(py, &v)?.unbind())
+    let wear = Wear { wear_um, hours };
+    command(py, progress, |p| {
+        rvlife::api::te(&cfg.model, wear, torque_nm, Spelling::Python, p)
+    })
 }
 
 /// `rvlife hysteresis --json`.
 #[pyfunction]
 #[pyo3(signature = (cfg, crank_deg, levels, wear_um, hours, progress = None))]
-#[allow(clippy::too_many_arguments)]
 fn hysteresis(
     py: Python<'_>,
     cfg: &Loaded,
@@ -228,20 +221,10 @@ fn hysteresis(
     hours: Option<f64>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Py<PyAny>> {
-    let p = progress_fn(progress);
-    let v = py.detach(|| {
-        let m = &cfg.model;
-        rvlife::api::hysteresis_curve(
-            m,
-            Wear { wear_um, hours },
-            crank_deg,
-            levels,
-            Spelling::Python,
-            &p,
-        )
-        .map_err(py_err)
-    })?;
-    Ok(to_py(py, &v)?.unbind())
+    let wear = Wear { wear_um, hours };
+    command(py, progress, |p| {
+        rvlife::api::hysteresis_curve(&cfg.model, wear, crank_deg, levels, Spelling::Python, p)
+    })
 }
 
 /// `rvlife dynamics --json` (without `wall_time_s`) with the time series as `samples`
