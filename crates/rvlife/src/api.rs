@@ -97,17 +97,17 @@ pub fn profile_for(
                 ));
             }
             // A worn profile must stay a profile: a wear deeper than the local convex radius
-            // of the flank folds it over itself.
-            (w > 0.0)
+            // of the flank folds it over itself (the profile's error, named by the argument).
+            return (w > 0.0)
                 .then(|| WearMap::uniform(n, w * 1e-6))
                 .transpose()
-                .and_then(|m| model.profile(m.clone()).map(|_| m))
+                .and_then(|m| model.profile(m))
                 .map_err(|e| match e {
                     Error::Invalid { allowed, .. } => {
                         Error::invalid(spelling.name("wear_um"), w, allowed)
                     }
                     other => other,
-                })?
+                });
         }
         (None, Some(h)) => {
             if !(h.is_finite() && (0.0..=1e7).contains(&h)) {
@@ -343,25 +343,10 @@ pub fn hysteresis_curve(
         model.measuring_torque_fraction,
         levels,
     );
-    let (mut tables, mean) = curves?;
+    let (mut tables, _) = curves?;
     let at_crank = tables.pop().expect("the crank angle's table");
-    let mean = {
-        // The mean over the mesh cycle only (not the extra crank angle).
-        let _ = mean;
-        TwistTable::mean_of(&tables)
-    };
-    let describe = |t: &TwistTable| {
-        let a = t.accuracy();
-        let c = t.curve();
-        json!({
-            "torque_nm": c.torque,
-            "twist_arcmin": c.twist.iter().map(|x| x * ARCMIN_PER_RAD).collect::<Vec<_>>(),
-            "backlash_arcmin": a.backlash * ARCMIN_PER_RAD,
-            "lost_motion_arcmin": a.lost_motion * ARCMIN_PER_RAD,
-            "hysteresis_loss_arcmin": a.hysteresis_loss * ARCMIN_PER_RAD,
-            "torsional_stiffness_nm_per_arcmin": a.torsional_stiffness / ARCMIN_PER_RAD,
-        })
-    };
+    // The mean over the mesh cycle only (not the extra crank angle).
+    let mean = describe_twist(&TwistTable::mean_of(&tables));
     let v = json!({
         "max_wear_um": profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
         "support": support_name(model),
@@ -369,25 +354,32 @@ pub fn hysteresis_curve(
         "measuring_torque_fraction": model.measuring_torque_fraction,
         "torsional_stiffness_definition": "b/a: (rated - measuring torque) over the mean twist of the two loading branches between them",
         "crank_deg": crank_deg,
-        "at_crank_angle": describe(&at_crank),
-        "mesh_cycle_mean": describe(&mean),
+        "at_crank_angle": describe_twist(&at_crank),
         "samples_per_mesh_cycle": model.te_samples,
-        "torque_nm": v_torque(&mean),
-        "twist_arcmin": v_twist(&mean),
-        "backlash_arcmin": mean.accuracy().backlash * ARCMIN_PER_RAD,
-        "lost_motion_arcmin": mean.accuracy().lost_motion * ARCMIN_PER_RAD,
-        "hysteresis_loss_arcmin": mean.accuracy().hysteresis_loss * ARCMIN_PER_RAD,
-        "torsional_stiffness_nm_per_arcmin": mean.accuracy().torsional_stiffness / ARCMIN_PER_RAD,
+        "torque_nm": mean["torque_nm"],
+        "twist_arcmin": mean["twist_arcmin"],
+        "backlash_arcmin": mean["backlash_arcmin"],
+        "lost_motion_arcmin": mean["lost_motion_arcmin"],
+        "hysteresis_loss_arcmin": mean["hysteresis_loss_arcmin"],
+        "torsional_stiffness_nm_per_arcmin": mean["torsional_stiffness_nm_per_arcmin"],
+        "mesh_cycle_mean": mean,
     });
     Ok(v)
 }
 
-fn v_torque(t: &TwistTable) -> Vec<f64> {
-    t.curve().torque
-}
-
-fn v_twist(t: &TwistTable) -> Vec<f64> {
-    t.curve().twist.iter().map(|x| x * ARCMIN_PER_RAD).collect()
+/// A hysteresis curve and its catalogue quantities as JSON (torque N m, twist and the
+/// accuracy quantities arcmin, stiffness N m/arcmin).
+fn describe_twist(t: &TwistTable) -> Value {
+    let a = t.accuracy();
+    let c = t.curve();
+    json!({
+        "torque_nm": c.torque,
+        "twist_arcmin": c.twist.iter().map(|x| x * ARCMIN_PER_RAD).collect::<Vec<_>>(),
+        "backlash_arcmin": a.backlash * ARCMIN_PER_RAD,
+        "lost_motion_arcmin": a.lost_motion * ARCMIN_PER_RAD,
+        "hysteresis_loss_arcmin": a.hysteresis_loss * ARCMIN_PER_RAD,
+        "torsional_stiffness_nm_per_arcmin": a.torsional_stiffness / ARCMIN_PER_RAD,
+    })
 }
 
 /// The profile's points (`rvlife profile` writes them as CSV): `x_mm`, `y_mm`,

@@ -83,8 +83,6 @@ const LEGEND_WIDTH: u32 = 235;
 enum Key {
     /// A solid line, 2 px.
     Line(RGBColor),
-    /// A solid line, 1 px.
-    Thin(RGBColor),
     /// A dashed line.
     Dashed(RGBColor),
     /// A line with a filled circle.
@@ -93,6 +91,8 @@ enum Key {
     Band(RGBColor),
     /// A vertical range bar with caps.
     Range(RGBColor),
+    /// No sample: a note about the plot.
+    Note,
 }
 
 /// A legend: `(label, sample)` per entry, drawn in the strip beside the plot.
@@ -137,10 +137,6 @@ where
                 vec![(x0, yc), (x1, yc)],
                 c.stroke_width(2),
             ))?,
-            Key::Thin(c) => area.draw(&PathElement::new(
-                vec![(x0, yc), (x1, yc)],
-                c.stroke_width(1),
-            ))?,
             Key::Dashed(c) => {
                 for k in 0..3 {
                     let a = x0 + k * 10;
@@ -174,6 +170,7 @@ where
                     c.stroke_width(1),
                 ))?;
             }
+            Key::Note => {}
         }
         for (k, l) in lines.iter().enumerate() {
             area.draw(&Text::new(
@@ -336,7 +333,7 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
             }
             legend.push((
                 format!("wear depth drawn x{magnify:.0} along the normal; root left, tip right"),
-                Key::Thin(WHITE),
+                Key::Note,
             ));
             draw_legend(&strip, 60, &legend)?;
             Ok(())

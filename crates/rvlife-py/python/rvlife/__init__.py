@@ -21,7 +21,7 @@ import functools
 import json
 import os
 import tempfile
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence, Union
 
@@ -350,7 +350,7 @@ def dynamics(
     ``disc`` the disc model (``rigid`` or ``flexible``); ``out`` also writes the results
     directory."""
     c = _cfg(config)
-    r = DynamicsResult(
+    return DynamicsResult(
         _rvlife.dynamics(
             *c._args(),
             load,
@@ -364,7 +364,6 @@ def dynamics(
             progress,
         )
     )
-    return r
 
 
 def run_study(
@@ -392,7 +391,6 @@ class MonteCarlo:
     seed: int = 0
     full_wear: bool = False
     samples_per_mesh_cycle: int = 4
-    extra: Dict[str, Any] = field(default_factory=dict)
 
 
 def montecarlo(
