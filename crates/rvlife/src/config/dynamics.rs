@@ -119,7 +119,7 @@ fn d_integrator() -> String {
     "esdirk34".into()
 }
 fn d_rtol() -> f64 {
-    5e-4
+    7e-4
 }
 fn d_gap_points() -> i64 {
     1024
