@@ -166,6 +166,8 @@ pub struct DiscModel {
     arc_t: Vec<f64>,
     arc_s: Vec<f64>,
     teeth: usize,
+    /// Start and length in arc length (m) of the two flanks of the tooth ([`flank_span`]).
+    flank_spans: [(f64, f64); 2],
     /// Outline boundary-edge indices.
     outline_edges: Vec<usize>,
     /// Wall time of meshing, assembly with factorisation, and condensation, s.
@@ -248,6 +250,7 @@ impl DiscModel {
             station_t,
             compliance: Vec::new(),
             station_loads: Vec::new(),
+            flank_spans: [0, 1].map(|f| flank_span(&arc_t, &arc_s, f)),
             arc_t,
             arc_s,
             teeth,
@@ -312,8 +315,13 @@ impl DiscModel {
         let tooth = (t / TAU).floor().rem_euclid(self.teeth as f64) as usize;
         let local = t.rem_euclid(TAU);
         let flank = usize::from(local > PI);
-        let (s0, flank_len) = flank_span(&self.arc_t, &self.arc_s, flank);
-        let s = interp(&self.arc_t, &self.arc_s, local) - s0;
+        let (s0, flank_len) = self.flank_spans[flank];
+        // The arc table's parameters are uniform over the tooth: index it directly.
+        let fine = self.arc_t.len() - 1;
+        let x = local / TAU * fine as f64;
+        let k = (x.floor() as usize).min(fine - 1);
+        let f = (x - k as f64).clamp(0.0, 1.0);
+        let s = self.arc_s[k] + f * (self.arc_s[k + 1] - self.arc_s[k]) - s0;
         let u = ((s / flank_len - 0.02) / 0.96 * (m - 1) as f64).clamp(0.0, (m - 1) as f64);
         let i = (u.floor() as usize).min(m - 2);
         let f = u - i as f64;
@@ -345,29 +353,22 @@ impl DiscModel {
         let ws: Vec<[(usize, f64); 4]> = ts.iter().map(|&t| self.weights(t)).collect();
         let mut c = vec![0.0; n * n];
         for a in 0..n {
-            for b in 0..n {
+            c[a * n + a] = ws[a]
+                .iter()
+                .map(|&(i, wi)| wi * self.compliance[i * ns + i])
+                .sum();
+            // The interpolation of a symmetric kernel with the same weights is symmetric: one
+            // triangle is computed and mirrored.
+            for b in 0..a {
                 let mut v = 0.0;
-                if a == b {
-                    for &(i, wi) in &ws[a] {
-                        v += wi * self.compliance[i * ns + i];
-                    }
-                } else {
-                    for &(i, wi) in &ws[a] {
-                        for &(k, wk) in &ws[b] {
-                            v += wi * wk * self.compliance[i * ns + k];
-                        }
+                for &(i, wi) in &ws[a] {
+                    let row = &self.compliance[i * ns..(i + 1) * ns];
+                    for &(k, wk) in &ws[b] {
+                        v += wi * wk * row[k];
                     }
                 }
                 c[a * n + b] = v;
-            }
-        }
-        // Symmetrise (interpolation of a symmetric kernel with the same weights is symmetric
-        // up to rounding).
-        for a in 0..n {
-            for b in 0..a {
-                let m = 0.5 * (c[a * n + b] + c[b * n + a]);
-                c[a * n + b] = m;
-                c[b * n + a] = m;
+                c[b * n + a] = v;
             }
         }
         c
