@@ -20,6 +20,12 @@ fn model_with(edit: impl FnOnce(&mut Config)) -> Model {
     c.validate().unwrap()
 }
 
+/// The profile of `m` worn uniformly by `depth` (m) along the whole flank.
+fn uniformly_worn(m: &Model, depth: f64) -> rvlife::geometry::Profile {
+    m.profile(Some(WearMap::uniform(360, depth).unwrap()))
+        .unwrap()
+}
+
 const STEEL: PlaneStress = PlaneStress {
     youngs_modulus: 210e9,
     poisson_ratio: 0.3,
@@ -192,9 +198,7 @@ fn disc_compliance_converges_under_refinement() {
             c.fem.flank_element_size_mm = flank;
             c.fem.crank_angles = 8;
         });
-        let p = m
-            .profile(Some(WearMap::uniform(360, 10e-6).unwrap()))
-            .unwrap();
+        let p = uniformly_worn(&m, 10e-6);
         let d = DiscSet::build(&p, &m.fem, &m.reducer).unwrap();
         let st = analyse_stage(&p, &m.reducer, &d, m.rated_torque).unwrap();
         let te = st.flexible_loaded_te.iter().sum::<f64>() / 8.0;
@@ -230,9 +234,7 @@ fn scaled_disc(scale: f64) -> (Model, rvlife::geometry::Profile, DiscSet) {
         c.materials.disc.youngs_modulus_gpa *= scale;
         c.fem.crank_angles = 4;
     });
-    let p = m
-        .profile(Some(WearMap::uniform(360, 10e-6).unwrap()))
-        .unwrap();
+    let p = uniformly_worn(&m, 10e-6);
     let d = DiscSet::build(&p, &m.fem, &m.reducer).unwrap();
     (m, p, d)
 }
@@ -330,9 +332,7 @@ fn flexible_discs_on_bearings_tend_to_the_rigid_static_analysis() {
 #[test]
 fn flexible_contact_is_complementary() {
     let m = model_with(|c| c.fem.crank_angles = 4);
-    let p = m
-        .profile(Some(WearMap::uniform(360, 20e-6).unwrap()))
-        .unwrap();
+    let p = uniformly_worn(&m, 20e-6);
     let d = DiscModel::build(&p, &m.fem).unwrap();
     let s = solve_flexible(
         &p,
@@ -529,9 +529,7 @@ fn flexible_disc_has_both_senses() {
 fn disc_two_is_disc_one_turned_by_pi() {
     use rvlife::fem::{mount_teeth, DiscSet};
     let m = model_with(|c| c.fem.crank_angles = 4);
-    let p = m
-        .profile(Some(WearMap::uniform(360, 10e-6).unwrap()))
-        .unwrap();
+    let p = uniformly_worn(&m, 10e-6);
     let zc = m.geometry.disc_teeth();
     let turn = m.reducer.profile_turn(1);
     let set = DiscSet::build(&p, &m.fem, &m.reducer).unwrap();
@@ -603,9 +601,7 @@ fn disc_two_is_disc_one_turned_by_pi() {
 #[test]
 fn condensed_compliance_equals_full_solves() {
     let m = model_with(|_| {});
-    let p = m
-        .profile(Some(WearMap::uniform(360, 10e-6).unwrap()))
-        .unwrap();
+    let p = uniformly_worn(&m, 10e-6);
     let d = DiscModel::build(&p, &m.fem).unwrap();
     let n = d.stations();
     let neq = d.fe.equations();
@@ -665,9 +661,7 @@ fn parameter_near(profile: &rvlife::geometry::Profile, x: &Vec2) -> f64 {
 fn morphed_mesh_matches_a_fresh_mesh_of_the_worn_disc() {
     let m = model_with(|c| c.fem.crank_angles = 8);
     let new = m.profile(None).unwrap();
-    let worn = m
-        .profile(Some(WearMap::uniform(360, 60e-6).unwrap()))
-        .unwrap();
+    let worn = uniformly_worn(&m, 60e-6);
     let base = DiscSet::build(&new, &m.fem, &m.reducer).unwrap();
     let morphed = DiscSet::build_morphed(&worn, &m.fem, &m.reducer, &base, &new).unwrap();
     let fresh = DiscSet::build(&worn, &m.fem, &m.reducer).unwrap();
@@ -736,7 +730,7 @@ fn flexible_results_follow_the_wear_smoothly() {
     let new = m.profile(None).unwrap();
     let base = DiscSet::build(&new, &m.fem, &m.reducer).unwrap();
     let run = |w: f64| {
-        let p = m.profile(Some(WearMap::uniform(360, w).unwrap())).unwrap();
+        let p = uniformly_worn(&m, w);
         let d = DiscSet::build_morphed(&p, &m.fem, &m.reducer, &base, &new).unwrap();
         assert_eq!(
             d.models[0].fe.mesh.triangles,

@@ -207,9 +207,7 @@ impl DiscModel {
     ) -> Result<DiscModel> {
         let t0 = std::time::Instant::now();
         let (ts, ss) = arc_table(profile, 4000);
-        let morphed = base.and_then(|(b, bp)| {
-            morph_mesh(&b.fe.mesh, bp, profile, params).map(|mesh| (mesh, &b.fe))
-        });
+        let morphed = base.and_then(|(b, bp)| morph_mesh(b, bp, profile).map(|mesh| (mesh, &b.fe)));
         let (mesh, reuse) = match morphed {
             Some((mesh, fe)) => (mesh, Some(fe)),
             None => (mesh_with_arc_table(profile, params, &ts, &ss)?, None),
@@ -631,8 +629,8 @@ pub const MORPH_REACH_ELEMENTS: f64 = 4.0;
 /// [`morph_mesh`] accepts (otherwise the worn disc is meshed afresh).
 pub const MORPH_MIN_AREA_RATIO: f64 = 0.5;
 
-/// The mesh `base` of the disc with profile `from` (built by [`DiscModel::build`] with `params`)
-/// moved onto the outline of `to`, the same modified profile with another wear map: the same
+/// The mesh of `base`, the model of the disc with profile `from`, moved onto the outline of
+/// `to`, the same modified profile with another wear map: the same
 /// nodes, elements and boundary, so the stiffness keeps its sparsity pattern and the results
 /// change smoothly with wear (a fresh Delaunay refinement of a profile that differs by
 /// picometres can add or drop nodes, and node-averaged stress maxima then move by per cent).
@@ -645,11 +643,13 @@ pub const MORPH_MIN_AREA_RATIO: f64 = 0.5;
 /// units; the rest stay. `None` when the outline polygon is not star-shaped about the centre,
 /// an outline node is off it, or a triangle's corner area falls below
 /// [`MORPH_MIN_AREA_RATIO`] of its own (the caller meshes `to` afresh).
-pub fn morph_mesh(base: &Mesh, from: &Profile, to: &Profile, params: &FemParams) -> Option<Mesh> {
+pub fn morph_mesh(base: &DiscModel, from: &Profile, to: &Profile) -> Option<Mesh> {
     use std::cmp::Reverse;
     use std::collections::BinaryHeap;
-    let (ts, ss) = arc_table(from, 4000);
-    let tp = outline_parameters(from, params, &ts, &ss);
+    // The outline polygon `base` was meshed on (its arc table is `from`'s).
+    let params = &base.params;
+    let tp = outline_parameters(from, params, &base.arc_t, &base.arc_s);
+    let base = &base.fe.mesh;
     let m = tp.len();
     let poly: Vec<Vec2> = tp.iter().map(|&t| from.point(t).p).collect();
     // Polar angles along the polygon, unwrapped; strictly monotone for a star-shaped outline.
