@@ -655,13 +655,14 @@ fn run(cli: Cli) -> Result<()> {
                     s.window_start_s, s.window_end_s, s.te_mean_arcmin, s.te_peak_to_peak_arcmin, s.te_rms_arcmin
                 );
                 println!(
-                    "output speed {:.4} deg/s (input / i_H: {:.4}); max pin force {:.1} N; {} steps of {}, {} evaluations, {:.2} s",
+                    "output speed {:.4} deg/s (input / i_H: {:.4}); max pin force {:.1} N; {} steps of {}, {} evaluations and {} Jacobian columns, {:.2} s",
                     s.output_speed_deg_s,
                     s.nominal_output_speed_deg_s,
                     s.max_pin_force_n,
                     s.steps,
                     s.integrator,
                     s.rhs_evaluations,
+                    s.jacobian_columns,
                     wall
                 );
                 if let Some(why) = &s.integrator_fallback {

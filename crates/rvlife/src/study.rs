@@ -11,7 +11,6 @@
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::config::{Model, WearModelKind};
@@ -393,6 +392,137 @@ pub fn analyse_profile(model: &Model, profile: &Profile, hours: f64) -> Result<P
     })
 }
 
+/// A stage's dynamics and flexible analysis: the DTE summary and the flexible results.
+type StageRow = (Option<DynamicsSummary>, Option<(FlexibleStage, Mesh)>);
+
+/// What [`run`] made of one stage.
+enum Outcome {
+    /// Its wear map could not be made: an error of the study.
+    Prepare(Error),
+    /// Its static analysis failed.
+    Static(Error),
+    /// Not analysed: an earlier stage's static analysis failed.
+    Skipped,
+    /// Analysed, with its dynamics and flexible analysis (or their error).
+    Done(Box<(Stage, Result<StageRow>)>),
+}
+
+/// Stage `i` of a study at `hours` with the wear depth `map` (m per grid point; empty or zero:
+/// unworn): the worn profile (the uniform one of the paper's wear model), its static analysis,
+/// then its dynamics and flexible analysis ([`dynamics_and_flexible`]). Skipped when a stage
+/// before it has failed its static analysis (`failed`: the lowest such index, which a failure
+/// here lowers); `tick` after each analysis.
+#[allow(clippy::too_many_arguments)]
+fn run_stage(
+    model: &Model,
+    i: usize,
+    hours: f64,
+    map: &[f64],
+    base: Option<&DiscSet>,
+    base_profile: &Profile,
+    failed: &AtomicUsize,
+    tick: &(dyn Fn() + Sync),
+) -> Outcome {
+    if i > failed.load(Ordering::Relaxed) {
+        return Outcome::Skipped;
+    }
+    let max = map.iter().copied().fold(0.0, f64::max);
+    let maps = (|| -> Result<(Option<WearMap>, Option<WearMap>)> {
+        let wear_map = if max > 0.0 {
+            Some(WearMap::new(map.to_vec())?)
+        } else {
+            None
+        };
+        let te_map = match (&wear_map, model.wear_model) {
+            (Some(_), WearModelKind::Paper) => Some(WearMap::uniform(map.len(), max)?),
+            (w, _) => w.clone(),
+        };
+        Ok((wear_map, te_map))
+    })();
+    let (wear_map, te_map) = match maps {
+        Ok(m) => m,
+        Err(e) => return Outcome::Prepare(e),
+    };
+    let analysed = model
+        .profile(te_map)
+        .and_then(|p| analyse_profile(model, &p, hours).map(|a| (p, a)));
+    let (profile, a) = match analysed {
+        Ok(x) => x,
+        Err(e) => {
+            failed.fetch_min(i, Ordering::Relaxed);
+            return Outcome::Static(e);
+        }
+    };
+    tick();
+    let rest = if i > failed.load(Ordering::Relaxed) {
+        Ok((None, None))
+    } else {
+        dynamics_and_flexible(model, &profile, base, base_profile, tick)
+    };
+    let stage = Stage {
+        hours,
+        wear: wear_map,
+        profile,
+        ste: a.ste,
+        loaded: a.loaded,
+        hysteresis: a.hysteresis,
+        summary: a.summary,
+        dynamics: None,
+        flexible: None,
+    };
+    Outcome::Done(Box::new((stage, rest)))
+}
+
+/// The multibody simulation and the flexible analysis of the stage of `profile`, side by side
+/// (each if enabled), on the FE disc (the unworn `base` moved onto a worn profile's outline);
+/// `tick` after each.
+///
+/// # Errors
+/// Failures of either analysis or of the FE disc.
+fn dynamics_and_flexible(
+    model: &Model,
+    profile: &Profile,
+    base: Option<&DiscSet>,
+    base_profile: &Profile,
+    tick: &(dyn Fn() + Sync),
+) -> Result<StageRow> {
+    if !(model.dynamics_enabled || model.fem_enabled) {
+        return Ok((None, None));
+    }
+    let own = match base {
+        Some(b) if profile.wear().is_some() => Some(DiscSet::build_morphed(
+            profile,
+            &model.fem,
+            &model.reducer,
+            b,
+            base_profile,
+        )?),
+        _ => None,
+    };
+    let disc = own.as_ref().or(base);
+    let (dynamics, flexible) = rayon::join(
+        || -> Result<Option<DynamicsSummary>> {
+            if !model.dynamics_enabled {
+                return Ok(None);
+            }
+            let r = simulate_discs(profile, &model.dynamics, &model.fem, disc, false)?;
+            tick();
+            Ok(Some(r.summary))
+        },
+        || -> Result<Option<FlexibleStage>> {
+            let (true, Some(disc)) = (model.fem_enabled, disc) else {
+                return Ok(None);
+            };
+            let fl = analyse_stage(profile, &model.reducer, disc, model.rated_torque)?;
+            tick();
+            Ok(Some(fl))
+        },
+    );
+    let flexible = flexible?;
+    let mesh = disc.map(|d| d.models[0].fe.mesh.clone());
+    Ok((dynamics?, flexible.zip(mesh)))
+}
+
 /// Runs the study. `progress(done, total)` reports the work in steps (wear-rate evaluations,
 /// then stages, then, when dynamics are on, one multibody simulation per stage, run in
 /// parallel).
@@ -422,62 +552,118 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
     // wear).
     let flexible_dynamics = model.dynamics_enabled && model.dynamics.flexible.is_some();
     let base_profile = model.profile(None)?;
+    // Progress: the wear-rate evaluations so far plus the stage analyses done.
+    let (wear_done, done) = (AtomicUsize::new(0), AtomicUsize::new(0));
+    let report = || {
+        progress(
+            wear_done.load(Ordering::Relaxed) + done.load(Ordering::Relaxed),
+            total,
+        )
+    };
+    let tick = || {
+        done.fetch_add(1, Ordering::Relaxed);
+        report();
+    };
+    let failed = AtomicUsize::new(usize::MAX);
+    // A first stage at 0 h needs no wear: it is analysed beside the wear integration, on the
+    // unworn disc's FE models.
+    let unworn_first = model.stage_hours.first() == Some(&0.0);
     let (wear, base) = rayon::join(
-        || integrate(model, &|d, _| progress(d, total)),
-        || -> Result<Option<DiscSet>> {
-            if model.fem_enabled || flexible_dynamics {
-                Ok(Some(DiscSet::build(
-                    &base_profile,
-                    &model.fem,
-                    &model.reducer,
-                )?))
+        || {
+            integrate(model, &|d, _| {
+                wear_done.fetch_max(d, Ordering::Relaxed);
+                report();
+            })
+        },
+        || -> Result<(Option<DiscSet>, Option<Outcome>)> {
+            let base = if model.fem_enabled || flexible_dynamics {
+                Some(DiscSet::build(&base_profile, &model.fem, &model.reducer)?)
             } else {
-                Ok(None)
-            }
+                None
+            };
+            let first = unworn_first.then(|| {
+                run_stage(
+                    model,
+                    0,
+                    0.0,
+                    &[],
+                    base.as_ref(),
+                    &base_profile,
+                    &failed,
+                    &tick,
+                )
+            });
+            Ok((base, first))
         },
     );
     let mut wear = wear?;
-    let base = base?;
+    let (base, mut first) = base?;
+    // Per stage, in parallel, the most worn first (they take longest, so the cores finish
+    // together): the static analysis, then the FE disc moved onto the worn outline (when the
+    // flexible disc or flexible dynamics need it), and the multibody simulation and the
+    // flexible analysis side by side. The stages are then taken in order: the first whose
+    // static analysis fails on a worn profile is the validity limit, and the stages after it
+    // are dropped (skipped once it is known).
+    let n = wear.hours.len();
+    let slots: Vec<std::sync::OnceLock<Outcome>> =
+        (0..n).map(|_| std::sync::OnceLock::new()).collect();
+    // The 0 h stage analysed beside the wear (the wear history then starts at 0 h unworn).
+    if let Some(f) = first.take() {
+        if n > 0 && wear.hours[0] == 0.0 && wear.maps[0].iter().all(|w| *w == 0.0) {
+            let _ = slots[0].set(f);
+        }
+    }
+    let mut order: Vec<usize> = (0..n).filter(|&i| slots[i].get().is_none()).collect();
+    order.sort_by(|&a, &b| wear.hours[b].total_cmp(&wear.hours[a]));
+    let next = AtomicUsize::new(0);
+    rayon::scope(|s| {
+        for _ in 0..rayon::current_num_threads().min(n) {
+            s.spawn(|_| {
+                while let Some(&i) = order.get(next.fetch_add(1, Ordering::Relaxed)) {
+                    let _ = slots[i].set(run_stage(
+                        model,
+                        i,
+                        wear.hours[i],
+                        &wear.maps[i],
+                        base.as_ref(),
+                        &base_profile,
+                        &failed,
+                        &tick,
+                    ));
+                }
+            });
+        }
+    });
     let mut stages = Vec::with_capacity(n_stages);
-    for (i, (hours, map)) in wear.hours.iter().zip(&wear.maps).enumerate() {
-        let max = map.iter().copied().fold(0.0, f64::max);
-        let wear_map = if max > 0.0 {
-            Some(WearMap::new(map.clone())?)
-        } else {
-            None
-        };
-        let te_map = match (&wear_map, model.wear_model) {
-            (Some(_), WearModelKind::Paper) => Some(WearMap::uniform(map.len(), max)?),
-            (w, _) => w.clone(),
-        };
-        let analysed = model
-            .profile(te_map)
-            .and_then(|p| analyse_profile(model, &p, *hours).map(|a| (p, a)));
-        let (profile, a) = match analysed {
-            Ok(x) => x,
-            Err(e) if max > 0.0 && !matches!(e, Error::Invalid { .. } | Error::Io { .. }) => {
-                // A worn stage the static analysis cannot follow: the validity limit.
-                wear.limit = Some(ValidityLimit {
-                    hours: *hours,
-                    max_wear_um: max * 1e6,
-                    reason: e.to_string(),
-                });
-                break;
+    let mut rows = Vec::with_capacity(n_stages);
+    for (i, slot) in slots.into_iter().enumerate() {
+        match slot.into_inner() {
+            Some(Outcome::Done(b)) => {
+                let (stage, rest) = *b;
+                rows.push(rest?);
+                stages.push(stage);
             }
-            Err(e) => return Err(e),
-        };
-        stages.push(Stage {
-            hours: *hours,
-            wear: wear_map,
-            profile,
-            ste: a.ste,
-            loaded: a.loaded,
-            hysteresis: a.hysteresis,
-            summary: a.summary,
-            dynamics: None,
-            flexible: None,
-        });
-        progress(wear_total + i + 1, total);
+            Some(Outcome::Prepare(e)) => return Err(e),
+            Some(Outcome::Static(e)) => {
+                let max = wear.maps[i].iter().copied().fold(0.0, f64::max);
+                if max > 0.0 && !matches!(e, Error::Invalid { .. } | Error::Io { .. }) {
+                    // A worn stage the static analysis cannot follow: the validity limit.
+                    wear.limit = Some(ValidityLimit {
+                        hours: wear.hours[i],
+                        max_wear_um: max * 1e6,
+                        reason: e.to_string(),
+                    });
+                    break;
+                }
+                return Err(e);
+            }
+            Some(Outcome::Skipped) | None => {
+                return Err(Error::numerical(
+                    "study",
+                    format!("stage {i} was not analysed (an earlier stage's failure was lost)"),
+                ))
+            }
+        }
     }
     wear.hours.truncate(stages.len());
     wear.maps.truncate(stages.len());
@@ -495,63 +681,15 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
             ),
         ));
     }
-    if model.dynamics_enabled || model.fem_enabled {
-        // Per stage, in parallel: the FE disc (when the flexible disc or flexible dynamics
-        // need it, built once), the multibody simulation and the flexible analysis.
-        let done = AtomicUsize::new(wear_total + n_stages);
-        type StageRow = (Option<DynamicsSummary>, Option<(FlexibleStage, Mesh)>);
-        let results: Vec<StageRow> = stages
-            .par_iter()
-            .map(|st| -> Result<StageRow> {
-                let own = match &base {
-                    Some(b) if st.profile.wear().is_some() => Some(DiscSet::build_morphed(
-                        &st.profile,
-                        &model.fem,
-                        &model.reducer,
-                        b,
-                        &base_profile,
-                    )?),
-                    _ => None,
-                };
-                let disc = own.as_ref().or(base.as_ref());
-                let (dynamics, flexible) = rayon::join(
-                    || -> Result<Option<DynamicsSummary>> {
-                        if !model.dynamics_enabled {
-                            return Ok(None);
-                        }
-                        let r =
-                            simulate_discs(&st.profile, &model.dynamics, &model.fem, disc, false)?;
-                        progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
-                        Ok(Some(r.summary))
-                    },
-                    || -> Result<Option<FlexibleStage>> {
-                        let (true, Some(disc)) = (model.fem_enabled, disc) else {
-                            return Ok(None);
-                        };
-                        let fl =
-                            analyse_stage(&st.profile, &model.reducer, disc, model.rated_torque)?;
-                        progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
-                        Ok(Some(fl))
-                    },
-                );
-                let flexible = flexible?;
-                let mesh = disc.map(|d| d.models[0].fe.mesh.clone());
-                Ok((dynamics?, flexible.zip(mesh)))
-            })
-            .collect::<Result<_>>()?;
-        let mut flex_rows = Vec::new();
-        for (st, (dynamics, flexible)) in stages.iter_mut().zip(results) {
-            if let Some(d) = dynamics {
-                st.summary.dte_mean_arcmin = Some(d.te_mean_arcmin);
-                st.summary.dte_peak_to_peak_arcmin = Some(d.te_peak_to_peak_arcmin);
-                st.summary.dte_rms_arcmin = Some(d.te_rms_arcmin);
-                st.summary.dte_range_arcmin = Some([d.te_min_arcmin, d.te_max_arcmin]);
-                st.dynamics = Some(d);
-            }
-            flex_rows.push(flexible);
+    for (st, (dynamics, flexible)) in stages.iter_mut().zip(rows) {
+        if let Some(d) = dynamics {
+            st.summary.dte_mean_arcmin = Some(d.te_mean_arcmin);
+            st.summary.dte_peak_to_peak_arcmin = Some(d.te_peak_to_peak_arcmin);
+            st.summary.dte_rms_arcmin = Some(d.te_rms_arcmin);
+            st.summary.dte_range_arcmin = Some([d.te_min_arcmin, d.te_max_arcmin]);
+            st.dynamics = Some(d);
         }
-        let results: Vec<(FlexibleStage, Mesh)> = flex_rows.into_iter().flatten().collect();
-        for (st, (fl, mesh)) in stages.iter_mut().zip(results) {
+        if let Some((fl, mesh)) = flexible {
             let ste = CurveStats::of(&fl.flexible_ste);
             let loaded = CurveStats::of(&fl.flexible_loaded_te);
             let rigid = CurveStats::of(&fl.rigid_loaded_te);

@@ -6,7 +6,7 @@ use std::f64::consts::{PI, TAU};
 use rvlife::config::{Config, Model};
 use rvlife::fem::flex::{
     analyse_stage, faces_driving_flank, faces_loaded_flank, solve_flexible,
-    solve_flexible_bearings, FlexibleLaw,
+    solve_flexible_bearings, FlexibleLaw, FLEX_OFFSET_TOLERANCE,
 };
 use rvlife::fem::mesh::{triangulate, BoundaryLoop, LoopKind, MeshSpec};
 use rvlife::fem::plane::{traction_load, FeModel, NodeBc, PlaneStress};
@@ -275,8 +275,9 @@ fn stiff_disc_approaches_the_rigid_result() {
 }
 
 /// Flexible discs on their bearings (the default support): at the real modulus the disc body
-/// adds to the loaded TE and every loaded pin closes exactly (gap plus body offset equals minus
-/// the local approach); at a modulus x 1e4 (FE body and Hertz law alike) the extra twist over
+/// adds to the loaded TE and every loaded pin closes (gap plus body offset equals minus the
+/// local approach) to the fixed point's stopping rule, [`FLEX_OFFSET_TOLERANCE`] of the largest
+/// offset (the closure is the pin's last offset change); at a modulus x 1e4 (FE body and Hertz law alike) the extra twist over
 /// the rigid-disc static analysis is under 0.2 % of its elastic twist.
 #[test]
 fn flexible_discs_on_bearings_tend_to_the_rigid_static_analysis() {
@@ -295,6 +296,7 @@ fn flexible_discs_on_bearings_tend_to_the_rigid_static_analysis() {
         // Flexible closure of every loaded pin: rigid gap + body deflection + local approach
         // = 0, the body deflection from the compliance between the pins facing the flank.
         let zp = m.geometry.pins;
+        let largest = offsets.iter().fold(0.0_f64, |a, o| a.max(o.abs()));
         for (k, disc) in flex.discs.iter().enumerate() {
             let facing: Vec<_> = disc
                 .pins
@@ -309,7 +311,7 @@ fn flexible_discs_on_bearings_tend_to_the_rigid_static_analysis() {
                 let rigid_gap = q.gap - offsets[k * zp + q.pin];
                 let closure = rigid_gap + body + law.approach(q.force, q.curvature).0;
                 assert!(
-                    closure.abs() < 1e-12,
+                    closure.abs() < 1.01 * FLEX_OFFSET_TOLERANCE * largest,
                     "disc {k} pin {} closure {closure:e}",
                     q.pin
                 );
@@ -418,7 +420,8 @@ fn bad_fem_input_is_refused() {
 /// flexible backlash equals the rigid play of the same crank angles; the flexible lost motion
 /// exceeds the rigid one (the body adds twist on both sides) and the flexible torsional
 /// stiffness is below the rigid one, on the new disc and at 7500 h; the flexible hysteresis
-/// curve rises with the torque; every loaded pin of a reverse solution closes.
+/// curve rises with the torque; every loaded pin of a reverse solution closes (to the fixed point's stopping rule, as in
+/// `flexible_discs_on_bearings_tend_to_the_rigid_static_analysis`).
 #[test]
 fn flexible_disc_has_both_senses() {
     for hours in [0.0, 7500.0] {
@@ -495,6 +498,7 @@ fn flexible_disc_has_both_senses() {
             patch: m.fem.patch,
         };
         let zp = m.geometry.pins;
+        let largest = offsets.iter().fold(0.0_f64, |a, o| a.max(o.abs()));
         for (k, disc) in flex.discs.iter().enumerate() {
             let facing: Vec<_> = disc
                 .pins
@@ -509,7 +513,7 @@ fn flexible_disc_has_both_senses() {
                 let closure =
                     q.gap - offsets[k * zp + q.pin] + body + law.approach(q.force, q.curvature).0;
                 assert!(
-                    closure.abs() < 1e-12,
+                    closure.abs() < 1.01 * FLEX_OFFSET_TOLERANCE * largest,
                     "reverse: disc {k} pin {} closure {closure:e}",
                     q.pin
                 );

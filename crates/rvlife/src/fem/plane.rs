@@ -6,7 +6,7 @@
 //! 7th ed., ch. 6 (plane elasticity) and ch. 5 (quadratic triangles); 6-point Gauss rule of
 //! Dunavant (1985), exact to degree 4.
 
-use faer::sparse::{SparseColMat, Triplet};
+use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat, Triplet};
 use faer::{Mat, Side};
 
 use crate::error::{Error, Result};
@@ -218,6 +218,15 @@ pub struct FeModel {
     lift: Vec<f64>,
     llt: Factor,
     nonzeros: usize,
+    assembly: std::sync::Arc<Assembly>,
+}
+
+/// The assembly pattern of a stiffness matrix: its sparsity and the order that sums the element
+/// entries (in assembly order) into it (faer's `Argsort`), shared by the models of a mesh moved
+/// without changing its elements or equations.
+struct Assembly {
+    pattern: SymbolicSparseColMat<usize>,
+    order: Argsort<usize>,
 }
 
 /// Loads per block of [`Factor::condense`]'s products.
@@ -601,8 +610,20 @@ impl FeModel {
         }
         let equations = eq;
         let mut lift = vec![0.0; equations];
-        let mut triplets: Vec<Triplet<usize, usize, f64>> =
-            Vec::with_capacity(mesh.triangles.len() * 78);
+        // The entries fall on the places of `reuse`'s where the elements and each dof's
+        // equations are the same (a moved mesh): its pattern then serves.
+        let shared = reuse
+            .filter(|r| {
+                r.mesh.triangles == mesh.triangles
+                    && r.dofs.len() == dofs.len()
+                    && r.dofs.iter().zip(&dofs).all(|(a, b)| {
+                        a.terms.len() == b.terms.len()
+                            && a.terms.iter().zip(&b.terms).all(|(x, y)| x.0 == y.0)
+                    })
+            })
+            .map(|r| r.assembly.clone());
+        let mut entries: Vec<Pair<usize, usize>> = Vec::new();
+        let mut values: Vec<f64> = Vec::with_capacity(mesh.triangles.len() * 78);
         for t in &mesh.triangles {
             let x: [Vec2; 6] = std::array::from_fn(|k| mesh.nodes[t[k]]);
             let ke = element_stiffness(&x, &material)?;
@@ -617,16 +638,33 @@ impl FeModel {
                         }
                         for &(qb, cb) in &db.terms {
                             if qa >= qb {
-                                triplets.push(Triplet::new(qa, qb, ca * cb * k));
+                                if shared.is_none() {
+                                    entries.push(Pair::new(qa, qb));
+                                }
+                                values.push(ca * cb * k);
                             }
                         }
                     }
                 }
             }
         }
-        let k = SparseColMat::<usize, f64>::try_new_from_triplets(equations, equations, &triplets)
-            .map_err(|e| Error::numerical("fem assembly", format!("{e:?}")))?;
-        drop(triplets);
+        let assembly = match shared {
+            Some(a) => a,
+            None => {
+                let (pattern, order) =
+                    SymbolicSparseColMat::try_new_from_indices(equations, equations, &entries)
+                        .map_err(|e| Error::numerical("fem assembly", format!("{e:?}")))?;
+                std::sync::Arc::new(Assembly { pattern, order })
+            }
+        };
+        drop(entries);
+        let k = SparseColMat::<usize, f64>::new_from_argsort(
+            assembly.pattern.clone(),
+            &assembly.order,
+            &values,
+        )
+        .map_err(|e| Error::numerical("fem assembly", format!("{e:?}")))?;
+        drop(values);
         let nonzeros = k.compute_nnz();
         let llt = Factor::new(k.as_ref(), reuse.map(|f| &f.llt)).map_err(|e| {
             Error::numerical(
@@ -644,6 +682,7 @@ impl FeModel {
             lift,
             llt,
             nonzeros,
+            assembly,
         })
     }
 

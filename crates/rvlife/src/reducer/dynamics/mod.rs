@@ -91,8 +91,11 @@ pub struct DynamicsSummary {
     pub max_pin_force_n: f64,
     /// Accepted integrator steps.
     pub steps: usize,
-    /// Right-hand-side evaluations.
+    /// Full right-hand-side evaluations.
     pub rhs_evaluations: usize,
+    /// Finite-difference Jacobian columns, each evaluating only the contacts its state moves
+    /// (ESDIRK34; 0 for Tsit45).
+    pub jacobian_columns: usize,
     /// Elastic modes per disc (0: rigid discs).
     pub disc_modes: usize,
     /// Natural frequencies of the flexible disc's modes (bores held), Hz.
@@ -357,6 +360,7 @@ fn summarize(samples: &[Sample], p: &DynamicsParams, stats: ode::Stats) -> Dynam
         max_pin_force_n: win.iter().map(|s| s.max_pin_force_n).fold(0.0, f64::max),
         steps: stats.steps,
         rhs_evaluations: stats.rhs_evaluations,
+        jacobian_columns: stats.jacobian_columns,
         disc_modes: 0,
         disc_mode_frequencies_hz: Vec::new(),
         integrator: String::new(),

@@ -38,11 +38,10 @@ use super::params::{Drive, DynamicsParams, LoadProfile};
 use crate::reducer::perp;
 pub use crate::reducer::{Layout, MAX_DOFS};
 
-/// A disc's pose for its pin contacts: coordinate index `id`, centre `c` (m) and its speed
+/// A disc's pose for its pin contacts: centre `c` (m) and its speed
 /// `cd` (m/s), angular speed `wpsi` (rad/s), the base of the pins' contact-parameter guesses
 /// (rad), and the sine and cosine of the profile's angle.
 struct DiscFrame {
-    id: usize,
     c: Vec2,
     cd: Vec2,
     wpsi: f64,
@@ -114,6 +113,25 @@ struct Kinematics {
     qdd: [f64; MAX_DOFS],
 }
 
+/// How [`System::forces`] treats the pin contacts (the costly part of a right-hand side).
+enum Contacts {
+    /// Computed.
+    Compute,
+    /// Computed and kept in [`System::kept`].
+    Store,
+    /// Computed for the discs marked, the others' taken from [`System::kept`].
+    Reuse([bool; 2]),
+}
+
+/// Pin-contact forces of each disc at the last `Contacts::Store` evaluation.
+#[derive(Default)]
+struct KeptContacts {
+    /// Generalised forces on each disc's `x, y, psi` (N, N, N m).
+    disc: [[f64; 3]; 2],
+    /// Modal forces of disc 1, then disc 2 (`modes` each; flexible discs).
+    modal: Vec<f64>,
+}
+
 /// Contact force of one pin on one disc at one instant.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct PinForce {
@@ -154,6 +172,8 @@ pub struct System<'a> {
     max_gradient: Cell<f64>,
     /// The flexible discs (the modal FE disc, each disc on it by its mount), if any.
     flex: Option<Flexible<'a>>,
+    /// The pin contacts of the last Jacobian's base point, reused by its columns.
+    kept: RefCell<KeptContacts>,
 }
 
 /// The flexible-disc data of a [`System`]: the modal disc, its contact law and the inverse of
@@ -225,6 +245,7 @@ impl<'a> System<'a> {
             open_cache: RefCell::new(vec![(f64::NAN, Vec2::zeros()); 2 * geo.pins]),
             max_gradient: Cell::new(1.0),
             flex: None,
+            kept: RefCell::new(KeptContacts::default()),
         }
     }
 
@@ -306,6 +327,11 @@ impl<'a> System<'a> {
         Ok(sys)
     }
 
+    /// Pins of the ring (the pin forces of [`System::rhs`] are `2 x pins`, disc-major).
+    pub fn pins(&self) -> usize {
+        self.zp
+    }
+
     /// Modes per disc (0 for rigid discs).
     pub fn modes(&self) -> usize {
         self.flex.as_ref().map_or(0, |f| f.modal.modes())
@@ -385,6 +411,40 @@ impl<'a> System<'a> {
     /// [`System::initial_state`]) at time `t`; with `forces`, also the pin forces of both discs
     /// (`2 x Zp`, disc-major).
     pub fn rhs(&self, t: f64, z: &[f64], dz: &mut [f64], forces: Option<&mut [PinForce]>) {
+        self.evaluate(t, z, dz, forces, Contacts::Compute);
+    }
+
+    /// The discs whose pin contacts depend on state `j` (see [`System::states`]): a disc's
+    /// own position, speed and modal states, and the input's angle and speed (which carry
+    /// every body's nominal motion under a torque drive).
+    pub fn column_discs(&self, j: usize) -> [bool; 2] {
+        let n = self.layout.dofs();
+        let m = self.modes();
+        if j >= 2 * n {
+            let d = ((j - 2 * n) % (2 * m.max(1))) / m.max(1);
+            return [d == 0, d == 1];
+        }
+        let i = j % n;
+        if i == Layout::SUN {
+            return [true, true];
+        }
+        [0, 1].map(|d| {
+            let id = self.layout.disc(d);
+            (id..id + 3).contains(&i)
+        })
+    }
+
+    /// The right-hand side as [`System::rhs`], with the pin contacts computed (`Compute`),
+    /// computed and kept (`Store`), or recomputed for the marked discs only and taken from the
+    /// last `Store` for the others (`Reuse`).
+    fn evaluate(
+        &self,
+        t: f64,
+        z: &[f64],
+        dz: &mut [f64],
+        forces: Option<&mut [PinForce]>,
+        contacts: Contacts,
+    ) {
         let n = self.layout.dofs();
         let mut k = Kinematics::default();
         let prescribed = self.absolute(t, z, &mut k);
@@ -392,7 +452,7 @@ impl<'a> System<'a> {
         let mut g = [0.0; MAX_DOFS];
         let m = self.modes();
         let mut modal_force = vec![0.0; 2 * m];
-        self.forces(t, z, &k, &mut g[..n], &mut modal_force, forces);
+        self.forces(t, z, &k, &mut g[..n], &mut modal_force, forces, contacts);
         let a_s = match prescribed {
             Some(a) => a,
             None => {
@@ -448,7 +508,10 @@ impl<'a> System<'a> {
         }
     }
 
-    /// Generalised forces `Q` (N or N m per coordinate) at the positions and speeds `k`.
+    /// Generalised forces `Q` (N or N m per coordinate) at the positions and speeds `k`: the
+    /// load, drive and structural forces, then each disc's pin contacts (computed on their
+    /// own and added, so that a contact kept by `Store` and one recomputed add alike).
+    #[allow(clippy::too_many_arguments)]
     fn forces(
         &self,
         t: f64,
@@ -457,31 +520,75 @@ impl<'a> System<'a> {
         g: &mut [f64],
         modal_force: &mut [f64],
         mut pin_out: Option<&mut [PinForce]>,
+        contacts: Contacts,
     ) {
         let p = self.p;
-        let lay = self.layout;
-        let n = lay.dofs();
-        let (q, qd) = (&k.q[..n], &k.qd[..n]);
+        let n = self.layout.dofs();
+        let m = self.modes();
         g[Layout::OUT] += p.load.torque(t);
         if let Drive::Torque { .. } = p.drive {
             g[Layout::SUN] += p.drive.torque(t);
         }
-        p.reducer.structural_forces(&k.q0[..n], &k.dq[..n], qd, g);
-        // Disc-pin contacts.
+        p.reducer
+            .structural_forces(&k.q0[..n], &k.dq[..n], &k.qd[..n], g);
+        let mut kept = match contacts {
+            Contacts::Compute => None,
+            _ => Some(self.kept.borrow_mut()),
+        };
+        for d in 0..2 {
+            let id = self.layout.disc(d);
+            let modal = &mut modal_force[d * m..(d + 1) * m];
+            let mut gd = [0.0; 3];
+            match (&contacts, kept.as_deref_mut()) {
+                (Contacts::Reuse(mark), Some(kept)) if !mark[d] => {
+                    gd = kept.disc[d];
+                    modal.copy_from_slice(&kept.modal[d * m..(d + 1) * m]);
+                }
+                _ => {
+                    match &self.flex {
+                        Some(fl) => self.flexible_contacts(
+                            fl,
+                            d,
+                            z,
+                            k,
+                            &mut gd,
+                            modal,
+                            pin_out.as_deref_mut(),
+                        ),
+                        None => self.rigid_contacts(d, k, &mut gd, pin_out.as_deref_mut()),
+                    }
+                    if let (Contacts::Store, Some(kept)) = (&contacts, kept.as_deref_mut()) {
+                        kept.disc[d] = gd;
+                        kept.modal.resize(2 * m, 0.0);
+                        kept.modal[d * m..(d + 1) * m].copy_from_slice(modal);
+                    }
+                }
+            }
+            for (gi, v) in g[id..id + 3].iter_mut().zip(gd) {
+                *gi += v;
+            }
+        }
+    }
+
+    /// Pin contacts of rigid disc `d`: generalised forces on its coordinates (`x, y, psi`)
+    /// added to `g`, and each pin's force to `pin_out`.
+    fn rigid_contacts(
+        &self,
+        d: usize,
+        k: &Kinematics,
+        g: &mut [f64; 3],
+        mut pin_out: Option<&mut [PinForce]>,
+    ) {
+        let p = self.p;
+        let n = self.layout.dofs();
+        let (q, qd) = (&k.q[..n], &k.qd[..n]);
         let ct = &p.contact;
         let mut cache = self.t_cache.borrow_mut();
         let mut fcache = self.f_cache.borrow_mut();
         let mut open_cache = self.open_cache.borrow_mut();
-        if let Some(fl) = &self.flex {
-            drop((cache, fcache, open_cache));
-            for d in 0..2 {
-                self.flexible_contacts(fl, d, z, k, g, modal_force, pin_out.as_deref_mut());
-            }
-            return;
-        }
-        for d in 0..2 {
+        {
             let fr = self.disc_frame(d, q, qd);
-            let (id, cd, wpsi) = (fr.id, fr.cd, fr.wpsi);
+            let (cd, wpsi) = (fr.cd, fr.wpsi);
             for j in 0..self.zp {
                 let (rel, ql) = fr.pin(self.pins[j]);
                 // A pin whose last gap exceeds what its move since then can close stays open:
@@ -516,7 +623,7 @@ impl<'a> System<'a> {
                 let fnorm = (elastic
                     - step(pen, 0.0, 0.0, ct.penetration, ct.max_damping) * gap_dot)
                     .max(0.0);
-                self.apply_pin_force(g, id, fnorm, rel, w, cd, wpsi);
+                self.apply_pin_force(g, fnorm, rel, w, cd, wpsi);
                 if let Some(out) = pin_out.as_deref_mut() {
                     // The force vector is `F w`; `|w|` (the gap field's gradient) departs
                     // from 1 by up to a few per cent where the band-averaged field meets a
@@ -541,7 +648,6 @@ impl<'a> System<'a> {
         let phi = c.y.atan2(c.x);
         let (sa, ca) = ang.sin_cos();
         DiscFrame {
-            id,
             c,
             cd: Vec2::new(qd[id], qd[id + 1]),
             wpsi: qd[id + 2],
@@ -571,15 +677,14 @@ impl<'a> System<'a> {
     }
 
     /// Adds the generalised forces of a pin force `fnorm w` (N; `w` the gap's gradient in the
-    /// fixed frame, `rel` the pin centre relative to the disc centre, m) on the disc whose
-    /// coordinates start at `id` (speed `cd`, m/s, and `wpsi`, rad/s), with the smoothed
-    /// Coulomb friction of the contact.
+    /// fixed frame, `rel` the pin centre relative to the disc centre, m) to the generalised
+    /// forces `g` of its disc (`x, y, psi`; speed `cd`, m/s, and `wpsi`, rad/s), with the
+    /// smoothed Coulomb friction of the contact.
     #[allow(clippy::too_many_arguments)]
     #[inline]
     fn apply_pin_force(
         &self,
-        g: &mut [f64],
-        id: usize,
+        g: &mut [f64; 3],
         fnorm: f64,
         rel: Vec2,
         w: Vec2,
@@ -588,9 +693,9 @@ impl<'a> System<'a> {
     ) {
         let ct = &self.p.contact;
         // Q = F d(gap)/dx: d gap/dc = -w, d gap/dpsi = -(p - c) x w.
-        g[id] -= fnorm * w.x;
-        g[id + 1] -= fnorm * w.y;
-        g[id + 2] -= fnorm * cross(&rel, &w);
+        g[0] -= fnorm * w.x;
+        g[1] -= fnorm * w.y;
+        g[2] -= fnorm * cross(&rel, &w);
         if ct.friction > 0.0 {
             let wn = w / w.norm();
             let tau = perp(wn);
@@ -598,9 +703,9 @@ impl<'a> System<'a> {
             let v = cd + perp(xc) * wpsi;
             let vt = v.dot(&tau);
             let ff = tau * (-ct.friction * fnorm * (vt / ct.friction_velocity).tanh());
-            g[id] += ff.x;
-            g[id + 1] += ff.y;
-            g[id + 2] += cross(&xc, &ff);
+            g[0] += ff.x;
+            g[1] += ff.y;
+            g[2] += cross(&xc, &ff);
         }
     }
 
@@ -610,8 +715,8 @@ impl<'a> System<'a> {
     /// on the loaded pins (`>= 0` gaps on the others; [`crate::fem::modal`]), solved by Newton
     /// on the active set with a ratio test (warm-started from the last forces), to 1e-13 m.
     /// The IMPACT damping is added on the local approach with the rigid and modal gap rates
-    /// (the residual flexibility's rate is left out). Adds the rigid-body forces to `g` and the
-    /// modal forces `sum_j b_i(t_j) F_j` to `modal_force`. A contact problem that fails to
+    /// (the residual flexibility's rate is left out). Adds the rigid-body forces to `g` (`x, y,
+    /// psi`) and the modal forces `sum_j b_i(t_j) F_j` to `modal_force` (this disc's `m`). A contact problem that fails to
     /// converge makes the modal forces NaN (the simulation then stops with an error).
     #[allow(clippy::too_many_arguments)]
     fn flexible_contacts(
@@ -620,7 +725,7 @@ impl<'a> System<'a> {
         d: usize,
         z: &[f64],
         k: &Kinematics,
-        g: &mut [f64],
+        g: &mut [f64; 3],
         modal_force: &mut [f64],
         mut pin_out: Option<&mut [PinForce]>,
     ) {
@@ -633,7 +738,7 @@ impl<'a> System<'a> {
         let rate = &z[2 * n + 2 * m + d * m..2 * n + 2 * m + (d + 1) * m];
         let (q, qd) = (&k.q[..n], &k.qd[..n]);
         let fr = self.disc_frame(d, q, qd);
-        let (id, cd, wpsi) = (fr.id, fr.cd, fr.wpsi);
+        let (cd, wpsi) = (fr.cd, fr.wpsi);
         let mut cache = self.t_cache.borrow_mut();
         let mut fcache = self.f_cache.borrow_mut();
         let last_total: f64 = fcache[d * zp..(d + 1) * zp].iter().sum();
@@ -745,9 +850,7 @@ impl<'a> System<'a> {
             }
         }
         if !converged {
-            modal_force[d * m..(d + 1) * m]
-                .iter_mut()
-                .for_each(|v| *v = f64::NAN);
+            modal_force.iter_mut().for_each(|v| *v = f64::NAN);
             return;
         }
         for (a, pin) in pins.iter().enumerate() {
@@ -759,9 +862,9 @@ impl<'a> System<'a> {
             let gap_dot = pin.gap_dot + pin.modal_rate;
             let fnorm =
                 (f[a] - step(pen, 0.0, 0.0, ct.penetration, ct.max_damping) * gap_dot).max(0.0);
-            self.apply_pin_force(g, id, fnorm, pin.rel, pin.w, cd, wpsi);
+            self.apply_pin_force(g, fnorm, pin.rel, pin.w, cd, wpsi);
             for i in 0..m {
-                modal_force[d * m + i] += amps[a * m + i] * fnorm;
+                modal_force[i] += amps[a * m + i] * fnorm;
             }
             if let Some(out) = pin_out.as_deref_mut() {
                 out[d * zp + pin.j] = PinForce {
@@ -898,6 +1001,18 @@ impl super::ode::OdeSystem for System<'_> {
 
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
         System::rhs(self, t, y, dy, None);
+    }
+
+    /// Keeps each disc's pin contacts.
+    fn rhs_base(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        self.evaluate(t, y, dy, None, Contacts::Store);
+    }
+
+    /// Recomputes the pin contacts of the discs that state `j` moves
+    /// ([`System::column_discs`]) and reuses the others' from the base point: a state of
+    /// a crank, the output or the other disc leaves a disc's contacts unchanged.
+    fn rhs_column(&self, t: f64, y: &[f64], j: usize, dy: &mut [f64]) {
+        self.evaluate(t, y, dy, None, Contacts::Reuse(self.column_discs(j)));
     }
 
     /// Lengths to `1e-4 rtol` m, angles to that over the pin circle radius, speeds to those
