@@ -399,8 +399,8 @@ type StageRow = (Option<DynamicsSummary>, Option<(FlexibleStage, Mesh)>);
 enum Outcome {
     /// Its wear map could not be made: an error of the study.
     Prepare(Error),
-    /// Its static analysis failed.
-    Static(Error),
+    /// Its static analysis failed (with the stage's largest wear depth, m).
+    Static(Error, f64),
     /// Not analysed: an earlier stage's static analysis failed.
     Skipped,
     /// Analysed, with its dynamics and flexible analysis (or their error).
@@ -450,7 +450,7 @@ fn run_stage(
         Ok(x) => x,
         Err(e) => {
             failed.fetch_min(i, Ordering::Relaxed);
-            return Outcome::Static(e);
+            return Outcome::Static(e, max);
         }
     };
     tick();
@@ -597,7 +597,7 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
         },
     );
     let mut wear = wear?;
-    let (base, mut first) = base?;
+    let (base, first) = base?;
     // Per stage, in parallel, the most worn first (they take longest, so the cores finish
     // together): the static analysis, then the FE disc moved onto the worn outline (when the
     // flexible disc or flexible dynamics need it), and the multibody simulation and the
@@ -608,7 +608,7 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
     let slots: Vec<std::sync::OnceLock<Outcome>> =
         (0..n).map(|_| std::sync::OnceLock::new()).collect();
     // The 0 h stage analysed beside the wear (the wear history then starts at 0 h unworn).
-    if let Some(f) = first.take() {
+    if let Some(f) = first {
         if n > 0 && wear.hours[0] == 0.0 && wear.maps[0].iter().all(|w| *w == 0.0) {
             let _ = slots[0].set(f);
         }
@@ -644,8 +644,7 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
                 stages.push(stage);
             }
             Some(Outcome::Prepare(e)) => return Err(e),
-            Some(Outcome::Static(e)) => {
-                let max = wear.maps[i].iter().copied().fold(0.0, f64::max);
+            Some(Outcome::Static(e, max)) => {
                 if max > 0.0 && !matches!(e, Error::Invalid { .. } | Error::Io { .. }) {
                     // A worn stage the static analysis cannot follow: the validity limit.
                     wear.limit = Some(ValidityLimit {

@@ -363,12 +363,7 @@ fn open_pin_skip_and_warm_starts_leave_the_rhs_unchanged() {
     let profile = m
         .profile(Some(WearMap::uniform(hist.maps[0].len(), max).unwrap()))
         .unwrap();
-    let field = GapField::new(
-        &profile,
-        m.dynamics.gap_points,
-        Some(m.reducer.contact_band()),
-    )
-    .unwrap();
+    let field = m.dynamics.gap_field(&profile).unwrap();
     let sys = System::new(&m.dynamics, [&field, &field]);
     let times: Vec<f64> = (0..=800).map(|k| k as f64 * 1e-3).collect();
     let (mut warm, mut cold) = (vec![0.0; sys.states()], vec![0.0; sys.states()]);

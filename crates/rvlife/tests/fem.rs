@@ -420,8 +420,8 @@ fn bad_fem_input_is_refused() {
 /// flexible backlash equals the rigid play of the same crank angles; the flexible lost motion
 /// exceeds the rigid one (the body adds twist on both sides) and the flexible torsional
 /// stiffness is below the rigid one, on the new disc and at 7500 h; the flexible hysteresis
-/// curve rises with the torque; every loaded pin of a reverse solution closes (to the fixed point's stopping rule, as in
-/// `flexible_discs_on_bearings_tend_to_the_rigid_static_analysis`).
+/// curve rises with the torque; every loaded pin of a reverse solution closes (to the fixed
+/// point's stopping rule, as in `flexible_discs_on_bearings_tend_to_the_rigid_static_analysis`).
 #[test]
 fn flexible_disc_has_both_senses() {
     for hours in [0.0, 7500.0] {

@@ -8,9 +8,7 @@ use rvlife::fem::DiscSet;
 use rvlife::geometry::{Profile, WearMap};
 use rvlife::reducer::dynamics::ode::{self, OdeSystem};
 use rvlife::reducer::dynamics::params::{Drive, Method};
-use rvlife::reducer::dynamics::{
-    simulate_with, DynamicsParams, FlexibleDiscs, GapField, PinForce, System,
-};
+use rvlife::reducer::dynamics::{simulate_with, DynamicsParams, FlexibleDiscs, PinForce, System};
 use rvlife::reducer::statics::StaticAnalysis;
 use rvlife::te::ARCMIN_PER_RAD;
 
@@ -340,12 +338,7 @@ fn jacobian_columns_equal_those_of_full_right_hand_sides() {
     let profile = m
         .profile(Some(WearMap::uniform(720, 10e-6).unwrap()))
         .unwrap();
-    let field = GapField::new(
-        &profile,
-        m.dynamics.gap_points,
-        Some(m.reducer.contact_band()),
-    )
-    .unwrap();
+    let field = m.dynamics.gap_field(&profile).unwrap();
     let rtol = m.dynamics.rtol;
     // Rigid discs, speed drive.
     let sys = System::new(&m.dynamics, [&field, &field]);

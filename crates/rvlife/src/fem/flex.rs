@@ -301,9 +301,9 @@ pub const FLEX_OFFSET_TOLERANCE: f64 = 1e-5;
 /// term (the flank under them moves with the body), so a pin at the edge of
 /// the contact zone does not flip between open and loaded from one sweep to the next. The
 /// offsets are iterated to a fixed point, each sweep a warm-started static solve, with Anderson
-/// mixing of the last [`ANDERSON_DEPTH`] sweeps ([`AndersonMixing`]; at a tolerance of 1e-9: 8 sweeps per solve on the
-/// example's 10 um disc and 9.5 at 7500 h, where plain sweeps took 14 and 23; the same fixed
-/// point to 1e-10); where a pin at the edge of the contact zone makes the sweeps alternate
+/// mixing of the last [`ANDERSON_DEPTH`] sweeps ([`AndersonMixing`]; at a tolerance of 1e-9:
+/// 8 sweeps per solve on the example's 10 um disc and 9.5 at 7500 h, where plain sweeps took
+/// 14 and 23; the same fixed point to 1e-10); where a pin at the edge of the contact zone makes the sweeps alternate
 /// (the change does not shrink by a tenth) the mixing history is dropped and the step halved,
 /// down to 1/64. It stops when the offsets change by less than [`FLEX_OFFSET_TOLERANCE`] of the
 /// largest. Each disc's body compliance is that of its FE model at its own contact parameters

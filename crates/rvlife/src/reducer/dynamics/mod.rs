@@ -217,11 +217,7 @@ pub fn simulate_with(
     flexible: Option<FlexibleDiscs>,
     pin_forces: bool,
 ) -> Result<DynamicsResult> {
-    let field = GapField::new(
-        profile,
-        params.gap_points,
-        Some(params.reducer.contact_band()),
-    )?;
+    let field = params.gap_field(profile)?;
     let sys = match flexible {
         Some(fd) => System::flexible(params, [&field, &field], fd)?,
         None => System::new(params, [&field, &field]),

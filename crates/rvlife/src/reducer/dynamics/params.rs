@@ -198,6 +198,17 @@ pub struct DynamicsParams {
     pub flexible: Option<crate::fem::modal::ModalSettings>,
 }
 
+impl DynamicsParams {
+    /// The gap field of `profile` for these parameters: `gap_points` mesh angles per tooth,
+    /// averaged over the Hertz band of the reducer's contact ([`GapField::new`]).
+    ///
+    /// # Errors
+    /// As [`GapField::new`].
+    pub fn gap_field(&self, profile: &Profile) -> crate::error::Result<super::GapField> {
+        super::GapField::new(profile, self.gap_points, Some(self.reducer.contact_band()))
+    }
+}
+
 /// Time integrator of the multibody model ([`super::ode`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Method {

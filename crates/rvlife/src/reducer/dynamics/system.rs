@@ -586,53 +586,50 @@ impl<'a> System<'a> {
         let mut cache = self.t_cache.borrow_mut();
         let mut fcache = self.f_cache.borrow_mut();
         let mut open_cache = self.open_cache.borrow_mut();
-        {
-            let fr = self.disc_frame(d, q, qd);
-            let (cd, wpsi) = (fr.cd, fr.wpsi);
-            for j in 0..self.zp {
-                let (rel, ql) = fr.pin(self.pins[j]);
-                // A pin whose last gap exceeds what its move since then can close stays open:
-                // the gap changes by at most |grad g| |dq| (with twice the steepest gradient
-                // met, and 1 um to spare).
-                let open = &mut open_cache[d * self.zp + j];
-                if open.0 > SKIP_MARGIN
-                    && open.0 > SKIP_MARGIN + 2.0 * self.max_gradient.get() * (ql - open.1).norm()
-                {
-                    fcache[d * self.zp + j] = 0.0;
-                    continue;
-                }
-                let (ge, _) = self.pin_gap(&fr, d, j, &ql, &mut cache[d * self.zp + j]);
-                *open = (ge.gap, ql);
-                let gn = ge.grad.norm();
-                if gn > self.max_gradient.get() {
-                    self.max_gradient.set(gn);
-                }
-                if ge.gap >= 0.0 {
-                    fcache[d * self.zp + j] = 0.0;
-                    continue;
-                }
-                let w = fr.to_fixed(ge.grad);
-                let pen = -ge.gap;
-                // d(gap)/dt = w . (-c' - psi' J (p - c)).
-                let gap_dot = -w.dot(&(cd + perp(rel) * wpsi));
-                let f_cached = &mut fcache[d * self.zp + j];
-                let elastic = ct
-                    .law
-                    .force(&p.reducer.contact, pen, ge.curvature, *f_cached);
-                *f_cached = elastic;
-                let fnorm = (elastic
-                    - step(pen, 0.0, 0.0, ct.penetration, ct.max_damping) * gap_dot)
-                    .max(0.0);
-                self.apply_pin_force(g, fnorm, rel, w, cd, wpsi);
-                if let Some(out) = pin_out.as_deref_mut() {
-                    // The force vector is `F w`; `|w|` (the gap field's gradient) departs
-                    // from 1 by up to a few per cent where the band-averaged field meets a
-                    // steep wear scar.
-                    out[d * self.zp + j] = PinForce {
-                        normal: fnorm * w.norm(),
-                        penetration: pen,
-                    };
-                }
+        let fr = self.disc_frame(d, q, qd);
+        let (cd, wpsi) = (fr.cd, fr.wpsi);
+        for j in 0..self.zp {
+            let (rel, ql) = fr.pin(self.pins[j]);
+            // A pin whose last gap exceeds what its move since then can close stays open:
+            // the gap changes by at most |grad g| |dq| (with twice the steepest gradient
+            // met, and 1 um to spare).
+            let open = &mut open_cache[d * self.zp + j];
+            if open.0 > SKIP_MARGIN
+                && open.0 > SKIP_MARGIN + 2.0 * self.max_gradient.get() * (ql - open.1).norm()
+            {
+                fcache[d * self.zp + j] = 0.0;
+                continue;
+            }
+            let (ge, _) = self.pin_gap(&fr, d, j, &ql, &mut cache[d * self.zp + j]);
+            *open = (ge.gap, ql);
+            let gn = ge.grad.norm();
+            if gn > self.max_gradient.get() {
+                self.max_gradient.set(gn);
+            }
+            if ge.gap >= 0.0 {
+                fcache[d * self.zp + j] = 0.0;
+                continue;
+            }
+            let w = fr.to_fixed(ge.grad);
+            let pen = -ge.gap;
+            // d(gap)/dt = w . (-c' - psi' J (p - c)).
+            let gap_dot = -w.dot(&(cd + perp(rel) * wpsi));
+            let f_cached = &mut fcache[d * self.zp + j];
+            let elastic = ct
+                .law
+                .force(&p.reducer.contact, pen, ge.curvature, *f_cached);
+            *f_cached = elastic;
+            let fnorm =
+                (elastic - step(pen, 0.0, 0.0, ct.penetration, ct.max_damping) * gap_dot).max(0.0);
+            self.apply_pin_force(g, fnorm, rel, w, cd, wpsi);
+            if let Some(out) = pin_out.as_deref_mut() {
+                // The force vector is `F w`; `|w|` (the gap field's gradient) departs
+                // from 1 by up to a few per cent where the band-averaged field meets a
+                // steep wear scar.
+                out[d * self.zp + j] = PinForce {
+                    normal: fnorm * w.norm(),
+                    penetration: pen,
+                };
             }
         }
     }
