@@ -277,11 +277,15 @@ impl ContactModel {
             .expect("logarithmic law");
         // delta = e^u (g0 - g1 u) with u = ln F; solve ln delta = u + ln(g0 - g1 u).
         let target = delta.ln();
-        let cold = (delta / (g0 - g1 * 10.0_f64.ln()).max(1e-30)).ln();
-        let mut u = if f_guess > 0.0 && g0 - g1 * f_guess.ln() > 2.0 * g1 {
+        let warm = if f_guess > 0.0 {
             f_guess.ln()
         } else {
-            cold
+            f64::NAN
+        };
+        let mut u = if g0 - g1 * warm > 2.0 * g1 {
+            warm
+        } else {
+            (delta / (g0 - g1 * 10.0_f64.ln()).max(1e-30)).ln()
         };
         for _ in 0..60 {
             let g = g0 - g1 * u;
@@ -299,8 +303,12 @@ impl ContactModel {
             let step = f / fp;
             u -= step;
             // Relative to |u|: at approaches of 1e-30 m, u = ln F is about -60 and its ulp
-            // alone is 7e-15.
-            if step.abs() < 1e-14 * u.abs().max(1.0) {
+            // alone is 7e-15. Newton's error after a step is `c step^2` with
+            // `c = |f''| / (2 |f'|) = g1^2 / (2 g (g - g1))`; a step whose square makes that
+            // smaller than the tolerance ends the iteration too (a warm start then takes one
+            // logarithm in place of two).
+            let tol = 1e-14 * u.abs().max(1.0);
+            if step.abs() < tol || g1 * g1 / (2.0 * g * (g - g1)) * step * step < 0.1 * tol {
                 let force = u.exp();
                 let g = g0 - g1 * u;
                 let stiffness = 1.0 / (g - g1);

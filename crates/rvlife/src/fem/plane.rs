@@ -7,7 +7,7 @@
 //! Dunavant (1985), exact to degree 4.
 
 use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat, Triplet};
-use faer::{Mat, Side};
+use faer::{Mat, MatRef, Side};
 
 use crate::error::{Error, Result};
 use crate::fem::mesh::Mesh;
@@ -361,116 +361,129 @@ impl Factor {
         );
     }
 
-    /// `y = L^-1 P b` for a sparse `b` (`(equation, value)` pairs): the columns reached from
-    /// `b`'s entries up the elimination tree, ascending (a topological order of the tree), and
-    /// `y` on them (Gilbert and Peierls, 1988; T. A. Davis, *Direct Methods for Sparse Linear
-    /// Systems*, SIAM 2006, section 3.2). `work` (`n` zeros) and `mark` (`n` false) are
-    /// returned so.
-    fn forward_sparse(
+    /// `Y = L^-1 P B` for a block of sparse loads `B` (each `(equation, value)` pairs): the
+    /// columns of `L` reached from the loads' entries up the elimination tree (their union,
+    /// ascending: a topological order of the tree) and `Y` on them, row-major (`rows x loads`).
+    /// One sweep over the union serves every load of the block, the update of a column applied
+    /// to all of them at once (Gilbert and Peierls, 1988; T. A. Davis, *Direct Methods for Sparse
+    /// Linear Systems*, SIAM 2006, section 3.2); each load's entries are those of its own
+    /// sparse solve (zero off its reach, the same operations in the same order on it). `pos`
+    /// (`n` entries of `usize::MAX`) is returned so.
+    fn forward_block(
         &self,
-        b: &[(usize, f64)],
-        work: &mut [f64],
-        mark: &mut [bool],
+        loads: &[Vec<(usize, f64)>],
+        pos: &mut [usize],
     ) -> (Vec<usize>, Vec<f64>) {
         use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
         let SymbolicCholeskyRaw::Simplicial(s) = self.symbolic.chol.raw() else {
             unreachable!("Factor::analyse keeps a simplicial factor")
         };
         let (cp, ri) = (s.col_ptr(), s.row_idx());
-        let mut reach: Vec<usize> = Vec::with_capacity(1024);
-        for &(q, v) in b {
-            let mut j = self.symbolic.inv[q];
-            work[j] += v;
-            // The tree path above a reached column is reached: stop where an earlier walk went.
-            while j != usize::MAX && !mark[j] {
-                mark[j] = true;
-                reach.push(j);
-                j = self.symbolic.parent[j];
+        let nb = loads.len();
+        let mut rows: Vec<usize> = Vec::with_capacity(2048);
+        for b in loads {
+            for &(q, _) in b {
+                let mut j = self.symbolic.inv[q];
+                // The tree path above a reached column is reached: stop where a walk went.
+                while j != usize::MAX && pos[j] == usize::MAX {
+                    pos[j] = 0;
+                    rows.push(j);
+                    j = self.symbolic.parent[j];
+                }
             }
         }
-        reach.sort_unstable();
-        let mut y = Vec::with_capacity(reach.len());
-        for &j in &reach {
+        rows.sort_unstable();
+        for (r, &j) in rows.iter().enumerate() {
+            pos[j] = r;
+        }
+        let mut y = vec![0.0; rows.len() * nb];
+        for (c, b) in loads.iter().enumerate() {
+            for &(q, v) in b {
+                y[pos[self.symbolic.inv[q]] * nb + c] += v;
+            }
+        }
+        for (r, &j) in rows.iter().enumerate() {
             let (start, end) = (cp[j], cp[j + 1]);
-            let yj = work[j] / self.values[start];
-            work[j] = 0.0;
-            mark[j] = false;
-            for p in start + 1..end {
-                work[ri[p]] -= self.values[p] * yj;
+            let (done, rest) = y.split_at_mut((r + 1) * nb);
+            let yj = &mut done[r * nb..];
+            let d = self.values[start];
+            for x in yj.iter_mut() {
+                *x /= d;
             }
-            y.push(yj);
+            for p in start + 1..end {
+                // Rows of column j lie above it in the tree, so in the union, after row r.
+                let i = pos[ri[p]] - r - 1;
+                let l = self.values[p];
+                for (w, x) in rest[i * nb..(i + 1) * nb].iter_mut().zip(yj.iter()) {
+                    *w -= l * *x;
+                }
+            }
         }
-        (reach, y)
+        for &j in &rows {
+            pos[j] = usize::MAX;
+        }
+        (rows, y)
     }
 
     /// Compliance between sparse loads, `C = B K^-1 B^T` (`m x m`, row-major, m/N for loads in
     /// N and displacements in m): with `K = P^T L L^T P`, `C = Y^T Y` for `Y = L^-1 P B^T`,
-    /// each column of `Y` computed over its elimination-tree reach only ([`Factor`]; a load on
-    /// a few outline nodes of the built-in disc reaches about 730 of its 39 530 columns). The
-    /// products are taken in blocks of [`CONDENSE_BLOCK`] consecutive loads (neighbours on the
-    /// outline share most of their reach): each block's columns dense over the union of their
-    /// reaches, each pair of blocks multiplied over the rows common to both. Symmetric by
-    /// construction; in parallel.
+    /// computed over elimination-tree reaches only ([`Factor`]; a load on a few outline nodes of
+    /// the built-in disc reaches about 730 of its 39 530 columns). The loads are taken in blocks
+    /// of [`CONDENSE_BLOCK`] consecutive ones (neighbours on the outline share most of their
+    /// reach): each block's columns of `Y` in one sweep over the union of their reaches
+    /// ([`Factor::forward_block`]), then each pair of blocks multiplied over the rows common to
+    /// both (gathered contiguous, faer's `matmul`). Symmetric by construction; in parallel.
     pub fn condense(&self, loads: &[Vec<(usize, f64)>]) -> Vec<f64> {
         use faer::linalg::matmul::matmul;
         use faer::{Accum, Par};
         use rayon::prelude::*;
         let n = self.symbolic.parent.len();
         let m = loads.len();
-        let ys: Vec<(Vec<usize>, Vec<f64>)> = loads
-            .par_iter()
-            .map_init(
-                || (vec![0.0; n], vec![false; n]),
-                |(work, mark), b| self.forward_sparse(b, work, mark),
-            )
-            .collect();
         // Per block: the sorted union of its reaches and its columns dense over it.
-        let blocks: Vec<(Vec<usize>, Mat<f64>)> = ys
+        let blocks: Vec<(Vec<usize>, Vec<f64>, usize)> = loads
             .par_chunks(CONDENSE_BLOCK)
-            .map(|chunk| {
-                let mut rows: Vec<usize> = chunk.iter().flat_map(|(r, _)| r.clone()).collect();
-                rows.sort_unstable();
-                rows.dedup();
-                let mut y = Mat::<f64>::zeros(rows.len(), chunk.len());
-                for (c, (r, v)) in chunk.iter().enumerate() {
-                    let mut k = 0;
-                    for (&i, &x) in r.iter().zip(v) {
-                        while rows[k] < i {
-                            k += 1;
-                        }
-                        y[(k, c)] = x;
-                    }
-                }
-                (rows, y)
-            })
+            .map_init(
+                || vec![usize::MAX; n],
+                |pos, chunk| {
+                    let (rows, y) = self.forward_block(chunk, pos);
+                    (rows, y, chunk.len())
+                },
+            )
             .collect();
         let pairs: Vec<(usize, usize)> = (0..blocks.len())
             .flat_map(|g| (0..=g).map(move |h| (g, h)))
             .collect();
         let products: Vec<Mat<f64>> = pairs
             .par_iter()
-            .map(|&(g, h)| {
-                let ((rg, yg), (rh, yh)) = (&blocks[g], &blocks[h]);
-                let (mut pg, mut ph) = (Vec::new(), Vec::new());
-                let (mut i, mut k) = (0, 0);
-                while i < rg.len() && k < rh.len() {
-                    match rg[i].cmp(&rh[k]) {
-                        std::cmp::Ordering::Less => i += 1,
-                        std::cmp::Ordering::Greater => k += 1,
-                        std::cmp::Ordering::Equal => {
-                            pg.push(i);
-                            ph.push(k);
-                            i += 1;
-                            k += 1;
+            .map_init(
+                || (Vec::new(), Vec::new()),
+                |(a, b), &(g, h)| {
+                    let ((rg, yg, ng), (rh, yh, nh)) = (&blocks[g], &blocks[h]);
+                    let (ng, nh) = (*ng, *nh);
+                    // The rows common to both blocks, gathered contiguous (row-major).
+                    a.clear();
+                    b.clear();
+                    let (mut i, mut k) = (0, 0);
+                    while i < rg.len() && k < rh.len() {
+                        match rg[i].cmp(&rh[k]) {
+                            std::cmp::Ordering::Less => i += 1,
+                            std::cmp::Ordering::Greater => k += 1,
+                            std::cmp::Ordering::Equal => {
+                                a.extend_from_slice(&yg[i * ng..(i + 1) * ng]);
+                                b.extend_from_slice(&yh[k * nh..(k + 1) * nh]);
+                                i += 1;
+                                k += 1;
+                            }
                         }
                     }
-                }
-                let a = Mat::<f64>::from_fn(pg.len(), yg.ncols(), |r, c| yg[(pg[r], c)]);
-                let b = Mat::<f64>::from_fn(ph.len(), yh.ncols(), |r, c| yh[(ph[r], c)]);
-                let mut out = Mat::<f64>::zeros(yg.ncols(), yh.ncols());
-                matmul(&mut out, Accum::Replace, a.transpose(), &b, 1.0, Par::Seq);
-                out
-            })
+                    let common = a.len() / ng;
+                    let av = MatRef::from_row_major_slice(a.as_slice(), common, ng);
+                    let bv = MatRef::from_row_major_slice(b.as_slice(), common, nh);
+                    let mut out = Mat::<f64>::zeros(ng, nh);
+                    matmul(&mut out, Accum::Replace, av.transpose(), bv, 1.0, Par::Seq);
+                    out
+                },
+            )
             .collect();
         let mut c = vec![0.0; m * m];
         for (&(g, h), p) in pairs.iter().zip(&products) {

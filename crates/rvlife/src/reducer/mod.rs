@@ -28,6 +28,8 @@ pub mod statics;
 
 use std::f64::consts::PI;
 
+use nalgebra::UnitComplex;
+
 use crate::contact::ContactModel;
 use crate::geometry::{rotate, CycloidGeometry, Vec2};
 
@@ -351,19 +353,37 @@ impl Reducer {
         let m = &self.mesh;
         let b = &self.bearings;
         let d_o = dq[Layout::OUT];
+        // The rotations shared by the cranks (the carrier's) and by the cranks of one disc (the
+        // disc's), each formed once.
+        let carrier = UnitComplex::new(th_o);
+        let carrier_step = RotationStep::new(q0[Layout::OUT], d_o);
+        let (pa_sin, pa_cos) = self.mesh.pressure_angle.sin_cos();
+        // (At most three discs: MAX_DOFS.)
+        let n_discs = if self.cranks > 0 { self.discs() } else { 0 };
+        let mut discs = [(0, UnitComplex::identity(), RotationStep::new(0.0, 0.0)); 3];
+        for (d, slot) in discs.iter_mut().enumerate().take(n_discs) {
+            let id = lay.disc(d);
+            let psi = q0[id + 2] + dq[id + 2];
+            *slot = (
+                id,
+                UnitComplex::new(psi),
+                RotationStep::new(q0[id + 2], dq[id + 2]),
+            );
+        }
         for k in 0..self.cranks {
             let ic = lay.crank(k);
             let dx = Vec2::new(dq[ic], dq[ic + 1]);
             let xd = Vec2::new(qd[ic], qd[ic + 1]);
             let w_k = qd[ic + 2];
             let seat0 = self.seat(k);
-            let seat = rotate(&seat0, th_o);
+            let seat = carrier * seat0;
             let dseat = perp(seat);
             // Crank centre relative to its seat: the nominal crank sits on its seat.
-            let rel = dx - rotation_difference(&seat0, q0[Layout::OUT], d_o);
+            let rel = dx - carrier_step.apply(&seat0);
             // Sun-planet mesh: deflection along the line of action in the carrier frame (zero
             // in the nominal kinematics: r_bs (th_s - th_o) + r_bp (th_k - th_o) = 0 there).
-            let u = rotate(&self.line_of_action(k), th_o);
+            let e = seat0 / seat0.norm();
+            let u = carrier * (e * pa_sin + perp(e) * pa_cos);
             let delta = m.sun_base_radius * (dq[Layout::SUN] - d_o)
                 + m.planet_base_radius * (dq[ic + 2] - d_o)
                 - u.dot(&rel);
@@ -391,17 +411,16 @@ impl Reducer {
             g[ic + 1] -= fb.y;
             g[Layout::OUT] += fb.dot(&dseat);
             // Crank-disc bearings: eccentric centre minus bore centre, zero nominally.
-            for d in 0..self.discs() {
-                let id = lay.disc(d);
+            for (d, (id, disc, disc_step)) in discs.iter().enumerate().take(n_discs) {
+                let id = *id;
                 let ang0 = q0[ic + 2] + self.phase(d);
                 let ecc = Vec2::new((ang0 + dq[ic + 2]).cos(), (ang0 + dq[ic + 2]).sin()) * a;
                 let decc = rotation_difference(&Vec2::new(a, 0.0), ang0, dq[ic + 2]);
                 let de_dth = perp(ecc);
                 let dc = Vec2::new(dq[id], dq[id + 1]);
                 let cd = Vec2::new(qd[id], qd[id + 1]);
-                let psi = q0[id + 2] + dq[id + 2];
-                let arm = rotate(&seat0, psi);
-                let darm = rotation_difference(&seat0, q0[id + 2], dq[id + 2]);
+                let arm = disc * seat0;
+                let darm = disc_step.apply(&seat0);
                 let r = dx + decc - dc - darm;
                 let rdot = xd + de_dth * w_k - cd - perp(arm) * qd[id + 2];
                 let fe = spring(r, rdot, b.disc_stiffness, b.disc_damping, b.clearance);
@@ -561,9 +580,34 @@ fn pin_in_hole(
 /// with `cos da - 1 = -2 sin^2(da/2)`.
 #[inline]
 pub(crate) fn rotation_difference(v: &Vec2, a0: f64, da: f64) -> Vec2 {
-    let h = (0.5 * da).sin();
-    let local = *v * (-2.0 * h * h) + perp(*v) * da.sin();
-    rotate(&local, a0)
+    RotationStep::new(a0, da).apply(v)
+}
+
+/// The map `v -> R(a0 + da) v - R(a0) v` of [`rotation_difference`] for one pair of angles
+/// (rad), its sines formed once for many vectors.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct RotationStep {
+    /// `cos da - 1 = -2 sin^2(da/2)`.
+    cos_minus_one: f64,
+    sin: f64,
+    at: UnitComplex<f64>,
+}
+
+impl RotationStep {
+    #[inline]
+    pub(crate) fn new(a0: f64, da: f64) -> Self {
+        let h = (0.5 * da).sin();
+        RotationStep {
+            cos_minus_one: -2.0 * h * h,
+            sin: da.sin(),
+            at: UnitComplex::new(a0),
+        }
+    }
+
+    #[inline]
+    pub(crate) fn apply(&self, v: &Vec2) -> Vec2 {
+        self.at * (*v * self.cos_minus_one + perp(*v) * self.sin)
+    }
 }
 
 /// Force (N) of an isotropic radial spring-damper with clearance on its first end, for the

@@ -6,9 +6,9 @@
 //! `rrp = 0`): the path parameter `t` whose point has the same polar angle as `q`, and the radial
 //! offset `rho = |q| - |C(t)|`. Because `arg C(t) = -t/Zc + atan2(a sin t, Rp - a cos t)` is
 //! strictly monotone (`a Zc < Rp - a`, i.e. `K1 < 1`), `t(q)` is unique and smooth, and
-//! `|C(t)| = sqrt(Rp^2 + a^2 - 2 a Rp cos t)` is closed form. `t` depends on the polar angle of
-//! `q` only and is tabulated once per geometry (`PathAngleTable`, within 1e-9 rad), so an
-//! evaluation costs one `atan2` and one `sin_cos`.
+//! `|C(t)| = sqrt(Rp^2 + a^2 - 2 a Rp cos t)` is closed form. `t` and `|C(t)|` depend on the
+//! polar angle of `q` only and are tabulated once per geometry (`PathAngleTable`, within 2e-11
+//! rad and 1e-13 m), so an evaluation costs one `atan2`.
 //!
 //! Along each radial line the gap (distance from the actual profile minus the pin radius) is
 //! linear to within `(rho - rho_0)^2 / (2 R)` (R: local radius of curvature, >= 4.6 mm for the
@@ -76,27 +76,44 @@ impl PeriodicSpline {
         }
     }
 
-    /// The cell holding `t` (any real, wrapped): its node values and slopes `(p1, m1, p2, m2)`
-    /// and the position `u` in `[0, 1)` within it.
+    /// The nodes `i`, `j` of the cell holding `t` (any real, wrapped) and the position `u` in
+    /// `[0, 1)` within it.
     #[inline]
-    fn cell(&self, t: f64) -> ((f64, f64, f64, f64), f64) {
+    fn locate(&self, t: f64) -> (usize, usize, f64) {
         let n = self.value.len();
         let s = t * self.inv_dt;
         let k = s.floor();
         let i = (k as i64).rem_euclid(n as i64) as usize;
         let j = if i + 1 == n { 0 } else { i + 1 };
+        (i, j, s - k)
+    }
+
+    /// The cell holding `t` (any real, wrapped): its node values and slopes `(p1, m1, p2, m2)`
+    /// and the position `u` in `[0, 1)` within it.
+    #[inline]
+    fn cell(&self, t: f64) -> ((f64, f64, f64, f64), f64) {
+        let (i, j, u) = self.locate(t);
         (
             (self.value[i], self.slope[i], self.value[j], self.slope[j]),
-            s - k,
+            u,
         )
     }
 
-    /// Value and derivative (per radian) at `t` (any real, wrapped).
+    /// Values and derivatives (per radian) of three splines on one grid (the same node count)
+    /// at `t` (any real, wrapped): [`PeriodicSpline::eval`] of each, the cell found once.
     #[inline]
-    fn eval(&self, t: f64) -> (f64, f64) {
-        let ((p1, m1, p2, m2), u) = self.cell(t);
-        let (v, d) = cubic_hermite(p1, m1, p2, m2, u);
-        (v, d * self.inv_dt)
+    fn eval3(splines: [&PeriodicSpline; 3], t: f64) -> ([f64; 3], [f64; 3]) {
+        let (i, j, u) = splines[0].locate(t);
+        debug_assert!(splines
+            .iter()
+            .all(|x| x.value.len() == splines[0].value.len()));
+        let (mut v, mut d) = ([0.0; 3], [0.0; 3]);
+        for (x, sp) in splines.iter().enumerate() {
+            let (a, b) = cubic_hermite(sp.value[i], sp.slope[i], sp.value[j], sp.slope[j], u);
+            v[x] = a;
+            d[x] = b * sp.inv_dt;
+        }
+        (v, d)
     }
 
     /// Value, first and second derivative (per radian) at `t` (the second derivative of the
@@ -203,23 +220,34 @@ pub struct GapField {
 /// (module docs), tabulated: `U(theta) = t + Zc theta` is periodic with period `2 pi / Zc` (one
 /// tooth on, `t` falls by `2 pi`) and smooth, and is stored as a cubic Hermite spline with the
 /// exact node slopes `U' = Zc - Zc / (1 - Zc mu'(t))` (error falling as the fourth power of the
-/// node spacing). The node count is doubled from 1024 until `t` at every cell midpoint is within
-/// [`PathAngleTable::TOLERANCE`] of Newton's solution (4096 nodes for the example, 2.1e-10 rad). [`GapField::eval`] then needs one `atan2` and one
-/// `sin_cos` per pin instead of Newton's two or three of each.
+/// node spacing); so is the path radius `|C(t(theta))|`, with the exact node slopes
+/// `d|C|/dtheta = (a Rp sin t / |C|) dt/dtheta`. The node count is doubled from 1024 until, at
+/// every cell midpoint, `t` is within [`PathAngleTable::TOLERANCE`] of Newton's solution and
+/// the radius within [`PathAngleTable::RADIUS_TOLERANCE`] of the closed form (8192 nodes for
+/// the example: 1.3e-11 rad and 1.7e-14 m; 4096 nodes left 2.1e-10 rad, which put 3e-8 arcmin
+/// of TE on the unworn, unmodified disc, whose TE is zero). [`GapField::eval`] then needs one
+/// `atan2` per pin instead of Newton's two or three `atan2` and `sin_cos`.
 #[derive(Debug, Clone)]
 struct PathAngleTable {
     /// `U` at `theta_k = k h`, `k = 0..n`, rad.
     value: Vec<f64>,
     /// `U'(theta_k) h`, rad.
     slope: Vec<f64>,
+    /// The path radius `|C(t(theta_k))|`, m.
+    radius: Vec<f64>,
+    /// `d|C|/dtheta (theta_k) h`, m.
+    radius_slope: Vec<f64>,
     /// `1 / h`, 1/rad.
     inv_h: f64,
 }
 
 impl PathAngleTable {
-    /// Largest error of `t` accepted at the cell midpoints, rad: the gap moves by `d|C|/dt`
-    /// (at most `a`) times it, below 1e-11 m for eccentricities up to 10 mm.
-    const TOLERANCE: f64 = 1e-9;
+    /// Largest error of `t` accepted at the cell midpoints, rad: the radius `|C|` and the
+    /// splines of the gap field (in `t`) then disagree by `d|C|/dt` (at most `a`) times it,
+    /// below 2e-13 m for eccentricities up to 10 mm.
+    const TOLERANCE: f64 = 2e-11;
+    /// Largest error of the tabulated path radius accepted at the cell midpoints, m.
+    const RADIUS_TOLERANCE: f64 = 1e-13;
     /// Most nodes tried.
     const MAX_NODES: usize = 1 << 16;
 
@@ -248,34 +276,44 @@ impl PathAngleTable {
     /// or `None` if no table up to [`Self::MAX_NODES`] meets [`Self::TOLERANCE`].
     fn new(a: f64, rp: f64, zc: f64) -> Option<Self> {
         let period = TAU / zc;
-        let u = |theta: f64, guess: f64| -> (f64, f64) {
-            let (t, dmu, _, _) = path_parameter(a, rp, zc, theta, guess);
-            (t + zc * theta, zc - zc / (1.0 - zc * dmu))
+        // U, U', |C| and d|C|/dtheta at theta.
+        let u = |theta: f64, guess: f64| -> [f64; 4] {
+            let (t, dmu, sin_t, cos_t) = path_parameter(a, rp, zc, theta, guess);
+            let dt = -zc / (1.0 - zc * dmu);
+            let rc = (rp * rp + a * a - 2.0 * a * rp * cos_t).sqrt();
+            [t + zc * theta, zc + dt, rc, a * rp * sin_t / rc * dt]
         };
         let mut n = 1024;
         while n <= Self::MAX_NODES {
             let h = period / n as f64;
             let mut value = Vec::with_capacity(n + 1);
             let mut slope = Vec::with_capacity(n + 1);
+            let mut radius = Vec::with_capacity(n + 1);
+            let mut radius_slope = Vec::with_capacity(n + 1);
             for k in 0..=n {
                 let theta = k as f64 * h;
-                let (v, d) = u(theta, -zc * theta);
+                let [v, d, r, dr] = u(theta, -zc * theta);
                 value.push(v);
                 slope.push(d * h);
+                radius.push(r);
+                radius_slope.push(dr * h);
             }
             let table = PathAngleTable {
                 value,
                 slope,
+                radius,
+                radius_slope,
                 inv_h: 1.0 / h,
             };
-            let worst = (0..n)
+            let (worst, worst_radius) = (0..n)
                 .map(|k| {
                     let theta = (k as f64 + 0.5) * h;
-                    let exact = u(theta, -zc * theta).0;
-                    (table.eval(theta).0 - exact).abs()
+                    let exact = u(theta, -zc * theta);
+                    let (v, _, r, _) = table.eval(theta);
+                    ((v - exact[0]).abs(), (r - exact[2]).abs())
                 })
-                .fold(0.0, f64::max);
-            if worst <= Self::TOLERANCE {
+                .fold((0.0_f64, 0.0_f64), |m, e| (m.0.max(e.0), m.1.max(e.1)));
+            if worst <= Self::TOLERANCE && worst_radius <= Self::RADIUS_TOLERANCE {
                 return Some(table);
             }
             n *= 2;
@@ -283,22 +321,31 @@ impl PathAngleTable {
         None
     }
 
-    /// `U(theta)` and `dU/dtheta` for any real `theta` (wrapped into the period).
+    /// `U(theta)`, `dU/dtheta`, the path radius `|C|` (m) and `d|C|/dtheta` (m/rad) for any
+    /// real `theta` (wrapped into the period).
     #[inline]
-    fn eval(&self, theta: f64) -> (f64, f64) {
+    fn eval(&self, theta: f64) -> (f64, f64, f64, f64) {
         let n = self.value.len() - 1;
         // Wrapped with `floor` (`rem_euclid` on floats is a slow `fmod`).
         let x = theta * self.inv_h;
         let s = x - n as f64 * (x / n as f64).floor();
         let i = (s as usize).min(n - 1);
+        let f = s - i as f64;
         let (v, d) = cubic_hermite(
             self.value[i],
             self.slope[i],
             self.value[i + 1],
             self.slope[i + 1],
-            s - i as f64,
+            f,
         );
-        (v, d * self.inv_h)
+        let (r, dr) = cubic_hermite(
+            self.radius[i],
+            self.radius_slope[i],
+            self.radius[i + 1],
+            self.radius_slope[i + 1],
+            f,
+        );
+        (v, d * self.inv_h, r, dr * self.inv_h)
     }
 }
 
@@ -439,32 +486,29 @@ impl GapField {
         let pred = -t_guess / zc;
         let x = theta - pred + PI;
         let theta = pred + x - TAU * (x / TAU).floor() - PI;
-        let (t, dt_dtheta, sin_t, cos_t) = match &self.angle {
+        // Derivatives: dtheta/dq = (-q_y, q_x)/|q|^2, dt/dtheta = -Zc / (1 - Zc mu') and
+        // d|C|/dtheta = (a Rp sin t / |C|) dt/dtheta (the table's own derivatives when
+        // tabulated, so that the gradient is that of the gap evaluated).
+        let (t, dt_dtheta, rc, drc_dtheta) = match &self.angle {
             Some(table) => {
-                let (u, du) = table.eval(theta);
-                let t = u - zc * theta;
-                let (s, c) = t.sin_cos();
-                (t, du - zc, s, c)
+                let (u, du, rc, drc) = table.eval(theta);
+                (u - zc * theta, du - zc, rc, drc)
             }
             None => {
-                let (t, dmu, s, c) = path_parameter(a, rp, zc, theta, t_guess);
-                (t, -zc / (1.0 - zc * dmu), s, c)
+                let (t, dmu, sin_t, cos_t) = path_parameter(a, rp, zc, theta, t_guess);
+                let dt = -zc / (1.0 - zc * dmu);
+                let rc = (rp * rp + a * a - 2.0 * a * rp * cos_t).sqrt();
+                (t, dt, rc, a * rp * sin_t / rc * dt)
             }
         };
-        let den = rp * rp + a * a - 2.0 * a * rp * cos_t;
-        let rc = den.sqrt();
         let rho = rq - rc;
-        // Derivatives: dtheta/dq = (-q_y, q_x)/|q|^2, dt/dtheta = -Zc / (1 - Zc mu') (the
-        // table's own derivative when tabulated, so that the gradient is that of the gap
-        // evaluated), d|C|/dt = a Rp sin t / |C|.
-        let dt_dq = Vec2::new(-q.y, q.x) * (dt_dtheta / r2);
-        let drc_dt = a * rp * sin_t / rc;
-        let drho_dq = q / rq - dt_dq * drc_dt;
-        let (r0, dr0) = self.offset.eval(t);
-        let (s, ds) = self.slope.eval(t);
+        let dtheta_dq = Vec2::new(-q.y, q.x) / r2;
+        let dt_dq = dtheta_dq * dt_dtheta;
+        let drho_dq = q / rq - dtheta_dq * drc_dtheta;
+        let ([r0, s, curvature], [dr0, ds, dk]) =
+            PeriodicSpline::eval3([&self.offset, &self.slope, &self.curvature], t);
         let gap = s * (rho - r0);
         let grad = dt_dq * (ds * (rho - r0) - s * dr0) + drho_dq * s;
-        let (curvature, dk) = self.curvature.eval(t);
         (
             GapEval {
                 gap,
@@ -521,9 +565,10 @@ impl GapField {
 mod tests {
     use super::*;
 
-    /// The tabulated path parameter equals Newton's solution to 1e-9 rad at 20 000 polar
-    /// angles over three teeth (cell midpoints and quarter points included), with the example's
-    /// geometry; `dt/dtheta` from the table within 1e-6 of the analytic one.
+    /// The tabulated path parameter equals Newton's solution to 2e-11 rad and the tabulated path
+    /// radius the closed form to 1e-13 m at 20 000 polar angles over three teeth (cell
+    /// midpoints and quarter points included), with the example's geometry; `dt/dtheta` from
+    /// the table within 1e-6 of the analytic one, `d|C|/dtheta` within 1e-6 of `a Zc`.
     #[test]
     fn path_angle_table_matches_newton() {
         let geo = crate::config::Config::example()
@@ -537,19 +582,29 @@ mod tests {
             geo.disc_teeth() as f64,
         );
         let table = PathAngleTable::new(a, rp, zc).expect("a table meets the tolerance");
-        let (mut worst, mut worst_d) = (0.0_f64, 0.0_f64);
+        let (mut worst, mut worst_d, mut worst_r, mut worst_dr) =
+            (0.0_f64, 0.0_f64, 0.0_f64, 0.0_f64);
         for k in 0..20_000 {
             let theta = -0.3 + 3.0 * TAU / zc * k as f64 / 20_000.0;
-            let (u, du) = table.eval(theta);
+            let (u, du, rc, drc) = table.eval(theta);
             let (t, dmu, _, _) = path_parameter(a, rp, zc, theta, u - zc * theta);
-            let (t, dmu, _, _) = path_parameter(a, rp, zc, theta, t - 1e-3 * (1.0 + dmu));
+            let (t, dmu, sin_t, cos_t) = path_parameter(a, rp, zc, theta, t - 1e-3 * (1.0 + dmu));
             worst = worst.max((u - zc * theta - t).abs());
             let dt = -zc / (1.0 - zc * dmu);
             worst_d = worst_d.max(((du - zc) - dt).abs() / dt.abs());
+            let exact = (rp * rp + a * a - 2.0 * a * rp * cos_t).sqrt();
+            worst_r = worst_r.max((rc - exact).abs());
+            let d_exact = a * rp * sin_t / exact * dt;
+            worst_dr = worst_dr.max((drc - d_exact).abs() / (a * zc));
         }
-        eprintln!("t within {worst:.2e} rad, dt/dtheta within {worst_d:.2e}");
-        assert!(worst < 1e-9);
+        eprintln!(
+            "t within {worst:.2e} rad, dt/dtheta within {worst_d:.2e}, radius within \
+             {worst_r:.2e} m, its slope within {worst_dr:.2e} of a Zc"
+        );
+        assert!(worst < 2e-11);
         assert!(worst_d < 1e-6);
+        assert!(worst_r < 1e-13);
+        assert!(worst_dr < 1e-6);
     }
     use crate::contact::pin_geometry;
     use crate::geometry::{Modification, WearMap};
