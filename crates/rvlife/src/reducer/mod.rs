@@ -253,9 +253,8 @@ impl Reducer {
 
     /// Line of action of crank `k`'s mesh at `theta_o = 0` (unit vector).
     pub fn line_of_action(&self, k: usize) -> Vec2 {
-        let s = self.seat(k);
-        let e = s / s.norm();
-        e * self.mesh.pressure_angle.sin() + perp(e) * self.mesh.pressure_angle.cos()
+        let (sin, cos) = self.mesh.pressure_angle.sin_cos();
+        line_of_action(self.seat(k), sin, cos)
     }
 
     /// Eccentric phase of disc `d`, rad (RV: 0 and pi).
@@ -382,8 +381,7 @@ impl Reducer {
             let rel = dx - carrier_step.apply(&seat0);
             // Sun-planet mesh: deflection along the line of action in the carrier frame (zero
             // in the nominal kinematics: r_bs (th_s - th_o) + r_bp (th_k - th_o) = 0 there).
-            let e = seat0 / seat0.norm();
-            let u = carrier * (e * pa_sin + perp(e) * pa_cos);
+            let u = carrier * line_of_action(seat0, pa_sin, pa_cos);
             let delta = m.sun_base_radius * (dq[Layout::SUN] - d_o)
                 + m.planet_base_radius * (dq[ic + 2] - d_o)
                 - u.dot(&rel);
@@ -574,6 +572,14 @@ fn pin_in_hole(
         - rotation_difference(&wk, q0[id + 2], dq[id + 2])
         - centre;
     (wk, d)
+}
+
+/// Line of action (unit vector) of the mesh of the crank seated at `seat` (m, carrier frame at
+/// `theta_o = 0`) for the pressure angle of sine `sin` and cosine `cos`.
+#[inline]
+fn line_of_action(seat: Vec2, sin: f64, cos: f64) -> Vec2 {
+    let e = seat / seat.norm();
+    e * sin + perp(e) * cos
 }
 
 /// `R(a0 + da) v - R(a0) v`, accurate for small `da`: `R(a0) ((cos da - 1) v + sin da J v)`

@@ -7,8 +7,9 @@
 //! offset `rho = |q| - |C(t)|`. Because `arg C(t) = -t/Zc + atan2(a sin t, Rp - a cos t)` is
 //! strictly monotone (`a Zc < Rp - a`, i.e. `K1 < 1`), `t(q)` is unique and smooth, and
 //! `|C(t)| = sqrt(Rp^2 + a^2 - 2 a Rp cos t)` is closed form. `t` and `|C(t)|` depend on the
-//! polar angle of `q` only and are tabulated once per geometry (`PathAngleTable`, within 2e-11
-//! rad and 1e-13 m), so an evaluation costs one `atan2`.
+//! polar angle of `q` only and are tabulated once per geometry against the slope of `q` in the
+//! frame of its tooth (`PathAngleTable`, within 2e-11 rad and 1e-13 m), so an evaluation needs
+//! no `atan2` and no `sin_cos`.
 //!
 //! Along each radial line the gap (distance from the actual profile minus the pin radius) is
 //! linear to within `(rho - rho_0)^2 / (2 R)` (R: local radius of curvature, >= 4.6 mm for the
@@ -216,29 +217,30 @@ pub struct GapField {
     angle: Option<std::sync::Arc<PathAngleTable>>,
 }
 
-/// The path parameter `t(theta)` of the nominal pin-centre path point with polar angle `theta`
-/// (module docs), tabulated: `U(theta) = t + Zc theta` is periodic with period `2 pi / Zc` (one
-/// tooth on, `t` falls by `2 pi`) and smooth, and is stored as a cubic Hermite spline with the
-/// exact node slopes `U' = Zc - Zc / (1 - Zc mu'(t))` (error falling as the fourth power of the
-/// node spacing); so is the path radius `|C(t(theta))|`, with the exact node slopes
-/// `d|C|/dtheta = (a Rp sin t / |C|) dt/dtheta`. The node count is doubled from 1024 until, at
-/// every cell midpoint, `t` is within [`PathAngleTable::TOLERANCE`] of Newton's solution and
-/// the radius within [`PathAngleTable::RADIUS_TOLERANCE`] of the closed form (8192 nodes for
-/// the example: 1.3e-11 rad and 1.7e-14 m; 4096 nodes left 2.1e-10 rad, which put 3e-8 arcmin
-/// of TE on the unworn, unmodified disc, whose TE is zero). [`GapField::eval`] then needs one
-/// `atan2` per pin instead of Newton's two or three `atan2` and `sin_cos`.
+/// The path parameter `t` and the path radius `|C(t)|` of a pin centre `q` (module docs),
+/// tabulated in the disc frame without an angle: `q` is turned back by the whole teeth its
+/// guess names (`k = round(-t_guess / 2 pi)` teeth of `2 pi / Zc`, a table of the `Zc` turns),
+/// and the turned centre `q'` is located by its slope `s = q'_y / q'_x` (the tangent of its
+/// polar angle, `|atan s| <` [`PathAngleTable::HALF_WIDTH`]); then `t = t'(s) - 2 pi k` (one
+/// tooth on, `t` falls by `2 pi`). `t'(s)` and `|C(t'(s))|` are cubic Hermite splines over `s`
+/// with the exact node slopes `dt/ds = -Zc / ((1 - Zc mu'(t)) (1 + s^2))` and
+/// `d|C|/ds = (a Rp sin t / |C|) dt/ds` (error falling as the fourth power of the node
+/// spacing). The node count is doubled from 3072 until, at every cell midpoint, `t` is within
+/// [`PathAngleTable::TOLERANCE`] of Newton's solution and the radius within
+/// [`PathAngleTable::RADIUS_TOLERANCE`] of the closed form (24 576 nodes for the example,
+/// 768 KiB). [`GapField::eval`] then needs no `atan2` and no `sin_cos` per pin, where Newton's
+/// method takes two or three of each; a centre outside the table's sector (a guess more than
+/// about 0.17 rad of polar angle off) is located by Newton's method.
 #[derive(Debug, Clone)]
 struct PathAngleTable {
-    /// `U` at `theta_k = k h`, `k = 0..n`, rad.
-    value: Vec<f64>,
-    /// `U'(theta_k) h`, rad.
-    slope: Vec<f64>,
-    /// The path radius `|C(t(theta_k))|`, m.
-    radius: Vec<f64>,
-    /// `d|C|/dtheta (theta_k) h`, m.
-    radius_slope: Vec<f64>,
-    /// `1 / h`, 1/rad.
+    /// Per node `s_j = -s_max + j h`, `j = 0..n`: `t'`, `dt'/ds h` (rad), `|C|`, `d|C|/ds h` (m).
+    nodes: Vec<[f64; 4]>,
+    /// `tan HALF_WIDTH`.
+    s_max: f64,
+    /// `1 / h`.
     inv_h: f64,
+    /// `(cos, sin)` of the turn `-2 pi k / Zc` for `k = 0..Zc`.
+    turns: Vec<(f64, f64)>,
 }
 
 impl PathAngleTable {
@@ -248,8 +250,12 @@ impl PathAngleTable {
     const TOLERANCE: f64 = 2e-11;
     /// Largest error of the tabulated path radius accepted at the cell midpoints, m.
     const RADIUS_TOLERANCE: f64 = 1e-13;
+    /// Half-width of the table's sector in polar angle, rad: half a tooth (0.08 rad for 39
+    /// teeth) plus a guess a quarter tooth off in `t` (at most 0.072 rad of polar angle for
+    /// the example) plus `asin(a / Rp)` (0.020 rad), with room to spare.
+    const HALF_WIDTH: f64 = 0.25;
     /// Most nodes tried.
-    const MAX_NODES: usize = 1 << 16;
+    const MAX_NODES: usize = 3 << 16;
 
     /// [`PathAngleTable::new`], remembered for the last few geometries of the process (the
     /// table depends on `a`, `rp` and `zc` only, and every gap field of a study shares them).
@@ -273,79 +279,90 @@ impl PathAngleTable {
     }
 
     /// The table for the path of eccentricity `a`, pin circle radius `rp` (m) and `zc` teeth,
-    /// or `None` if no table up to [`Self::MAX_NODES`] meets [`Self::TOLERANCE`].
+    /// or `None` if no table up to [`Self::MAX_NODES`] meets [`Self::TOLERANCE`] and
+    /// [`Self::RADIUS_TOLERANCE`], or the sector is wider than half a turn.
     fn new(a: f64, rp: f64, zc: f64) -> Option<Self> {
-        let period = TAU / zc;
-        // U, U', |C| and d|C|/dtheta at theta.
-        let u = |theta: f64, guess: f64| -> [f64; 4] {
-            let (t, dmu, sin_t, cos_t) = path_parameter(a, rp, zc, theta, guess);
-            let dt = -zc / (1.0 - zc * dmu);
+        if !(TAU / zc < Self::HALF_WIDTH && a < rp) {
+            return None;
+        }
+        // t, dt/ds, |C| and d|C|/ds at slope s.
+        let at = |s: f64| -> [f64; 4] {
+            let theta = s.atan();
+            let (t, dmu, sin_t, cos_t) = path_parameter(a, rp, zc, theta, -zc * theta);
+            let dt = -zc / (1.0 - zc * dmu) / (1.0 + s * s);
             let rc = (rp * rp + a * a - 2.0 * a * rp * cos_t).sqrt();
-            [t + zc * theta, zc + dt, rc, a * rp * sin_t / rc * dt]
+            [t, dt, rc, a * rp * sin_t / rc * dt]
         };
-        let mut n = 1024;
+        let s_max = Self::HALF_WIDTH.tan();
+        let mut turns: Vec<(f64, f64)> = (0..zc as usize)
+            .map(|k| {
+                let (sin, cos) = (-TAU * k as f64 / zc).sin_cos();
+                (cos, sin)
+            })
+            .collect();
+        let mut n = 3072;
         while n <= Self::MAX_NODES {
-            let h = period / n as f64;
-            let mut value = Vec::with_capacity(n + 1);
-            let mut slope = Vec::with_capacity(n + 1);
-            let mut radius = Vec::with_capacity(n + 1);
-            let mut radius_slope = Vec::with_capacity(n + 1);
-            for k in 0..=n {
-                let theta = k as f64 * h;
-                let [v, d, r, dr] = u(theta, -zc * theta);
-                value.push(v);
-                slope.push(d * h);
-                radius.push(r);
-                radius_slope.push(dr * h);
-            }
+            let h = 2.0 * s_max / n as f64;
+            let nodes = (0..=n)
+                .map(|j| {
+                    let [t, dt, r, dr] = at(-s_max + j as f64 * h);
+                    [t, dt * h, r, dr * h]
+                })
+                .collect();
             let table = PathAngleTable {
-                value,
-                slope,
-                radius,
-                radius_slope,
+                nodes,
+                s_max,
                 inv_h: 1.0 / h,
+                turns,
             };
             let (worst, worst_radius) = (0..n)
-                .map(|k| {
-                    let theta = (k as f64 + 0.5) * h;
-                    let exact = u(theta, -zc * theta);
-                    let (v, _, r, _) = table.eval(theta);
-                    ((v - exact[0]).abs(), (r - exact[2]).abs())
+                .map(|j| {
+                    let s = -s_max + (j as f64 + 0.5) * h;
+                    let exact = at(s);
+                    let (t, _, r, _) = table.cell(s);
+                    ((t - exact[0]).abs(), (r - exact[2]).abs())
                 })
                 .fold((0.0_f64, 0.0_f64), |m, e| (m.0.max(e.0), m.1.max(e.1)));
             if worst <= Self::TOLERANCE && worst_radius <= Self::RADIUS_TOLERANCE {
                 return Some(table);
             }
             n *= 2;
+            turns = table.turns;
         }
         None
     }
 
-    /// `U(theta)`, `dU/dtheta`, the path radius `|C|` (m) and `d|C|/dtheta` (m/rad) for any
-    /// real `theta` (wrapped into the period).
+    /// `t'`, `dt'/ds`, `|C|` and `d|C|/ds` at slope `s` (within `+-s_max`).
     #[inline]
-    fn eval(&self, theta: f64) -> (f64, f64, f64, f64) {
-        let n = self.value.len() - 1;
-        // Wrapped with `floor` (`rem_euclid` on floats is a slow `fmod`).
-        let x = theta * self.inv_h;
-        let s = x - n as f64 * (x / n as f64).floor();
-        let i = (s as usize).min(n - 1);
-        let f = s - i as f64;
-        let (v, d) = cubic_hermite(
-            self.value[i],
-            self.slope[i],
-            self.value[i + 1],
-            self.slope[i + 1],
-            f,
-        );
-        let (r, dr) = cubic_hermite(
-            self.radius[i],
-            self.radius_slope[i],
-            self.radius[i + 1],
-            self.radius_slope[i + 1],
-            f,
-        );
-        (v, d * self.inv_h, r, dr * self.inv_h)
+    fn cell(&self, s: f64) -> (f64, f64, f64, f64) {
+        let n = self.nodes.len() - 1;
+        let x = (s + self.s_max) * self.inv_h;
+        let i = (x as usize).min(n - 1);
+        let f = x - i as f64;
+        let (p, q) = (&self.nodes[i], &self.nodes[i + 1]);
+        let (t, dt) = cubic_hermite(p[0], p[1], q[0], q[1], f);
+        let (r, dr) = cubic_hermite(p[2], p[3], q[2], q[3], f);
+        (t, dt * self.inv_h, r, dr * self.inv_h)
+    }
+
+    /// The path parameter `t` of the pin centre `q` (profile frame, m) with the guess
+    /// `t_guess`, `dt/dq` (rad/m), the path radius `|C(t)|` (m) and `d|C|/dq`; `None` when `q`
+    /// lies outside the sector of the tooth the guess names.
+    #[inline]
+    fn eval(&self, q: &Vec2, t_guess: f64) -> Option<(f64, Vec2, f64, Vec2)> {
+        let k = (-t_guess / TAU).round();
+        let (c, sn) = self.turns[(k as i64).rem_euclid(self.turns.len() as i64) as usize];
+        let x = c * q.x - sn * q.y;
+        let y = sn * q.x + c * q.y;
+        let s = y / x;
+        if !(x > 0.0 && s.abs() < self.s_max) {
+            return None;
+        }
+        let (t, dt, r, dr) = self.cell(s);
+        // ds/dq' = (-y / x^2, 1 / x), turned back to the profile frame.
+        let (gx, gy) = (-y / (x * x), 1.0 / x);
+        let ds_dq = Vec2::new(c * gx + sn * gy, c * gy - sn * gx);
+        Some((t - TAU * k, ds_dq * dt, r, ds_dq * dr))
     }
 }
 
@@ -477,34 +494,16 @@ impl GapField {
     /// [`Profile::contact_parameter_guess`]), and the parameter found is returned with it.
     #[inline]
     pub fn eval(&self, q: &Vec2, t_guess: f64) -> (GapEval, f64) {
-        let (a, rp, zc) = (self.a, self.rp, self.zc);
         let r2 = q.norm_squared();
         let rq = r2.sqrt();
-        let theta = q.y.atan2(q.x);
-        // arg C(t) = -t/Zc + mu(t), mu = atan2(a sin t, Rp - a cos t) equals theta, unwrapped
-        // near the guess (|mu| < asin(a/Rp), far below pi).
-        let pred = -t_guess / zc;
-        let x = theta - pred + PI;
-        let theta = pred + x - TAU * (x / TAU).floor() - PI;
-        // Derivatives: dtheta/dq = (-q_y, q_x)/|q|^2, dt/dtheta = -Zc / (1 - Zc mu') and
-        // d|C|/dtheta = (a Rp sin t / |C|) dt/dtheta (the table's own derivatives when
-        // tabulated, so that the gradient is that of the gap evaluated).
-        let (t, dt_dtheta, rc, drc_dtheta) = match &self.angle {
-            Some(table) => {
-                let (u, du, rc, drc) = table.eval(theta);
-                (u - zc * theta, du - zc, rc, drc)
-            }
-            None => {
-                let (t, dmu, sin_t, cos_t) = path_parameter(a, rp, zc, theta, t_guess);
-                let dt = -zc / (1.0 - zc * dmu);
-                let rc = (rp * rp + a * a - 2.0 * a * rp * cos_t).sqrt();
-                (t, dt, rc, a * rp * sin_t / rc * dt)
-            }
+        // The path parameter, the path radius and their gradients (the table's own
+        // derivatives when tabulated, so that the gradient is that of the gap evaluated).
+        let (t, dt_dq, rc, drc_dq) = match self.angle.as_ref().and_then(|a| a.eval(q, t_guess)) {
+            Some(x) => x,
+            None => self.path_by_newton(q, r2, t_guess),
         };
         let rho = rq - rc;
-        let dtheta_dq = Vec2::new(-q.y, q.x) / r2;
-        let dt_dq = dtheta_dq * dt_dtheta;
-        let drho_dq = q / rq - dtheta_dq * drc_dtheta;
+        let drho_dq = q / rq - drc_dq;
         let ([r0, s, curvature], [dr0, ds, dk]) =
             PeriodicSpline::eval3([&self.offset, &self.slope, &self.curvature], t);
         let gap = s * (rho - r0);
@@ -518,6 +517,28 @@ impl GapField {
             },
             t,
         )
+    }
+}
+
+impl GapField {
+    /// [`GapField::eval`]'s path parameter `t`, `dt/dq`, path radius `|C(t)|` and `d|C|/dq`
+    /// by Newton's method on the polar angle of `q` (`r2 = |q|^2`), unwrapped near the guess
+    /// (`arg C(t) = -t/Zc + mu(t)`, `|mu| < asin(a/Rp)`, far below pi): where no table met
+    /// its tolerance, or `q` lies outside the table's sector.
+    #[cold]
+    fn path_by_newton(&self, q: &Vec2, r2: f64, t_guess: f64) -> (f64, Vec2, f64, Vec2) {
+        let (a, rp, zc) = (self.a, self.rp, self.zc);
+        let theta = q.y.atan2(q.x);
+        let pred = -t_guess / zc;
+        let x = theta - pred + PI;
+        let theta = pred + x - TAU * (x / TAU).floor() - PI;
+        let (t, dmu, sin_t, cos_t) = path_parameter(a, rp, zc, theta, t_guess);
+        // dtheta/dq = (-q_y, q_x)/|q|^2, dt/dtheta = -Zc / (1 - Zc mu'),
+        // d|C|/dt = a Rp sin t / |C|.
+        let dtheta_dq = Vec2::new(-q.y, q.x) / r2;
+        let dt_dq = dtheta_dq * (-zc / (1.0 - zc * dmu));
+        let rc = (rp * rp + a * a - 2.0 * a * rp * cos_t).sqrt();
+        (t, dt_dq, rc, dt_dq * (a * rp * sin_t / rc))
     }
 }
 
@@ -567,8 +588,9 @@ mod tests {
 
     /// The tabulated path parameter equals Newton's solution to 2e-11 rad and the tabulated path
     /// radius the closed form to 1e-13 m at 20 000 polar angles over three teeth (cell
-    /// midpoints and quarter points included), with the example's geometry; `dt/dtheta` from
-    /// the table within 1e-6 of the analytic one, `d|C|/dtheta` within 1e-6 of `a Zc`.
+    /// midpoints and quarter points included), at radii 0.9 and 1.1 `Rp` and with guesses up to
+    /// a quarter tooth off, with the example's geometry; the table's gradients equal central
+    /// differences of its values within 1e-6.
     #[test]
     fn path_angle_table_matches_newton() {
         let geo = crate::config::Config::example()
@@ -582,29 +604,41 @@ mod tests {
             geo.disc_teeth() as f64,
         );
         let table = PathAngleTable::new(a, rp, zc).expect("a table meets the tolerance");
-        let (mut worst, mut worst_d, mut worst_r, mut worst_dr) =
-            (0.0_f64, 0.0_f64, 0.0_f64, 0.0_f64);
+        let (mut worst, mut worst_r, mut worst_d) = (0.0_f64, 0.0_f64, 0.0_f64);
+        let mut outside = 0;
         for k in 0..20_000 {
             let theta = -0.3 + 3.0 * TAU / zc * k as f64 / 20_000.0;
-            let (u, du, rc, drc) = table.eval(theta);
-            let (t, dmu, _, _) = path_parameter(a, rp, zc, theta, u - zc * theta);
-            let (t, dmu, sin_t, cos_t) = path_parameter(a, rp, zc, theta, t - 1e-3 * (1.0 + dmu));
-            worst = worst.max((u - zc * theta - t).abs());
-            let dt = -zc / (1.0 - zc * dmu);
-            worst_d = worst_d.max(((du - zc) - dt).abs() / dt.abs());
+            let t0 = path_parameter(a, rp, zc, theta, -zc * theta).0;
+            let (t, _, _, cos_t) = path_parameter(a, rp, zc, theta, t0);
             let exact = (rp * rp + a * a - 2.0 * a * rp * cos_t).sqrt();
-            worst_r = worst_r.max((rc - exact).abs());
-            let d_exact = a * rp * sin_t / exact * dt;
-            worst_dr = worst_dr.max((drc - d_exact).abs() / (a * zc));
+            for (radius, off) in [(0.9, 0.0), (1.1, 1.5), (1.0, -1.5)] {
+                let q = Vec2::new(theta.cos(), theta.sin()) * (radius * rp);
+                let Some((tt, dt, rc, drc)) = table.eval(&q, t + off) else {
+                    outside += 1;
+                    continue;
+                };
+                worst = worst.max((tt - t).abs());
+                worst_r = worst_r.max((rc - exact).abs());
+                let h = 1e-7 * rp;
+                for e in [Vec2::new(h, 0.0), Vec2::new(0.0, h)] {
+                    let (tp, _, rp_, _) = table.eval(&(q + e), t + off).unwrap();
+                    let (tm, _, rm, _) = table.eval(&(q - e), t + off).unwrap();
+                    let (fd_t, fd_r) = ((tp - tm) / (2.0 * h), (rp_ - rm) / (2.0 * h));
+                    let (an_t, an_r) = (dt.dot(&e) / h, drc.dot(&e) / h);
+                    worst_d = worst_d
+                        .max((fd_t - an_t).abs() / dt.norm())
+                        .max((fd_r - an_r).abs() / (a * zc / rp));
+                }
+            }
         }
         eprintln!(
-            "t within {worst:.2e} rad, dt/dtheta within {worst_d:.2e}, radius within \
-             {worst_r:.2e} m, its slope within {worst_dr:.2e} of a Zc"
+            "t within {worst:.2e} rad, radius within {worst_r:.2e} m, gradients within \
+             {worst_d:.2e}; {outside} outside the sector"
         );
+        assert_eq!(outside, 0);
         assert!(worst < 2e-11);
-        assert!(worst_d < 1e-6);
         assert!(worst_r < 1e-13);
-        assert!(worst_dr < 1e-6);
+        assert!(worst_d < 1e-6);
     }
     use crate::contact::pin_geometry;
     use crate::geometry::{Modification, WearMap};
