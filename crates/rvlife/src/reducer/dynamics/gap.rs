@@ -101,7 +101,7 @@ impl PeriodicSpline {
     }
 
     /// Values and derivatives (per radian) of three splines on one grid (the same node count)
-    /// at `t` (any real, wrapped): [`PeriodicSpline::eval`] of each, the cell found once.
+    /// at `t` (any real, wrapped), the cell found once.
     #[inline]
     fn eval3(splines: [&PeriodicSpline; 3], t: f64) -> ([f64; 3], [f64; 3]) {
         let (i, j, u) = splines[0].locate(t);
@@ -280,7 +280,8 @@ impl PathAngleTable {
 
     /// The table for the path of eccentricity `a`, pin circle radius `rp` (m) and `zc` teeth,
     /// or `None` if no table up to [`Self::MAX_NODES`] meets [`Self::TOLERANCE`] and
-    /// [`Self::RADIUS_TOLERANCE`], or the sector is wider than half a turn.
+    /// [`Self::RADIUS_TOLERANCE`], or a tooth spans more than [`Self::HALF_WIDTH`] of polar
+    /// angle (the sector would not hold a pin with a guess off by a quarter tooth).
     fn new(a: f64, rp: f64, zc: f64) -> Option<Self> {
         if !(TAU / zc < Self::HALF_WIDTH && a < rp) {
             return None;
