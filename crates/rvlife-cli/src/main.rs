@@ -10,8 +10,9 @@ use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rvlife::api::{Spelling, Wear};
 use rvlife::config::{Config, Model};
-use rvlife::export::{write_profile, ProfileFormat};
 use rvlife::geometry::Profile;
+use rvlife::output::export::{write_profile, ProfileFormat};
+use rvlife::quantities::{self, ConsoleColumn, StageSummary, CONSOLE, STAGE};
 use rvlife::Result;
 use serde_json::{json, Value};
 
@@ -52,6 +53,10 @@ enum Command {
         /// Replace an existing results directory.
         #[arg(long)]
         force: bool,
+        /// Also print every quantity of every stage (all of `stages.csv`), one row per
+        /// quantity.
+        #[arg(long)]
+        all: bool,
     },
     /// Export the disc profile (nominal, modified or worn) to CSV, DXF or SVG.
     Profile {
@@ -238,8 +243,8 @@ impl WearArgs {
 
 /// The percentiles at the last stage and the life distribution, to stdout.
 fn print_montecarlo(model: &Model, records: &[rvlife::montecarlo::SampleRecord]) {
-    let pct = rvlife::montecarlo::percentiles(records, &model.stage_hours);
-    let last = model.stage_hours.last().copied().unwrap_or(0.0);
+    let pct = rvlife::montecarlo::percentiles(records, &model.wear.stage_hours);
+    let last = model.wear.stage_hours.last().copied().unwrap_or(0.0);
     println!("at {last:.0} h: quantity, p5, p50, p95");
     for p in pct.iter().filter(|p| p.hours == last) {
         println!(
@@ -265,8 +270,8 @@ fn print_montecarlo(model: &Model, records: &[rvlife::montecarlo::SampleRecord])
 
 /// The validated model; a measured profile's fit is reported on stderr.
 fn validated(cfg: &Config) -> Result<Model> {
-    let model = cfg.validate()?;
-    if let Some(m) = &model.measured {
+    let model = rvlife::api::validated(cfg)?;
+    if let Some(m) = &model.cycloid.measured {
         eprintln!(
             "measured profile {}: {} points, fit residual RMS {:.3} um, max {:.3} um",
             m.source.display(),
@@ -373,7 +378,7 @@ fn run(cli: Cli) -> Result<()> {
                 samples_per_mesh_cycle,
                 Spelling::Cli,
             )?;
-            let staging = rvlife::report::Staging::prepare(&out, force)?;
+            let staging = rvlife::output::Staging::prepare(&out, force)?;
             let pb = progress_bar(plan.indices().len() as u64);
             pb.set_message("samples");
             let start = std::time::Instant::now();
@@ -382,7 +387,7 @@ fn run(cli: Cli) -> Result<()> {
             let meta = rvlife::montecarlo::ShardMeta {
                 rvlife_version: env!("CARGO_PKG_VERSION").into(),
                 plan,
-                stage_hours: model.stage_hours.clone(),
+                stage_hours: model.wear.stage_hours.clone(),
                 config_toml: text,
             };
             let whole = plan.shard == (1, 1);
@@ -407,7 +412,7 @@ fn run(cli: Cli) -> Result<()> {
         }
         Command::Merge { shards, out, force } => {
             let (meta, records) = rvlife::montecarlo::merge(&shards)?;
-            let staging = rvlife::report::Staging::prepare(&out, force)?;
+            let staging = rvlife::output::Staging::prepare(&out, force)?;
             staging.commit(|dir| rvlife::montecarlo::write_results(dir, &meta, &records))?;
             println!(
                 "rvlife merge: {} shards, {} samples; results in {}",
@@ -416,11 +421,16 @@ fn run(cli: Cli) -> Result<()> {
                 out.display()
             );
         }
-        Command::Run { config, out, force } => {
+        Command::Run {
+            config,
+            out,
+            force,
+            all,
+        } => {
             let cfg = load_config(config.as_deref(), budget)?;
             let model = validated(&cfg)?;
             // The results folder is checked and its temporary directory made before any work.
-            let staging = rvlife::report::Staging::prepare(&out, force)?;
+            let staging = rvlife::output::Staging::prepare(&out, force)?;
             let pb = progress_bar(1);
             let start = std::time::Instant::now();
             let study = rvlife::study::run(&model, &|done, total| {
@@ -428,7 +438,7 @@ fn run(cli: Cli) -> Result<()> {
                 pb.set_position(done as u64);
             })?;
             pb.set_message("writing");
-            staging.commit(|dir| rvlife::report::write_files(&study, dir))?;
+            staging.commit(|dir| rvlife::output::write_files(&study, dir))?;
             pb.finish_and_clear();
             let s = study.summary();
             println!(
@@ -440,6 +450,9 @@ fn run(cli: Cli) -> Result<()> {
                 out.display()
             );
             print_stage_table(&s.stages);
+            if all {
+                print_all_quantities(&s.stages);
+            }
             println!(
                 "STE {:.4} arcmin per 10 um of wear (paper, rigid Adams model: 0.5351 at 10 um)",
                 s.paper_comparison.ste_per_10um_arcmin
@@ -460,11 +473,11 @@ fn run(cli: Cli) -> Result<()> {
             wear,
         } => {
             let format = ProfileFormat::from_path(&out)?;
-            rvlife::report::check_output_file(&out, force)?;
+            rvlife::output::check_output_file(&out, force)?;
             let model = validated(&load_config(config.as_deref(), budget)?)?;
             let profile = profile_for(&model, &wear, nominal)?;
             // Written beside, then renamed: no half-written file, none left on failure.
-            rvlife::report::write_file_atomically(&out, force, |tmp| {
+            rvlife::output::write_file_atomically(&out, force, |tmp| {
                 write_profile(&profile, tmp, format)
             })?;
             eprintln!("wrote {}", out.display());
@@ -632,7 +645,7 @@ fn run(cli: Cli) -> Result<()> {
             };
             let model = rvlife::api::dynamics_model(&cfg, &opts, Spelling::Cli)?;
             let staging = match &out {
-                Some(dir) => Some(rvlife::report::Staging::prepare(dir, force)?),
+                Some(dir) => Some(rvlife::output::Staging::prepare(dir, force)?),
                 None => None,
             };
             let start = std::time::Instant::now();
@@ -643,7 +656,7 @@ fn run(cli: Cli) -> Result<()> {
             let (res, mut v) = res?;
             let wall = start.elapsed().as_secs_f64();
             if let Some(staging) = staging {
-                staging.commit(|dir| rvlife::report::write_dynamics_files(&res, dir))?;
+                staging.commit(|dir| rvlife::output::write_dynamics_files(&res, dir))?;
             }
             let s = &res.summary;
             v["wall_time_s"] = json!(wall);
@@ -702,14 +715,14 @@ fn run(cli: Cli) -> Result<()> {
         } => {
             let model = validated(&load_config(config.as_deref(), budget)?)?;
             let pb = busy("calibrating");
-            let calibrated = rvlife::wear::calibrate(&model, target_wear_um * 1e-6);
+            let calibrated = rvlife::wear::calibrate(&model.wear_inputs(), target_wear_um * 1e-6);
             pb.finish_and_clear();
             let (k, achieved) = calibrated?;
             println!(
                 "archard_coefficient_mm3_per_n_m = {:.6e}   # max wear {:.4} um at {} h",
                 k * 1e9,
                 achieved * 1e6,
-                model.stage_hours.last().copied().unwrap_or(0.0)
+                model.wear.stage_hours.last().copied().unwrap_or(0.0)
             );
         }
     }
@@ -729,10 +742,10 @@ fn calibrate_measured(
     use rvlife::calibration::{calibrate, check_budget, write_files, Measurements, Options};
     let data = Measurements::read(path)?;
     data.check_for_fit(fit_running_in)?;
-    let model = load_config(config, budget)?.validate()?;
+    let model = rvlife::api::validated(&load_config(config, budget)?)?;
     check_budget(&model, &data)?;
     let staging = match out {
-        Some(dir) => Some(rvlife::report::Staging::prepare(dir, force)?),
+        Some(dir) => Some(rvlife::output::Staging::prepare(dir, force)?),
         None => None,
     };
     let start = std::time::Instant::now();
@@ -747,14 +760,14 @@ fn calibrate_measured(
     }
     let wall = start.elapsed().as_secs_f64();
     let pct = cal.confidence * 100.0;
-    let (k, unit) = if model.archard_key.ends_with("m2_per_n") {
+    let (k, unit) = if model.wear.archard_key.ends_with("m2_per_n") {
         (&cal.archard_coefficient_m2_per_n, "m^2/N")
     } else {
         (&cal.archard_coefficient_mm3_per_n_m, "mm^3/(N m)")
     };
     println!(
         "{} = {:.6e}   # {unit}; {pct:.0} % CI [{:.6e}, {:.6e}]; {:.4} x the config's",
-        model.archard_key.trim_start_matches("wear."),
+        model.wear.archard_key.trim_start_matches("wear."),
         k.value,
         k.lower,
         k.upper,
@@ -813,7 +826,7 @@ fn main() -> ExitCode {
     // SIGINT, SIGTERM and SIGHUP remove this run's temporary outputs before it ends (exit 130,
     // as a shell reports an interrupted command).
     let _ = ctrlc::set_handler(|| {
-        rvlife::report::remove_pending();
+        rvlife::output::remove_pending();
         std::process::exit(130);
     });
     let cli = Cli::parse();
@@ -830,53 +843,17 @@ fn main() -> ExitCode {
     }
 }
 
-/// One column of the console's stage table: header, width and the formatted value.
-type Column = (
-    &'static str,
-    usize,
-    fn(&rvlife::study::StageSummary) -> Option<String>,
-);
-
 /// Prints the stage table: units in a line above it, then one row per stage; the DTE columns
-/// appear when the dynamic model ran, the flexible-disc columns when the FE disc did.
-fn print_stage_table(stages: &[rvlife::study::StageSummary]) {
-    let columns: [Column; 16] = [
-        ("hours", 7, |s| Some(format!("{:.0}", s.hours))),
-        ("wear", 7, |s| Some(format!("{:.2}", s.max_wear_um))),
-        ("STE", 8, |s| Some(format!("{:.4}", s.ste_mean_arcmin))),
-        ("STE_pp", 8, |s| {
-            Some(format!("{:.4}", s.ste_peak_to_peak_arcmin))
-        }),
-        ("backlash", 8, |s| Some(format!("{:.4}", s.backlash_arcmin))),
-        ("LM", 8, |s| Some(format!("{:.4}", s.lost_motion_arcmin))),
-        ("loadTE", 8, |s| {
-            Some(format!("{:.4}", s.loaded_te_mean_arcmin))
-        }),
-        ("DTE", 8, |s| s.dte_mean_arcmin.map(|v| format!("{v:.4}"))),
-        ("DTE_pp", 8, |s| {
-            s.dte_peak_to_peak_arcmin.map(|v| format!("{v:.4}"))
-        }),
-        ("flexSTE", 8, |s| {
-            s.flexible_ste_mean_arcmin.map(|v| format!("{v:.4}"))
-        }),
-        ("flexLTE", 8, |s| {
-            s.flexible_loaded_te_mean_arcmin.map(|v| format!("{v:.4}"))
-        }),
-        ("flexLM", 8, |s| {
-            s.flexible_lost_motion_arcmin.map(|v| format!("{v:.4}"))
-        }),
-        ("Fmax", 7, |s| Some(format!("{:.0}", s.max_force_n))),
-        ("pmax", 6, |s| Some(format!("{:.0}", s.max_pressure_mpa))),
-        ("pins", 4, |s| Some(format!("{}", s.pins_in_contact))),
-        ("share", 5, |s| Some(format!("{:.3}", s.disc_load_share))),
-    ];
+/// appear when the dynamic model ran, the flexible-disc columns when the FE disc did
+/// ([`rvlife::quantities::CONSOLE`]).
+fn print_stage_table(stages: &[StageSummary]) {
     // A column is shown when every stage has its value.
-    let shown: Vec<&Column> = columns
+    let shown: Vec<&ConsoleColumn> = CONSOLE
         .iter()
-        .filter(|c| stages.iter().all(|s| (c.2)(s).is_some()))
+        .filter(|c| stages.iter().all(|s| c.cell(s).is_some()))
         .collect();
-    let flexible = shown.iter().any(|c| c.0.starts_with("flex"));
-    let dynamic = shown.iter().any(|c| c.0.starts_with("DTE"));
+    let flexible = shown.iter().any(|c| c.header.starts_with("flex"));
+    let dynamic = shown.iter().any(|c| c.header.starts_with("DTE"));
     println!(
         "units: hours h, wear um (largest depth), Fmax N, pmax MPa, every other column arcmin"
     );
@@ -888,14 +865,33 @@ fn print_stage_table(stages: &[rvlife::study::StageSummary]) {
     );
     let header: Vec<String> = shown
         .iter()
-        .map(|c| format!("{:>w$}", c.0, w = c.1))
+        .map(|c| format!("{:>w$}", c.header, w = c.width))
         .collect();
     println!("{}", header.join(" "));
     for st in stages {
         let row: Vec<String> = shown
             .iter()
-            .map(|c| format!("{:>w$}", (c.2)(st).unwrap_or_default(), w = c.1))
+            .map(|c| format!("{:>w$}", c.cell(st).unwrap_or_default(), w = c.width))
             .collect();
         println!("{}", row.join(" "));
+    }
+}
+
+/// Prints every quantity of the stage table ([`rvlife::quantities::STAGE`]), one row per
+/// quantity (its name with its unit) and one column per stage (`-` where it is absent).
+fn print_all_quantities(stages: &[StageSummary]) {
+    let width = STAGE.iter().map(|q| q.name.len()).max().unwrap_or(0);
+    println!("every quantity of the stages (stages.csv, summary.json):");
+    for q in STAGE {
+        let cells: Vec<String> = stages
+            .iter()
+            .map(|s| match s.value(q) {
+                quantities::Value::Number(v) => format!("{v:>12.6}"),
+                quantities::Value::Count(n) => format!("{n:>12}"),
+                quantities::Value::Pair([a, b]) => format!("{:>12}", format!("{a:.4}..{b:.4}")),
+                quantities::Value::Absent => format!("{:>12}", "-"),
+            })
+            .collect();
+        println!("  {:w$} {}", q.name, cells.join(" "), w = width);
     }
 }

@@ -399,7 +399,7 @@ fn contact_negative_torque_mirrors_the_forces() {
 // ---------------------------------------------------------------------------------------------
 // 3. Static transmission error and lost motion.
 
-/// Uniform wear `w` (m) lets the output turn by `w / (a (Zp + Z1/Z2))` (physics-notes
+/// Uniform wear `w` (m) lets the output turn by `w / (a (Zp + Z1/Z2))` (docs/model.md
 /// section 6); in arcmin.
 fn uniform_offset_arcmin(w: f64) -> f64 {
     w / (ECCENTRICITY_M * (PINS as f64 + 0.5)) * ARCMIN_PER_RAD

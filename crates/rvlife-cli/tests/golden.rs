@@ -22,8 +22,6 @@
 //! `RVLIFE_GOLDEN_WRITE=1 cargo test --release -p rvlife-cli --test golden`
 //! (`RVLIFE_GOLDEN_BIN=PATH` records the outputs of another build of `rvlife`).
 
-mod common;
-
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;

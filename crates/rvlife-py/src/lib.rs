@@ -116,7 +116,7 @@ struct Loaded {
 fn load(py: Python<'_>, text: &str, origin: &str, base_dir: Option<PathBuf>) -> PyResult<Loaded> {
     py.detach(|| {
         let config = config(text, origin, base_dir)?;
-        let model = config.validate().map_err(py_err)?;
+        let model = rvlife::api::validated(&config).map_err(py_err)?;
         Ok(Loaded {
             text: text.to_string(),
             config,
@@ -256,7 +256,7 @@ fn dynamics(
         let m =
             rvlife::api::dynamics_model(&cfg.config, &opts, Spelling::Python).map_err(py_err)?;
         let staging = match &out {
-            Some(dir) => Some(rvlife::report::Staging::prepare(dir, force).map_err(py_err)?),
+            Some(dir) => Some(rvlife::output::Staging::prepare(dir, force).map_err(py_err)?),
             None => None,
         };
         let (res, mut v) = rvlife::api::dynamics(
@@ -269,7 +269,7 @@ fn dynamics(
         .map_err(py_err)?;
         if let Some(staging) = staging {
             staging
-                .commit(|dir| rvlife::report::write_dynamics_files(&res, dir))
+                .commit(|dir| rvlife::output::write_dynamics_files(&res, dir))
                 .map_err(py_err)?;
         }
         let samples = serde_json::to_value(&res.samples)
@@ -311,13 +311,13 @@ fn run_study(
     let v = py.detach(|| -> PyResult<Value> {
         let m = &cfg.model;
         let staging = match &out {
-            Some(dir) => Some(rvlife::report::Staging::prepare(dir, force).map_err(py_err)?),
+            Some(dir) => Some(rvlife::output::Staging::prepare(dir, force).map_err(py_err)?),
             None => None,
         };
         let study = rvlife::study::run(m, &p).map_err(py_err)?;
         if let Some(staging) = staging {
             staging
-                .commit(|dir| rvlife::report::write_files(&study, dir))
+                .commit(|dir| rvlife::output::write_files(&study, dir))
                 .map_err(py_err)?;
         }
         serde_json::to_value(study.summary()).map_err(|e| PyRuntimeError::new_err(e.to_string()))
@@ -358,14 +358,14 @@ fn montecarlo(
         )
         .map_err(py_err)?;
         let staging = match &out {
-            Some(dir) => Some(rvlife::report::Staging::prepare(dir, force).map_err(py_err)?),
+            Some(dir) => Some(rvlife::output::Staging::prepare(dir, force).map_err(py_err)?),
             None => None,
         };
         let records = rvlife::montecarlo::run(m, &plan, &p).map_err(py_err)?;
         let meta = rvlife::montecarlo::ShardMeta {
             rvlife_version: env!("CARGO_PKG_VERSION").into(),
             plan,
-            stage_hours: m.stage_hours.clone(),
+            stage_hours: m.wear.stage_hours.clone(),
             config_toml: cfg.text.clone(),
         };
         let whole = plan.shard == (1, 1);
@@ -397,7 +397,7 @@ fn montecarlo(
 fn merge(py: Python<'_>, dirs: Vec<PathBuf>, out: PathBuf, force: bool) -> PyResult<()> {
     py.detach(|| -> PyResult<()> {
         let (meta, records) = rvlife::montecarlo::merge(&dirs).map_err(py_err)?;
-        let staging = rvlife::report::Staging::prepare(&out, force).map_err(py_err)?;
+        let staging = rvlife::output::Staging::prepare(&out, force).map_err(py_err)?;
         staging
             .commit(|dir| rvlife::montecarlo::write_results(dir, &meta, &records))
             .map_err(py_err)?;

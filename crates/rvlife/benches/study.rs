@@ -10,25 +10,34 @@ use std::time::Duration;
 use criterion::{criterion_group, criterion_main, Criterion};
 use rvlife::config::Config;
 use rvlife::geometry::WearMap;
-use rvlife::reducer::statics::StaticAnalysis;
+use rvlife::statics::StaticAnalysis;
 
 fn benches(c: &mut Criterion) {
     let model = Config::example().validate().expect("example validates");
-    let new = model.profile(None).expect("profile");
+    let new = model.profile().expect("profile");
     let mut worn_model = model.clone();
-    worn_model.stage_hours = vec![7500.0];
-    let hist = rvlife::wear::integrate(&worn_model, &|_, _| {}).expect("wear");
+    worn_model.wear.stage_hours = vec![7500.0];
+    let hist = rvlife::wear::integrate(&worn_model.wear_inputs(), &|_, _| {}).expect("wear");
     let worn = model
+        .cycloid
         .profile(Some(WearMap::new(hist.maps[0].clone()).expect("map")))
         .expect("worn profile");
     let red = &model.reducer;
     let sa_new = StaticAnalysis::new(red, &new).expect("gap field");
     let sa_worn = StaticAnalysis::new(red, &worn).expect("gap field");
     c.bench_function("static_solve_new_disc", |b| {
-        b.iter(|| sa_new.solve(black_box(0.05), model.rated_torque).unwrap())
+        b.iter(|| {
+            sa_new
+                .solve(black_box(0.05), model.rating.rated_torque)
+                .unwrap()
+        })
     });
     c.bench_function("static_solve_worn_7500h", |b| {
-        b.iter(|| sa_worn.solve(black_box(0.05), model.rated_torque).unwrap())
+        b.iter(|| {
+            sa_worn
+                .solve(black_box(0.05), model.rating.rated_torque)
+                .unwrap()
+        })
     });
     c.bench_function("contact_geometry_worn_7500h", |b| {
         b.iter(|| StaticAnalysis::new(red, black_box(&worn)).unwrap())
@@ -52,11 +61,12 @@ fn benches(c: &mut Criterion) {
         })
     });
     c.bench_function("static_te_worn_7500h", |b| {
-        b.iter(|| rvlife::te::static_te(red, black_box(&worn), model.te_samples).unwrap())
+        b.iter(|| rvlife::te::static_te(red, black_box(&worn), model.te.samples).unwrap())
     });
     // The paper's section 4.2 run: 0.8 s, 10 um uniform wear, sinusoidal 412 N m (gap table
     // included).
     let worn10 = model
+        .cycloid
         .profile(Some(WearMap::uniform(720, 10e-6).expect("map")))
         .expect("profile");
     let mut group = c.benchmark_group("dynamics");
@@ -65,27 +75,30 @@ fn benches(c: &mut Criterion) {
         .measurement_time(Duration::from_secs(40));
     group.bench_function("simulate_0p8s_10um_sinusoidal", |b| {
         b.iter(|| {
-            rvlife::reducer::dynamics::simulate(black_box(&worn10), &model.dynamics, false).unwrap()
+            rvlife::dynamics::simulate(black_box(&worn10), &model.dynamics.params, false).unwrap()
         })
     });
     group.bench_function("simulate_0p8s_7500h_sinusoidal", |b| {
         b.iter(|| {
-            rvlife::reducer::dynamics::simulate(black_box(&worn), &model.dynamics, false).unwrap()
+            rvlife::dynamics::simulate(black_box(&worn), &model.dynamics.params, false).unwrap()
         })
     });
     // Flexible discs: the FE disc, its modal reduction and the 0.8 s run.
     let flexible = {
         let mut c = Config::example();
         c.dynamics.disc = "flexible".into();
-        c.validate().expect("flexible example validates").dynamics
+        c.validate()
+            .expect("flexible example validates")
+            .dynamics
+            .params
     };
     group.measurement_time(Duration::from_secs(80));
     group.bench_function("simulate_flexible_0p8s_10um_sinusoidal", |b| {
         b.iter(|| {
-            rvlife::reducer::dynamics::simulate_discs(
+            rvlife::dynamics::simulate_discs(
                 black_box(&worn10),
                 &flexible,
-                &model.fem,
+                &model.fem.params,
                 None,
                 false,
             )
@@ -98,16 +111,17 @@ fn benches(c: &mut Criterion) {
         .sample_size(10)
         .measurement_time(Duration::from_secs(30));
     group.bench_function("disc_mesh_assembly_reduction_10um", |b| {
-        b.iter(|| rvlife::fem::DiscModel::build(black_box(&worn10), &model.fem).unwrap())
+        b.iter(|| rvlife::fem::DiscModel::build(black_box(&worn10), &model.fem.params).unwrap())
     });
-    let disc = rvlife::fem::DiscSet::build(&worn10, &model.fem, &model.reducer).expect("disc");
+    let disc =
+        rvlife::fem::DiscSet::build(&worn10, &model.fem.params, &model.reducer).expect("disc");
     group.bench_function("flexible_stage_72_crank_angles_10um", |b| {
         b.iter(|| {
             rvlife::fem::flex::analyse_stage(
                 black_box(&worn10),
                 &model.reducer,
                 &disc,
-                model.rated_torque,
+                model.rating.rated_torque,
             )
             .unwrap()
         })
@@ -118,8 +132,8 @@ fn benches(c: &mut Criterion) {
         .sample_size(10)
         .measurement_time(Duration::from_secs(40));
     let mut no_dynamics = model.clone();
-    no_dynamics.dynamics_enabled = false;
-    no_dynamics.fem_enabled = false;
+    no_dynamics.dynamics.enabled = false;
+    no_dynamics.fem.enabled = false;
     group.bench_function("builtin_study_without_dynamics", |b| {
         b.iter(|| rvlife::study::run(black_box(&no_dynamics), &|_, _| {}).unwrap())
     });

@@ -14,12 +14,13 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use rvlife::config::{Config, Model, WearModelKind};
+use rvlife::config::{Config, Model};
+use rvlife::dynamics::params::LoadProfile;
+use rvlife::dynamics::{simulate_with, DynamicsResult, FlexibleDiscs};
 use rvlife::fem::modal::ModalDisc;
 use rvlife::fem::DiscSet;
 use rvlife::geometry::{Profile, WearMap};
-use rvlife::reducer::dynamics::params::LoadProfile;
-use rvlife::reducer::dynamics::{simulate_with, DynamicsResult, FlexibleDiscs};
+use rvlife::wear::WearModelKind;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = PathBuf::from(
@@ -31,24 +32,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut c = Config::example();
     c.dynamics.disc = "flexible".into();
     let m = c.validate()?;
-    let sinusoidal = m.dynamics.load.clone();
+    let sinusoidal = m.dynamics.params.load.clone();
     // The wear states: 10 um uniform, then the study's stages as the study analyses them.
     let mut states: Vec<(String, f64, Profile)> = vec![(
         "10um".into(),
         f64::NAN,
-        m.profile(Some(WearMap::uniform(720, 10e-6)?))?,
+        m.cycloid.profile(Some(WearMap::uniform(720, 10e-6)?))?,
     )];
-    let hist = rvlife::wear::integrate(&m, &|_, _| {})?;
+    let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {})?;
     for (h, map) in hist.hours.iter().zip(&hist.maps) {
         let max = map.iter().copied().fold(0.0, f64::max);
-        let wear = match m.wear_model {
+        let wear = match m.wear.model {
             WearModelKind::Paper => WearMap::uniform(map.len(), max)?,
             _ => WearMap::new(map.clone())?,
         };
         states.push((
             format!("{h:.0}h"),
             *h,
-            m.profile((max > 0.0).then_some(wear))?,
+            m.cycloid.profile((max > 0.0).then_some(wear))?,
         ));
     }
     let mut csv = String::from(
@@ -66,8 +67,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     .collect();
     for (name, hours, profile) in &states {
         let t0 = Instant::now();
-        let discs = DiscSet::build(profile, &m.fem, &m.reducer)?;
-        let modal = ModalDisc::build(&discs.models[0], &m.dynamics.flexible.expect("flexible"))?;
+        let discs = DiscSet::build(profile, &m.fem.params, &m.reducer)?;
+        let modal = ModalDisc::build(
+            &discs.models[0],
+            &m.dynamics.params.flexible.expect("flexible"),
+        )?;
         let fd = FlexibleDiscs::new(&modal, &discs)?;
         let build_s = t0.elapsed().as_secs_f64();
         for (k, (load_name, load)) in [
@@ -77,7 +81,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .into_iter()
         .enumerate()
         {
-            let mut p = m.dynamics.clone();
+            let mut p = m.dynamics.params.clone();
             p.load = load;
             for (f, flexible) in [None, Some(fd)].into_iter().enumerate() {
                 let t = Instant::now();
@@ -107,7 +111,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 if hours.is_nan() {
                     let dir = out.join(format!("10um_{load_name}_{disc_name}"));
                     std::fs::create_dir_all(&dir)?;
-                    rvlife::plot::dynamics(&r, &dir)?;
+                    rvlife::output::plot::dynamics(&r, &dir)?;
                 } else {
                     curves[2 * k + f].1.push((*hours, s.te_mean_arcmin));
                 }
@@ -115,7 +119,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     std::fs::write(out.join("paper_dynamics.csv"), csv)?;
-    rvlife::plot::curves_against_hours(
+    rvlife::output::plot::curves_against_hours(
         &out,
         "te_hours",
         "Mean TE over 0.1-0.8 s: rigid against flexible discs",
@@ -129,8 +133,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 /// Largest inertia torque on the output over the window, N m: the carrier's inertia times its
 /// angular acceleration (differences of the sampled output speed).
 fn output_inertia_torque(r: &DynamicsResult, m: &Model) -> f64 {
-    let (w0, w1) = m.dynamics.window;
-    let j = m.dynamics.inertia.output;
+    let (w0, w1) = m.dynamics.params.window;
+    let j = m.dynamics.params.inertia.output;
     r.samples
         .windows(2)
         .filter(|w| w[0].time_s >= w0 && w[1].time_s <= w1)

@@ -9,11 +9,12 @@ use serde_json::{json, Value};
 use crate::config::Model;
 use crate::error::{Error, Result};
 use crate::geometry::{Profile, WearMap};
-use crate::reducer::statics::StaticAnalysis;
+use crate::statics::StaticAnalysis;
 use crate::te::{
     hysteresis, hysteresis_with, loaded_te_with, mesh_cycle_angles, over_revolution, CurveStats,
-    StaticTe, TwistTable, ARCMIN_PER_RAD,
+    StaticTe, TwistTable,
 };
+use crate::units::ARCMIN_PER_RAD;
 
 /// How a caller writes argument names in error messages.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -57,6 +58,18 @@ fn finite(spelling: Spelling, key: &str, v: f64) -> Result<()> {
     }
 }
 
+/// The validated model of `cfg` ([`crate::config::Config::validate`]) whose study fits the
+/// work budget ([`crate::study::check_work`]): what every command runs on.
+///
+/// # Errors
+/// [`Error::Invalid`] naming the key, the value and the allowed range, or the key that drives
+/// the work beyond the budget (a key the file does not set named as a default).
+pub fn validated(cfg: &crate::config::Config) -> Result<Model> {
+    let model = cfg.validate()?;
+    crate::study::check_work(&model).map_err(|e| cfg.explain_default(e))?;
+    Ok(model)
+}
+
 /// `"bearings"` or `"rigid"`: how the model supports the discs.
 pub fn support_name(model: &Model) -> &'static str {
     match model.reducer.support {
@@ -83,10 +96,9 @@ pub fn profile_for(
 ) -> Result<Profile> {
     let mut model = model.clone();
     if nominal {
-        model.modification = Default::default();
-        model.measured = None;
+        model.cycloid = model.cycloid.nominal();
     }
-    let n = crate::wear::grid_points(&model);
+    let n = model.wear_inputs().grid_points();
     let map = match (wear.wear_um, wear.hours) {
         (Some(w), _) => {
             if !w.is_finite() || w < 0.0 {
@@ -101,7 +113,7 @@ pub fn profile_for(
             return (w > 0.0)
                 .then(|| WearMap::uniform(n, w * 1e-6))
                 .transpose()
-                .and_then(|m| model.profile(m))
+                .and_then(|m| model.cycloid.profile(m))
                 .map_err(|e| match e {
                     Error::Invalid { allowed, .. } => {
                         Error::invalid(spelling.name("wear_um"), w, allowed)
@@ -117,20 +129,24 @@ pub fn profile_for(
                     "must be a finite number in [0, 1e7] h",
                 ));
             }
-            if model.update_hours > 0.0 && h / model.update_hours > 100_000.0 {
+            if model.wear.update_hours > 0.0 && h / model.wear.update_hours > 100_000.0 {
                 return Err(Error::invalid(
                     spelling.name("hours"),
                     h,
                     format!(
                         "would need more than 100000 profile updates of \
                          wear.profile_update_hours = {} h",
-                        model.update_hours
+                        model.wear.update_hours
                     ),
                 ));
             }
-            let mut m = model.clone();
-            m.stage_hours = vec![h];
-            let hist = crate::wear::integrate(&m, progress)?;
+            let mut w = model.wear.clone();
+            w.stage_hours = vec![h];
+            let inputs = crate::wear::WearInputs {
+                wear: &w,
+                ..model.wear_inputs()
+            };
+            let hist = crate::wear::integrate(&inputs, progress)?;
             if let Some(l) = &hist.limit {
                 return Err(Error::invalid(
                     spelling.name("hours"),
@@ -151,7 +167,7 @@ pub fn profile_for(
         }
         (None, None) => None,
     };
-    model.profile(map)
+    model.cycloid.profile(map)
 }
 
 /// Static equilibrium of the reducer at crank angle `crank_deg` (deg) under output torque
@@ -246,13 +262,13 @@ pub fn te(
     }
     let profile = profile_for(model, wear, false, spelling, progress)?;
     let red = &model.reducer;
-    let phis = mesh_cycle_angles(red.geometry.pins, model.te_samples);
+    let phis = mesh_cycle_angles(red.geometry.pins, model.te.samples);
     let sa = StaticAnalysis::new(red, &profile)?;
     let curves = hysteresis_with(
         &sa,
         &phis,
-        model.rated_torque,
-        model.measuring_torque_fraction,
+        model.rating.rated_torque,
+        model.te.measuring_torque_fraction,
         1,
     );
     let (tables, mean) = curves?;
@@ -266,12 +282,12 @@ pub fn te(
     let acc = mean.accuracy();
     // Over the output revolution: the mesh cycle tiled, or with part errors every mesh
     // cycle of the revolution.
-    let rev = crate::te::revolution(&sa, model.te_samples)?;
-    let zc = (model.geometry.pins - 1) as f64;
+    let rev = crate::te::revolution(&sa, model.te.samples)?;
+    let zc = (model.cycloid.geometry.pins - 1) as f64;
     let input_deg: Vec<f64> = rev
         .crank_angle
         .iter()
-        .map(|p| (model.ratio * p / zc).to_degrees())
+        .map(|p| (model.reducer.ratio * p / zc).to_degrees())
         .collect();
     let te_arcmin: Vec<f64> = rev.forward.iter().map(|v| v * ARCMIN_PER_RAD).collect();
     let play_max = if red.errors.is_zero() {
@@ -280,7 +296,7 @@ pub fn te(
         rev.play_stats().max
     };
     let mut v = json!({
-        "max_wear_um": model.wear_depth(&profile) * 1e6,
+        "max_wear_um": model.cycloid.wear_depth(&profile) * 1e6,
         "angular_te_arcmin": rev.angular_te() * ARCMIN_PER_RAD,
         "support": support_name(model),
         "te_mean_arcmin": st.mean * ARCMIN_PER_RAD,
@@ -289,14 +305,19 @@ pub fn te(
         "backlash_arcmin": acc.backlash * ARCMIN_PER_RAD,
         "backlash_max_arcmin": play_max * ARCMIN_PER_RAD,
         "lost_motion_arcmin": acc.lost_motion * ARCMIN_PER_RAD,
-        "measuring_torque_nm": model.measuring_torque_fraction * model.rated_torque,
+        "measuring_torque_nm": model.te.measuring_torque_fraction * model.rating.rated_torque,
         "torsional_stiffness_nm_per_arcmin": acc.torsional_stiffness / ARCMIN_PER_RAD,
-        "samples_per_mesh_cycle": model.te_samples,
+        "samples_per_mesh_cycle": model.te.samples,
     });
     if let Some(t) = torque_nm {
-        let l = loaded_te_with(&sa, t, model.te_samples)?;
+        let l = loaded_te_with(&sa, t, model.te.samples)?;
         let ls = l.stats();
-        let (_, lte) = over_revolution(&l.crank_angle, &l.te, model.geometry.pins, model.ratio);
+        let (_, lte) = over_revolution(
+            &l.crank_angle,
+            &l.te,
+            model.cycloid.geometry.pins,
+            model.reducer.ratio,
+        );
         v["torque_nm"] = json!(t);
         v["loaded_te_mean_arcmin"] = json!(ls.mean * ARCMIN_PER_RAD);
         v["loaded_te_peak_to_peak_arcmin"] = json!(ls.peak_to_peak * ARCMIN_PER_RAD);
@@ -333,14 +354,14 @@ pub fn hysteresis_curve(
     }
     let profile = profile_for(model, wear, false, spelling, progress)?;
     let red = &model.reducer;
-    let mut phis = mesh_cycle_angles(red.geometry.pins, model.te_samples);
+    let mut phis = mesh_cycle_angles(red.geometry.pins, model.te.samples);
     phis.push(crank_deg.to_radians());
     let curves = hysteresis(
         red,
         &profile,
         &phis,
-        model.rated_torque,
-        model.measuring_torque_fraction,
+        model.rating.rated_torque,
+        model.te.measuring_torque_fraction,
         levels,
     );
     let (mut tables, _) = curves?;
@@ -350,12 +371,12 @@ pub fn hysteresis_curve(
     let v = json!({
         "max_wear_um": profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
         "support": support_name(model),
-        "rated_torque_nm": model.rated_torque,
-        "measuring_torque_fraction": model.measuring_torque_fraction,
+        "rated_torque_nm": model.rating.rated_torque,
+        "measuring_torque_fraction": model.te.measuring_torque_fraction,
         "torsional_stiffness_definition": "b/a: (rated - measuring torque) over the mean twist of the two loading branches between them",
         "crank_deg": crank_deg,
         "at_crank_angle": describe_twist(&at_crank),
-        "samples_per_mesh_cycle": model.te_samples,
+        "samples_per_mesh_cycle": model.te.samples,
         "torque_nm": mean["torque_nm"],
         "twist_arcmin": mean["twist_arcmin"],
         "backlash_arcmin": mean["backlash_arcmin"],
@@ -384,7 +405,7 @@ fn describe_twist(t: &TwistTable) -> Value {
 
 /// The profile's points (`rvlife profile` writes them as CSV): `x_mm`, `y_mm`,
 /// `mesh_angle_deg`, `wear_um`, each `Zc per_tooth` long, and `points_per_tooth`.
-/// `per_tooth` 0 takes the export's default ([`crate::export::points_per_tooth`]).
+/// `per_tooth` 0 takes the export's default ([`crate::output::export::points_per_tooth`]).
 ///
 /// # Errors
 /// As [`profile_for`]; [`Error::Invalid`] for `per_tooth` above 100000.
@@ -405,11 +426,11 @@ pub fn profile_points(
     }
     let profile = profile_for(model, wear, nominal, spelling, progress)?;
     let n = if per_tooth == 0 {
-        crate::export::points_per_tooth(&profile)
+        crate::output::export::points_per_tooth(&profile)
     } else {
         per_tooth
     };
-    let pts = crate::export::profile_points(&profile, n);
+    let pts = crate::output::export::profile_points(&profile, n);
     let col = |f: fn(&(f64, f64, f64, f64)) -> f64| pts.iter().map(f).collect::<Vec<f64>>();
     Ok(json!({
         "points_per_tooth": n,
@@ -469,7 +490,7 @@ pub fn dynamics_model(
         }
         cfg.dynamics.load.torque_nm = Some(t);
     }
-    cfg.validate().map_err(|e| match e {
+    validated(&cfg).map_err(|e| match e {
         Error::Invalid {
             field,
             value,
@@ -505,12 +526,12 @@ pub fn dynamics(
     pin_forces: bool,
     spelling: Spelling,
     progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<(crate::reducer::dynamics::DynamicsResult, Value)> {
+) -> Result<(crate::dynamics::DynamicsResult, Value)> {
     let profile = profile_for(model, wear, false, spelling, progress)?;
-    let res = crate::reducer::dynamics::simulate_discs(
+    let res = crate::dynamics::simulate_discs(
         &profile,
-        &model.dynamics,
-        &model.fem,
+        &model.dynamics.params,
+        &model.fem.params,
         None,
         pin_forces,
     )?;
@@ -523,7 +544,7 @@ pub fn dynamics(
 /// 1e6) reducers of seed `seed`, the shard `"I/N"` of them (`"/N"`: `I` from
 /// `SLURM_ARRAY_TASK_ID`), each sample's own wear (`full_wear`), `per_cycle` (1-64) crank angles
 /// per mesh cycle; the work is checked against the model's budget
-/// ([`crate::budget::check_montecarlo`]).
+/// ([`crate::montecarlo::check_work`]).
 ///
 /// # Errors
 /// [`Error::Invalid`] naming the argument as `spelling` writes it; no `[tolerances]`; the
@@ -604,7 +625,7 @@ pub fn montecarlo_plan(
         full_wear,
         samples_per_mesh_cycle: per_cycle,
     };
-    let last = model.stage_hours.last().copied().unwrap_or(0.0);
+    let last = model.wear.stage_hours.last().copied().unwrap_or(0.0);
     let (beyond, horizon) = if model.life.any() && last > 0.0 {
         let max_h = model.life.max_hours.unwrap_or(10.0 * last);
         (
@@ -614,10 +635,10 @@ pub fn montecarlo_plan(
     } else {
         (0, 1.0)
     };
-    crate::budget::check_montecarlo(
+    crate::montecarlo::check_work(
         model,
         plan.indices().len(),
-        model.stage_hours.len() + beyond / 2,
+        model.wear.stage_hours.len() + beyond / 2,
         plan.samples_per_mesh_cycle,
         plan.full_wear,
         horizon,

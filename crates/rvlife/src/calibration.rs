@@ -61,50 +61,56 @@ use statrs::distribution::{ContinuousCDF, StudentsT};
 
 use crate::config::Model;
 use crate::error::{Error, Result};
-use crate::study::StageSummary;
+use crate::quantities::{self, Quantity, StageSummary};
 
 /// The option that names the measurements in messages.
 const OPTION: &str = "--measured";
 
-/// One measurable quantity: its CSV column (engineering unit in the name), how the study gives
-/// it, and whether the running-in play adds to it.
+/// One measurable quantity: a quantity of the stage table ([`crate::quantities`]) that a
+/// measurements file may hold as a column (its name, with the unit), and whether the running-in
+/// play adds to it.
 #[derive(Debug, Clone, Copy)]
-pub struct Quantity {
-    /// Column name in the measurements file.
-    pub column: &'static str,
-    /// Unit of the column (as in its name).
-    pub unit: &'static str,
-    /// The stage summary's value, or `None` while the study does not compute it.
-    pub value: Option<fn(&StageSummary) -> f64>,
+pub struct Measurable {
+    /// The quantity: its name is the column, its unit the column's.
+    pub quantity: &'static Quantity,
     /// True if the running-in play `b0` adds to it (backlash, lost motion).
     pub running_in: bool,
 }
 
-/// The columns a measurements file may have besides `hours`, mapped to the study's stage
-/// summary. A quantity the study gains is one line here.
-pub const QUANTITIES: &[Quantity] = &[
-    Quantity {
-        column: "lost_motion_arcmin",
-        unit: "arcmin",
-        value: Some(|s| s.lost_motion_arcmin),
+impl Measurable {
+    /// Column name in the measurements file.
+    pub fn column(&self) -> &'static str {
+        self.quantity.name
+    }
+
+    /// Unit of the column (as in its name).
+    pub fn unit(&self) -> &'static str {
+        self.quantity.unit
+    }
+
+    /// The stage's value.
+    fn value(&self, s: &StageSummary) -> f64 {
+        s.value(self.quantity).number().unwrap_or(f64::NAN)
+    }
+}
+
+/// The columns a measurements file may have besides `hours`: quantities of the stage table.
+/// A quantity the study gains can be measured by adding it here.
+pub const QUANTITIES: &[Measurable] = &[
+    Measurable {
+        quantity: &quantities::LOST_MOTION,
         running_in: true,
     },
-    Quantity {
-        column: "backlash_arcmin",
-        unit: "arcmin",
-        value: Some(|s| s.backlash_arcmin),
+    Measurable {
+        quantity: &quantities::BACKLASH,
         running_in: true,
     },
-    Quantity {
-        column: "angular_te_arcmin",
-        unit: "arcmin",
-        value: Some(|s| s.angular_te_arcmin),
+    Measurable {
+        quantity: &quantities::ANGULAR_TE,
         running_in: false,
     },
-    Quantity {
-        column: "max_wear_um",
-        unit: "um",
-        value: Some(|s| s.max_wear_um),
+    Measurable {
+        quantity: &quantities::MAX_WEAR,
         running_in: false,
     },
 ];
@@ -176,7 +182,7 @@ impl Measurements {
     /// As [`Measurements::read`].
     pub fn parse(path: &Path, text: &str) -> Result<Measurements> {
         let allowed: Vec<&str> = std::iter::once("hours")
-            .chain(QUANTITIES.iter().map(|q| q.column))
+            .chain(QUANTITIES.iter().map(Measurable::column))
             .collect();
         let mut rdr = csv::ReaderBuilder::new()
             .has_headers(true)
@@ -227,25 +233,10 @@ impl Measurements {
             }
             let q = QUANTITIES
                 .iter()
-                .position(|q| q.column == c)
+                .position(|q| q.column() == c)
                 .expect("checked against the allowed columns");
-            if QUANTITIES[q].value.is_none() {
-                return Err(bad(
-                    path,
-                    format!(
-                        "column {c}: that quantity is not yet computed by the study, so it \
-                         cannot be fitted; remove the column (fittable: {})",
-                        QUANTITIES
-                            .iter()
-                            .filter(|q| q.value.is_some())
-                            .map(|q| q.column)
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    ),
-                ));
-            }
             series.push(Series {
-                column: QUANTITIES[q].column,
+                column: QUANTITIES[q].column(),
                 quantity: q,
                 hours: Vec::new(),
                 values: Vec::new(),
@@ -293,7 +284,8 @@ impl Measurements {
                             format!(
                                 "row {row}, column {} = {v}: must be a finite number in \
                                  [0, 1e4] {}",
-                                header[i], QUANTITIES[s.quantity].unit
+                                header[i],
+                                QUANTITIES[s.quantity].unit()
                             ),
                         ));
                     }
@@ -456,14 +448,14 @@ struct Reference {
     archard: f64,
     /// Last equivalent hours within the model's validity, h.
     last_hours: f64,
-    /// Interpolant of every entry of [`QUANTITIES`] (None if not computed).
-    curves: Vec<Option<Pchip>>,
+    /// Interpolant of every entry of [`QUANTITIES`].
+    curves: Vec<Pchip>,
 }
 
 impl Reference {
     /// Model value and its derivative with respect to `ln k` of quantity `q` at hours `h`.
     fn model(&self, q: usize, h: f64, k: f64) -> (f64, f64) {
-        let c = self.curves[q].as_ref().expect("a computed quantity");
+        let c = &self.curves[q];
         let big_h = h * k / self.archard;
         let (v, dv) = c.eval(big_h);
         (v, dv * big_h)
@@ -474,12 +466,14 @@ impl Reference {
 /// dynamics and the flexible disc off.
 fn reference_model(model: &Model, archard: f64, horizon: f64, stages: usize) -> Model {
     let mut m = model.clone();
-    m.archard = archard;
-    m.dynamics_enabled = false;
-    m.fem_enabled = false;
-    m.stage_hours = (0..=stages)
+    m.wear.archard = archard;
+    m.dynamics.enabled = false;
+    m.fem.enabled = false;
+    m.wear.stage_hours = (0..=stages)
         .map(|i| horizon * i as f64 / stages as f64)
         .collect();
+    // The reference study's work is named by its hours, whatever sets the load levels.
+    m.load.levels_key = "load.kind";
     m
 }
 
@@ -508,12 +502,13 @@ fn budget_error(path: &Path, h_max: f64, horizon: f64, e: Error) -> Error {
 pub fn check_budget(model: &Model, data: &Measurements) -> Result<()> {
     let h_max = data.max_hours();
     let horizon = FIRST_HORIZON * h_max;
-    let m = reference_model(model, model.archard, horizon, FIRST_STAGES);
+    let m = reference_model(model, model.wear.archard, horizon, FIRST_STAGES);
     let check = || -> Result<()> {
-        crate::budget::check_config(&m, "load.kind")?;
-        let rate = crate::wear::wear_rate(&m.profile(None)?, &m)?;
+        crate::study::check_work(&m)?;
+        let inputs = m.wear_inputs();
+        let rate = crate::wear::wear_rate(&m.profile()?, &inputs)?;
         let max_rate = rate.iter().copied().fold(0.0, f64::max);
-        crate::budget::check_wear_updates(&m, horizon, max_rate)
+        crate::wear::check_updates(&inputs, horizon, max_rate)
     };
     check().map_err(|e| budget_error(&data.path, h_max, horizon, e))
 }
@@ -734,7 +729,7 @@ fn fit_on(
         let (ss, n) = data
             .series
             .iter()
-            .filter(|s| QUANTITIES[s.quantity].unit == u)
+            .filter(|s| QUANTITIES[s.quantity].unit() == u)
             .flat_map(|s| s.values.iter())
             .fold((0.0, 0), |(a, b), v| (a + v * v, b + 1));
         (ss / n as f64).sqrt().max(1e-9)
@@ -742,11 +737,11 @@ fn fit_on(
     let mut sigma: Vec<f64> = data
         .series
         .iter()
-        .map(|s| size(QUANTITIES[s.quantity].unit))
+        .map(|s| size(QUANTITIES[s.quantity].unit()))
         .collect();
     // Series of one unit share one noise level (lost motion and backlash are read off one
     // hysteresis measurement).
-    let unit = |j: usize| QUANTITIES[data.series[j].quantity].unit;
+    let unit = |j: usize| QUANTITIES[data.series[j].quantity].unit();
     let groups = {
         let mut u: Vec<&str> = (0..data.series.len()).map(unit).collect();
         u.dedup();
@@ -808,8 +803,7 @@ fn run_reference(
 ) -> Result<Reference> {
     let m = reference_model(model, archard, horizon, stages);
     let h_max = data.max_hours();
-    crate::budget::check_config(&m, "load.kind")
-        .map_err(|e| budget_error(&data.path, h_max, horizon, e))?;
+    crate::study::check_work(&m).map_err(|e| budget_error(&data.path, h_max, horizon, e))?;
     let study = crate::study::run(&m, &|_, _| {})
         .map_err(|e| budget_error(&data.path, h_max, horizon, e))?;
     let sums: Vec<StageSummary> = study.stages.iter().map(|s| s.summary.clone()).collect();
@@ -832,10 +826,7 @@ fn run_reference(
     let hours: Vec<f64> = sums.iter().map(|s| s.hours).collect();
     let curves = QUANTITIES
         .iter()
-        .map(|q| {
-            q.value
-                .map(|f| Pchip::new(hours.clone(), sums.iter().map(f).collect()))
-        })
+        .map(|q| Pchip::new(hours.clone(), sums.iter().map(|s| q.value(s)).collect()))
         .collect();
     Ok(Reference {
         archard,
@@ -866,7 +857,7 @@ pub fn calibrate(
     data.check_for_fit(options.fit_running_in)?;
     let h_max = data.max_hours();
     let fit_b0 = options.fit_running_in;
-    let k_cfg = model.archard;
+    let k_cfg = model.wear.archard;
     let mut archard = k_cfg;
     let mut runs = 0;
     let mut stages_total = 0;
@@ -1005,7 +996,7 @@ fn summarise(
                 .collect();
             QuantityFit {
                 column: s.column,
-                unit: QUANTITIES[s.quantity].unit,
+                unit: QUANTITIES[s.quantity].unit(),
                 points: rs.len(),
                 rms_residual: (rs.iter().map(|r| r * r).sum::<f64>() / rs.len() as f64).sqrt(),
                 sigma: fit.sigma[j],
@@ -1019,7 +1010,7 @@ fn summarise(
         .iter()
         .map(|s| FitCurve {
             column: s.column,
-            unit: QUANTITIES[s.quantity].unit,
+            unit: QUANTITIES[s.quantity].unit(),
             hours: grid.clone(),
             values: grid
                 .iter()
@@ -1042,7 +1033,7 @@ fn summarise(
     Ok(Calibration {
         archard_coefficient_mm3_per_n_m: mm3(&kest),
         archard_coefficient_m2_per_n: kest,
-        config_archard_coefficient_m2_per_n: model.archard,
+        config_archard_coefficient_m2_per_n: model.wear.archard,
         ln_k_standard_error: se,
         running_in_backlash_arcmin: running_in,
         confidence: CONFIDENCE,
@@ -1066,7 +1057,7 @@ fn summarise(
 
 /// Writes `calibration.json` (the [`Calibration`]), `residuals.csv` (`hours`, `quantity`,
 /// `measured`, `model`, `residual`, in the quantity's unit) and the plot `calibration.svg`/`.png`
-/// ([`crate::plot::calibration`]) into the existing directory `dir`.
+/// ([`crate::output::plot::calibration`]) into the existing directory `dir`.
 ///
 /// # Errors
 /// [`Error::Io`] on write failures.
@@ -1091,7 +1082,7 @@ pub fn write_files(cal: &Calibration, dir: &Path) -> Result<()> {
         .map_err(err)?;
     }
     w.flush().map_err(|e| Error::io(&p, e))?;
-    crate::plot::calibration(cal, dir)
+    crate::output::plot::calibration(cal, dir)
 }
 
 #[cfg(test)]

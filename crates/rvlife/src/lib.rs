@@ -9,7 +9,7 @@
 //! ([`config`]) and reported as JSON, CSV, DXF and plots ([`report`], [`export`], [`plot`]).
 //!
 //! SI units inside; engineering units only in config keys and output columns. The method follows
-//! Tao et al., Machines 2024, 12(8), 511 (the "paper"), restated in `physics-notes.md`, with
+//! Tao et al., Machines 2024, 12(8), 511 (the "paper"), documented with every other model in `docs/model.md`, with
 //! true gaps from geometry and wear with profile updates as the defaults.
 
 #![warn(missing_docs)]
@@ -19,20 +19,19 @@ pub mod budget;
 pub mod calibration;
 pub mod config;
 pub mod contact;
-
+pub mod dynamics;
 pub mod error;
-pub mod export;
 pub mod fem;
 pub mod geometry;
-pub mod html;
 pub mod life;
-pub mod measured;
 pub mod montecarlo;
-pub mod plot;
+pub mod output;
+pub mod quantities;
 pub mod reducer;
-pub mod report;
+pub mod statics;
 pub mod study;
 pub mod te;
+pub mod units;
 pub mod wear;
 
 pub use error::{Error, Result};

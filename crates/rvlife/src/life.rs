@@ -10,43 +10,12 @@
 
 use serde::Serialize;
 
-use crate::config::{LifeThresholds, Model};
+use crate::config::LifeThresholds;
 use crate::error::Result;
-use crate::study::StageSummary;
+use crate::quantities::{AccuracyPoint, Sense, LIFE};
 
 /// Relative width of the last bisection bracket (of the hours at its upper end): 0.5 %.
 pub const LIFE_TOLERANCE: f64 = 0.005;
-
-/// The accuracy quantities that `[life]` limits, at one working-hour point.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct AccuracyPoint {
-    /// Working hours, h.
-    pub hours: f64,
-    /// Maximum wear depth, um.
-    pub max_wear_um: f64,
-    /// Backlash, arcmin.
-    pub backlash_arcmin: f64,
-    /// Lost motion (catalogue), arcmin.
-    pub lost_motion_arcmin: f64,
-    /// Angular TE over an output revolution, arcmin.
-    pub angular_te_arcmin: f64,
-    /// Torsional stiffness, N m/arcmin.
-    pub torsional_stiffness_nm_per_arcmin: f64,
-}
-
-impl AccuracyPoint {
-    /// The point of a stage summary.
-    pub fn of(s: &StageSummary) -> AccuracyPoint {
-        AccuracyPoint {
-            hours: s.hours,
-            max_wear_um: s.max_wear_um,
-            backlash_arcmin: s.backlash_arcmin,
-            lost_motion_arcmin: s.lost_motion_arcmin,
-            angular_te_arcmin: s.angular_te_arcmin,
-            torsional_stiffness_nm_per_arcmin: s.torsional_stiffness_nm_per_arcmin,
-        }
-    }
-}
 
 /// The accuracy life found.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -63,33 +32,20 @@ pub struct AccuracyLife {
     pub horizon_h: f64,
 }
 
-/// Margins of `p` against every threshold set, relative to the threshold: positive inside the
-/// spec, `(limit - value)/limit` (`(value - limit)/limit` for the stiffness), with the key.
+/// Margins of `p` against every threshold set ([`LIFE`]), relative to the threshold: positive
+/// inside the spec, `(limit - value)/limit` (`(value - limit)/limit` for a smallest value, the
+/// stiffness), with the key.
 pub fn margins(th: &LifeThresholds, p: &AccuracyPoint) -> Vec<(&'static str, f64)> {
-    let mut out = Vec::new();
-    let mut upper = |key, limit: Option<f64>, v: f64| {
-        if let Some(l) = limit {
-            out.push((key, (l - v) / l));
-        }
-    };
-    upper(
-        "lost_motion_arcmin",
-        th.lost_motion_arcmin,
-        p.lost_motion_arcmin,
-    );
-    upper("backlash_arcmin", th.backlash_arcmin, p.backlash_arcmin);
-    upper(
-        "angular_te_arcmin",
-        th.angular_te_arcmin,
-        p.angular_te_arcmin,
-    );
-    if let Some(l) = th.torsional_stiffness_min_nm_per_arcmin {
-        out.push((
-            "torsional_stiffness_min_nm_per_arcmin",
-            (p.torsional_stiffness_nm_per_arcmin - l) / l,
-        ));
-    }
-    out
+    LIFE.iter()
+        .filter_map(|l| {
+            let limit = th.threshold(l.key)?;
+            let value = (l.quantity.accuracy?)(p);
+            Some(match l.sense {
+                Sense::AtMost => (l.key, (limit - value) / limit),
+                Sense::AtLeast => (l.key, (value - limit) / limit),
+            })
+        })
+        .collect()
 }
 
 /// The smallest margin and its key (`None` without thresholds).
@@ -200,49 +156,4 @@ pub fn crossing(
         1.0
     };
     (lo.hours + f.clamp(0.0, 1.0) * (hi.hours - lo.hours), key)
-}
-
-/// [`accuracy_life`] of a study of `model`: the stages' summaries, each bisection trial a wear
-/// integration on the study's own profile-update schedule (`update_hours`) to the trial hours
-/// and [`crate::study::analyse_profile`] of the worn profile.
-///
-/// # Errors
-/// Wear integration and analysis failures.
-pub fn study_life(
-    model: &Model,
-    stages: &[StageSummary],
-    update_hours: &[f64],
-) -> Result<Option<AccuracyLife>> {
-    let points: Vec<AccuracyPoint> = stages.iter().map(AccuracyPoint::of).collect();
-    let last = stages.last().map_or(0.0, |s| s.hours);
-    accuracy_life(&model.life, &points, |h| {
-        let mut m = model.clone();
-        m.stage_hours = vec![h];
-        // Within the stages on the study's own update schedule; beyond, by the model's rule.
-        let hist = if h <= last {
-            crate::wear::integrate_on_schedule(&m, update_hours, &|_, _| {})?
-        } else {
-            crate::wear::integrate(&m, &|_, _| {})?
-        };
-        if let Some(l) = &hist.limit {
-            return Err(crate::error::Error::numerical(
-                "accuracy life",
-                l.reason.clone(),
-            ));
-        }
-        let map = &hist.maps[0];
-        let max = map.iter().copied().fold(0.0, f64::max);
-        let wear = match model.wear_model {
-            _ if max <= 0.0 => None,
-            crate::config::WearModelKind::Paper => {
-                Some(crate::geometry::WearMap::uniform(map.len(), max)?)
-            }
-            crate::config::WearModelKind::Flodin => {
-                Some(crate::geometry::WearMap::new(map.clone())?)
-            }
-        };
-        let profile = model.profile(wear)?;
-        let a = crate::study::analyse_profile(model, &profile, h)?;
-        Ok(AccuracyPoint::of(&a.summary))
-    })
 }

@@ -7,7 +7,8 @@
 //! thread count: shards merged give the unsharded run's files byte for byte.
 //!
 //! **Shared wear** (the default): the wear maps are those of the nominal reducer, integrated
-//! once at the study's stages and at [`SUBDIVISIONS`] points between each two; every sample is
+//! once at the study's stages and at the points that split each interval between two into
+//! [`SUBDIVISIONS`] parts; every sample is
 //! analysed with its own errors on those maps. A sample's errors change its load sharing and so
 //! its wear a little; `full_wear` integrates every sample's own wear instead (the cost and the
 //! difference are measured in the README).
@@ -26,12 +27,15 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::budget;
 use crate::config::Model;
 use crate::error::{Error, Result};
 use crate::geometry::WearMap;
-use crate::life::{accuracy_life, AccuracyPoint};
-use crate::reducer::statics::StaticAnalysis;
-use crate::te::{hysteresis_with, mesh_cycle_angles, revolution_perturbed, ARCMIN_PER_RAD};
+use crate::life::accuracy_life;
+use crate::quantities::{AccuracyPoint, ACCURACY};
+use crate::statics::StaticAnalysis;
+use crate::te::{hysteresis_with, mesh_cycle_angles, revolution_perturbed};
+use crate::units::ARCMIN_PER_RAD;
 
 /// Wear maps between two stages of the shared wear history (the accuracy life is located to
 /// an eighth of a stage interval by bisection, then interpolated).
@@ -58,6 +62,52 @@ impl Plan {
         let (i, n) = self.shard;
         (i - 1) * self.samples / n..i * self.samples / n
     }
+}
+
+/// Checks the work of a Monte Carlo run of `samples` samples (this shard's) before it starts
+/// ([`crate::budget`]): `samples x points x per_cycle x`
+/// [`budget::MONTE_CARLO_SOLVES_PER_ANGLE`], `points` the stages and half the points beyond
+/// them where the life is looked for; with `full_wear` each sample also integrates its own wear
+/// (the study's wear work, times the 8 mesh cycles of a reducer with errors, times `horizon`,
+/// the hours integrated over the last stage's).
+///
+/// # Errors
+/// [`Error::Invalid`] naming `--samples` with the estimate and the budget.
+pub fn check_work(
+    model: &Model,
+    samples: usize,
+    points: usize,
+    per_cycle: usize,
+    full_wear: bool,
+    horizon: f64,
+) -> Result<()> {
+    let mut per_sample = points as f64 * per_cycle as f64 * budget::MONTE_CARLO_SOLVES_PER_ANGLE;
+    if full_wear {
+        let w = &model.wear;
+        let paper = w.model == crate::wear::WearModelKind::Paper;
+        let last = w.stage_hours.last().copied().unwrap_or(0.0);
+        per_sample += 8.0
+            * horizon.max(1.0)
+            * budget::scheduled_updates(paper, last, w.update_hours)
+            * budget::per_rate_evaluation(paper, model.load.levels.len(), w.crank_steps);
+    }
+    let total = samples as f64 * per_sample;
+    if total <= model.work_budget {
+        return Ok(());
+    }
+    Err(Error::invalid(
+        "--samples",
+        samples,
+        format!(
+            "the estimated work, {:.1} min ({} samples x {:.0} solves), exceeds the work \
+             budget of {:.1} min: fewer samples, --shard I/N across machines, or a larger \
+             --work-budget-min",
+            budget::minutes(total),
+            samples,
+            per_sample,
+            budget::minutes(model.work_budget)
+        ),
+    ))
 }
 
 /// One sampled reducer's results.
@@ -108,11 +158,11 @@ fn dense_hours(model: &Model) -> (Vec<f64>, Vec<usize>, Vec<usize>) {
         *prev = Some(h);
         hours.len() - 1
     };
-    for &h in &model.stage_hours {
+    for &h in &model.wear.stage_hours {
         idx.push(push(&mut hours, &mut prev, h));
     }
     let mut ext = Vec::new();
-    let last = model.stage_hours.last().copied().unwrap_or(0.0);
+    let last = model.wear.stage_hours.last().copied().unwrap_or(0.0);
     if model.life.any() && last > 0.0 {
         let max_h = model.life.max_hours.unwrap_or(10.0 * last);
         let mut h = last;
@@ -124,7 +174,8 @@ fn dense_hours(model: &Model) -> (Vec<f64>, Vec<usize>, Vec<usize>) {
     (hours, idx, ext)
 }
 
-/// The wear history of `model` at its stages and [`SUBDIVISIONS`] points between each two,
+/// The wear history of `model` at its stages and the points that split each interval between
+/// two into [`SUBDIVISIONS`] parts,
 /// and beyond the last stage where the accuracy life is looked for ([`dense_hours`]; up to
 /// where the wear model leaves its validity).
 ///
@@ -134,14 +185,14 @@ fn dense_hours(model: &Model) -> (Vec<f64>, Vec<usize>, Vec<usize>) {
 pub fn shared_wear(model: &Model) -> Result<SharedWear> {
     let (mut hours, stage_index, mut extension_index) = dense_hours(model);
     let mut m = model.clone();
-    m.stage_hours = hours.clone();
-    let hist = crate::wear::integrate(&m, &|_, _| {})?;
+    m.wear.stage_hours = hours.clone();
+    let hist = crate::wear::integrate(&m.wear_inputs(), &|_, _| {})?;
     let last_stage = stage_index.last().copied().unwrap_or(0);
     if let Some(l) = &hist.limit {
         if hist.maps.len() <= last_stage {
             return Err(Error::invalid(
                 "wear.stage_hours",
-                format!("{:?}", model.stage_hours),
+                format!("{:?}", model.wear.stage_hours),
                 format!(
                     "the nominal reducer leaves the wear model's validity at {:.0} h ({}); \
                      end the stages before",
@@ -168,10 +219,10 @@ pub fn shared_wear(model: &Model) -> Result<SharedWear> {
 
 fn wear_map(model: &Model, map: &[f64]) -> Result<Option<WearMap>> {
     let max = map.iter().copied().fold(0.0, f64::max);
-    Ok(match model.wear_model {
+    Ok(match model.wear.model {
         _ if max <= 0.0 => None,
-        crate::config::WearModelKind::Paper => Some(WearMap::uniform(map.len(), max)?),
-        crate::config::WearModelKind::Flodin => Some(WearMap::new(map.to_vec())?),
+        crate::wear::WearModelKind::Paper => Some(WearMap::uniform(map.len(), max)?),
+        crate::wear::WearModelKind::Flodin => Some(WearMap::new(map.to_vec())?),
     })
 }
 
@@ -182,13 +233,13 @@ pub fn sample_model(model: &Model, seed: u64, index: usize) -> Model {
     rng.set_stream(index as u64);
     let (errors, modification) = model.tolerances.sample(
         &mut rng,
-        model.geometry.pins,
+        model.cycloid.geometry.pins,
         model.reducer.cranks,
-        model.modification,
+        model.cycloid.modification,
     );
     let mut m = model.clone();
     m.reducer.errors = errors;
-    m.modification = modification;
+    m.cycloid.modification = modification;
     m
 }
 
@@ -206,18 +257,18 @@ fn accuracy_at(
     per_cycle: usize,
 ) -> std::result::Result<AccuracyPoint, Stop> {
     let fail = |e: Error| Stop::Failed(e.to_string());
-    let profile = model.profile(wear).map_err(fail)?;
+    let profile = model.cycloid.profile(wear).map_err(fail)?;
     let sa = StaticAnalysis::new(&model.reducer, &profile).map_err(fail)?;
     let rev = revolution_perturbed(&sa, per_cycle).map_err(fail)?;
     if rev.play_stats().min < -1e-9 {
         return Err(Stop::Interference);
     }
-    let phis = mesh_cycle_angles(model.geometry.pins, per_cycle);
+    let phis = mesh_cycle_angles(model.cycloid.geometry.pins, per_cycle);
     let (_, mean) = hysteresis_with(
         &sa,
         &phis,
-        model.rated_torque,
-        model.measuring_torque_fraction,
+        model.rating.rated_torque,
+        model.te.measuring_torque_fraction,
         1,
     )
     .map_err(fail)?;
@@ -236,7 +287,7 @@ fn accuracy_at(
     }
     Ok(AccuracyPoint {
         hours,
-        max_wear_um: model.wear_depth(&profile) * 1e6,
+        max_wear_um: model.cycloid.wear_depth(&profile) * 1e6,
         backlash_arcmin: acc.backlash * ARCMIN_PER_RAD,
         lost_motion_arcmin: acc.lost_motion * ARCMIN_PER_RAD,
         angular_te_arcmin: rev.angular_te() * ARCMIN_PER_RAD,
@@ -462,26 +513,18 @@ pub fn quantile(v: &[f64], q: f64) -> f64 {
     v[lo] + (h - lo as f64) * (v[hi] - v[lo])
 }
 
-/// One quantity of an [`AccuracyPoint`]: its column name and accessor.
-pub type Quantity = (&'static str, fn(&AccuracyPoint) -> f64);
-
-/// Quantities of `stages.csv` and `percentiles.csv`, with their accessor.
-pub const QUANTITIES: [Quantity; 5] = [
-    ("max_wear_um", |p| p.max_wear_um),
-    ("backlash_arcmin", |p| p.backlash_arcmin),
-    ("lost_motion_arcmin", |p| p.lost_motion_arcmin),
-    ("angular_te_arcmin", |p| p.angular_te_arcmin),
-    ("torsional_stiffness_nm_per_arcmin", |p| {
-        p.torsional_stiffness_nm_per_arcmin
-    }),
-];
+/// The quantities of `stages.csv` and `percentiles.csv` ([`ACCURACY`]), each with its name
+/// and its accessor of an accuracy point.
+fn quantities() -> impl Iterator<Item = (&'static str, fn(&AccuracyPoint) -> f64)> {
+    ACCURACY.iter().filter_map(|q| Some((q.name, q.accuracy?)))
+}
 
 /// Percentiles (5/50/95) of every quantity at every stage over the records with status `ok`
 /// (a stage no sample reached has no row).
 pub fn percentiles(records: &[SampleRecord], stage_hours: &[f64]) -> Vec<Percentiles> {
     let mut out = Vec::new();
     for (s, &h) in stage_hours.iter().enumerate() {
-        for (name, f) in QUANTITIES {
+        for (name, f) in quantities() {
             let mut v: Vec<f64> = records
                 .iter()
                 .filter(|r| r.status == "ok")
@@ -620,7 +663,7 @@ pub fn write_records(dir: &Path, records: &[SampleRecord]) -> Result<()> {
 pub fn records_csv(records: &[SampleRecord]) -> (String, String) {
     let mut s = String::from("sample,status,accuracy_life_h,limited_by\n");
     let mut t = String::from("sample,hours");
-    for (q, _) in QUANTITIES {
+    for (q, _) in quantities() {
         t.push(',');
         t.push_str(q);
     }
@@ -635,7 +678,7 @@ pub fn records_csv(records: &[SampleRecord]) -> (String, String) {
         ));
         for p in &r.points {
             t.push_str(&format!("{},{}", r.sample, p.hours));
-            for (_, f) in QUANTITIES {
+            for (_, f) in quantities() {
                 t.push_str(&format!(",{}", f(p)));
             }
             t.push('\n');
@@ -704,7 +747,7 @@ pub fn read_records(dir: &Path) -> Result<Vec<SampleRecord>> {
             .iter()
             .map(|f| f.parse::<f64>().map_err(|e| bad(&tp, format!("{f}: {e}"))))
             .collect::<Result<_>>()?;
-        if v.len() != 2 + QUANTITIES.len() {
+        if v.len() != 2 + ACCURACY.len() {
             return Err(bad(&tp, format!("{} columns", v.len())));
         }
         let sample = v[0] as usize;
@@ -712,14 +755,7 @@ pub fn read_records(dir: &Path) -> Result<Vec<SampleRecord>> {
             .iter_mut()
             .find(|r| r.sample == sample)
             .ok_or_else(|| bad(&tp, format!("sample {sample} not in samples.csv")))?;
-        r.points.push(AccuracyPoint {
-            hours: v[1],
-            max_wear_um: v[2],
-            backlash_arcmin: v[3],
-            lost_motion_arcmin: v[4],
-            angular_te_arcmin: v[5],
-            torsional_stiffness_nm_per_arcmin: v[6],
-        });
+        r.points.push(AccuracyPoint::from_accuracy(v[1], &v[2..]));
     }
     Ok(records)
 }
@@ -774,7 +810,7 @@ pub fn write_results(dir: &Path, meta: &ShardMeta, records: &[SampleRecord]) -> 
         .filter_map(|r| r.accuracy_life_h)
         .collect();
     if !lives.is_empty() {
-        crate::plot::histogram(
+        crate::output::plot::histogram(
             &plots,
             "life_histogram",
             "Accuracy life of the sampled reducers",
@@ -783,11 +819,11 @@ pub fn write_results(dir: &Path, meta: &ShardMeta, records: &[SampleRecord]) -> 
             30,
         )?;
     }
-    for (name, f) in QUANTITIES {
+    for (name, f) in quantities() {
         let rows: Vec<&Percentiles> = pct.iter().filter(|x| x.quantity == name).collect();
         let col = |g: fn(&Percentiles) -> f64| rows.iter().map(|x| g(x)).collect::<Vec<f64>>();
         if rows.iter().all(|x| x.n > 0) && !rows.is_empty() {
-            crate::plot::fan_chart(
+            crate::output::plot::fan_chart(
                 &plots,
                 &format!("fan_{name}"),
                 &format!("{name}: median and 5-95 % of the sampled reducers"),
@@ -806,7 +842,7 @@ pub fn write_results(dir: &Path, meta: &ShardMeta, records: &[SampleRecord]) -> 
             })
             .collect();
         if !last.is_empty() {
-            crate::plot::histogram(
+            crate::output::plot::histogram(
                 &plots,
                 &format!("hist_{name}"),
                 &format!("{name} at the last stage"),

@@ -4,7 +4,7 @@
 //! Pipeline: [`crate::wear::integrate`] gives the wear map at each stage; each stage's
 //! profile is the modified profile with that map (or, in the paper's model, with a uniform
 //! equidistant offset equal to the maximum wear, paper section 3.1); [`crate::te`] gives STE,
-//! lost motion and loaded TE on it; with `[dynamics] enabled`, [`crate::reducer::dynamics::simulate`]
+//! lost motion and loaded TE on it; with `[dynamics] enabled`, [`crate::dynamics::simulate`]
 //! gives the dynamic TE of the whole reducer with it; with `[fem] enabled`,
 //! [`crate::fem::flex::analyse_stage`] gives the flexible-disc TE, torsional stiffness and disc
 //! stress on a plane-stress FE model of the worn disc.
@@ -13,130 +13,25 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use serde::Serialize;
 
-use crate::config::{Model, WearModelKind};
+use crate::budget;
+use crate::config::Model;
+use crate::dynamics::{simulate_discs, DynamicsSummary};
 use crate::error::Error;
 use crate::error::Result;
 use crate::fem::flex::{analyse_stage, FlexibleStage};
 use crate::fem::mesh::Mesh;
 use crate::fem::DiscSet;
 use crate::geometry::{Profile, WearMap};
-use crate::reducer::dynamics::{simulate_discs, DynamicsSummary};
-use crate::reducer::statics::StaticAnalysis;
+use crate::quantities::{AccuracyPoint, StageSummary, STAGE};
+use crate::statics::StaticAnalysis;
 use crate::te::{
     hysteresis_with, loaded_te_with, mesh_cycle_angles, revolution, CurveStats, LoadedTe, StaticTe,
-    TwistTable, ARCMIN_PER_RAD,
+    TwistTable, HYSTERESIS_LEVELS,
 };
-use crate::wear::{integrate, ValidityLimit, WearHistory};
-
-/// One stage of `summary.json` (engineering units in the names).
-#[derive(Debug, Clone, Serialize)]
-pub struct StageSummary {
-    /// Working hours, h.
-    pub hours: f64,
-    /// Maximum wear depth along the profile, um.
-    pub max_wear_um: f64,
-    /// Mean forward STE over a revolution, arcmin.
-    pub ste_mean_arcmin: f64,
-    /// Peak-to-peak forward STE, arcmin.
-    pub ste_peak_to_peak_arcmin: f64,
-    /// Mean reverse-direction STE, arcmin.
-    pub ste_reverse_mean_arcmin: f64,
-    /// Backlash: width of the hysteresis curve at zero torque (the play between the two
-    /// directions), mean over a mesh cycle, arcmin.
-    pub backlash_arcmin: f64,
-    /// Largest play over a mesh cycle, arcmin (over the output revolution with part errors).
-    pub backlash_max_arcmin: f64,
-    /// Angular transmission error (catalogue): peak-to-peak of the forward STE over one output
-    /// revolution, arcmin ([`crate::te::revolution`]; the mesh-cycle ripple without part
-    /// errors).
-    pub angular_te_arcmin: f64,
-    /// Lost motion (catalogue): twist between the hysteresis curve's midpoints at `+-` the
-    /// measuring torque (3 % of rated), curve averaged over a mesh cycle, arcmin.
-    pub lost_motion_arcmin: f64,
-    /// Hysteresis loss: width of the loop at zero torque after loading to `+-` rated torque,
-    /// arcmin (equal to the backlash in this frictionless model).
-    pub hysteresis_loss_arcmin: f64,
-    /// Mean loaded TE at the loaded-TE torque, arcmin.
-    pub loaded_te_mean_arcmin: f64,
-    /// Peak-to-peak loaded TE, arcmin.
-    pub loaded_te_peak_to_peak_arcmin: f64,
-    /// Largest pin force over a mesh cycle at that torque, N.
-    pub max_force_n: f64,
-    /// Largest Hertz pressure, MPa.
-    pub max_pressure_mpa: f64,
-    /// Fewest pins in contact on one disc over a mesh cycle.
-    pub pins_in_contact: usize,
-    /// Most pins in contact on one disc over a mesh cycle.
-    pub pins_in_contact_max: usize,
-    /// Share of the output torque carried by disc 1 at the loaded-TE torque (moment of its pin
-    /// forces over the sum of both discs'), mean over a mesh cycle (the rigid support's fixed
-    /// `load_share` otherwise).
-    pub disc_load_share: f64,
-    /// Torsional stiffness `b/a` of the hysteresis curve (catalogue definition: the secant of
-    /// the loading branches between the measuring torque and the rated torque, mean of both
-    /// senses), N m/arcmin.
-    pub torsional_stiffness_nm_per_arcmin: f64,
-    /// Mean tangent stiffness `dT/dpsi` at the loaded-TE torque, N m/arcmin.
-    pub tangent_stiffness_nm_per_arcmin: f64,
-    /// Secant torsional stiffness of the flexible-disc model between the STE measuring torque
-    /// and the rated torque, mean of both senses (when the flexible disc is on), N m/arcmin.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub flexible_torsional_stiffness_nm_per_arcmin: Option<f64>,
-    /// Mean TE of the flexible disc at minus the STE measuring torque over a crank revolution,
-    /// arcmin (when the flexible disc is on).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub flexible_ste_reverse_mean_arcmin: Option<f64>,
-    /// Mean TE of the flexible disc at minus the rated torque over a crank revolution, arcmin.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub flexible_loaded_te_reverse_mean_arcmin: Option<f64>,
-    /// Backlash of the flexible-disc model: the play between the two senses' first contacts,
-    /// mean over a crank revolution, arcmin (the disc does not deform without load, so it is
-    /// the rigid play over those crank angles).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub flexible_backlash_arcmin: Option<f64>,
-    /// Lost motion of the flexible-disc model (catalogue): the twist between the flexible TEs
-    /// at plus and minus the measuring torque (3 % of rated; the hysteresis curve's midpoints,
-    /// as this model has no friction), mean over a crank revolution, arcmin.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub flexible_lost_motion_arcmin: Option<f64>,
-    /// Mean TE of the flexible disc at the STE measuring torque (`fem.ste_torque_fraction` of
-    /// the rated torque) over a crank revolution, arcmin (when the flexible disc is on).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub flexible_ste_mean_arcmin: Option<f64>,
-    /// Peak-to-peak of that TE over a crank revolution, arcmin.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub flexible_ste_peak_to_peak_arcmin: Option<f64>,
-    /// Mean TE of the flexible disc at the rated torque over a crank revolution, arcmin.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub flexible_loaded_te_mean_arcmin: Option<f64>,
-    /// Peak-to-peak of that TE over a crank revolution, arcmin.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub flexible_loaded_te_peak_to_peak_arcmin: Option<f64>,
-    /// Mean TE of the rigid disc at the rated torque over the same crank angles, arcmin.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub rigid_loaded_te_revolution_mean_arcmin: Option<f64>,
-    /// Largest von Mises stress in the disc at the rated torque, away from the pin load
-    /// patches, at the crank angles whose largest pin force is within 1 % of the largest
-    /// ([`crate::fem::flex::STRESS_FORCE_BAND`]), MPa.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub max_von_mises_mpa: Option<f64>,
-    /// Largest von Mises stress at the tooth roots (same crank angles), MPa.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub max_root_stress_mpa: Option<f64>,
-    /// Mean dynamic TE over the window of the multibody simulation, arcmin (when dynamics
-    /// are on).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub dte_mean_arcmin: Option<f64>,
-    /// Peak-to-peak dynamic TE, arcmin (when dynamics are on).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub dte_peak_to_peak_arcmin: Option<f64>,
-    /// RMS of the dynamic TE, arcmin (when dynamics are on).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub dte_rms_arcmin: Option<f64>,
-    /// Smallest and largest dynamic TE, arcmin (when dynamics are on).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub dte_range_arcmin: Option<[f64; 2]>,
-}
+use crate::units::ARCMIN_PER_RAD;
+use crate::wear::{
+    integrate, integrate_on_schedule, ValidityLimit, WearHistory, WearInputs, WearModelKind,
+};
 
 /// Full results of one stage.
 #[derive(Debug, Clone)]
@@ -187,7 +82,7 @@ pub struct Study {
     pub life: Option<crate::life::AccuracyLife>,
 }
 
-/// Comparison with the paper's headline numbers (physics-notes section 7).
+/// Comparison with the paper's headline numbers (docs/model.md section 16).
 #[derive(Debug, Clone, Serialize)]
 pub struct PaperComparison {
     /// Slope of the mean STE against the maximum wear, arcmin per 10 um (least squares through
@@ -199,8 +94,8 @@ pub struct PaperComparison {
     pub paper_ste_at_10um_arcmin: f64,
     /// Paper: largest rigid STE over the study (6450 h), arcmin.
     pub paper_ste_max_arcmin: f64,
-    /// Uniform-offset estimate per side, `10 um / (a (Zp + Z1/Z2))`, arcmin (physics-notes
-    /// section 6).
+    /// Uniform-offset estimate per side, `10 um / (a (Zp + Z1/Z2))`, arcmin
+    /// (docs/model.md section 6).
     pub uniform_offset_per_10um_arcmin: f64,
     /// Paper: rigid-body DTE mean at 10 um wear under the sinusoidal load (Adams), arcmin.
     pub paper_dte_at_10um_arcmin: f64,
@@ -262,24 +157,84 @@ fn arcmin(rad: f64) -> f64 {
 /// Fails loudly, naming the quantity, if a stage summary holds a NaN or an infinity (JSON has
 /// neither: they would be written as `null`, and as `NaN`/`inf` in CSV).
 fn check_finite(summary: &StageSummary) -> Result<()> {
-    let v =
-        serde_json::to_value(summary).map_err(|e| Error::numerical("summary", e.to_string()))?;
-    if let Some(obj) = v.as_object() {
-        for (k, x) in obj {
-            let bad = x.is_null() || x.as_array().is_some_and(|a| a.iter().any(|y| y.is_null()));
-            if bad {
-                return Err(Error::numerical(
-                    "stage summary",
-                    format!("{k} is not a finite number at {} h", summary.hours),
-                ));
-            }
-        }
+    match STAGE.iter().find(|q| !summary.value(q).is_finite()) {
+        Some(q) => Err(Error::numerical(
+            "stage summary",
+            format!("{} is not a finite number at {} h", q.name, summary.hours),
+        )),
+        None => Ok(()),
     }
-    Ok(())
 }
 
-/// Torque levels per side of the study's hysteresis curves beyond the measuring torque.
-pub const HYSTERESIS_LEVELS: usize = 4;
+/// Checks the work of a study of `model` against its budget before it starts
+/// ([`crate::budget`]): wear-rate evaluations (`last stage / wear.profile_update_hours`) x
+/// (load levels x (`wear.crank_steps_per_mesh_cycle` + set-up) + the rest of an evaluation),
+/// plus stages x (`te.samples_per_mesh_cycle` x the hysteresis and loaded-TE torques +
+/// set-up). The profile updates that `wear.max_wear_step_um` asks for are checked by the wear
+/// integration once the first wear rate is known.
+///
+/// # Errors
+/// [`Error::Invalid`] naming the key whose value is furthest above the example's (the key that
+/// sets the load levels for them: `load.levels`, `load.file`), with the estimate and the
+/// budget.
+pub fn check_work(model: &Model) -> Result<()> {
+    let w = &model.wear;
+    let paper = w.model == WearModelKind::Paper;
+    let last = w.stage_hours.last().copied().unwrap_or(0.0);
+    let updates = budget::scheduled_updates(paper, last, w.update_hours);
+    let wear = updates * budget::per_rate_evaluation(paper, model.load.levels.len(), w.crank_steps);
+    let stages = w.stage_hours.len() as f64 * budget::stage_solves(model.te.samples);
+    let total = wear + stages;
+    if total <= model.work_budget {
+        return Ok(());
+    }
+    // The factor furthest above the example's value drives it.
+    let levels = model.load.levels.len() as f64;
+    let candidates = [
+        (
+            model.load.levels_key.to_string(),
+            format!("{levels} levels"),
+            levels / 24.0,
+        ),
+        (
+            "wear.profile_update_hours".to_string(),
+            format!("{}", w.update_hours),
+            updates / 30.0,
+        ),
+        (
+            "wear.crank_steps_per_mesh_cycle".to_string(),
+            w.crank_steps.to_string(),
+            w.crank_steps as f64 / 18.0,
+        ),
+        (
+            "wear.stage_hours".to_string(),
+            format!("{} stages", w.stage_hours.len()),
+            w.stage_hours.len() as f64 / 7.0,
+        ),
+        (
+            "te.samples_per_mesh_cycle".to_string(),
+            model.te.samples.to_string(),
+            model.te.samples as f64 / 24.0,
+        ),
+    ];
+    let (key, value, _) = candidates
+        .iter()
+        .fold(&candidates[0], |a, b| if b.2 > a.2 { b } else { a });
+    Err(Error::invalid(
+        key.as_str(),
+        value,
+        format!(
+            "the study would need about {total:.2e} contact solves (~{:.0} min: {updates} \
+             wear-rate evaluations x {levels} load levels x {} crank steps, {} stages x {} TE \
+             samples), more than the work budget of {:.0} min (--work-budget-min); lower it",
+            budget::minutes(total),
+            w.crank_steps,
+            w.stage_hours.len(),
+            model.te.samples,
+            budget::minutes(model.work_budget),
+        ),
+    ))
+}
 
 /// Analyses one profile: static TE, the hysteresis curve averaged over a mesh cycle (backlash,
 /// lost motion, hysteresis loss, torsional stiffness) and the loaded TE at the model's
@@ -289,13 +244,13 @@ pub const HYSTERESIS_LEVELS: usize = 4;
 /// Solver failures; interference of the modifications.
 pub fn analyse_profile(model: &Model, profile: &Profile, hours: f64) -> Result<ProfileAnalysis> {
     let red = &model.reducer;
-    let phis = mesh_cycle_angles(red.geometry.pins, model.te_samples);
+    let phis = mesh_cycle_angles(red.geometry.pins, model.te.samples);
     let sa = StaticAnalysis::new(red, profile)?;
     let (tables, mean) = hysteresis_with(
         &sa,
         &phis,
-        model.rated_torque,
-        model.measuring_torque_fraction,
+        model.rating.rated_torque,
+        model.te.measuring_torque_fraction,
         HYSTERESIS_LEVELS,
     )?;
     let ste = StaticTe {
@@ -315,7 +270,7 @@ pub fn analyse_profile(model: &Model, profile: &Profile, hours: f64) -> Result<P
              thin the teeth (equidistant > 0 or offset < 0)",
         ));
     }
-    let loaded = loaded_te_with(&sa, model.loaded_torque, model.te_samples)?;
+    let loaded = loaded_te_with(&sa, model.te.loaded_torque, model.te.samples)?;
     let acc = mean.accuracy();
     let s = ste.stats();
     let play = ste.backlash_stats();
@@ -339,11 +294,11 @@ pub fn analyse_profile(model: &Model, profile: &Profile, hours: f64) -> Result<P
                 / loaded.solutions.len() as f64
         }
     };
-    let max_wear_um = model.wear_depth(profile) * 1e6;
+    let max_wear_um = model.cycloid.wear_depth(profile) * 1e6;
     let (angular_te, play_max) = if red.errors.is_zero() {
         (s.peak_to_peak, play.max)
     } else {
-        let rev = revolution(&sa, model.te_samples)?;
+        let rev = revolution(&sa, model.te.samples)?;
         (rev.angular_te(), rev.play_stats().max)
     };
     let summary = StageSummary {
@@ -433,7 +388,7 @@ fn run_stage(
         } else {
             None
         };
-        let te_map = match (&wear_map, model.wear_model) {
+        let te_map = match (&wear_map, model.wear.model) {
             (Some(_), WearModelKind::Paper) => Some(WearMap::uniform(map.len(), max)?),
             (w, _) => w.clone(),
         };
@@ -444,6 +399,7 @@ fn run_stage(
         Err(e) => return Outcome::Prepare(e),
     };
     let analysed = model
+        .cycloid
         .profile(te_map)
         .and_then(|p| analyse_profile(model, &p, hours).map(|a| (p, a)));
     let (profile, a) = match analysed {
@@ -486,13 +442,13 @@ fn dynamics_and_flexible(
     base_profile: &Profile,
     tick: &(dyn Fn() + Sync),
 ) -> Result<StageRow> {
-    if !(model.dynamics_enabled || model.fem_enabled) {
+    if !(model.dynamics.enabled || model.fem.enabled) {
         return Ok((None, None));
     }
     let own = match base {
         Some(b) if profile.wear().is_some() => Some(DiscSet::build_morphed(
             profile,
-            &model.fem,
+            &model.fem.params,
             &model.reducer,
             b,
             base_profile,
@@ -502,18 +458,24 @@ fn dynamics_and_flexible(
     let disc = own.as_ref().or(base);
     let (dynamics, flexible) = rayon::join(
         || -> Result<Option<DynamicsSummary>> {
-            if !model.dynamics_enabled {
+            if !model.dynamics.enabled {
                 return Ok(None);
             }
-            let r = simulate_discs(profile, &model.dynamics, &model.fem, disc, false)?;
+            let r = simulate_discs(
+                profile,
+                &model.dynamics.params,
+                &model.fem.params,
+                disc,
+                false,
+            )?;
             tick();
             Ok(Some(r.summary))
         },
         || -> Result<Option<FlexibleStage>> {
-            let (true, Some(disc)) = (model.fem_enabled, disc) else {
+            let (true, Some(disc)) = (model.fem.enabled, disc) else {
                 return Ok(None);
             };
-            let fl = analyse_stage(profile, &model.reducer, disc, model.rated_torque)?;
+            let fl = analyse_stage(profile, &model.reducer, disc, model.rating.rated_torque)?;
             tick();
             Ok(Some(fl))
         },
@@ -535,23 +497,24 @@ fn dynamics_and_flexible(
 /// Solver failures on the unworn profile; interfering modifications; [`Error::Invalid`] naming
 /// `wear.stage_hours` when no stage lies within the validity; the work budget.
 pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Study> {
-    let n_stages = model.stage_hours.len();
-    let wear_total = if model.wear_model == WearModelKind::Paper || model.update_hours <= 0.0 {
+    let w = &model.wear;
+    let n_stages = w.stage_hours.len();
+    let wear_total = if w.model == WearModelKind::Paper || w.update_hours <= 0.0 {
         1
     } else {
-        (model.stage_hours.last().copied().unwrap_or(0.0) / model.update_hours)
+        (w.stage_hours.last().copied().unwrap_or(0.0) / w.update_hours)
             .ceil()
             .max(1.0) as usize
     };
-    let dyn_total = if model.dynamics_enabled { n_stages } else { 0 };
-    let fem_total = if model.fem_enabled { n_stages } else { 0 };
+    let dyn_total = if model.dynamics.enabled { n_stages } else { 0 };
+    let fem_total = if model.fem.enabled { n_stages } else { 0 };
     let total = wear_total + n_stages + dyn_total + fem_total;
     // The unworn disc's FE models are built beside the wear integration (they need the
     // unworn profile only); every worn stage's are then the same meshes moved onto its
     // outline (one topology and symbolic factorisation for the study; results smooth in the
     // wear).
-    let flexible_dynamics = model.dynamics_enabled && model.dynamics.flexible.is_some();
-    let base_profile = model.profile(None)?;
+    let flexible_dynamics = model.dynamics.enabled && model.dynamics.params.flexible.is_some();
+    let base_profile = model.profile()?;
     // Progress: the wear-rate evaluations so far plus the stage analyses done.
     let (wear_done, done) = (AtomicUsize::new(0), AtomicUsize::new(0));
     let report = || {
@@ -567,17 +530,21 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
     let failed = AtomicUsize::new(usize::MAX);
     // A first stage at 0 h needs no wear: it is analysed beside the wear integration, on the
     // unworn disc's FE models.
-    let unworn_first = model.stage_hours.first() == Some(&0.0);
+    let unworn_first = w.stage_hours.first() == Some(&0.0);
     let (wear, base) = rayon::join(
         || {
-            integrate(model, &|d, _| {
+            integrate(&model.wear_inputs(), &|d, _| {
                 wear_done.fetch_max(d, Ordering::Relaxed);
                 report();
             })
         },
         || -> Result<(Option<DiscSet>, Option<Outcome>)> {
-            let base = if model.fem_enabled || flexible_dynamics {
-                Some(DiscSet::build(&base_profile, &model.fem, &model.reducer)?)
+            let base = if model.fem.enabled || flexible_dynamics {
+                Some(DiscSet::build(
+                    &base_profile,
+                    &model.fem.params,
+                    &model.reducer,
+                )?)
             } else {
                 None
             };
@@ -670,7 +637,7 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
         let l = wear.limit.as_ref();
         return Err(Error::invalid(
             "wear.stage_hours",
-            format!("{:?}", model.stage_hours),
+            format!("{:?}", w.stage_hours),
             format!(
                 "no stage lies within the validity of the wear model: it leaves it at {:.0} h \
                  ({:.2} um of wear: {}); list earlier stages",
@@ -716,7 +683,7 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
         }
     }
     let summaries: Vec<StageSummary> = stages.iter().map(|s| s.summary.clone()).collect();
-    let life = crate::life::study_life(model, &summaries, &wear.update_hours)?;
+    let life = study_life(model, &summaries, &wear.update_hours)?;
     Ok(Study {
         model: model.clone(),
         wear,
@@ -739,16 +706,16 @@ impl Study {
         let slope = if sxx > 0.0 { sxy / sxx } else { 0.0 };
         Summary {
             rvlife_version: env!("CARGO_PKG_VERSION"),
-            ratio: m.ratio,
-            wear_model: m.wear_model,
-            archard_coefficient_mm3_per_n_m: m.archard * 1e9,
-            rated_torque_nm: m.rated_torque,
-            loaded_te_torque_nm: m.loaded_torque,
-            mesh_cycles_per_hour: m.mesh_cycles_per_hour(m.input_speed_rpm),
+            ratio: m.reducer.ratio,
+            wear_model: m.wear.model,
+            archard_coefficient_mm3_per_n_m: m.wear.archard * 1e9,
+            rated_torque_nm: m.rating.rated_torque,
+            loaded_te_torque_nm: m.te.loaded_torque,
+            mesh_cycles_per_hour: m.reducer.mesh_cycles_per_hour(m.rating.input_speed_rpm),
             wear_rate_evaluations: self.wear.rate_evaluations(),
             validity_limit: self.wear.limit.clone(),
             accuracy_life: self.life.clone(),
-            measured_profile_fit: m.measured.as_ref().map(|x| {
+            measured_profile_fit: m.cycloid.measured.as_ref().map(|x| {
                 serde_json::json!({
                     "source": x.source.display().to_string(),
                     "points": x.points,
@@ -761,7 +728,7 @@ impl Study {
                 ste_last_stage_arcmin: stages.last().map_or(0.0, |s| s.ste_mean_arcmin),
                 paper_ste_at_10um_arcmin: 0.5351,
                 paper_ste_max_arcmin: 4.11,
-                uniform_offset_per_10um_arcmin: 10e-6 / m.geometry.disc_pitch_radius()
+                uniform_offset_per_10um_arcmin: 10e-6 / m.cycloid.geometry.disc_pitch_radius()
                     * m.reducer.twist_factor()
                     * ARCMIN_PER_RAD,
                 paper_dte_at_10um_arcmin: 0.2278,
@@ -772,4 +739,49 @@ impl Study {
             stages,
         }
     }
+}
+
+/// [`crate::life::accuracy_life`] of a study of `model`: the stages' summaries, each bisection trial a wear
+/// integration on the study's own profile-update schedule (`update_hours`) to the trial hours
+/// and [`analyse_profile`] of the worn profile.
+///
+/// # Errors
+/// Wear integration and analysis failures.
+pub fn study_life(
+    model: &Model,
+    stages: &[StageSummary],
+    update_hours: &[f64],
+) -> Result<Option<crate::life::AccuracyLife>> {
+    let points: Vec<AccuracyPoint> = stages.iter().map(AccuracyPoint::of).collect();
+    let last = stages.last().map_or(0.0, |s| s.hours);
+    crate::life::accuracy_life(&model.life, &points, |h| {
+        let mut w = model.wear.clone();
+        w.stage_hours = vec![h];
+        let inputs = WearInputs {
+            wear: &w,
+            ..model.wear_inputs()
+        };
+        // Within the stages on the study's own update schedule; beyond, by the model's rule.
+        let hist = if h <= last {
+            integrate_on_schedule(&inputs, update_hours, &|_, _| {})?
+        } else {
+            integrate(&inputs, &|_, _| {})?
+        };
+        if let Some(l) = &hist.limit {
+            return Err(crate::error::Error::numerical(
+                "accuracy life",
+                l.reason.clone(),
+            ));
+        }
+        let map = &hist.maps[0];
+        let max = map.iter().copied().fold(0.0, f64::max);
+        let wear = match model.wear.model {
+            _ if max <= 0.0 => None,
+            WearModelKind::Paper => Some(WearMap::uniform(map.len(), max)?),
+            WearModelKind::Flodin => Some(WearMap::new(map.clone())?),
+        };
+        let profile = model.cycloid.profile(wear)?;
+        let a = analyse_profile(model, &profile, h)?;
+        Ok(AccuracyPoint::of(&a.summary))
+    })
 }

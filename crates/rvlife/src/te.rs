@@ -1,6 +1,6 @@
 //! Transmission error and the catalogue accuracy quantities of the reducer, from the static
-//! analysis of its mechanical model ([`crate::reducer::statics`]; paper eqs 21-23,
-//! physics-notes sections 6 and 8).
+//! analysis of its mechanical model ([`crate::statics`]; paper eqs 21-23,
+//! docs/model.md section 6).
 //!
 //! Every angle here is the **output (carrier) rotation** beyond its nominal position with the
 //! input locked at the crank angle of the sample: `TE = theta_out - theta_in / i_H` (paper
@@ -9,7 +9,7 @@
 //! - **STE** (static TE): for each crank angle, the twist at which the unloaded mechanism first
 //!   touches a pin when the output is turned forward (counter-clockwise, the sense of a positive
 //!   output torque), over every pin of every disc: the `T -> 0+` limit of the loaded twist
-//!   ([`crate::reducer::statics::StaticAnalysis::first_contact`]). `reverse` is the same turning
+//!   ([`crate::statics::StaticAnalysis::first_contact`]). `reverse` is the same turning
 //!   the other way, as a positive angle.
 //! - **Loaded TE**: the twist of the static equilibrium under an output torque, in the sense of
 //!   the torque.
@@ -37,11 +37,23 @@ use nalgebra::Rotation2;
 
 use crate::error::{Error, Result};
 use crate::geometry::{cross, Profile, Vec2};
-use crate::reducer::statics::{StaticAnalysis, StaticSolution, TouchingPin};
 use crate::reducer::{Reducer, Support};
+use crate::statics::{StaticAnalysis, StaticSolution, TouchingPin};
+use crate::units::ARCMIN_PER_RAD;
 
-/// Radians to arcminutes.
-pub const ARCMIN_PER_RAD: f64 = 180.0 * 60.0 / std::f64::consts::PI;
+/// Torque levels per side of the study's hysteresis curves beyond the measuring torque.
+pub const HYSTERESIS_LEVELS: usize = 4;
+
+/// `[te]` checked (docs/model.md section 6).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TeParams {
+    /// Crank angles per mesh cycle of the TE curves.
+    pub samples: usize,
+    /// Output torque of the loaded TE, N m.
+    pub loaded_torque: f64,
+    /// Measuring torque of lost motion, as a fraction of the rated torque (catalogue: 0.03).
+    pub measuring_torque_fraction: f64,
+}
 
 /// Crank angles (rad) of `samples` points over one mesh cycle `[0, 2 pi / Zp)`.
 pub fn mesh_cycle_angles(pins: usize, samples: usize) -> Vec<f64> {
@@ -454,7 +466,7 @@ pub fn over_revolution(
 
 /// Crank angles (rad) of one output revolution at `samples` points per mesh cycle:
 /// `i 2 pi / (Zp samples)` for `i` in `0..Zc Zp samples` (the crank turns `Zc` times relative
-/// to the pin ring while the output turns once, physics-notes section 1). Point `c samples + k`
+/// to the pin ring while the output turns once, docs/model.md section 1). Point `c samples + k`
 /// is point `k` of [`mesh_cycle_angles`] in mesh cycle `c`.
 pub fn revolution_angles(pins: usize, samples: usize) -> Vec<f64> {
     let n = (pins - 1) * pins * samples;

@@ -1,4 +1,4 @@
-//! Archard wear of the disc flanks over working hours (physics-notes section 5).
+//! Archard wear of the disc flanks over working hours (docs/model.md section 7).
 //!
 //! Default model (`flodin`): over one mesh cycle every point of a tooth is swept once by the
 //! contact band of whichever pin passes it. A point at mesh angle `t` loses, per pass,
@@ -10,7 +10,7 @@
 //! on the actual (worn) profile at `crank_steps_per_mesh_cycle` crank angles; each pin of each
 //! solve samples `dh` at its actual contact mesh angle, and the samples are interpolated onto the
 //! wear-map grid. Mesh cycles per hour are `60 n_in Zp / i_H` (one per crank revolution relative
-//! to the carrier, physics-notes section 1). The wear rate is recomputed from the worn profile
+//! to the carrier, docs/model.md section 1). The wear rate is recomputed from the worn profile
 //! every `profile_update_hours` (explicit Euler in hours), so wear feeds back into the load
 //! sharing.
 //!
@@ -25,15 +25,83 @@ use std::f64::consts::TAU;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::config::{Model, WearModelKind};
+use crate::budget::{self, Budget};
 use crate::contact::li_load_distribution;
 use crate::error::{Error, Result};
-use crate::geometry::{band_shape, mesh_angle, rotate, Profile, Vec2, WearMap};
-use crate::reducer::statics::StaticAnalysis;
+use crate::geometry::{band_shape, mesh_angle, rotate, CycloidParams, Profile, Vec2, WearMap};
+use crate::reducer::Reducer;
+use crate::statics::StaticAnalysis;
 
-/// Number of wear-map grid points per tooth: `Zp x crank_steps_per_mesh_cycle`.
-pub fn grid_points(model: &Model) -> usize {
-    model.geometry.pins * model.wear_steps
+/// Wear model choice (`wear.model`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WearModelKind {
+    /// Archard with sliding distance `2 b |v_d - v_p| / v_d` from the real kinematics
+    /// (Flodin and Andersson 1997), contact from true gaps, profile updates.
+    Flodin,
+    /// The paper's eqs 11-20 as printed.
+    Paper,
+}
+
+/// One level of the load spectrum (`[load]`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct LoadLevel {
+    /// Output torque, N m (negative loads the other flank).
+    pub torque: f64,
+    /// Input speed, rpm.
+    pub speed_rpm: f64,
+    /// Share of the working time, 0..1 (the levels sum to 1).
+    pub fraction: f64,
+}
+
+/// `[wear]` checked, SI (docs/model.md section 7).
+#[derive(Debug, Clone, PartialEq)]
+pub struct WearParams {
+    /// The wear model.
+    pub model: WearModelKind,
+    /// Archard coefficient `k = K/H`, m^2/N.
+    pub archard: f64,
+    /// The key that sets the Archard coefficient, as the user wrote it (for messages).
+    pub archard_key: &'static str,
+    /// Working-hour stages at which results are reported, h (ascending, at least one).
+    pub stage_hours: Vec<f64>,
+    /// Profile update step, h (0: the wear rate of the new profile throughout).
+    pub update_hours: f64,
+    /// Largest wear increment between profile updates, m.
+    pub max_wear_step: f64,
+    /// Crank angles solved per mesh cycle (the wear grid has `Zp` times as many points).
+    pub crank_steps: usize,
+    /// Fraction of the sliding taken up by pins turning in their grooves, 0..1.
+    pub pin_rolling_fraction: f64,
+    /// Overlap ratio of the paper's model.
+    pub overlap_ratio: f64,
+}
+
+/// What the wear integration reads: the reducer's mechanical model, the disc the profiles are
+/// built from, the wear settings, the load spectrum, the torque of the band filter, the work
+/// budget ([`crate::config::Model::wear_inputs`]).
+#[derive(Debug, Clone, Copy)]
+pub struct WearInputs<'a> {
+    /// The reducer's mechanical model.
+    pub reducer: &'a Reducer,
+    /// The disc: every worn profile is built from it.
+    pub disc: &'a CycloidParams,
+    /// The wear settings.
+    pub wear: &'a WearParams,
+    /// The load spectrum.
+    pub load: &'a [LoadLevel],
+    /// Output torque whose Li peak force sets the band of the wear map's filter (the
+    /// loaded-TE torque), N m.
+    pub band_torque: f64,
+    /// The work budget and the stages' analyses' cost.
+    pub budget: Budget,
+}
+
+impl WearInputs<'_> {
+    /// Number of wear-map grid points per tooth: `Zp x crank_steps_per_mesh_cycle`.
+    pub fn grid_points(&self) -> usize {
+        self.disc.geometry.pins * self.wear.crank_steps
+    }
 }
 
 /// Periodic linear interpolation of samples `(angle, value)` (angles in rad, any order) onto
@@ -78,17 +146,21 @@ pub const REVOLUTION_POSITIONS: usize = 8;
 ///
 /// # Errors
 /// Propagates contact-solver failures.
-pub fn wear_per_mesh_cycle(profile: &Profile, model: &Model, torque: f64) -> Result<Vec<f64>> {
-    let n = grid_points(model);
+pub fn wear_per_mesh_cycle(
+    profile: &Profile,
+    inputs: &WearInputs,
+    torque: f64,
+) -> Result<Vec<f64>> {
+    let n = inputs.grid_points();
     if torque == 0.0 {
         return Ok(vec![0.0; n]);
     }
     let geo = profile.geometry();
     let zp = geo.pins as f64;
     let zc = geo.disc_teeth() as f64;
-    let steps = model.wear_steps;
-    let slide_scale = 1.0 - model.pin_rolling_fraction;
-    let sa = StaticAnalysis::new(&model.reducer, profile)?;
+    let steps = inputs.wear.crank_steps;
+    let slide_scale = 1.0 - inputs.wear.pin_rolling_fraction;
+    let sa = StaticAnalysis::new(inputs.reducer, profile)?;
     let phis: Vec<f64> = (0..steps)
         .map(|k| TAU * k as f64 / (zp * steps as f64))
         .collect();
@@ -98,8 +170,8 @@ pub fn wear_per_mesh_cycle(profile: &Profile, model: &Model, torque: f64) -> Res
     // `REVOLUTION_POSITIONS` mesh cycles spread over the output revolution, and over the discs.
     // A single-stage drive repeats only where the output pins' pattern does (and its discs
     // may be unevenly phased): it is averaged like a reducer with errors.
-    let errors = !model.reducer.errors.is_zero()
-        || matches!(model.reducer.drive, crate::reducer::Drive::SingleStage(_));
+    let errors = !inputs.reducer.errors.is_zero()
+        || matches!(inputs.reducer.drive, crate::reducer::Drive::SingleStage(_));
     let positions = if errors { REVOLUTION_POSITIONS } else { 1 };
     let cycles = (zp * zc) as usize;
     let mut solutions = Vec::with_capacity(positions * steps);
@@ -130,7 +202,7 @@ pub fn wear_per_mesh_cycle(profile: &Profile, model: &Model, torque: f64) -> Res
                 let tangent = rotate(&(pt.dp / pt.dp.norm()), psi);
                 let v_slide = (v.dot(&tangent) * slide_scale).abs();
                 let v_disc = pt.dp.norm();
-                let dh = weight * model.archard * p.force * v_slide / (geo.width * v_disc);
+                let dh = weight * inputs.wear.archard * p.force * v_slide / (geo.width * v_disc);
                 out.push((p.mesh_angle, dh, p.half_width));
             }
             Ok(out)
@@ -189,18 +261,18 @@ fn spread_over_band(profile: &Profile, depth: &[f64], half_width: &[f64]) -> Vec
 ///
 /// # Errors
 /// Propagates contact-solver failures.
-pub fn wear_rate(profile: &Profile, model: &Model) -> Result<Vec<f64>> {
-    let n = grid_points(model);
+pub fn wear_rate(profile: &Profile, inputs: &WearInputs) -> Result<Vec<f64>> {
+    let n = inputs.grid_points();
     let mut rate = vec![0.0; n];
-    for level in &model.spectrum {
-        let per_cycle = match model.wear_model {
-            WearModelKind::Flodin => wear_per_mesh_cycle(profile, model, level.torque)?,
-            WearModelKind::Paper => paper_wear_per_input_rev(profile, model, level.torque)?,
+    for level in inputs.load {
+        let per_cycle = match inputs.wear.model {
+            WearModelKind::Flodin => wear_per_mesh_cycle(profile, inputs, level.torque)?,
+            WearModelKind::Paper => paper_wear_per_input_rev(profile, inputs, level.torque)?,
         };
-        let cycles = match model.wear_model {
-            WearModelKind::Flodin => model.mesh_cycles_per_hour(level.speed_rpm),
-            // Eq 19: X = S n1 t eps_a, n1 the input speed.
-            WearModelKind::Paper => 60.0 * level.speed_rpm * model.overlap_ratio,
+        let cycles = match inputs.wear.model {
+            WearModelKind::Flodin => inputs.reducer.mesh_cycles_per_hour(level.speed_rpm),
+            // X = S n1 t eps_a, n1 the input speed.
+            WearModelKind::Paper => 60.0 * level.speed_rpm * inputs.wear.overlap_ratio,
         };
         for (r, d) in rate.iter_mut().zip(&per_cycle) {
             *r += level.fraction * cycles * d;
@@ -210,8 +282,12 @@ pub fn wear_rate(profile: &Profile, model: &Model) -> Result<Vec<f64>> {
 }
 
 /// The paper's wear per input revolution and unit overlap (eqs 11-20 as printed), m, on the grid.
-fn paper_wear_per_input_rev(profile: &Profile, model: &Model, torque: f64) -> Result<Vec<f64>> {
-    let n = grid_points(model);
+fn paper_wear_per_input_rev(
+    profile: &Profile,
+    inputs: &WearInputs,
+    torque: f64,
+) -> Result<Vec<f64>> {
+    let n = inputs.grid_points();
     if torque == 0.0 {
         return Ok(vec![0.0; n]);
     }
@@ -219,11 +295,11 @@ fn paper_wear_per_input_rev(profile: &Profile, model: &Model, torque: f64) -> Re
     let zp = geo.pins as f64;
     let zc = geo.disc_teeth() as f64;
     let k1 = geo.k1();
-    let steps = model.wear_steps;
+    let steps = inputs.wear.crank_steps;
     let mut samples = Vec::with_capacity(n);
     for k in 0..steps {
         let phi = TAU * k as f64 / (zp * steps as f64);
-        let forces = li_load_distribution(geo, phi, model.equivalent_disc_torque(torque));
+        let forces = li_load_distribution(geo, phi, inputs.reducer.equivalent_disc_torque(torque));
         for (j, &f) in forces.iter().enumerate() {
             let t = mesh_angle(TAU * j as f64 / zp - phi);
             if f == 0.0 {
@@ -238,9 +314,9 @@ fn paper_wear_per_input_rev(profile: &Profile, model: &Model, torque: f64) -> Re
             // Eq 1: contact force angle.
             let alpha = (k1 * t.sin()).atan2(1.0 - k1 * t.cos()).abs();
             let ratio = r_i * alpha.cos() * (zp / zc) / lever;
-            let hz = model.reducer.contact.hertz(f, pt.curvature);
+            let hz = inputs.reducer.contact.hertz(f, pt.curvature);
             let s = 2.0 * hz.half_width * (1.0 - ratio).abs();
-            samples.push((t, model.archard * s * hz.mean_pressure));
+            samples.push((t, inputs.wear.archard * s * hz.mean_pressure));
         }
     }
     Ok(resample_periodic(samples, n))
@@ -258,18 +334,21 @@ struct BandSmoother {
 }
 
 impl BandSmoother {
-    fn new(model: &Model) -> Result<Self> {
-        let n = grid_points(model);
-        let profile = model.profile(None)?;
-        let geo = &model.geometry;
-        let f_peak = 4.0 * model.equivalent_disc_torque(model.loaded_torque.abs().max(1e-9))
+    fn new(inputs: &WearInputs) -> Result<Self> {
+        let n = inputs.grid_points();
+        let profile = inputs.disc.profile(None)?;
+        let geo = &inputs.disc.geometry;
+        let f_peak = 4.0
+            * inputs
+                .reducer
+                .equivalent_disc_torque(inputs.band_torque.abs().max(1e-9))
             / (geo.eccentricity * (geo.disc_teeth() * geo.pins) as f64);
         let dt = TAU / n as f64;
         let pts: Vec<_> = (0..n).map(|m| profile.point(m as f64 * dt)).collect();
         let ds: Vec<f64> = pts.iter().map(|p| p.dp.norm() * dt).collect();
         let weights = (0..n)
             .map(|m| {
-                let b = model
+                let b = inputs
                     .reducer
                     .contact
                     .hertz(f_peak, pts[m].curvature)
@@ -353,8 +432,11 @@ impl WearHistory {
 /// Propagates solver failures on the unworn profile; [`Error::Invalid`] naming the key that
 /// drives the work when the profile updates that `wear.max_wear_step_um` asks for exceed the
 /// work budget ([`crate::budget`]).
-pub fn integrate(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<WearHistory> {
-    integrate_inner(model, None, progress)
+pub fn integrate(
+    inputs: &WearInputs,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<WearHistory> {
+    integrate_inner(inputs, None, progress)
 }
 
 /// [`integrate`] with the profile updates at the given working hours (h, ascending; values
@@ -366,27 +448,25 @@ pub fn integrate(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
 /// # Errors
 /// As [`integrate`].
 pub fn integrate_on_schedule(
-    model: &Model,
+    inputs: &WearInputs,
     update_hours: &[f64],
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<WearHistory> {
-    integrate_inner(model, Some(update_hours), progress)
+    integrate_inner(inputs, Some(update_hours), progress)
 }
 
 fn integrate_inner(
-    model: &Model,
+    inputs: &WearInputs,
     schedule: Option<&[f64]>,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<WearHistory> {
-    let n = grid_points(model);
-    let last = *model
-        .stage_hours
-        .last()
-        .expect("validated: at least one stage");
-    let step = if model.wear_model == WearModelKind::Paper || model.update_hours <= 0.0 {
+    let w = inputs.wear;
+    let n = inputs.grid_points();
+    let last = *w.stage_hours.last().expect("validated: at least one stage");
+    let step = if w.model == WearModelKind::Paper || w.update_hours <= 0.0 {
         f64::INFINITY
     } else {
-        model.update_hours
+        w.update_hours
     };
     // Expected number of rate evaluations, for the progress report.
     let total = match schedule {
@@ -395,13 +475,13 @@ fn integrate_inner(
         None => 1,
     };
     let mut update_hours = Vec::new();
-    let stages = &model.stage_hours;
+    let stages = &w.stage_hours;
     // Round-off tolerance of the hour arithmetic, relative to the horizon: an update step is
     // never shorter than horizon / budget (checked below), far above it.
     let eps = 1e-12 * last;
     let mut limit = None;
     let mut budget_checked = false;
-    let smoother = BandSmoother::new(model)?;
+    let smoother = BandSmoother::new(inputs)?;
     let mut h = vec![0.0; n];
     let mut t = 0.0;
     let mut maps = Vec::with_capacity(stages.len());
@@ -417,8 +497,8 @@ fn integrate_inner(
         let rate = if worn {
             let smoothed = smoother.apply(&h);
             let evaluated = WearMap::new(smoothed.clone())
-                .and_then(|w| model.profile(Some(w)))
-                .and_then(|p| wear_rate(&p, model));
+                .and_then(|m| inputs.disc.profile(Some(m)))
+                .and_then(|p| wear_rate(&p, inputs));
             match evaluated {
                 Ok(r) => r,
                 Err(e) => {
@@ -431,7 +511,7 @@ fn integrate_inner(
                 }
             }
         } else {
-            wear_rate(&model.profile(None)?, model)?
+            wear_rate(&inputs.disc.profile(None)?, inputs)?
         };
         if rate.iter().any(|r| !r.is_finite()) {
             return Err(Error::numerical("wear integration", "non-finite wear rate"));
@@ -442,7 +522,7 @@ fn integrate_inner(
             // the scheduled count (the rate grows as the flank wears).
             let sched = (last / step).ceil();
             if !budget_checked || (update_hours.len() as f64) > 2.0 * sched.max(1.0) {
-                crate::budget::check_wear_updates(model, last, max_rate)?;
+                check_updates(inputs, last, max_rate)?;
                 budget_checked = true;
             }
         }
@@ -462,7 +542,7 @@ fn integrate_inner(
             // Explicit Euler in hours is stable only while no point wears much more than the
             // contact approach between updates: cap the largest increment.
             if step.is_finite() && max_rate > 0.0 {
-                seg_end = seg_end.min(t + model.max_wear_step / max_rate);
+                seg_end = seg_end.min(t + w.max_wear_step / max_rate);
             }
             // Every update advances the hours (the budget check bounds the count of them).
             seg_end.max(t + 4.0 * eps)
@@ -489,11 +569,62 @@ fn integrate_inner(
         }
     }
     Ok(WearHistory {
-        hours: model.stage_hours[..maps.len()].to_vec(),
+        hours: w.stage_hours[..maps.len()].to_vec(),
         maps,
         update_hours,
         limit,
     })
+}
+
+/// Checks, once the largest wear rate `max_rate` (m/h) of the unworn profile is known, the
+/// profile updates that `wear.max_wear_step_um` asks for over `horizon` hours against the work
+/// budget ([`crate::budget`]).
+///
+/// # Errors
+/// [`Error::Invalid`] naming `wear.max_wear_step_um` if it is below its default of 1 um,
+/// otherwise the Archard coefficient key, with the estimate and the budget.
+pub(crate) fn check_updates(inputs: &WearInputs, horizon: f64, max_rate: f64) -> Result<()> {
+    let w = inputs.wear;
+    let paper = w.model == WearModelKind::Paper;
+    if paper || w.update_hours <= 0.0 {
+        return Ok(());
+    }
+    let last = w.stage_hours.last().copied().unwrap_or(0.0);
+    let updates = (horizon * max_rate / w.max_wear_step)
+        .ceil()
+        .max(budget::scheduled_updates(paper, last, w.update_hours));
+    let total = updates * budget::per_rate_evaluation(paper, inputs.load.len(), w.crank_steps)
+        + w.stage_hours.len() as f64 * inputs.budget.per_stage;
+    if total <= inputs.budget.solves {
+        return Ok(());
+    }
+    let (key, value) = if w.max_wear_step < 0.999e-6 {
+        (
+            "wear.max_wear_step_um".to_string(),
+            format!("{}", w.max_wear_step * 1e6),
+        )
+    } else if w.archard_key.ends_with("m2_per_n") {
+        (w.archard_key.to_string(), format!("{:.4e}", w.archard))
+    } else {
+        (
+            w.archard_key.to_string(),
+            format!("{:.4e}", w.archard * 1e9),
+        )
+    };
+    Err(Error::invalid(
+        key,
+        value,
+        format!(
+            "the largest wear rate, {:.3e} um/h on the unworn disc, needs about {updates:.2e} \
+             profile updates of at most wear.max_wear_step_um = {} um over {horizon} h: about \
+             {total:.2e} contact solves (~{:.0} min), more than the work budget of {:.0} min \
+             (--work-budget-min)",
+            max_rate * 1e6,
+            w.max_wear_step * 1e6,
+            budget::minutes(total),
+            budget::minutes(inputs.budget.solves),
+        ),
+    ))
 }
 
 /// Finds the Archard coefficient (m^2/N) that makes the maximum wear at the last stage equal
@@ -512,8 +643,8 @@ fn integrate_inner(
 /// height), the last stage is at 0 h, the model gives no wear, or the wear model leaves its
 /// validity before the target depth; [`Error::Numerical`] if the fixed-schedule phase does not
 /// reach 0.1 % in 20 iterations.
-pub fn calibrate(model: &Model, target_depth: f64) -> Result<(f64, f64)> {
-    let tooth = 2.0 * model.geometry.eccentricity;
+pub fn calibrate(inputs: &WearInputs, target_depth: f64) -> Result<(f64, f64)> {
+    let tooth = 2.0 * inputs.disc.geometry.eccentricity;
     if !(target_depth.is_finite() && target_depth > 0.0 && target_depth <= tooth) {
         return Err(Error::invalid(
             "--target-wear-um",
@@ -525,15 +656,15 @@ pub fn calibrate(model: &Model, target_depth: f64) -> Result<(f64, f64)> {
             ),
         ));
     }
-    let last = model.stage_hours.last().copied().unwrap_or(0.0);
+    let last = inputs.wear.stage_hours.last().copied().unwrap_or(0.0);
     if last <= 0.0 {
         return Err(Error::invalid(
             "wear.stage_hours",
-            format!("{:?}", model.stage_hours),
+            format!("{:?}", inputs.wear.stage_hours),
             "the last stage is at 0 h, where there is no wear to calibrate; list a later stage",
         ));
     }
-    let mut m = model.clone();
+    let mut w = inputs.wear.clone();
     let max_depth = |hist: &WearHistory| -> Result<f64> {
         if let Some(l) = &hist.limit {
             return Err(Error::invalid(
@@ -561,12 +692,18 @@ pub fn calibrate(model: &Model, target_depth: f64) -> Result<(f64, f64)> {
     // Phase 1: adaptive schedule, coarse.
     let mut schedule = Vec::new();
     for _ in 0..20 {
-        let hist = integrate(&m, &|_, _| {})?;
+        let hist = integrate(
+            &WearInputs {
+                wear: &w,
+                ..*inputs
+            },
+            &|_, _| {},
+        )?;
         if let Some(l) = &hist.limit {
             if l.max_wear_um * 1e-6 > target_depth && l.hours > 0.0 {
                 // Past the target before the limit: a smaller coefficient reaches the target
                 // at the last stage (depth about proportional to k times hours).
-                m.archard *= 0.5 * target_depth / (l.max_wear_um * 1e-6) * (l.hours / last);
+                w.archard *= 0.5 * target_depth / (l.max_wear_um * 1e-6) * (l.hours / last);
                 continue;
             }
         }
@@ -575,15 +712,19 @@ pub fn calibrate(model: &Model, target_depth: f64) -> Result<(f64, f64)> {
         if (achieved / target_depth - 1.0).abs() < 0.02 {
             break;
         }
-        m.archard *= target_depth / achieved;
+        w.archard *= target_depth / achieved;
     }
     // Phase 2: fixed schedule, fine.
     for _ in 0..20 {
-        let achieved = max_depth(&integrate_on_schedule(&m, &schedule, &|_, _| {})?)?;
+        let fixed = WearInputs {
+            wear: &w,
+            ..*inputs
+        };
+        let achieved = max_depth(&integrate_on_schedule(&fixed, &schedule, &|_, _| {})?)?;
         if (achieved / target_depth - 1.0).abs() < 1e-3 {
-            return Ok((m.archard, achieved));
+            return Ok((w.archard, achieved));
         }
-        m.archard *= target_depth / achieved;
+        w.archard *= target_depth / achieved;
     }
     Err(Error::numerical(
         "calibration",
@@ -598,8 +739,8 @@ mod tests {
     #[test]
     fn band_spreading_conserves_area_and_spreads() {
         let model = crate::config::Config::example().validate().unwrap();
-        let profile = model.profile(None).unwrap();
-        let n = grid_points(&model);
+        let profile = model.profile().unwrap();
+        let n = model.wear_inputs().grid_points();
         let mut depth = vec![0.0; n];
         depth[90] = 1e-6;
         let b = vec![30e-6; n];

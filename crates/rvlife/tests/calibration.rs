@@ -1,7 +1,7 @@
 //! The k-h scaling that `rvlife calibrate --measured` rests on ([`rvlife::calibration`]).
 
 use rvlife::config::{Config, Model};
-use rvlife::study::StageSummary;
+use rvlife::quantities::StageSummary;
 use rvlife::wear::{integrate, integrate_on_schedule};
 
 /// One number of a stage summary.
@@ -13,7 +13,7 @@ fn fast_model(hours: &[f64]) -> Model {
     cfg.dynamics.enabled = false;
     cfg.fem.enabled = false;
     let mut m = cfg.validate().expect("example validates");
-    m.stage_hours = hours.to_vec();
+    m.wear.stage_hours = hours.to_vec();
     m
 }
 
@@ -24,12 +24,12 @@ fn fast_model(hours: &[f64]) -> Model {
 fn wear_depends_on_k_and_hours_only_through_their_product() {
     let hours = [0.0, 1500.0, 3000.0, 4500.0];
     let m = fast_model(&hours);
-    let reference = integrate(&m, &|_, _| {}).unwrap();
+    let reference = integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
     let mut m2 = m.clone();
-    m2.archard *= 2.0;
-    m2.stage_hours = hours.iter().map(|h| h / 2.0).collect();
+    m2.wear.archard *= 2.0;
+    m2.wear.stage_hours = hours.iter().map(|h| h / 2.0).collect();
     let half: Vec<f64> = reference.update_hours.iter().map(|t| t / 2.0).collect();
-    let scaled = integrate_on_schedule(&m2, &half, &|_, _| {}).unwrap();
+    let scaled = integrate_on_schedule(&m2.wear_inputs(), &half, &|_, _| {}).unwrap();
     assert_eq!(reference.maps.len(), scaled.maps.len());
     let max = reference.max_depths().last().copied().unwrap();
     assert!(max > 20e-6, "the example wears {max} m");
@@ -50,7 +50,7 @@ fn wear_depends_on_k_and_hours_only_through_their_product() {
 fn direct_run_at_twice_k_matches_the_reference_at_twice_the_hours() {
     let hours = [0.0, 1500.0, 3000.0, 4500.0];
     let mut m2 = fast_model(&hours);
-    m2.archard *= 2.0;
+    m2.wear.archard *= 2.0;
     let t = std::time::Instant::now();
     let direct = rvlife::study::run(&m2, &|_, _| {}).unwrap();
     let wall = t.elapsed().as_secs_f64();

@@ -1,12 +1,14 @@
 //! Physics checks of the multibody model that can fail.
 
-use rvlife::config::{Config, Model, WearModelKind};
+use rvlife::config::{Config, Model};
+use rvlife::dynamics::ode::OdeSystem;
+use rvlife::dynamics::params::{Drive, LoadProfile, Method};
+use rvlife::dynamics::system::Layout;
+use rvlife::dynamics::{ode, simulate, GapField, System};
 use rvlife::geometry::WearMap;
-use rvlife::reducer::dynamics::ode::OdeSystem;
-use rvlife::reducer::dynamics::params::{Drive, LoadProfile, Method};
-use rvlife::reducer::dynamics::system::Layout;
-use rvlife::reducer::dynamics::{ode, simulate, GapField, System};
-use rvlife::te::{loaded_te, ARCMIN_PER_RAD};
+use rvlife::te::loaded_te;
+use rvlife::units::ARCMIN_PER_RAD;
+use rvlife::wear::WearModelKind;
 
 fn example() -> Config {
     Config::example()
@@ -27,9 +29,10 @@ fn output_speed_follows_the_ratio() {
         c.dynamics.window_s = [0.1, 0.4];
     });
     let profile = m
+        .cycloid
         .profile(Some(WearMap::uniform(720, 10e-6).unwrap()))
         .unwrap();
-    let r = simulate(&profile, &m.dynamics, false).unwrap();
+    let r = simulate(&profile, &m.dynamics.params, false).unwrap();
     let w = r.summary.output_speed_deg_s;
     let expected = 9000.0 / 81.0;
     eprintln!("speed: {w} deg/s");
@@ -51,11 +54,11 @@ fn unloaded_perfect_reducer_has_no_te_beyond_inertia_deflections() {
         c.dynamics.end_time_s = 0.3;
         c.dynamics.window_s = [0.1, 0.3];
     });
-    let profile = m.profile(None).unwrap();
-    let r = simulate(&profile, &m.dynamics, false).unwrap();
-    let p = &m.dynamics;
+    let profile = m.profile().unwrap();
+    let r = simulate(&profile, &m.dynamics.params, false).unwrap();
+    let p = &m.dynamics.params;
     let f = r.summary.max_pin_force_n;
-    let lever = 0.05 * m.geometry.disc_pitch_radius();
+    let lever = 0.05 * m.cycloid.geometry.disc_pitch_radius();
     let bound = (p.reducer.contact.approach(f.max(1e-3), 0.0)
         + f / p.reducer.bearings.disc_stiffness)
         / lever
@@ -79,7 +82,7 @@ fn unloaded_perfect_reducer_has_no_te_beyond_inertia_deflections() {
 #[test]
 fn slow_constant_torque_gives_the_static_loaded_te() {
     let m = slow_model(|c| c.cycloid.modification.equidistant_mm = 0.01);
-    let profile = m.profile(None).unwrap();
+    let profile = m.profile().unwrap();
     slow_dte_matches_static(&m, &profile, "10 um equidistant");
 }
 
@@ -90,13 +93,15 @@ fn slow_constant_torque_gives_the_static_loaded_te() {
 #[test]
 fn slow_constant_torque_gives_the_static_solution_at_every_stage() {
     let mut m = slow_model(|_| {});
-    m.stage_hours = vec![1250.0, 7500.0];
-    let hist = rvlife::wear::integrate(&m, &|_, _| {}).unwrap();
-    let mut stages = vec![(0.0, m.profile(None).unwrap())];
+    m.wear.stage_hours = vec![1250.0, 7500.0];
+    let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
+    let mut stages = vec![(0.0, m.profile().unwrap())];
     for (h, map) in hist.hours.iter().zip(&hist.maps) {
         stages.push((
             *h,
-            m.profile(Some(WearMap::new(map.clone()).unwrap())).unwrap(),
+            m.cycloid
+                .profile(Some(WearMap::new(map.clone()).unwrap()))
+                .unwrap(),
         ));
     }
     for (h, profile) in &stages {
@@ -133,7 +138,7 @@ fn slow_model(edit: impl FnOnce(&mut Config)) -> Model {
 /// pin force the static one within 1 % of the largest static force, and each disc's
 /// translation on its bearings the static one within 1 % of its length.
 fn slow_dte_matches_static(m: &Model, profile: &rvlife::geometry::Profile, what: &str) {
-    let mut p = m.dynamics.clone();
+    let mut p = m.dynamics.params.clone();
     let i = &mut p.inertia;
     for v in [
         &mut i.disc_mass,
@@ -153,9 +158,9 @@ fn slow_dte_matches_static(m: &Model, profile: &rvlife::geometry::Profile, what:
         (got - expected).abs() < 0.01 * expected,
         "{what}: DTE {got} arcmin vs static {expected}"
     );
-    let sa = rvlife::reducer::statics::StaticAnalysis::new(&m.reducer, profile).unwrap();
+    let sa = rvlife::statics::StaticAnalysis::new(&m.reducer, profile).unwrap();
     let lay = m.reducer.layout();
-    let zp = m.geometry.pins;
+    let zp = m.cycloid.geometry.pins;
     let kappa = m.reducer.kappa();
     let forces = r.pin_forces.as_ref().unwrap();
     let deviations = r.deviations.as_ref().unwrap();
@@ -244,11 +249,11 @@ fn energy_is_conserved_without_damping() {
         d.end_time_s = 0.05;
         d.window_s = [0.0, 0.05];
     });
-    assert!(matches!(m.dynamics.drive, Drive::Torque { .. }));
-    assert_eq!(m.dynamics.load, LoadProfile::None);
-    let profile = m.profile(None).unwrap();
+    assert!(matches!(m.dynamics.params.drive, Drive::Torque { .. }));
+    assert_eq!(m.dynamics.params.load, LoadProfile::None);
+    let profile = m.profile().unwrap();
     let field = GapField::new(&profile, 1024, None).unwrap();
-    let sys = System::new(&m.dynamics, [&field, &field]);
+    let sys = System::new(&m.dynamics.params, [&field, &field]);
     // Rigid spin plus an output speed deviation of 0.05 rad/s: the output rattles through the
     // 2 x 0.34 arcmin of backlash and strikes the pins on both flanks.
     let mut z0 = sys.initial_state();
@@ -273,7 +278,7 @@ fn energy_is_conserved_without_damping() {
             sys.rhs(t, z, &mut dz, Some(&mut pins));
             elastic = elastic.max(
                 pins.iter()
-                    .map(|p: &rvlife::reducer::dynamics::PinForce| p.normal)
+                    .map(|p: &rvlife::dynamics::PinForce| p.normal)
                     .sum(),
             );
             Ok(())
@@ -295,21 +300,23 @@ fn energy_is_conserved_without_damping() {
 #[test]
 fn fast_integrator_matches_a_tight_reference_at_every_stage() {
     let m = model_with(|_| {});
-    assert_eq!(m.dynamics.integrator, Method::Esdirk34);
-    let mut tight = m.dynamics.clone();
+    assert_eq!(m.dynamics.params.integrator, Method::Esdirk34);
+    let mut tight = m.dynamics.params.clone();
     tight.integrator = Method::Tsit45;
     tight.rtol = 1e-7;
-    let hist = rvlife::wear::integrate(&m, &|_, _| {}).unwrap();
+    let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
     for (hours, map) in hist.hours.iter().zip(&hist.maps) {
         // The stage profile as the study analyses it (the paper's uniform wear of the largest
         // depth, or the wear map).
         let max = map.iter().copied().fold(0.0, f64::max);
-        let wear = match m.wear_model {
+        let wear = match m.wear.model {
             WearModelKind::Paper => WearMap::uniform(map.len(), max).unwrap(),
             _ => WearMap::new(map.clone()).unwrap(),
         };
-        let profile = m.profile((max > 0.0).then_some(wear)).unwrap();
-        let fast = simulate(&profile, &m.dynamics, false).unwrap().summary;
+        let profile = m.cycloid.profile((max > 0.0).then_some(wear)).unwrap();
+        let fast = simulate(&profile, &m.dynamics.params, false)
+            .unwrap()
+            .summary;
         let reference = simulate(&profile, &tight, false).unwrap().summary;
         eprintln!(
             "{:6.0} h: mean {:.5} / {:.5}, p-p {:.5} / {:.5}, RMS {:.5} / {:.5} arcmin; steps {} / {}",
@@ -357,18 +364,19 @@ fn fast_integrator_matches_a_tight_reference_at_every_stage() {
 fn open_pin_skip_and_warm_starts_leave_the_rhs_unchanged() {
     let m = model_with(|_| {});
     let mut m7500 = m.clone();
-    m7500.stage_hours = vec![7500.0];
-    let hist = rvlife::wear::integrate(&m7500, &|_, _| {}).unwrap();
+    m7500.wear.stage_hours = vec![7500.0];
+    let hist = rvlife::wear::integrate(&m7500.wear_inputs(), &|_, _| {}).unwrap();
     let max = hist.maps[0].iter().copied().fold(0.0, f64::max);
     let profile = m
+        .cycloid
         .profile(Some(WearMap::uniform(hist.maps[0].len(), max).unwrap()))
         .unwrap();
-    let field = m.dynamics.gap_field(&profile).unwrap();
-    let sys = System::new(&m.dynamics, [&field, &field]);
+    let field = m.dynamics.params.gap_field(&profile).unwrap();
+    let sys = System::new(&m.dynamics.params, [&field, &field]);
     let times: Vec<f64> = (0..=800).map(|k| k as f64 * 1e-3).collect();
     let (mut warm, mut cold) = (vec![0.0; sys.states()], vec![0.0; sys.states()]);
     let mut worst: f64 = 0.0;
-    let mut pins = vec![Default::default(); 2 * m.geometry.pins];
+    let mut pins = vec![Default::default(); 2 * m.cycloid.geometry.pins];
     let mut loaded = 0usize;
     ode::integrate(&sys, Method::Esdirk34, 1e-3, false, 0.8, &times, |t, z| {
         sys.rhs(t, z, &mut warm, None);
@@ -376,7 +384,7 @@ fn open_pin_skip_and_warm_starts_leave_the_rhs_unchanged() {
         sys.rhs(t, z, &mut cold, Some(&mut pins));
         loaded += pins
             .iter()
-            .filter(|p: &&rvlife::reducer::dynamics::PinForce| p.normal > 0.0)
+            .filter(|p: &&rvlife::dynamics::PinForce| p.normal > 0.0)
             .count();
         let scale = cold.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
         for (a, b) in warm.iter().zip(&cold) {

@@ -3,12 +3,12 @@
 use rvlife::config::{Config, Model};
 use rvlife::geometry::Vec2;
 use rvlife::reducer::errors::PartErrors;
-use rvlife::reducer::statics::StaticAnalysis;
 use rvlife::reducer::{Reducer, Support};
+use rvlife::statics::StaticAnalysis;
 use rvlife::te::{
     over_revolution, revolution, revolution_exact, revolution_perturbed, static_te, RevolutionTe,
-    ARCMIN_PER_RAD,
 };
+use rvlife::units::ARCMIN_PER_RAD;
 
 /// The example with a clearance: `equidistant_um` of equidistant and `offset_um` of offset
 /// modification.
@@ -64,14 +64,22 @@ fn max_diff(a: &RevolutionTe, b: &RevolutionTe) -> f64 {
 fn without_errors_the_revolution_te_is_the_tiled_mesh_cycle_te() {
     for (eq, off) in [(5.0, -5.0), (8.0, 0.0)] {
         let m = model(eq, off);
-        let profile = m.profile(None).unwrap();
+        let profile = m.profile().unwrap();
         let sa = StaticAnalysis::new(&m.reducer, &profile).unwrap();
         let exact = revolution_exact(&sa, 2).unwrap();
         let ste = static_te(&m.reducer, &profile, 2).unwrap();
-        let (_, tiled_fwd) =
-            over_revolution(&ste.crank_angle, &ste.forward, m.geometry.pins, m.ratio);
-        let (_, tiled_rev) =
-            over_revolution(&ste.crank_angle, &ste.reverse, m.geometry.pins, m.ratio);
+        let (_, tiled_fwd) = over_revolution(
+            &ste.crank_angle,
+            &ste.forward,
+            m.cycloid.geometry.pins,
+            m.reducer.ratio,
+        );
+        let (_, tiled_rev) = over_revolution(
+            &ste.crank_angle,
+            &ste.reverse,
+            m.cycloid.geometry.pins,
+            m.reducer.ratio,
+        );
         let tiled = RevolutionTe {
             crank_angle: exact.crank_angle.clone(),
             forward: tiled_fwd,
@@ -95,7 +103,7 @@ fn without_errors_the_revolution_te_is_the_tiled_mesh_cycle_te() {
 #[test]
 fn the_perturbed_revolution_te_matches_the_exact_one() {
     let m = model(5.0, -5.0);
-    let profile = m.profile(None).unwrap();
+    let profile = m.profile().unwrap();
     let sa0 = StaticAnalysis::new(&m.reducer, &profile).unwrap();
     let nominal = revolution_exact(&sa0, 2).unwrap();
     let mut red = m.reducer.clone();
@@ -136,8 +144,8 @@ fn the_perturbed_revolution_te_matches_the_exact_one() {
 #[test]
 fn one_displaced_pin_adds_its_closed_form_gap_to_the_backlash() {
     let m = model(5.0, 0.0);
-    let profile = m.profile(None).unwrap();
-    let g = &m.geometry;
+    let profile = m.profile().unwrap();
+    let g = &m.cycloid.geometry;
     let (a, rp, zp) = (g.eccentricity, g.pin_circle_radius, g.pins as f64);
     let z = zp + m.reducer.mesh.sun_planet_ratio;
     let d = 2e-9;

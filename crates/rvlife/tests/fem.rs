@@ -12,7 +12,7 @@ use rvlife::fem::mesh::{triangulate, BoundaryLoop, LoopKind, MeshSpec};
 use rvlife::fem::plane::{traction_load, FeModel, NodeBc, PlaneStress};
 use rvlife::fem::{DiscModel, DiscSet};
 use rvlife::geometry::{Vec2, WearMap};
-use rvlife::te::ARCMIN_PER_RAD;
+use rvlife::units::ARCMIN_PER_RAD;
 
 fn model_with(edit: impl FnOnce(&mut Config)) -> Model {
     let mut c = Config::example();
@@ -22,7 +22,8 @@ fn model_with(edit: impl FnOnce(&mut Config)) -> Model {
 
 /// The profile of `m` worn uniformly by `depth` (m) along the whole flank.
 fn uniformly_worn(m: &Model, depth: f64) -> rvlife::geometry::Profile {
-    m.profile(Some(WearMap::uniform(360, depth).unwrap()))
+    m.cycloid
+        .profile(Some(WearMap::uniform(360, depth).unwrap()))
         .unwrap()
 }
 
@@ -199,8 +200,8 @@ fn disc_compliance_converges_under_refinement() {
             c.fem.crank_angles = 8;
         });
         let p = uniformly_worn(&m, 10e-6);
-        let d = DiscSet::build(&p, &m.fem, &m.reducer).unwrap();
-        let st = analyse_stage(&p, &m.reducer, &d, m.rated_torque).unwrap();
+        let d = DiscSet::build(&p, &m.fem.params, &m.reducer).unwrap();
+        let st = analyse_stage(&p, &m.reducer, &d, m.rating.rated_torque).unwrap();
         let te = st.flexible_loaded_te.iter().sum::<f64>() / 8.0;
         (d.models.into_iter().next().unwrap(), te)
     };
@@ -235,8 +236,16 @@ fn scaled_disc(scale: f64) -> (Model, rvlife::geometry::Profile, DiscSet) {
         c.fem.crank_angles = 4;
     });
     let p = uniformly_worn(&m, 10e-6);
-    let d = DiscSet::build(&p, &m.fem, &m.reducer).unwrap();
+    let d = DiscSet::build(&p, &m.fem.params, &m.reducer).unwrap();
     (m, p, d)
+}
+
+/// The example's reducer with its disc centre fixed on the eccentric, carrying half the output
+/// torque (the fixed-centre flexible model).
+fn fixed_centre(m: &Model) -> rvlife::reducer::Reducer {
+    let mut red = m.reducer.clone();
+    red.support = rvlife::reducer::Support::Rigid { load_share: 0.5 };
+    red
 }
 
 /// At a very large Young's modulus of the disc (x 1e4, in the FE body and in the Hertz law
@@ -247,18 +256,14 @@ fn scaled_disc(scale: f64) -> (Model, rvlife::geometry::Profile, DiscSet) {
 fn stiff_disc_approaches_the_rigid_result() {
     let run = |scale: f64| {
         let (m, p, d) = scaled_disc(scale);
+        let red = fixed_centre(&m);
+        let sa = rvlife::statics::StaticAnalysis::new(&red, &p).unwrap();
         let phi = 0.3;
-        let s = solve_flexible(
-            &p,
-            &m.reducer.contact,
-            d.disc(0).0,
-            phi,
-            m.disc_share() * m.rated_torque,
-        )
-        .unwrap();
-        let rigid_static = rvlife::contact::first_contact(&p, phi, 1.0).unwrap();
+        let s = solve_flexible(&sa, d.disc(0).0, phi, m.rating.rated_torque).unwrap();
+        let rigid_static = s.first_contact_rotation;
         let moment: f64 = s.pins.iter().map(|q| q.force * q.lever_arm).sum();
-        assert!((moment / (m.disc_share() * m.rated_torque) - 1.0).abs() < 1e-8);
+        let disc_torque = 0.5 * m.rating.rated_torque * red.twist_factor();
+        assert!((moment / disc_torque - 1.0).abs() < 1e-8);
         (
             (s.disc_rotation - s.rigid_rotation) / (s.rigid_rotation - rigid_static),
             s,
@@ -283,19 +288,19 @@ fn stiff_disc_approaches_the_rigid_result() {
 fn flexible_discs_on_bearings_tend_to_the_rigid_static_analysis() {
     let run = |scale: f64| {
         let (m, p, d) = scaled_disc(scale);
-        let sa = rvlife::reducer::statics::StaticAnalysis::new(&m.reducer, &p).unwrap();
+        let sa = rvlife::statics::StaticAnalysis::new(&m.reducer, &p).unwrap();
         let phi = 0.3;
         let psi0 = sa.first_contact(phi, 1.0).unwrap();
-        let rigid = sa.solve_from(phi, m.rated_torque, psi0).unwrap();
+        let rigid = sa.solve_from(phi, m.rating.rated_torque, psi0).unwrap();
         let rigid_twist = rigid.twist;
         let (flex, offsets) = solve_flexible_bearings(&sa, &m.reducer, &d, rigid).unwrap();
         let law = FlexibleLaw {
             model: m.reducer.contact,
-            patch: m.fem.patch,
+            patch: m.fem.params.patch,
         };
         // Flexible closure of every loaded pin: rigid gap + body deflection + local approach
         // = 0, the body deflection from the compliance between the pins facing the flank.
-        let zp = m.geometry.pins;
+        let zp = m.cycloid.geometry.pins;
         let largest = offsets.iter().fold(0.0_f64, |a, o| a.max(o.abs()));
         for (k, disc) in flex.discs.iter().enumerate() {
             let facing: Vec<_> = disc
@@ -335,19 +340,14 @@ fn flexible_discs_on_bearings_tend_to_the_rigid_static_analysis() {
 fn flexible_contact_is_complementary() {
     let m = model_with(|c| c.fem.crank_angles = 4);
     let p = uniformly_worn(&m, 20e-6);
-    let d = DiscModel::build(&p, &m.fem).unwrap();
-    let s = solve_flexible(
-        &p,
-        &m.reducer.contact,
-        &d,
-        0.1,
-        m.disc_share() * m.rated_torque,
-    )
-    .unwrap();
+    let d = DiscModel::build(&p, &m.fem.params).unwrap();
+    let red = fixed_centre(&m);
+    let sa = rvlife::statics::StaticAnalysis::new(&red, &p).unwrap();
+    let s = solve_flexible(&sa, &d, 0.1, m.rating.rated_torque).unwrap();
     assert!(s.pins.len() >= 3);
     let law = rvlife::fem::flex::FlexibleLaw {
         model: m.reducer.contact,
-        patch: m.fem.patch,
+        patch: m.fem.params.patch,
     };
     for q in &s.pins {
         let g = rvlife::contact::pin_geometry(&p, q.pin, 0.1, s.disc_rotation).unwrap();
@@ -357,7 +357,7 @@ fn flexible_contact_is_complementary() {
     }
     let loaded: Vec<usize> = s.pins.iter().map(|q| q.pin).collect();
     let ts: Vec<f64> = s.pins.iter().map(|q| q.profile_parameter).collect();
-    for j in 0..m.geometry.pins {
+    for j in 0..m.cycloid.geometry.pins {
         if loaded.contains(&j) {
             continue;
         }
@@ -427,15 +427,16 @@ fn flexible_disc_has_both_senses() {
     for hours in [0.0, 7500.0] {
         let mut m = model_with(|c| c.fem.crank_angles = 12);
         let profile = if hours == 0.0 {
-            m.profile(None).unwrap()
+            m.profile().unwrap()
         } else {
-            m.stage_hours = vec![hours];
-            let hist = rvlife::wear::integrate(&m, &|_, _| {}).unwrap();
-            m.profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))
+            m.wear.stage_hours = vec![hours];
+            let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
+            m.cycloid
+                .profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))
                 .unwrap()
         };
-        let d = DiscSet::build(&profile, &m.fem, &m.reducer).unwrap();
-        let st = analyse_stage(&profile, &m.reducer, &d, m.rated_torque).unwrap();
+        let d = DiscSet::build(&profile, &m.fem.params, &m.reducer).unwrap();
+        let st = analyse_stage(&profile, &m.reducer, &d, m.rating.rated_torque).unwrap();
         let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64 * ARCMIN_PER_RAD;
         let (ste, ste_r) = (mean(&st.flexible_ste), mean(&st.flexible_ste_reverse));
         let (te, te_r) = (
@@ -445,7 +446,7 @@ fn flexible_disc_has_both_senses() {
         let backlash = mean(&st.rigid_ste) - mean(&st.rigid_ste_reverse);
         let lost = ste - ste_r;
         // The rigid model's catalogue quantities at the same crank angles.
-        let sa = rvlife::reducer::statics::StaticAnalysis::new(&m.reducer, &profile).unwrap();
+        let sa = rvlife::statics::StaticAnalysis::new(&m.reducer, &profile).unwrap();
         let (mut rigid_lost, mut rigid_a) = (0.0, 0.0);
         let t_m = st.ste_torque;
         for &phi in &st.crank_angle {
@@ -453,13 +454,18 @@ fn flexible_disc_has_both_senses() {
             let r0 = sa.first_contact(phi, -1.0).unwrap();
             let twist = |t: f64, psi0: f64| sa.solve_from(phi, t, psi0).unwrap().twist;
             let (mp, mn) = (twist(t_m, f0), twist(-t_m, r0));
-            let (rp, rn) = (twist(m.rated_torque, f0), twist(-m.rated_torque, r0));
+            let (rp, rn) = (
+                twist(m.rating.rated_torque, f0),
+                twist(-m.rating.rated_torque, r0),
+            );
             rigid_lost += (mp - mn) * ARCMIN_PER_RAD;
             rigid_a += 0.5 * ((rp - mp) + (mn - rn)) * ARCMIN_PER_RAD;
         }
         let k = st.crank_angle.len() as f64;
-        let (rigid_lost, rigid_stiffness) =
-            (rigid_lost / k, (m.rated_torque - t_m) / (rigid_a / k));
+        let (rigid_lost, rigid_stiffness) = (
+            rigid_lost / k,
+            (m.rating.rated_torque - t_m) / (rigid_a / k),
+        );
         let stiffness = st.torsional_stiffness / ARCMIN_PER_RAD;
         eprintln!(
             "{hours} h: flexible STE {ste:.4} / {ste_r:.4}, loaded TE {te:.4} / {te_r:.4} arcmin; \
@@ -490,14 +496,14 @@ fn flexible_disc_has_both_senses() {
         // A reverse solution closes every loaded pin on the other flank.
         let phi = 0.3;
         let psi0 = sa.first_contact(phi, -1.0).unwrap();
-        let rigid = sa.solve_from(phi, -m.rated_torque, psi0).unwrap();
+        let rigid = sa.solve_from(phi, -m.rating.rated_torque, psi0).unwrap();
         let (flex, offsets) = solve_flexible_bearings(&sa, &m.reducer, &d, rigid).unwrap();
         assert!(flex.twist < 0.0);
         let law = FlexibleLaw {
             model: m.reducer.contact,
-            patch: m.fem.patch,
+            patch: m.fem.params.patch,
         };
-        let zp = m.geometry.pins;
+        let zp = m.cycloid.geometry.pins;
         let largest = offsets.iter().fold(0.0_f64, |a, o| a.max(o.abs()));
         for (k, disc) in flex.discs.iter().enumerate() {
             let facing: Vec<_> = disc
@@ -534,9 +540,9 @@ fn disc_two_is_disc_one_turned_by_pi() {
     use rvlife::fem::{mount_teeth, DiscSet};
     let m = model_with(|c| c.fem.crank_angles = 4);
     let p = uniformly_worn(&m, 10e-6);
-    let zc = m.geometry.disc_teeth();
+    let zc = m.cycloid.geometry.disc_teeth();
     let turn = m.reducer.profile_turn(1);
-    let set = DiscSet::build(&p, &m.fem, &m.reducer).unwrap();
+    let set = DiscSet::build(&p, &m.fem.params, &m.reducer).unwrap();
     assert_eq!(set.models.len(), 1, "one model serves both discs");
     let (_, mount) = set.disc(1);
     assert_eq!(mount.teeth.rem_euclid(zc as isize), (zc as isize + 1) / 2);
@@ -551,7 +557,7 @@ fn disc_two_is_disc_one_turned_by_pi() {
         );
     }
     // The same part modelled directly: holes turned by -turn against the profile.
-    let mut params = m.fem.clone();
+    let mut params = m.fem.params.clone();
     for h in params.bores.iter_mut().chain(params.holes.iter_mut()) {
         h.centre = rvlife::geometry::rotate(&h.centre, -turn);
     }
@@ -583,7 +589,7 @@ fn disc_two_is_disc_one_turned_by_pi() {
         off / largest
     );
     // Three crank bores (120 deg apart) are not symmetric under pi.
-    let mut three = m.fem.clone();
+    let mut three = m.fem.params.clone();
     let r = three.bores[0].centre.norm();
     three.bores = (0..3)
         .map(|k| rvlife::fem::Hole {
@@ -606,7 +612,7 @@ fn disc_two_is_disc_one_turned_by_pi() {
 fn condensed_compliance_equals_full_solves() {
     let m = model_with(|_| {});
     let p = uniformly_worn(&m, 10e-6);
-    let d = DiscModel::build(&p, &m.fem).unwrap();
+    let d = DiscModel::build(&p, &m.fem.params).unwrap();
     let n = d.stations();
     let neq = d.fe.equations();
     let scale = (0..n).map(|i| d.compliance[i * n + i]).fold(0.0, f64::max);
@@ -664,11 +670,11 @@ fn parameter_near(profile: &rvlife::geometry::Profile, x: &Vec2) -> f64 {
 #[test]
 fn morphed_mesh_matches_a_fresh_mesh_of_the_worn_disc() {
     let m = model_with(|c| c.fem.crank_angles = 8);
-    let new = m.profile(None).unwrap();
+    let new = m.profile().unwrap();
     let worn = uniformly_worn(&m, 60e-6);
-    let base = DiscSet::build(&new, &m.fem, &m.reducer).unwrap();
-    let morphed = DiscSet::build_morphed(&worn, &m.fem, &m.reducer, &base, &new).unwrap();
-    let fresh = DiscSet::build(&worn, &m.fem, &m.reducer).unwrap();
+    let base = DiscSet::build(&new, &m.fem.params, &m.reducer).unwrap();
+    let morphed = DiscSet::build_morphed(&worn, &m.fem.params, &m.reducer, &base, &new).unwrap();
+    let fresh = DiscSet::build(&worn, &m.fem.params, &m.reducer).unwrap();
     let (mb, mm) = (&base.models[0].fe.mesh, &morphed.models[0].fe.mesh);
     assert_eq!(mb.triangles, mm.triangles, "the morph keeps the elements");
     assert_eq!(mb.nodes.len(), mm.nodes.len());
@@ -704,12 +710,16 @@ fn morphed_mesh_matches_a_fresh_mesh_of_the_worn_disc() {
     let mut worst: f64 = 0.0;
     for i in 0..n {
         let scale = cf.compliance[i * n + i];
-        for k in [i, (i + 1) % n, (i + 2 * m.fem.stations_per_flank) % n] {
+        for k in [
+            i,
+            (i + 1) % n,
+            (i + 2 * m.fem.params.stations_per_flank) % n,
+        ] {
             worst = worst.max((cm.compliance[i * n + k] - cf.compliance[i * n + k]).abs() / scale);
         }
     }
     let te = |d: &DiscSet| {
-        let st = analyse_stage(&worn, &m.reducer, d, m.rated_torque).unwrap();
+        let st = analyse_stage(&worn, &m.reducer, d, m.rating.rated_torque).unwrap();
         st.flexible_loaded_te.iter().sum::<f64>() / st.flexible_loaded_te.len() as f64
     };
     let (te_m, te_f) = (te(&morphed), te(&fresh));
@@ -731,16 +741,16 @@ fn morphed_mesh_matches_a_fresh_mesh_of_the_worn_disc() {
 #[test]
 fn flexible_results_follow_the_wear_smoothly() {
     let m = model_with(|c| c.fem.crank_angles = 8);
-    let new = m.profile(None).unwrap();
-    let base = DiscSet::build(&new, &m.fem, &m.reducer).unwrap();
+    let new = m.profile().unwrap();
+    let base = DiscSet::build(&new, &m.fem.params, &m.reducer).unwrap();
     let run = |w: f64| {
         let p = uniformly_worn(&m, w);
-        let d = DiscSet::build_morphed(&p, &m.fem, &m.reducer, &base, &new).unwrap();
+        let d = DiscSet::build_morphed(&p, &m.fem.params, &m.reducer, &base, &new).unwrap();
         assert_eq!(
             d.models[0].fe.mesh.triangles,
             base.models[0].fe.mesh.triangles
         );
-        let st = analyse_stage(&p, &m.reducer, &d, m.rated_torque).unwrap();
+        let st = analyse_stage(&p, &m.reducer, &d, m.rating.rated_torque).unwrap();
         let te = st.flexible_loaded_te.iter().sum::<f64>() / st.flexible_loaded_te.len() as f64;
         (te, st.stress.max_von_mises)
     };

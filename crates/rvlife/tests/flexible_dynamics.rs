@@ -2,15 +2,15 @@
 //! the FE disc, `fem::modal`): its quasi-static limit, its stiff limit and its modal convergence.
 
 use rvlife::config::{Config, Model};
+use rvlife::dynamics::ode::{self, OdeSystem};
+use rvlife::dynamics::params::{Drive, Method};
+use rvlife::dynamics::{simulate_with, DynamicsParams, FlexibleDiscs, PinForce, System};
 use rvlife::fem::flex::solve_flexible_bearings;
 use rvlife::fem::modal::{ModalDisc, ModalSettings};
 use rvlife::fem::DiscSet;
 use rvlife::geometry::{Profile, WearMap};
-use rvlife::reducer::dynamics::ode::{self, OdeSystem};
-use rvlife::reducer::dynamics::params::{Drive, Method};
-use rvlife::reducer::dynamics::{simulate_with, DynamicsParams, FlexibleDiscs, PinForce, System};
-use rvlife::reducer::statics::StaticAnalysis;
-use rvlife::te::ARCMIN_PER_RAD;
+use rvlife::statics::StaticAnalysis;
+use rvlife::units::ARCMIN_PER_RAD;
 
 fn model_with(edit: impl FnOnce(&mut Config)) -> Model {
     let mut c = Config::example();
@@ -68,12 +68,13 @@ fn settings(density_scale: f64, cutoff_hz: f64) -> ModalSettings {
 
 fn stage(m: &Model, hours: f64) -> Profile {
     if hours == 0.0 {
-        return m.profile(None).unwrap();
+        return m.profile().unwrap();
     }
     let mut m = m.clone();
-    m.stage_hours = vec![hours];
-    let hist = rvlife::wear::integrate(&m, &|_, _| {}).unwrap();
-    m.profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))
+    m.wear.stage_hours = vec![hours];
+    let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
+    m.cycloid
+        .profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))
         .unwrap()
 }
 
@@ -85,8 +86,8 @@ fn slow_flexible_dte_equals_the_static_flexible_analysis() {
     let m = slow_model();
     for hours in [0.0, 7500.0] {
         let profile = stage(&m, hours);
-        let discs = DiscSet::build(&profile, &m.fem, &m.reducer).unwrap();
-        let p = heavy(&m.dynamics);
+        let discs = DiscSet::build(&profile, &m.fem.params, &m.reducer).unwrap();
+        let p = heavy(&m.dynamics.params);
         let modal = ModalDisc::build(&discs.models[0], &settings(100.0, 6e3)).unwrap();
         let t0 = std::time::Instant::now();
         // Samples at step ends (`pin_forces`), not from the dense output.
@@ -102,7 +103,7 @@ fn slow_flexible_dte_equals_the_static_flexible_analysis() {
         );
         let sa = StaticAnalysis::new(&m.reducer, &profile).unwrap();
         let kappa = m.reducer.kappa();
-        let window: Vec<&rvlife::reducer::dynamics::Sample> = r
+        let window: Vec<&rvlife::dynamics::Sample> = r
             .samples
             .iter()
             .filter(|s| s.time_s >= p.window.0 && s.time_s <= p.window.1)
@@ -154,21 +155,22 @@ fn stiff_flexible_disc_gives_the_rigid_dte() {
     for (what, profile) in [
         (
             "10 um",
-            m.profile(Some(WearMap::uniform(720, 10e-6).unwrap()))
+            m.cycloid
+                .profile(Some(WearMap::uniform(720, 10e-6).unwrap()))
                 .unwrap(),
         ),
         ("7500 h", stage(&m, 7500.0)),
     ] {
-        let discs = DiscSet::build(&profile, &m.fem, &m.reducer).unwrap();
+        let discs = DiscSet::build(&profile, &m.fem.params, &m.reducer).unwrap();
         // The modes scale with sqrt(E): keep those below 100 x the default cut-off.
-        let mut s = m.dynamics.flexible.unwrap();
+        let mut s = m.dynamics.params.flexible.unwrap();
         s.cutoff_hz *= 100.0;
         let modal = ModalDisc::build(&discs.models[0], &s).unwrap();
         let fd = FlexibleDiscs::new(&modal, &discs).unwrap();
-        let flex = simulate_with(&profile, &m.dynamics, Some(fd), false)
+        let flex = simulate_with(&profile, &m.dynamics.params, Some(fd), false)
             .unwrap()
             .summary;
-        let rigid = simulate_with(&profile, &m.dynamics, None, false)
+        let rigid = simulate_with(&profile, &m.dynamics.params, None, false)
             .unwrap()
             .summary;
         eprintln!(
@@ -204,20 +206,21 @@ fn dte_converges_in_the_number_of_modes() {
             c.dynamics.relative_tolerance = 1e-4;
         });
         let profile = m
+            .cycloid
             .profile(Some(WearMap::uniform(720, 10e-6).unwrap()))
             .unwrap();
-        let discs = DiscSet::build(&profile, &m.fem, &m.reducer).unwrap();
+        let discs = DiscSet::build(&profile, &m.fem.params, &m.reducer).unwrap();
         let run = |cutoff_hz: f64| {
-            let mut s = m.dynamics.flexible.unwrap();
+            let mut s = m.dynamics.params.flexible.unwrap();
             s.cutoff_hz = cutoff_hz;
             let modal = ModalDisc::build(&discs.models[0], &s).unwrap();
             let fd = FlexibleDiscs::new(&modal, &discs).unwrap();
-            let r = simulate_with(&profile, &m.dynamics, Some(fd), false)
+            let r = simulate_with(&profile, &m.dynamics.params, Some(fd), false)
                 .unwrap()
                 .summary;
             (modal.modes(), r)
         };
-        let base = m.dynamics.flexible.unwrap().cutoff_hz;
+        let base = m.dynamics.params.flexible.unwrap().cutoff_hz;
         let (na, a) = run(base);
         let (nb, b) = run(2.0 * base);
         eprintln!(
@@ -336,16 +339,17 @@ fn run_states(sys: &System, rtol: f64, t_end: f64) -> Vec<(f64, Vec<f64>)> {
 fn jacobian_columns_equal_those_of_full_right_hand_sides() {
     let m = paper_run(|_| {});
     let profile = m
+        .cycloid
         .profile(Some(WearMap::uniform(720, 10e-6).unwrap()))
         .unwrap();
-    let field = m.dynamics.gap_field(&profile).unwrap();
-    let rtol = m.dynamics.rtol;
+    let field = m.dynamics.params.gap_field(&profile).unwrap();
+    let rtol = m.dynamics.params.rtol;
     // Rigid discs, speed drive.
-    let sys = System::new(&m.dynamics, [&field, &field]);
+    let sys = System::new(&m.dynamics.params, [&field, &field]);
     let states = run_states(&sys, rtol, 0.17);
     let rigid = column_error(&sys, rtol, &states);
     // Rigid discs, torque drive from the same states' speeds.
-    let mut torque = m.dynamics.clone();
+    let mut torque = m.dynamics.params.clone();
     torque.drive = Drive::Torque {
         torque: 5.0,
         ramp: 0.0,
@@ -365,10 +369,10 @@ fn jacobian_columns_equal_those_of_full_right_hand_sides() {
         .collect();
     let torque_err = column_error(&sys_t, rtol, &moved);
     // Flexible discs.
-    let discs = DiscSet::build(&profile, &m.fem, &m.reducer).unwrap();
-    let modal = ModalDisc::build(&discs.models[0], &m.dynamics.flexible.unwrap()).unwrap();
+    let discs = DiscSet::build(&profile, &m.fem.params, &m.reducer).unwrap();
+    let modal = ModalDisc::build(&discs.models[0], &m.dynamics.params.flexible.unwrap()).unwrap();
     let fd = FlexibleDiscs::new(&modal, &discs).unwrap();
-    let sys_f = System::flexible(&m.dynamics, [&field, &field], fd).unwrap();
+    let sys_f = System::flexible(&m.dynamics.params, [&field, &field], fd).unwrap();
     let flex = column_error(&sys_f, rtol, &run_states(&sys_f, rtol, 0.13));
     eprintln!(
         "right-hand sides from Jacobian columns against full ones (cold caches): rigid {:.2e}, \

@@ -2,7 +2,7 @@
 
 use rvlife::config::{Config, Model};
 use rvlife::geometry::WearMap;
-use rvlife::life::study_life;
+use rvlife::study::study_life;
 
 fn model() -> Model {
     let text = rvlife::config::EXAMPLE_TOML
@@ -44,10 +44,15 @@ fn accuracy_life_is_where_the_worn_reducer_reaches_the_threshold() {
         b.hours
     );
     let mut at = m.clone();
-    at.stage_hours = vec![h];
-    let hist =
-        rvlife::wear::integrate_on_schedule(&at, &study.wear.update_hours, &|_, _| {}).unwrap();
+    at.wear.stage_hours = vec![h];
+    let hist = rvlife::wear::integrate_on_schedule(
+        &at.wear_inputs(),
+        &study.wear.update_hours,
+        &|_, _| {},
+    )
+    .unwrap();
     let p = m
+        .cycloid
         .profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))
         .unwrap();
     let lm = rvlife::study::analyse_profile(&m, &p, h)
@@ -73,9 +78,10 @@ fn accuracy_life_is_where_the_worn_reducer_reaches_the_threshold() {
         .expect("crossed beyond the last stage");
     assert!(h > q.hours && h <= 2.0 * q.hours, "life {h} h");
     let mut at = m.clone();
-    at.stage_hours = vec![h];
-    let hist = rvlife::wear::integrate(&at, &|_, _| {}).unwrap();
+    at.wear.stage_hours = vec![h];
+    let hist = rvlife::wear::integrate(&at.wear_inputs(), &|_, _| {}).unwrap();
     let pr = m
+        .cycloid
         .profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))
         .unwrap();
     let lm = rvlife::study::analyse_profile(&m, &pr, h)

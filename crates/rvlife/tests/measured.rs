@@ -5,8 +5,8 @@ use std::path::Path;
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
 use rvlife::config::{Config, Model};
-use rvlife::export::{write_profile, ProfileFormat};
 use rvlife::geometry::{Profile, WearMap};
+use rvlife::output::export::{write_profile, ProfileFormat};
 
 fn text(measured: Option<&Path>) -> String {
     let t = rvlife::config::EXAMPLE_TOML
@@ -49,19 +49,21 @@ fn exported_profiles_round_trip_through_measured_profile() {
     let dir = tempfile::tempdir().unwrap();
     let m = model(None);
     let mut worn = m.clone();
-    worn.stage_hours = vec![7500.0];
-    let hist = rvlife::wear::integrate(&worn, &|_, _| {}).unwrap();
+    worn.wear.stage_hours = vec![7500.0];
+    let hist = rvlife::wear::integrate(&worn.wear_inputs(), &|_, _| {}).unwrap();
     let n = hist.maps[0].len();
     let cases = [
-        ("modified", m.profile(None).unwrap()),
+        ("modified", m.profile().unwrap()),
         (
             "uniform",
-            m.profile(Some(WearMap::uniform(n, 20e-6).unwrap()))
+            m.cycloid
+                .profile(Some(WearMap::uniform(n, 20e-6).unwrap()))
                 .unwrap(),
         ),
         (
             "7500h",
-            m.profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))
+            m.cycloid
+                .profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))
                 .unwrap(),
         ),
     ];
@@ -70,8 +72,8 @@ fn exported_profiles_round_trip_through_measured_profile() {
             let path = dir.path().join(format!("{name}.{ext}"));
             write_profile(original, &path, fmt).unwrap();
             let mm = model(Some(&path));
-            let fit = mm.measured.as_ref().unwrap();
-            let back = mm.profile(None).unwrap();
+            let fit = mm.cycloid.measured.as_ref().unwrap();
+            let back = mm.profile().unwrap();
             let gap = max_gap(original, &back);
             assert!(gap < 0.1e-6, "{name}.{ext}: {:e} um", gap * 1e6);
             assert!(
@@ -81,15 +83,15 @@ fn exported_profiles_round_trip_through_measured_profile() {
             );
             // The measured deviation is not wear.
             assert!(
-                mm.wear_depth(&back) < 1e-9,
+                mm.cycloid.wear_depth(&back) < 1e-9,
                 "{name}: wear {}",
-                mm.wear_depth(&back)
+                mm.cycloid.wear_depth(&back)
             );
         }
     }
     let path = dir.path().join("7500h.csv");
     let mm = model(Some(&path));
-    let a = rvlife::te::static_te(&mm.reducer, &mm.profile(None).unwrap(), 12).unwrap();
+    let a = rvlife::te::static_te(&mm.reducer, &mm.profile().unwrap(), 12).unwrap();
     let b = rvlife::te::static_te(&m.reducer, &cases[2].1, 12).unwrap();
     for (x, y) in a.forward.iter().zip(&b.forward) {
         assert!((x - y).abs() < 1e-6 * y.abs().max(1e-6), "{x} vs {y}");
@@ -105,7 +107,7 @@ fn exported_profiles_round_trip_through_measured_profile() {
 fn a_known_deviation_is_recovered_from_measured_points() {
     let dir = tempfile::tempdir().unwrap();
     let m = model(None);
-    let n = m.geometry.pins * m.wear_steps;
+    let n = m.cycloid.geometry.pins * m.wear.crank_steps;
     let bump: Vec<f64> = (0..n)
         .map(|k| {
             let t = std::f64::consts::TAU * k as f64 / n as f64;
@@ -113,11 +115,14 @@ fn a_known_deviation_is_recovered_from_measured_points() {
             5e-6 * g(1.6, 0.2) - 2e-6 * g(4.4, 0.15)
         })
         .collect();
-    let truth = m.profile(Some(WearMap::deviation(bump).unwrap())).unwrap();
+    let truth = m
+        .cycloid
+        .profile(Some(WearMap::deviation(bump).unwrap()))
+        .unwrap();
     let path = dir.path().join("bump.csv");
     write_profile(&truth, &path, ProfileFormat::Csv).unwrap();
     let exact = model(Some(&path));
-    let gap = max_gap(&truth, &exact.profile(None).unwrap());
+    let gap = max_gap(&truth, &exact.profile().unwrap());
     assert!(gap < 1e-9, "exact points: {:e} um", gap * 1e6);
     // Noisy points.
     let text = std::fs::read_to_string(&path).unwrap();
@@ -135,9 +140,9 @@ fn a_known_deviation_is_recovered_from_measured_points() {
     let noisy = dir.path().join("noisy.csv");
     std::fs::write(&noisy, out).unwrap();
     let mm = model(Some(&noisy));
-    let gap = max_gap(&truth, &mm.profile(None).unwrap());
+    let gap = max_gap(&truth, &mm.profile().unwrap());
     assert!(gap < 0.15e-6, "noisy points: {:e} um", gap * 1e6);
-    let rms = mm.measured.as_ref().unwrap().fit_rms;
+    let rms = mm.cycloid.measured.as_ref().unwrap().fit_rms;
     assert!(
         (rms / 0.3e-6 - 1.0).abs() < 0.1,
         "RMS residual {:e} um",
@@ -150,12 +155,7 @@ fn a_known_deviation_is_recovered_from_measured_points() {
 fn bad_measured_profiles_are_refused_with_the_key() {
     let dir = tempfile::tempdir().unwrap();
     let good = dir.path().join("good.csv");
-    write_profile(
-        &model(None).profile(None).unwrap(),
-        &good,
-        ProfileFormat::Csv,
-    )
-    .unwrap();
+    write_profile(&model(None).profile().unwrap(), &good, ProfileFormat::Csv).unwrap();
     let lines: Vec<String> = std::fs::read_to_string(&good)
         .unwrap()
         .lines()

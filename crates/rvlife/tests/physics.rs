@@ -3,12 +3,14 @@
 use std::f64::consts::TAU;
 use std::sync::OnceLock;
 
-use rvlife::config::{Config, Model, WearModelKind};
+use rvlife::config::{Config, Model};
 use rvlife::contact::{li_load_distribution, pin_geometries, ApproachLaw, ContactModel, Materials};
 use rvlife::geometry::{CycloidGeometry, Modification, Profile, WearMap};
-use rvlife::reducer::statics::StaticAnalysis;
 use rvlife::reducer::{Reducer, Support};
-use rvlife::te::{static_te, ARCMIN_PER_RAD};
+use rvlife::statics::StaticAnalysis;
+use rvlife::te::static_te;
+use rvlife::units::ARCMIN_PER_RAD;
+use rvlife::wear::WearModelKind;
 
 fn model() -> Model {
     Config::example().validate().unwrap()
@@ -24,20 +26,22 @@ fn example_discs() -> &'static [(f64, Profile)] {
 /// The disc of `m` new and worn by its wear model for 1250 and 7500 h, with its hours.
 fn worn_discs(m: &Model) -> Vec<(f64, Profile)> {
     let mut m = m.clone();
-    m.stage_hours = vec![1250.0, 7500.0];
-    let hist = rvlife::wear::integrate(&m, &|_, _| {}).unwrap();
-    let mut profiles = vec![(0.0, m.profile(None).unwrap())];
+    m.wear.stage_hours = vec![1250.0, 7500.0];
+    let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
+    let mut profiles = vec![(0.0, m.profile().unwrap())];
     for (h, map) in hist.hours.iter().zip(&hist.maps) {
         profiles.push((
             *h,
-            m.profile(Some(WearMap::new(map.clone()).unwrap())).unwrap(),
+            m.cycloid
+                .profile(Some(WearMap::new(map.clone()).unwrap()))
+                .unwrap(),
         ));
     }
     profiles
 }
 
 fn paper_geometry() -> CycloidGeometry {
-    model().geometry
+    model().cycloid.geometry
 }
 
 /// The example's reducer with rigid support (the paper's and Li's model).
@@ -48,7 +52,7 @@ fn rigid(share: f64) -> Reducer {
 }
 
 /// Closed-form per-side STE of a uniform equidistant modification `drrp` (m) of the RV reducer:
-/// `drrp / (a (Zp + Z1/Z2))` rad (physics-notes section 6).
+/// `drrp / (a (Zp + Z1/Z2))` rad (docs/model.md section 6).
 fn uniform_offset_twist(red: &Reducer, drrp: f64) -> f64 {
     drrp * red.twist_factor() / red.geometry.disc_pitch_radius()
 }
@@ -156,10 +160,12 @@ fn static_solutions_balance() {
         })
         .collect();
     let profiles = [
-        m.profile(None).unwrap(),
-        m.profile(Some(WearMap::new(wear).unwrap())).unwrap(),
+        m.profile().unwrap(),
+        m.cycloid
+            .profile(Some(WearMap::new(wear).unwrap()))
+            .unwrap(),
         Profile::new(
-            m.geometry.clone(),
+            m.cycloid.geometry.clone(),
             Modification {
                 equidistant: 10e-6,
                 offset: -5e-6,
@@ -189,7 +195,7 @@ fn static_solutions_balance() {
 }
 
 /// A uniform equidistant modification drrp gives a backlash of `2 drrp / (a (Zp + Z1/Z2))`
-/// (physics-notes section 6): the play at every crank angle is at least that, and where a pin
+/// (docs/model.md section 6): the play at every crank angle is at least that, and where a pin
 /// sits at the largest lever arm (the minimum over a mesh cycle) equal to it within 0.1 %,
 /// with bearings and with rigid support.
 #[test]
@@ -313,9 +319,9 @@ fn hertz_against_hand_calculation() {
 #[test]
 fn wear_is_linear_in_hours_without_updates() {
     let mut m = model();
-    m.update_hours = 0.0;
-    m.stage_hours = vec![0.0, 1000.0, 2000.0, 4000.0];
-    let hist = rvlife::wear::integrate(&m, &|_, _| {}).unwrap();
+    m.wear.update_hours = 0.0;
+    m.wear.stage_hours = vec![0.0, 1000.0, 2000.0, 4000.0];
+    let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
     assert_eq!(hist.rate_evaluations(), 1);
     let base = &hist.maps[1];
     assert!(base.iter().copied().fold(0.0, f64::max) > 0.0);
@@ -332,8 +338,8 @@ fn wear_is_linear_in_hours_without_updates() {
 #[test]
 fn wear_with_updates_grows_and_concentrates_load() {
     let mut m = model();
-    m.stage_hours = vec![0.0, 1000.0, 2000.0];
-    let hist = rvlife::wear::integrate(&m, &|_, _| {}).unwrap();
+    m.wear.stage_hours = vec![0.0, 1000.0, 2000.0];
+    let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
     let n = hist.maps[0].len();
     let max = hist.max_depths();
     assert!(max[1] > 0.0 && max[2] > max[1]);
@@ -354,8 +360,9 @@ fn wear_with_updates_grows_and_concentrates_load() {
         }
         assert!(loaded >= 0.95 * total, "loaded flank {loaded} of {total}");
     }
-    let new = m.profile(None).unwrap();
+    let new = m.profile().unwrap();
     let worn = m
+        .cycloid
         .profile(Some(WearMap::new(hist.maps[2].clone()).unwrap()))
         .unwrap();
     let f_new = StaticAnalysis::new(&m.reducer, &new)
@@ -370,12 +377,12 @@ fn wear_with_updates_grows_and_concentrates_load() {
     assert!(f_worn.twist > f_new.twist);
 }
 
-/// Kinematics (physics-notes section 1): i_H = 1 + (Z2/Z1) Zp, mesh cycles per hour.
+/// Kinematics (docs/model.md section 1): i_H = 1 + (Z2/Z1) Zp, mesh cycles per hour.
 #[test]
 fn reducer_kinematics() {
     let m = model();
-    assert_eq!(m.ratio, 81.0);
-    let c = m.mesh_cycles_per_hour(1500.0);
+    assert_eq!(m.reducer.ratio, 81.0);
+    let c = m.reducer.mesh_cycles_per_hour(1500.0);
     assert!((c - 60.0 * 1500.0 * 40.0 / 81.0).abs() < 1e-9);
 }
 
@@ -384,8 +391,8 @@ fn reducer_kinematics() {
 #[test]
 fn paper_wear_model() {
     let mut m = model();
-    m.wear_model = WearModelKind::Paper;
-    m.stage_hours = vec![0.0, 1000.0, 2000.0];
+    m.wear.model = WearModelKind::Paper;
+    m.wear.stage_hours = vec![0.0, 1000.0, 2000.0];
     let study = rvlife::study::run(&m, &|_, _| {}).unwrap();
     let max = study.wear.max_depths();
     assert!((max[2] / max[1] - 2.0).abs() < 1e-9);
@@ -398,7 +405,7 @@ fn paper_wear_model() {
 #[test]
 fn example_is_calibrated_to_sixty_microns() {
     let m = model();
-    let hist = rvlife::wear::integrate(&m, &|_, _| {}).unwrap();
+    let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
     let last = *hist.max_depths().last().unwrap();
     assert!((last * 1e6 - 60.0).abs() < 1.5, "{} um", last * 1e6);
 }
@@ -409,9 +416,10 @@ fn example_is_calibrated_to_sixty_microns() {
 #[test]
 fn worn_disc_contact_balances_over_a_mesh_cycle() {
     let mut m = model();
-    m.stage_hours = vec![4000.0];
-    let hist = rvlife::wear::integrate(&m, &|_, _| {}).unwrap();
+    m.wear.stage_hours = vec![4000.0];
+    let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
     let worn = m
+        .cycloid
         .profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))
         .unwrap();
     let sa = StaticAnalysis::new(&m.reducer, &worn).unwrap();
@@ -458,8 +466,8 @@ fn load_spectra_scale_the_wear() {
         .unwrap()
         .validate()
         .unwrap();
-    let a = rvlife::wear::integrate(&constant, &|_, _| {}).unwrap();
-    let b = rvlife::wear::integrate(&halved, &|_, _| {}).unwrap();
+    let a = rvlife::wear::integrate(&constant.wear_inputs(), &|_, _| {}).unwrap();
+    let b = rvlife::wear::integrate(&halved.wear_inputs(), &|_, _| {}).unwrap();
     let (ma, mb) = (a.max_depths()[6], b.max_depths()[6]);
     assert!((mb / ma - 0.5).abs() < 1e-9, "{ma} {mb}");
 
@@ -471,7 +479,7 @@ fn load_spectra_scale_the_wear() {
         .unwrap()
         .validate()
         .unwrap();
-    let h = rvlife::wear::integrate(&m, &|_, _| {}).unwrap();
+    let h = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
     let map = &h.maps[6];
     let n = map.len();
     // Mirror symmetry of the tooth: mesh angle t on one flank pairs with 2 pi - t on the other.
@@ -494,15 +502,16 @@ fn load_spectra_scale_the_wear() {
 fn wear_depth_is_monotone_in_archard_coefficient_on_a_fixed_schedule() {
     let mut m = model();
     m.reducer = rigid(0.55);
-    m.stage_hours = vec![0.0, 3000.0];
-    let k0 = m.archard;
-    let free = rvlife::wear::integrate(&m, &|_, _| {}).unwrap();
+    m.wear.stage_hours = vec![0.0, 3000.0];
+    let k0 = m.wear.archard;
+    let free = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
     assert!(free.update_hours.len() > 10, "{:?}", free.update_hours);
     let schedule = free.update_hours.clone();
     let depth = |k: f64| {
         let mut mk = m.clone();
-        mk.archard = k;
-        let h = rvlife::wear::integrate_on_schedule(&mk, &schedule, &|_, _| {}).unwrap();
+        mk.wear.archard = k;
+        let h =
+            rvlife::wear::integrate_on_schedule(&mk.wear_inputs(), &schedule, &|_, _| {}).unwrap();
         assert_eq!(h.update_hours, schedule);
         *h.max_depths().last().unwrap()
     };
@@ -517,7 +526,7 @@ fn wear_depth_is_monotone_in_archard_coefficient_on_a_fixed_schedule() {
     assert!((0.3..=1.2).contains(&elasticity), "{elasticity} {hs:?}");
 
     let target = 1.05 * hs[3];
-    let (k, achieved) = rvlife::wear::calibrate(&m, target).unwrap();
+    let (k, achieved) = rvlife::wear::calibrate(&m.wear_inputs(), target).unwrap();
     assert!(
         (achieved / target - 1.0).abs() < 1e-3,
         "{achieved} {target}"
@@ -566,12 +575,12 @@ fn static_analysis_fine_scan_single_band() {
 /// stages of `elastic_hours` and printed at the others.
 fn fine_scan(m: &Model, discs: &[(f64, Profile)], elastic_hours: &[f64]) {
     use rayon::prelude::*;
-    let rated = m.rated_torque;
+    let rated = m.rating.rated_torque;
     let fractions = [0.001, 0.01, 0.03, 1.0, 2.5];
     let factor = m.reducer.twist_factor();
-    let zp = m.geometry.pins as f64;
+    let zp = m.cycloid.geometry.pins as f64;
     let law = &m.reducer.contact;
-    let pin_radius = m.geometry.pin_radius;
+    let pin_radius = m.cycloid.geometry.pin_radius;
     let compliance = {
         let (c1, c2) = law.materials.compliances();
         c1 + c2
@@ -672,7 +681,7 @@ fn fine_scan(m: &Model, discs: &[(f64, Profile)], elastic_hours: &[f64]) {
                     // than the contact law's approach for its force.
                     for d in &sol.discs {
                         for p in d.pins.iter().filter(|p| p.gap < 1e-6) {
-                            let q = d.pose.pin_in_disc(&m.geometry, p.pin);
+                            let q = d.pose.pin_in_disc(&m.cycloid.geometry, p.pin);
                             let foot = profile.project(&q, p.profile_parameter).unwrap();
                             let exact = foot.distance - pin_radius;
                             let approach = law.approach(p.force, p.curvature);
@@ -772,9 +781,9 @@ fn virtual_work_of_the_output_torque() {
     let red = &m.reducer;
     let law = &red.contact;
     let n = red.layout().dofs();
-    let t0 = m.rated_torque;
+    let t0 = m.rating.rated_torque;
     let h = 0.0005 * t0;
-    let zp = m.geometry.pins as f64;
+    let zp = m.cycloid.geometry.pins as f64;
     let mut checked = 0;
     for (hours, profile) in example_discs() {
         let sa = StaticAnalysis::new(red, profile).unwrap();
@@ -786,7 +795,7 @@ fn virtual_work_of_the_output_torque() {
                 .map(|s| sa.solve(phi, t0 + s * h).unwrap())
                 .collect();
             // The same pins loaded over the whole stencil.
-            let loaded = |s: &rvlife::reducer::statics::StaticSolution| -> Vec<bool> {
+            let loaded = |s: &rvlife::statics::StaticSolution| -> Vec<bool> {
                 s.discs
                     .iter()
                     .flat_map(|d| d.pins.iter().map(|p| p.force > 0.0))
@@ -804,7 +813,7 @@ fn virtual_work_of_the_output_torque() {
                 &mut qd,
                 &mut qdd,
             );
-            let d5 = |f: &dyn Fn(&rvlife::reducer::statics::StaticSolution) -> f64| {
+            let d5 = |f: &dyn Fn(&rvlife::statics::StaticSolution) -> f64| {
                 (f(&sols[0]) - 8.0 * f(&sols[1]) + 8.0 * f(&sols[3]) - f(&sols[4])) / (12.0 * h)
             };
             let lhs = t0 * d5(&|s| s.twist);
@@ -843,10 +852,11 @@ fn virtual_work_of_the_output_torque() {
 fn static_analysis_follows_the_loading_path_across_a_change_of_contacts() {
     let mut m = model();
     m.reducer.contact_band_force = 98.0;
-    m.archard = 6.844807e-9 * 1e-9;
-    m.stage_hours = vec![6250.0];
-    let hist = rvlife::wear::integrate(&m, &|_, _| {}).unwrap();
+    m.wear.archard = 6.844807e-9 * 1e-9;
+    m.wear.stage_hours = vec![6250.0];
+    let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
     let profile = m
+        .cycloid
         .profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))
         .unwrap();
     let sa = StaticAnalysis::new(&m.reducer, &profile).unwrap();

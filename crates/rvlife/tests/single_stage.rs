@@ -1,8 +1,9 @@
 //! Single-stage cycloid drives: input on the eccentric shaft, output by pins in holes.
 
 use rvlife::config::{preset_text, Config, Model};
-use rvlife::reducer::statics::StaticAnalysis;
-use rvlife::te::{mesh_cycle_angles, ARCMIN_PER_RAD};
+use rvlife::statics::StaticAnalysis;
+use rvlife::te::mesh_cycle_angles;
+use rvlife::units::ARCMIN_PER_RAD;
 
 fn config_text(discs: usize, equidistant_mm: f64) -> String {
     preset_text("single-stage")
@@ -34,10 +35,10 @@ fn model(discs: usize, equidistant_mm: f64) -> Model {
 fn single_stage_kinematics_and_uniform_play() {
     for discs in 1..=3 {
         let m = model(discs, 0.0);
-        assert_eq!(m.ratio, -(m.geometry.disc_teeth() as f64));
-        let p = m.profile(None).unwrap();
+        assert_eq!(m.reducer.ratio, -(m.cycloid.geometry.disc_teeth() as f64));
+        let p = m.profile().unwrap();
         let sa = StaticAnalysis::new(&m.reducer, &p).unwrap();
-        for phi in mesh_cycle_angles(m.geometry.pins, 90) {
+        for phi in mesh_cycle_angles(m.cycloid.geometry.pins, 90) {
             for s in [1.0, -1.0] {
                 let t = sa.first_contact(phi, s).unwrap();
                 assert!(t.abs() * ARCMIN_PER_RAD < 1e-6, "{discs} discs: {t:e} rad");
@@ -45,11 +46,11 @@ fn single_stage_kinematics_and_uniform_play() {
         }
         let d = 0.01e-3;
         let m = model(discs, 0.01);
-        let p = m.profile(None).unwrap();
+        let p = m.profile().unwrap();
         let sa = StaticAnalysis::new(&m.reducer, &p).unwrap();
-        let closed = d / (m.geometry.eccentricity * m.geometry.disc_teeth() as f64);
+        let closed = d / (m.cycloid.geometry.eccentricity * m.cycloid.geometry.disc_teeth() as f64);
         let mut lo = f64::INFINITY;
-        for phi in mesh_cycle_angles(m.geometry.pins, 90) {
+        for phi in mesh_cycle_angles(m.cycloid.geometry.pins, 90) {
             let t = sa.first_contact(phi, 1.0).unwrap();
             assert!(t >= closed * (1.0 - 2e-3), "{discs} discs: {t} < {closed}");
             lo = lo.min(t);
@@ -70,10 +71,10 @@ fn single_stage_kinematics_and_uniform_play() {
 fn single_stage_discs_share_the_output_torque() {
     for discs in [2, 3] {
         let m = model(discs, 0.008);
-        let p = m.profile(None).unwrap();
+        let p = m.profile().unwrap();
         let sa = StaticAnalysis::new(&m.reducer, &p).unwrap();
         let mut share = vec![0.0; discs];
-        let phis = mesh_cycle_angles(m.geometry.pins, 24);
+        let phis = mesh_cycle_angles(m.cycloid.geometry.pins, 24);
         for t in [-412.0, 41.2, 412.0] {
             for &phi in &phis {
                 let sol = sa.solve(phi, t).unwrap();

@@ -1,5 +1,6 @@
 //! `[dynamics]`: the raw section (engineering units) and its conversion to the SI parameters of
-//! the multibody model ([`DynamicsParams`]).
+//! the multibody model ([`DynamicsParams`]; docs/model.md section 8), one subsection at a time;
+//! the output load `[dynamics.load]` is in `dynamics_load.rs`.
 //!
 //! Defaults: the paper's section 4.2 set-up (input ramped by `STEP(time, 0, 0, 0.1, 9000 deg/s)`,
 //! sinusoidal output torque of 412 N m amplitude and 0.3 s period, TE over 0.1-0.8 s), material
@@ -10,13 +11,14 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use super::dynamics_load::DynLoadConfig;
 use super::range::{check, Range};
+use crate::dynamics::params::{
+    disc_inertia, Drive, DynamicsParams, Impact, ImpactLaw, Inertias, Method,
+};
+use crate::dynamics::ModalSettings;
 use crate::error::{Error, Result};
 use crate::geometry::Profile;
-use crate::reducer::dynamics::params::{
-    disc_inertia, Drive, DynamicsParams, Impact, ImpactLaw, Inertias, LoadProfile, Method,
-};
-use crate::reducer::dynamics::ModalSettings;
 use crate::reducer::Reducer;
 
 /// `[dynamics]`.
@@ -39,7 +41,7 @@ pub struct DynamicsConfig {
     #[serde(default = "d_rtol")]
     pub relative_tolerance: f64,
     /// Time integrator: `"esdirk34"` (implicit, steps set by accuracy) or `"tsit45"` (explicit,
-    /// steps set by the stiffest mode) ([`crate::reducer::dynamics::ode`]).
+    /// steps set by the stiffest mode) ([`crate::dynamics::ode`]).
     #[serde(default = "d_integrator")]
     pub integrator: String,
     /// Mesh angles per tooth of the tabulated gap field.
@@ -188,59 +190,6 @@ impl Default for DriveConfig {
             ramp_end_s: d_ramp(),
             torque_nm: None,
             initial_speed_deg_s: 0.0,
-        }
-    }
-}
-
-/// `[dynamics.load]`: output load `kind = "none" | "constant" | "sinusoidal" | "table"`.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct DynLoadConfig {
-    /// Load kind.
-    #[serde(default = "d_load_kind")]
-    pub kind: String,
-    /// Constant torque, N m (`constant`; default: rated torque).
-    #[serde(default)]
-    pub torque_nm: Option<f64>,
-    /// Ramp time of the constant torque (`STEP` from 0), s.
-    #[serde(default)]
-    pub ramp_s: f64,
-    /// Amplitude, N m (`sinusoidal`; default: rated torque).
-    #[serde(default)]
-    pub amplitude_nm: Option<f64>,
-    /// Period, s (`sinusoidal`).
-    #[serde(default = "d_period")]
-    pub period_s: f64,
-    /// Mean, N m (`sinusoidal`).
-    #[serde(default)]
-    pub offset_nm: f64,
-    /// Phase, degrees (`sinusoidal`).
-    #[serde(default)]
-    pub phase_deg: f64,
-    /// CSV with columns `time_s,torque_nm` (`table`), relative to the config file; linear
-    /// between rows; must cover the simulated time.
-    #[serde(default)]
-    pub file: Option<PathBuf>,
-}
-
-fn d_load_kind() -> String {
-    "sinusoidal".into()
-}
-fn d_period() -> f64 {
-    0.3
-}
-
-impl Default for DynLoadConfig {
-    fn default() -> Self {
-        DynLoadConfig {
-            kind: d_load_kind(),
-            torque_nm: None,
-            ramp_s: 0.0,
-            amplitude_nm: None,
-            period_s: d_period(),
-            offset_nm: 0.0,
-            phase_deg: 0.0,
-            file: None,
         }
     }
 }
@@ -399,11 +348,11 @@ impl Default for InertiaConfig {
     }
 }
 
-fn positive(field: &str, v: f64, max: f64, unit: &'static str) -> Result<f64> {
+pub(super) fn positive(field: &str, v: f64, max: f64, unit: &'static str) -> Result<f64> {
     check(&format!("dynamics.{field}"), v, Range::positive(max, unit))
 }
 
-fn non_negative(field: &str, v: f64, max: f64, unit: &'static str) -> Result<f64> {
+pub(super) fn non_negative(field: &str, v: f64, max: f64, unit: &'static str) -> Result<f64> {
     check(
         &format!("dynamics.{field}"),
         v,
@@ -413,9 +362,10 @@ fn non_negative(field: &str, v: f64, max: f64, unit: &'static str) -> Result<f64
 
 impl DynamicsConfig {
     /// Checks the section and converts it to SI for the reducer `reducer` (its meshes and
-    /// bearings get their damping here, from the damping ratios and the body masses) with the
-    /// nominal disc profile `profile` and the rated torque (N m, the default load and the
-    /// reference force). `base_dir` resolves a relative load-table path.
+    /// bearings get their damping here, from the damping ratios `damping` and the body masses)
+    /// with the nominal disc profile `profile` and the rated torque (N m, the default load and
+    /// the reference force). `path` resolves a relative load-table path. The gap table's
+    /// resolution is the reducer's (`dynamics.gap_points_per_tooth`, checked with it).
     ///
     /// # Errors
     /// [`Error::Invalid`] naming the `dynamics.*` key, the value and the allowed range;
@@ -426,11 +376,48 @@ impl DynamicsConfig {
         damping: (f64, f64),
         profile: &Profile,
         rated_torque: f64,
-        base_dir: Option<&Path>,
+        path: impl Fn(&Path) -> PathBuf,
     ) -> Result<DynamicsParams> {
-        let geo = reducer.geometry.clone();
+        let geo = &reducer.geometry;
         let planets = reducer.cranks;
-        let (zeta_m, zeta_b) = damping;
+        let t = self.timing()?;
+        if !(2..=3).contains(&planets) {
+            return Err(Error::invalid(
+                "reducer.planets",
+                planets,
+                "the dynamic model needs 2 or 3 planets (crankshafts)",
+            ));
+        }
+        let inertia = self.inertia.validate(reducer, profile)?;
+        let red = damped(reducer, damping, &inertia);
+        // Impact contact: by default the stage's contact law at every mesh angle; the damping
+        // from the linearised stiffness at Li's largest pin force at the rated torque, on the
+        // flank point of largest lever arm (Li: cos t = K1).
+        let f_ref = 2.0 * rated_torque * reducer.twist_factor()
+            / (geo.disc_pitch_radius() * geo.pins as f64);
+        let impact = self.impact.validate(reducer, profile, f_ref, &inertia)?;
+        let drive = self.drive.validate(t.end_time)?;
+        let load = self.load.validate(rated_torque, t.end_time, path)?;
+        let flexible = self.flexible_settings(&impact)?;
+        Ok(DynamicsParams {
+            flexible,
+            reducer: red,
+            contact: impact,
+            inertia,
+            drive,
+            load,
+            end_time: t.end_time,
+            window: t.window,
+            output_interval: t.output_interval,
+            rtol: t.rtol,
+            integrator: t.integrator,
+            gap_points: reducer.gap_points,
+            reference_force: f_ref,
+        })
+    }
+
+    /// The simulated time, the statistics window, the output interval and the integrator.
+    fn timing(&self) -> Result<Timing> {
         let end_time = positive("end_time_s", self.end_time_s, 60.0, "s")?;
         let [w0, w1] = self.window_s;
         if !(w0.is_finite() && w1.is_finite() && w0 >= 0.0 && w0 < w1 && w1 <= end_time) {
@@ -472,21 +459,91 @@ impl DynamicsConfig {
                 ))
             }
         };
-        let gap_points = self.gap_points_per_tooth;
-        if !(64..=65536).contains(&gap_points) {
-            return Err(Error::invalid(
-                "dynamics.gap_points_per_tooth",
-                gap_points,
-                "must be a whole number from 64 to 65536",
-            ));
-        }
-        if !(2..=3).contains(&planets) {
-            return Err(Error::invalid(
-                "reducer.planets",
-                planets,
-                "the dynamic model needs 2 or 3 planets (crankshafts)",
-            ));
-        }
+        Ok(Timing {
+            end_time,
+            window: (w0, w1),
+            output_interval,
+            rtol,
+            integrator,
+        })
+    }
+
+    /// The modal reduction of the flexible disc (`disc = "flexible"`), or `None` (rigid discs).
+    fn flexible_settings(&self, impact: &Impact) -> Result<Option<ModalSettings>> {
+        Ok(match self.disc.as_str() {
+            "rigid" => None,
+            "flexible" => {
+                if !matches!(impact.law, ImpactLaw::Hertz) {
+                    return Err(Error::invalid(
+                        "dynamics.impact.stiffness_n_per_m_e",
+                        format!("{:?}", self.impact.stiffness_n_per_m_e),
+                        "must be left out with disc = \"flexible\": the flexible disc uses the \
+                         [contact] law with its disc term cut at the load patch (the FE body \
+                         supplies the rest)",
+                    ));
+                }
+                let fc = &self.flexible;
+                let max_modes = fc.max_modes;
+                if !(1..=1000).contains(&max_modes) {
+                    return Err(Error::invalid(
+                        "dynamics.flexible.max_modes",
+                        max_modes,
+                        "must be a whole number from 1 to 1000",
+                    ));
+                }
+                Some(ModalSettings {
+                    cutoff_hz: positive("flexible.cutoff_khz", fc.cutoff_khz, 1e4, "kHz")? * 1e3,
+                    damping_ratio: non_negative(
+                        "flexible.damping_ratio",
+                        fc.damping_ratio,
+                        1.0,
+                        "",
+                    )?,
+                    max_modes: max_modes as usize,
+                    density: self.inertia.disc_density_kg_m3,
+                })
+            }
+            other => {
+                return Err(Error::invalid(
+                    "dynamics.disc",
+                    format!("\"{other}\""),
+                    "must be \"rigid\" or \"flexible\"",
+                ))
+            }
+        })
+    }
+}
+
+/// The time settings of `[dynamics]`, SI.
+struct Timing {
+    end_time: f64,
+    window: (f64, f64),
+    output_interval: f64,
+    rtol: f64,
+    integrator: Method,
+}
+
+/// `reducer` with the damping of its meshes and bearings from the damping ratios `(mesh,
+/// bearings)` and the body masses of `inertia`.
+fn damped(reducer: &Reducer, (zeta_m, zeta_b): (f64, f64), inertia: &Inertias) -> Reducer {
+    let mesh0 = reducer.mesh;
+    let r_bp = mesh0.planet_base_radius;
+    let m_eq = inertia.crank / (r_bp * r_bp);
+    let mut red = reducer.clone();
+    red.mesh.damping = 2.0 * zeta_m * (mesh0.stiffness * m_eq).sqrt();
+    red.bearings.carrier_damping =
+        2.0 * zeta_b * (reducer.bearings.carrier_stiffness * inertia.crank_mass).sqrt();
+    red.bearings.disc_damping =
+        2.0 * zeta_b * (reducer.bearings.disc_stiffness * inertia.disc_mass).sqrt();
+    red
+}
+
+impl InertiaConfig {
+    /// The inertias of the bodies of `reducer`, from the densities and sizes (and the disc's
+    /// area from the nominal `profile`), or the overrides.
+    fn validate(&self, reducer: &Reducer, profile: &Profile) -> Result<Inertias> {
+        let geo = &reducer.geometry;
+        let planets = reducer.cranks;
         let mesh0 = reducer.mesh;
         let (r_p, r_s, face) = (
             mesh0.planet_pitch_radius,
@@ -496,7 +553,7 @@ impl DynamicsConfig {
         let crank_circle_radius = reducer.crank_circle_radius;
         let root = geo.pin_circle_radius - geo.pin_radius - geo.eccentricity;
         // Inertias.
-        let ic = &self.inertia;
+        let ic = self;
         let rho_d = positive(
             "inertia.disc_density_kg_m3",
             ic.disc_density_kg_m3,
@@ -518,7 +575,7 @@ impl DynamicsConfig {
         let bore = positive(
             "inertia.crank_bore_radius_mm",
             ic.crank_bore_radius_mm
-                .unwrap_or_else(|| super::scaled_from_root(&geo, 13.0)),
+                .unwrap_or_else(|| super::scaled_from_root(geo, 13.0)),
             1e4,
             "mm",
         )? * 1e-3;
@@ -609,21 +666,26 @@ impl DynamicsConfig {
             disc_mass: over("disc_mass_kg", ic.disc_mass_kg, md, "kg")?,
             disc: over("disc_inertia_kg_m2", ic.disc_inertia_kg_m2, jd, "kg m^2")?,
         };
-        // Damping of the meshes and bearings from their ratios.
-        let r_bp = mesh0.planet_base_radius;
-        let m_eq = inertia.crank / (r_bp * r_bp);
-        let mut red = reducer.clone();
-        red.mesh.damping = 2.0 * zeta_m * (mesh0.stiffness * m_eq).sqrt();
-        red.bearings.carrier_damping =
-            2.0 * zeta_b * (reducer.bearings.carrier_stiffness * inertia.crank_mass).sqrt();
-        red.bearings.disc_damping =
-            2.0 * zeta_b * (reducer.bearings.disc_stiffness * inertia.disc_mass).sqrt();
+        Ok(inertia)
+    }
+}
+
+impl ImpactConfig {
+    /// The impact contact of `reducer`'s law (or the power law given), its damping from the
+    /// linearised stiffness at the reference force `f_ref` (N) on the flank of the nominal
+    /// `profile` and the disc mass of `inertia`.
+    fn validate(
+        &self,
+        reducer: &Reducer,
+        profile: &Profile,
+        f_ref: f64,
+        inertia: &Inertias,
+    ) -> Result<Impact> {
+        let geo = &reducer.geometry;
         // Impact contact: by default the stage's contact law at every mesh angle; the damping
         // from the linearised stiffness at Li's largest pin force at the rated torque, on the
         // flank point of largest lever arm (Li: cos t = K1).
-        let im = &self.impact;
-        let f_ref = 2.0 * rated_torque * reducer.twist_factor()
-            / (geo.disc_pitch_radius() * geo.pins as f64);
+        let im = self;
         let curvature = profile.macro_curvature(geo.k1().acos());
         let law = match (im.stiffness_n_per_m_e, im.exponent) {
             (None, None) => ImpactLaw::Hertz,
@@ -682,9 +744,15 @@ impl DynamicsConfig {
                 "mm/s",
             )? * 1e-3,
         };
-        // Drive.
-        let d = &self.drive;
-        let drive = match d.kind.as_str() {
+        Ok(impact)
+    }
+}
+
+impl DriveConfig {
+    /// The input drive over the simulated time `end_time` (s).
+    fn validate(&self, end_time: f64) -> Result<Drive> {
+        let d = self;
+        Ok(match d.kind.as_str() {
             "speed" => {
                 let s = d.speed_deg_s;
                 if !(s.is_finite() && s != 0.0 && s.abs() <= 1e6) {
@@ -745,233 +813,6 @@ impl DynamicsConfig {
                     "must be \"speed\" or \"torque\"",
                 ))
             }
-        };
-        let load = self.load.validate(rated_torque, end_time, base_dir)?;
-        let flexible = match self.disc.as_str() {
-            "rigid" => None,
-            "flexible" => {
-                if !matches!(impact.law, ImpactLaw::Hertz) {
-                    return Err(Error::invalid(
-                        "dynamics.impact.stiffness_n_per_m_e",
-                        format!("{:?}", self.impact.stiffness_n_per_m_e),
-                        "must be left out with disc = \"flexible\": the flexible disc uses the \
-                         [contact] law with its disc term cut at the load patch (the FE body \
-                         supplies the rest)",
-                    ));
-                }
-                let fc = &self.flexible;
-                let max_modes = fc.max_modes;
-                if !(1..=1000).contains(&max_modes) {
-                    return Err(Error::invalid(
-                        "dynamics.flexible.max_modes",
-                        max_modes,
-                        "must be a whole number from 1 to 1000",
-                    ));
-                }
-                Some(ModalSettings {
-                    cutoff_hz: positive("flexible.cutoff_khz", fc.cutoff_khz, 1e4, "kHz")? * 1e3,
-                    damping_ratio: non_negative(
-                        "flexible.damping_ratio",
-                        fc.damping_ratio,
-                        1.0,
-                        "",
-                    )?,
-                    max_modes: max_modes as usize,
-                    density: self.inertia.disc_density_kg_m3,
-                })
-            }
-            other => {
-                return Err(Error::invalid(
-                    "dynamics.disc",
-                    format!("\"{other}\""),
-                    "must be \"rigid\" or \"flexible\"",
-                ))
-            }
-        };
-        Ok(DynamicsParams {
-            flexible,
-            reducer: red,
-            contact: impact,
-            inertia,
-            drive,
-            load,
-            end_time,
-            window: (w0, w1),
-            output_interval,
-            rtol,
-            integrator,
-            gap_points: gap_points as usize,
-            reference_force: f_ref,
         })
-    }
-}
-
-impl DynLoadConfig {
-    fn validate(&self, rated: f64, end_time: f64, base_dir: Option<&Path>) -> Result<LoadProfile> {
-        let torque_ok = |field: &str, v: f64| -> Result<f64> {
-            if v.is_finite() && v.abs() <= 1e6 {
-                Ok(v)
-            } else {
-                Err(Error::invalid(
-                    format!("dynamics.load.{field}"),
-                    v,
-                    "must be finite, |torque| <= 1e6 N m",
-                ))
-            }
-        };
-        match self.kind.as_str() {
-            "none" => Ok(LoadProfile::None),
-            "constant" => Ok(LoadProfile::Constant {
-                torque: torque_ok("torque_nm", self.torque_nm.unwrap_or(rated))?,
-                ramp: non_negative("load.ramp_s", self.ramp_s, end_time, "s")?,
-            }),
-            "sinusoidal" => {
-                let amp = torque_ok("amplitude_nm", self.amplitude_nm.unwrap_or(rated))?;
-                if amp < 0.0 {
-                    return Err(Error::invalid(
-                        "dynamics.load.amplitude_nm",
-                        amp,
-                        "must be >= 0",
-                    ));
-                }
-                if !self.phase_deg.is_finite() {
-                    return Err(Error::invalid(
-                        "dynamics.load.phase_deg",
-                        self.phase_deg,
-                        "must be finite",
-                    ));
-                }
-                Ok(LoadProfile::Sinusoidal {
-                    amplitude: amp,
-                    period: positive("load.period_s", self.period_s, 1e6, "s")?,
-                    offset: torque_ok("offset_nm", self.offset_nm)?,
-                    phase: self.phase_deg.to_radians(),
-                })
-            }
-            "table" => {
-                let file = self.file.as_ref().ok_or_else(|| {
-                    Error::invalid(
-                        "dynamics.load.file",
-                        "missing",
-                        "required with kind = \"table\"",
-                    )
-                })?;
-                let path = match base_dir {
-                    Some(d) if file.is_relative() => d.join(file),
-                    _ => file.clone(),
-                };
-                read_load_table(&path, end_time)
-            }
-            other => Err(Error::invalid(
-                "dynamics.load.kind",
-                format!("\"{other}\""),
-                "must be \"none\", \"constant\", \"sinusoidal\" or \"table\"",
-            )),
-        }
-    }
-}
-
-/// Reads a load table CSV with header `time_s,torque_nm`: strictly increasing times, no empty or
-/// non-numeric cells, covering `[0, end_time]` s.
-///
-/// # Errors
-/// [`Error::Config`] if unreadable; [`Error::Invalid`] naming the file, row and column of a bad
-/// cell, an unsorted time, or a table that does not cover the simulated time.
-pub fn read_load_table(path: &Path, end_time: f64) -> Result<LoadProfile> {
-    let origin = path.display().to_string();
-    let cfg_err = |message: String| Error::Config {
-        path: origin.clone(),
-        message,
-    };
-    let mut rdr = csv::ReaderBuilder::new()
-        .flexible(true)
-        .from_path(path)
-        .map_err(|e| cfg_err(format!("cannot read the load table: {e}")))?;
-    let headers = rdr.headers().map_err(|e| cfg_err(e.to_string()))?.clone();
-    if headers.iter().map(str::trim).collect::<Vec<_>>() != ["time_s", "torque_nm"] {
-        return Err(cfg_err(format!(
-            "header must be `time_s,torque_nm`, found `{}`",
-            headers.iter().collect::<Vec<_>>().join(",")
-        )));
-    }
-    let (mut time, mut torque) = (Vec::new(), Vec::new());
-    for (i, rec) in rdr.records().enumerate() {
-        let rec = rec.map_err(|e| cfg_err(e.to_string()))?;
-        let mut v = [0.0; 2];
-        for (k, name) in ["time_s", "torque_nm"].iter().enumerate() {
-            let field = format!("{origin} row {} column {name}", i + 1);
-            let s = rec.get(k).unwrap_or("").trim();
-            if s.is_empty() {
-                return Err(Error::invalid(
-                    field,
-                    "empty",
-                    "the table has a gap: every row needs both values",
-                ));
-            }
-            v[k] = s
-                .parse::<f64>()
-                .map_err(|_| Error::invalid(&field, format!("\"{s}\""), "must be a number"))?;
-            if !v[k].is_finite() {
-                return Err(Error::invalid(
-                    &field,
-                    v[k],
-                    "must be finite (no NaN or inf)",
-                ));
-            }
-        }
-        if let Some(&last) = time.last() {
-            if v[0] <= last {
-                return Err(Error::invalid(
-                    format!("{origin} row {} column time_s", i + 1),
-                    v[0],
-                    format!("times must increase strictly (previous row: {last})"),
-                ));
-            }
-        }
-        time.push(v[0]);
-        torque.push(v[1]);
-    }
-    if time.len() < 2 {
-        return Err(cfg_err("the load table needs at least 2 rows".into()));
-    }
-    if time[0] > 0.0 || *time.last().unwrap_or(&0.0) < end_time {
-        return Err(Error::invalid(
-            format!("{origin} column time_s"),
-            format!("[{}, {}]", time[0], time[time.len() - 1]),
-            format!("must cover the simulated time [0, {end_time}] s"),
-        ));
-    }
-    Ok(LoadProfile::Table { time, torque })
-}
-
-/// The largest output torque of the dynamic load in each direction, with the key that sets
-/// it (for the physical check of [`crate::config::Config::validate`]).
-pub(crate) fn load_peaks(load: &LoadProfile) -> Vec<(String, f64)> {
-    match load {
-        LoadProfile::None => Vec::new(),
-        LoadProfile::Constant { torque, .. } => {
-            vec![("dynamics.load.torque_nm".to_string(), *torque)]
-        }
-        LoadProfile::Sinusoidal {
-            amplitude, offset, ..
-        } => {
-            let key = if *amplitude > 0.0 {
-                "dynamics.load.amplitude_nm"
-            } else {
-                "dynamics.load.offset_nm"
-            };
-            vec![
-                (key.to_string(), offset + amplitude),
-                (key.to_string(), offset - amplitude),
-            ]
-        }
-        LoadProfile::Table { torque, .. } => {
-            let hi = torque.iter().copied().fold(0.0, f64::max);
-            let lo = torque.iter().copied().fold(0.0, f64::min);
-            vec![
-                ("dynamics.load.file".to_string(), hi),
-                ("dynamics.load.file".to_string(), lo),
-            ]
-        }
     }
 }

@@ -168,10 +168,10 @@ impl FemConfig {
             .unwrap_or(2e3 * default_bore_radius);
         let centre_d = self
             .centre_hole_diameter_mm
-            .unwrap_or_else(|| super::scaled_from_root(profile.geometry(), 30.0));
+            .unwrap_or_else(|| super::cross_section::scaled_from_root(profile.geometry(), 30.0));
         let hole_d = self
             .output_pin_hole_diameter_mm
-            .unwrap_or_else(|| super::scaled_from_root(profile.geometry(), 22.0));
+            .unwrap_or_else(|| super::cross_section::scaled_from_root(profile.geometry(), 22.0));
         let bore_r = range("crank_bore_diameter_mm", bore_d, 1.0, root_mm, "mm")? * 0.5e-3;
         let circle = self
             .crank_circle_radius_mm

@@ -16,11 +16,12 @@
 
 use std::f64::consts::TAU;
 
-use crate::config::{Model, ModificationConfig};
+use super::dynamics_load::load_peaks;
+use super::{Model, ModificationConfig};
 use crate::error::{Error, Result};
 use crate::geometry::Profile;
-use crate::reducer::statics::{StaticAnalysis, MAX_TWIST};
-use crate::te::ARCMIN_PER_RAD;
+use crate::statics::{StaticAnalysis, MAX_TWIST};
+use crate::units::ARCMIN_PER_RAD;
 
 /// Crank angles per mesh cycle at which the unworn stage is probed besides the study's own.
 pub const PROBES_PER_MESH_CYCLE: usize = 4;
@@ -34,11 +35,15 @@ const INTERFERENCE: f64 = 1e-9;
 /// (`wear.crank_steps_per_mesh_cycle`) and [`PROBES_PER_MESH_CYCLE`] more, so that a torque
 /// the check passes is solved at every crank angle the study solves it at.
 fn probe_angles(model: &Model) -> Vec<f64> {
-    let pins = model.geometry.pins;
-    let mut k: Vec<(usize, usize)> = [PROBES_PER_MESH_CYCLE, model.te_samples, model.wear_steps]
-        .iter()
-        .flat_map(|&n| (0..n).map(move |i| (i, n)))
-        .collect();
+    let pins = model.cycloid.geometry.pins;
+    let mut k: Vec<(usize, usize)> = [
+        PROBES_PER_MESH_CYCLE,
+        model.te.samples,
+        model.wear.crank_steps,
+    ]
+    .iter()
+    .flat_map(|&n| (0..n).map(move |i| (i, n)))
+    .collect();
     // Exact fractions i/n, sorted and deduplicated by cross-multiplication.
     k.sort_by(|a, b| (a.0 * b.1).cmp(&(b.0 * a.1)));
     k.dedup_by(|a, b| a.0 * b.1 == b.0 * a.1);
@@ -62,12 +67,7 @@ fn show(v: f64) -> String {
 /// # Errors
 /// [`Error::Invalid`] naming the modification key that contributes most (its effect on the
 /// flank in mm: `|equidistant|`, `|offset|`, `|rotation| Rp`), its value and the play found.
-pub(crate) fn check_mesh(
-    model: &Model,
-    profile: &Profile,
-    mods: &ModificationConfig,
-    rp: f64,
-) -> Result<()> {
+fn check_mesh(model: &Model, profile: &Profile, mods: &ModificationConfig, rp: f64) -> Result<()> {
     let blame = |why: String| {
         let parts = [
             (
@@ -161,12 +161,12 @@ fn carried(sa: &StaticAnalysis, model: &Model, torque: f64) -> std::result::Resu
             Err(e) => return Err(format!("the static analysis cannot carry it ({e})")),
         }
     }
-    if pmax > model.max_contact_pressure {
+    if pmax > model.materials.max_contact_pressure {
         Err(format!(
             "the largest Hertz pressure would be {:.0} MPa, above \
              materials.max_contact_pressure_mpa = {:.0} MPa",
             pmax * 1e-6,
-            model.max_contact_pressure * 1e-6
+            model.materials.max_contact_pressure * 1e-6
         ))
     } else {
         Ok(pmax)
@@ -178,8 +178,8 @@ fn carried(sa: &StaticAnalysis, model: &Model, torque: f64) -> std::result::Resu
 /// geometric bisection (within 2^-12 of an octave, 0.02 %). A failing solve costs up to
 /// 0.2 s, so the search starts near the rating rather than at an absurd torque.
 fn capacity(sa: &StaticAnalysis, model: &Model, sign: f64, above: f64) -> f64 {
-    let floor = 1e-9 * model.rated_torque;
-    let (mut lo, mut hi) = (above.min(64.0 * model.rated_torque), above);
+    let floor = 1e-9 * model.rating.rated_torque;
+    let (mut lo, mut hi) = (above.min(64.0 * model.rating.rated_torque), above);
     while carried(sa, model, sign * lo).is_err() {
         hi = lo;
         lo *= 0.5;
@@ -205,11 +205,7 @@ fn capacity(sa: &StaticAnalysis, model: &Model, sign: f64, above: f64) -> f64 {
 /// [`Error::Invalid`] naming the first key whose torque is not carried, with the reason (the
 /// pressure above the limit, or the static analysis failing) and the largest torque the stage
 /// carries in that direction.
-pub(crate) fn check_torques(
-    model: &Model,
-    profile: &Profile,
-    uses: &[(String, f64)],
-) -> Result<()> {
+fn check_torques(model: &Model, profile: &Profile, uses: &[(String, f64)]) -> Result<()> {
     let sa = StaticAnalysis::new(&model.reducer, profile)?;
     let mut checked: Vec<f64> = Vec::new();
     for (key, torque) in uses {
@@ -242,6 +238,50 @@ pub(crate) fn check_torques(
     Ok(())
 }
 
+/// The physical checks of the unworn stage of `model` (its `profile`): the modifications
+/// `mods` (as written) keep the disc in mesh ([`check_mesh`]), and every torque the config
+/// applies is carried ([`check_torques`]): the rated torque both ways, the loaded-TE torque,
+/// the largest wear load each way (`level_keys`: the key of each load level) and, with
+/// `[dynamics]` enabled, the peaks of the dynamic load.
+///
+/// # Errors
+/// [`Error::Invalid`] naming the key to blame.
+pub(super) fn check_stage(
+    model: &Model,
+    profile: &Profile,
+    mods: &ModificationConfig,
+    level_keys: &[String],
+) -> Result<()> {
+    check_mesh(
+        model,
+        profile,
+        mods,
+        model.cycloid.geometry.pin_circle_radius,
+    )?;
+    let rated = model.rating.rated_torque;
+    let mut uses = vec![
+        ("reducer.rated_torque_nm".to_string(), rated),
+        ("reducer.rated_torque_nm".to_string(), -rated),
+        ("te.loaded_torque_nm".to_string(), model.te.loaded_torque),
+    ];
+    for dir in [1.0, -1.0] {
+        let peak = model
+            .load
+            .levels
+            .iter()
+            .zip(level_keys)
+            .filter(|(l, _)| l.torque * dir > 0.0)
+            .max_by(|a, b| (a.0.torque * dir).total_cmp(&(b.0.torque * dir)));
+        if let Some((l, key)) = peak {
+            uses.push((key.clone(), l.torque));
+        }
+    }
+    if model.dynamics.enabled {
+        uses.extend(load_peaks(&model.dynamics.params.load));
+    }
+    check_torques(model, profile, &uses)
+}
+
 impl Model {
     /// Checks that the unworn stage carries the output torque `torque` (N m), as every torque
     /// of the config is checked by [`crate::config::Config::validate`]; `key` names the torque
@@ -253,7 +293,7 @@ impl Model {
         if !torque.is_finite() {
             return Err(Error::invalid(key, torque, "must be a finite number"));
         }
-        let profile = self.profile(None)?;
+        let profile = self.profile()?;
         check_torques(self, &profile, &[(key.to_string(), torque)])
     }
 }
@@ -270,14 +310,14 @@ mod tests {
     #[test]
     fn capacity_is_where_the_pressure_reaches_the_limit() {
         let m = Config::example().validate().unwrap();
-        let p = m.profile(None).unwrap();
+        let p = m.profile().unwrap();
         let sa = StaticAnalysis::new(&m.reducer, &p).unwrap();
         for sign in [1.0, -1.0] {
             let cap = capacity(&sa, &m, sign, 1e6);
-            assert!(cap > 10.0 * m.rated_torque, "{cap}");
+            assert!(cap > 10.0 * m.rating.rated_torque, "{cap}");
             let p_at = carried(&sa, &m, sign * 0.99 * cap).unwrap();
             assert!(carried(&sa, &m, sign * 1.01 * cap).is_err());
-            let rel = p_at / m.max_contact_pressure - 1.0;
+            let rel = p_at / m.materials.max_contact_pressure - 1.0;
             assert!(rel.abs() < 0.01, "pressure {p_at} at 0.99 x {cap} N m");
             assert!(m.check_torque("t", sign * 0.99 * cap).is_ok());
             let e = m

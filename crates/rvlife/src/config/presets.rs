@@ -208,7 +208,7 @@ mod tests {
     #[test]
     fn every_preset_validates_with_the_paper_proportions() {
         let paper = Config::example().validate().unwrap();
-        let k1 = |m: &crate::config::Model| m.geometry.k1();
+        let k1 = |m: &crate::config::Model| m.cycloid.geometry.k1();
         for p in PRESETS {
             let text = preset_text(p.name).unwrap();
             let m = Config::from_toml_str(&text, p.name)

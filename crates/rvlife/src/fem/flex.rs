@@ -12,8 +12,8 @@
 //!
 //! It is solved by Newton's method on the active set with a ratio test that drops pins whose
 //! force would turn negative and adds the most-penetrating open pin after each converged
-//! sweep, starting from the rigid solution of [`crate::contact::solve`]. With `C = 0` and the
-//! rigid law it reproduces that solution.
+//! sweep, starting from the rigid solution of the static analysis with the disc's centre fixed
+//! ([`crate::statics::StaticAnalysis`] with rigid support).
 
 use std::f64::consts::{PI, TAU};
 
@@ -21,13 +21,13 @@ use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::contact::{pin_geometry, solve_start, ApproachLaw, ContactModel, PinGeometry};
+use crate::contact::{pin_geometry, ApproachLaw, ContactModel, PinGeometry};
 use crate::error::{Error, Result};
 use crate::fem::mesh::LoopKind;
 use crate::fem::{outline_radii, DiscModel, DiscSet};
 use crate::geometry::{Profile, Vec2};
-use crate::reducer::statics::{PinLoad, StaticAnalysis, StaticSolution};
 use crate::reducer::{Reducer, Support};
+use crate::statics::{PinLoad, StaticAnalysis, StaticSolution};
 use crate::te::CurveStats;
 
 /// The local (Hertz) part of the contact compliance when the disc body is an FE model loaded by
@@ -133,27 +133,46 @@ fn candidates(profile: &Profile, phi: f64, beta: f64, s: f64, reach: f64) -> Res
     Ok(out)
 }
 
-/// Solves the loaded contact of the flexible disc at crank angle `phi` (rad) under disc torque
-/// `disc_torque` (N m; its sign picks the flank). A zero torque gives the rigid first contact.
+/// Solves the loaded contact of the flexible disc with its centre fixed on the eccentric (the
+/// rigid support of `sa`, [`Support::Rigid`]) at crank angle `phi` (rad) under the output
+/// torque `torque` (N m; its sign picks the flank): the disc carries the equivalent disc torque
+/// `load_share T Zc/(Zp + Z1/Z2)`. The rigid solution of `sa` at the same crank angle and
+/// torque is the start (its disc rotation and first contact are reported beside the flexible
+/// rotation). A zero torque gives the rigid first contact.
 ///
 /// # Errors
-/// [`Error::Numerical`] if the rigid start fails or the Newton iteration does not converge in
-/// 200 steps.
+/// [`Error::Invalid`] if `sa`'s reducer has no rigid support; the rigid solve's failures;
+/// [`Error::Numerical`] if the Newton iteration does not converge in 200 steps.
 pub fn solve_flexible(
-    profile: &Profile,
-    model: &ContactModel,
+    sa: &StaticAnalysis,
     disc: &DiscModel,
     phi: f64,
-    disc_torque: f64,
+    torque: f64,
 ) -> Result<FlexSolution> {
-    let rigid = solve_start(profile, model, phi, disc_torque)?;
+    let red = sa.reducer();
+    let Support::Rigid { load_share } = red.support else {
+        return Err(Error::invalid(
+            "contact.support",
+            "\"bearings\"",
+            "the fixed-centre flexible disc needs support = \"rigid\"",
+        ));
+    };
+    let profile = sa.profile();
+    let model = &red.contact;
+    let factor = red.twist_factor();
+    let disc_torque = load_share * torque * factor;
+    // The rigid disc's rotation at a fixed crank is its output twist over the twist factor
+    // (docs/model.md section 6).
+    let rigid = sa.solve(phi, torque)?;
+    let rigid_rotation = rigid.twist / factor;
+    let first_contact_rotation = rigid.first_contact_twist / factor;
     if disc_torque == 0.0 {
         return Ok(FlexSolution {
             crank_angle: phi,
             disc_torque,
-            disc_rotation: rigid.disc_rotation,
-            rigid_rotation: rigid.disc_rotation,
-            first_contact_rotation: rigid.first_contact_rotation,
+            disc_rotation: rigid_rotation,
+            rigid_rotation,
+            first_contact_rotation,
             pins: Vec::new(),
         });
     }
@@ -162,10 +181,10 @@ pub fn solve_flexible(
         patch: disc.params.patch,
     };
     let s = disc_torque.signum();
-    let cand = candidates(profile, phi, rigid.disc_rotation, s, 5e-3)?;
-    let mut force: Vec<f64> = cand.iter().map(|&j| rigid.pins[j].force).collect();
+    let cand = candidates(profile, phi, rigid_rotation, s, 5e-3)?;
+    let mut force: Vec<f64> = cand.iter().map(|&j| rigid.discs[0].pins[j].force).collect();
     let mut active: Vec<bool> = force.iter().map(|f| *f > 0.0).collect();
-    let mut beta = rigid.disc_rotation;
+    let mut beta = rigid_rotation;
     let n = cand.len();
     let tol_gap = 1e-13;
     let tol_m = 1e-10 * disc_torque.abs();
@@ -273,8 +292,8 @@ pub fn solve_flexible(
         crank_angle: phi,
         disc_torque,
         disc_rotation: beta,
-        rigid_rotation: rigid.disc_rotation,
-        first_contact_rotation: rigid.first_contact_rotation,
+        rigid_rotation,
+        first_contact_rotation,
         pins,
     })
 }
@@ -700,7 +719,7 @@ fn two_sense_stiffness(st: &FlexibleStage) -> f64 {
 /// reducer's output twists ([`solve_flexible_bearings`]). With the rigid support the disc is
 /// analysed with its centre on the eccentric at a fixed crank angle and carries the equivalent
 /// disc torque `share T Zc/(Zp + Z1/Z2)` (share: `load_share`); its rotation `beta` is
-/// reported as the output twist `beta Zc/(Zp + Z1/Z2)` (physics-notes section 6).
+/// reported as the output twist `beta Zc/(Zp + Z1/Z2)` (docs/model.md section 6).
 ///
 /// # Errors
 /// Contact solver failures.
@@ -712,31 +731,27 @@ pub fn analyse_stage(
 ) -> Result<FlexibleStage> {
     // The fixed-centre model is disc 1 carrying its load share.
     let disc = discs.disc(0).0;
-    let model = &reducer.contact;
     let factor = reducer.twist_factor();
     let n = disc.params.crank_angles;
     let phis: Vec<f64> = (0..n).map(|k| TAU * k as f64 / n as f64).collect();
     let ste_torque = disc.params.ste_torque_fraction * rated_torque;
-    let share = match reducer.support {
-        Support::Rigid { load_share } => load_share,
-        Support::Bearings => {
-            return analyse_stage_bearings(profile, reducer, discs, rated_torque, phis, ste_torque)
-        }
-    };
-    let disc_torque = |t: f64| share * t * factor;
+    if reducer.support == Support::Bearings {
+        return analyse_stage_bearings(profile, reducer, discs, rated_torque, phis, ste_torque);
+    }
+    let sa = StaticAnalysis::new(reducer, profile)?;
     let rows: Vec<(FlexSolution, FlexSolution)> = phis
         .par_iter()
         .map(|&phi| -> Result<(FlexSolution, FlexSolution)> {
-            let lo = solve_flexible(profile, model, disc, phi, disc_torque(ste_torque))?;
-            let hi = solve_flexible(profile, model, disc, phi, disc_torque(rated_torque))?;
+            let lo = solve_flexible(&sa, disc, phi, ste_torque)?;
+            let hi = solve_flexible(&sa, disc, phi, rated_torque)?;
             Ok((lo, hi))
         })
         .collect::<Result<_>>()?;
     let reverse: Vec<(FlexSolution, FlexSolution)> = phis
         .par_iter()
         .map(|&phi| -> Result<(FlexSolution, FlexSolution)> {
-            let lo = solve_flexible(profile, model, disc, phi, disc_torque(-ste_torque))?;
-            let hi = solve_flexible(profile, model, disc, phi, disc_torque(-rated_torque))?;
+            let lo = solve_flexible(&sa, disc, phi, -ste_torque)?;
+            let hi = solve_flexible(&sa, disc, phi, -rated_torque)?;
             Ok((lo, hi))
         })
         .collect::<Result<_>>()?;
@@ -750,7 +765,7 @@ pub fn analyse_stage(
                 t if t == rated_torque => rows[k].1.disc_rotation,
                 t if t == -ste_torque => reverse[k].0.disc_rotation,
                 t if t == -rated_torque => reverse[k].1.disc_rotation,
-                t => solve_flexible(profile, model, disc, phis[k], disc_torque(t))?.disc_rotation,
+                t => solve_flexible(&sa, disc, phis[k], t)?.disc_rotation,
             })
     })?;
     let flexible_ste: Vec<f64> = rows.iter().map(|r| factor * r.0.disc_rotation).collect();

@@ -1,5 +1,5 @@
 //! The cycloid disc as a finite-element body (paper section 3.3, the rigid-flexible model;
-//! physics-notes section 6): a 2D plane-stress model of the actual (worn) disc with its crank
+//! docs/model.md section 9): a 2D plane-stress model of the actual (worn) disc with its crank
 //! bearing bores, output-pin holes and centre hole, meshed by constrained Delaunay refinement
 //! ([`mesh`]), solved with quadratic triangles and a sparse Cholesky factor ([`plane`]), and
 //! condensed onto the loaded tooth flanks as a compliance matrix between *load stations*

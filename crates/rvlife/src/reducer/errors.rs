@@ -5,7 +5,7 @@
 //! mesh cycle; with any error the symmetry is gone and the transmission error is a function of
 //! the position over a whole output revolution ([`crate::te::revolution`]).
 //!
-//! How each error enters the static analysis ([`crate::reducer::statics::StaticAnalysis`]):
+//! How each error enters the static analysis ([`crate::statics::StaticAnalysis`]):
 //! - **pin position** (radial, tangential) and **pin-circle run-out**: the pin centre moves;
 //!   the gaps are measured from the displaced centre (exact);
 //! - **pin radius**: the gap of that pin shrinks by the radius error (exact for the gap; the

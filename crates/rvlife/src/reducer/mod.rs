@@ -22,9 +22,7 @@
 //! eccentric (no bearing compliance) carrying a fixed share of the output torque; the first-stage
 //! kinematics still apply (turning the carrier with the input locked turns the cranks too).
 
-pub mod dynamics;
 pub mod errors;
-pub mod statics;
 
 use std::f64::consts::PI;
 
@@ -44,7 +42,7 @@ pub(crate) fn perp(v: Vec2) -> Vec2 {
 pub enum Support {
     /// Both discs on their crank-disc bearings, the cranks on their crank-carrier bearings and
     /// the sun-planet meshes: the discs translate and turn under load, and the torque share of
-    /// each disc comes out of the equilibrium (physics-notes section 9). The default.
+    /// each disc comes out of the equilibrium (docs/model.md section 5). The default.
     Bearings,
     /// The paper's and Li's model: one disc, its centre fixed on the eccentric, carrying
     /// `load_share` of the output torque (paper eqs 8-9: 0.55).
@@ -161,7 +159,7 @@ pub struct OutputPins {
 pub struct Reducer {
     /// Cycloid stage geometry.
     pub geometry: CycloidGeometry,
-    /// Overall ratio `i_H = 1 + (Z2/Z1) Zp` (physics-notes section 1).
+    /// Overall ratio `i_H = 1 + (Z2/Z1) Zp` (docs/model.md section 1).
     pub ratio: f64,
     /// Number of cranks (= planets), 1 to 12.
     pub cranks: usize,
@@ -176,11 +174,11 @@ pub struct Reducer {
     /// How the discs are held in the static analysis.
     pub support: Support,
     /// Force (N) whose Hertz half-width sets the band over which the contact geometry is
-    /// averaged ([`dynamics::GapField::new`]): `[contact] band_force_n`, by default Li's
+    /// averaged ([`crate::contact::gap::GapField::new`]): `[contact] band_force_n`, by default Li's
     /// largest pin force at the rated torque.
     pub contact_band_force: f64,
     /// `[contact] band = "envelope"` (default): the contact geometry is the upper envelope of
-    /// the flank averaged over a narrow and the wide band ([`dynamics::Band`]); `false`
+    /// the flank averaged over a narrow and the wide band ([`crate::contact::gap::Band`]); `false`
     /// (`"single"`): the flank averaged over the band.
     pub contact_envelope: bool,
     /// Mesh angles per tooth of the contact geometry's gap table.
@@ -196,9 +194,9 @@ pub struct Reducer {
 }
 
 impl Reducer {
-    /// How the contact geometry sees the worn flank ([`dynamics::GapField::new`]).
-    pub fn contact_band(&self) -> dynamics::Band<'_> {
-        dynamics::Band {
+    /// How the contact geometry sees the worn flank ([`crate::contact::gap::GapField::new`]).
+    pub fn contact_band(&self) -> crate::contact::gap::Band<'_> {
+        crate::contact::gap::Band {
             contact: &self.contact,
             force: self.contact_band_force,
             envelope: self.contact_envelope,
@@ -233,10 +231,35 @@ impl Reducer {
     /// Output twist per unit of disc rotation at a fixed crank angle, `Zc / (Zp + Z1/Z2)`:
     /// with the input locked, turning the carrier by `psi` turns the cranks relative to it by
     /// `(Z1/Z2) psi`, so the disc turns by `psi (Zp + Z1/Z2) / Zc` relative to its position at a
-    /// fixed crank (physics-notes section 6; 0.963 for the paper's reducer).
+    /// fixed crank (docs/model.md section 6; 0.963 for the paper's reducer).
     pub fn twist_factor(&self) -> f64 {
         let zp = self.geometry.pins as f64;
         (zp - 1.0) / (zp + self.mesh.sun_planet_ratio)
+    }
+
+    /// Mesh cycles per hour of every disc tooth at input speed `speed_rpm` (rpm):
+    /// `60 n_in Zp / |i_H|` (docs/model.md section 1: one mesh cycle per crank revolution
+    /// relative to the carrier; the paper counts input revolutions instead, see
+    /// [`crate::wear`]).
+    pub fn mesh_cycles_per_hour(&self, speed_rpm: f64) -> f64 {
+        60.0 * speed_rpm * self.geometry.pins as f64 / self.ratio.abs()
+    }
+
+    /// Share of the output torque on one disc for the closed-form estimates (Li's
+    /// distribution, the paper's wear model, reference forces): `load_share` with rigid
+    /// support, 1/2 with bearings (two discs).
+    pub fn disc_share(&self) -> f64 {
+        match self.support {
+            Support::Rigid { load_share } => load_share,
+            Support::Bearings => 0.5,
+        }
+    }
+
+    /// Torque (N m) on one disc at a fixed crank angle equivalent to the output torque
+    /// `torque` (N m): `share T Zc/(Zp + Z1/Z2)` (docs/model.md section 6: the first stage
+    /// turns the cranks when the output twists with the input locked).
+    pub fn equivalent_disc_torque(&self, torque: f64) -> f64 {
+        self.disc_share() * torque * self.twist_factor()
     }
 
     /// Crank angle speed ratio of the locked-input mode: `d vartheta / d theta_o = 1 + Z1/Z2`.
@@ -284,7 +307,7 @@ impl Reducer {
     /// Nominal (kinematic, rigid) positions, speeds and accelerations of every coordinate for
     /// input angle `th_s`, speed `w_s` and acceleration `a_s`: `theta_o = theta_s / i_H`,
     /// crank `vartheta = theta_o - (Z1/Z2)(theta_s - theta_o)`, crank centres on the carrier,
-    /// disc centres on the eccentrics, discs turning with the carrier (physics-notes 1 and 3).
+    /// disc centres on the eccentrics, discs turning with the carrier (docs/model.md section 1).
     pub fn nominal(
         &self,
         th_s: f64,

@@ -237,7 +237,7 @@ mod tests {
 
     fn example_profile() -> Profile {
         let model = crate::config::Config::example().validate().unwrap();
-        model.profile(None).unwrap()
+        model.profile().unwrap()
     }
 
     /// The value written after the header variable `name` (name, group code, value lines).

@@ -151,8 +151,8 @@ impl ImpactLaw {
     }
 }
 
-/// Impact contact (SI): MSC Adams IMPACT semantics, `F = F_e(d) - STEP(d, 0, 0, d_max, c_max)
-/// dd/dt`, clamped at zero.
+/// Impact contact (SI): MSC Adams IMPACT semantics, `F = F_e(d) + STEP(d, 0, 0, d_max, c_max)
+/// dd/dt` with `d` the penetration (the damping resists its growth), clamped at zero.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Impact {
     /// Elastic part.

@@ -1,6 +1,6 @@
 //! Dynamic transmission error (DTE): a planar rigid multibody model of the whole RV reducer with
-//! impact contact between the discs and the pins (paper section 3.2 and Table 3; physics-notes
-//! section 6).
+//! impact contact between the discs and the pins (paper section 3.2 and Table 3;
+//! docs/model.md section 8).
 //!
 //! The model ([`system`]) has the input shaft with the sun, 2 or 3 crankshafts with their planets
 //! (each on crank-carrier bearings), the output carrier, and two discs on the cranks' eccentrics
@@ -16,13 +16,12 @@
 //! matters (the TE itself is the output deviation) rather than on angles that grow to hundreds of
 //! radians.
 //!
-//! Integration ([`ode`]): an explicit Runge-Kutta 5(4) pair with error control (Tsitouras 2011)
-//! from `diffsol`. The contact modes are stiff (about 10 kHz) but lightly damped oscillators,
-//! which an explicit method resolves at a step of a few microseconds; implicit methods would have
-//! to refactor the Jacobian at every change of the set of pins in contact (twice per pin pitch).
-//! Results converge with the tolerance (tests halve it).
+//! Integration ([`ode`]), from `diffsol` with error control: by default the L-stable ESDIRK
+//! 3(4) pair, whose steps follow the accuracy wanted rather than the stiff (about 10 kHz)
+//! contact and bearing modes, with a forward-difference Jacobian whose columns recompute only
+//! the contacts their state moves; or the explicit Tsitouras 5(4) pair, which resolves those
+//! modes at steps of a few microseconds (`dynamics.integrator`; docs/model.md section 8).
 
-pub mod gap;
 pub mod ode;
 pub mod params;
 pub mod system;
@@ -33,10 +32,10 @@ use crate::error::{Error, Result};
 use crate::fem::modal::ModalDisc;
 use crate::fem::{DiscSet, FemParams, Mount};
 use crate::geometry::Profile;
-use crate::te::ARCMIN_PER_RAD;
+use crate::units::ARCMIN_PER_RAD;
 
+pub use crate::contact::gap::{Band, GapField};
 pub use crate::fem::modal::ModalSettings;
-pub use gap::{Band, GapField};
 pub use params::DynamicsParams;
 use params::Method;
 pub use system::{PinForce, System};
@@ -118,7 +117,7 @@ pub struct DynamicsResult {
     pub pin_forces: Option<Vec<Vec<f64>>>,
     /// Deviations of every coordinate from the nominal kinematics per sample, with the pin
     /// forces (one row of [`crate::reducer::Layout::dofs`] entries: m for positions, rad for
-    /// angles; the layout of [`crate::reducer::statics::StaticSolution::deviations`]).
+    /// angles; the layout of [`crate::statics::StaticSolution::deviations`]).
     pub deviations: Option<Vec<Vec<f64>>>,
     /// Summary over the window.
     pub summary: DynamicsSummary,

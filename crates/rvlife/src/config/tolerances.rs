@@ -1,6 +1,5 @@
-//! `[errors]`, `[tolerances]` and `[life]`: the part errors of one reducer, their tolerance
-//! distributions for Monte Carlo sampling, and the accuracy thresholds that end a reducer's
-//! accuracy life.
+//! `[tolerances]`: the distributions of the part errors of a batch of reducers, sampled by
+//! `rvlife montecarlo` (docs/model.md section 12), with ISO 286-1 grades.
 
 use rand::Rng;
 use rand_distr::{Distribution, Normal, Uniform};
@@ -11,48 +10,21 @@ use crate::error::{Error, Result};
 use crate::geometry::{CycloidGeometry, Modification, Vec2};
 use crate::reducer::errors::PartErrors;
 
-/// `[errors]`: known part errors of one reducer (measured, or a case to study), engineering
-/// units. Per-pin lists hold `cycloid.pins` values, per-crank lists `reducer.planets` values;
-/// an absent list is all zero.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ErrorsConfig {
-    /// Radial position error of each pin centre (outward positive), um.
-    #[serde(default)]
-    pub pin_radial_um: Vec<f64>,
-    /// Tangential position error of each pin centre (counter-clockwise positive), um.
-    #[serde(default)]
-    pub pin_tangential_um: Vec<f64>,
-    /// Radius error of each pin (oversize positive), um.
-    #[serde(default)]
-    pub pin_radius_um: Vec<f64>,
-    /// Radial run-out of the pin circle (total indicator reading), um.
-    #[serde(default)]
-    pub pin_circle_runout_um: f64,
-    /// Direction of the pin circle's largest radius, degrees from pin 1.
-    #[serde(default)]
-    pub pin_circle_runout_deg: f64,
-    /// Eccentricity error of each crank (larger positive), um.
-    #[serde(default)]
-    pub crank_eccentricity_um: Vec<f64>,
-    /// Phase error of each crank's eccentrics (ahead positive), arcmin.
-    #[serde(default)]
-    pub crank_phase_arcmin: Vec<f64>,
-}
-
 /// One tolerance: a distribution of an error about zero.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ToleranceConfig {
-    /// Normal distribution with this standard deviation (the key's unit).
+    /// Normal distribution with this standard deviation (the key's unit). Range: [0, 1000] um
+    /// or [0, 600] arcmin.
     #[serde(default)]
     pub normal: Option<f64>,
-    /// Uniform distribution within `+-` this limit (the key's unit).
+    /// Uniform distribution within `+-` this limit (the key's unit). Range: as `normal`.
     #[serde(default)]
     pub uniform: Option<f64>,
     /// ISO 286-1 standard tolerance grade (5 to 11) of the feature's size: normal with
     /// `sigma = IT/12` (the tolerance zone of the diameter is `+-3 sigma` of the process, and
     /// the error is a radius or a position: half the diameter's deviation). Lengths only.
+    /// Range: whole number, 5 to 11, sizes up to 3150 mm.
     #[serde(default)]
     pub iso_grade: Option<i64>,
 }
@@ -90,29 +62,6 @@ pub struct TolerancesConfig {
     /// Rotation modification error, arcmin.
     #[serde(default)]
     pub rotation_arcmin: Option<ToleranceConfig>,
-}
-
-/// `[life]`: the accuracy spec. The accuracy life is the working hours at which the first of
-/// the given thresholds is crossed.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct LifeConfig {
-    /// Largest lost motion (catalogue, +-3 % of rated torque), arcmin.
-    #[serde(default)]
-    pub lost_motion_arcmin: Option<f64>,
-    /// Largest backlash, arcmin.
-    #[serde(default)]
-    pub backlash_arcmin: Option<f64>,
-    /// Largest angular transmission error (peak-to-peak over an output revolution), arcmin.
-    #[serde(default)]
-    pub angular_te_arcmin: Option<f64>,
-    /// Smallest torsional stiffness, N m/arcmin.
-    #[serde(default)]
-    pub torsional_stiffness_min_nm_per_arcmin: Option<f64>,
-    /// How far beyond the last stage the wear integration steps on to find the crossing, h
-    /// (default 10 x the last stage).
-    #[serde(default)]
-    pub max_hours: Option<f64>,
 }
 
 /// A validated distribution of one error about zero (SI: m or rad).
@@ -222,31 +171,6 @@ impl Tolerances {
             },
             m,
         )
-    }
-}
-
-/// The validated `[life]` thresholds (engineering units, as the study reports them).
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
-pub struct LifeThresholds {
-    /// Largest lost motion, arcmin.
-    pub lost_motion_arcmin: Option<f64>,
-    /// Largest backlash, arcmin.
-    pub backlash_arcmin: Option<f64>,
-    /// Largest angular TE, arcmin.
-    pub angular_te_arcmin: Option<f64>,
-    /// Smallest torsional stiffness, N m/arcmin.
-    pub torsional_stiffness_min_nm_per_arcmin: Option<f64>,
-    /// Horizon of the search beyond the last stage, h (`None`: 10 x the last stage).
-    pub max_hours: Option<f64>,
-}
-
-impl LifeThresholds {
-    /// Whether any threshold is set.
-    pub fn any(&self) -> bool {
-        self.lost_motion_arcmin.is_some()
-            || self.backlash_arcmin.is_some()
-            || self.angular_te_arcmin.is_some()
-            || self.torsional_stiffness_min_nm_per_arcmin.is_some()
     }
 }
 
@@ -430,110 +354,6 @@ impl TolerancesConfig {
                 arcmin,
                 None,
             )?,
-        })
-    }
-}
-
-impl ErrorsConfig {
-    /// Checks the lists' lengths and values (|error| up to 1 mm, 600 arcmin) and converts to
-    /// SI.
-    ///
-    /// # Errors
-    /// [`Error::Invalid`] naming the key (`errors.pin_radial_um`), the value and the allowed
-    /// range (a list of the wrong length names its length and the one needed).
-    pub fn validate(&self, pins: usize, cranks: usize) -> Result<PartErrors> {
-        let list = |key: &str, v: &[f64], n: usize, what: &str, unit, si: f64| {
-            if !(v.is_empty() || v.len() == n) {
-                return Err(Error::invalid(
-                    format!("errors.{key}"),
-                    format!("a list of {} values", v.len()),
-                    format!("must hold one value per {what}: {n} values (or be left out)"),
-                ));
-            }
-            let hi = if unit == "um" { 1000.0 } else { 600.0 };
-            v.iter()
-                .enumerate()
-                .map(|(i, &x)| {
-                    check(
-                        &format!("errors.{key}[{i}]"),
-                        x,
-                        Range::closed(-hi, hi, unit),
-                    )
-                    .map(|x| x * si)
-                })
-                .collect::<Result<Vec<f64>>>()
-        };
-        let um = 1e-6;
-        let arcmin = (1.0_f64 / 60.0).to_radians();
-        let runout = check(
-            "errors.pin_circle_runout_um",
-            self.pin_circle_runout_um,
-            Range::non_negative(1000.0, "um"),
-        )? * um;
-        let dir = check(
-            "errors.pin_circle_runout_deg",
-            self.pin_circle_runout_deg,
-            Range::closed(-360.0, 360.0, "deg"),
-        )?
-        .to_radians();
-        Ok(PartErrors {
-            pin_radial: list("pin_radial_um", &self.pin_radial_um, pins, "pin", "um", um)?,
-            pin_tangential: list(
-                "pin_tangential_um",
-                &self.pin_tangential_um,
-                pins,
-                "pin",
-                "um",
-                um,
-            )?,
-            pin_radius: list("pin_radius_um", &self.pin_radius_um, pins, "pin", "um", um)?,
-            pin_circle_offset: Vec2::new(dir.cos(), dir.sin()) * (0.5 * runout),
-            crank_eccentricity: list(
-                "crank_eccentricity_um",
-                &self.crank_eccentricity_um,
-                cranks,
-                "crank (reducer.planets)",
-                "um",
-                um,
-            )?,
-            crank_phase: list(
-                "crank_phase_arcmin",
-                &self.crank_phase_arcmin,
-                cranks,
-                "crank (reducer.planets)",
-                "arcmin",
-                arcmin,
-            )?,
-        })
-    }
-}
-
-impl LifeConfig {
-    /// Checks the thresholds (positive, finite).
-    ///
-    /// # Errors
-    /// [`Error::Invalid`] naming the key, the value and the allowed range.
-    pub fn validate(&self) -> Result<LifeThresholds> {
-        let t = |key: &str, v: Option<f64>, hi: f64, unit| {
-            v.map(|x| check(&format!("life.{key}"), x, Range::positive(hi, unit)))
-                .transpose()
-        };
-        Ok(LifeThresholds {
-            lost_motion_arcmin: t(
-                "lost_motion_arcmin",
-                self.lost_motion_arcmin,
-                600.0,
-                "arcmin",
-            )?,
-            backlash_arcmin: t("backlash_arcmin", self.backlash_arcmin, 600.0, "arcmin")?,
-            angular_te_arcmin: t("angular_te_arcmin", self.angular_te_arcmin, 600.0, "arcmin")?,
-            torsional_stiffness_min_nm_per_arcmin: t(
-                "torsional_stiffness_min_nm_per_arcmin",
-                self.torsional_stiffness_min_nm_per_arcmin,
-                1e9,
-                "N m/arcmin",
-            )?,
-            max_hours: t("max_hours", self.max_hours, 1e7, "h")?,
         })
     }
 }

@@ -7,6 +7,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::error::{Error, Result};
+use crate::quantities::{Quantity, Value, STAGE};
 use crate::study::{Study, Summary};
 
 /// Escapes `&`, `<`, `>` and `"` for HTML text and attribute values.
@@ -87,7 +88,7 @@ fn fields(value: &serde_json::Value, prefix: &str, out: &mut Vec<(String, String
 /// [`Error::Io`] if a plot cannot be read or the report cannot be written.
 pub fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Result<()> {
     let m = &study.model;
-    let g = &m.geometry;
+    let g = &m.cycloid.geometry;
     let mut h = String::with_capacity(2 << 20);
     let _ = write!(
         h,
@@ -107,7 +108,7 @@ pub fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Result<()> 
         summary.rvlife_version,
         g.pins,
         g.disc_teeth(),
-        m.ratio,
+        m.reducer.ratio,
         study.stages.len(),
         study.stages.last().map_or(0.0, |s| s.hours)
     );
@@ -126,57 +127,64 @@ pub fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Result<()> 
             ("disc width (mm)".into(), mm(g.width)),
             (
                 "equidistant modification (um)".into(),
-                um(m.modification.equidistant),
+                um(m.cycloid.modification.equidistant),
             ),
-            ("offset modification (um)".into(), um(m.modification.offset)),
+            (
+                "offset modification (um)".into(),
+                um(m.cycloid.modification.offset),
+            ),
             (
                 "rotation modification (arcmin)".into(),
-                num(m.modification.rotation.to_degrees() * 60.0),
+                num(m.cycloid.modification.rotation.to_degrees() * 60.0),
             ),
-            ("overall ratio i_H".into(), num(m.ratio)),
-            ("rated torque (N m)".into(), num(m.rated_torque)),
-            ("input speed (rpm)".into(), num(m.input_speed_rpm)),
+            ("overall ratio i_H".into(), num(m.reducer.ratio)),
+            ("rated torque (N m)".into(), num(m.rating.rated_torque)),
+            ("input speed (rpm)".into(), num(m.rating.input_speed_rpm)),
         ],
     );
 
     h.push_str("<h2>Model options</h2>\n");
     let mut opts: Vec<(String, String)> = vec![
-        ("wear model".into(), format!("{:?}", m.wear_model)),
+        ("wear model".into(), format!("{:?}", m.wear.model)),
         (
             "Archard coefficient (mm^3/(N m))".into(),
             num(summary.archard_coefficient_mm3_per_n_m),
         ),
         (
             "stage hours (h)".into(),
-            m.stage_hours
+            m.wear
+                .stage_hours
                 .iter()
                 .map(|v| num(*v))
                 .collect::<Vec<_>>()
                 .join(", "),
         ),
-        ("profile update interval (h)".into(), num(m.update_hours)),
+        (
+            "profile update interval (h)".into(),
+            num(m.wear.update_hours),
+        ),
         (
             "STE samples per mesh cycle".into(),
-            m.te_samples.to_string(),
+            m.te.samples.to_string(),
         ),
-        ("loaded-TE torque (N m)".into(), num(m.loaded_torque)),
+        ("loaded-TE torque (N m)".into(), num(m.te.loaded_torque)),
         (
             "lost-motion measuring torque (% of rated)".into(),
-            num(m.measuring_torque_fraction * 100.0),
+            num(m.te.measuring_torque_fraction * 100.0),
         ),
         (
             "dynamic model".into(),
-            if m.dynamics_enabled {
+            if m.dynamics.enabled {
                 format!(
                     "on: {} discs, {:?} integrator, rtol {}, {} s simulated",
-                    if m.dynamics.flexible.is_some() {
+                    if m.dynamics.params.flexible.is_some() {
                         "flexible"
                     } else {
                         "rigid"
                     },
-                    m.dynamics.integrator,
-                    num(m.dynamics.rtol),
-                    num(m.dynamics.end_time)
+                    m.dynamics.params.integrator,
+                    num(m.dynamics.params.rtol),
+                    num(m.dynamics.params.end_time)
                 )
             } else {
                 "off".into()
@@ -184,13 +192,13 @@ pub fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Result<()> 
         ),
         (
             "FE disc (quasi-static)".into(),
-            if m.fem_enabled {
+            if m.fem.enabled {
                 format!(
                     "on: flank elements {} mm, largest {} mm, {} stations per flank, {} crank angles",
-                    mm(m.fem.flank_size),
-                    mm(m.fem.max_size),
-                    m.fem.stations_per_flank,
-                    m.fem.crank_angles
+                    mm(m.fem.params.flank_size),
+                    mm(m.fem.params.max_size),
+                    m.fem.params.stations_per_flank,
+                    m.fem.params.crank_angles
                 )
             } else {
                 "off".into()
@@ -214,33 +222,36 @@ pub fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Result<()> 
         "<h2>Stages</h2>\n<p>One column per stage; every quantity of <code>stages.csv</code> \
          (units in the names).</p>\n<table>\n<tr><th>quantity</th>",
     );
-    let stage_values: Vec<serde_json::Value> = summary
-        .stages
-        .iter()
-        .map(|s| serde_json::to_value(s).unwrap_or(serde_json::Value::Null))
-        .collect();
     for s in &summary.stages {
         let _ = write!(h, "<th>{} h</th>", num(s.hours));
     }
     h.push_str("</tr>\n");
-    if let Some(serde_json::Value::Object(first)) = stage_values.first() {
-        for key in first.keys() {
-            if key == "hours" {
-                continue;
-            }
-            let cells: Vec<String> = stage_values
-                .iter()
-                .map(|v| json_text(&v[key.as_str()]))
-                .collect();
-            if cells.iter().all(|c| c == "-") {
-                continue;
-            }
-            let _ = write!(h, "<tr><th>{}</th>", esc(key));
-            for c in cells {
-                let _ = write!(h, "<td>{}</td>", esc(&c));
-            }
-            h.push_str("</tr>\n");
+    // Every quantity of the table but the hours, by name.
+    let mut quantities: Vec<&Quantity> = STAGE
+        .iter()
+        .copied()
+        .filter(|q| q.name != "hours")
+        .collect();
+    quantities.sort_by_key(|q| q.name);
+    for q in quantities {
+        let cells: Vec<String> = summary
+            .stages
+            .iter()
+            .map(|s| match s.value(q) {
+                Value::Number(v) => num(v),
+                Value::Count(n) => num(n as f64),
+                Value::Pair(p) => p.map(num).join(", "),
+                Value::Absent => "-".to_string(),
+            })
+            .collect();
+        if cells.iter().all(|c| c == "-") {
+            continue;
         }
+        let _ = write!(h, "<tr><th>{}</th>", esc(q.name));
+        for c in cells {
+            let _ = write!(h, "<td>{}</td>", esc(&c));
+        }
+        h.push_str("</tr>\n");
     }
     h.push_str("</table>\n");
 

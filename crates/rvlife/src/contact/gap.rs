@@ -659,6 +659,7 @@ mod tests {
         let geo = crate::config::Config::example()
             .validate()
             .unwrap()
+            .cycloid
             .geometry;
         let profile = Profile::new(geo, m, Some(WearMap::new(depth).unwrap())).unwrap();
         let field = GapField::new(&profile, 2048, None).unwrap();
@@ -731,7 +732,10 @@ mod banded_tests {
                 }
             })
             .collect();
-        let profile = model.profile(Some(WearMap::new(depth).unwrap())).unwrap();
+        let profile = model
+            .cycloid
+            .profile(Some(WearMap::new(depth).unwrap()))
+            .unwrap();
         let band = Some(Band {
             envelope: true,
             ..red.contact_band()
@@ -805,7 +809,7 @@ mod banded_tests {
         }
         assert!(wide > 10 && narrow > 10, "{wide} {narrow}");
         // Unworn: the exact flank to round-off (every pin touches at the nominal pose).
-        let new = model.profile(None).unwrap();
+        let new = model.profile().unwrap();
         let banded = GapField::new(&new, 256, band).unwrap();
         assert!(banded.offset.value.iter().all(|o| o.abs() < 1e-15));
     }

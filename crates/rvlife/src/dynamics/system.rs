@@ -20,7 +20,7 @@
 //!   bore centre of disc `d`;
 //! - disc-pin contacts: the gap from the actual profile ([`GapField`]) and the MSC Adams IMPACT
 //!   force `F = k d^e + STEP(d, 0, 0, d_max, c_max) dd/dt` (clamped at zero: a contact never
-//!   pulls), optional smoothed Coulomb friction `mu F tanh(v_t / v_ref)` (physics-notes 6);
+//!   pulls), optional smoothed Coulomb friction `mu F tanh(v_t / v_ref)` (docs/model.md section 8);
 //! - the output torque on the carrier (positive counter-clockwise: a load resisting forward
 //!   rotation is negative) and the motor torque on the input.
 
@@ -33,8 +33,8 @@ use crate::fem::flex::FlexibleLaw;
 use crate::fem::modal::ModalDisc;
 use crate::geometry::{cross, rotate, Vec2};
 
-use super::gap::{GapEval, GapField};
 use super::params::{Drive, DynamicsParams, LoadProfile};
+use crate::contact::gap::{GapEval, GapField};
 use crate::reducer::perp;
 pub use crate::reducer::{Layout, MAX_DOFS};
 

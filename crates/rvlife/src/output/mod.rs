@@ -13,16 +13,21 @@
 //! - `load.csv`: per stage, the pin forces, pressures and half-widths at the crank angle of the
 //!   largest force;
 //! - `profiles/worn_<H>h.dxf` (and `.csv`): the profile used for TE at every stage;
-//! - `plots/*.svg`, `plots/*.png`: see [`crate::plot`].
+//! - `plots/*.svg`, `plots/*.png`: see [`crate::output::plot`].
+
+pub mod export;
+pub mod html;
+pub mod plot;
 
 use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::export::{write_profile_sampled, ProfileFormat, EXPORT_POINTS_PER_TOOTH};
+use crate::output::export::{write_profile_sampled, ProfileFormat, EXPORT_POINTS_PER_TOOTH};
 use crate::study::Study;
-use crate::te::{over_revolution, ARCMIN_PER_RAD};
+use crate::te::over_revolution;
+use crate::units::ARCMIN_PER_RAD;
 
 fn csv_err(path: &Path) -> impl Fn(csv::Error) -> Error + '_ {
     move |e| Error::io(path, std::io::Error::other(e.to_string()))
@@ -57,7 +62,7 @@ fn hours_tag(h: f64) -> String {
 }
 
 /// Writes all result files of `study` into the existing, empty directory `dir`, ending with
-/// `report.html` ([`crate::html::write_report`]).
+/// `report.html` ([`crate::output::html::write_report`]).
 ///
 /// # Errors
 /// [`Error::Io`] on any write failure.
@@ -65,85 +70,8 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
     let summary = study.summary();
     write_json(&dir.join("summary.json"), &summary)?;
 
-    // stages.csv
-    let header: Vec<String> = [
-        "hours",
-        "max_wear_um",
-        "ste_mean_arcmin",
-        "ste_peak_to_peak_arcmin",
-        "ste_reverse_mean_arcmin",
-        "backlash_arcmin",
-        "backlash_max_arcmin",
-        "lost_motion_arcmin",
-        "hysteresis_loss_arcmin",
-        "loaded_te_mean_arcmin",
-        "loaded_te_peak_to_peak_arcmin",
-        "max_force_n",
-        "max_pressure_mpa",
-        "pins_in_contact",
-        "pins_in_contact_max",
-        "disc_load_share",
-        "torsional_stiffness_nm_per_arcmin",
-        "tangent_stiffness_nm_per_arcmin",
-        "dte_mean_arcmin",
-        "dte_peak_to_peak_arcmin",
-        "dte_rms_arcmin",
-        "flexible_torsional_stiffness_nm_per_arcmin",
-        "flexible_ste_mean_arcmin",
-        "flexible_ste_peak_to_peak_arcmin",
-        "flexible_loaded_te_mean_arcmin",
-        "flexible_loaded_te_peak_to_peak_arcmin",
-        "flexible_ste_reverse_mean_arcmin",
-        "flexible_loaded_te_reverse_mean_arcmin",
-        "flexible_backlash_arcmin",
-        "flexible_lost_motion_arcmin",
-        "max_von_mises_mpa",
-        "max_root_stress_mpa",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
-    let opt = |v: Option<f64>| v.map_or(String::new(), f);
-    let rows: Vec<Vec<String>> = summary
-        .stages
-        .iter()
-        .map(|s| {
-            vec![
-                f(s.hours),
-                f(s.max_wear_um),
-                f(s.ste_mean_arcmin),
-                f(s.ste_peak_to_peak_arcmin),
-                f(s.ste_reverse_mean_arcmin),
-                f(s.backlash_arcmin),
-                f(s.backlash_max_arcmin),
-                f(s.lost_motion_arcmin),
-                f(s.hysteresis_loss_arcmin),
-                f(s.loaded_te_mean_arcmin),
-                f(s.loaded_te_peak_to_peak_arcmin),
-                f(s.max_force_n),
-                f(s.max_pressure_mpa),
-                s.pins_in_contact.to_string(),
-                s.pins_in_contact_max.to_string(),
-                f(s.disc_load_share),
-                f(s.torsional_stiffness_nm_per_arcmin),
-                f(s.tangent_stiffness_nm_per_arcmin),
-                opt(s.dte_mean_arcmin),
-                opt(s.dte_peak_to_peak_arcmin),
-                opt(s.dte_rms_arcmin),
-                opt(s.flexible_torsional_stiffness_nm_per_arcmin),
-                opt(s.flexible_ste_mean_arcmin),
-                opt(s.flexible_ste_peak_to_peak_arcmin),
-                opt(s.flexible_loaded_te_mean_arcmin),
-                opt(s.flexible_loaded_te_peak_to_peak_arcmin),
-                opt(s.flexible_ste_reverse_mean_arcmin),
-                opt(s.flexible_loaded_te_reverse_mean_arcmin),
-                opt(s.flexible_backlash_arcmin),
-                opt(s.flexible_lost_motion_arcmin),
-                opt(s.max_von_mises_mpa),
-                opt(s.max_root_stress_mpa),
-            ]
-        })
-        .collect();
+    // stages.csv: every quantity of the table.
+    let (header, rows) = crate::quantities::stages_csv(&summary.stages);
     write_rows(&dir.join("stages.csv"), &header, &rows)?;
 
     // wear.csv
@@ -175,8 +103,8 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
     .iter()
     .map(|s| s.to_string())
     .collect();
-    let ratio = study.model.ratio;
-    let zc = study.model.geometry.disc_teeth() as f64;
+    let ratio = study.model.reducer.ratio;
+    let zc = study.model.cycloid.geometry.disc_teeth() as f64;
     let mut rows = Vec::new();
     for s in &study.stages {
         for k in 0..s.ste.crank_angle.len() {
@@ -195,7 +123,7 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
     write_rows(&dir.join("te_mesh_cycle.csv"), &header, &rows)?;
 
     // te_revolution.csv
-    let pins = study.model.geometry.pins;
+    let pins = study.model.cycloid.geometry.pins;
     let curves: Vec<(Vec<f64>, Vec<f64>)> = study
         .stages
         .iter()
@@ -348,11 +276,11 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
                     Ok(())
                 })
         },
-        || crate::plot::write_all(study, &plots),
+        || crate::output::plot::write_all(study, &plots),
     );
     profiles?;
     figures?;
-    crate::html::write_report(study, &summary, dir)
+    crate::output::html::write_report(study, &summary, dir)
 }
 
 /// Writes the results of `study` to `out` atomically: into a temporary directory beside `out`,
@@ -367,14 +295,14 @@ pub fn write_study(study: &Study, out: &Path, replace: bool) -> Result<PathBuf> 
 }
 
 /// Writes a dynamic simulation's results directory all-or-nothing (like [`write_study`]):
-/// `summary.json` ([`crate::reducer::dynamics::DynamicsSummary`]), `dynamics.csv` (the time series),
+/// `summary.json` ([`crate::dynamics::DynamicsSummary`]), `dynamics.csv` (the time series),
 /// `pin_forces.csv` (if computed: `time_s`, `disc<d>_pin<j>_n`), and `plots/speeds` and
 /// `plots/te` (SVG and PNG).
 ///
 /// # Errors
 /// As [`write_study`].
 pub fn write_dynamics(
-    res: &crate::reducer::dynamics::DynamicsResult,
+    res: &crate::dynamics::DynamicsResult,
     out: &Path,
     replace: bool,
 ) -> Result<PathBuf> {
@@ -385,10 +313,7 @@ pub fn write_dynamics(
 ///
 /// # Errors
 /// [`Error::Io`] on write failures.
-pub fn write_dynamics_files(
-    res: &crate::reducer::dynamics::DynamicsResult,
-    dir: &Path,
-) -> Result<()> {
+pub fn write_dynamics_files(res: &crate::dynamics::DynamicsResult, dir: &Path) -> Result<()> {
     {
         write_json(&dir.join("summary.json"), &res.summary)?;
         let p = dir.join("dynamics.csv");
@@ -447,7 +372,7 @@ pub fn write_dynamics_files(
         }
         let plots = dir.join("plots");
         std::fs::create_dir_all(&plots).map_err(|e| Error::io(&plots, e))?;
-        crate::plot::dynamics(res, &plots)
+        crate::output::plot::dynamics(res, &plots)
     }
 }
 

@@ -10,7 +10,8 @@ use plotters::prelude::*;
 use crate::error::{Error, Result};
 use crate::geometry::{rotate, Vec2};
 use crate::study::Study;
-use crate::te::{over_revolution, ARCMIN_PER_RAD};
+use crate::te::over_revolution;
+use crate::units::ARCMIN_PER_RAD;
 
 const SIZE: (u32, u32) = (1000, 640);
 
@@ -19,7 +20,7 @@ type Polyline = Vec<(f64, f64)>;
 /// A labelled, coloured polyline in plot coordinates.
 type Curve = (String, Vec<(f64, f64)>, RGBColor);
 /// One number of a stage summary, for the against-hours plot.
-type StageValue = fn(&crate::study::StageSummary) -> f64;
+type StageValue = fn(&crate::quantities::StageSummary) -> f64;
 
 fn register_fonts() {
     static ONCE: Once = Once::new();
@@ -258,7 +259,7 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
         .profile
         .geometry()
         .clone();
-    let nominal = study.model.profile(None)?;
+    let nominal = study.model.profile()?;
     let flank = |wear: Option<&crate::geometry::WearMap>, magnify: f64| -> Vec<(f64, f64)> {
         let k = 400;
         (0..=k)
@@ -357,7 +358,7 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
                 .caption(
                     format!(
                         "Pin forces on disc 1 at {:.0} N m, crank angle of the largest force",
-                        study.model.loaded_torque
+                        study.model.te.loaded_torque
                     ),
                     ("sans-serif", 22),
                 )
@@ -402,7 +403,7 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
     // 4. STE over one output revolution (top: per stage the mean over each bin of whole mesh
     //    cycles, as a line, and for the last stage the ripple's range in each bin, as a band;
     //    bottom: three mesh cycles in input degrees, the reverse direction dashed).
-    let ratio = study.model.ratio;
+    let ratio = study.model.reducer.ratio;
     let zc = (zp - 1) as f64;
     let mesh_cycles = zp * (zp - 1);
     // The most bins (at most 360) holding a whole number of mesh cycles each.
@@ -667,7 +668,7 @@ fn stage_lines<DB: DrawingBackend>(
         DB,
         Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
     >,
-    sums: &[crate::study::StageSummary],
+    sums: &[crate::quantities::StageSummary],
     lines: &[(&str, RGBColor, StageValue)],
 ) -> std::result::Result<Legend, Box<dyn std::error::Error>>
 where
@@ -709,7 +710,7 @@ pub fn hysteresis(study: &Study, dir: &Path) -> Result<()> {
         })
         .collect();
     let (y0, y1) = series_range(curves.iter().flat_map(|c| c.1.iter().map(|p| p.1)));
-    let t = study.model.rated_torque;
+    let t = study.model.rating.rated_torque;
     figure!(
         dir,
         "hysteresis",
@@ -928,9 +929,9 @@ where
 ///
 /// # Errors
 /// [`Error::Io`] if a file cannot be written.
-pub fn dynamics(res: &crate::reducer::dynamics::DynamicsResult, dir: &Path) -> Result<()> {
+pub fn dynamics(res: &crate::dynamics::DynamicsResult, dir: &Path) -> Result<()> {
     let s = &res.samples;
-    let line = |f: fn(&crate::reducer::dynamics::Sample) -> f64| -> Polyline {
+    let line = |f: fn(&crate::dynamics::Sample) -> f64| -> Polyline {
         s.iter().map(|x| (x.time_s, f(x))).collect()
     };
     let speeds = [

@@ -1,0 +1,294 @@
+//! The validated configuration, [`Model`]: one parameter struct per section, composed in
+//! [`Config::validate`] after every section has been checked on its own (in its own file) and
+//! the cross-section rules applied ([`super::cross_section`], [`super::physical`]).
+
+use super::cross_section::{self, scaled_from_root};
+use super::range::{check, whole, Range};
+use super::{
+    Config, DynamicsConfig, FemConfig, LifeThresholds, LoadParams, MaterialParams, Rating,
+    Tolerances,
+};
+use crate::budget::Budget;
+use crate::dynamics::DynamicsParams;
+use crate::error::{Error, Result};
+use crate::fem::FemParams;
+use crate::geometry::{CycloidParams, Profile};
+use crate::reducer::Reducer;
+use crate::te::TeParams;
+use crate::wear::{WearInputs, WearParams};
+
+/// An analysis section with an `enabled` switch (`[dynamics]`, `[fem]`): `rvlife run` adds it
+/// to every stage when it is enabled. Its parameters are checked as far as the enabled
+/// analyses read them; a disabled section that does not validate carries its defaults, which
+/// nothing reads.
+#[derive(Debug, Clone)]
+pub struct Section<T> {
+    /// Whether `rvlife run` runs this analysis at every stage.
+    pub enabled: bool,
+    /// Its parameters, SI.
+    pub params: T,
+}
+
+/// The configuration checked and converted to SI: the parameter struct of every section.
+/// Each analysis takes the ones it reads (the wear integration: [`Model::wear_inputs`]).
+#[derive(Debug, Clone)]
+pub struct Model {
+    /// `[cycloid]`: the stage, its modifications and measured deviation; builds every profile.
+    pub cycloid: CycloidParams,
+    /// The reducer's mechanical model: `[reducer]` with its gears, bearings and output pins,
+    /// the `[contact]` law and support, `[errors]`.
+    pub reducer: Reducer,
+    /// `[reducer]`: rated torque and input speed.
+    pub rating: Rating,
+    /// `[materials]`: elastic constants (also in the contact law) and the contact's static
+    /// capacity.
+    pub materials: MaterialParams,
+    /// `[load]`: the load spectrum the discs wear under.
+    pub load: LoadParams,
+    /// `[wear]`: the wear model, its coefficient, the stages and the update schedule.
+    pub wear: WearParams,
+    /// `[te]`: the TE samples, the loaded-TE torque, the lost-motion measuring torque.
+    pub te: TeParams,
+    /// `[dynamics]`: the multibody model.
+    pub dynamics: Section<DynamicsParams>,
+    /// `[fem]`: the flexible disc (its parameters also serve the flexible multibody model).
+    pub fem: Section<FemParams>,
+    /// `[tolerances]`: the part errors' distributions (empty: none).
+    pub tolerances: Tolerances,
+    /// `[life]`: the accuracy spec (none set: no accuracy life).
+    pub life: LifeThresholds,
+    /// Work budget in static contact solves (the command line's `--work-budget-min`,
+    /// [`crate::budget`]); checked by [`crate::api::validated`], not here.
+    pub work_budget: f64,
+}
+
+impl Model {
+    /// What the wear integration of this model reads ([`crate::wear::integrate`]).
+    pub fn wear_inputs(&self) -> WearInputs<'_> {
+        WearInputs {
+            reducer: &self.reducer,
+            disc: &self.cycloid,
+            wear: &self.wear,
+            load: &self.load.levels,
+            band_torque: self.te.loaded_torque,
+            budget: self.budget(),
+        }
+    }
+
+    /// The work budget and the cost of the stages' analyses besides the wear.
+    pub fn budget(&self) -> Budget {
+        Budget {
+            solves: self.work_budget,
+            per_stage: crate::budget::stage_solves(self.te.samples),
+        }
+    }
+
+    /// The unworn profile (with the modifications and measured deviation).
+    ///
+    /// # Errors
+    /// Those of [`CycloidParams::profile`].
+    pub fn profile(&self) -> Result<Profile> {
+        self.cycloid.profile(None)
+    }
+}
+
+impl Config {
+    /// Checks every section and converts it to SI ([`Model`]): each section in its own file,
+    /// then the rules that span sections ([`cross_section`]): the reducer's mechanical model,
+    /// the measured profile on the wear grid, a disabled `[dynamics]` or `[fem]` checked only
+    /// as far as it is read, and the physics of the unworn stage (the modifications keep the
+    /// disc in mesh, every torque of the config is carried: [`super::physical`]). The work
+    /// budget is checked by whoever runs the work ([`crate::api::validated`]).
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] naming the key, the value and the allowed range. A key the file does
+    /// not set (a default) is named as such, with what its default depends on.
+    pub fn validate(&self) -> Result<Model> {
+        self.validate_sections()
+            .map_err(|e| self.explain_default(e))
+    }
+
+    fn validate_sections(&self) -> Result<Model> {
+        // The sections, each on its own.
+        let (geometry, modification) = self.cycloid.validate()?;
+        // The stage's own checks (K1, undercut).
+        let nominal_profile = Profile::new(geometry.clone(), modification, None)?;
+        let materials = self.materials.validate()?;
+        let contact = self.contact.validate(&geometry, materials.elastic)?;
+        let parts = self.reducer.validate(&geometry)?;
+        let rating = parts.rating;
+        let gap_points = whole(
+            "dynamics.gap_points_per_tooth",
+            self.dynamics.gap_points_per_tooth,
+            64,
+            65536,
+        )?;
+        let errors = self.errors.validate(geometry.pins, parts.cranks)?;
+        let (levels, level_keys) =
+            self.load
+                .validate(rating.rated_torque, rating.input_speed_rpm, |p| {
+                    self.path(p)
+                })?;
+        let load = LoadParams {
+            levels,
+            levels_key: match self.load.kind.as_str() {
+                "duty_cycle" => "load.file",
+                "sinusoidal" => "load.levels",
+                _ => "load.kind",
+            },
+        };
+        let wear = self.wear.validate()?;
+        let te = self.te.validate(rating.rated_torque)?;
+        // Across sections.
+        let reducer = cross_section::reducer(&parts, &geometry, &contact, gap_points, errors);
+        let measured = self
+            .cycloid
+            .measured_profile
+            .as_ref()
+            .map(|p| {
+                cross_section::measured(
+                    &nominal_profile,
+                    &self.path(p),
+                    geometry.pins * wear.crank_steps,
+                )
+            })
+            .transpose()?;
+        let (dynamics, fem) =
+            self.dynamics_and_fem(&parts, &reducer, &nominal_profile, &materials)?;
+        let work_budget = crate::budget::solves_in_minutes(check(
+            "--work-budget-min",
+            self.work_budget_minutes,
+            Range::positive(1e6, "min"),
+        )?);
+        let tolerances = self.tolerances.validate(&geometry)?;
+        let life = self.life.validate()?;
+        let model = Model {
+            cycloid: CycloidParams {
+                geometry,
+                modification,
+                measured,
+            },
+            reducer,
+            rating,
+            materials,
+            load,
+            wear,
+            te,
+            dynamics,
+            fem,
+            tolerances,
+            life,
+            work_budget,
+        };
+        super::physical::check_stage(
+            &model,
+            &nominal_profile,
+            &self.cycloid.modification,
+            &level_keys,
+        )?;
+        Ok(model)
+    }
+
+    /// `[dynamics]` and `[fem]`, each checked as far as the enabled analyses read it (a
+    /// disabled section that does not validate carries its defaults, so that `te` and
+    /// `contact` never fail on a section they do not use; the `dynamics` command enables its
+    /// section), on the RV twin of a single-stage drive (whose multibody and FE models are
+    /// refused).
+    fn dynamics_and_fem(
+        &self,
+        parts: &super::reducer::ReducerParts,
+        reducer: &Reducer,
+        nominal_profile: &Profile,
+        materials: &MaterialParams,
+    ) -> Result<(Section<DynamicsParams>, Section<FemParams>)> {
+        if parts.single {
+            for (key, on) in [
+                ("dynamics.enabled", self.dynamics.enabled),
+                ("fem.enabled", self.fem.enabled),
+            ] {
+                if on {
+                    return Err(Error::invalid(
+                        key,
+                        "true",
+                        "the multibody and finite-element models are built for RV reducers; \
+                         set enabled = false for drive = \"single_stage\"",
+                    ));
+                }
+            }
+        }
+        let twin = cross_section::rv_twin(parts, reducer);
+        let rv = if parts.single { &twin } else { reducer };
+        let planets = rv.cranks;
+        let rated = parts.rating.rated_torque;
+        let dynamics_of = |d: &DynamicsConfig| {
+            d.validate(rv, parts.damping, nominal_profile, rated, |p| self.path(p))
+        };
+        let dynamics = match dynamics_of(&self.dynamics) {
+            Err(e) if self.dynamics.enabled => return Err(e),
+            Err(e) => dynamics_of(&DynamicsConfig::default()).map_err(|_| e)?,
+            Ok(d) => d,
+        };
+        let geometry = &reducer.geometry;
+        let default_bore = scaled_from_root(geometry, 13.0);
+        let (e1, nu1) = (
+            materials.elastic.disc_youngs_modulus,
+            materials.elastic.disc_poisson_ratio,
+        );
+        let fem_of = |f: &FemConfig, bore_mm: f64| {
+            f.validate(
+                nominal_profile,
+                planets,
+                bore_mm * 1e-3,
+                rv.crank_circle_radius,
+                e1,
+                nu1,
+            )
+        };
+        let bore = self
+            .dynamics
+            .inertia
+            .crank_bore_radius_mm
+            .unwrap_or(default_bore);
+        // The flexible disc of the dynamics reads `[fem]` (its mesh and holes).
+        let flexible = self.dynamics.enabled && self.dynamics.disc == "flexible";
+        let fem_read = self.fem.enabled || flexible;
+        let fem = match fem_of(&self.fem, bore) {
+            Err(e) if fem_read => return Err(e),
+            Err(e) => fem_of(&FemConfig::default(), default_bore).map_err(|_| e)?,
+            Ok(f) => f,
+        };
+        // The multibody model carries one modal FE disc: every disc must be its part turned by
+        // a symmetry of the holes (checked here, before any work).
+        if flexible {
+            let zc = geometry.disc_teeth();
+            if let Some(d) = (0..reducer.discs())
+                .find(|&d| crate::fem::mount_teeth(zc, reducer.profile_turn(d), &fem).is_none())
+            {
+                return Err(Error::invalid(
+                    "dynamics.disc",
+                    "\"flexible\"",
+                    format!(
+                        "needs every disc to be disc 1's part turned onto itself: disc {} is \
+                         turned by its eccentric phase ({:.1} deg) and half a tooth, which maps \
+                         the crank bores and holes of [fem] onto themselves only for an even \
+                         number of cranks and an odd tooth count (here {planets} cranks, {zc} \
+                         teeth); use \"rigid\" discs, or the quasi-static flexible disc of \
+                         [fem] (fem.enabled), which models each disc",
+                        d + 1,
+                        reducer.phase(d).to_degrees()
+                    ),
+                ));
+            }
+        }
+        Ok((
+            Section {
+                enabled: self.dynamics.enabled,
+                params: dynamics,
+            },
+            Section {
+                enabled: self.fem.enabled,
+                params: fem,
+            },
+        ))
+    }
+}

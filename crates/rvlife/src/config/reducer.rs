@@ -1,0 +1,521 @@
+//! `[reducer]` with `[reducer.gears]`, `[reducer.bearings]` and `[reducer.output_pins]`: the
+//! drive (an RV reducer with its planetary first stage, or a single-stage cycloid drive), the
+//! rating, the sun-planet meshes and the crank bearings (docs/model.md sections 1 and 5). The
+//! mechanical model [`Reducer`] is assembled from these and `[contact]`, `[materials]` and
+//! `[errors]` in [`super::cross_section`].
+
+use serde::{Deserialize, Serialize};
+
+use super::cross_section::scaled_from_root;
+use super::range::{check, whole, Range};
+use crate::error::{Error, Result};
+use crate::geometry::CycloidGeometry;
+use crate::reducer::{Bearings, Drive, Mesh, OutputPins};
+
+/// `[reducer]`: the drive (RV with its planetary first stage, or single-stage) and the rating.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReducerConfig {
+    /// `"rv"` (default): planetary first stage, cranks on the output carrier, two discs;
+    /// `"single_stage"`: the input shaft is the eccentric, output by pins in holes.
+    #[serde(default = "default_drive")]
+    pub drive: String,
+    /// Sun (input) gear teeth `Z1` (RV; required there). Range: whole number, 1 to 10 000.
+    #[serde(default)]
+    pub sun_teeth: Option<u32>,
+    /// Planet gear teeth `Z2` (RV; required there). Range: whole number, 1 to 10 000.
+    #[serde(default)]
+    pub planet_teeth: Option<u32>,
+    /// Number of planets / crankshafts (RV; required there). Range: whole number, 1 to 12
+    /// (the multibody model takes 2 or 3).
+    #[serde(default)]
+    pub planets: Option<u32>,
+    /// Number of discs (single-stage: default 2; RV: 2). Range: whole number, 1 to 3.
+    #[serde(default)]
+    pub discs: Option<i64>,
+    /// Eccentric phase of each disc, degrees (single-stage; default `360 d / discs`). Range:
+    /// one value per disc, each in [-360, 360] deg.
+    #[serde(default)]
+    pub disc_phases_deg: Option<Vec<f64>>,
+    /// The pins-in-holes output mechanism (single-stage).
+    #[serde(default)]
+    pub output_pins: Option<OutputPinsConfig>,
+    /// Input speed, rpm. Range: (0, 1e6] rpm.
+    pub input_speed_rpm: f64,
+    /// Rated output torque, N m. Range: [0.1, 1e7] N m (from miniature cycloid drives up).
+    pub rated_torque_nm: f64,
+    /// The sun-planet meshes.
+    #[serde(default)]
+    pub gears: GearsConfig,
+    /// The crank bearings.
+    #[serde(default)]
+    pub bearings: BearingsConfig,
+}
+
+fn default_drive() -> String {
+    "rv".into()
+}
+
+/// `[reducer.output_pins]`: the output mechanism of a single-stage drive, pins on the output
+/// flange in holes of the discs. Sizes left out default from the stage (module docs of
+/// [`super::cross_section::scaled_from_root`]: the paper's proportions scaled by the
+/// tooth-root radius).
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputPinsConfig {
+    /// Number of pins (default 8). Range: whole number, 3 to 64.
+    #[serde(default)]
+    pub count: Option<i64>,
+    /// Radius of their circle, mm (default: the RV crank circle's scaling, 40.5 mm for the
+    /// paper's stage). Range: [0.01, 1e4] mm, the holes inside the tooth roots.
+    #[serde(default)]
+    pub circle_radius_mm: Option<f64>,
+    /// Pin radius, mm (default: 8 mm scaled; the hole's radius is this plus the eccentricity
+    /// plus the clearance). Range: [0.01, 1e4] mm.
+    #[serde(default)]
+    pub pin_radius_mm: Option<f64>,
+    /// Radial clearance of a pin in its hole beyond the eccentricity, um (default 0). Range:
+    /// [0, 1000] um.
+    #[serde(default)]
+    pub hole_clearance_um: f64,
+    /// Contact stiffness of one pin on one disc, N/um (default: the crank-disc bearing's).
+    /// Range: (0, 1e7] N/um.
+    #[serde(default)]
+    pub stiffness_n_per_um: Option<f64>,
+}
+
+/// `[reducer.gears]`: the sun-planet stage (read by the static and the dynamic analysis).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GearsConfig {
+    /// Planet pitch radius, mm (paper Table 1: 27). Default: the planet's share `Z2/(Z1 + Z2)`
+    /// of the crank circle, which scales the paper's 40.5 mm with the disc's root radius
+    /// ([`crate::config::scaled_from_root`]). Range: (0, 1e4] mm.
+    #[serde(default)]
+    pub planet_pitch_radius_mm: Option<f64>,
+    /// Pressure angle, degrees (paper Table 1: 30). Range: [10, 45] deg.
+    #[serde(default = "d_pressure")]
+    pub pressure_angle_deg: f64,
+    /// Face width of sun and planets, mm. Range: (0, 1e3] mm.
+    #[serde(default = "d_face")]
+    pub face_width_mm: f64,
+    /// Mesh stiffness along the line of action, N/um (ISO 6336-1: c_gamma about 20 N/(mm um)
+    /// times the face width). Range: (0, 1e7] N/um.
+    #[serde(default = "d_mesh_k")]
+    pub mesh_stiffness_n_per_um: f64,
+    /// Damping ratio of the mesh mode (dynamics only). Range: [0, 10].
+    #[serde(default = "d_zeta")]
+    pub mesh_damping_ratio: f64,
+    /// Total backlash along the line of action, um. Range: [0, 1e4] um.
+    #[serde(default)]
+    pub backlash_um: f64,
+}
+
+fn d_pressure() -> f64 {
+    30.0
+}
+fn d_face() -> f64 {
+    10.0
+}
+fn d_mesh_k() -> f64 {
+    200.0
+}
+fn d_zeta() -> f64 {
+    0.05
+}
+
+impl Default for GearsConfig {
+    fn default() -> Self {
+        GearsConfig {
+            planet_pitch_radius_mm: None,
+            pressure_angle_deg: d_pressure(),
+            face_width_mm: d_face(),
+            mesh_stiffness_n_per_um: d_mesh_k(),
+            mesh_damping_ratio: d_zeta(),
+            backlash_um: 0.0,
+        }
+    }
+}
+
+/// `[reducer.bearings]`: crank bearings as radial spring-dampers (read by the static and the
+/// dynamic analysis).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BearingsConfig {
+    /// Radial stiffness of one crank-carrier bearing pair, N/um (tapered roller bearings).
+    /// Range: (0, 1e7] N/um.
+    #[serde(default = "d_kcc")]
+    pub crank_carrier_stiffness_n_per_um: f64,
+    /// Radial stiffness of one crank-disc (eccentric needle) bearing, N/um. Range: (0, 1e7]
+    /// N/um.
+    #[serde(default = "d_kcd")]
+    pub crank_disc_stiffness_n_per_um: f64,
+    /// Damping ratio of the bearing modes (dynamics only). Range: [0, 10].
+    #[serde(default = "d_zeta")]
+    pub damping_ratio: f64,
+    /// Radial clearance, um. Range: [0, 1000] um.
+    #[serde(default)]
+    pub clearance_um: f64,
+}
+
+fn d_kcc() -> f64 {
+    1000.0
+}
+fn d_kcd() -> f64 {
+    500.0
+}
+
+impl Default for BearingsConfig {
+    fn default() -> Self {
+        BearingsConfig {
+            crank_carrier_stiffness_n_per_um: d_kcc(),
+            crank_disc_stiffness_n_per_um: d_kcd(),
+            damping_ratio: d_zeta(),
+            clearance_um: 0.0,
+        }
+    }
+}
+
+/// The rating of `[reducer]`, SI.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Rating {
+    /// Rated output torque, N m: the hysteresis curve's end points, the default of every load.
+    pub rated_torque: f64,
+    /// Nominal input speed, rpm.
+    pub input_speed_rpm: f64,
+}
+
+/// `[reducer]` and its subsections checked, SI: what [`super::cross_section`] assembles the
+/// mechanical model from.
+#[derive(Debug, Clone)]
+pub(super) struct ReducerParts {
+    /// `drive = "single_stage"`.
+    pub single: bool,
+    /// Overall ratio (`1 + (Z2/Z1) Zp`; `-Zc` for a single-stage drive).
+    pub ratio: f64,
+    /// Cranks (RV: the planets; 0 for a single-stage drive).
+    pub cranks: usize,
+    /// The drive, a single-stage drive's output pins with their stiffness defaulted.
+    pub drive: Drive,
+    /// Crank circle radius (single-stage: the output pins' circle), m.
+    pub crank_circle_radius: f64,
+    /// Eccentric phase of each disc, rad.
+    pub disc_phases: Vec<f64>,
+    /// The stage's sun-planet mesh (a single-stage drive: its RV twin's with `Z1/Z2 = -1`).
+    pub mesh: Mesh,
+    /// The sun-planet mesh of the RV reducer (a single-stage drive: its RV twin's, a 1:3
+    /// first stage, never read by an analysis).
+    pub rv_mesh: Mesh,
+    /// Damping ratios of the mesh and of the bearings (the dynamic analysis applies them).
+    pub damping: (f64, f64),
+    /// The crank bearings.
+    pub bearings: Bearings,
+    /// The rating.
+    pub rating: Rating,
+}
+
+impl ReducerConfig {
+    /// The drive, ratio, rating, meshes and bearings for the cycloid stage `geometry` (which
+    /// sets the sizes left out: [`scaled_from_root`]).
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] naming the key, the value and its range, or a key that does not
+    /// apply to the drive.
+    pub(super) fn validate(&self, geometry: &CycloidGeometry) -> Result<ReducerParts> {
+        let single = match self.drive.as_str() {
+            "rv" => false,
+            "single_stage" => true,
+            other => {
+                return Err(Error::invalid(
+                    "reducer.drive",
+                    format!("\"{other}\""),
+                    "must be \"rv\" or \"single_stage\"",
+                ))
+            }
+        };
+        let first_stage = |key: &str, v: Option<u32>, lo: i64, hi: i64| -> Result<usize> {
+            match (v, single) {
+                (Some(_), true) => Err(Error::invalid(
+                    format!("reducer.{key}"),
+                    "given",
+                    "applies only to drive = \"rv\" (a single-stage drive has no first stage)",
+                )),
+                (None, true) => Ok(0),
+                (Some(x), false) => whole(&format!("reducer.{key}"), x as i64, lo, hi),
+                (None, false) => Err(Error::invalid(
+                    format!("reducer.{key}"),
+                    "missing",
+                    "required for drive = \"rv\"",
+                )),
+            }
+        };
+        let z1 = first_stage("sun_teeth", self.sun_teeth, 1, 10_000)?;
+        let z2 = first_stage("planet_teeth", self.planet_teeth, 1, 10_000)?;
+        let planets = first_stage("planets", self.planets, 1, 12)?;
+        let (disc_phases, output_pins) = self.discs(single, geometry)?;
+        let ratio = if single {
+            -(geometry.disc_teeth() as f64)
+        } else {
+            1.0 + z2 as f64 / z1 as f64 * geometry.pins as f64
+        };
+        let input_speed_rpm = check(
+            "reducer.input_speed_rpm",
+            self.input_speed_rpm,
+            Range::positive(1e6, "rpm"),
+        )?;
+        // From miniature cycloid drives (0.1 N m) up.
+        let rated_torque = check(
+            "reducer.rated_torque_nm",
+            self.rated_torque_nm,
+            Range::closed(0.1, 1e7, "N m"),
+        )?;
+        // A single-stage drive's multibody and FE data are those of its RV twin (the same
+        // stage on a 1:3 first stage with two cranks on the output pin circle): never read,
+        // since both analyses are refused for it.
+        let (rv_mesh, mesh_zeta) = if single {
+            self.gears.validate(10, 30, geometry)?
+        } else {
+            self.gears.validate(z1, z2, geometry)?
+        };
+        let (bearings, bearing_zeta) = self.bearings.validate()?;
+        let (drive, cranks, crank_circle_radius, mesh) = match output_pins {
+            Some(mut w) => {
+                if w.stiffness <= 0.0 {
+                    w.stiffness = bearings.disc_stiffness;
+                }
+                let mut m = rv_mesh;
+                m.sun_planet_ratio = -1.0;
+                (Drive::SingleStage(w), 0, w.circle_radius, m)
+            }
+            None => (
+                Drive::Rv,
+                planets,
+                rv_mesh.sun_pitch_radius + rv_mesh.planet_pitch_radius,
+                rv_mesh,
+            ),
+        };
+        Ok(ReducerParts {
+            single,
+            ratio,
+            cranks,
+            drive,
+            crank_circle_radius,
+            disc_phases,
+            mesh,
+            rv_mesh,
+            damping: (mesh_zeta, bearing_zeta),
+            bearings,
+            rating: Rating {
+                rated_torque,
+                input_speed_rpm,
+            },
+        })
+    }
+
+    /// The disc phases (rad) and, for a single-stage drive, its output mechanism, from
+    /// `reducer.discs`, `reducer.disc_phases_deg` and `[reducer.output_pins]` (sizes left out
+    /// scaled from the stage like the RV crank circle: [`scaled_from_root`]).
+    fn discs(
+        &self,
+        single: bool,
+        geometry: &CycloidGeometry,
+    ) -> Result<(Vec<f64>, Option<OutputPins>)> {
+        if !single {
+            let only = "applies only to drive = \"single_stage\" (an RV reducer has two discs \
+                        180 deg apart and takes its output through the cranks)";
+            if self.discs.is_some_and(|d| d != 2) {
+                return Err(Error::invalid(
+                    "reducer.discs",
+                    self.discs.unwrap_or(0),
+                    only,
+                ));
+            }
+            if self.disc_phases_deg.is_some() {
+                return Err(Error::invalid("reducer.disc_phases_deg", "given", only));
+            }
+            if self.output_pins.is_some() {
+                return Err(Error::invalid("reducer.output_pins", "given", only));
+            }
+            return Ok((vec![0.0, std::f64::consts::PI], None));
+        }
+        let n = whole("reducer.discs", self.discs.unwrap_or(2), 1, 3)?;
+        let phases = match &self.disc_phases_deg {
+            None => (0..n)
+                .map(|d| std::f64::consts::TAU * d as f64 / n as f64)
+                .collect(),
+            Some(p) => {
+                if p.len() != n {
+                    return Err(Error::invalid(
+                        "reducer.disc_phases_deg",
+                        format!("a list of {} values", p.len()),
+                        format!("must hold one phase per disc: {n} values (reducer.discs)"),
+                    ));
+                }
+                p.iter()
+                    .enumerate()
+                    .map(|(i, &x)| {
+                        check(
+                            &format!("reducer.disc_phases_deg[{i}]"),
+                            x,
+                            Range::closed(-360.0, 360.0, "deg"),
+                        )
+                        .map(f64::to_radians)
+                    })
+                    .collect::<Result<Vec<f64>>>()?
+            }
+        };
+        let pins = self.output_pins.clone().unwrap_or_default();
+        Ok((phases, Some(pins.validate(geometry)?)))
+    }
+}
+
+impl OutputPinsConfig {
+    /// The output pins of a single-stage drive (a stiffness of 0 when left out: the
+    /// crank-disc bearing's, set by [`ReducerConfig::validate`]).
+    fn validate(&self, geometry: &CycloidGeometry) -> Result<OutputPins> {
+        let key = |k: &str| format!("reducer.output_pins.{k}");
+        let count = whole(&key("count"), self.count.unwrap_or(8), 3, 64)?;
+        let mm =
+            |k: &str, v: f64| check(&key(k), v, Range::closed(0.01, 1e4, "mm")).map(|v| v * 1e-3);
+        let circle = mm(
+            "circle_radius_mm",
+            self.circle_radius_mm
+                .unwrap_or_else(|| scaled_from_root(geometry, 40.5)),
+        )?;
+        let pin = mm(
+            "pin_radius_mm",
+            self.pin_radius_mm
+                .unwrap_or_else(|| scaled_from_root(geometry, 8.0)),
+        )?;
+        let clearance = check(
+            &key("hole_clearance_um"),
+            self.hole_clearance_um,
+            Range::non_negative(1e3, "um"),
+        )? * 1e-6;
+        let stiffness = match self.stiffness_n_per_um {
+            Some(k) => check(&key("stiffness_n_per_um"), k, Range::positive(1e7, "N/um"))? * 1e6,
+            None => 0.0,
+        };
+        // The holes (pin radius + eccentricity + clearance) must lie inside the tooth roots,
+        // clear of the centre and of each other.
+        let hole = pin + geometry.eccentricity + clearance;
+        let root = geometry.pin_circle_radius - geometry.pin_radius - geometry.eccentricity;
+        let neighbours = 2.0 * circle * (std::f64::consts::PI / count as f64).sin();
+        let fits = circle + hole < root && circle - hole > 0.0 && neighbours > 2.0 * hole;
+        if !fits {
+            let k = if self.circle_radius_mm.is_some() || self.pin_radius_mm.is_none() {
+                "circle_radius_mm"
+            } else {
+                "pin_radius_mm"
+            };
+            return Err(Error::invalid(
+                key(k),
+                format!(
+                    "{:.3} mm",
+                    if k == "pin_radius_mm" { pin } else { circle } * 1e3
+                ),
+                format!(
+                    "the holes (radius {:.3} mm: pin + eccentricity + clearance) at radius \
+                     {:.3} mm must clear the tooth roots (radius {:.3} mm), the centre and \
+                     each other ({} holes)",
+                    hole * 1e3,
+                    circle * 1e3,
+                    root * 1e3,
+                    count
+                ),
+            ));
+        }
+        Ok(OutputPins {
+            count,
+            circle_radius: circle,
+            hole_clearance: clearance,
+            stiffness,
+        })
+    }
+}
+
+impl GearsConfig {
+    /// The sun-planet mesh of `[reducer.gears]` for sun and planet teeth `z1`, `z2` and the
+    /// cycloid stage `geometry` (the default planet pitch radius), and the mesh's damping ratio
+    /// (applied by the dynamic analysis).
+    fn validate(&self, z1: usize, z2: usize, geometry: &CycloidGeometry) -> Result<(Mesh, f64)> {
+        let key = |k: &str| format!("reducer.gears.{k}");
+        let r_p = check(
+            &key("planet_pitch_radius_mm"),
+            self.planet_pitch_radius_mm
+                .unwrap_or_else(|| scaled_from_root(geometry, 40.5) * z2 as f64 / (z1 + z2) as f64),
+            Range::positive(1e4, "mm"),
+        )? * 1e-3;
+        let alpha = check(
+            &key("pressure_angle_deg"),
+            self.pressure_angle_deg,
+            Range::closed(10.0, 45.0, "deg"),
+        )?
+        .to_radians();
+        let face = check(
+            &key("face_width_mm"),
+            self.face_width_mm,
+            Range::positive(1e3, "mm"),
+        )? * 1e-3;
+        let r_s = r_p * z1 as f64 / z2 as f64;
+        let mesh = Mesh {
+            pressure_angle: alpha,
+            sun_pitch_radius: r_s,
+            planet_pitch_radius: r_p,
+            face_width: face,
+            sun_base_radius: r_s * alpha.cos(),
+            planet_base_radius: r_p * alpha.cos(),
+            sun_planet_ratio: z1 as f64 / z2 as f64,
+            stiffness: check(
+                &key("mesh_stiffness_n_per_um"),
+                self.mesh_stiffness_n_per_um,
+                Range::positive(1e7, "N/um"),
+            )? * 1e6,
+            damping: 0.0,
+            backlash: check(
+                &key("backlash_um"),
+                self.backlash_um,
+                Range::non_negative(1e4, "um"),
+            )? * 1e-6,
+        };
+        let zeta = check(
+            &key("mesh_damping_ratio"),
+            self.mesh_damping_ratio,
+            Range::non_negative(10.0, ""),
+        )?;
+        Ok((mesh, zeta))
+    }
+}
+
+impl BearingsConfig {
+    /// The crank bearings of `[reducer.bearings]`, and their damping ratio (applied by the
+    /// dynamic analysis).
+    fn validate(&self) -> Result<(Bearings, f64)> {
+        let key = |k: &str| format!("reducer.bearings.{k}");
+        let bearings = Bearings {
+            carrier_stiffness: check(
+                &key("crank_carrier_stiffness_n_per_um"),
+                self.crank_carrier_stiffness_n_per_um,
+                Range::positive(1e7, "N/um"),
+            )? * 1e6,
+            carrier_damping: 0.0,
+            disc_stiffness: check(
+                &key("crank_disc_stiffness_n_per_um"),
+                self.crank_disc_stiffness_n_per_um,
+                Range::positive(1e7, "N/um"),
+            )? * 1e6,
+            disc_damping: 0.0,
+            clearance: check(
+                &key("clearance_um"),
+                self.clearance_um,
+                Range::non_negative(1e3, "um"),
+            )? * 1e-6,
+        };
+        let zeta = check(
+            &key("damping_ratio"),
+            self.damping_ratio,
+            Range::non_negative(10.0, ""),
+        )?;
+        Ok((bearings, zeta))
+    }
+}

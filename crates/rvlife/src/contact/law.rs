@@ -1,0 +1,301 @@
+//! The approach law of one pin-flank line contact: Hertz half-width and pressure, the paper's
+//! and Johnson's approach, a linear spring (docs/model.md section 3).
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+
+/// Elastic constants of the disc and the pins, Pa (paper Table 2).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Materials {
+    /// Young's modulus of the disc `E1`, Pa.
+    pub disc_youngs_modulus: f64,
+    /// Poisson's ratio of the disc `nu1`.
+    pub disc_poisson_ratio: f64,
+    /// Young's modulus of the pins `E2`, Pa.
+    pub pin_youngs_modulus: f64,
+    /// Poisson's ratio of the pins `nu2`.
+    pub pin_poisson_ratio: f64,
+}
+
+impl Materials {
+    /// Compliances `(1 - nu1^2)/E1`, `(1 - nu2^2)/E2`, 1/Pa.
+    pub fn compliances(&self) -> (f64, f64) {
+        (
+            (1.0 - self.disc_poisson_ratio.powi(2)) / self.disc_youngs_modulus,
+            (1.0 - self.pin_poisson_ratio.powi(2)) / self.pin_youngs_modulus,
+        )
+    }
+
+    /// Contact modulus `E*` with `1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2` (paper eq 13), Pa.
+    pub fn contact_modulus(&self) -> f64 {
+        let (c1, c2) = self.compliances();
+        1.0 / (c1 + c2)
+    }
+}
+
+/// The approach (normal compliance) law of one pin-tooth line contact.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ApproachLaw {
+    /// Paper eq 6 with the Hertz half-width of eq 11 (default):
+    /// `delta = 2F/(pi B) [C1 (1/3 + ln(4 rho/b)) + C2 (1/3 + ln(4 rrp/b))]`.
+    Paper,
+    /// Johnson's form: `delta = F/(pi B) sum_k C_k (2 ln(4 R_k / b) - 1)`, about 11 % stiffer.
+    Johnson,
+    /// A linear spring `F = k delta` (stiffness in N/m), for checks against Li's closed form.
+    Linear {
+        /// Stiffness, N/m.
+        stiffness: f64,
+    },
+}
+
+/// Hertz line-contact model of a pin on the disc flank.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactModel {
+    /// The approach law.
+    pub law: ApproachLaw,
+    /// The materials.
+    pub materials: Materials,
+    /// Contact length (disc width) `B`, m.
+    pub width: f64,
+    /// Pin radius `rrp`, m.
+    pub pin_radius: f64,
+    /// Cap on the disc's radius of curvature in the reduced radius (and, with
+    /// `disc_depth = None`, in the disc term of the approach law), m. Near the inflection of the
+    /// profile (mesh angle about 35 deg) the flank is nearly flat and the 2D approach
+    /// `ln(4 rho / b)` has no finite limit; the cap (default: the pin circle radius, the size of
+    /// the disc) stands for the finite body.
+    pub max_radius: f64,
+    /// Reference depth `d` of the disc term of the approach law, `C1 (c0 + ln(4 d / b))`, m.
+    /// `Some(d)`: the same depth at every flank point (default `d = Rp`: the approach of the
+    /// flank relative to the disc body at the scale of the disc, where the bearings hold it), so
+    /// that concave, flat and convex flanks differ only through the Hertz half-width. `None`:
+    /// the paper's eq 6 as printed, the local flank radius of curvature (capped at
+    /// `max_radius`): concave root contacts (radius about 3-5 mm) come out about 65 % stiffer in
+    /// the disc term than mid-flank ones (capped at 64 mm), which is an artefact of the 2D
+    /// half-space reference, not a property of the disc.
+    pub disc_depth: Option<f64>,
+}
+
+/// Hertz quantities of one loaded contact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HertzState {
+    /// Normal force, N.
+    pub force: f64,
+    /// Contact half-width `b`, m (paper eq 11).
+    pub half_width: f64,
+    /// Maximum Hertz pressure `p0 = 2F/(pi b B)`, Pa.
+    pub max_pressure: f64,
+    /// Mean pressure `F/(2 b B)`, Pa (paper eq 19).
+    pub mean_pressure: f64,
+}
+
+impl ContactModel {
+    /// Reduced radius `R*` with `1/R* = 1/rrp + k` (`k` the disc curvature, negative where the
+    /// flank is concave), capped at `max_radius`; m.
+    pub fn reduced_radius(&self, disc_curvature: f64) -> f64 {
+        let inv = 1.0 / self.pin_radius + disc_curvature;
+        if inv <= 1.0 / self.max_radius {
+            self.max_radius
+        } else {
+            (1.0 / inv).min(self.max_radius)
+        }
+    }
+
+    /// Hertz half-width, maximum and mean pressure of force `force` (N) on a flank of
+    /// curvature `disc_curvature` (1/m). Zero force gives zeros.
+    pub fn hertz(&self, force: f64, disc_curvature: f64) -> HertzState {
+        if force <= 0.0 {
+            return HertzState {
+                force: 0.0,
+                half_width: 0.0,
+                max_pressure: 0.0,
+                mean_pressure: 0.0,
+            };
+        }
+        let r = self.reduced_radius(disc_curvature);
+        let e = self.materials.contact_modulus();
+        let b = (4.0 * force * r / (std::f64::consts::PI * self.width * e)).sqrt();
+        HertzState {
+            force,
+            half_width: b,
+            max_pressure: 2.0 * force / (std::f64::consts::PI * b * self.width),
+            mean_pressure: force / (2.0 * b * self.width),
+        }
+    }
+
+    /// Constant `c0` and the two radii of the logarithmic laws.
+    fn log_law_terms(&self, disc_curvature: f64) -> (f64, f64, f64) {
+        let c0 = match self.law {
+            ApproachLaw::Johnson => -0.5,
+            _ => 1.0 / 3.0,
+        };
+        let rho = match self.disc_depth {
+            Some(d) => d,
+            None if disc_curvature.abs() < 1.0 / self.max_radius => self.max_radius,
+            None => 1.0 / disc_curvature.abs(),
+        };
+        (c0, rho, self.pin_radius)
+    }
+
+    /// Coefficients `(g0, g1)` of the logarithmic laws written as `delta = F (g0 - g1 ln F)`
+    /// (F in N, delta in m), on a flank of curvature `disc_curvature`; `None` for the linear
+    /// law.
+    fn log_coefficients(&self, disc_curvature: f64) -> Option<(f64, f64)> {
+        if let ApproachLaw::Linear { .. } = self.law {
+            return None;
+        }
+        let pi = std::f64::consts::PI;
+        let (c0, rho, rp) = self.log_law_terms(disc_curvature);
+        let (c1, c2) = self.materials.compliances();
+        let r = self.reduced_radius(disc_curvature);
+        let e = self.materials.contact_modulus();
+        // b = sqrt(cb F); ln(4R/b) = ln(4R) - ln(cb)/2 - ln(F)/2.
+        let cb = 4.0 * r / (pi * self.width * e);
+        let k = 2.0 / (pi * self.width);
+        let g0 = k
+            * (c1 * (c0 + (4.0 * rho).ln() - 0.5 * cb.ln())
+                + c2 * (c0 + (4.0 * rp).ln() - 0.5 * cb.ln()));
+        let g1 = 0.5 * k * (c1 + c2);
+        Some((g0, g1))
+    }
+
+    /// Change of the contact force with the flank curvature at a fixed approach, `dF/dkappa`
+    /// (N m), for a contact carrying `force` (N) with stiffness `stiffness` (N/m) on a flank of
+    /// curvature `disc_curvature` (1/m): from `delta = F (g0(kappa) - g1 ln F)`,
+    /// `dF/dkappa = -F g0'(kappa) dF/ddelta` (`g0'` by a central difference of the closed
+    /// form). Zero for the linear law or no force.
+    pub fn force_curvature_derivative(
+        &self,
+        force: f64,
+        stiffness: f64,
+        disc_curvature: f64,
+    ) -> f64 {
+        if force <= 0.0 {
+            return 0.0;
+        }
+        let h = 1e-6 * disc_curvature.abs().max(1.0);
+        match (
+            self.log_coefficients(disc_curvature + h),
+            self.log_coefficients(disc_curvature - h),
+        ) {
+            (Some((gp, _)), Some((gm, _))) => -force * stiffness * (gp - gm) / (2.0 * h),
+            _ => 0.0,
+        }
+    }
+
+    /// Elastic energy `int_0^delta F d(delta)` (J) stored in the contact at approach `delta` (m):
+    /// for the logarithmic laws, with `delta = F (g0 - g1 ln F)`, exactly
+    /// `F^2/2 (g0 - g1/2 - g1 ln F)`; `k delta^2 / 2` for the linear law. Zero for
+    /// `delta <= 0`.
+    ///
+    /// # Errors
+    /// As [`ContactModel::force`].
+    pub fn potential(&self, delta: f64, disc_curvature: f64) -> Result<f64> {
+        if delta <= 0.0 {
+            return Ok(0.0);
+        }
+        if let ApproachLaw::Linear { stiffness } = self.law {
+            return Ok(0.5 * stiffness * delta * delta);
+        }
+        let (f, _) = self.force(delta, disc_curvature)?;
+        let (g0, g1) = self
+            .log_coefficients(disc_curvature)
+            .expect("logarithmic law");
+        Ok(0.5 * f * f * (g0 - 0.5 * g1 - g1 * f.ln()))
+    }
+
+    /// Approach `delta` (m) of the force `force` (N) on a flank of curvature `disc_curvature`.
+    pub fn approach(&self, force: f64, disc_curvature: f64) -> f64 {
+        if force <= 0.0 {
+            return 0.0;
+        }
+        if let ApproachLaw::Linear { stiffness } = self.law {
+            return force / stiffness;
+        }
+        let (c0, rho, rp) = self.log_law_terms(disc_curvature);
+        let (c1, c2) = self.materials.compliances();
+        let b = self.hertz(force, disc_curvature).half_width;
+        2.0 * force / (std::f64::consts::PI * self.width)
+            * (c1 * (c0 + (4.0 * rho / b).ln()) + c2 * (c0 + (4.0 * rp / b).ln()))
+    }
+
+    /// Force (N) and contact stiffness `dF/ddelta` (N/m) at approach `delta` (m): the inverse of
+    /// [`ContactModel::approach`], by Newton's method in `ln F` (the law is `F` times a function
+    /// linear in `ln F`).
+    ///
+    /// # Errors
+    /// [`Error::Numerical`] if the approach is beyond the range where the logarithmic law
+    /// increases with force (half-width comparable with the radii).
+    pub fn force(&self, delta: f64, disc_curvature: f64) -> Result<(f64, f64)> {
+        if delta <= 0.0 {
+            return Ok((0.0, 0.0));
+        }
+        if let ApproachLaw::Linear { stiffness } = self.law {
+            return Ok((stiffness * delta, stiffness));
+        }
+        self.force_from(delta, disc_curvature, f64::NAN)
+    }
+
+    /// [`ContactModel::force`] with a starting guess `f_guess` (N) for the Newton iteration (a
+    /// warm start from the previous force of the same contact; ignored if not positive).
+    ///
+    /// # Errors
+    /// As [`ContactModel::force`].
+    pub fn force_from(&self, delta: f64, disc_curvature: f64, f_guess: f64) -> Result<(f64, f64)> {
+        if delta <= 0.0 {
+            return Ok((0.0, 0.0));
+        }
+        if let ApproachLaw::Linear { stiffness } = self.law {
+            return Ok((stiffness * delta, stiffness));
+        }
+        let (g0, g1) = self
+            .log_coefficients(disc_curvature)
+            .expect("logarithmic law");
+        // delta = e^u (g0 - g1 u) with u = ln F; solve ln delta = u + ln(g0 - g1 u).
+        let target = delta.ln();
+        let warm = if f_guess > 0.0 {
+            f_guess.ln()
+        } else {
+            f64::NAN
+        };
+        let mut u = if g0 - g1 * warm > 2.0 * g1 {
+            warm
+        } else {
+            (delta / (g0 - g1 * 10.0_f64.ln()).max(1e-30)).ln()
+        };
+        for _ in 0..60 {
+            let g = g0 - g1 * u;
+            if g <= g1 {
+                return Err(Error::numerical(
+                    "contact law",
+                    format!(
+                        "approach {:.3e} m is beyond the validity of the line-contact law",
+                        delta
+                    ),
+                ));
+            }
+            let f = u + g.ln() - target;
+            let fp = 1.0 - g1 / g;
+            let step = f / fp;
+            u -= step;
+            // Relative to |u|: at approaches of 1e-30 m, u = ln F is about -60 and its ulp
+            // alone is 7e-15. Newton's error after a step is `c step^2` with
+            // `c = |f''| / (2 |f'|) = g1^2 / (2 g (g - g1))`; a step whose square makes that
+            // smaller than the tolerance ends the iteration too (a warm start then takes one
+            // logarithm in place of two).
+            let tol = 1e-14 * u.abs().max(1.0);
+            if step.abs() < tol || g1 * g1 / (2.0 * g * (g - g1)) * step * step < 0.1 * tol {
+                let force = u.exp();
+                let g = g0 - g1 * u;
+                let stiffness = 1.0 / (g - g1);
+                return Ok((force, stiffness));
+            }
+        }
+        Err(Error::numerical(
+            "contact law",
+            format!("force for approach {delta:e} m did not converge"),
+        ))
+    }
+}

@@ -1,0 +1,484 @@
+//! Static equilibrium of the reducer model under an output torque, with the input locked: the
+//! catalogue's measuring set-up for torsional stiffness, lost motion and backlash
+//! (docs/model.md sections 5 and 6), and the loaded TE.
+//!
+//! **Set-up.** The input (sun) is locked at the angle that puts disc 1's eccentric at crank
+//! angle `phi`; a torque `T` (N m) acts on the output carrier, positive counter-clockwise (the
+//! sense of positive output rotation: it presses the flank `0 < mesh angle < pi`). The unknowns
+//! are the deviations of every other coordinate from the nominal kinematics
+//! ([`Reducer::nominal`]): the carrier twist `psi` (the output's TE under load), each crank's
+//! centre and angle, each disc's centre and angle. The forces are those of the dynamic model:
+//! meshes and bearings ([`Reducer::structural_forces`]) and the disc-pin contacts with the
+//! line-contact law on the contact geometry both analyses share, the gap field of the actual
+//! profile ([`GapField`]: exact global closest points at touching, averaged over the Hertz
+//! band).
+//!
+//! **Solution.** Twist control: for a given carrier twist `psi` the other coordinates are in
+//! equilibrium (a strongly convex problem: Newton's method with the exact tangent of the
+//! contacts and backtracking on the residual norm), and the torque the carrier needs, `T(psi)`,
+//! is monotone; the outer loop finds `T(psi) = T` by safeguarded Newton with the condensed
+//! stiffness `dT/dpsi = K_oo - K_oi K_ii^-1 K_io` and an Euler predictor of the inner
+//! coordinates. Every solution is returned only with its residual (every generalised force,
+//! moments over the pin circle radius) below [`RESIDUAL_TOLERANCE`] of the force scale;
+//! otherwise an error names the crank angle, the torque and the wear.
+//!
+//! **`T -> 0+` (STE).** With no load the bearings are undeformed and the mechanism moves as one
+//! rigid body along its locked-input mode: carrier `+psi`, cranks `+(1 + Z1/Z2) psi` about their
+//! axes, discs turning with the carrier. The first contact along that mode, over every pin of
+//! both discs (no lever-arm cut-off), is the limit of the loaded twist as the torque tends to
+//! zero ([`StaticAnalysis::first_contact`]): the static TE.
+//!
+//! **Rigid support** ([`Support::Rigid`], the paper's and Li's model): one disc with its centre
+//! on the eccentric carries `load_share T`; the only unknown is the twist along the same mode,
+//! and `load_share T = sum F_j m_j` with the mode lever `m_j = -d gap_j / d psi`
+//! (about `l_j (Zp + Z1/Z2)/Zc`, docs/model.md section 6).
+
+use nalgebra::{DMatrix, DVector, Matrix2x3, Rotation2, Vector3};
+use rayon::prelude::*;
+use serde::Serialize;
+
+mod first_contact;
+mod forces;
+mod newton;
+mod solve;
+
+use crate::contact::gap::GapField;
+use crate::contact::DiscPose;
+use crate::error::{Error, Result};
+use crate::geometry::{cross, mesh_angle, Profile, Vec2};
+use crate::reducer::{perp, rotation_difference, Drive, Layout, Reducer, Support, MAX_DOFS};
+use crate::units::ARCMIN_PER_RAD;
+
+/// Relative residual every static solution is checked against: every generalised force of the
+/// equilibrium (moments divided by the pin circle radius) below this times the force scale, the
+/// sum of the pin forces (what the bearings carry), and at least the output torque over the
+/// pin circle radius; or below the round-off floor of the contact forces where that is larger
+/// ([`ROUNDOFF_GAP_ULPS`]).
+pub const RESIDUAL_TOLERANCE: f64 = 1e-9;
+
+/// Round-off of a computed gap, in units of the last place of the pin circle radius: a gap is
+/// the difference of two lengths of the size of the pin circle radius (pin centre and pin path
+/// in the disc frame) after a rotation, so it carries a few ulps of `Rp` (about 1e-17 m for a
+/// 64 mm pin circle) whatever its size. The contact forces then carry `k_j` times that, and the
+/// residual of an equilibrium cannot be driven below `4 eps Rp sum k_j`: for the example at
+/// 0.1 % of its rated torque that is about 1e-8 of the force scale, above
+/// [`RESIDUAL_TOLERANCE`]. Such a solution is accepted at that floor, which it reports
+/// ([`StaticSolution::roundoff_floor`]).
+pub const ROUNDOFF_GAP_ULPS: f64 = 4.0;
+
+/// Largest elastic twist beyond first contact the static analysis follows, rad (about 34
+/// arcmin: 30 times the twist of the example at its rated torque).
+pub const MAX_TWIST: f64 = 0.01;
+
+/// Most solves of one loading path in [`StaticAnalysis::solve_in_load_steps`].
+pub const MAX_LOAD_STEPS: usize = 96;
+
+/// Consecutive crank angles solved in one run of [`StaticAnalysis::solve_sequence`], each
+/// started from the previous one.
+pub const SEQUENCE_RUN: usize = 16;
+
+/// One pin's share of a static solution (also of [`crate::contact::solve`]).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct PinLoad {
+    /// Pin index `j`.
+    pub pin: usize,
+    /// Profile parameter of the contact (global, rad): in the static analysis the pin centre's
+    /// path parameter in the gap field, which is the contact point's on the unworn flank and
+    /// close to it on a worn one; the closest point's in [`crate::contact::solve`].
+    pub profile_parameter: f64,
+    /// Mesh angle of the contact, rad.
+    pub mesh_angle: f64,
+    /// Gap at the solved pose, m (negative: the contact's approach).
+    pub gap: f64,
+    /// Normal force, N.
+    pub force: f64,
+    /// Lever arm of the force about the disc centre, m.
+    pub lever_arm: f64,
+    /// Contact half-width, m.
+    pub half_width: f64,
+    /// Maximum Hertz pressure, Pa.
+    pub max_pressure: f64,
+    /// Flank curvature of the contact law, 1/m.
+    pub curvature: f64,
+    /// Contact stiffness `dF/ddelta`, N/m (0 when open).
+    pub stiffness: f64,
+    /// Contact point in the disc's profile frame, m.
+    #[serde(skip)]
+    pub point: Vec2,
+    /// Outward flank normal at the contact, profile frame.
+    #[serde(skip)]
+    pub normal: Vec2,
+}
+
+/// One disc of a static solution.
+#[derive(Debug, Clone, Serialize)]
+pub struct DiscLoad {
+    /// Pose of the disc.
+    #[serde(skip)]
+    pub pose: DiscPose,
+    /// Translation of the disc centre from its nominal position on the eccentric, m (zero with
+    /// rigid support).
+    #[serde(skip)]
+    pub translation: Vec2,
+    /// Disc rotation beyond its nominal angle, rad.
+    pub rotation: f64,
+    /// Moment of the pin forces about the disc centre, `sum F_j l_j`, N m.
+    pub torque: f64,
+    /// Every pin (`Zp` entries, in pin order).
+    pub pins: Vec<PinLoad>,
+}
+
+impl DiscLoad {
+    /// Largest pin force, N.
+    pub fn max_force(&self) -> f64 {
+        self.pins.iter().map(|p| p.force).fold(0.0, f64::max)
+    }
+    /// Number of pins carrying a force.
+    pub fn pins_in_contact(&self) -> usize {
+        self.pins.iter().filter(|p| p.force > 0.0).count()
+    }
+}
+
+/// A static equilibrium of the reducer.
+#[derive(Debug, Clone, Serialize)]
+pub struct StaticSolution {
+    /// Crank angle of disc 1, rad.
+    pub crank_angle: f64,
+    /// Output torque on the carrier, N m.
+    pub output_torque: f64,
+    /// Carrier (output) rotation beyond nominal, rad: the loaded TE.
+    pub twist: f64,
+    /// Twist at first contact in the direction of the torque (the `T -> 0+` limit), rad.
+    pub first_contact_twist: f64,
+    /// Tangent torsional stiffness `dT/dpsi` at the solution, N m/rad.
+    pub stiffness: f64,
+    /// The discs (two with bearings, one with rigid support).
+    pub discs: Vec<DiscLoad>,
+    /// Relative residual of the equilibrium (see [`RESIDUAL_TOLERANCE`]).
+    pub residual: f64,
+    /// Round-off floor of the residual, relative like it: `4 eps Rp sum k_j` over the loaded
+    /// pins over the force scale ([`ROUNDOFF_GAP_ULPS`]). The solution is accepted when its
+    /// residual is below the larger of this and [`RESIDUAL_TOLERANCE`].
+    pub roundoff_floor: f64,
+    /// Coordinate deviations from the nominal kinematics (bearing support; empty with rigid
+    /// support), in the layout of [`Layout`], SI.
+    #[serde(skip)]
+    pub deviations: Vec<f64>,
+}
+
+impl StaticSolution {
+    /// Largest pin force over the discs, N.
+    pub fn max_force(&self) -> f64 {
+        self.discs.iter().map(|d| d.max_force()).fold(0.0, f64::max)
+    }
+    /// Largest Hertz pressure over the discs, Pa.
+    pub fn max_pressure(&self) -> f64 {
+        self.discs
+            .iter()
+            .flat_map(|d| d.pins.iter().map(|p| p.max_pressure))
+            .fold(0.0, f64::max)
+    }
+    /// Fewest pins in contact on one disc.
+    pub fn pins_in_contact(&self) -> usize {
+        self.discs
+            .iter()
+            .map(|d| d.pins_in_contact())
+            .min()
+            .unwrap_or(0)
+    }
+}
+
+/// One pin at the pose where it first touches (see [`StaticAnalysis::touching_pins`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TouchingPin {
+    /// Disc index (from 0).
+    pub disc: usize,
+    /// Pin index.
+    pub pin: usize,
+    /// Carrier twist at which the pin touches, rad.
+    pub twist: f64,
+    /// Mode lever `m = -d gap / d psi` there, m/rad (positive turning counter-clockwise).
+    pub lever: f64,
+    /// Gradient of the gap with respect to the pin centre there, fixed frame (unit length to
+    /// 1e-3: the flank's outward normal).
+    pub gradient: Vec2,
+    /// Pin centre relative to the disc centre there, fixed frame, m.
+    pub position: Vec2,
+    /// `d lever / d psi` there, m/rad^2.
+    pub lever_rate: f64,
+    /// `d gradient / d psi` there, 1/rad.
+    pub gradient_rate: Vec2,
+    /// `d (position x gradient) / d psi` there, m/rad.
+    pub arm_rate: f64,
+}
+
+/// A pin that can stop the unloaded mechanism: `(disc, pin, linear estimate gap/m of its
+/// touching twist (rad), path parameter, mode lever m (m/rad))`.
+type Stopping = (usize, usize, f64, f64, f64);
+
+/// One pin at one pose.
+#[derive(Debug, Clone, Copy)]
+struct PinEval {
+    pin: usize,
+    /// Path parameter found in the gap field, rad.
+    t: f64,
+    gap: f64,
+    curvature: f64,
+    /// Gradient of the gap with respect to the pin centre, pin-ring frame (about the flank's
+    /// outward normal).
+    w: Vec2,
+    /// Pin centre relative to the disc centre, pin-ring frame, m.
+    rel: Vec2,
+    /// Pin centre in the profile frame, m.
+    q: Vec2,
+    /// Gradient in the profile frame.
+    grad: Vec2,
+    force: f64,
+    stiffness: f64,
+    /// Gradient of the law's flank curvature with respect to the pin centre, profile frame,
+    /// 1/m^2.
+    curvature_grad: Vec2,
+}
+
+impl PinEval {
+    /// A pin known to be open (see [`StaticAnalysis::eval_bearings`]): no force, its last
+    /// path parameter and gap.
+    fn open(pin: usize, t: f64, gap: f64, rel: Vec2) -> Self {
+        PinEval {
+            pin,
+            t,
+            gap,
+            curvature: 0.0,
+            w: Vec2::zeros(),
+            rel,
+            q: Vec2::zeros(),
+            grad: Vec2::zeros(),
+            force: 0.0,
+            stiffness: 0.0,
+            curvature_grad: Vec2::zeros(),
+        }
+    }
+}
+
+/// A pin's last evaluation in the bearing-supported solve: path parameter, gap (m) and force
+/// (N) at disc centre `centre` and angle `angle`.
+#[derive(Debug, Clone, Copy)]
+struct PinMemory {
+    t: f64,
+    gap: f64,
+    force: f64,
+    centre: Vec2,
+    angle: f64,
+}
+
+impl PinMemory {
+    const NONE: PinMemory = PinMemory {
+        t: f64::NAN,
+        gap: f64::NAN,
+        force: f64::NAN,
+        centre: Vec2::new(f64::NAN, f64::NAN),
+        angle: f64::NAN,
+    };
+}
+
+/// The nominal positions of the locked-input configuration at one crank angle.
+struct Frame {
+    phi: f64,
+    q0: [f64; MAX_DOFS],
+    /// Gap offsets per pin of each disc (`2 x Zp`, disc-major, m; empty: none): see
+    /// [`StaticAnalysis::solve_with_offsets`].
+    offsets: Vec<f64>,
+}
+
+/// Everything evaluated at one configuration of the bearing-supported model.
+struct Eval {
+    /// Generalised forces of every coordinate (without the output torque).
+    g: [f64; MAX_DOFS],
+    /// Pins per disc.
+    pins: Vec<Vec<PinEval>>,
+    /// Poses per disc.
+    poses: Vec<DiscPose>,
+    /// Force scale of the residual: the sum of the pin forces on both discs, N.
+    scale: f64,
+    /// Round-off floor of every generalised force, N: `4 eps Rp sum k_j` over the loaded pins.
+    roundoff: f64,
+}
+
+/// Where a solve starts: the first-contact twist of its direction (rad), and optionally a
+/// neighbouring solution (its deviations and first-contact twist, and its twist beyond first
+/// contact in the solve's direction, rad).
+struct Start<'s> {
+    psi0: f64,
+    near: Option<(&'s [f64], f64)>,
+    beyond: Option<f64>,
+    offsets: &'s [f64],
+}
+
+/// Static analysis of one reducer with one disc profile (both discs alike).
+pub struct StaticAnalysis<'a> {
+    red: &'a Reducer,
+    profile: &'a Profile,
+    field: GapField,
+    /// Pin centres, ground frame, m (with the reducer's part errors).
+    pin_centres: Vec<Vec2>,
+    /// Added to each pin's gap, m: minus the pin's radius error.
+    pin_gap: Vec<f64>,
+}
+
+impl<'a> StaticAnalysis<'a> {
+    /// The analysis of `red` with the disc profile `profile`: builds the contact geometry (the
+    /// gap field of the profile, `red.gap_points` mesh angles per tooth, averaged over the
+    /// Hertz band of `red.contact_band_force`).
+    ///
+    /// # Errors
+    /// [`Error::Numerical`] if a projection of the gap field fails.
+    pub fn new(red: &'a Reducer, profile: &'a Profile) -> Result<Self> {
+        let field = GapField::new(profile, red.gap_points, Some(red.contact_band()))?;
+        let (pin_centres, pin_gap) = pins_of(red);
+        Ok(StaticAnalysis {
+            red,
+            profile,
+            field,
+            pin_centres,
+            pin_gap,
+        })
+    }
+
+    /// The reducer analysed.
+    pub fn reducer(&self) -> &'a Reducer {
+        self.red
+    }
+
+    /// The disc profile analysed.
+    pub fn profile(&self) -> &'a Profile {
+        self.profile
+    }
+
+    /// The contact geometry.
+    pub fn gap_field(&self) -> &GapField {
+        &self.field
+    }
+
+    fn discs(&self) -> usize {
+        match self.red.support {
+            Support::Bearings => self.red.discs(),
+            Support::Rigid { .. } => 1,
+        }
+    }
+
+    fn wear_um(&self) -> f64 {
+        self.profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6
+    }
+
+    fn fail(&self, phi: f64, what: &str) -> Error {
+        Error::numerical(
+            "static equilibrium",
+            format!(
+                "{what} at crank angle {:.4} deg (max wear {:.2} um)",
+                phi.to_degrees(),
+                self.wear_um()
+            ),
+        )
+    }
+}
+
+/// True for the angle coordinates of [`Layout`] (input, output, and the third of every body).
+/// A finite crank angle (rad) and torque (N m).
+/// The pins of `red` with its part errors: centres (fixed frame, m) and the gap offsets of
+/// their radius errors (m).
+fn pins_of(red: &Reducer) -> (Vec<Vec2>, Vec<f64>) {
+    let zp = red.geometry.pins;
+    (
+        (0..zp)
+            .map(|j| red.geometry.pin_centre(j) + red.errors.pin_displacement(red, j))
+            .collect(),
+        (0..zp).map(|j| -red.errors.pin_radius_error(j)).collect(),
+    )
+}
+
+fn check_input(phi: f64, torque: f64) -> Result<()> {
+    if phi.is_finite() && torque.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            "static analysis input",
+            format!("crank angle {phi} rad, torque {torque} N m"),
+            "must be finite",
+        ))
+    }
+}
+
+fn is_angle(i: usize) -> bool {
+    i < 2 || (i - 2) % 3 == 2
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::Config;
+    use crate::geometry::WearMap;
+
+    /// The analytic tangent equals central differences of the generalised forces (contacts,
+    /// bearings and meshes) at loaded equilibria of a new and a worn disc, to the part left out
+    /// to the difference error (steps of 1e-11 m: a pin within a step of touching would
+    /// otherwise blur the kink of its law).
+    #[test]
+    fn tangent_equals_difference_of_forces() {
+        let model = Config::example().validate().unwrap();
+        let n_map = 720;
+        // A wear scar like the late stage's: 40 um deep, centred on the flank.
+        let depth: Vec<f64> = (0..n_map)
+            .map(|i| {
+                let x = std::f64::consts::TAU * i as f64 / n_map as f64;
+                40e-6 * (0.5 - 0.5 * (x - 0.8).cos()).powi(2)
+            })
+            .collect();
+        for wear in [None, Some(WearMap::new(depth).unwrap())] {
+            let profile = model.cycloid.profile(wear).unwrap();
+            let sa = StaticAnalysis::new(&model.reducer, &profile).unwrap();
+            let red = &model.reducer;
+            let n = red.layout().dofs();
+            let rp = red.geometry.pin_circle_radius;
+            for &phi in &[0.05, 0.7] {
+                let sol = sa.solve(phi, model.rating.rated_torque).unwrap();
+                let fr = sa.frame(phi);
+                let z = sol.deviations.clone();
+                let mut memory = vec![vec![PinMemory::NONE; red.geometry.pins]; 2];
+                let ev = sa.eval_bearings(&fr, &z, &mut memory, false).unwrap();
+                let ks = sa.structural_stiffness(&fr, &z);
+                let kt = sa.tangent_with(&ks, &ev);
+                let mut worst: f64 = 0.0;
+                for c in 0..n {
+                    let h = if is_angle(c) { 1e-11 / rp } else { 1e-11 };
+                    let mut zp = z.clone();
+                    zp[c] += h;
+                    let mut zm = z.clone();
+                    zm[c] -= h;
+                    let gp = sa
+                        .eval_bearings(&fr, &zp, &mut memory.clone(), false)
+                        .unwrap()
+                        .g;
+                    let gm = sa
+                        .eval_bearings(&fr, &zm, &mut memory.clone(), false)
+                        .unwrap()
+                        .g;
+                    for r in 0..n {
+                        let sr = if is_angle(r) { rp } else { 1.0 };
+                        let sc = if is_angle(c) { 1.0 / rp } else { 1.0 };
+                        let fd = -(gp[r] - gm[r]) / (2.0 * h);
+                        worst = worst.max(((fd - kt[(r, c)]) / sr * sc).abs());
+                    }
+                }
+                // Scale: the stiffest entry (a bearing or contact, N/m).
+                let kmax = (0..n)
+                    .map(|i| {
+                        let s = if is_angle(i) { rp * rp } else { 1.0 };
+                        kt[(i, i)].abs() / s
+                    })
+                    .fold(0.0, f64::max);
+                println!("phi {phi}: worst {worst:.3e} N/m of {kmax:.3e}");
+                assert!(worst < 2e-5 * kmax, "{worst} vs {kmax}");
+            }
+        }
+    }
+}

@@ -1,0 +1,295 @@
+//! The inner equilibrium at a given twist (Newton with the analytic tangent, backtracking,
+//! Levenberg-Marquardt damping) and the condensed stiffness of the outer loop
+//! (docs/model.md section 5).
+
+use super::*;
+
+impl<'a> StaticAnalysis<'a> {
+    /// Largest scaled residual of the inner coordinates (every one but input and output):
+    /// forces in N, moments divided by the pin circle radius.
+    pub(super) fn inner_residual(&self, g: &[f64]) -> f64 {
+        let n = self.red.layout().dofs();
+        let rp = self.red.geometry.pin_circle_radius;
+        (2..n)
+            .map(|i| g[i].abs() / if is_angle(i) { rp } else { 1.0 })
+            .fold(0.0, f64::max)
+    }
+
+    /// Equilibrium of every coordinate but input and output at the carrier twist fixed in `z`
+    /// (deviations, updated in place): Newton's method with backtracking on the residual norm.
+    /// Returns the converged evaluation and the tangent. `force_floor` (N) is the least force
+    /// scale of the convergence test.
+    pub(super) fn inner_solve(
+        &self,
+        fr: &Frame,
+        z: &mut [f64],
+        k_struct: &DMatrix<f64>,
+        memory: &mut [Vec<PinMemory>],
+        force_floor: f64,
+    ) -> Result<(Eval, DMatrix<f64>)> {
+        let n = self.red.layout().dofs();
+        let m = n - 2;
+        let rp = self.red.geometry.pin_circle_radius;
+        let merit = |e: &Eval| -> f64 {
+            (2..n)
+                .map(|i| {
+                    let x = e.g[i] / if is_angle(i) { rp } else { 1.0 };
+                    x * x
+                })
+                .sum()
+        };
+        let mut ev = self.eval_bearings(fr, z, memory, true)?;
+        let mut stalled = 0;
+        // The tangent is kept while the residual falls at least fourfold per step (a modified
+        // Newton method), and rebuilt otherwise.
+        let mut kt: Option<DMatrix<f64>> = None;
+        let mut last_res = f64::INFINITY;
+        // Levenberg-Marquardt damping of the Newton step (relative to the diagonal), raised
+        // when a step of the exact tangent finds no descent away from the round-off floor (a
+        // disc on a ridge of a worn flank, where the tangent is indefinite), reset after a
+        // descent.
+        let mut damping = 0.0;
+        for _ in 0..100 {
+            let res = self.inner_residual(&ev.g);
+            let scale = ev.scale.max(force_floor).max(1e-300);
+            // Whether `kt` is the tangent at the current state `ev`.
+            let fresh = kt.is_none() || res > 0.25 * last_res;
+            if fresh {
+                kt = Some(self.tangent(k_struct, &ev, fr, z));
+            }
+            last_res = res;
+            // Converged to a hundredth of the acceptance tolerance, or at the round-off floor of
+            // the forces (the residual stopped falling): return the tangent at the solution.
+            if res <= 0.01 * RESIDUAL_TOLERANCE * scale || stalled >= 2 {
+                let kt = match kt {
+                    Some(kt) if fresh => kt,
+                    _ => self.tangent(k_struct, &ev, fr, z),
+                };
+                return Ok((ev, kt));
+            }
+            let kt = kt.as_ref().expect("tangent built above");
+            let mut kii = kt.view((2, 2), (m, m)).into_owned();
+            if damping > 0.0 {
+                for i in 0..m {
+                    kii[(i, i)] += damping * kii[(i, i)].abs();
+                }
+            }
+            let rhs = DVector::from_iterator(m, (2..n).map(|i| ev.g[i]));
+            let step = kii
+                .lu()
+                .solve(&rhs)
+                .ok_or_else(|| self.fail(fr.phi, "the inner stiffness matrix is singular"))?;
+            let m0 = merit(&ev);
+            let base: Vec<f64> = z[..n].to_vec();
+            let mut alpha = 1.0;
+            loop {
+                for i in 0..m {
+                    z[2 + i] = base[2 + i] + alpha * step[i];
+                }
+                // A trial step long enough to take a contact out of the law's validity (a
+                // Newton step across a sharp feature of a worn flank) is shortened like one
+                // that raises the residual.
+                let trial = match self.eval_bearings(fr, z, memory, true) {
+                    Ok(trial) => trial,
+                    Err(_) if alpha >= 1e-4 => {
+                        alpha *= 0.5;
+                        continue;
+                    }
+                    Err(e) => return Err(e),
+                };
+                let mt = merit(&trial);
+                if mt <= m0 * (1.0 - 1e-4 * alpha) {
+                    stalled = 0;
+                    damping = 0.0;
+                    ev = trial;
+                    break;
+                }
+                if alpha < 1e-4 && res > 1e-6 * scale && damping < 1e8 {
+                    // No descent along this step: damp it and try again from the same state.
+                    damping = if damping == 0.0 { 1e-3 } else { 10.0 * damping };
+                    z[..n].copy_from_slice(&base);
+                    break;
+                }
+                if res <= 1e-6 * scale || alpha < 1e-4 {
+                    // At the round-off floor (or lost): keep the better of the two states.
+                    stalled += 1;
+                    if mt < m0 {
+                        ev = trial;
+                    } else {
+                        z[..n].copy_from_slice(&base);
+                    }
+                    break;
+                }
+                alpha *= 0.5;
+            }
+        }
+        Err(self.fail(
+            fr.phi,
+            "the bearing equilibrium did not converge in 100 Newton steps",
+        ))
+    }
+
+    /// Equilibrium under the output torque `torque` with every coordinate but the input free
+    /// (torque control), by Newton's method on all of them at once from the locked-input mode
+    /// at `psi0` plus the twist estimate, with backtracking on the scaled residual norm: the
+    /// fast path of [`StaticAnalysis::solve`]. `None` when a step fails to reduce the residual
+    /// or the tangent is singular (near first contact, where the torque-twist curve has its
+    /// kink); the caller then takes the twist-controlled path, which always converges.
+    pub(super) fn torque_controlled(
+        &self,
+        fr: &Frame,
+        torque: f64,
+        start: &Start,
+        z: &mut [f64],
+        k_struct: &DMatrix<f64>,
+        memory: &mut [Vec<PinMemory>],
+    ) -> Result<Option<(Eval, DMatrix<f64>)>> {
+        let n = self.red.layout().dofs();
+        let m = n - 1;
+        let rp = self.red.geometry.pin_circle_radius;
+        let force_floor = torque.abs() / rp;
+        let s = if torque < 0.0 { -1.0 } else { 1.0 };
+        match start.near {
+            // The neighbour's deviations, moved along the mode by the change of first contact.
+            Some((near, near_psi0)) => {
+                let (mut a, mut b) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
+                self.mode_deviation(fr, near_psi0, &mut a[..n]);
+                self.mode_deviation(fr, start.psi0, &mut b[..n]);
+                for i in 0..n {
+                    z[i] = near[i] + b[i] - a[i];
+                }
+                z[Layout::SUN] = 0.0;
+            }
+            None => self.mode_deviation(fr, start.psi0 + s * self.twist_guess(torque), z),
+        }
+        // Residual of coordinate i (output torque included), and scaled: moments over the pin
+        // circle radius.
+        let residual = |g: &[f64; MAX_DOFS], i: usize| -> f64 {
+            if i == Layout::OUT {
+                g[i] + torque
+            } else {
+                g[i]
+            }
+        };
+        let scaled = |g: &[f64; MAX_DOFS], i: usize| -> f64 {
+            residual(g, i) / if is_angle(i) { rp } else { 1.0 }
+        };
+        let merit = |e: &Eval| -> f64 { (1..n).map(|i| scaled(&e.g, i).powi(2)).sum() };
+        let mut ev = self.eval_bearings(fr, z, memory, true)?;
+        if start.near.is_none() {
+            // Cold: along the mode until its torque reaches the target (Newton then starts
+            // from the stiff side, where its steps do not overshoot into new contacts).
+            let mut x = self.twist_guess(torque);
+            for _ in 0..20 {
+                let mode_torque = self.mode_torque(fr, start.psi0 + s * x, &ev.g);
+                if s * mode_torque >= torque.abs() || x > 0.5 * MAX_TWIST {
+                    break;
+                }
+                x *= 2.0;
+                self.mode_deviation(fr, start.psi0 + s * x, z);
+                // A failed evaluation sends the solve to the twist-controlled path.
+                let Ok(next) = self.eval_bearings(fr, z, memory, true) else {
+                    return Ok(None);
+                };
+                ev = next;
+            }
+        }
+        let mut kt: Option<DMatrix<f64>> = None;
+        let mut last_res = f64::INFINITY;
+        for _ in 0..30 {
+            let res = (1..n).map(|i| scaled(&ev.g, i).abs()).fold(0.0, f64::max);
+            let scale = ev.scale.max(force_floor).max(1e-300);
+            // A tangent is closed form per loaded pin, cheaper than an evaluation: it is rebuilt
+            // at every step unless the residual fell a thousandfold.
+            let fresh = kt.is_none() || res > 1e-3 * last_res;
+            if fresh {
+                kt = Some(self.tangent(k_struct, &ev, fr, z));
+            }
+            last_res = res;
+            if res <= 0.01 * RESIDUAL_TOLERANCE * scale {
+                let kt = match kt {
+                    Some(kt) if fresh => kt,
+                    _ => self.tangent(k_struct, &ev, fr, z),
+                };
+                return Ok(Some((ev, kt)));
+            }
+            let kt = kt.as_ref().expect("tangent built above");
+            let k = kt.view((1, 1), (m, m)).into_owned();
+            let rhs = DVector::from_iterator(m, (1..n).map(|i| residual(&ev.g, i)));
+            let Some(step) = k.lu().solve(&rhs) else {
+                return Ok(None);
+            };
+            let m0 = merit(&ev);
+            let base: Vec<f64> = z[..n].to_vec();
+            let mut alpha = 1.0;
+            loop {
+                for i in 0..m {
+                    z[1 + i] = base[1 + i] + alpha * step[i];
+                }
+                let Ok(trial) = self.eval_bearings(fr, z, memory, true) else {
+                    return Ok(None);
+                };
+                let mt = merit(&trial);
+                if mt <= m0 * (1.0 - 1e-4 * alpha) {
+                    ev = trial;
+                    // At the round-off floor a step barely reduces the residual: accept there.
+                    if mt > 0.25 * m0 && res <= 0.5 * ev.roundoff {
+                        let kt = self.tangent(k_struct, &ev, fr, z);
+                        return Ok(Some((ev, kt)));
+                    }
+                    break;
+                }
+                if alpha < 1e-3 {
+                    // At the round-off floor of the contact forces the residual no longer
+                    // falls: accept there (the caller's check applies the floor).
+                    if res <= 0.5 * ev.roundoff {
+                        let kt = self.tangent(k_struct, &ev, fr, z);
+                        return Ok(Some((ev, kt)));
+                    }
+                    return Ok(None);
+                }
+                alpha *= 0.5;
+            }
+        }
+        Ok(None)
+    }
+
+    /// Output torque (N m) that balances the generalised forces `g` along the locked-input mode
+    /// at twist `psi`: `-sum_i g_i dz_i/dpsi` (the mode's virtual work; its tangent by a
+    /// central difference of [`StaticAnalysis::mode_deviation`]).
+    pub(super) fn mode_torque(&self, fr: &Frame, psi: f64, g: &[f64; MAX_DOFS]) -> f64 {
+        let n = self.red.layout().dofs();
+        let h = 1e-6;
+        let (mut a, mut b) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
+        self.mode_deviation(fr, psi - h, &mut a[..n]);
+        self.mode_deviation(fr, psi + h, &mut b[..n]);
+        -(0..n)
+            .map(|i| g[i] * (b[i] - a[i]) / (2.0 * h))
+            .sum::<f64>()
+    }
+
+    /// `dz/dpsi` of the inner coordinates at fixed inner forces: `-K_ii^-1 K_io` (zero for the
+    /// input and output entries).
+    pub(super) fn condensation_direction(&self, kt: &DMatrix<f64>) -> Vec<f64> {
+        let n = self.red.layout().dofs();
+        let m = n - 2;
+        let o = Layout::OUT;
+        let kii = kt.view((2, 2), (m, m)).into_owned();
+        let kio = DVector::from_iterator(m, (2..n).map(|i| kt[(i, o)]));
+        let mut out = vec![0.0; n];
+        if let Some(x) = kii.lu().solve(&kio) {
+            for i in 0..m {
+                out[2 + i] = -x[i];
+            }
+        }
+        out
+    }
+
+    /// Condensed torsional stiffness `K_oo - K_oi K_ii^-1 K_io` (N m/rad).
+    pub(super) fn condensed(&self, kt: &DMatrix<f64>) -> f64 {
+        let n = self.red.layout().dofs();
+        let o = Layout::OUT;
+        let dz = self.condensation_direction(kt);
+        kt[(o, o)] + (2..n).map(|i| kt[(o, i)] * dz[i]).sum::<f64>()
+    }
+}

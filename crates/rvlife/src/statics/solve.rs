@@ -1,0 +1,523 @@
+//! Solutions under an output torque: twist control with safeguarded Newton, load steps,
+//! sequences of crank angles, and the checked solution (docs/model.md section 5).
+
+use super::*;
+
+impl<'a> StaticAnalysis<'a> {
+    /// Static equilibrium at crank angle `phi` (rad) under output torque `torque` (N m; zero
+    /// gives the `T -> 0+` pose of the forward direction with zero forces).
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] for a non-finite input; [`Error::Numerical`] naming the crank angle,
+    /// torque and wear if the equilibrium is not reached to [`RESIDUAL_TOLERANCE`], or if the
+    /// contact law leaves its range.
+    pub fn solve(&self, phi: f64, torque: f64) -> Result<StaticSolution> {
+        check_input(phi, torque)?;
+        let s = if torque < 0.0 { -1.0 } else { 1.0 };
+        let psi0 = self.first_contact(phi, s)?;
+        self.solve_from(phi, torque, psi0)
+    }
+
+    /// [`StaticAnalysis::solve`] with the first-contact twist `psi0` (rad) of the torque's
+    /// direction already known.
+    ///
+    /// # Errors
+    /// As [`StaticAnalysis::solve`].
+    pub fn solve_from(&self, phi: f64, torque: f64, psi0: f64) -> Result<StaticSolution> {
+        self.solve_near(phi, torque, psi0, None)
+    }
+
+    /// [`StaticAnalysis::solve_from`] started from `near`, the solution at a nearby crank angle
+    /// or torque of the same direction (a continuation: fewer Newton steps than the cold start;
+    /// the solution is the same to the convergence tolerance). A `near` of the other direction
+    /// is ignored.
+    ///
+    /// # Errors
+    /// As [`StaticAnalysis::solve`].
+    pub fn solve_near(
+        &self,
+        phi: f64,
+        torque: f64,
+        psi0: f64,
+        near: Option<&StaticSolution>,
+    ) -> Result<StaticSolution> {
+        self.solve_with_offsets(phi, torque, psi0, near, &[])
+    }
+
+    /// [`StaticAnalysis::solve_near`] with `offsets` (m, `2 x Zp` disc-major, or empty) added
+    /// to the pins' gaps: an extra approach that a model outside this one supplies, such as the
+    /// body deflection of a flexible disc ([`crate::fem::flex`]). Bearing support only (the
+    /// rigid support ignores them). The first-contact twist `psi0` is that of the unloaded
+    /// mechanism (the offsets vanish with the load).
+    ///
+    /// # Errors
+    /// As [`StaticAnalysis::solve`]; [`Error::Invalid`] if `offsets` is neither empty nor
+    /// `2 x Zp` long or holds a non-finite value.
+    pub fn solve_with_offsets(
+        &self,
+        phi: f64,
+        torque: f64,
+        psi0: f64,
+        near: Option<&StaticSolution>,
+        offsets: &[f64],
+    ) -> Result<StaticSolution> {
+        let zp = self.red.geometry.pins;
+        if !(offsets.is_empty() || offsets.len() == 2 * zp)
+            || offsets.iter().any(|o| !o.is_finite())
+        {
+            return Err(Error::invalid(
+                "static analysis gap offsets",
+                format!("{} values", offsets.len()),
+                format!("must be empty or {} finite values", 2 * zp),
+            ));
+        }
+        match self.solve_direct(phi, torque, psi0, near, offsets) {
+            Err(Error::Numerical { .. }) if torque != 0.0 => {
+                self.solve_in_load_steps(phi, torque, psi0, near, offsets)
+            }
+            result => result,
+        }
+    }
+
+    /// The last resort of [`StaticAnalysis::solve_with_offsets`]: the torque applied in steps
+    /// from `near` (when it lies on the way, else from zero), each solve started from the one
+    /// before, a step halved where it fails and doubled again (up to an eighth of the way)
+    /// where it succeeds (a disc that moves onto other pins part of the way up, as on a ridge of
+    /// a worn flank, is followed along the loading path). The error of the last step tried when
+    /// the step falls below 1e-6 of the torque, or after [`MAX_LOAD_STEPS`] solves (a path that
+    /// advances by ever smaller steps would otherwise run for hours).
+    pub(super) fn solve_in_load_steps(
+        &self,
+        phi: f64,
+        torque: f64,
+        psi0: f64,
+        near: Option<&StaticSolution>,
+        offsets: &[f64],
+    ) -> Result<StaticSolution> {
+        let mut prev = near
+            .filter(|x| x.output_torque * torque > 0.0 && x.output_torque.abs() < torque.abs())
+            .cloned();
+        let mut reached = prev.as_ref().map_or(0.0, |x| x.output_torque);
+        let first_step = (torque - reached) / 8.0;
+        let mut step = first_step;
+        let mut attempt = 0;
+        loop {
+            attempt += 1;
+            let next = if (torque - reached).abs() <= 1.000001 * step.abs() {
+                torque
+            } else {
+                reached + step
+            };
+            match self.solve_direct(phi, next, psi0, prev.as_ref(), offsets) {
+                Ok(sol) if next == torque => return Ok(sol),
+                Ok(sol) => {
+                    reached = next;
+                    prev = Some(sol);
+                    // Back towards the first step after a success.
+                    if step.abs() < first_step.abs() {
+                        step *= 2.0;
+                    }
+                }
+                Err(e) if step.abs() < 1e-6 * torque.abs() => return Err(e),
+                Err(e) if attempt >= MAX_LOAD_STEPS => {
+                    return Err(Error::numerical(
+                        "static equilibrium",
+                        format!(
+                            "the load steps reached {reached:.6e} of {torque:.6e} N m in \
+                             {MAX_LOAD_STEPS} solves at crank angle {:.4} deg (last: {e})",
+                            phi.to_degrees()
+                        ),
+                    ))
+                }
+                Err(_) => step *= 0.5,
+            }
+        }
+    }
+
+    /// One attempt of [`StaticAnalysis::solve_with_offsets`]: from `near`, or cold.
+    pub(super) fn solve_direct(
+        &self,
+        phi: f64,
+        torque: f64,
+        psi0: f64,
+        near: Option<&StaticSolution>,
+        offsets: &[f64],
+    ) -> Result<StaticSolution> {
+        let s = if torque < 0.0 { -1.0 } else { 1.0 };
+        let n = self.red.layout().dofs();
+        let near = near.filter(|x| {
+            let beyond = s * (x.twist - x.first_contact_twist);
+            (x.output_torque == 0.0 || x.output_torque * s > 0.0)
+                && beyond.is_finite()
+                && beyond >= 0.0
+        });
+        let start = Start {
+            psi0,
+            near: near
+                .filter(|x| x.deviations.len() == n)
+                .map(|x| (&x.deviations[..], x.first_contact_twist)),
+            beyond: near.map(|x| s * (x.twist - x.first_contact_twist)),
+            offsets,
+        };
+        let result = match self.red.support {
+            Support::Bearings => self.solve_bearings(phi, torque, &start),
+            Support::Rigid { .. } => self.solve_rigid(phi, torque, &start),
+        };
+        result.map_err(|e| match e {
+            Error::Numerical { context, message } => Error::Numerical {
+                context,
+                message: format!("{message} (output torque {torque:.6e} N m)"),
+            },
+            other => other,
+        })
+    }
+
+    /// Static equilibria at the crank angles `phis` (rad, in order, neighbours close) under one
+    /// output torque `torque` (N m): [`StaticAnalysis::solve`] at each, in parallel over runs
+    /// of [`SEQUENCE_RUN`] consecutive angles, each solve of a run started from its
+    /// predecessor's solution. The runs do not depend on the number of threads, so neither do
+    /// the results.
+    ///
+    /// # Errors
+    /// As [`StaticAnalysis::solve`], for the first crank angle that fails.
+    pub fn solve_sequence(&self, phis: &[f64], torque: f64) -> Result<Vec<StaticSolution>> {
+        let s = if torque < 0.0 { -1.0 } else { 1.0 };
+        let runs: Vec<Vec<StaticSolution>> = phis
+            .par_chunks(SEQUENCE_RUN)
+            .map(|run| -> Result<Vec<StaticSolution>> {
+                let mut out: Vec<StaticSolution> = Vec::with_capacity(run.len());
+                for &phi in run {
+                    check_input(phi, torque)?;
+                    let psi0 = self.first_contact(phi, s)?;
+                    let sol = self.solve_near(phi, torque, psi0, out.last())?;
+                    out.push(sol);
+                }
+                Ok(out)
+            })
+            .collect::<Result<_>>()?;
+        Ok(runs.into_iter().flatten().collect())
+    }
+
+    /// Safeguarded Newton on the monotone `f(x) = s T(psi0 + s x) - |T|`, `x >= 0`, with
+    /// `eval(psi) -> (T, dT/dpsi)`. Returns the converged twist.
+    pub(super) fn outer<F>(&self, phi: f64, torque: f64, start: &Start, mut eval: F) -> Result<f64>
+    where
+        F: FnMut(f64) -> Result<(f64, f64)>,
+    {
+        let psi0 = start.psi0;
+        let s = if torque < 0.0 { -1.0 } else { 1.0 };
+        let target = torque.abs();
+        let tol = 1e-11 * target;
+        let (mut lo, mut hi) = (0.0_f64, f64::INFINITY);
+        let mut x = match start.beyond {
+            Some(b) if b > 0.0 => b,
+            _ => self.twist_guess(torque),
+        };
+        for step in 0..200 {
+            let (t, k) = eval(psi0 + s * x)?;
+            let f = s * t - target;
+            if f.abs() <= tol {
+                return Ok(psi0 + s * x);
+            }
+            if f > 0.0 {
+                hi = x;
+            } else {
+                lo = x;
+            }
+            // Newton inside the bracket; while the bracket is open above, at most four times
+            // the current twist (the stiffness grows as pins engage, so a step from a soft
+            // start overshoots).
+            let newton = if k > 0.0 { x - f / k } else { f64::NAN };
+            // (Bisection only after 40 steps: where round-off makes T(psi) jitter at the
+            // tolerance, Newton can wander inside the bracket.)
+            let next = if step < 40 && newton > lo && newton < hi.min(4.0 * x) {
+                newton
+            } else if hi.is_finite() {
+                0.5 * (lo + hi)
+            } else {
+                4.0 * x.max(lo)
+            };
+            if next > MAX_TWIST {
+                return Err(self.fail(
+                    phi,
+                    &format!(
+                        "the output torque {torque:.6e} N m needs a twist beyond {:.0} arcmin: \
+                         more than the contact model can describe",
+                        MAX_TWIST * ARCMIN_PER_RAD
+                    ),
+                ));
+            }
+            if hi.is_finite() && hi - lo <= 1e-15 * hi.max(1e-12) {
+                return Ok(psi0 + s * 0.5 * (lo + hi));
+            }
+            x = next;
+        }
+        Err(self.fail(
+            phi,
+            "the twist for the output torque was not found in 200 steps",
+        ))
+    }
+
+    /// Initial guess of the elastic twist beyond first contact (rad) for output torque `t`:
+    /// Li's largest force at the equivalent disc torque compressing one contact over the pitch
+    /// radius, three times for the bearings.
+    pub(super) fn twist_guess(&self, t: f64) -> f64 {
+        let geo = &self.red.geometry;
+        let rc = geo.disc_pitch_radius();
+        let f = 4.0 * 0.5 * t.abs() * self.red.twist_factor() / (rc * geo.pins as f64);
+        let delta = self.red.contact.approach(f.max(1e-6), 0.0);
+        (3.0 * delta / rc).max(1e-12)
+    }
+
+    pub(super) fn solve_rigid(
+        &self,
+        phi: f64,
+        torque: f64,
+        start: &Start,
+    ) -> Result<StaticSolution> {
+        let psi0 = start.psi0;
+        let zp = self.red.geometry.pins;
+        let mut cache = vec![f64::NAN; zp];
+        let psi = if torque == 0.0 {
+            psi0
+        } else {
+            self.outer(phi, torque, start, |p| {
+                let (_, _, t, k) = self.eval_rigid(phi, p, &mut cache)?;
+                Ok((t, k))
+            })?
+        };
+        let (pins, pose, t, k) = self.eval_rigid(phi, psi, &mut cache)?;
+        let Support::Rigid { load_share } = self.red.support else {
+            unreachable!()
+        };
+        let scale = pins.iter().map(|p| p.force).sum::<f64>().max(1e-300);
+        let roundoff = self.roundoff(pins.iter().map(|p| p.stiffness).sum::<f64>()) / scale;
+        let rp = self.red.geometry.pin_circle_radius;
+        let residual = if torque == 0.0 {
+            0.0
+        } else {
+            (t - torque).abs() * load_share / rp / scale
+        };
+        let zc = self.red.geometry.disc_teeth() as f64;
+        let disc = self.disc_load(
+            &pins,
+            pose,
+            Vec2::zeros(),
+            pose.angle + phi / zc,
+            torque == 0.0,
+        );
+        self.check(StaticSolution {
+            crank_angle: phi,
+            output_torque: torque,
+            twist: psi,
+            first_contact_twist: psi0,
+            stiffness: k,
+            discs: vec![disc],
+            residual,
+            roundoff_floor: if torque == 0.0 { 0.0 } else { roundoff },
+            deviations: Vec::new(),
+        })
+    }
+
+    pub(super) fn solve_bearings(
+        &self,
+        phi: f64,
+        torque: f64,
+        start: &Start,
+    ) -> Result<StaticSolution> {
+        let psi0 = start.psi0;
+        let red = self.red;
+        let n = red.layout().dofs();
+        let zp = red.geometry.pins;
+        let rp = red.geometry.pin_circle_radius;
+        let mut fr = self.frame(phi);
+        fr.offsets = start.offsets.to_vec();
+        let mut memory = vec![vec![PinMemory::NONE; zp]; self.red.discs()];
+        let mut z = [0.0; MAX_DOFS];
+        self.mode_deviation(&fr, psi0, &mut z[..n]);
+        let k_struct = self.structural_stiffness(&fr, &z[..n]);
+        if torque == 0.0 {
+            let ev = self.eval_bearings(&fr, &z, &mut memory, false)?;
+            let kt = self.tangent(&k_struct, &ev, &fr, &z);
+            return self.check(self.assemble(&fr, &z, ev, &kt, 0.0, psi0));
+        }
+        let mut zt = z;
+        if let Some((_, kt)) =
+            self.torque_controlled(&fr, torque, start, &mut zt[..n], &k_struct, &mut memory)?
+        {
+            // Every pin at the solution (the solve skipped pins known to be open).
+            let ev = self.eval_bearings(&fr, &zt, &mut memory, false)?;
+            let sol = self.assemble(&fr, &zt, ev, &kt, torque, psi0);
+            if sol.residual <= RESIDUAL_TOLERANCE.max(sol.roundoff_floor) {
+                return Ok(sol);
+            }
+        }
+        // The twist-controlled path. Cold: it trusts neither the neighbour nor the pins' memory
+        // of the fast path (whose rejected trial steps can take a disc far outside the gap
+        // field's range, where a remembered gap is no bound).
+        for m in memory.iter_mut() {
+            m.fill(PinMemory::NONE);
+        }
+        let cold = Start {
+            psi0,
+            near: None,
+            beyond: None,
+            offsets: start.offsets,
+        };
+        let floor = torque.abs() / rp;
+        // Predictor of the inner coordinates per unit twist: the rigid mode at first, then the
+        // condensation direction `-K_ii^-1 K_io` of the last tangent.
+        let mut current = psi0;
+        let mut slope: Option<Vec<f64>> = None;
+        let mut last: Option<DMatrix<f64>> = None;
+        let psi = self.outer(phi, torque, &cold, |p| {
+            match &slope {
+                Some(dz) => {
+                    for i in 2..n {
+                        z[i] += dz[i] * (p - current);
+                    }
+                    z[Layout::OUT] = p;
+                }
+                None => {
+                    let (mut a, mut b) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
+                    self.mode_deviation(&fr, current, &mut a[..n]);
+                    self.mode_deviation(&fr, p, &mut b[..n]);
+                    for i in 0..n {
+                        z[i] += b[i] - a[i];
+                    }
+                }
+            }
+            current = p;
+            let (ev, kt) = self.inner_solve(&fr, &mut z[..n], &k_struct, &mut memory, floor)?;
+            slope = Some(self.condensation_direction(&kt));
+            let out = (-ev.g[Layout::OUT], self.condensed(&kt));
+            last = Some(kt);
+            Ok(out)
+        })?;
+        let kt = match last {
+            Some(kt) if current == psi => kt,
+            _ => {
+                if let Some(dz) = &slope {
+                    for i in 2..n {
+                        z[i] += dz[i] * (psi - current);
+                    }
+                }
+                z[Layout::OUT] = psi;
+                self.inner_solve(&fr, &mut z[..n], &k_struct, &mut memory, floor)?
+                    .1
+            }
+        };
+        let ev = self.eval_bearings(&fr, &z, &mut memory, false)?;
+        self.check(self.assemble(&fr, &z, ev, &kt, torque, psi0))
+    }
+
+    /// The solution at deviations `z` from the full evaluation `ev` there and the tangent `kt`.
+    pub(super) fn assemble(
+        &self,
+        fr: &Frame,
+        z: &[f64; MAX_DOFS],
+        ev: Eval,
+        kt: &DMatrix<f64>,
+        torque: f64,
+        psi0: f64,
+    ) -> StaticSolution {
+        let lay = self.red.layout();
+        let n = lay.dofs();
+        let rp = self.red.geometry.pin_circle_radius;
+        let scale = ev.scale.max(torque.abs() / rp).max(1e-300);
+        let out_res = (ev.g[Layout::OUT] + torque).abs() / rp;
+        let residual = self.inner_residual(&ev.g).max(out_res) / scale;
+        let unloaded = torque == 0.0;
+        let discs = (0..self.red.discs())
+            .map(|d| {
+                let id = lay.disc(d);
+                self.disc_load(
+                    &ev.pins[d],
+                    ev.poses[d],
+                    Vec2::new(z[id], z[id + 1]),
+                    z[id + 2],
+                    unloaded,
+                )
+            })
+            .collect();
+        StaticSolution {
+            crank_angle: fr.phi,
+            output_torque: torque,
+            twist: z[Layout::OUT],
+            first_contact_twist: psi0,
+            stiffness: self.condensed(kt),
+            discs,
+            residual: if unloaded { 0.0 } else { residual },
+            roundoff_floor: if unloaded { 0.0 } else { ev.roundoff / scale },
+            deviations: z[..n].to_vec(),
+        }
+    }
+
+    pub(super) fn disc_load(
+        &self,
+        pins: &[PinEval],
+        pose: DiscPose,
+        translation: Vec2,
+        rotation: f64,
+        unloaded: bool,
+    ) -> DiscLoad {
+        let law = &self.red.contact;
+        let r = self.red.geometry.pin_radius;
+        let out: Vec<PinLoad> = pins
+            .iter()
+            .map(|p| {
+                // The force acts as F grad(gap) (|grad| = 1 for an exact distance, within about
+                // 1e-3 for the band-averaged field): its magnitude and lever arm.
+                let norm = p.w.norm();
+                let (f, k) = if unloaded {
+                    (0.0, 0.0)
+                } else {
+                    (p.force * norm, p.stiffness * norm)
+                };
+                let h = law.hertz(f, p.curvature);
+                let normal = p.grad / p.grad.norm();
+                let point = p.q - normal * (r + p.gap);
+                PinLoad {
+                    pin: p.pin,
+                    profile_parameter: p.t,
+                    mesh_angle: mesh_angle(p.t),
+                    gap: p.gap,
+                    force: f,
+                    lever_arm: cross(&p.rel, &p.w) / norm,
+                    half_width: h.half_width,
+                    max_pressure: h.max_pressure,
+                    curvature: p.curvature,
+                    stiffness: k,
+                    point,
+                    normal,
+                }
+            })
+            .collect();
+        DiscLoad {
+            pose,
+            translation,
+            rotation,
+            torque: pins.iter().map(|p| p.force * cross(&p.rel, &p.w)).sum(),
+            pins: out,
+        }
+    }
+
+    /// Returns the solution if its residual is within [`RESIDUAL_TOLERANCE`], an error naming
+    /// the crank angle, torque and wear otherwise.
+    pub(super) fn check(&self, sol: StaticSolution) -> Result<StaticSolution> {
+        let allowed = RESIDUAL_TOLERANCE.max(sol.roundoff_floor);
+        if sol.residual.is_finite() && sol.residual <= allowed && sol.twist.is_finite() {
+            Ok(sol)
+        } else {
+            Err(self.fail(
+                sol.crank_angle,
+                &format!(
+                    "the equilibrium residual is {:.3e} of the force scale (allowed \
+                     {allowed:.3e}; twist {:.6} arcmin)",
+                    sol.residual,
+                    sol.twist * ARCMIN_PER_RAD
+                ),
+            ))
+        }
+    }
+}
