@@ -384,7 +384,7 @@ fn run(cli: Cli) -> Result<()> {
             let start = std::time::Instant::now();
             let records = rvlife::montecarlo::run(&model, &plan, &progress_to(&pb))?;
             pb.finish_and_clear();
-            let meta = rvlife::montecarlo::ShardMeta {
+            let meta = rvlife::output::montecarlo::ShardMeta {
                 rvlife_version: env!("CARGO_PKG_VERSION").into(),
                 plan,
                 stage_hours: model.wear.stage_hours.clone(),
@@ -393,9 +393,9 @@ fn run(cli: Cli) -> Result<()> {
             let whole = plan.shard == (1, 1);
             staging.commit(|dir| {
                 if whole {
-                    rvlife::montecarlo::write_results(dir, &meta, &records)
+                    rvlife::output::montecarlo::write_results(dir, &meta, &records)
                 } else {
-                    rvlife::montecarlo::write_shard(dir, &meta, &records)
+                    rvlife::output::montecarlo::write_shard(dir, &meta, &records)
                 }
             })?;
             let ok = records.iter().filter(|r| r.status == "ok").count();
@@ -411,9 +411,10 @@ fn run(cli: Cli) -> Result<()> {
             }
         }
         Command::Merge { shards, out, force } => {
-            let (meta, records) = rvlife::montecarlo::merge(&shards)?;
+            let (meta, records) = rvlife::output::montecarlo::merge(&shards)?;
             let staging = rvlife::output::Staging::prepare(&out, force)?;
-            staging.commit(|dir| rvlife::montecarlo::write_results(dir, &meta, &records))?;
+            staging
+                .commit(|dir| rvlife::output::montecarlo::write_results(dir, &meta, &records))?;
             println!(
                 "rvlife merge: {} shards, {} samples; results in {}",
                 shards.len(),
@@ -739,7 +740,8 @@ fn calibrate_measured(
     out: Option<&Path>,
     force: bool,
 ) -> Result<()> {
-    use rvlife::calibration::{calibrate, check_budget, write_files, Measurements, Options};
+    use rvlife::calibration::{calibrate, check_budget, Measurements, Options};
+    use rvlife::output::calibration::write_files;
     let data = Measurements::read(path)?;
     data.check_for_fit(fit_running_in)?;
     let model = rvlife::api::validated(&load_config(config, budget)?)?;

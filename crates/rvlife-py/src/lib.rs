@@ -362,7 +362,7 @@ fn montecarlo(
             None => None,
         };
         let records = rvlife::montecarlo::run(m, &plan, &p).map_err(py_err)?;
-        let meta = rvlife::montecarlo::ShardMeta {
+        let meta = rvlife::output::montecarlo::ShardMeta {
             rvlife_version: env!("CARGO_PKG_VERSION").into(),
             plan,
             stage_hours: m.wear.stage_hours.clone(),
@@ -373,14 +373,14 @@ fn montecarlo(
             staging
                 .commit(|dir| {
                     if whole {
-                        rvlife::montecarlo::write_results(dir, &meta, &records)
+                        rvlife::output::montecarlo::write_results(dir, &meta, &records)
                     } else {
-                        rvlife::montecarlo::write_shard(dir, &meta, &records)
+                        rvlife::output::montecarlo::write_shard(dir, &meta, &records)
                     }
                 })
                 .map_err(py_err)?;
         }
-        let (samples_csv, stages_csv) = rvlife::montecarlo::records_csv(&records);
+        let (samples_csv, stages_csv) = rvlife::output::montecarlo::records_csv(&records);
         Ok(serde_json::json!({
             "samples_csv": samples_csv,
             "stages_csv": stages_csv,
@@ -396,10 +396,10 @@ fn montecarlo(
 #[pyo3(signature = (dirs, out, force))]
 fn merge(py: Python<'_>, dirs: Vec<PathBuf>, out: PathBuf, force: bool) -> PyResult<()> {
     py.detach(|| -> PyResult<()> {
-        let (meta, records) = rvlife::montecarlo::merge(&dirs).map_err(py_err)?;
+        let (meta, records) = rvlife::output::montecarlo::merge(&dirs).map_err(py_err)?;
         let staging = rvlife::output::Staging::prepare(&out, force).map_err(py_err)?;
         staging
-            .commit(|dir| rvlife::montecarlo::write_results(dir, &meta, &records))
+            .commit(|dir| rvlife::output::montecarlo::write_results(dir, &meta, &records))
             .map_err(py_err)?;
         Ok(())
     })

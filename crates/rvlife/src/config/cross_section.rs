@@ -14,25 +14,6 @@ use crate::geometry::{fit, read_points, CycloidGeometry, MeasuredProfile, Profil
 use crate::reducer::errors::PartErrors;
 use crate::reducer::{Drive, Reducer};
 
-/// Tooth-root radius of the paper's disc, mm: `Rp - rrp - a` = 64 - 3 - 1.3.
-pub const PAPER_ROOT_RADIUS_MM: f64 = 59.7;
-
-/// A size outside `[cycloid]` that defaults from the stage, mm: the paper's value `paper_mm`
-/// (RV-40E class: crank circle 40.5, crank bore radius 13, pillar holes 22 and centre hole 30
-/// mm diameter) scaled by the disc's tooth-root radius `Rp - rrp - a` against the paper's
-/// [`PAPER_ROOT_RADIUS_MM`] (geometric similarity with the paper's reducer). The paper's
-/// geometry gets the paper's values.
-pub fn scaled_from_root(geometry: &CycloidGeometry, paper_mm: f64) -> f64 {
-    let root_mm = (geometry.pin_circle_radius - geometry.pin_radius - geometry.eccentricity) * 1e3;
-    let scaled = paper_mm * root_mm / PAPER_ROOT_RADIUS_MM;
-    // The paper's own stage: its values exactly, not their round-off.
-    if (root_mm / PAPER_ROOT_RADIUS_MM - 1.0).abs() < 1e-12 {
-        paper_mm
-    } else {
-        scaled
-    }
-}
-
 /// The reducer's mechanical model: the drive, meshes and bearings of `parts`, the stage
 /// `geometry`, the contact law and support of `contact` (its band force by default Li's largest
 /// pin force at the rated torque on one disc, docs/model.md section 5), the gap table's

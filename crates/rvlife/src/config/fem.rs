@@ -37,7 +37,7 @@ pub struct FemConfig {
     #[serde(default = "d_holes")]
     pub output_pin_holes: u32,
     /// Diameter of the output-pin holes, mm (default: the paper's 22 mm scaled with the disc's
-    /// root radius, [`crate::config::scaled_from_root`]).
+    /// root radius, [`crate::geometry::CycloidGeometry::scaled_from_root`]).
     #[serde(default)]
     pub output_pin_hole_diameter_mm: Option<f64>,
     /// Radius of the circle of the output-pin holes, mm (default: the crank circle radius).
@@ -48,7 +48,7 @@ pub struct FemConfig {
     #[serde(default)]
     pub output_pin_hole_phase_deg: Option<f64>,
     /// Diameter of the centre hole (input shaft passage), mm; 0 for none (default: the paper's
-    /// 30 mm scaled with the disc's root radius, [`crate::config::scaled_from_root`]).
+    /// 30 mm scaled with the disc's root radius, [`crate::geometry::CycloidGeometry::scaled_from_root`]).
     #[serde(default)]
     pub centre_hole_diameter_mm: Option<f64>,
     /// Element size along the tooth outline, mm.
@@ -168,10 +168,10 @@ impl FemConfig {
             .unwrap_or(2e3 * default_bore_radius);
         let centre_d = self
             .centre_hole_diameter_mm
-            .unwrap_or_else(|| super::cross_section::scaled_from_root(profile.geometry(), 30.0));
+            .unwrap_or_else(|| profile.geometry().scaled_from_root(30.0));
         let hole_d = self
             .output_pin_hole_diameter_mm
-            .unwrap_or_else(|| super::cross_section::scaled_from_root(profile.geometry(), 22.0));
+            .unwrap_or_else(|| profile.geometry().scaled_from_root(22.0));
         let bore_r = range("crank_bore_diameter_mm", bore_d, 1.0, root_mm, "mm")? * 0.5e-3;
         let circle = self
             .crank_circle_radius_mm

@@ -18,7 +18,7 @@
 //! | `[load]` | `load.rs` | [`crate::wear::LoadLevel`]s |
 //! | `[wear]` | `wear.rs` | [`crate::wear::WearParams`] |
 //! | `[te]` | `te.rs` | [`crate::te::TeParams`] |
-//! | `[dynamics]` | `dynamics.rs`, `dynamics_load.rs` | [`crate::dynamics::DynamicsParams`] |
+//! | `[dynamics]` | `dynamics.rs` | [`crate::dynamics::DynamicsParams`] |
 //! | `[fem]` | `fem.rs` | [`crate::fem::FemParams`] |
 //! | `[tolerances]` | `tolerances.rs` | [`Tolerances`] |
 //! | `[life]` | `life.rs` | [`LifeThresholds`] |
@@ -35,7 +35,6 @@ mod contact;
 pub mod cross_section;
 mod cycloid;
 mod dynamics;
-mod dynamics_load;
 mod errors;
 mod fem;
 mod life;
@@ -51,10 +50,8 @@ mod tolerances;
 mod wear;
 
 pub use contact::ContactConfig;
-pub use cross_section::{scaled_from_root, PAPER_ROOT_RADIUS_MM};
 pub use cycloid::{CycloidConfig, ModificationConfig};
 pub use dynamics::{DriveConfig, DynamicsConfig, FlexibleConfig, ImpactConfig, InertiaConfig};
-pub use dynamics_load::{read_load_table, DynLoadConfig};
 pub use errors::ErrorsConfig;
 pub use fem::FemConfig;
 pub use life::{LifeConfig, LifeThresholds};

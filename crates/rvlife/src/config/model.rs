@@ -2,7 +2,7 @@
 //! [`Config::validate`] after every section has been checked on its own (in its own file) and
 //! the cross-section rules applied ([`super::cross_section`], [`super::physical`]).
 
-use super::cross_section::{self, scaled_from_root};
+use super::cross_section;
 use super::range::{check, whole, Range};
 use super::{
     Config, DynamicsConfig, FemConfig, LifeThresholds, LoadParams, MaterialParams, Rating,
@@ -229,7 +229,7 @@ impl Config {
             Ok(d) => d,
         };
         let geometry = &reducer.geometry;
-        let default_bore = scaled_from_root(geometry, 13.0);
+        let default_bore = geometry.scaled_from_root(13.0);
         let (e1, nu1) = (
             materials.elastic.disc_youngs_modulus,
             materials.elastic.disc_poisson_ratio,

@@ -16,7 +16,7 @@
 
 use std::f64::consts::TAU;
 
-use super::dynamics_load::load_peaks;
+use super::dynamics::load_peaks;
 use super::{Model, ModificationConfig};
 use crate::error::{Error, Result};
 use crate::geometry::Profile;

@@ -7,7 +7,7 @@
 //! RV-80E classes are **estimates**: the paper's RV-40E-class stage (Tables 1-2) scaled by the
 //! cube root of the rated-torque ratio (geometric similarity at equal contact stress: torque
 //! goes as length cubed), with the stiffnesses of meshes and bearings scaled linearly; sizes
-//! outside `[cycloid]` then default from the stage ([`crate::config::scaled_from_root`]).
+//! outside `[cycloid]` then default from the stage ([`crate::geometry::CycloidGeometry::scaled_from_root`]).
 
 use crate::config::EXAMPLE_TOML;
 use crate::error::{Error, Result};

@@ -6,7 +6,6 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::cross_section::scaled_from_root;
 use super::range::{check, whole, Range};
 use crate::error::{Error, Result};
 use crate::geometry::CycloidGeometry;
@@ -58,7 +57,7 @@ fn default_drive() -> String {
 
 /// `[reducer.output_pins]`: the output mechanism of a single-stage drive, pins on the output
 /// flange in holes of the discs. Sizes left out default from the stage (module docs of
-/// [`super::cross_section::scaled_from_root`]: the paper's proportions scaled by the
+/// [`crate::geometry::CycloidGeometry::scaled_from_root`]: the paper's proportions scaled by the
 /// tooth-root radius).
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -90,7 +89,7 @@ pub struct OutputPinsConfig {
 pub struct GearsConfig {
     /// Planet pitch radius, mm (paper Table 1: 27). Default: the planet's share `Z2/(Z1 + Z2)`
     /// of the crank circle, which scales the paper's 40.5 mm with the disc's root radius
-    /// ([`crate::config::scaled_from_root`]). Range: (0, 1e4] mm.
+    /// ([`crate::geometry::CycloidGeometry::scaled_from_root`]). Range: (0, 1e4] mm.
     #[serde(default)]
     pub planet_pitch_radius_mm: Option<f64>,
     /// Pressure angle, degrees (paper Table 1: 30). Range: [10, 45] deg.
@@ -216,7 +215,7 @@ pub(super) struct ReducerParts {
 
 impl ReducerConfig {
     /// The drive, ratio, rating, meshes and bearings for the cycloid stage `geometry` (which
-    /// sets the sizes left out: [`scaled_from_root`]).
+    /// sets the sizes left out: [`CycloidGeometry::scaled_from_root`]).
     ///
     /// # Errors
     /// [`Error::Invalid`] naming the key, the value and its range, or a key that does not
@@ -314,7 +313,7 @@ impl ReducerConfig {
 
     /// The disc phases (rad) and, for a single-stage drive, its output mechanism, from
     /// `reducer.discs`, `reducer.disc_phases_deg` and `[reducer.output_pins]` (sizes left out
-    /// scaled from the stage like the RV crank circle: [`scaled_from_root`]).
+    /// scaled from the stage like the RV crank circle: [`CycloidGeometry::scaled_from_root`]).
     fn discs(
         &self,
         single: bool,
@@ -380,12 +379,12 @@ impl OutputPinsConfig {
         let circle = mm(
             "circle_radius_mm",
             self.circle_radius_mm
-                .unwrap_or_else(|| scaled_from_root(geometry, 40.5)),
+                .unwrap_or_else(|| geometry.scaled_from_root(40.5)),
         )?;
         let pin = mm(
             "pin_radius_mm",
             self.pin_radius_mm
-                .unwrap_or_else(|| scaled_from_root(geometry, 8.0)),
+                .unwrap_or_else(|| geometry.scaled_from_root(8.0)),
         )?;
         let clearance = check(
             &key("hole_clearance_um"),
@@ -443,7 +442,7 @@ impl GearsConfig {
         let r_p = check(
             &key("planet_pitch_radius_mm"),
             self.planet_pitch_radius_mm
-                .unwrap_or_else(|| scaled_from_root(geometry, 40.5) * z2 as f64 / (z1 + z2) as f64),
+                .unwrap_or_else(|| geometry.scaled_from_root(40.5) * z2 as f64 / (z1 + z2) as f64),
             Range::positive(1e4, "mm"),
         )? * 1e-3;
         let alpha = check(

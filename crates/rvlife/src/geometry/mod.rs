@@ -129,11 +129,30 @@ impl CycloidGeometry {
         )
     }
 
+    /// A size outside `[cycloid]` that defaults from the stage, mm: the paper's value
+    /// `paper_mm` (RV-40E class: crank circle 40.5, crank bore radius 13, pillar holes 22 and
+    /// centre hole 30 mm diameter) scaled by the disc's tooth-root radius `Rp - rrp - a`
+    /// against the paper's [`PAPER_ROOT_RADIUS_MM`] (geometric similarity with the paper's
+    /// reducer; docs/model.md section 15). The paper's geometry gets the paper's values.
+    pub fn scaled_from_root(&self, paper_mm: f64) -> f64 {
+        let root_mm = (self.pin_circle_radius - self.pin_radius - self.eccentricity) * 1e3;
+        let scaled = paper_mm * root_mm / PAPER_ROOT_RADIUS_MM;
+        // The paper's own stage: its values exactly, not their round-off.
+        if (root_mm / PAPER_ROOT_RADIUS_MM - 1.0).abs() < 1e-12 {
+            paper_mm
+        } else {
+            scaled
+        }
+    }
+
     /// Disc pitch radius `r_c = a Zc`, m: the lever arm scale of Li's method (docs/model.md section 5).
     pub fn disc_pitch_radius(&self) -> f64 {
         self.eccentricity * self.disc_teeth() as f64
     }
 }
+
+/// Tooth-root radius of the paper's disc, mm: `Rp - rrp - a` = 64 - 3 - 1.3.
+pub const PAPER_ROOT_RADIUS_MM: f64 = 59.7;
 
 /// Profile modifications (docs/model.md section 2), SI.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

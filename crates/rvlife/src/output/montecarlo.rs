@@ -1,0 +1,335 @@
+//! Monte Carlo's files: `samples.csv` and `stages.csv` (the records), `percentiles.csv`,
+//! `summary.json`, `config.toml` and `plots/` of a whole run; a shard's records and
+//! meta-data (`shard.json`); and the merge of shards into exactly the unsharded run's files.
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::montecarlo::{
+    life_distribution, percentiles, quantities, LifeDistribution, Percentiles, Plan, SampleRecord,
+};
+use crate::quantities::{AccuracyPoint, ACCURACY};
+
+/// `summary.json` of a Monte Carlo run.
+#[derive(Debug, Clone, Serialize)]
+pub struct McSummary {
+    /// rvlife version.
+    pub rvlife_version: &'static str,
+    /// Samples, seed and options.
+    pub plan: Plan,
+    /// Samples by status: ok, interference, failed.
+    pub status_counts: std::collections::BTreeMap<String, usize>,
+    /// The accuracy life's distribution (with `[life]` thresholds).
+    pub life: LifeDistribution,
+    /// Percentiles of every quantity at every stage.
+    pub percentiles: Vec<Percentiles>,
+    /// Standard error of a percentile `p` estimated from `n` samples, relative to the
+    /// quantity's spread: `sqrt(p (1-p) / n) / f(x_p)`; for a normal quantity this is
+    /// `1.25 sigma / sqrt(n)` at the median and `2.11 sigma / sqrt(n)` at 5 and 95 %.
+    pub percentile_standard_error_note: &'static str,
+}
+
+/// The meta-data a shard carries so that merging can check the shards belong together.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ShardMeta {
+    /// rvlife version.
+    pub rvlife_version: String,
+    /// The plan (with this shard's `(I, N)`).
+    pub plan: Plan,
+    /// The stages, h.
+    pub stage_hours: Vec<f64>,
+    /// The config text the run read (`<built-in>` example: its text).
+    pub config_toml: String,
+}
+
+fn fmt_opt(v: Option<f64>) -> String {
+    v.map_or(String::new(), |x| format!("{x}"))
+}
+
+/// Writes `samples.csv` (one row per sample) and `stages.csv` (one row per sample and stage)
+/// into `dir`; floats in Rust's shortest round-trip form, so reading them back gives the same
+/// bits.
+///
+/// # Errors
+/// [`Error::Io`].
+pub fn write_records(dir: &Path, records: &[SampleRecord]) -> Result<()> {
+    let (s, t) = records_csv(records);
+    write(dir, "samples.csv", &s)?;
+    write(dir, "stages.csv", &t)
+}
+
+/// The texts of `samples.csv` and `stages.csv` of [`write_records`].
+pub fn records_csv(records: &[SampleRecord]) -> (String, String) {
+    let mut s = String::from("sample,status,accuracy_life_h,limited_by\n");
+    let mut t = String::from("sample,hours");
+    for (q, _) in quantities() {
+        t.push(',');
+        t.push_str(q);
+    }
+    t.push('\n');
+    for r in records {
+        s.push_str(&format!(
+            "{},{},{},{}\n",
+            r.sample,
+            csv_field(&r.status),
+            fmt_opt(r.accuracy_life_h),
+            r.limited_by.clone().unwrap_or_default()
+        ));
+        for p in &r.points {
+            t.push_str(&format!("{},{}", r.sample, p.hours));
+            for (_, f) in quantities() {
+                t.push_str(&format!(",{}", f(p)));
+            }
+            t.push('\n');
+        }
+    }
+    (s, t)
+}
+
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\"").replace('\n', " "))
+    } else {
+        s.to_string()
+    }
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> Result<()> {
+    let p = dir.join(name);
+    std::fs::write(&p, text).map_err(|e| Error::io(&p, e))
+}
+
+/// Reads the records written by [`write_records`].
+///
+/// # Errors
+/// [`Error::Invalid`] naming the file if it is missing or malformed.
+pub fn read_records(dir: &Path) -> Result<Vec<SampleRecord>> {
+    let bad = |p: &Path, what: String| {
+        Error::invalid(
+            p.display().to_string(),
+            what,
+            "must be a samples.csv / stages.csv written by rvlife montecarlo",
+        )
+    };
+    let sp = dir.join("samples.csv");
+    let mut rd = csv::Reader::from_path(&sp).map_err(|e| bad(&sp, e.to_string()))?;
+    let mut records = Vec::new();
+    for row in rd.records() {
+        let row = row.map_err(|e| bad(&sp, e.to_string()))?;
+        let num = |i: usize| -> Result<Option<f64>> {
+            let f = row.get(i).unwrap_or("");
+            if f.is_empty() {
+                Ok(None)
+            } else {
+                f.parse::<f64>()
+                    .map(Some)
+                    .map_err(|e| bad(&sp, format!("{f}: {e}")))
+            }
+        };
+        records.push(SampleRecord {
+            sample: row
+                .get(0)
+                .unwrap_or("")
+                .parse()
+                .map_err(|e| bad(&sp, format!("sample: {e}")))?,
+            status: row.get(1).unwrap_or("").to_string(),
+            points: Vec::new(),
+            accuracy_life_h: num(2)?,
+            limited_by: row.get(3).filter(|s| !s.is_empty()).map(str::to_string),
+        });
+    }
+    let tp = dir.join("stages.csv");
+    let mut rd = csv::Reader::from_path(&tp).map_err(|e| bad(&tp, e.to_string()))?;
+    for row in rd.records() {
+        let row = row.map_err(|e| bad(&tp, e.to_string()))?;
+        let v: Vec<f64> = row
+            .iter()
+            .map(|f| f.parse::<f64>().map_err(|e| bad(&tp, format!("{f}: {e}"))))
+            .collect::<Result<_>>()?;
+        if v.len() != 2 + ACCURACY.len() {
+            return Err(bad(&tp, format!("{} columns", v.len())));
+        }
+        let sample = v[0] as usize;
+        let r = records
+            .iter_mut()
+            .find(|r| r.sample == sample)
+            .ok_or_else(|| bad(&tp, format!("sample {sample} not in samples.csv")))?;
+        r.points.push(AccuracyPoint::from_accuracy(v[1], &v[2..]));
+    }
+    Ok(records)
+}
+
+/// Writes the results of a whole run (all samples, sorted by index) into `dir`: the records,
+/// `percentiles.csv`, `summary.json`, `config.toml`, and `plots/` (histogram of the accuracy
+/// life and of each quantity at the last stage, a fan chart of each quantity against hours).
+///
+/// # Errors
+/// [`Error::Io`].
+pub fn write_results(dir: &Path, meta: &ShardMeta, records: &[SampleRecord]) -> Result<()> {
+    let mut plan = meta.plan;
+    plan.shard = (1, 1);
+    write_records(dir, records)?;
+    write(dir, "config.toml", &meta.config_toml)?;
+    let pct = percentiles(records, &meta.stage_hours);
+    let mut p = String::from("hours,quantity,n,p5,p50,p95,mean\n");
+    for x in &pct {
+        p.push_str(&format!(
+            "{},{},{},{},{},{},{}\n",
+            x.hours, x.quantity, x.n, x.p5, x.p50, x.p95, x.mean
+        ));
+    }
+    write(dir, "percentiles.csv", &p)?;
+    let mut status_counts = std::collections::BTreeMap::new();
+    for r in records {
+        let key = if r.status.starts_with("failed") {
+            "failed".to_string()
+        } else {
+            r.status.clone()
+        };
+        *status_counts.entry(key).or_insert(0) += 1;
+    }
+    let summary = McSummary {
+        rvlife_version: env!("CARGO_PKG_VERSION"),
+        plan,
+        status_counts,
+        life: life_distribution(records),
+        percentiles: pct.clone(),
+        percentile_standard_error_note: "standard error of a percentile p from n samples: \
+            sqrt(p (1 - p) / n) / f(x_p); for a normal quantity 1.25 sigma / sqrt(n) at the \
+            median, 2.11 sigma / sqrt(n) at 5 and 95 %",
+    };
+    let json = serde_json::to_string_pretty(&summary)
+        .map_err(|e| Error::numerical("summary", e.to_string()))?;
+    write(dir, "summary.json", &(json + "\n"))?;
+    let plots = dir.join("plots");
+    std::fs::create_dir_all(&plots).map_err(|e| Error::io(&plots, e))?;
+    let lives: Vec<f64> = records
+        .iter()
+        .filter(|r| r.status == "ok")
+        .filter_map(|r| r.accuracy_life_h)
+        .collect();
+    if !lives.is_empty() {
+        crate::output::plot::histogram(
+            &plots,
+            "life_histogram",
+            "Accuracy life of the sampled reducers",
+            "accuracy life (h)",
+            &lives,
+            30,
+        )?;
+    }
+    for (name, f) in quantities() {
+        let rows: Vec<&Percentiles> = pct.iter().filter(|x| x.quantity == name).collect();
+        let col = |g: fn(&Percentiles) -> f64| rows.iter().map(|x| g(x)).collect::<Vec<f64>>();
+        if rows.iter().all(|x| x.n > 0) && !rows.is_empty() {
+            crate::output::plot::fan_chart(
+                &plots,
+                &format!("fan_{name}"),
+                &format!("{name}: median and 5-95 % of the sampled reducers"),
+                name,
+                &col(|x| x.hours),
+                [&col(|x| x.p5), &col(|x| x.p50), &col(|x| x.p95)],
+            )?;
+        }
+        let last: Vec<f64> = records
+            .iter()
+            .filter(|r| r.status == "ok")
+            .filter_map(|r| {
+                r.points
+                    .get(meta.stage_hours.len().saturating_sub(1))
+                    .map(f)
+            })
+            .collect();
+        if !last.is_empty() {
+            crate::output::plot::histogram(
+                &plots,
+                &format!("hist_{name}"),
+                &format!("{name} at the last stage"),
+                name,
+                &last,
+                30,
+            )?;
+        }
+    }
+    Ok(())
+}
+
+/// Writes a shard's results: its records and `shard.json` ([`ShardMeta`]).
+///
+/// # Errors
+/// [`Error::Io`].
+pub fn write_shard(dir: &Path, meta: &ShardMeta, records: &[SampleRecord]) -> Result<()> {
+    write_records(dir, records)?;
+    let json =
+        serde_json::to_string_pretty(meta).map_err(|e| Error::numerical("shard", e.to_string()))?;
+    write(dir, "shard.json", &(json + "\n"))
+}
+
+/// Reads shards written by [`write_shard`] and checks that they are the parts of one run:
+/// same version, samples, seed, options, stages and config, every shard of `1..=N` present
+/// once, and every sample index once.
+///
+/// # Errors
+/// [`Error::Invalid`] naming the directory and what does not match.
+pub fn merge(dirs: &[std::path::PathBuf]) -> Result<(ShardMeta, Vec<SampleRecord>)> {
+    let mut metas: Vec<ShardMeta> = Vec::new();
+    let mut records = Vec::new();
+    for d in dirs {
+        let p = d.join("shard.json");
+        let text = std::fs::read_to_string(&p).map_err(|e| {
+            Error::invalid(
+                d.display().to_string(),
+                format!("no shard.json ({e})"),
+                "must be a results directory of rvlife montecarlo --shard I/N",
+            )
+        })?;
+        let meta: ShardMeta = serde_json::from_str(&text).map_err(|e| {
+            Error::invalid(
+                p.display().to_string(),
+                e.to_string(),
+                "must be a shard.json of rvlife",
+            )
+        })?;
+        if let Some(first) = metas.first() {
+            let mut a = first.clone();
+            a.plan.shard.0 = meta.plan.shard.0;
+            if a != meta {
+                return Err(Error::invalid(
+                    d.display().to_string(),
+                    format!("shard {}/{}", meta.plan.shard.0, meta.plan.shard.1),
+                    format!(
+                        "belongs to another run than {} (samples, seed, options, stages, \
+                         config and version must match)",
+                        dirs[0].display()
+                    ),
+                ));
+            }
+        }
+        records.extend(read_records(d)?);
+        metas.push(meta);
+    }
+    let n = metas[0].plan.shard.1;
+    let mut seen: Vec<usize> = metas.iter().map(|m| m.plan.shard.0).collect();
+    seen.sort_unstable();
+    if seen != (1..=n).collect::<Vec<_>>() {
+        return Err(Error::invalid(
+            "shards",
+            format!("{seen:?} of {n}"),
+            format!("must be every shard 1..={n} once"),
+        ));
+    }
+    records.sort_by_key(|r| r.sample);
+    let total = metas[0].plan.samples;
+    if records.len() != total || records.iter().enumerate().any(|(i, r)| r.sample != i) {
+        return Err(Error::invalid(
+            "shards",
+            format!("{} sample records", records.len()),
+            format!("must hold every sample 0..{total} once"),
+        ));
+    }
+    let mut meta = metas.swap_remove(0);
+    meta.plan.shard = (1, 1);
+    Ok((meta, records))
+}

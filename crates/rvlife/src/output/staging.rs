@@ -1,0 +1,447 @@
+//! All-or-nothing outputs: a results directory is written into a temporary directory beside
+//! its target and renamed onto it only when complete (a single file likewise), a `--force`
+//! replaces only a directory rvlife wrote (its [`MARKER`]), and an interrupted run leaves
+//! nothing behind ([`remove_pending`]).
+
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+
+/// Runs `write` on a fresh temporary directory beside `out` and renames it onto `out` when it
+/// succeeds ([`Staging::prepare`] then [`Staging::commit`]); on failure the temporary directory
+/// is removed and `out` is untouched.
+///
+/// # Errors
+/// As [`Staging::prepare`] and [`Staging::commit`]; any error of `write`.
+pub fn write_atomically(
+    out: &Path,
+    replace: bool,
+    write: impl FnOnce(&Path) -> Result<()>,
+) -> Result<PathBuf> {
+    Staging::prepare(out, replace)?.commit(write)
+}
+
+/// Name of the marker file in every results directory rvlife writes: `--force` replaces only a
+/// directory that has it.
+pub const MARKER: &str = ".rvlife-results";
+
+/// Prefix of the temporary directories and files beside an output, followed by the process id
+/// of the run that owns them.
+const TMP_PREFIX: &str = ".rvlife-tmp-";
+
+/// Temporary outputs of this process not yet renamed into place, removed by
+/// [`remove_pending`] (the command line calls it on SIGINT/SIGTERM).
+static PENDING: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+fn pending() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    PENDING
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+fn unregister(p: &Path) {
+    pending().retain(|x| x != p);
+}
+
+/// Removes every temporary output of this process that is not yet in place (a signal handler
+/// calls it before the process exits, so that an interrupted run leaves nothing behind).
+pub fn remove_pending() {
+    let list = std::mem::take(&mut *pending());
+    for p in list {
+        // Twice: a writer thread may add a file while the first pass runs.
+        for _ in 0..2 {
+            if p.is_dir() {
+                let _ = std::fs::remove_dir_all(&p);
+            } else {
+                let _ = std::fs::remove_file(&p);
+            }
+        }
+    }
+}
+
+/// Whether the process `pid` is alive (unix: `kill(pid, 0)`; elsewhere assumed alive).
+fn alive(pid: u32) -> bool {
+    #[cfg(unix)]
+    {
+        let Ok(pid) = libc::pid_t::try_from(pid) else {
+            return false;
+        };
+        // SAFETY: signal 0 only checks that the process exists; nothing is sent.
+        let r = unsafe { libc::kill(pid, 0) };
+        r == 0 || std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM)
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = pid;
+        true
+    }
+}
+
+/// Removes the temporary outputs in `folder` left by runs that died (killed during their write
+/// phase): `.rvlife-tmp-<pid>-*` whose process no longer exists.
+fn remove_stale(folder: &Path) {
+    let Ok(entries) = std::fs::read_dir(folder) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let name = e.file_name();
+        let Some(rest) = name.to_str().and_then(|n| n.strip_prefix(TMP_PREFIX)) else {
+            continue;
+        };
+        let Some(pid) = rest.split('-').next().and_then(|p| p.parse::<u32>().ok()) else {
+            continue;
+        };
+        if pid != std::process::id() && !alive(pid) {
+            let p = e.path();
+            let _ = if p.is_dir() {
+                std::fs::remove_dir_all(&p)
+            } else {
+                std::fs::remove_file(&p)
+            };
+        }
+    }
+}
+
+/// Renames `from` onto `to` only if `to` does not exist, atomically where the system allows
+/// (Linux `renameat2(RENAME_NOREPLACE)`); `Ok(false)` if `to` exists.
+fn rename_no_replace(from: &Path, to: &Path) -> Result<bool> {
+    #[cfg(target_os = "linux")]
+    {
+        use std::ffi::CString;
+        use std::os::unix::ffi::OsStrExt;
+        let c = |p: &Path| {
+            CString::new(p.as_os_str().as_bytes())
+                .map_err(|e| Error::io(p, std::io::Error::other(e)))
+        };
+        let (a, b) = (c(from)?, c(to)?);
+        // SAFETY: both paths are valid NUL-terminated strings for the duration of the call.
+        let r = unsafe {
+            libc::renameat2(
+                libc::AT_FDCWD,
+                a.as_ptr(),
+                libc::AT_FDCWD,
+                b.as_ptr(),
+                libc::RENAME_NOREPLACE,
+            )
+        };
+        if r == 0 {
+            return Ok(true);
+        }
+        let e = std::io::Error::last_os_error();
+        match e.raw_os_error() {
+            Some(libc::EEXIST) | Some(libc::ENOTEMPTY) => Ok(false),
+            // File systems without the flag: check, then rename.
+            Some(libc::EINVAL) | Some(libc::ENOSYS) => {
+                if to.exists() {
+                    Ok(false)
+                } else {
+                    std::fs::rename(from, to).map_err(|e| Error::io(to, e))?;
+                    Ok(true)
+                }
+            }
+            _ => Err(Error::io(to, e)),
+        }
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        if to.exists() {
+            return Ok(false);
+        }
+        std::fs::rename(from, to).map_err(|e| Error::io(to, e))?;
+        Ok(true)
+    }
+}
+
+/// The folder that holds `out` (`.` for a bare name).
+fn parent_of(out: &Path) -> PathBuf {
+    match out.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// A results directory being written: a temporary directory beside the target, created before
+/// any computing starts (so that an unwritable target is found at once), renamed onto the target
+/// when complete. Dropped without [`Staging::commit`], it is removed.
+#[derive(Debug)]
+pub struct Staging {
+    out: PathBuf,
+    replace: bool,
+    dir: Option<PathBuf>,
+}
+
+impl Staging {
+    /// Checks `out` ([`check_output_dir`]), creates its folder if missing, removes temporary
+    /// directories of dead runs beside it, and creates this run's temporary directory there.
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] naming `--out` (see [`check_output_dir`], and a folder that cannot be
+    /// written).
+    pub fn prepare(out: &Path, replace: bool) -> Result<Staging> {
+        check_output_dir(out, replace)?;
+        let parent = parent_of(out);
+        let unwritable = |e: std::io::Error| {
+            Error::invalid(
+                "--out",
+                out.display(),
+                format!("its folder {} cannot be written: {e}", parent.display()),
+            )
+        };
+        std::fs::create_dir_all(&parent).map_err(unwritable)?;
+        remove_stale(&parent);
+        let tmp = tempfile::Builder::new()
+            .prefix(&format!("{TMP_PREFIX}{}-", std::process::id()))
+            .tempdir_in(&parent)
+            .map_err(unwritable)?
+            .keep();
+        pending().push(tmp.clone());
+        Ok(Staging {
+            out: out.to_path_buf(),
+            replace,
+            dir: Some(tmp),
+        })
+    }
+
+    /// Runs `write` on the temporary directory, adds the [`MARKER`] file, and renames the
+    /// directory onto the target: without `replace`, only if the target is still absent or an
+    /// empty directory (never over what another run put there meanwhile); with `replace`, the
+    /// old results directory is moved aside first and removed after.
+    ///
+    /// # Errors
+    /// Any error of `write`; [`Error::Invalid`] naming `--out` if another run wrote the target
+    /// meanwhile, or it stopped being replaceable; [`Error::Io`] on file-system failures. In
+    /// every case the temporary directory is removed and the target is as it was.
+    pub fn commit(mut self, write: impl FnOnce(&Path) -> Result<()>) -> Result<PathBuf> {
+        let dir = self
+            .dir
+            .clone()
+            .expect("a staging directory until committed");
+        write(&dir)?;
+        let marker = dir.join(MARKER);
+        std::fs::write(
+            &marker,
+            format!(
+                "rvlife {} results directory; `rvlife run --force` may replace it\n",
+                env!("CARGO_PKG_VERSION")
+            ),
+        )
+        .map_err(|e| Error::io(&marker, e))?;
+        let out = self.out.clone();
+        let taken = || {
+            Error::invalid(
+                "--out",
+                out.display(),
+                "was written by another run while this one computed; nothing was replaced \
+                 (choose another directory, or pass --force to replace results of rvlife)",
+            )
+        };
+        if out.exists() {
+            // Re-checked: the target may have changed while this run computed.
+            check_output_dir(&out, self.replace)?;
+            let empty = std::fs::read_dir(&out)
+                .map_err(|e| Error::io(&out, e))?
+                .next()
+                .is_none();
+            if empty {
+                std::fs::remove_dir(&out).map_err(|_| taken())?;
+            } else {
+                let old = parent_of(&out).join(format!(
+                    "{TMP_PREFIX}{}-old-{}",
+                    std::process::id(),
+                    std::time::SystemTime::now()
+                        .duration_since(std::time::UNIX_EPOCH)
+                        .map_or(0, |d| d.as_nanos())
+                ));
+                std::fs::rename(&out, &old).map_err(|e| Error::io(&out, e))?;
+                pending().push(old.clone());
+                if !rename_no_replace(&dir, &out)? {
+                    // Another run took the name in between: put the old results back.
+                    let _ = std::fs::rename(&old, &out);
+                    unregister(&old);
+                    return Err(taken());
+                }
+                self.finish();
+                let _ = std::fs::remove_dir_all(&old);
+                unregister(&old);
+                return Ok(out);
+            }
+        }
+        if !rename_no_replace(&dir, &out)? {
+            return Err(taken());
+        }
+        self.finish();
+        Ok(out)
+    }
+
+    /// The temporary directory is in place: nothing to remove any more.
+    fn finish(&mut self) {
+        if let Some(d) = self.dir.take() {
+            unregister(&d);
+        }
+    }
+}
+
+impl Drop for Staging {
+    fn drop(&mut self) {
+        if let Some(d) = self.dir.take() {
+            let _ = std::fs::remove_dir_all(&d);
+            unregister(&d);
+        }
+    }
+}
+
+/// Writes a file all-or-nothing: `write` fills a temporary file beside `out`, which is renamed
+/// onto `out` (over an existing file only with `replace`; never over a file another run put
+/// there meanwhile without it). The temporary file is removed on failure or on a signal
+/// ([`remove_pending`]).
+///
+/// # Errors
+/// As [`check_output_file`]; [`Error::Invalid`] naming `--out` if another run wrote `out`
+/// meanwhile; any error of `write`.
+pub fn write_file_atomically(
+    out: &Path,
+    replace: bool,
+    write: impl FnOnce(&Path) -> Result<()>,
+) -> Result<()> {
+    check_output_file(out, replace)?;
+    let parent = parent_of(out);
+    remove_stale(&parent);
+    let ext = out
+        .extension()
+        .and_then(|e| e.to_str())
+        .map_or(String::new(), |e| format!(".{e}"));
+    let tmp = tempfile::Builder::new()
+        .prefix(&format!("{TMP_PREFIX}{}-", std::process::id()))
+        .suffix(&ext)
+        .tempfile_in(&parent)
+        .map_err(|e| {
+            Error::invalid(
+                "--out",
+                out.display(),
+                format!("its folder {} cannot be written: {e}", parent.display()),
+            )
+        })?
+        .into_temp_path();
+    let path = tmp.to_path_buf();
+    pending().push(path.clone());
+    let result = write(&path).and_then(|()| {
+        if replace {
+            std::fs::rename(&path, out).map_err(|e| Error::io(out, e))
+        } else if rename_no_replace(&path, out)? {
+            Ok(())
+        } else {
+            Err(Error::invalid(
+                "--out",
+                out.display(),
+                "was written by another run meanwhile; pass --force to replace it",
+            ))
+        }
+    });
+    // Renamed: nothing left to remove; otherwise the temporary file goes with `tmp`.
+    if result.is_ok() {
+        let _ = tmp.keep();
+    }
+    unregister(&path);
+    result
+}
+
+/// Checks that the file `out` can be written: not a directory, in a folder that exists, and
+/// absent unless `replace`.
+///
+/// # Errors
+/// [`Error::Invalid`] naming `--out`.
+pub fn check_output_file(out: &Path, replace: bool) -> Result<()> {
+    if out.is_dir() {
+        return Err(Error::invalid(
+            "--out",
+            out.display(),
+            "is a directory; name a file",
+        ));
+    }
+    let parent = match out.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if !parent.is_dir() {
+        return Err(Error::invalid(
+            "--out",
+            out.display(),
+            "its folder does not exist",
+        ));
+    }
+    if out.exists() && !replace {
+        return Err(Error::invalid(
+            "--out",
+            out.display(),
+            "exists; pass --force to replace it",
+        ));
+    }
+    Ok(())
+}
+
+/// Checks that `out` can receive results: absent, an empty directory, or (with `replace`) a
+/// results directory that rvlife wrote (it holds the [`MARKER`] file). The current folder, a
+/// folder that holds it, and `.`/`..` are refused, as is a directory of other files: `--force`
+/// never deletes what rvlife did not write.
+///
+/// # Errors
+/// [`Error::Invalid`] naming `--out`.
+pub fn check_output_dir(out: &Path, replace: bool) -> Result<()> {
+    let last = out.components().next_back();
+    if matches!(
+        last,
+        None | Some(std::path::Component::CurDir)
+            | Some(std::path::Component::ParentDir)
+            | Some(std::path::Component::RootDir)
+            | Some(std::path::Component::Prefix(_))
+    ) {
+        return Err(Error::invalid(
+            "--out",
+            out.display(),
+            "names the current, a parent or the root folder; name a results directory",
+        ));
+    }
+    if out.exists() {
+        if !out.is_dir() {
+            return Err(Error::invalid(
+                "--out",
+                out.display(),
+                "exists and is not a directory",
+            ));
+        }
+        if let (Ok(target), Ok(here)) = (out.canonicalize(), std::env::current_dir()) {
+            if here.starts_with(&target) {
+                return Err(Error::invalid(
+                    "--out",
+                    out.display(),
+                    "is the current folder or holds it; name a results directory",
+                ));
+            }
+        }
+        let empty = std::fs::read_dir(out)
+            .map_err(|e| Error::io(out, e))?
+            .next()
+            .is_none();
+        if !empty {
+            if !replace {
+                return Err(Error::invalid(
+                    "--out",
+                    out.display(),
+                    "exists and is not empty; pass --force to replace results of rvlife",
+                ));
+            }
+            if !out.join(MARKER).is_file() {
+                return Err(Error::invalid(
+                    "--out",
+                    out.display(),
+                    format!(
+                        "is not a results directory of rvlife (it has no {MARKER} file); \
+                         --force replaces only those, so this directory is left as it is: \
+                         choose another"
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
