@@ -406,6 +406,34 @@ fn merge(py: Python<'_>, dirs: Vec<PathBuf>, out: PathBuf, force: bool) -> PyRes
 }
 
 /// The rvlife version.
+/// The table of stage quantities (`rvlife::quantities::STAGE`, the order of `summary.json` and
+/// `stages.csv`): per quantity its name (with its unit), unit, label, description, the models
+/// that produce it (`static`, `dynamics`, `flexible`) and its CSV columns.
+/// One quantity for Python: name, unit, label, description, models, CSV columns.
+type QuantityRow = (
+    &'static str,
+    &'static str,
+    &'static str,
+    &'static str,
+    &'static str,
+    Vec<&'static str>,
+);
+
+#[pyfunction]
+fn quantities() -> Vec<QuantityRow> {
+    rvlife::quantities::STAGE
+        .iter()
+        .map(|q| {
+            let models = match q.models {
+                rvlife::quantities::Models::Static => "static",
+                rvlife::quantities::Models::Dynamics => "dynamics",
+                rvlife::quantities::Models::Flexible => "flexible",
+            };
+            (q.name, q.unit, q.label, q.description, models, q.columns())
+        })
+        .collect()
+}
+
 #[pyfunction]
 fn version() -> &'static str {
     env!("CARGO_PKG_VERSION")
@@ -426,6 +454,7 @@ fn _rvlife(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run_study, m)?)?;
     m.add_function(wrap_pyfunction!(montecarlo, m)?)?;
     m.add_function(wrap_pyfunction!(merge, m)?)?;
+    m.add_function(wrap_pyfunction!(quantities, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
     Ok(())
 }

@@ -200,13 +200,42 @@ def test_study_equals_cli_summary(tmp):
     assert list(df["hours"]) == [0.0, 250.0, 500.0]
 
 
+def test_every_quantity_of_the_table_is_a_study_attribute_and_column(tmp):
+    """The library's table of stage quantities is what the study exposes: every quantity an
+    attribute (numpy array over the stages, equal to summary.json's values) and its columns
+    those of stages.csv, with the dynamics' and the flexible disc's quantities present when
+    they run."""
+    cfg = write(tmp, "full.toml", short_text(dynamics=True, fem=True))
+    out = tmp / "full"
+    r = rvlife.run_study(rvlife.Config.from_file(cfg), out=out)
+    qs = rvlife.quantities()
+    assert len(qs) >= 30 and len({q.name for q in qs}) == len(qs)
+    header = (out / "stages.csv").read_text().splitlines()[0].split(",")
+    assert header == [c for q in qs for c in q.columns]
+    df = r.to_pandas()
+    assert list(df.columns) == header
+    for q in qs:
+        v = getattr(r, q.name)
+        assert isinstance(v, np.ndarray) and len(v) == 3, q.name
+        assert q.name in dir(r)
+        if len(q.columns) == 1:
+            expected = [s[q.name] for s in r.stages]
+            assert np.allclose(v, expected, rtol=0, atol=0), q.name
+            assert np.allclose(df[q.name].to_numpy(), expected, rtol=0, atol=5e-7 * max(1.0, np.max(np.abs(expected)))), q.name
+        assert q.unit in ("", "h", "um", "arcmin", "N", "MPa", "N m/arcmin"), q.unit
+        assert q.models in ("static", "dynamics", "flexible")
+
+
 def test_solves_release_the_gil():
     """While `te` runs in a thread, the main thread keeps running Python."""
     done = threading.Event()
     result = {}
 
     def work():
-        result["te"] = rvlife.te(wear_um=10.0)
+        # Solves for long enough that the main thread's loop can be counted (one `te` takes a
+        # few milliseconds on a fast machine).
+        for _ in range(30):
+            result["te"] = rvlife.te(wear_um=10.0)
         done.set()
 
     t = threading.Thread(target=work)

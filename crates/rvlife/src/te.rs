@@ -591,7 +591,7 @@ fn revolution_with(sa: &StaticAnalysis, samples: usize, polish: bool) -> Result<
         ..red.clone()
     };
     let sa0 = sa.for_reducer(&nominal)?;
-    let reach = errors.gap_bound(red);
+    let reach = red.error_gap_bound();
     let tables: Vec<[Vec<TouchingPin>; 2]> = phis
         .par_iter()
         .map(|&phi| {
@@ -601,7 +601,7 @@ fn revolution_with(sa: &StaticAnalysis, samples: usize, polish: bool) -> Result<
             ])
         })
         .collect::<Result<_>>()?;
-    let dp: Vec<Vec2> = (0..zp).map(|j| errors.pin_displacement(red, j)).collect();
+    let dp: Vec<Vec2> = (0..zp).map(|j| red.pin_displacement(j)).collect();
     let dr: Vec<f64> = (0..zp).map(|j| errors.pin_radius_error(j)).collect();
     let discs = match red.support {
         Support::Bearings => red.discs(),
@@ -615,7 +615,7 @@ fn revolution_with(sa: &StaticAnalysis, samples: usize, polish: bool) -> Result<
             let rot = Rotation2::new(c as f64 * period);
             let carrier = red.input_angle_for_crank(phi) / red.ratio;
             let corr: Vec<(Vec2, f64)> = (0..discs)
-                .map(|d| errors.disc_correction(red, phi + red.phase(d), carrier))
+                .map(|d| red.disc_correction(phi + red.phase(d), carrier))
                 .collect();
             let twist = |t: &TouchingPin| {
                 let j = (t.pin + c) % zp;

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import functools
 import json
+import math
 import os
 import tempfile
 from dataclasses import dataclass
@@ -43,6 +44,8 @@ __all__ = [
     "HysteresisResult",
     "DynamicsResult",
     "StudyResult",
+    "Quantity",
+    "quantities",
     "MonteCarloResult",
     "MonteCarlo",
     "example",
@@ -240,18 +243,69 @@ class DynamicsResult(Result):
         return self._frame(s)
 
 
+@dataclass(frozen=True)
+class Quantity:
+    """One quantity of a study's stages, as the library's table declares it: ``name`` (with its
+    unit, the key of ``summary.json``), ``unit``, ``label``, ``description``, ``models`` (the
+    model that produces it: ``static``, ``dynamics`` or ``flexible``) and ``columns`` (its
+    ``stages.csv`` columns: the name, or two for a smallest-largest pair)."""
+
+    name: str
+    unit: str
+    label: str
+    description: str
+    models: str
+    columns: tuple
+
+
+def quantities() -> List[Quantity]:
+    """Every quantity of a study's stages, in the order of ``summary.json`` and ``stages.csv``
+    (the library's table: ``rvlife run --all`` prints them all)."""
+    return [Quantity(n, u, l, d, m, tuple(c)) for (n, u, l, d, m, c) in _rvlife.quantities()]
+
+
 class StudyResult(Result):
     """The accuracy-life study (``summary.json`` of ``rvlife run``): ``stages`` (one dict per
     stage), ``paper_comparison``, ``accuracy_life``, ...; ``out`` is the results directory when
-    one was written."""
+    one was written. Every stage quantity of :func:`quantities` is also an attribute, a numpy
+    array over the stages (``study.lost_motion_arcmin``; NaN where its model did not run; a
+    smallest-largest pair as an array of pairs)."""
 
     out: Optional[Path] = None
 
+    def __getattr__(self, name: str) -> Any:
+        try:
+            return self.__dict__["data"][name]
+        except KeyError:
+            pass
+        if any(q.name == name for q in quantities()):
+            values = [s.get(name, math.nan) for s in self.__dict__["data"]["stages"]]
+            return np.array([v if v is not None else math.nan for v in values], dtype=float)
+        raise AttributeError(name)
+
+    def __dir__(self) -> List[str]:
+        return sorted(set(super().__dir__()) | {q.name for q in quantities()})
+
     def to_pandas(self):
-        """The stage table (``stages.csv``): one row per stage."""
+        """The stage table (``stages.csv``): one row per stage, a column per column of every
+        quantity of :func:`quantities` (empty where its model did not run)."""
         stages = self.data["stages"]
-        keys = list(stages[0]) if stages else []
-        return self._frame({k: [s.get(k) for s in stages] for k in keys})
+        cols: Dict[str, list] = {}
+        for q in quantities():
+            for i, c in enumerate(q.columns):
+                cols[c] = [
+                    _column_value(s.get(q.name), i, len(q.columns)) for s in stages
+                ]
+        return self._frame(cols)
+
+
+def _column_value(v: Any, i: int, n: int) -> float:
+    """Column ``i`` of ``n`` of a quantity's value (NaN when absent)."""
+    if v is None:
+        return math.nan
+    if n > 1:
+        return float(v[i])
+    return float(v)
 
 
 class MonteCarloResult(Result):

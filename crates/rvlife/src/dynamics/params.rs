@@ -7,6 +7,7 @@
 //! pressure angle 30 degrees), and stiffnesses of typical RV-40E-class components (stated with
 //! each key).
 
+use crate::contact::gap::GapField;
 use crate::contact::ContactModel;
 use crate::geometry::{Profile, Vec2};
 use crate::reducer::Reducer;
@@ -204,8 +205,8 @@ impl DynamicsParams {
     ///
     /// # Errors
     /// As [`GapField::new`].
-    pub fn gap_field(&self, profile: &Profile) -> crate::error::Result<super::GapField> {
-        super::GapField::new(profile, self.gap_points, Some(self.reducer.contact_band()))
+    pub fn gap_field(&self, profile: &Profile) -> crate::error::Result<GapField> {
+        GapField::new(profile, self.gap_points, Some(self.reducer.contact_band()))
     }
 }
 

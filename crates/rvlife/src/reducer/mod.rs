@@ -29,7 +29,8 @@ use std::f64::consts::PI;
 use nalgebra::UnitComplex;
 
 use crate::contact::ContactModel;
-use crate::geometry::{rotate, CycloidGeometry, Vec2};
+use crate::geometry::{cross, rotate, CycloidGeometry, Vec2};
+use errors::at;
 
 /// `J v`: `v` turned by +90 degrees.
 #[inline]
@@ -260,6 +261,72 @@ impl Reducer {
     /// turns the cranks when the output twists with the input locked).
     pub fn equivalent_disc_torque(&self, torque: f64) -> f64 {
         self.disc_share() * torque * self.twist_factor()
+    }
+
+    /// Displacement of pin `j`'s centre from its nominal position by the part errors, fixed
+    /// frame, m: radial and tangential errors along the pin's own directions plus the pin
+    /// circle's offset (docs/model.md section 10).
+    pub fn pin_displacement(&self, j: usize) -> Vec2 {
+        let g = std::f64::consts::TAU * j as f64 / self.geometry.pins as f64;
+        let (er, et) = (Vec2::new(g.cos(), g.sin()), Vec2::new(-g.sin(), g.cos()));
+        let err = &self.errors;
+        er * at(&err.pin_radial, j) + et * at(&err.pin_tangential, j) + err.pin_circle_offset
+    }
+
+    /// Rigid-body correction of a disc's pose from the crank errors (docs/model.md section 10): translation (m, fixed
+    /// frame) and rotation (rad), for the disc's eccentric direction `alpha` (rad, fixed frame)
+    /// and the carrier angle `carrier` (rad). Least-squares fit of the bores' displacements
+    /// (module documentation). Zero without crank errors.
+    pub fn disc_correction(&self, alpha: f64, carrier: f64) -> (Vec2, f64) {
+        let err = &self.errors;
+        if !err.has_crank_errors() || self.cranks == 0 {
+            return (Vec2::zeros(), 0.0);
+        }
+        let e = self.geometry.eccentricity;
+        let n = self.cranks;
+        let v: Vec<Vec2> = (0..n)
+            .map(|k| {
+                let (de, dp) = (at(&err.crank_eccentricity, k), at(&err.crank_phase, k));
+                let a1 = alpha + dp;
+                // (e + de) u(alpha + dp) - e u(alpha), without cancellation for small dp.
+                let half = 0.5 * dp;
+                let chord = Vec2::new(
+                    -(alpha + half).sin() * 2.0 * half.sin(),
+                    (alpha + half).cos() * 2.0 * half.sin(),
+                );
+                chord * e + Vec2::new(a1.cos(), a1.sin()) * de
+            })
+            .collect();
+        let mean = v.iter().fold(Vec2::zeros(), |s, x| s + x) / n as f64;
+        let bores: Vec<Vec2> = (0..n).map(|k| rotate(&self.seat(k), carrier)).collect();
+        let centroid = bores.iter().fold(Vec2::zeros(), |s, b| s + b) / n as f64;
+        let (mut num, mut den) = (0.0, 0.0);
+        for (b, vk) in bores.iter().zip(&v) {
+            let r = b - centroid;
+            num += cross(&r, &(vk - mean));
+            den += r.norm_squared();
+        }
+        let rot = if den > 0.0 { num / den } else { 0.0 };
+        (mean, rot)
+    }
+
+    /// An upper bound (m) of how much the part errors change any pin's gap at any pose, to first
+    /// order: the largest pin displacement and radius error, plus the largest disc translation
+    /// and the rotation's effect at the pin circle (`|v_k| <= |de_k| + e |dphi_k|`; the fitted
+    /// rotation is at most `2 max |v_k| / R_c`), with a factor 1.5 of margin.
+    pub fn error_gap_bound(&self) -> f64 {
+        let err = &self.errors;
+        let amax = |v: &[f64]| v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        let pins = (0..self.geometry.pins)
+            .map(|j| self.pin_displacement(j).norm())
+            .fold(0.0_f64, f64::max);
+        let e = self.geometry.eccentricity;
+        let v = (0..self.cranks)
+            .map(|k| at(&err.crank_eccentricity, k).abs() + e * at(&err.crank_phase, k).abs())
+            .fold(0.0_f64, f64::max);
+        let rc = self.crank_circle_radius.max(1e-12);
+        let rp = self.geometry.pin_circle_radius + self.geometry.pin_radius;
+        1.5 * (pins + amax(&err.pin_radius) + v * (1.0 + 2.0 * rp / rc))
     }
 
     /// Crank angle speed ratio of the locked-input mode: `d vartheta / d theta_o = 1 + Z1/Z2`.

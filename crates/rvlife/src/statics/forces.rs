@@ -59,8 +59,7 @@ impl<'a> StaticAnalysis<'a> {
         let i = lay.disc(d);
         let q0 = &fr.q0;
         let (dc, dpsi) = if self.red.errors.has_crank_errors() {
-            self.red.errors.disc_correction(
-                self.red,
+            self.red.disc_correction(
                 self.red.eccentric_angle(q0, z) + self.red.phase(d),
                 q0[Layout::OUT] + z[Layout::OUT],
             )
@@ -84,7 +83,7 @@ impl<'a> StaticAnalysis<'a> {
                 let ang = phi + ratio * psi;
                 let c = Vec2::new(ang.cos(), ang.sin()) * geo.eccentricity;
                 let carrier = self.red.input_angle_for_crank(phi) / self.red.ratio + psi;
-                let (dc, dpsi) = self.red.errors.disc_correction(self.red, ang, carrier);
+                let (dc, dpsi) = self.red.disc_correction(ang, carrier);
                 (
                     DiscPose {
                         crank_angle: phi,

@@ -390,7 +390,7 @@ fn pins_of(red: &Reducer) -> (Vec<Vec2>, Vec<f64>) {
     let zp = red.geometry.pins;
     (
         (0..zp)
-            .map(|j| red.geometry.pin_centre(j) + red.errors.pin_displacement(red, j))
+            .map(|j| red.geometry.pin_centre(j) + red.pin_displacement(j))
             .collect(),
         (0..zp).map(|j| -red.errors.pin_radius_error(j)).collect(),
     )

@@ -1,0 +1,371 @@
+//! Reliability of the `rvlife` binary at the edges of the model: work beyond the budget, torques
+//! beyond the stage, non-physical modifications, horizons beyond the model and the validity
+//! limit, each refused or reported by the key the user wrote; every preset and edited stage
+//! runs.
+
+mod common;
+
+use common::*;
+
+/// The wear integration always advances: with an update step below the old 1e-9 h round-off
+/// margin (a huge Archard coefficient over 2e-9 h) it used to loop for ever.
+#[test]
+fn wear_integration_advances_below_the_old_hour_margin() {
+    let t = set_key(
+        &fast_text(),
+        "wear",
+        "archard_coefficient_mm3_per_n_m",
+        "1e3",
+    );
+    let (_d, o) = run_config(&t, &["te", "--hours", "2e-9", "--json"]);
+    let v: Value = serde_json::from_str(&ok(&o, "te --hours 2e-9")).unwrap();
+    assert!(num(&v, "max_wear_um") > 0.0, "{v}");
+    assert_all_finite(&v, "te");
+}
+
+/// Configs whose work exceeds the budget are refused before the work, naming the key that
+/// drives it and the estimate: 10 000 load levels; a wear step of 0.01 um at ten times the
+/// example's wear rate; a duty cycle of 200 000 distinct rows.
+#[test]
+fn work_beyond_the_budget_is_refused_by_its_key() {
+    let t = replace_table(
+        &fast_text(),
+        "load",
+        "kind = \"sinusoidal\"\namplitude_nm = 412.0\nlevels = 10000",
+    );
+    let (_d, o) = run_config(&t, &["te"]);
+    assert_input_error(
+        &o,
+        "load.levels",
+        &["load.levels", "contact solves", "budget"],
+    );
+    let t = set_key(&fast_text(), "wear", "max_wear_step_um", "0.01");
+    let t = set_key(&t, "wear", "archard_coefficient_mm3_per_n_m", "6.8e-8");
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "c.toml", &t);
+    let (out, o) = run_study(dir.path(), &cfg);
+    assert_input_error(
+        &o,
+        "max_wear_step_um",
+        &["wear.max_wear_step_um", "profile updates", "budget"],
+    );
+    assert!(!out.exists());
+    assert_eq!(leftover_tmp_dirs(dir.path()), Vec::<String>::new());
+    let mut csv = String::from("duration_s,torque_nm,speed_rpm\n");
+    for i in 0..200_000 {
+        csv.push_str(&format!("1,{},1500\n", 100.0 + i as f64 * 1e-3));
+    }
+    std::fs::write(dir.path().join("dc.csv"), csv).unwrap();
+    let t = replace_table(
+        &fast_text(),
+        "load",
+        "kind = \"duty_cycle\"\nfile = \"dc.csv\"",
+    );
+    let cfg = write_config(dir.path(), "dc.toml", &t);
+    let o = rvlife_within(120, ["te".as_ref(), cfg.as_os_str()]);
+    assert_input_error(
+        &o,
+        "duty cycle rows",
+        &["load.file", "200000 levels", "budget"],
+    );
+}
+
+/// Torques the unworn stage cannot carry are refused before any analysis (exit 2, not a
+/// solver failure), naming the key and the torque the stage does carry: a wear load of 1e12
+/// and of 12 700 N m, a dynamic amplitude of 5e5 N m, `--torque-nm 1e30`, and an eccentricity
+/// so small (0.014-0.033 mm) that the rated torque is beyond the stage.
+#[test]
+fn torques_beyond_the_stage_are_refused_by_their_key() {
+    for (torque, why) in [
+        ("1e12", "static analysis"),
+        ("12700", "twist beyond first contact"),
+    ] {
+        let t = set_key(&fast_text(), "load", "torque_nm", torque);
+        let (_d, o) = run_config(&t, &["te", "--hours", "100"]);
+        assert_input_error(&o, torque, &["load.torque_nm", why, "carries at most"]);
+    }
+    let t = set_key(&fast_text(), "dynamics.load", "amplitude_nm", "5e5");
+    let (_d, o) = run_config(&t, &["dynamics"]);
+    assert_input_error(
+        &o,
+        "amplitude",
+        &["dynamics.load.amplitude_nm", "carries at most"],
+    );
+    let o = rvlife_within(60, ["te", "--torque-nm", "1e30"]);
+    assert_input_error(&o, "--torque-nm", &["--torque-nm", "carries at most"]);
+    let o = rvlife_within(60, ["contact", "--crank-deg", "0", "--torque-nm", "-1e30"]);
+    assert_input_error(&o, "contact --torque-nm", &["--torque-nm", "clockwise"]);
+    // Disc bearings a hundred times softer: the disc would move by most of the eccentricity
+    // under the rated torque (the load steps ran for hours, advancing by ever smaller steps).
+    let t = set_key(
+        &fast_text(),
+        "reducer.bearings",
+        "crank_disc_stiffness_n_per_um",
+        "5",
+    );
+    let (_d, o) = run_config(&t, &["contact", "--crank-deg", "0", "--torque-nm", "100"]);
+    assert_input_error(
+        &o,
+        "soft bearings",
+        &["reducer.rated_torque_nm", "carries at most"],
+    );
+    for e in ["0.014", "0.033", "0.13"] {
+        let t = set_key(&fast_text(), "cycloid", "eccentricity_mm", e);
+        let (_d, o) = run_config(&t, &["te"]);
+        assert_input_error(
+            &o,
+            e,
+            &["reducer.rated_torque_nm", "carries at most", "[cycloid]"],
+        );
+    }
+}
+
+/// Modifications that take the flank out of mesh or into the pins are refused by their key.
+#[test]
+fn non_physical_modifications_are_refused_by_their_key() {
+    for (key, value, words) in [
+        ("offset_mm", "2.75", "no pin stops"),
+        ("equidistant_mm", "-1", "interferes"),
+        ("offset_mm", "-2.75", "contact geometry"),
+        ("rotation_deg", "-2e8", "30 arcmin"),
+        ("rotation_deg", "1e300", "30 arcmin"),
+    ] {
+        let t = set_key(&fast_text(), "cycloid.modification", key, value);
+        let (_d, o) = run_config(&t, &["te"]);
+        assert_input_error(&o, key, &[&format!("cycloid.modification.{key}"), words]);
+    }
+}
+
+/// Long horizons, deep targets and options that set keys: `--hours 1e12`, `calibrate
+/// --target-wear-um 1e9`, `--wear-um 1e9` and `dynamics --torque-nm 1e5` are refused by their
+/// option (exit 2), not by a solver after minutes or by the key the option sets.
+#[test]
+fn horizons_and_targets_beyond_the_model_are_refused() {
+    let o = rvlife_within(60, ["te", "--hours", "1e12"]);
+    assert_input_error(&o, "--hours", &["--hours", "1e7"]);
+    let o = rvlife_within(60, ["calibrate", "--target-wear-um", "1e9"]);
+    assert_input_error(&o, "target", &["--target-wear-um", "tooth height"]);
+    let o = rvlife_within(60, ["te", "--wear-um", "1e9"]);
+    assert_input_error(&o, "--wear-um", &["invalid --wear-um", "folds"]);
+    // An option that sets a key is named as the option.
+    let o = rvlife_within(60, ["dynamics", "--load", "constant", "--torque-nm", "1e5"]);
+    assert_input_error(
+        &o,
+        "dynamics --torque-nm",
+        &["invalid --torque-nm", "carries at most"],
+    );
+}
+
+/// Errors blame the key the user wrote: lengths out of the physical range name themselves
+/// (not the contact stiffness of the dynamics); `calibrate` over a zero-hour study names
+/// `wear.stage_hours`; a default the file does not set is named as a default, with the key it
+/// depends on.
+#[test]
+fn errors_blame_the_key_the_user_wrote() {
+    for (table, key, value) in [
+        ("cycloid", "pin_circle_radius_mm", "1e308"),
+        ("cycloid", "width_mm", "1e-12"),
+        ("reducer", "rated_torque_nm", "1e300"),
+        ("reducer", "rated_torque_nm", "1e-12"),
+    ] {
+        let t = set_key(&fast_text(), table, key, value);
+        let (_d, o) = run_config(&t, &["te"]);
+        let what = format!("{table}.{key}");
+        assert_input_error(&o, &what, &[&format!("invalid {what} = ")]);
+        assert!(!stderr(&o).contains("dynamics.impact"), "{}", stderr(&o));
+        assert!(stderr(&o).len() < 400, "{}", stderr(&o));
+    }
+    let t = set_key(&fast_text(), "wear", "stage_hours", "[0.0]");
+    let (_d, o) = run_config(&t, &["calibrate"]);
+    assert_input_error(&o, "stage_hours", &["wear.stage_hours", "0 h"]);
+    // The bore default (2 x dynamics.inertia.crank_bore_radius_mm) cuts the teeth.
+    let t = add_line(
+        &example_text(),
+        "dynamics.inertia",
+        "crank_bore_radius_mm = 19.0",
+    );
+    let (_d, o) = run_config(&t, &["te"]);
+    assert_input_error(
+        &o,
+        "default bore",
+        &[
+            "fem.crank_bore_diameter_mm (not in your file",
+            "dynamics.inertia.crank_bore_radius_mm",
+        ],
+    );
+}
+
+/// Duty-cycle durations that would overflow their sum are refused by row; long but finite ones
+/// keep their shares (the old sum became infinite, every weight 0, and the study reported no
+/// wear with exit 0).
+#[test]
+fn duty_cycle_durations_cannot_overflow() {
+    let dir = tempfile::tempdir().unwrap();
+    let t = replace_table(
+        &fast_text(),
+        "load",
+        "kind = \"duty_cycle\"\nfile = \"dc.csv\"",
+    );
+    let t = set_key(&t, "wear", "stage_hours", "[0.0, 500.0]");
+    let cfg = write_config(dir.path(), "c.toml", &t);
+    std::fs::write(
+        dir.path().join("dc.csv"),
+        "duration_s,torque_nm,speed_rpm\n1e308,412,1500\n1e308,-412,1500\n",
+    )
+    .unwrap();
+    let o = rvlife_within(60, ["te".as_ref(), cfg.as_os_str()]);
+    assert_input_error(&o, "1e308", &["row 1 column duration_s", "1e12"]);
+    std::fs::write(
+        dir.path().join("dc.csv"),
+        "duration_s,torque_nm,speed_rpm\n1e12,412,1500\n1e12,412,1500\n1e12,-412,1500\n",
+    )
+    .unwrap();
+    let (out, o) = run_study(dir.path(), &cfg);
+    ok(&o, "run with 1e12 s rows");
+    let s: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let wear = num(&s["stages"][1], "max_wear_um");
+    assert!(wear > 1.0, "no wear from a finite duty cycle: {wear}");
+}
+
+/// A study past the model's validity reports the stages before it, says where and why it
+/// stopped, and exits 0 (it exited 1 with no result).
+#[test]
+fn study_stops_at_the_validity_limit_with_the_stages_before_it() {
+    let t = set_key(
+        &fast_text(),
+        "wear",
+        "archard_coefficient_mm3_per_n_m",
+        "3.4e-7",
+    );
+    let t = set_key(&t, "wear", "max_wear_step_um", "20.0");
+    let t = set_key(
+        &t,
+        "wear",
+        "stage_hours",
+        "[0.0, 2000.0, 4000.0, 6000.0, 8000.0, 10000.0]",
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "c.toml", &t);
+    let (out, o) = run_study(dir.path(), &cfg);
+    let text = ok(&o, "run past validity");
+    assert!(text.contains("leaves its validity at"), "{text}");
+    let s: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let lim = &s["validity_limit"];
+    let stages = s["stages"].as_array().unwrap();
+    assert!(!stages.is_empty() && stages.len() < 6, "{}", stages.len());
+    let last = num(stages.last().unwrap(), "hours");
+    let at = num(lim, "hours");
+    assert!(
+        at > last && at <= 10000.0,
+        "limit {at} h, last stage {last} h"
+    );
+    assert!(
+        num(lim, "max_wear_um") > 0.0 && lim["reason"].is_string(),
+        "{lim}"
+    );
+    assert_all_finite(&s["stages"], "stages");
+    // The wear-only command says the same by its option.
+    let o = rvlife_within(
+        120,
+        [
+            "te".as_ref(),
+            cfg.as_os_str(),
+            "--hours".as_ref(),
+            "9000".as_ref(),
+        ],
+    );
+    assert_input_error(&o, "--hours past validity", &["--hours", "validity"]);
+}
+
+/// A user's own reducer: with only `[cycloid]` of the example edited (a Zp 30 stage, and Zp
+/// 20 and 60 stages), the sizes outside it (crank circle, crank bores, pillar and centre
+/// holes) default from the stage, and `te`, `contact` and `hysteresis` run; the Zp 30 stage
+/// runs the whole study, dynamics and flexible disc included. Before, `te` failed on the crank
+/// bores of the disabled-or-not `[dynamics]` section.
+#[test]
+fn a_reducer_with_only_cycloid_edited_runs() {
+    let stages = [
+        stage_text(30, 1.2, 50.0, 4.0, 10.0),
+        stage_text(20, 1.5, 50.0, 5.0, 10.0),
+        stage_text(60, 0.6, 60.0, 2.5, 10.0),
+    ];
+    for (i, t) in stages.iter().enumerate() {
+        for args in [
+            &["te", "--json"][..],
+            &[
+                "contact",
+                "--crank-deg",
+                "3",
+                "--torque-nm",
+                "200",
+                "--json",
+            ][..],
+            &["hysteresis", "--json"][..],
+        ] {
+            let (_d, o) = run_config(t, args);
+            let v: Value = serde_json::from_str(&ok(&o, &format!("stage {i}: {args:?}"))).unwrap();
+            assert_all_finite(&v, args[0]);
+        }
+    }
+    let t = short_dynamics(&set_key(&stages[0], "wear", "stage_hours", "[0.0, 1250.0]"));
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "c.toml", &t);
+    let (out, o) = run_study(dir.path(), &cfg);
+    ok(&o, "Zp 30 study");
+    let s: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_all_finite(&s, "summary");
+    let last = &s["stages"][1];
+    assert!(num(last, "max_wear_um") > 0.0 && last.get("dte_mean_arcmin").is_some());
+    assert!(last.get("flexible_ste_mean_arcmin").is_some(), "{last}");
+}
+
+/// A command checks only what it uses: a bad value in a disabled `[dynamics]` does not stop
+/// `te`, and the `dynamics` command, which uses the section, names it.
+#[test]
+fn commands_check_only_the_sections_they_use() {
+    let t = set_key(&fast_text(), "dynamics", "end_time_s", "-1.0");
+    let (_d, o) = run_config(&t, &["te"]);
+    ok(&o, "te with a bad, disabled [dynamics]");
+    let (_d, o) = run_config(&t, &["dynamics"]);
+    assert_input_error(&o, "dynamics command", &["dynamics.end_time_s"]);
+    let t = set_key(&fast_text(), "fem", "flank_element_size_mm", "0.001");
+    let (_d, o) = run_config(&t, &["contact", "--crank-deg", "0", "--torque-nm", "100"]);
+    ok(&o, "contact with a bad, disabled [fem]");
+}
+
+/// Every built-in reducer (`rvlife example --list`) prints a config that runs `te` and
+/// `hysteresis`; the classes rank by stiffness as by size (RV-20E < RV-40E < RV-80E).
+#[test]
+fn every_preset_runs_te_and_hysteresis() {
+    let list = ok(&rvlife(["example", "--list"]), "example --list");
+    let names: Vec<&str> = list
+        .lines()
+        .filter_map(|l| l.split_whitespace().next())
+        .collect();
+    assert_eq!(
+        names,
+        ["paper", "rv-20e", "rv-40e", "rv-80e", "single-stage"],
+        "{list}"
+    );
+    let mut stiffness = BTreeMap::new();
+    for name in &names {
+        let text = ok(&rvlife(["example", "--preset", name]), name);
+        let (_d, o) = run_config(&text, &["te", "--json"]);
+        let v: Value = serde_json::from_str(&ok(&o, &format!("{name} te"))).unwrap();
+        assert_all_finite(&v, name);
+        let (_d, o) = run_config(&text, &["hysteresis", "--json"]);
+        let v: Value = serde_json::from_str(&ok(&o, &format!("{name} hysteresis"))).unwrap();
+        assert_all_finite(&v, name);
+        stiffness.insert(
+            name.to_string(),
+            num(&v, "torsional_stiffness_nm_per_arcmin"),
+        );
+    }
+    assert!(stiffness["rv-20e"] < stiffness["rv-40e"] && stiffness["rv-40e"] < stiffness["rv-80e"]);
+    assert_eq!(stiffness["paper"], stiffness["rv-40e"]);
+    let o = rvlife(["example", "--preset", "rv-1000e"]);
+    assert_input_error(&o, "unknown preset", &["--preset", "rv-20e"]);
+}
