@@ -268,6 +268,17 @@ fn print_montecarlo(model: &Model, records: &[rvlife::montecarlo::SampleRecord])
     }
 }
 
+/// The JSON value of a result (an object's keys sorted, as `--json` prints it).
+fn to_json<T: serde::Serialize>(v: &T) -> Result<Value> {
+    serde_json::to_value(v).map_err(|e| rvlife::Error::numerical("json", e.to_string()))
+}
+
+/// Prints a result as one line of JSON (`--json`).
+fn print_json<T: serde::Serialize>(v: &T) -> Result<()> {
+    println!("{}", to_json(v)?);
+    Ok(())
+}
+
 /// The validated model; a measured profile's fit is reported on stderr.
 fn validated(cfg: &Config) -> Result<Model> {
     let model = rvlife::api::validated(cfg)?;
@@ -501,44 +512,42 @@ fn run(cli: Cli) -> Result<()> {
                 &progress_to(&pb),
             );
             pb.finish_and_clear();
-            let v = v?;
+            let r = v?;
             if json {
-                println!("{v}");
+                print_json(&r)?;
             } else {
-                let f = |v: &Value, k: &str| v[k].as_f64().unwrap_or(f64::NAN);
                 println!(
                     "crank {crank_deg} deg, output torque {torque_nm} N m ({} support): twist {:.5} arcmin (first contact {:.5}), max force {:.1} N, max pressure {:.1} MPa, residual {:.1e}",
-                    v["support"].as_str().unwrap_or(""),
-                    f(&v, "twist_arcmin"),
-                    f(&v, "first_contact_arcmin"),
-                    f(&v, "max_force_n"),
-                    f(&v, "max_pressure_mpa"),
-                    f(&v, "residual")
+                    r.support,
+                    r.twist_arcmin,
+                    r.first_contact_arcmin,
+                    r.max_force_n,
+                    r.max_pressure_mpa,
+                    r.residual
                 );
-                let discs = v["discs"].as_array().map_or(&[][..], |d| d.as_slice());
-                for (i, d) in discs.iter().enumerate() {
+                for (i, d) in r.discs.iter().enumerate() {
                     println!(
                         "disc {}: pin moment {:.2} N m, translation ({:.3}, {:.3}) um, {} pins in contact",
                         i + 1,
-                        f(d, "pin_moment_nm"),
-                        d["translation_um"][0].as_f64().unwrap_or(f64::NAN),
-                        d["translation_um"][1].as_f64().unwrap_or(f64::NAN),
-                        d["pins_in_contact"]
+                        d.pin_moment_nm,
+                        d.translation_um[0],
+                        d.translation_um[1],
+                        d.pins_in_contact
                     );
                     println!(
                         "{:>4} {:>10} {:>10} {:>10} {:>10} {:>10}",
                         "pin", "mesh_deg", "gap_um", "force_N", "b_um", "p0_MPa"
                     );
-                    let pins = d["pins"].as_array().map_or(&[][..], |p| p.as_slice());
-                    for p in pins.iter().filter(|p| f(p, "force_n") > 0.0) {
+                    for p in d.pins.iter().filter(|p| p.force_n > 0.0) {
+                        // The pin number unpadded, as the JSON value it once was printed from.
                         println!(
-                            "{:>4} {:>10.3} {:>10.4} {:>10.2} {:>10.3} {:>10.1}",
-                            p["pin"],
-                            f(p, "mesh_angle_deg"),
-                            f(p, "gap_um"),
-                            f(p, "force_n"),
-                            f(p, "half_width_um"),
-                            f(p, "max_pressure_mpa")
+                            "{} {:>10.3} {:>10.4} {:>10.2} {:>10.3} {:>10.1}",
+                            p.pin,
+                            p.mesh_angle_deg,
+                            p.gap_um,
+                            p.force_n,
+                            p.half_width_um,
+                            p.max_pressure_mpa
                         );
                     }
                 }
@@ -554,26 +563,24 @@ fn run(cli: Cli) -> Result<()> {
             let pb = busy("static TE");
             let v = rvlife::api::te(&model, wear.get(), torque_nm, Spelling::Cli, &|_, _| {});
             pb.finish_and_clear();
-            let v = v?;
+            let r = v?;
             if json {
-                println!("{v}");
+                print_json(&r)?;
             } else {
-                let f = |k: &str| v[k].as_f64().unwrap_or(f64::NAN);
                 println!(
                     "STE mean {:.5} arcmin, peak-to-peak {:.5} arcmin; angular TE {:.5} arcmin over an output revolution; backlash {:.5} arcmin (largest {:.5}); lost motion {:.5} arcmin (+-{:.1} N m)",
-                    f("te_mean_arcmin"),
-                    f("te_peak_to_peak_arcmin"),
-                    f("angular_te_arcmin"),
-                    f("backlash_arcmin"),
-                    f("backlash_max_arcmin"),
-                    f("lost_motion_arcmin"),
-                    f("measuring_torque_nm")
+                    r.te_mean_arcmin,
+                    r.te_peak_to_peak_arcmin,
+                    r.angular_te_arcmin,
+                    r.backlash_arcmin,
+                    r.backlash_max_arcmin,
+                    r.lost_motion_arcmin,
+                    r.measuring_torque_nm
                 );
-                if let Some(t) = torque_nm {
+                if let (Some(t), Some(l)) = (torque_nm, &r.loaded) {
                     println!(
                         "loaded TE at {t} N m: mean {:.5} arcmin, peak-to-peak {:.5} arcmin",
-                        f("loaded_te_mean_arcmin"),
-                        f("loaded_te_peak_to_peak_arcmin")
+                        l.loaded_te_mean_arcmin, l.loaded_te_peak_to_peak_arcmin
                     );
                 }
             }
@@ -596,33 +603,25 @@ fn run(cli: Cli) -> Result<()> {
                 &|_, _| {},
             );
             pb.finish_and_clear();
-            let v = v?;
+            let r = v?;
             if json {
-                println!("{v}");
+                print_json(&r)?;
             } else {
-                let f = |v: &Value, k: &str| v[k].as_f64().unwrap_or(f64::NAN);
-                let (a, b) = (&v["mesh_cycle_mean"], &v["at_crank_angle"]);
+                let (a, b) = (&r.mesh_cycle_mean, &r.at_crank_angle);
                 println!(
                     "mean over a mesh cycle: backlash {:.5} arcmin, lost motion {:.5} arcmin (+-{:.1} N m), hysteresis loss {:.5} arcmin, torsional stiffness {:.1} N m/arcmin (b/a)",
-                    f(a, "backlash_arcmin"),
-                    f(a, "lost_motion_arcmin"),
-                    f(&v, "measuring_torque_fraction") * f(&v, "rated_torque_nm"),
-                    f(a, "hysteresis_loss_arcmin"),
-                    f(a, "torsional_stiffness_nm_per_arcmin")
+                    a.backlash_arcmin,
+                    a.lost_motion_arcmin,
+                    r.measuring_torque_fraction * r.rated_torque_nm,
+                    a.hysteresis_loss_arcmin,
+                    a.torsional_stiffness_nm_per_arcmin
                 );
                 println!(
                     "at crank {crank_deg} deg: backlash {:.5} arcmin, lost motion {:.5} arcmin, torsional stiffness {:.1} N m/arcmin",
-                    f(b, "backlash_arcmin"),
-                    f(b, "lost_motion_arcmin"),
-                    f(b, "torsional_stiffness_nm_per_arcmin")
+                    b.backlash_arcmin, b.lost_motion_arcmin, b.torsional_stiffness_nm_per_arcmin
                 );
                 println!("{:>12} {:>14}", "torque_N_m", "twist_arcmin");
-                let col = |k: &str| -> Vec<f64> {
-                    a[k].as_array()
-                        .map(|x| x.iter().filter_map(Value::as_f64).collect())
-                        .unwrap_or_default()
-                };
-                for (t, x) in col("torque_nm").iter().zip(col("twist_arcmin")) {
+                for (t, x) in a.torque_nm.iter().zip(&a.twist_arcmin) {
                     println!("{t:>12.3} {x:>14.6}");
                 }
             }
@@ -654,7 +653,8 @@ fn run(cli: Cli) -> Result<()> {
             let res =
                 rvlife::api::dynamics(&model, wear.get(), pin_forces, Spelling::Cli, &|_, _| {});
             pb.finish_and_clear();
-            let (res, mut v) = res?;
+            let res = res?;
+            let mut v = to_json(&res.summary)?;
             let wall = start.elapsed().as_secs_f64();
             if let Some(staging) = staging {
                 staging.commit(|dir| rvlife::output::write_dynamics_files(&res, dir))?;

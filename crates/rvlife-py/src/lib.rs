@@ -139,12 +139,16 @@ fn toml_from_json(json: &str) -> PyResult<String> {
 
 /// Runs `f` (a command on the validated model, with the progress callback) without the GIL
 /// and returns its JSON result as Python objects ([`to_py`]).
-fn command<F>(py: Python<'_>, progress: Option<Py<PyAny>>, f: F) -> PyResult<Py<PyAny>>
+fn command<F, T>(py: Python<'_>, progress: Option<Py<PyAny>>, f: F) -> PyResult<Py<PyAny>>
 where
-    F: FnOnce(&(dyn Fn(usize, usize) + Sync)) -> rvlife::Result<Value> + Send,
+    F: FnOnce(&(dyn Fn(usize, usize) + Sync)) -> rvlife::Result<T> + Send,
+    T: serde::Serialize,
 {
     let p = progress_fn(progress);
-    let v = py.detach(|| f(&p).map_err(py_err))?;
+    let v = py.detach(|| {
+        let r = f(&p).map_err(py_err)?;
+        serde_json::to_value(&r).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+    })?;
     Ok(to_py(py, &v)?.unbind())
 }
 
@@ -259,7 +263,7 @@ fn dynamics(
             Some(dir) => Some(rvlife::output::Staging::prepare(dir, force).map_err(py_err)?),
             None => None,
         };
-        let (res, mut v) = rvlife::api::dynamics(
+        let res = rvlife::api::dynamics(
             &m,
             Wear { wear_um, hours },
             pin_forces,
@@ -267,6 +271,8 @@ fn dynamics(
             &p,
         )
         .map_err(py_err)?;
+        let mut v = serde_json::to_value(&res.summary)
+            .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
         if let Some(staging) = staging {
             staging
                 .commit(|dir| rvlife::output::write_dynamics_files(&res, dir))

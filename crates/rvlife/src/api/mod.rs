@@ -1,10 +1,15 @@
 //! The commands of rvlife as library calls: each takes a validated [`Model`] and the command's
-//! arguments and returns the JSON object the command line prints with `--json` (the Python
-//! package returns the same objects). Arguments are checked here, and an error names the
-//! argument as the caller spells it ([`Spelling`]: `--crank-deg` on the command line,
-//! `crank_deg` in Python).
+//! arguments and returns a typed, serialisable result ([`results`]), which the command line
+//! prints with `--json` (its JSON object, keys sorted) and the Python package returns as the
+//! same object. Arguments are checked here, and an error names the argument as the caller
+//! spells it ([`Spelling`]: `--crank-deg` on the command line, `crank_deg` in Python).
 
-use serde_json::{json, Value};
+mod results;
+
+pub use results::{
+    ContactDisc, ContactPin, ContactResult, HysteresisResult, LoadedTeResult, ProfilePoints,
+    TeResult, TwistCurve,
+};
 
 use crate::config::Model;
 use crate::error::{Error, Result};
@@ -187,59 +192,53 @@ pub fn contact(
     torque_nm: f64,
     spelling: Spelling,
     progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<Value> {
+) -> Result<ContactResult> {
     finite(spelling, "crank_deg", crank_deg)?;
     finite(spelling, "torque_nm", torque_nm)?;
     model.check_torque(&spelling.name("torque_nm"), torque_nm)?;
     let profile = profile_for(model, wear, false, spelling, progress)?;
     let sa = StaticAnalysis::new(&model.reducer, &profile)?;
     let sol = sa.solve(crank_deg.to_radians(), torque_nm)?;
-    let discs: Vec<_> = sol
+    let discs = sol
         .discs
         .iter()
-        .map(|d| {
-            let pins: Vec<_> = d
+        .map(|d| ContactDisc {
+            translation_um: [d.translation.x * 1e6, d.translation.y * 1e6],
+            rotation_arcmin: d.rotation * ARCMIN_PER_RAD,
+            pin_moment_nm: d.torque,
+            max_force_n: d.max_force(),
+            pins_in_contact: d.pins_in_contact(),
+            pin_forces_n: d.pins.iter().map(|p| p.force).collect(),
+            pins: d
                 .pins
                 .iter()
-                .map(|p| {
-                    json!({
-                        "pin": p.pin,
-                        "mesh_angle_deg": p.mesh_angle.to_degrees(),
-                        "gap_um": p.gap * 1e6,
-                        "force_n": p.force,
-                        "lever_arm_mm": p.lever_arm * 1e3,
-                        "half_width_um": p.half_width * 1e6,
-                        "max_pressure_mpa": p.max_pressure * 1e-6,
-                    })
+                .map(|p| ContactPin {
+                    pin: p.pin,
+                    mesh_angle_deg: p.mesh_angle.to_degrees(),
+                    gap_um: p.gap * 1e6,
+                    force_n: p.force,
+                    lever_arm_mm: p.lever_arm * 1e3,
+                    half_width_um: p.half_width * 1e6,
+                    max_pressure_mpa: p.max_pressure * 1e-6,
                 })
-                .collect();
-            json!({
-                "translation_um": [d.translation.x * 1e6, d.translation.y * 1e6],
-                "rotation_arcmin": d.rotation * ARCMIN_PER_RAD,
-                "pin_moment_nm": d.torque,
-                "max_force_n": d.max_force(),
-                "pins_in_contact": d.pins_in_contact(),
-                "pin_forces_n": d.pins.iter().map(|p| p.force).collect::<Vec<_>>(),
-                "pins": pins,
-            })
+                .collect(),
         })
         .collect();
-    let v = json!({
-        "crank_deg": crank_deg,
-        "torque_nm": torque_nm,
-        "support": support_name(model),
-        "twist_arcmin": sol.twist * ARCMIN_PER_RAD,
-        "first_contact_arcmin": sol.first_contact_twist * ARCMIN_PER_RAD,
-        "max_force_n": sol.max_force(),
-        "pins_in_contact": sol.pins_in_contact(),
-        "max_pressure_mpa": sol.max_pressure() * 1e-6,
-        "torsional_stiffness_nm_per_arcmin": sol.stiffness / ARCMIN_PER_RAD,
-        "residual": sol.residual,
-        "residual_roundoff_floor": sol.roundoff_floor,
-        "max_wear_um": profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
-        "discs": discs,
-    });
-    Ok(v)
+    Ok(ContactResult {
+        crank_deg,
+        torque_nm,
+        support: support_name(model),
+        twist_arcmin: sol.twist * ARCMIN_PER_RAD,
+        first_contact_arcmin: sol.first_contact_twist * ARCMIN_PER_RAD,
+        max_force_n: sol.max_force(),
+        pins_in_contact: sol.pins_in_contact(),
+        max_pressure_mpa: sol.max_pressure() * 1e-6,
+        torsional_stiffness_nm_per_arcmin: sol.stiffness / ARCMIN_PER_RAD,
+        residual: sol.residual,
+        residual_roundoff_floor: sol.roundoff_floor,
+        max_wear_um: profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
+        discs,
+    })
 }
 
 /// STE over a mesh cycle and an output revolution, backlash, lost motion and torsional
@@ -255,7 +254,7 @@ pub fn te(
     torque_nm: Option<f64>,
     spelling: Spelling,
     progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<Value> {
+) -> Result<TeResult> {
     if let Some(t) = torque_nm {
         finite(spelling, "torque_nm", t)?;
         model.check_torque(&spelling.name("torque_nm"), t)?;
@@ -295,39 +294,44 @@ pub fn te(
     } else {
         rev.play_stats().max
     };
-    let mut v = json!({
-        "max_wear_um": model.cycloid.wear_depth(&profile) * 1e6,
-        "angular_te_arcmin": rev.angular_te() * ARCMIN_PER_RAD,
-        "support": support_name(model),
-        "te_mean_arcmin": st.mean * ARCMIN_PER_RAD,
-        "te_peak_to_peak_arcmin": st.peak_to_peak * ARCMIN_PER_RAD,
-        "te_reverse_mean_arcmin": CurveStats::of(&ste.reverse).mean * ARCMIN_PER_RAD,
-        "backlash_arcmin": acc.backlash * ARCMIN_PER_RAD,
-        "backlash_max_arcmin": play_max * ARCMIN_PER_RAD,
-        "lost_motion_arcmin": acc.lost_motion * ARCMIN_PER_RAD,
-        "measuring_torque_nm": model.te.measuring_torque_fraction * model.rating.rated_torque,
-        "torsional_stiffness_nm_per_arcmin": acc.torsional_stiffness / ARCMIN_PER_RAD,
-        "samples_per_mesh_cycle": model.te.samples,
-    });
-    if let Some(t) = torque_nm {
-        let l = loaded_te_with(&sa, t, model.te.samples)?;
-        let ls = l.stats();
-        let (_, lte) = over_revolution(
-            &l.crank_angle,
-            &l.te,
-            model.cycloid.geometry.pins,
-            model.reducer.ratio,
-        );
-        v["torque_nm"] = json!(t);
-        v["loaded_te_mean_arcmin"] = json!(ls.mean * ARCMIN_PER_RAD);
-        v["loaded_te_peak_to_peak_arcmin"] = json!(ls.peak_to_peak * ARCMIN_PER_RAD);
-        v["max_force_n"] = json!(l.max_force());
-        v["pins_in_contact"] = json!(l.pins_in_contact().0);
-        v["loaded_te_arcmin"] = json!(lte.iter().map(|x| x * ARCMIN_PER_RAD).collect::<Vec<_>>());
-    }
-    v["input_deg"] = json!(input_deg);
-    v["te_arcmin"] = json!(te_arcmin);
-    Ok(v)
+    let loaded = match torque_nm {
+        Some(t) => {
+            let l = loaded_te_with(&sa, t, model.te.samples)?;
+            let ls = l.stats();
+            let (_, lte) = over_revolution(
+                &l.crank_angle,
+                &l.te,
+                model.cycloid.geometry.pins,
+                model.reducer.ratio,
+            );
+            Some(LoadedTeResult {
+                torque_nm: t,
+                loaded_te_mean_arcmin: ls.mean * ARCMIN_PER_RAD,
+                loaded_te_peak_to_peak_arcmin: ls.peak_to_peak * ARCMIN_PER_RAD,
+                max_force_n: l.max_force(),
+                pins_in_contact: l.pins_in_contact().0,
+                loaded_te_arcmin: lte.iter().map(|x| x * ARCMIN_PER_RAD).collect(),
+            })
+        }
+        None => None,
+    };
+    Ok(TeResult {
+        max_wear_um: model.cycloid.wear_depth(&profile) * 1e6,
+        angular_te_arcmin: rev.angular_te() * ARCMIN_PER_RAD,
+        support: support_name(model),
+        te_mean_arcmin: st.mean * ARCMIN_PER_RAD,
+        te_peak_to_peak_arcmin: st.peak_to_peak * ARCMIN_PER_RAD,
+        te_reverse_mean_arcmin: CurveStats::of(&ste.reverse).mean * ARCMIN_PER_RAD,
+        backlash_arcmin: acc.backlash * ARCMIN_PER_RAD,
+        backlash_max_arcmin: play_max * ARCMIN_PER_RAD,
+        lost_motion_arcmin: acc.lost_motion * ARCMIN_PER_RAD,
+        measuring_torque_nm: model.te.measuring_torque_fraction * model.rating.rated_torque,
+        torsional_stiffness_nm_per_arcmin: acc.torsional_stiffness / ARCMIN_PER_RAD,
+        samples_per_mesh_cycle: model.te.samples,
+        loaded,
+        input_deg,
+        te_arcmin,
+    })
 }
 
 /// The hysteresis curve (output torque 0 -> +rated -> -rated -> +rated in `levels` steps per
@@ -343,7 +347,7 @@ pub fn hysteresis_curve(
     levels: usize,
     spelling: Spelling,
     progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<Value> {
+) -> Result<HysteresisResult> {
     finite(spelling, "crank_deg", crank_deg)?;
     if !(1..=1000).contains(&levels) {
         return Err(Error::invalid(
@@ -368,39 +372,39 @@ pub fn hysteresis_curve(
     let at_crank = tables.pop().expect("the crank angle's table");
     // The mean over the mesh cycle only (not the extra crank angle).
     let mean = describe_twist(&TwistTable::mean_of(&tables));
-    let v = json!({
-        "max_wear_um": profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
-        "support": support_name(model),
-        "rated_torque_nm": model.rating.rated_torque,
-        "measuring_torque_fraction": model.te.measuring_torque_fraction,
-        "torsional_stiffness_definition": "b/a: (rated - measuring torque) over the mean twist of the two loading branches between them",
-        "crank_deg": crank_deg,
-        "at_crank_angle": describe_twist(&at_crank),
-        "samples_per_mesh_cycle": model.te.samples,
-        "torque_nm": mean["torque_nm"],
-        "twist_arcmin": mean["twist_arcmin"],
-        "backlash_arcmin": mean["backlash_arcmin"],
-        "lost_motion_arcmin": mean["lost_motion_arcmin"],
-        "hysteresis_loss_arcmin": mean["hysteresis_loss_arcmin"],
-        "torsional_stiffness_nm_per_arcmin": mean["torsional_stiffness_nm_per_arcmin"],
-        "mesh_cycle_mean": mean,
-    });
-    Ok(v)
+    Ok(HysteresisResult {
+        max_wear_um: profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
+        support: support_name(model),
+        rated_torque_nm: model.rating.rated_torque,
+        measuring_torque_fraction: model.te.measuring_torque_fraction,
+        torsional_stiffness_definition: "b/a: (rated - measuring torque) over the mean twist of \
+                                         the two loading branches between them",
+        crank_deg,
+        at_crank_angle: describe_twist(&at_crank),
+        samples_per_mesh_cycle: model.te.samples,
+        torque_nm: mean.torque_nm.clone(),
+        twist_arcmin: mean.twist_arcmin.clone(),
+        backlash_arcmin: mean.backlash_arcmin,
+        lost_motion_arcmin: mean.lost_motion_arcmin,
+        hysteresis_loss_arcmin: mean.hysteresis_loss_arcmin,
+        torsional_stiffness_nm_per_arcmin: mean.torsional_stiffness_nm_per_arcmin,
+        mesh_cycle_mean: mean,
+    })
 }
 
-/// A hysteresis curve and its catalogue quantities as JSON (torque N m, twist and the
-/// accuracy quantities arcmin, stiffness N m/arcmin).
-fn describe_twist(t: &TwistTable) -> Value {
+/// A hysteresis curve and its catalogue quantities (torque N m, twist and the accuracy
+/// quantities arcmin, stiffness N m/arcmin).
+fn describe_twist(t: &TwistTable) -> TwistCurve {
     let a = t.accuracy();
     let c = t.curve();
-    json!({
-        "torque_nm": c.torque,
-        "twist_arcmin": c.twist.iter().map(|x| x * ARCMIN_PER_RAD).collect::<Vec<_>>(),
-        "backlash_arcmin": a.backlash * ARCMIN_PER_RAD,
-        "lost_motion_arcmin": a.lost_motion * ARCMIN_PER_RAD,
-        "hysteresis_loss_arcmin": a.hysteresis_loss * ARCMIN_PER_RAD,
-        "torsional_stiffness_nm_per_arcmin": a.torsional_stiffness / ARCMIN_PER_RAD,
-    })
+    TwistCurve {
+        torque_nm: c.torque,
+        twist_arcmin: c.twist.iter().map(|x| x * ARCMIN_PER_RAD).collect(),
+        backlash_arcmin: a.backlash * ARCMIN_PER_RAD,
+        lost_motion_arcmin: a.lost_motion * ARCMIN_PER_RAD,
+        hysteresis_loss_arcmin: a.hysteresis_loss * ARCMIN_PER_RAD,
+        torsional_stiffness_nm_per_arcmin: a.torsional_stiffness / ARCMIN_PER_RAD,
+    }
 }
 
 /// The profile's points (`rvlife profile` writes them as CSV): `x_mm`, `y_mm`,
@@ -416,7 +420,7 @@ pub fn profile_points(
     per_tooth: usize,
     spelling: Spelling,
     progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<Value> {
+) -> Result<ProfilePoints> {
     if per_tooth > 100_000 {
         return Err(Error::invalid(
             spelling.name("points_per_tooth"),
@@ -432,14 +436,14 @@ pub fn profile_points(
     };
     let pts = crate::output::export::profile_points(&profile, n);
     let col = |f: fn(&(f64, f64, f64, f64)) -> f64| pts.iter().map(f).collect::<Vec<f64>>();
-    Ok(json!({
-        "points_per_tooth": n,
-        "max_wear_um": profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
-        "x_mm": col(|p| p.0),
-        "y_mm": col(|p| p.1),
-        "mesh_angle_deg": col(|p| p.2),
-        "wear_um": col(|p| p.3),
-    }))
+    Ok(ProfilePoints {
+        points_per_tooth: n,
+        max_wear_um: profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
+        x_mm: col(|p| p.0),
+        y_mm: col(|p| p.1),
+        mesh_angle_deg: col(|p| p.2),
+        wear_um: col(|p| p.3),
+    })
 }
 
 /// Overrides of `rvlife dynamics` on the config: the dynamic model is checked as enabled,
@@ -515,8 +519,8 @@ pub fn dynamics_model(
     })
 }
 
-/// The multibody simulation of `rvlife dynamics` on the profile `wear` selects, and its
-/// summary as the JSON object `rvlife dynamics --json` prints (without `wall_time_s`).
+/// The multibody simulation of `rvlife dynamics` on the profile `wear` selects (its summary is
+/// what `rvlife dynamics --json` prints, with `wall_time_s`).
 ///
 /// # Errors
 /// As [`profile_for`]; the simulation's failures.
@@ -526,18 +530,15 @@ pub fn dynamics(
     pin_forces: bool,
     spelling: Spelling,
     progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<(crate::dynamics::DynamicsResult, Value)> {
+) -> Result<crate::dynamics::DynamicsResult> {
     let profile = profile_for(model, wear, false, spelling, progress)?;
-    let res = crate::dynamics::simulate_discs(
+    crate::dynamics::simulate_discs(
         &profile,
         &model.dynamics.params,
         &model.fem.params,
         None,
         pin_forces,
-    )?;
-    let v =
-        serde_json::to_value(&res.summary).map_err(|e| Error::numerical("json", e.to_string()))?;
-    Ok((res, v))
+    )
 }
 
 /// The Monte Carlo plan of `rvlife montecarlo`, checked before any work: `samples` (1 to
