@@ -1,30 +1,30 @@
 //! The work budget's cost model: the computing a run needs is estimated before the work starts,
 //! in static contact solves, and a run whose estimate exceeds the budget is refused naming the
 //! key that drives it, with the estimate (docs/model.md section 15). The estimates themselves
-//! are made by whoever runs the work: the study ([`crate::study::check_work`], called by
+//! are made by whoever runs the work: the study (`crate::study::check_work`, called by
 //! [`crate::api::validated`]), the wear integration (the profile updates its wear rate asks
-//! for) and Monte Carlo ([`crate::montecarlo::check_work`]).
+//! for) and Monte Carlo (`crate::montecarlo::check_work`).
 //!
 //! Unit costs were measured on the reference machine (2 cores, release build, the built-in
-//! example; `cargo bench -p rvlife --bench study`): one static solve [`SOLVE_SECONDS`], the
-//! set-up of the static analysis of one profile (its gap field) [`SETUP_SOLVES`] solves, the
-//! rest of a wear-rate evaluation [`RATE_SOLVES`] solves. The estimate counts one core, so it
+//! example; `cargo bench -p rvlife --bench study`): one static solve `SOLVE_SECONDS`, the
+//! set-up of the static analysis of one profile (its gap field) `SETUP_SOLVES` solves, the
+//! rest of a wear-rate evaluation `RATE_SOLVES` solves. The estimate counts one core, so it
 //! errs long. The default budget is [`DEFAULT_MINUTES`] minutes; `--work-budget-min` changes
 //! it.
 
 use crate::te::HYSTERESIS_LEVELS;
 
 /// Seconds of one static contact solve of the example on the reference machine.
-pub const SOLVE_SECONDS: f64 = 0.22e-3;
+pub(crate) const SOLVE_SECONDS: f64 = 0.22e-3;
 
 /// Cost of setting up the static analysis of one profile (its gap field), in static solves
 /// (1.4 ms measured).
-pub const SETUP_SOLVES: f64 = 7.0;
+pub(crate) const SETUP_SOLVES: f64 = 7.0;
 
 /// Fixed cost of one wear-rate evaluation besides its contact solves (the worn profile, the
 /// band filter, the spreading of the wear over the contact bands), in static solves: the
 /// example measured 11.7 ms per evaluation with one load level (1987 evaluations in 23.4 s).
-pub const RATE_SOLVES: f64 = 28.0;
+pub(crate) const RATE_SOLVES: f64 = 28.0;
 
 /// Default work budget, minutes.
 pub const DEFAULT_MINUTES: f64 = 10.0;
@@ -33,15 +33,15 @@ pub const DEFAULT_MINUTES: f64 = 10.0;
 /// touching pins and the hysteresis at the measuring and rated torque, both directions, at
 /// each crank angle (1 000 samples of the example, 7 stages, 4 crank angles: estimated
 /// 2.1 min, measured 1.0 min wall on 2 cores).
-pub const MONTE_CARLO_SOLVES_PER_ANGLE: f64 = 20.0;
+pub(crate) const MONTE_CARLO_SOLVES_PER_ANGLE: f64 = 20.0;
 
 /// [`DEFAULT_MINUTES`] (the serde default of [`crate::config::Config::work_budget_minutes`]).
-pub fn default_minutes() -> f64 {
+pub(crate) fn default_minutes() -> f64 {
     DEFAULT_MINUTES
 }
 
 /// The budget of `minutes` in static solves.
-pub fn solves_in_minutes(minutes: f64) -> f64 {
+pub(crate) fn solves_in_minutes(minutes: f64) -> f64 {
     minutes * 60.0 / SOLVE_SECONDS
 }
 
@@ -53,14 +53,14 @@ pub fn minutes(solves: f64) -> f64 {
 /// Static solves of the analyses of one stage: the set-up and, at each of `te_samples` crank
 /// angles, the hysteresis curve (both senses, [`HYSTERESIS_LEVELS`] levels beyond the
 /// measuring torque) and the loaded TE.
-pub fn stage_solves(te_samples: usize) -> f64 {
+pub(crate) fn stage_solves(te_samples: usize) -> f64 {
     let per_angle = 4.0 * (HYSTERESIS_LEVELS as f64 + 1.0) + 1.0;
     SETUP_SOLVES + te_samples as f64 * per_angle
 }
 
 /// Static solves of one wear-rate evaluation: `levels` load levels of `crank_steps` crank
 /// angles each (the paper's wear model, Li's closed form: 1).
-pub fn per_rate_evaluation(paper: bool, levels: usize, crank_steps: usize) -> f64 {
+pub(crate) fn per_rate_evaluation(paper: bool, levels: usize, crank_steps: usize) -> f64 {
     if paper {
         1.0
     } else {
@@ -70,7 +70,7 @@ pub fn per_rate_evaluation(paper: bool, levels: usize, crank_steps: usize) -> f6
 
 /// Wear-rate evaluations the profile-update step `update_hours` (h) asks for up to `last`
 /// hours (1 for the paper's wear model or without updates).
-pub fn scheduled_updates(paper: bool, last: f64, update_hours: f64) -> f64 {
+pub(crate) fn scheduled_updates(paper: bool, last: f64, update_hours: f64) -> f64 {
     if paper || update_hours <= 0.0 {
         1.0
     } else {
@@ -84,6 +84,6 @@ pub fn scheduled_updates(paper: bool, last: f64, update_hours: f64) -> f64 {
 pub struct Budget {
     /// The budget, static solves.
     pub solves: f64,
-    /// Static solves of one stage's analyses ([`stage_solves`]).
+    /// Static solves of one stage's analyses (`stage_solves`).
     pub per_stage: f64,
 }

@@ -13,7 +13,7 @@
 //! of an assembled reducer that the model, with its zero-clearance pins, does not have.
 //!
 //! The k-h scaling is exact in the code, not an approximation: the wear rate
-//! ([`crate::wear::wear_rate`]) is `k` times a function of the worn profile only, so the depth
+//! (`crate::wear::wear_rate`) is `k` times a function of the worn profile only, so the depth
 //! integrated with profile updates at hours `t_u` for coefficient `k` equals the one integrated
 //! with updates at `t_u k / k_ref` for `k_ref` (checked to round-off in the tests). One
 //! reference study over "equivalent hours" `H` therefore gives the model for every `k` by
@@ -96,7 +96,7 @@ impl Measurable {
 
 /// The columns a measurements file may have besides `hours`: quantities of the stage table.
 /// A quantity the study gains can be measured by adding it here.
-pub const QUANTITIES: &[Measurable] = &[
+pub(crate) const QUANTITIES: &[Measurable] = &[
     Measurable {
         quantity: &quantities::LOST_MOTION,
         running_in: true,
@@ -116,9 +116,9 @@ pub const QUANTITIES: &[Measurable] = &[
 ];
 
 /// Largest working hours accepted in a measurements file, h (the range of `wear.stage_hours`).
-pub const MAX_HOURS: f64 = 1e7;
+pub(crate) const MAX_HOURS: f64 = 1e7;
 /// Largest measured value accepted (arcmin or um).
-pub const MAX_VALUE: f64 = 1e4;
+pub(crate) const MAX_VALUE: f64 = 1e4;
 /// Reference horizon of the first pass, in multiples of the largest measured hours.
 const FIRST_HORIZON: f64 = 4.0;
 /// Stages of the first pass.
@@ -130,14 +130,14 @@ const REFINE_STAGES: usize = 32;
 /// Most reference passes.
 const MAX_PASSES: usize = 5;
 /// Confidence level of the reported interval.
-pub const CONFIDENCE: f64 = 0.95;
+pub(crate) const CONFIDENCE: f64 = 0.95;
 
 /// Measured values of one quantity.
 #[derive(Debug, Clone, Serialize)]
 pub struct Series {
-    /// Column name (an entry of [`QUANTITIES`]).
+    /// Column name (an entry of `QUANTITIES`).
     pub column: &'static str,
-    /// Index into [`QUANTITIES`].
+    /// Index into `QUANTITIES`.
     #[serde(skip)]
     pub quantity: usize,
     /// Working hours of each value, h.
@@ -162,7 +162,7 @@ fn bad(path: &Path, what: impl Into<String>) -> Error {
 
 impl Measurements {
     /// Reads and checks a CSV file with a header: a column `hours` (h, in `[0, 1e7]`) and one
-    /// or more of the [`QUANTITIES`] columns (values finite, in `[0, 1e4]` of their unit; an
+    /// or more of the `QUANTITIES` columns (values finite, in `[0, 1e4]` of their unit; an
     /// empty cell is no value). `#` starts a comment line.
     ///
     /// # Errors
@@ -518,7 +518,7 @@ pub fn check_budget(model: &Model, data: &Measurements) -> Result<()> {
 pub struct Estimate {
     /// Best estimate.
     pub value: f64,
-    /// Lower end of the [`CONFIDENCE`] interval.
+    /// Lower end of the `CONFIDENCE` interval.
     pub lower: f64,
     /// Upper end of the interval.
     pub upper: f64,
@@ -840,7 +840,7 @@ fn run_reference(
 /// for the model, the reference studies and the interval). `progress(pass)` is called before
 /// each reference study.
 ///
-/// Cost: 2 to [`MAX_PASSES`] reference studies without dynamics and FE (24 + 32 stages each
+/// Cost: 2 to `MAX_PASSES` reference studies without dynamics and FE (24 + 32 stages each
 /// time, about a second each for the example); the least squares on the interpolants is
 /// negligible.
 ///

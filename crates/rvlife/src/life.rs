@@ -6,7 +6,7 @@
 //! stages the crossing is located by bisection on the working hours, each trial a wear
 //! integration to those hours and an analysis of the worn reducer (not an interpolation
 //! between the stages: lost motion and backlash grow unevenly as the worn band spreads over
-//! the flank), down to [`LIFE_TOLERANCE`]; the last bracket is interpolated linearly.
+//! the flank), down to `LIFE_TOLERANCE`; the last bracket is interpolated linearly.
 
 use serde::Serialize;
 
@@ -15,7 +15,7 @@ use crate::error::Result;
 use crate::quantities::{AccuracyPoint, Sense, LIFE};
 
 /// Relative width of the last bisection bracket (of the hours at its upper end): 0.5 %.
-pub const LIFE_TOLERANCE: f64 = 0.005;
+pub(crate) const LIFE_TOLERANCE: f64 = 0.005;
 
 /// The accuracy life found.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -35,7 +35,7 @@ pub struct AccuracyLife {
 /// Margins of `p` against every threshold set ([`LIFE`]), relative to the threshold: positive
 /// inside the spec, `(limit - value)/limit` (`(value - limit)/limit` for a smallest value, the
 /// stiffness), with the key.
-pub fn margins(th: &LifeThresholds, p: &AccuracyPoint) -> Vec<(&'static str, f64)> {
+pub(crate) fn margins(th: &LifeThresholds, p: &AccuracyPoint) -> Vec<(&'static str, f64)> {
     LIFE.iter()
         .filter_map(|l| {
             let limit = th.threshold(l.key)?;
@@ -64,7 +64,7 @@ fn worst(th: &LifeThresholds, p: &AccuracyPoint) -> Option<(&'static str, f64)> 
 ///
 /// # Errors
 /// Those of `at`.
-pub fn accuracy_life(
+pub(crate) fn accuracy_life(
     th: &LifeThresholds,
     points: &[AccuracyPoint],
     mut at: impl FnMut(f64) -> Result<AccuracyPoint>,
@@ -140,7 +140,7 @@ fn bisect(
 /// The crossing between `lo` (inside the spec) and `hi` (outside): the threshold crossed at
 /// `hi` (the smallest margin there) and the hours at which its margin, interpolated linearly,
 /// is zero.
-pub fn crossing(
+pub(crate) fn crossing(
     th: &LifeThresholds,
     lo: &AccuracyPoint,
     hi: &AccuracyPoint,

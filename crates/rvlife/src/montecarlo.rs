@@ -8,15 +8,15 @@
 //!
 //! **Shared wear** (the default): the wear maps are those of the nominal reducer, integrated
 //! once at the study's stages and at the points that split each interval between two into
-//! [`SUBDIVISIONS`] parts; every sample is
+//! `SUBDIVISIONS` parts; every sample is
 //! analysed with its own errors on those maps. A sample's errors change its load sharing and so
 //! its wear a little; `full_wear` integrates every sample's own wear instead (the cost and the
 //! difference are measured in the README).
 //!
 //! Each sampled reducer at each working-hour point: backlash, lost motion and torsional
 //! stiffness from the hysteresis curve averaged over one mesh cycle
-//! ([`crate::te::hysteresis_with`], the measuring torque and the rated torque), the angular TE
-//! over an output revolution ([`crate::te::revolution_perturbed`]); the accuracy life by
+//! (`crate::te::hysteresis_with`, the measuring torque and the rated torque), the angular TE
+//! over an output revolution (`crate::te::revolution_perturbed`); the accuracy life by
 //! bisection over the shared maps between the stages, then linear interpolation.
 
 use std::ops::Range;
@@ -38,7 +38,7 @@ use crate::units::ARCMIN_PER_RAD;
 
 /// Wear maps between two stages of the shared wear history (the accuracy life is located to
 /// an eighth of a stage interval by bisection, then interpolated).
-pub const SUBDIVISIONS: usize = 8;
+pub(crate) const SUBDIVISIONS: usize = 8;
 
 /// What to run: `samples` reducers of seed `seed`, the part `shard = (I, N)` (1-based) of them.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -72,7 +72,7 @@ impl Plan {
 ///
 /// # Errors
 /// [`Error::Invalid`] naming `--samples` with the estimate and the budget.
-pub fn check_work(
+pub(crate) fn check_work(
     model: &Model,
     samples: usize,
     points: usize,
@@ -181,7 +181,7 @@ fn dense_hours(model: &Model) -> (Vec<f64>, Vec<usize>, Vec<usize>) {
 /// # Errors
 /// Wear integration failures; [`Error::Invalid`] naming `wear.stage_hours` if the wear
 /// model's validity ends before the last stage.
-pub fn shared_wear(model: &Model) -> Result<SharedWear> {
+pub(crate) fn shared_wear(model: &Model) -> Result<SharedWear> {
     let (mut hours, stage_index, mut extension_index) = dense_hours(model);
     let mut m = model.clone();
     m.wear.stage_hours = hours.clone();
@@ -227,7 +227,7 @@ fn wear_map(model: &Model, map: &[f64]) -> Result<Option<WearMap>> {
 
 /// The sampled reducer `index` of `seed`: `model` with its part errors and modification drawn
 /// from `model.tolerances`.
-pub fn sample_model(model: &Model, seed: u64, index: usize) -> Model {
+pub(crate) fn sample_model(model: &Model, seed: u64, index: usize) -> Model {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     rng.set_stream(index as u64);
     let (errors, modification) = model.tolerances.sample(
@@ -296,7 +296,7 @@ fn accuracy_at(
 
 /// Runs one sampled reducer through the study (module documentation). `shared`: the nominal
 /// wear history, or `None` to integrate the sample's own.
-pub fn run_sample(
+pub(crate) fn run_sample(
     model: &Model,
     plan: &Plan,
     shared: Option<&SharedWear>,
@@ -500,7 +500,7 @@ pub struct Percentiles {
 
 /// The `q`-quantile (0..1) of sorted `v` by linear interpolation between order statistics
 /// (Hyndman and Fan 1996, definition 7; NumPy's default).
-pub fn quantile(v: &[f64], q: f64) -> f64 {
+pub(crate) fn quantile(v: &[f64], q: f64) -> f64 {
     if v.is_empty() {
         return f64::NAN;
     }

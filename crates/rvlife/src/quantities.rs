@@ -58,7 +58,7 @@ impl Value {
 
     /// The value's CSV cells, one per column of its quantity: numbers with 6 decimals, counts
     /// as integers, empty when absent.
-    pub fn csv_cells(self, columns: usize) -> Vec<String> {
+    pub(crate) fn csv_cells(self, columns: usize) -> Vec<String> {
         match self {
             Value::Number(v) => vec![format!("{v:.6}")],
             Value::Count(n) => vec![n.to_string()],
@@ -241,7 +241,7 @@ impl AccuracyPoint {
     ///
     /// # Panics
     /// If `values` holds fewer than [`ACCURACY`]`.len()` numbers.
-    pub fn from_accuracy(hours: f64, values: &[f64]) -> AccuracyPoint {
+    pub(crate) fn from_accuracy(hours: f64, values: &[f64]) -> AccuracyPoint {
         let at = |q: &Quantity| {
             let i = ACCURACY.iter().position(|a| a.name == q.name);
             values[i.expect("an accuracy quantity")]

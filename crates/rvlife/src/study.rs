@@ -56,7 +56,7 @@ pub struct Stage {
     pub flexible: Option<(FlexibleStage, Mesh)>,
 }
 
-/// Everything [`analyse_profile`] finds for one profile.
+/// Everything `analyse_profile` finds for one profile.
 #[derive(Debug, Clone)]
 pub struct ProfileAnalysis {
     /// Static TE over a mesh cycle.
@@ -177,7 +177,7 @@ fn check_finite(summary: &StageSummary) -> Result<()> {
 /// [`Error::Invalid`] naming the key whose value is furthest above the example's (the key that
 /// sets the load levels for them: `load.levels`, `load.file`), with the estimate and the
 /// budget.
-pub fn check_work(model: &Model) -> Result<()> {
+pub(crate) fn check_work(model: &Model) -> Result<()> {
     let w = &model.wear;
     let paper = w.model == WearModelKind::Paper;
     let last = w.stage_hours.last().copied().unwrap_or(0.0);
@@ -242,7 +242,11 @@ pub fn check_work(model: &Model) -> Result<()> {
 ///
 /// # Errors
 /// Solver failures; interference of the modifications.
-pub fn analyse_profile(model: &Model, profile: &Profile, hours: f64) -> Result<ProfileAnalysis> {
+pub(crate) fn analyse_profile(
+    model: &Model,
+    profile: &Profile,
+    hours: f64,
+) -> Result<ProfileAnalysis> {
     let red = &model.reducer;
     let phis = mesh_cycle_angles(red.geometry.pins, model.te.samples);
     let sa = StaticAnalysis::new(red, profile)?;
@@ -747,7 +751,7 @@ impl Study {
 ///
 /// # Errors
 /// Wear integration and analysis failures.
-pub fn study_life(
+pub(crate) fn study_life(
     model: &Model,
     stages: &[StageSummary],
     update_hours: &[f64],

@@ -9,7 +9,7 @@
 //! - **STE** (static TE): for each crank angle, the twist at which the unloaded mechanism first
 //!   touches a pin when the output is turned forward (counter-clockwise, the sense of a positive
 //!   output torque), over every pin of every disc: the `T -> 0+` limit of the loaded twist
-//!   ([`crate::statics::StaticAnalysis::first_contact`]). `reverse` is the same turning
+//!   (`crate::statics::StaticAnalysis::first_contact`). `reverse` is the same turning
 //!   the other way, as a positive angle.
 //! - **Loaded TE**: the twist of the static equilibrium under an output torque, in the sense of
 //!   the torque.
@@ -42,7 +42,7 @@ use crate::statics::{StaticAnalysis, StaticSolution, TouchingPin};
 use crate::units::ARCMIN_PER_RAD;
 
 /// Torque levels per side of the study's hysteresis curves beyond the measuring torque.
-pub const HYSTERESIS_LEVELS: usize = 4;
+pub(crate) const HYSTERESIS_LEVELS: usize = 4;
 
 /// `[te]` checked (docs/model.md section 6).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -56,7 +56,7 @@ pub struct TeParams {
 }
 
 /// Crank angles (rad) of `samples` points over one mesh cycle `[0, 2 pi / Zp)`.
-pub fn mesh_cycle_angles(pins: usize, samples: usize) -> Vec<f64> {
+pub(crate) fn mesh_cycle_angles(pins: usize, samples: usize) -> Vec<f64> {
     (0..samples)
         .map(|k| TAU * k as f64 / (pins as f64 * samples as f64))
         .collect()
@@ -102,7 +102,7 @@ impl CurveStats {
 
 impl StaticTe {
     /// Statistics of the forward STE.
-    pub fn stats(&self) -> CurveStats {
+    pub(crate) fn stats(&self) -> CurveStats {
         CurveStats::of(&self.forward)
     }
     /// Geometric play (the backlash at each crank angle: the width of the hysteresis curve at
@@ -115,7 +115,7 @@ impl StaticTe {
             .collect()
     }
     /// Statistics of the backlash over the mesh cycle.
-    pub fn backlash_stats(&self) -> CurveStats {
+    pub(crate) fn backlash_stats(&self) -> CurveStats {
         CurveStats::of(&self.backlash())
     }
 }
@@ -166,18 +166,18 @@ pub struct LoadedTe {
 
 impl LoadedTe {
     /// Statistics of the loaded TE.
-    pub fn stats(&self) -> CurveStats {
+    pub(crate) fn stats(&self) -> CurveStats {
         CurveStats::of(&self.te)
     }
     /// Largest pin force over the cycle, N.
-    pub fn max_force(&self) -> f64 {
+    pub(crate) fn max_force(&self) -> f64 {
         self.solutions
             .iter()
             .map(|s| s.max_force())
             .fold(0.0, f64::max)
     }
     /// Largest Hertz pressure over the cycle, Pa.
-    pub fn max_pressure(&self) -> f64 {
+    pub(crate) fn max_pressure(&self) -> f64 {
         self.solutions
             .iter()
             .map(|s| s.max_pressure())
@@ -189,11 +189,11 @@ impl LoadedTe {
         (it.clone().min().unwrap_or(0), it.max().unwrap_or(0))
     }
     /// Mean tangent torsional stiffness over the cycle, N m/rad.
-    pub fn mean_stiffness(&self) -> f64 {
+    pub(crate) fn mean_stiffness(&self) -> f64 {
         self.solutions.iter().map(|s| s.stiffness).sum::<f64>() / self.solutions.len() as f64
     }
     /// The solution with the largest pin force.
-    pub fn worst(&self) -> &StaticSolution {
+    pub(crate) fn worst(&self) -> &StaticSolution {
         self.solutions
             .iter()
             .max_by(|a, b| a.max_force().total_cmp(&b.max_force()))
@@ -205,7 +205,8 @@ impl LoadedTe {
 ///
 /// # Errors
 /// Solver failures (each names its crank angle and torque).
-pub fn loaded_te(
+#[cfg(test)]
+pub(crate) fn loaded_te(
     red: &Reducer,
     profile: &Profile,
     torque: f64,
@@ -218,7 +219,7 @@ pub fn loaded_te(
 ///
 /// # Errors
 /// As [`loaded_te`].
-pub fn loaded_te_with(sa: &StaticAnalysis, torque: f64, samples: usize) -> Result<LoadedTe> {
+pub(crate) fn loaded_te_with(sa: &StaticAnalysis, torque: f64, samples: usize) -> Result<LoadedTe> {
     let phis = mesh_cycle_angles(sa.reducer().geometry.pins, samples);
     let solutions = sa.solve_sequence(&phis, torque)?;
     let s = if torque < 0.0 { -1.0 } else { 1.0 };
@@ -310,7 +311,7 @@ impl TwistTable {
     }
 
     /// The mean of several tables of the same grid (non-empty).
-    pub fn mean_of(tables: &[TwistTable]) -> TwistTable {
+    pub(crate) fn mean_of(tables: &[TwistTable]) -> TwistTable {
         let n = tables.len() as f64;
         let avg = |f: fn(&TwistTable) -> &Vec<f64>| -> Vec<f64> {
             (0..f(&tables[0]).len())
@@ -387,7 +388,7 @@ impl TwistTable {
 
 /// Torque fractions of a hysteresis grid: 0, the measuring fraction, then `levels` equal steps
 /// up to 1.
-pub fn torque_fractions(measuring_fraction: f64, levels: usize) -> Vec<f64> {
+pub(crate) fn torque_fractions(measuring_fraction: f64, levels: usize) -> Vec<f64> {
     let mut f = vec![0.0, measuring_fraction];
     for i in 1..=levels.max(1) {
         let x = i as f64 / levels.max(1) as f64;
@@ -399,7 +400,7 @@ pub fn torque_fractions(measuring_fraction: f64, levels: usize) -> Vec<f64> {
 }
 
 /// Hysteresis of `red` with `profile`: the twist table at each crank angle of `crank_angles`
-/// (rad) on the grid [`torque_fractions`]`(measuring_fraction, levels)` of `rated` (N m),
+/// (rad) on the grid `torque_fractions``(measuring_fraction, levels)` of `rated` (N m),
 /// in parallel, and their mean (the curve averaged over the crank angles, as a measurement over
 /// a mesh cycle averages it).
 ///
@@ -426,7 +427,7 @@ pub fn hysteresis(
 ///
 /// # Errors
 /// As [`hysteresis`].
-pub fn hysteresis_with(
+pub(crate) fn hysteresis_with(
     sa: &StaticAnalysis,
     crank_angles: &[f64],
     rated: f64,
@@ -444,7 +445,7 @@ pub fn hysteresis_with(
 
 /// Repeats a mesh-cycle curve over one output revolution (`Zc Zp` mesh cycles) and returns
 /// `(input angle in degrees, value)` pairs, the input angle being `i_H phi / Zc`.
-pub fn over_revolution(
+pub(crate) fn over_revolution(
     crank_angle: &[f64],
     values: &[f64],
     pins: usize,
@@ -468,7 +469,7 @@ pub fn over_revolution(
 /// `i 2 pi / (Zp samples)` for `i` in `0..Zc Zp samples` (the crank turns `Zc` times relative
 /// to the pin ring while the output turns once, docs/model.md section 1). Point `c samples + k`
 /// is point `k` of [`mesh_cycle_angles`] in mesh cycle `c`.
-pub fn revolution_angles(pins: usize, samples: usize) -> Vec<f64> {
+pub(crate) fn revolution_angles(pins: usize, samples: usize) -> Vec<f64> {
     let n = (pins - 1) * pins * samples;
     (0..n)
         .map(|i| TAU * i as f64 / (pins as f64 * samples as f64))
@@ -479,7 +480,7 @@ pub fn revolution_angles(pins: usize, samples: usize) -> Vec<f64> {
 /// symmetry left: every mesh cycle differs).
 #[derive(Debug, Clone, Serialize)]
 pub struct RevolutionTe {
-    /// Crank angles, rad ([`revolution_angles`]).
+    /// Crank angles, rad (`revolution_angles`).
     pub crank_angle: Vec<f64>,
     /// Forward STE (first contact turning counter-clockwise), rad.
     pub forward: Vec<f64>,
@@ -490,7 +491,7 @@ pub struct RevolutionTe {
 impl RevolutionTe {
     /// Angular transmission error (catalogue): peak-to-peak of the forward output error over
     /// one output revolution, rad.
-    pub fn angular_te(&self) -> f64 {
+    pub(crate) fn angular_te(&self) -> f64 {
         CurveStats::of(&self.forward).peak_to_peak
     }
     /// Play between the two directions at each crank angle (the width of the hysteresis curve
@@ -503,17 +504,8 @@ impl RevolutionTe {
             .collect()
     }
     /// Statistics of the play over the revolution.
-    pub fn play_stats(&self) -> CurveStats {
+    pub(crate) fn play_stats(&self) -> CurveStats {
         CurveStats::of(&self.play())
-    }
-    /// Output angle of each sample, degrees: the carrier's turn `|phi| / Zc` (the output turns
-    /// against the crank in the locked-pin-ring drive).
-    pub fn output_angle_deg(&self, pins: usize) -> Vec<f64> {
-        let zc = (pins - 1) as f64;
-        self.crank_angle
-            .iter()
-            .map(|p| (p / zc).to_degrees())
-            .collect()
     }
 }
 
@@ -524,7 +516,8 @@ impl RevolutionTe {
 ///
 /// # Errors
 /// Solver failures.
-pub fn revolution_exact(sa: &StaticAnalysis, samples: usize) -> Result<RevolutionTe> {
+#[cfg(test)]
+pub(crate) fn revolution_exact(sa: &StaticAnalysis, samples: usize) -> Result<RevolutionTe> {
     let phis = revolution_angles(sa.reducer().geometry.pins, samples);
     let pairs: Vec<(f64, f64)> = phis
         .par_iter()
@@ -543,14 +536,14 @@ pub fn revolution_exact(sa: &StaticAnalysis, samples: usize) -> Result<Revolutio
 /// STE tiled. With part errors ([`crate::reducer::errors::PartErrors`]), first-order
 /// perturbation of the nominal reducer's touching twists: at each crank angle of one mesh
 /// cycle, every pin that could touch first is solved once without errors
-/// ([`StaticAnalysis::touching_pins`]: its touching twist `psi_j`, lever `m_j`, gap gradient
+/// (`StaticAnalysis::touching_pins`: its touching twist `psi_j`, lever `m_j`, gap gradient
 /// `w_j` and position `r_j`); at crank angle `phi + c 2 pi/Zp` the same contact is made by pin
 /// `j + c` turned by `c 2 pi/Zp`, and the errors move its touching twist to
 /// `psi_j + (w . (dp - dc) - dr - dpsi (r x w)) / m_j` (`dp`: pin displacement, `dr`: radius
 /// error, `dc`, `dpsi`: the disc's pose correction from the cranks); the STE is the extreme
 /// over the pins. The shift is taken to second order (the lever's and the normal's change
 /// along the mode over the shift), and the pins it puts first (within a tenth of the shift) are
-/// then solved exactly with the errors in place: the result equals [`revolution_exact`] to
+/// then solved exactly with the errors in place: the result equals `revolution_exact` to
 /// 1e-8 arcmin (tests), at a tenth of its work.
 ///
 /// # Errors
@@ -566,7 +559,7 @@ pub fn revolution(sa: &StaticAnalysis, samples: usize) -> Result<RevolutionTe> {
 ///
 /// # Errors
 /// Solver failures.
-pub fn revolution_perturbed(sa: &StaticAnalysis, samples: usize) -> Result<RevolutionTe> {
+pub(crate) fn revolution_perturbed(sa: &StaticAnalysis, samples: usize) -> Result<RevolutionTe> {
     revolution_with(sa, samples, false)
 }
 

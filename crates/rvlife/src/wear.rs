@@ -99,7 +99,7 @@ pub struct WearInputs<'a> {
 
 impl WearInputs<'_> {
     /// Number of wear-map grid points per tooth: `Zp x crank_steps_per_mesh_cycle`.
-    pub fn grid_points(&self) -> usize {
+    pub(crate) fn grid_points(&self) -> usize {
         self.disc.geometry.pins * self.wear.crank_steps
     }
 }
@@ -139,14 +139,14 @@ fn resample_periodic(mut samples: Vec<(f64, f64)>, n: usize) -> Vec<f64> {
 /// Mesh cycles of the output revolution whose wear is averaged for a reducer with part errors
 /// or a single-stage drive (spread evenly over the revolution; the nominal RV reducer needs
 /// one).
-pub const REVOLUTION_POSITIONS: usize = 8;
+pub(crate) const REVOLUTION_POSITIONS: usize = 8;
 
 /// Wear depth per mesh cycle (m) on the wear-map grid, for the output torque `torque` (N m),
 /// on the actual profile `profile` (default model, see the module docs).
 ///
 /// # Errors
 /// Propagates contact-solver failures.
-pub fn wear_per_mesh_cycle(
+pub(crate) fn wear_per_mesh_cycle(
     profile: &Profile,
     inputs: &WearInputs,
     torque: f64,
@@ -261,7 +261,7 @@ fn spread_over_band(profile: &Profile, depth: &[f64], half_width: &[f64]) -> Vec
 ///
 /// # Errors
 /// Propagates contact-solver failures.
-pub fn wear_rate(profile: &Profile, inputs: &WearInputs) -> Result<Vec<f64>> {
+pub(crate) fn wear_rate(profile: &Profile, inputs: &WearInputs) -> Result<Vec<f64>> {
     let n = inputs.grid_points();
     let mut rate = vec![0.0; n];
     for level in inputs.load {
@@ -394,7 +394,7 @@ pub struct WearHistory {
     /// filtered at the Hertz band scale (the flank the pins meet).
     pub maps: Vec<Vec<f64>>,
     /// Working hours at which the wear rate was evaluated (the profile-update schedule), h;
-    /// starts with 0. Pass it to [`integrate_on_schedule`] to repeat the same schedule.
+    /// starts with 0. Pass it to `integrate_on_schedule` to repeat the same schedule.
     pub update_hours: Vec<f64>,
     /// Set when the integration stopped before the last stage because the worn profile left
     /// the model's validity; `hours` and `maps` then hold the stages before it.
@@ -403,7 +403,7 @@ pub struct WearHistory {
 
 impl WearHistory {
     /// Number of wear-rate evaluations (profile updates + 1): `update_hours.len()`.
-    pub fn rate_evaluations(&self) -> usize {
+    pub(crate) fn rate_evaluations(&self) -> usize {
         self.update_hours.len()
     }
     /// Mesh angles of the grid, rad.
@@ -412,7 +412,7 @@ impl WearHistory {
         (0..n).map(|m| TAU * m as f64 / n as f64).collect()
     }
     /// Maximum wear depth at each stage, m.
-    pub fn max_depths(&self) -> Vec<f64> {
+    pub(crate) fn max_depths(&self) -> Vec<f64> {
         self.maps
             .iter()
             .map(|m| m.iter().copied().fold(0.0, f64::max))
@@ -447,7 +447,7 @@ pub fn integrate(
 ///
 /// # Errors
 /// As [`integrate`].
-pub fn integrate_on_schedule(
+pub(crate) fn integrate_on_schedule(
     inputs: &WearInputs,
     update_hours: &[f64],
     progress: &(dyn Fn(usize, usize) + Sync),
@@ -633,7 +633,7 @@ pub(crate) fn check_updates(inputs: &WearInputs, horizon: f64, max_rate: f64) ->
 /// Two phases of the fixed-point iteration `k <- k target / h_max(k)` (wear depth is
 /// proportional to `k` without profile updates and nearly so with them): first with the model's
 /// adaptive update rule until within 2 %, then with that run's update schedule held fixed
-/// ([`integrate_on_schedule`]), on which the depth is an increasing function of `k`, so the
+/// (`integrate_on_schedule`), on which the depth is an increasing function of `k`, so the
 /// iteration cannot chatter between neighbouring schedules. The returned depth is on the fixed
 /// schedule; `rvlife run` with the returned coefficient uses the adaptive rule again and lands
 /// within the rule's own jitter (a few 0.1 %) of it.

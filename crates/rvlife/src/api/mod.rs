@@ -1,5 +1,5 @@
 //! The commands of rvlife as library calls: each takes a validated [`Model`] and the command's
-//! arguments and returns a typed, serialisable result ([`results`]), which the command line
+//! arguments and returns a typed, serialisable result (`results`), which the command line
 //! prints with `--json` (its JSON object, keys sorted) and the Python package returns as the
 //! same object. Arguments are checked here, and an error names the argument as the caller
 //! spells it ([`Spelling`]: `--crank-deg` on the command line, `crank_deg` in Python).
@@ -64,7 +64,7 @@ fn finite(spelling: Spelling, key: &str, v: f64) -> Result<()> {
 }
 
 /// The validated model of `cfg` ([`crate::config::Config::validate`]) whose study fits the
-/// work budget ([`crate::study::check_work`]): what every command runs on.
+/// work budget (`crate::study::check_work`): what every command runs on.
 ///
 /// # Errors
 /// [`Error::Invalid`] naming the key, the value and the allowed range, or the key that drives
@@ -76,7 +76,7 @@ pub fn validated(cfg: &crate::config::Config) -> Result<Model> {
 }
 
 /// `"bearings"` or `"rigid"`: how the model supports the discs.
-pub fn support_name(model: &Model) -> &'static str {
+pub(crate) fn support_name(model: &Model) -> &'static str {
     match model.reducer.support {
         crate::reducer::Support::Bearings => "bearings",
         crate::reducer::Support::Rigid { .. } => "rigid",
@@ -545,7 +545,7 @@ pub fn dynamics(
 /// 1e6) reducers of seed `seed`, the shard `"I/N"` of them (`"/N"`: `I` from
 /// `SLURM_ARRAY_TASK_ID`), each sample's own wear (`full_wear`), `per_cycle` (1-64) crank angles
 /// per mesh cycle; the work is checked against the model's budget
-/// ([`crate::montecarlo::check_work`]).
+/// (`crate::montecarlo::check_work`).
 ///
 /// # Errors
 /// [`Error::Invalid`] naming the argument as `spelling` writes it; no `[tolerances]`; the

@@ -259,7 +259,7 @@ pub struct InertiaConfig {
     #[serde(default = "d_rho_out")]
     pub output_density_kg_m3: f64,
     /// Radius of the crank bores in the disc, mm (default: the paper's 13 mm scaled with the
-    /// disc's root radius, [`crate::geometry::CycloidGeometry::scaled_from_root`]).
+    /// disc's root radius, `crate::geometry::CycloidGeometry::scaled_from_root`).
     #[serde(default)]
     pub crank_bore_radius_mm: Option<f64>,
     /// Crankshaft journal radius, mm.
@@ -942,7 +942,7 @@ impl DynLoadConfig {
 /// # Errors
 /// [`Error::Config`] if unreadable; [`Error::Invalid`] naming the file, row and column of a bad
 /// cell, an unsorted time, or a table that does not cover the simulated time.
-pub fn read_load_table(path: &Path, end_time: f64) -> Result<LoadProfile> {
+pub(crate) fn read_load_table(path: &Path, end_time: f64) -> Result<LoadProfile> {
     let origin = path.display().to_string();
     let cfg_err = |message: String| Error::Config {
         path: origin.clone(),

@@ -37,7 +37,7 @@ pub struct FemConfig {
     #[serde(default = "d_holes")]
     pub output_pin_holes: u32,
     /// Diameter of the output-pin holes, mm (default: the paper's 22 mm scaled with the disc's
-    /// root radius, [`crate::geometry::CycloidGeometry::scaled_from_root`]).
+    /// root radius, `crate::geometry::CycloidGeometry::scaled_from_root`).
     #[serde(default)]
     pub output_pin_hole_diameter_mm: Option<f64>,
     /// Radius of the circle of the output-pin holes, mm (default: the crank circle radius).
@@ -48,7 +48,7 @@ pub struct FemConfig {
     #[serde(default)]
     pub output_pin_hole_phase_deg: Option<f64>,
     /// Diameter of the centre hole (input shaft passage), mm; 0 for none (default: the paper's
-    /// 30 mm scaled with the disc's root radius, [`crate::geometry::CycloidGeometry::scaled_from_root`]).
+    /// 30 mm scaled with the disc's root radius, `crate::geometry::CycloidGeometry::scaled_from_root`).
     #[serde(default)]
     pub centre_hole_diameter_mm: Option<f64>,
     /// Element size along the tooth outline, mm.

@@ -70,7 +70,7 @@ impl LifeConfig {
     /// Checks the thresholds (positive, finite).
     ///
     /// # Errors
-    /// [`Error::Invalid`] naming the key, the value and the allowed range.
+    /// `Error::Invalid` naming the key, the value and the allowed range.
     pub fn validate(&self) -> Result<LifeThresholds> {
         let t = |key: &str, v: Option<f64>, hi: f64, unit| {
             v.map(|x| check(&format!("life.{key}"), x, Range::positive(hi, unit)))

@@ -155,20 +155,15 @@ impl LoadConfig {
 
 /// Longest duration of one duty-cycle row, s (about 31 700 years): the durations must add up
 /// to a finite total for the time shares.
-pub const MAX_ROW_DURATION_S: f64 = 1e12;
+pub(crate) const MAX_ROW_DURATION_S: f64 = 1e12;
 
 /// Reads a duty-cycle CSV with header `duration_s,torque_nm,speed_rpm`: one load level per
 /// distinct `(torque, speed)` pair, with the share of the total duration of its rows (the
-/// shares sum to 1 to round-off).
+/// shares sum to 1 to round-off), and the first row (1-based) of every level.
 ///
 /// # Errors
 /// [`Error::Config`] if unreadable; [`Error::Invalid`] naming the row for a bad value (a
 /// duration must lie in `(0, MAX_ROW_DURATION_S]`).
-pub fn read_duty_cycle(path: &Path) -> Result<Vec<LoadLevel>> {
-    read_duty_cycle_rows(path).map(|(levels, _)| levels)
-}
-
-/// [`read_duty_cycle`], with the first row (1-based) of every level.
 fn read_duty_cycle_rows(path: &Path) -> Result<(Vec<LoadLevel>, Vec<usize>)> {
     let origin = path.display().to_string();
     let mut rdr = csv::Reader::from_path(path).map_err(|e| Error::Config {

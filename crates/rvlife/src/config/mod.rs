@@ -3,7 +3,7 @@
 //! One file per section, each holding the section's raw struct (what the user writes, unknown
 //! keys rejected with their path) beside the `validate` that checks it and converts it to the
 //! parameters of the analysis that reads it; every range goes through the one helper of
-//! [`range`] and is written in the field's doc comment. The validated [`Model`] is composed of
+//! `range` and is written in the field's doc comment. The validated [`Model`] is composed of
 //! those parameter structs ([`model`]); the rules that span sections (sizes defaulted from the
 //! stage, the physical checks of the unworn stage) come after the sections, in
 //! [`cross_section`] and [`physical`].
@@ -55,14 +55,13 @@ pub use dynamics::{DriveConfig, DynamicsConfig, FlexibleConfig, ImpactConfig, In
 pub use errors::ErrorsConfig;
 pub use fem::FemConfig;
 pub use life::{LifeConfig, LifeThresholds};
-pub use load::{read_duty_cycle, LoadConfig, LoadParams, MAX_ROW_DURATION_S};
+pub use load::{LoadConfig, LoadParams};
 pub use materials::{MaterialConfig, MaterialParams, MaterialsConfig};
 pub use model::{Model, Section};
-pub use physical::PROBES_PER_MESH_CYCLE;
 pub use presets::{preset_text, Preset, PRESETS};
 pub use reducer::{BearingsConfig, GearsConfig, OutputPinsConfig, Rating, ReducerConfig};
 pub use te::TeConfig;
-pub use tolerances::{iso_it, Tolerance, ToleranceConfig, Tolerances, TolerancesConfig};
+pub use tolerances::{Tolerance, ToleranceConfig, Tolerances, TolerancesConfig};
 pub use wear::WearConfig;
 
 use crate::error::{Error, Result};
@@ -124,7 +123,7 @@ impl Config {
     ///
     /// # Errors
     /// [`Error::Config`] for syntax errors, wrong types and unknown keys (with the key path).
-    pub fn from_toml_str(text: &str, origin: &str) -> Result<Config> {
+    pub(crate) fn from_toml_str(text: &str, origin: &str) -> Result<Config> {
         let de = toml::Deserializer::parse(text).map_err(|e| Error::Config {
             path: origin.into(),
             message: e.to_string().trim().to_string(),

@@ -5,11 +5,11 @@
 //! - **Mesh:** with the modifications, the unworn disc must stay in mesh: turning it either way
 //!   from its nominal pose, a pin must stop it within the static analysis' twist range, and the
 //!   play between the two directions must not be negative (interference). Probed at the
-//!   crank angles of a mesh cycle that the study solves, and [`PROBES_PER_MESH_CYCLE`] more.
+//!   crank angles of a mesh cycle that the study solves, and `PROBES_PER_MESH_CYCLE` more.
 //! - **Torque:** every torque the study applies (rated torque both ways, loaded-TE torque, the
 //!   largest wear load in each direction, the peak of the dynamic load) must be carried by the
 //!   unworn stage at the same crank angles: the static analysis converges, the twist beyond
-//!   first contact stays within half the range it follows ([`MAX_TWIST`]), and the largest Hertz
+//!   first contact stays within half the range it follows (`MAX_TWIST`), and the largest Hertz
 //!   pressure stays within `materials.max_contact_pressure_mpa` (ISO 76:2006 static capacity of
 //!   hardened steel in line contact, 4000 MPa, by default). A torque beyond is refused with the
 //!   torque the stage does carry in that direction.
@@ -24,7 +24,7 @@ use crate::statics::{StaticAnalysis, MAX_TWIST};
 use crate::units::ARCMIN_PER_RAD;
 
 /// Crank angles per mesh cycle at which the unworn stage is probed besides the study's own.
-pub const PROBES_PER_MESH_CYCLE: usize = 4;
+pub(crate) const PROBES_PER_MESH_CYCLE: usize = 4;
 
 /// Play below which the modified disc interferes with the pins, rad (the study's own test of
 /// the worn stages uses the same bound).
@@ -289,7 +289,7 @@ impl Model {
     ///
     /// # Errors
     /// [`Error::Invalid`] naming `key`, with the largest torque the stage carries that way.
-    pub fn check_torque(&self, key: &str, torque: f64) -> Result<()> {
+    pub(crate) fn check_torque(&self, key: &str, torque: f64) -> Result<()> {
         if !torque.is_finite() {
             return Err(Error::invalid(key, torque, "must be a finite number"));
         }

@@ -57,7 +57,7 @@ fn default_drive() -> String {
 
 /// `[reducer.output_pins]`: the output mechanism of a single-stage drive, pins on the output
 /// flange in holes of the discs. Sizes left out default from the stage (module docs of
-/// [`crate::geometry::CycloidGeometry::scaled_from_root`]: the paper's proportions scaled by the
+/// `crate::geometry::CycloidGeometry::scaled_from_root`: the paper's proportions scaled by the
 /// tooth-root radius).
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -89,7 +89,7 @@ pub struct OutputPinsConfig {
 pub struct GearsConfig {
     /// Planet pitch radius, mm (paper Table 1: 27). Default: the planet's share `Z2/(Z1 + Z2)`
     /// of the crank circle, which scales the paper's 40.5 mm with the disc's root radius
-    /// ([`crate::geometry::CycloidGeometry::scaled_from_root`]). Range: (0, 1e4] mm.
+    /// (`crate::geometry::CycloidGeometry::scaled_from_root`). Range: (0, 1e4] mm.
     #[serde(default)]
     pub planet_pitch_radius_mm: Option<f64>,
     /// Pressure angle, degrees (paper Table 1: 30). Range: [10, 45] deg.

@@ -179,7 +179,7 @@ impl Tolerances {
 /// the tolerance factor `i = 0.45 D^(1/3) + 0.001 D` um up to 500 mm and `I = 0.004 D + 2.1` um
 /// above, `D` (mm) the geometric mean of the size step that holds `size` (the standard's
 /// table values are these, rounded).
-pub fn iso_it(grade: i64, size: f64) -> Option<f64> {
+pub(crate) fn iso_it(grade: i64, size: f64) -> Option<f64> {
     const STEPS: [f64; 23] = [
         0.0,
         3.0,

@@ -164,7 +164,8 @@ pub fn solve(
 /// # Errors
 /// [`Error::Numerical`] if the flank cannot be followed over the window (it folds, or the
 /// window is wider than the pin).
-pub fn flank_separation(
+#[cfg(test)]
+pub(crate) fn flank_separation(
     profile: &Profile,
     q: &Vec2,
     pin_radius: f64,
@@ -217,7 +218,8 @@ pub fn flank_separation(
 /// Separation (m) between a pin of radius `pin_radius` and a circular flank of curvature
 /// `curvature` (1/m, positive convex) at the panel centres of [`flank_separation`], the two
 /// surfaces `min_gap` (m) apart at `x = 0`: the geometry the closed-form laws assume.
-pub fn circle_separation(
+#[cfg(test)]
+pub(crate) fn circle_separation(
     min_gap: f64,
     pin_radius: f64,
     curvature: f64,
@@ -250,7 +252,8 @@ pub fn circle_separation(
 /// # Errors
 /// As [`solve`] and [`flank_separation`].
 #[allow(clippy::too_many_arguments)]
-pub fn approach_excess(
+#[cfg(test)]
+pub(crate) fn approach_excess(
     profile: &Profile,
     q: &Vec2,
     pin_radius: f64,

@@ -1,5 +1,5 @@
 //! The disc-pin gap as a smooth field over the plane of the disc, tabulated once per profile
-//! from the exact closest-point projection of [`Profile::project`].
+//! from the exact closest-point projection of `Profile::project`.
 //!
 //! A pin centre `q` (profile frame, m) is located by polar-like coordinates attached to the
 //! nominal pin-centre path `C(t) = Rp e^{i(1 - Zp/Zc) t} - a e^{-i (Zp/Zc) t}` (paper eq 24 with
@@ -18,7 +18,7 @@
 //! exact projections: `gap(t, rho) = s(t mod 2 pi) (rho - rho_0(t mod 2 pi))`. Within 2 um of
 //! contact, where the impact force acts, the error is below 2 nm (tested); further out it
 //! stays within a few per cent of the gap, and only the sign matters there.
-//! `rho_0` and `s` are periodic cubic Hermite splines (C1), and [`GapField::eval`] returns the exact
+//! `rho_0` and `s` are periodic cubic Hermite splines (C1), and `GapField::eval` returns the exact
 //! gradient of this interpolant, so contact forces derived from it conserve energy. The field is
 //! the contact geometry of both analyses of the reducer model (static and dynamic).
 //!
@@ -28,8 +28,8 @@
 //! - single: the flank averaged over the band of one force (Li's largest pin force at
 //!   the rated torque). On the example's 7500 h disc this lets pins of 13-430 N near the wear
 //!   peak reach up to 0.40 um further into the exact flank than a non-Hertzian line contact on
-//!   it allows ([`crate::contact::elastic`]): their contacts are far narrower than the band.
-//! - envelope (default): the upper envelope of the flank averaged over a narrow band ([`NARROW_BAND`] of
+//!   it allows (`crate::contact::elastic`): their contacts are far narrower than the band.
+//! - envelope (default): the upper envelope of the flank averaged over a narrow band (`NARROW_BAND` of
 //!   the force: the contacts at the lost-motion measuring torque) and over the band. A concave
 //!   feature narrower than the wide band (a valley of the worn flank) is bridged, as a loaded
 //!   contact bridges it, while a convex one (a ridge, the shoulder of a wear scar) keeps the
@@ -131,7 +131,7 @@ impl PeriodicSpline {
 /// The narrow contact band of an envelope [`Band`] as a fraction of its force: a sixteenth, a
 /// quarter of the half-width (Li's largest force at 3 % of the rated torque is about a
 /// thirtieth of that at the rated torque).
-pub const NARROW_BAND: f64 = 1.0 / 16.0;
+pub(crate) const NARROW_BAND: f64 = 1.0 / 16.0;
 
 /// Arc length (m) of each step of a grid of `n` profile parameters over one tooth.
 fn arc_steps(profile: &Profile, n: usize) -> Vec<f64> {
@@ -181,7 +181,7 @@ pub struct Band<'c> {
     /// Band force, N.
     pub force: f64,
     /// `false`: the flank averaged over the band of `force`; `true`: the upper envelope of the
-    /// flank averaged over the bands of [`NARROW_BAND`] times `force` and of `force`.
+    /// flank averaged over the bands of `NARROW_BAND` times `force` and of `force`.
     pub envelope: bool,
 }
 
@@ -404,7 +404,7 @@ impl GapField {
     /// With a `band` the offset and slope tables are then filtered over its Hertz band: every
     /// node becomes the semi-elliptic average over `+-b` of arc length (two passes), `b` the
     /// half-width of the band's force (N) on the unworn flank there; with `envelope`, over the
-    /// bands of [`NARROW_BAND`] times that force and of that force, and the field takes the
+    /// bands of `NARROW_BAND` times that force and of that force, and the field takes the
     /// upper envelope of the two, the flank that stands further out (see the module docs).
     pub fn new(profile: &Profile, points: usize, band: Option<Band>) -> Result<Self> {
         let geo = profile.geometry();
@@ -494,7 +494,7 @@ impl GapField {
     /// parameter expected for this pin (within about a quarter tooth; see
     /// [`Profile::contact_parameter_guess`]), and the parameter found is returned with it.
     #[inline]
-    pub fn eval(&self, q: &Vec2, t_guess: f64) -> (GapEval, f64) {
+    pub(crate) fn eval(&self, q: &Vec2, t_guess: f64) -> (GapEval, f64) {
         let r2 = q.norm_squared();
         let rq = r2.sqrt();
         // The path parameter, the path radius and their gradients (the table's own
@@ -548,7 +548,7 @@ impl GapField {
     /// path parameter `t` was found by [`GapField::eval`]: the exact second derivative of the
     /// interpolant `s(t) (rho - rho_0(t))` with `t(q)` and `rho(q)` of the module docs (within a
     /// spline cell; the splines are C1, so it jumps at the knots).
-    pub fn hessian(&self, q: &Vec2, t: f64) -> Matrix2<f64> {
+    pub(crate) fn hessian(&self, q: &Vec2, t: f64) -> Matrix2<f64> {
         let (a, rp, zc) = (self.a, self.rp, self.zc);
         let (x, y) = (q.x, q.y);
         let r2 = q.norm_squared();
@@ -670,7 +670,7 @@ mod tests {
                     if pg.gap > 20e-6 {
                         continue;
                     }
-                    let (c, psi) = crate::contact::disc_pose(profile.geometry(), phi, beta);
+                    let (c, psi) = crate::contact::pin::disc_pose(profile.geometry(), phi, beta);
                     let p = profile.geometry().pin_centre(j);
                     let q = crate::geometry::rotate(&(p - c), -psi);
                     let tg = profile.contact_parameter_guess(j, phi, psi);

@@ -20,7 +20,7 @@ pub struct Materials {
 
 impl Materials {
     /// Compliances `(1 - nu1^2)/E1`, `(1 - nu2^2)/E2`, 1/Pa.
-    pub fn compliances(&self) -> (f64, f64) {
+    pub(crate) fn compliances(&self) -> (f64, f64) {
         (
             (1.0 - self.disc_poisson_ratio.powi(2)) / self.disc_youngs_modulus,
             (1.0 - self.pin_poisson_ratio.powi(2)) / self.pin_youngs_modulus,
@@ -28,7 +28,7 @@ impl Materials {
     }
 
     /// Contact modulus `E*` with `1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2` (paper eq 13), Pa.
-    pub fn contact_modulus(&self) -> f64 {
+    pub(crate) fn contact_modulus(&self) -> f64 {
         let (c1, c2) = self.compliances();
         1.0 / (c1 + c2)
     }
@@ -94,7 +94,7 @@ pub struct HertzState {
 impl ContactModel {
     /// Reduced radius `R*` with `1/R* = 1/rrp + k` (`k` the disc curvature, negative where the
     /// flank is concave), capped at `max_radius`; m.
-    pub fn reduced_radius(&self, disc_curvature: f64) -> f64 {
+    pub(crate) fn reduced_radius(&self, disc_curvature: f64) -> f64 {
         let inv = 1.0 / self.pin_radius + disc_curvature;
         if inv <= 1.0 / self.max_radius {
             self.max_radius
@@ -105,7 +105,7 @@ impl ContactModel {
 
     /// Hertz half-width, maximum and mean pressure of force `force` (N) on a flank of
     /// curvature `disc_curvature` (1/m). Zero force gives zeros.
-    pub fn hertz(&self, force: f64, disc_curvature: f64) -> HertzState {
+    pub(crate) fn hertz(&self, force: f64, disc_curvature: f64) -> HertzState {
         if force <= 0.0 {
             return HertzState {
                 force: 0.0,
@@ -166,7 +166,7 @@ impl ContactModel {
     /// curvature `disc_curvature` (1/m): from `delta = F (g0(kappa) - g1 ln F)`,
     /// `dF/dkappa = -F g0'(kappa) dF/ddelta` (`g0'` by a central difference of the closed
     /// form). Zero for the linear law or no force.
-    pub fn force_curvature_derivative(
+    pub(crate) fn force_curvature_derivative(
         &self,
         force: f64,
         stiffness: f64,
@@ -192,7 +192,8 @@ impl ContactModel {
     ///
     /// # Errors
     /// As [`ContactModel::force`].
-    pub fn potential(&self, delta: f64, disc_curvature: f64) -> Result<f64> {
+    #[cfg(test)]
+    pub(crate) fn potential(&self, delta: f64, disc_curvature: f64) -> Result<f64> {
         if delta <= 0.0 {
             return Ok(0.0);
         }
@@ -207,7 +208,7 @@ impl ContactModel {
     }
 
     /// Approach `delta` (m) of the force `force` (N) on a flank of curvature `disc_curvature`.
-    pub fn approach(&self, force: f64, disc_curvature: f64) -> f64 {
+    pub(crate) fn approach(&self, force: f64, disc_curvature: f64) -> f64 {
         if force <= 0.0 {
             return 0.0;
         }
@@ -222,7 +223,7 @@ impl ContactModel {
     }
 
     /// Force (N) and contact stiffness `dF/ddelta` (N/m) at approach `delta` (m): the inverse of
-    /// [`ContactModel::approach`], by Newton's method in `ln F` (the law is `F` times a function
+    /// `ContactModel::approach`, by Newton's method in `ln F` (the law is `F` times a function
     /// linear in `ln F`).
     ///
     /// # Errors
@@ -243,7 +244,12 @@ impl ContactModel {
     ///
     /// # Errors
     /// As [`ContactModel::force`].
-    pub fn force_from(&self, delta: f64, disc_curvature: f64, f_guess: f64) -> Result<(f64, f64)> {
+    pub(crate) fn force_from(
+        &self,
+        delta: f64,
+        disc_curvature: f64,
+        f_guess: f64,
+    ) -> Result<(f64, f64)> {
         if delta <= 0.0 {
             return Ok((0.0, 0.0));
         }

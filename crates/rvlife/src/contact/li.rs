@@ -7,7 +7,7 @@ use crate::geometry::CycloidGeometry;
 /// an unmodified rigid disc with linear springs: `l_j = a Zc sin(t_j) / S(t_j)` with mesh angle
 /// `t_j = 2 pi j / Zp - phi`, `F_j = T_disc l_j / sum l^2` over the pins with `l_j > 0`.
 /// Returns `Zp` forces, N (zero on the unloaded flank); negative torques load the other flank.
-pub fn li_load_distribution(geo: &CycloidGeometry, phi: f64, disc_torque: f64) -> Vec<f64> {
+pub(crate) fn li_load_distribution(geo: &CycloidGeometry, phi: f64, disc_torque: f64) -> Vec<f64> {
     let zp = geo.pins as f64;
     let k1 = geo.k1();
     let s = disc_torque.signum();

@@ -8,8 +8,8 @@
 //! - [`gap`]: the contact geometry of a worn flank that the static and dynamic analyses share,
 //!   the gap field (exact global closest points tabulated over the mesh angle and averaged over
 //!   the Hertz band).
-//! - [`elastic`]: non-Hertzian line contact on a flank of any shape (the check of the gap
-//!   field's band averaging).
+//! - `elastic` (built with the tests): non-Hertzian line contact on a flank of any shape, the
+//!   oracle that checks the gap field's band averaging.
 //! - [`li`]: Li Lixing's closed-form load distribution (paper eqs 5, 9, 10).
 //!
 //! Sign conventions: a positive disc torque `T_disc` turns the disc counter-clockwise against
@@ -17,12 +17,14 @@
 //! (contact point `p_c` from the disc centre, outward normal `n`) is positive on that flank;
 //! the pin pushes on the disc with the moment `-F_j l_j`.
 
-pub mod elastic;
+#[cfg(test)]
+pub(crate) mod elastic;
 pub mod gap;
 pub mod law;
 pub mod li;
 pub mod pin;
 
 pub use law::{ApproachLaw, ContactModel, HertzState, Materials};
-pub use li::li_load_distribution;
-pub use pin::{disc_pose, pin_at_pose, pin_geometries, pin_geometry, DiscPose, PinGeometry};
+pub(crate) use li::li_load_distribution;
+pub(crate) use pin::pin_geometry;
+pub use pin::{DiscPose, PinGeometry};

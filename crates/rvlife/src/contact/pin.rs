@@ -20,14 +20,14 @@ pub struct PinGeometry {
     /// Outward unit normal of the flank at the contact point (disc frame).
     pub normal: Vec2,
     /// Flank curvature at the contact point for the contact law, 1/m (negative: concave): that
-    /// of the modified profile ([`Profile::macro_curvature`]).
+    /// of the modified profile (`Profile::macro_curvature`).
     pub curvature: f64,
 }
 
 /// Disc pose for crank angle `phi` and extra rotation `beta` (rad): the disc centre
 /// `a (cos phi, sin phi)` (m, pin-ring frame) and the disc rotation `psi = -phi/Zc + beta` (rad)
 /// (docs/model.md section 1).
-pub fn disc_pose(geo: &CycloidGeometry, phi: f64, beta: f64) -> (Vec2, f64) {
+pub(crate) fn disc_pose(geo: &CycloidGeometry, phi: f64, beta: f64) -> (Vec2, f64) {
     let zc = geo.disc_teeth() as f64;
     let centre = Vec2::new(geo.eccentricity * phi.cos(), geo.eccentricity * phi.sin());
     (centre, -phi / zc + beta)
@@ -37,7 +37,7 @@ pub fn disc_pose(geo: &CycloidGeometry, phi: f64, beta: f64) -> (Vec2, f64) {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DiscPose {
     /// Crank angle `phi` whose kinematics the pose is near (rad): it gives the kinematic guess
-    /// of every contact parameter ([`Profile::contact_parameter_guess`]).
+    /// of every contact parameter (`Profile::contact_parameter_guess`).
     pub crank_angle: f64,
     /// Disc centre, m.
     pub centre: Vec2,
@@ -46,7 +46,7 @@ pub struct DiscPose {
 }
 
 impl DiscPose {
-    /// The pose of crank angle `phi` turned by `beta` beyond nominal ([`disc_pose`]).
+    /// The pose of crank angle `phi` turned by `beta` beyond nominal (`disc_pose`).
     pub fn at(geo: &CycloidGeometry, phi: f64, beta: f64) -> Self {
         let (centre, angle) = disc_pose(geo, phi, beta);
         DiscPose {
@@ -57,7 +57,7 @@ impl DiscPose {
     }
 
     /// Centre of pin `j` in the profile frame, m.
-    pub fn pin_in_disc(&self, geo: &CycloidGeometry, j: usize) -> Vec2 {
+    pub(crate) fn pin_in_disc(&self, geo: &CycloidGeometry, j: usize) -> Vec2 {
         rotate(&(geo.pin_centre(j) - self.centre), -self.angle)
     }
 }
@@ -69,7 +69,7 @@ impl DiscPose {
 ///
 /// # Errors
 /// [`Error::Numerical`] if the projection fails.
-pub fn pin_at_pose(
+pub(crate) fn pin_at_pose(
     profile: &Profile,
     j: usize,
     pose: &DiscPose,
@@ -106,7 +106,12 @@ fn pin_geometry_of(profile: &Profile, j: usize, proj: crate::geometry::Projectio
 ///
 /// # Errors
 /// [`Error::Numerical`] if the projection fails.
-pub fn pin_geometry(profile: &Profile, j: usize, phi: f64, beta: f64) -> Result<PinGeometry> {
+pub(crate) fn pin_geometry(
+    profile: &Profile,
+    j: usize,
+    phi: f64,
+    beta: f64,
+) -> Result<PinGeometry> {
     pin_at_pose(
         profile,
         j,
@@ -116,7 +121,8 @@ pub fn pin_geometry(profile: &Profile, j: usize, phi: f64, beta: f64) -> Result<
 }
 
 /// Geometry of every pin at one pose (see [`pin_geometry`]), in pin order.
-pub fn pin_geometries(profile: &Profile, phi: f64, beta: f64) -> Result<Vec<PinGeometry>> {
+#[cfg(test)]
+pub(crate) fn pin_geometries(profile: &Profile, phi: f64, beta: f64) -> Result<Vec<PinGeometry>> {
     (0..profile.geometry().pins)
         .map(|j| pin_geometry(profile, j, phi, beta))
         .collect()

@@ -6,7 +6,7 @@
 //! (each on crank-carrier bearings), the output carrier, and two discs on the cranks' eccentrics
 //! (crank-disc bearings), 180 degrees apart, against the fixed pin ring. Every disc-pin gap comes
 //! from the actual (modified or worn) profile through a tabulated field of exact projections
-//! ([`gap`]); the force is MSC Adams IMPACT. The input is driven by a `STEP` speed ramp or a
+//! (`gap`); the force is MSC Adams IMPACT. The input is driven by a `STEP` speed ramp or a
 //! motor torque; the output carries no load, a constant, a sinusoidal or a tabulated torque
 //! ([`params`]).
 //!
@@ -116,7 +116,7 @@ pub struct DynamicsResult {
     /// Pin forces per sample (`2 x Zp` per row, N, disc-major), if asked for.
     pub pin_forces: Option<Vec<Vec<f64>>>,
     /// Deviations of every coordinate from the nominal kinematics per sample, with the pin
-    /// forces (one row of [`crate::reducer::Layout::dofs`] entries: m for positions, rad for
+    /// forces (one row of `crate::reducer::Layout::dofs` entries: m for positions, rad for
     /// angles; the layout of [`crate::statics::StaticSolution::deviations`]).
     pub deviations: Option<Vec<Vec<f64>>>,
     /// Summary over the window.

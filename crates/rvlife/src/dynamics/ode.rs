@@ -79,7 +79,7 @@ pub trait Integrator {
 /// Largest number of integrator steps of one simulation: about ten minutes at the example's
 /// 0.13 ms per step on the reference machine (the default work budget, [`crate::budget`]).
 /// The example takes 25 000.
-pub const MAX_STEPS: usize = 4_500_000;
+pub(crate) const MAX_STEPS: usize = 4_500_000;
 
 /// Tsitouras 5(4) from `diffsol` with relative tolerance `rtol`.
 

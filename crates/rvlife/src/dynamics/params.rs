@@ -123,7 +123,8 @@ impl ImpactLaw {
 
     /// Elastic energy (J) at penetration `pen` (m): the integral of [`ImpactLaw::force`] (at
     /// fixed curvature).
-    pub fn potential(&self, contact: &ContactModel, pen: f64, curvature: f64) -> f64 {
+    #[cfg(test)]
+    pub(crate) fn potential(&self, contact: &ContactModel, pen: f64, curvature: f64) -> f64 {
         match *self {
             ImpactLaw::Hertz => contact.potential(pen, curvature).unwrap_or(f64::NAN),
             ImpactLaw::Power {
@@ -135,7 +136,7 @@ impl ImpactLaw {
 
     /// Linearised stiffness `dF/dd` (N/m) at force `force` (N) on a flank of curvature
     /// `curvature`.
-    pub fn stiffness_at(&self, contact: &ContactModel, force: f64, curvature: f64) -> f64 {
+    pub(crate) fn stiffness_at(&self, contact: &ContactModel, force: f64, curvature: f64) -> f64 {
         match *self {
             ImpactLaw::Hertz => {
                 let d = contact.approach(force, curvature);
@@ -205,7 +206,7 @@ impl DynamicsParams {
     ///
     /// # Errors
     /// As [`GapField::new`].
-    pub fn gap_field(&self, profile: &Profile) -> crate::error::Result<GapField> {
+    pub(crate) fn gap_field(&self, profile: &Profile) -> crate::error::Result<GapField> {
         GapField::new(profile, self.gap_points, Some(self.reducer.contact_band()))
     }
 }

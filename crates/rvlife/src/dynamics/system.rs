@@ -9,7 +9,7 @@
 //! The mass matrix is diagonal (each body's mass and centroidal inertia), so the equations are
 //! `M qdd = Q(t, q, qd)` with every coupling in the generalised forces `Q`, each derived from a
 //! potential (or a dissipation) so that without damping and friction the total energy
-//! [`System::energy`] is conserved exactly by the continuous equations:
+//! `System::energy` is conserved exactly by the continuous equations:
 //! - sun-planet mesh (per planet): deflection along the line of action in the carrier frame
 //!   `delta = r_bs (theta_s - theta_o) + r_bp (vartheta_k - theta_o) - u_k . (X_k - S_k)`
 //!   (lumped-parameter planetary model of Lin and Parker, J. Vib. Acoust. 121, 1999), spring and
@@ -36,7 +36,8 @@ use crate::geometry::{cross, rotate, Vec2};
 use super::params::{Drive, DynamicsParams, LoadProfile};
 use crate::contact::gap::{GapEval, GapField};
 use crate::reducer::perp;
-pub use crate::reducer::{Layout, MAX_DOFS};
+pub use crate::reducer::Layout;
+pub(crate) use crate::reducer::MAX_DOFS;
 
 /// A disc's pose for its pin contacts: centre `c` (m) and its speed
 /// `cd` (m/s), angular speed `wpsi` (rad/s), the base of the pins' contact-parameter guesses
@@ -150,6 +151,8 @@ pub struct System<'a> {
     /// Inverse masses per coordinate.
     inv_mass: Vec<f64>,
     /// Masses per coordinate (for the kinetic energy).
+    // Read by the tests only (energy, assembly checks).
+    #[cfg_attr(not(test), allow(dead_code))]
     mass: Vec<f64>,
     pins: Vec<Vec2>,
     /// Profile angle offset of each disc (0, -pi/Zc): the profile of disc 2 sits half a tooth
@@ -253,7 +256,7 @@ impl<'a> System<'a> {
     /// modes and residual flexibility of the FE disc, [`crate::fem::modal`]) at their own
     /// contact parameters, the contact's local approach from [`FlexibleLaw`] (the Hertz law
     /// with its disc term cut at the load patch, the FE body supplying the rest), as in the
-    /// quasi-static flexible analysis ([`crate::fem::flex::solve_flexible_bearings`]).
+    /// quasi-static flexible analysis (`crate::fem::flex::solve_flexible_bearings`).
     ///
     /// # Errors
     /// [`crate::error::Error::Invalid`] if the disc mass and inertia of `p.inertia` are below
@@ -327,7 +330,7 @@ impl<'a> System<'a> {
         Ok(sys)
     }
 
-    /// Pins of the ring (the pin forces of [`System::rhs`] are `2 x pins`, disc-major).
+    /// Pins of the ring (the pin forces of `System::rhs` are `2 x pins`, disc-major).
     pub fn pins(&self) -> usize {
         self.zp
     }
@@ -338,7 +341,7 @@ impl<'a> System<'a> {
     }
 
     /// The coordinate layout.
-    pub fn layout(&self) -> Layout {
+    pub(crate) fn layout(&self) -> Layout {
         self.layout
     }
 
@@ -349,7 +352,7 @@ impl<'a> System<'a> {
     }
 
     /// Prescribed input angle (rad) and speed (rad/s) at time `t` for a speed drive.
-    pub fn input_motion(&self, t: f64) -> Option<(f64, f64, f64)> {
+    pub(crate) fn input_motion(&self, t: f64) -> Option<(f64, f64, f64)> {
         match self.p.drive {
             Drive::Speed { speed, t0, t1 } => {
                 let w = speed * step(t, t0, 0.0, t1, 1.0);
@@ -370,7 +373,7 @@ impl<'a> System<'a> {
     /// [`super`]), all zero: every body at its nominal position, at rest (speed drive) or
     /// spinning rigidly at the drive's initial speed (torque drive). An unmodified disc then
     /// touches every pin with zero force.
-    pub fn initial_state(&self) -> Vec<f64> {
+    pub(crate) fn initial_state(&self) -> Vec<f64> {
         let n = self.layout.dofs();
         let mut z = vec![0.0; self.states()];
         if let Drive::Torque { initial_speed, .. } = self.p.drive {
@@ -410,14 +413,14 @@ impl<'a> System<'a> {
     /// Right-hand side `dz/dt` of the first-order system for state `z` (see
     /// [`System::initial_state`]) at time `t`; with `forces`, also the pin forces of both discs
     /// (`2 x Zp`, disc-major).
-    pub fn rhs(&self, t: f64, z: &[f64], dz: &mut [f64], forces: Option<&mut [PinForce]>) {
+    pub(crate) fn rhs(&self, t: f64, z: &[f64], dz: &mut [f64], forces: Option<&mut [PinForce]>) {
         self.evaluate(t, z, dz, forces, Contacts::Compute);
     }
 
     /// The discs whose pin contacts depend on state `j` (see [`System::states`]): a disc's
     /// own position, speed and modal states, and the input's angle and speed (which carry
     /// every body's nominal motion under a torque drive).
-    pub fn column_discs(&self, j: usize) -> [bool; 2] {
+    pub(crate) fn column_discs(&self, j: usize) -> [bool; 2] {
         let n = self.layout.dofs();
         let m = self.modes();
         if j >= 2 * n {
@@ -874,7 +877,7 @@ impl<'a> System<'a> {
 
     /// Forgets the warm starts of the contact solves (closest-point parameters, last pin
     /// forces), so that a new integration starts as from [`System::new`].
-    pub fn reset_caches(&self) {
+    pub(crate) fn reset_caches(&self) {
         self.t_cache.borrow_mut().fill(f64::NAN);
         self.f_cache.borrow_mut().fill(0.0);
         self.open_cache.borrow_mut().fill((f64::NAN, Vec2::zeros()));
@@ -885,7 +888,8 @@ impl<'a> System<'a> {
     /// the mesh, bearing and contact springs. Conserved when damping, friction, load and drive
     /// torque are zero (torque drive). Rigid discs only (the modal coordinates of flexible discs
     /// are not counted).
-    pub fn energy(&self, t: f64, z: &[f64]) -> f64 {
+    #[cfg(test)]
+    pub(crate) fn energy(&self, t: f64, z: &[f64]) -> f64 {
         let p = self.p;
         let lay = self.layout;
         let n = lay.dofs();
@@ -917,12 +921,12 @@ impl<'a> System<'a> {
     }
 
     /// Transmission error `theta_o - theta_s / i_H` (rad, paper eq 21) of state `y`.
-    pub fn transmission_error(&self, z: &[f64]) -> f64 {
+    pub(crate) fn transmission_error(&self, z: &[f64]) -> f64 {
         z[Layout::OUT]
     }
 
     /// Input and output angles (rad) and speeds (rad/s) of state `z` at time `t`.
-    pub fn shafts(&self, t: f64, z: &[f64]) -> [f64; 4] {
+    pub(crate) fn shafts(&self, t: f64, z: &[f64]) -> [f64; 4] {
         let n = self.layout.dofs();
         let (th_s, w_s, _) =
             self.input_motion(t)
@@ -1006,7 +1010,7 @@ impl super::ode::OdeSystem for System<'_> {
     }
 
     /// Recomputes the pin contacts of the discs that state `j` moves
-    /// ([`System::column_discs`]) and reuses the others' from the base point: a state of
+    /// (`System::column_discs`) and reuses the others' from the base point: a state of
     /// a crank, the output or the other disc leaves a disc's contacts unchanged.
     fn rhs_column(&self, t: f64, y: &[f64], j: usize, dy: &mut [f64]) {
         self.evaluate(t, y, dy, None, Contacts::Reuse(self.column_discs(j)));

@@ -2,8 +2,8 @@
 //!
 //! For crank angle `phi` and disc torque `T` the unknowns are the disc rotation `beta` and the
 //! pin forces `F_j >= 0`. With the rigid gaps `g_j(beta)` measured exactly on the actual profile
-//! ([`crate::contact::pin_geometry`]), the disc compliance `C` between the contact points
-//! ([`DiscModel::compliance_at`]) and the local Hertz approach `w_j(F_j)` ([`FlexibleLaw`]):
+//! (`crate::contact::pin_geometry`), the disc compliance `C` between the contact points
+//! (`DiscModel::compliance_at`) and the local Hertz approach `w_j(F_j)` ([`FlexibleLaw`]):
 //!
 //! - contact: `w_j(F_j) + sum_k C_jk F_k + g_j(beta) = 0` where `F_j > 0`,
 //!   and `sum_k C_jk F_k + g_j(beta) >= 0` where `F_j = 0` (a linear complementarity problem
@@ -28,7 +28,6 @@ use crate::fem::{outline_radii, DiscModel, DiscSet};
 use crate::geometry::{Profile, Vec2};
 use crate::reducer::{Reducer, Support};
 use crate::statics::{PinLoad, StaticAnalysis, StaticSolution};
-use crate::te::CurveStats;
 
 /// The local (Hertz) part of the contact compliance when the disc body is an FE model loaded by
 /// pressure patches of half-width `w`: the pin term of the contact law unchanged, the disc term
@@ -47,7 +46,7 @@ pub struct FlexibleLaw {
 impl FlexibleLaw {
     /// Local approach (m) and its derivative `dw/dF` (m/N) at force `force` (N) on a flank of
     /// curvature `curvature` (1/m). Forces below 1e-3 N use the derivative at 1e-3 N.
-    pub fn approach(&self, force: f64, curvature: f64) -> (f64, f64) {
+    pub(crate) fn approach(&self, force: f64, curvature: f64) -> (f64, f64) {
         let m = &self.model;
         let f = force.max(1e-3);
         if let ApproachLaw::Linear { stiffness } = m.law {
@@ -115,7 +114,7 @@ pub struct FlexSolution {
 
 impl FlexSolution {
     /// Largest pin force, N.
-    pub fn max_force(&self) -> f64 {
+    pub(crate) fn max_force(&self) -> f64 {
         self.pins.iter().map(|p| p.force).fold(0.0, f64::max)
     }
 }
@@ -143,7 +142,7 @@ fn candidates(profile: &Profile, phi: f64, beta: f64, s: f64, reach: f64) -> Res
 /// # Errors
 /// [`Error::Invalid`] if `sa`'s reducer has no rigid support; the rigid solve's failures;
 /// [`Error::Numerical`] if the Newton iteration does not converge in 200 steps.
-pub fn solve_flexible(
+pub(crate) fn solve_flexible(
     sa: &StaticAnalysis,
     disc: &DiscModel,
     phi: f64,
@@ -298,14 +297,14 @@ pub fn solve_flexible(
     })
 }
 
-/// Relative tolerance of the body-deflection fixed point of [`solve_flexible_bearings`]: the
+/// Relative tolerance of the body-deflection fixed point of `solve_flexible_bearings`: the
 /// largest change of a pin's gap offset in the last sweep, over the largest offset. At this
 /// value the example's study takes 3.9 static solves per flexible solve (4.8 at 1e-4, 5.6 at
 /// 1e-5, 7.3 at 1e-7); against 1e-5 its flexible TE means, backlash, lost motion and stiffness
 /// move by less than 3e-5 of themselves, its TE peak-to-peak values and stress maxima by less
 /// than 5e-4, a tenth of the mesh's discretisation error (the 0.125 mm flank mesh is within
 /// 5e-3 of the 0.25 mm one).
-pub const FLEX_OFFSET_TOLERANCE: f64 = 1e-3;
+pub(crate) const FLEX_OFFSET_TOLERANCE: f64 = 1e-3;
 
 /// Flexible discs on their bearings: the static equilibrium of the reducer model
 /// ([`StaticAnalysis`]: both discs free on the crank bearings, load share from the equilibrium)
@@ -335,7 +334,7 @@ pub const FLEX_OFFSET_TOLERANCE: f64 = 1e-3;
 /// # Errors
 /// [`Error::Numerical`] if a static solve fails or the fixed point is not reached in 400
 /// sweeps (naming the crank angle and torque).
-pub fn solve_flexible_bearings(
+pub(crate) fn solve_flexible_bearings(
     sa: &StaticAnalysis,
     red: &Reducer,
     discs: &DiscSet,
@@ -415,8 +414,8 @@ pub fn solve_flexible_bearings(
     ))
 }
 
-/// Depth (previous sweeps remembered) of the Anderson mixing of [`solve_flexible_bearings`].
-pub const ANDERSON_DEPTH: usize = 4;
+/// Depth (previous sweeps remembered) of the Anderson mixing of `solve_flexible_bearings`.
+pub(crate) const ANDERSON_DEPTH: usize = 4;
 
 /// Anderson mixing of a fixed-point iteration `x = g(x)` (D. G. Anderson, *Iterative procedures
 /// for nonlinear integral equations*, J. ACM 12, 1965; the form of H. F. Walker and P. Ni,
@@ -483,14 +482,15 @@ impl AndersonMixing {
 /// tooth, with a margin of [`FACING_MARGIN`] round both ends (a pin at the root or tip is
 /// loaded on one side of the end and open on the other from one sweep to the next; its body
 /// deflection must not vanish when it opens).
-pub fn faces_driving_flank(t: f64) -> bool {
+#[cfg(test)]
+pub(crate) fn faces_driving_flank(t: f64) -> bool {
     faces_loaded_flank(t, 1.0)
 }
 
 /// Whether a pin with contact parameter `t` (rad) faces the flank that a torque of sign `sense`
 /// loads: the driving flank `[0, pi]` for `sense >= 0`, the other flank `[pi, 2 pi]` for a
 /// negative one, with a margin of [`FACING_MARGIN`] round both ends.
-pub fn faces_loaded_flank(t: f64, sense: f64) -> bool {
+pub(crate) fn faces_loaded_flank(t: f64, sense: f64) -> bool {
     let local = t.rem_euclid(TAU);
     if sense >= 0.0 {
         local <= PI + FACING_MARGIN || local >= TAU - FACING_MARGIN
@@ -499,8 +499,8 @@ pub fn faces_loaded_flank(t: f64, sense: f64) -> bool {
     }
 }
 
-/// Margin of [`faces_driving_flank`] in profile parameter, rad.
-pub const FACING_MARGIN: f64 = 0.3;
+/// Margin of `faces_driving_flank` in profile parameter, rad.
+pub(crate) const FACING_MARGIN: f64 = 0.3;
 
 /// Disc 1 of a flexible bearing solution as a [`FlexSolution`] (for [`disc_stress`]); its
 /// rotations are the reducer's output twists: loaded, rigid (`rigid`) and at first contact
@@ -532,8 +532,8 @@ fn disc_one(sol: &StaticSolution, offsets: &[f64], psi0: f64, rigid: f64) -> Fle
 }
 
 /// Pins carrying less than this fraction of the largest pin force keep the stress round their
-/// patch in [`disc_stress`]'s maxima (their patch stress is a few per cent of a loaded one's).
-pub const PATCH_EXCLUSION_FORCE: f64 = 0.05;
+/// patch in `disc_stress`'s maxima (their patch stress is a few per cent of a loaded one's).
+pub(crate) const PATCH_EXCLUSION_FORCE: f64 = 0.05;
 
 /// Von Mises stress of the disc under one loaded contact state.
 #[derive(Debug, Clone, Serialize)]
@@ -543,7 +543,7 @@ pub struct DiscStress {
     /// Output torque, N m.
     pub torque: f64,
     /// Largest von Mises stress away from the load patches (further than two patch half-widths
-    /// from every contact carrying [`PATCH_EXCLUSION_FORCE`] of the largest force), Pa.
+    /// from every contact carrying `PATCH_EXCLUSION_FORCE` of the largest force), Pa.
     pub max_von_mises: f64,
     /// Largest von Mises stress on the outline in the tooth-root zone (radius within 25 % of the
     /// tooth height above the root), away from the load patches as for `max_von_mises`, Pa.
@@ -554,7 +554,7 @@ pub struct DiscStress {
 }
 
 /// Stress of the disc under the pin forces of `sol` (disc frame loads as pressure patches).
-pub fn disc_stress(
+pub(crate) fn disc_stress(
     profile: &Profile,
     disc: &DiscModel,
     sol: &FlexSolution,
@@ -613,7 +613,7 @@ pub fn disc_stress(
 /// fraction of the largest over the revolution (not only at the largest: near-equal forces at
 /// crank angles half a revolution apart load the disc at different places, and which of them
 /// is the larger by 1e-8 must not decide the stress reported).
-pub const STRESS_FORCE_BAND: f64 = 0.99;
+pub(crate) const STRESS_FORCE_BAND: f64 = 0.99;
 
 /// Of the stress states `states` (at least one), the one with the largest von Mises stress,
 /// carrying the largest root stress of all.
@@ -659,24 +659,17 @@ pub struct FlexibleStage {
     /// Output torques of the flexible hysteresis curve, N m (from minus to plus rated; the
     /// curve of this frictionless model is the same loading and unloading).
     pub hysteresis_torque: Vec<f64>,
-    /// Flexible output twist at each of those torques, mean over [`HYSTERESIS_CRANK_ANGLES`]
+    /// Flexible output twist at each of those torques, mean over `HYSTERESIS_CRANK_ANGLES`
     /// crank angles of the revolution, rad.
     pub hysteresis_twist: Vec<f64>,
     /// Stress at the rated torque: of the crank angles whose largest pin force is within
-    /// [`STRESS_FORCE_BAND`] of the largest, the state with the largest von Mises stress (its
+    /// `STRESS_FORCE_BAND` of the largest, the state with the largest von Mises stress (its
     /// root stress the largest of them).
     pub stress: DiscStress,
 }
 
-impl FlexibleStage {
-    /// Statistics of a curve (rad).
-    pub fn stats(v: &[f64]) -> CurveStats {
-        CurveStats::of(v)
-    }
-}
-
 /// Crank angles over one revolution at which the flexible hysteresis curve is averaged.
-pub const HYSTERESIS_CRANK_ANGLES: usize = 12;
+pub(crate) const HYSTERESIS_CRANK_ANGLES: usize = 12;
 
 /// Torques of the flexible hysteresis curve as fractions of the rated torque; the STE measuring
 /// fraction `f` is added each way.
@@ -712,11 +705,11 @@ fn two_sense_stiffness(st: &FlexibleStage) -> f64 {
 /// and at the rated torque (output torques), at `disc.params.crank_angles` crank angles over one
 /// crank revolution (the load moves once round the disc relative to the bores), in parallel,
 /// in both senses; the torsional stiffness (mean of both senses); the hysteresis curve from
-/// minus to plus the rated torque (mean over [`HYSTERESIS_CRANK_ANGLES`] crank angles); and
+/// minus to plus the rated torque (mean over `HYSTERESIS_CRANK_ANGLES` crank angles); and
 /// the stress at the crank angle of the largest forward pin force.
 ///
 /// With bearing support (the default) both discs sit on their bearings and the TEs are the
-/// reducer's output twists ([`solve_flexible_bearings`]). With the rigid support the disc is
+/// reducer's output twists (`solve_flexible_bearings`). With the rigid support the disc is
 /// analysed with its centre on the eccentric at a fixed crank angle and carries the equivalent
 /// disc torque `share T Zc/(Zp + Z1/Z2)` (share: `load_share`); its rotation `beta` is
 /// reported as the output twist `beta Zc/(Zp + Z1/Z2)` (docs/model.md section 6).
@@ -904,8 +897,8 @@ fn analyse_stage_bearings(
             .map(|r| {
                 let mut one = disc_one(&r.3, &r.4, r.0, r.1);
                 for p in &mut one.pins {
-                    p.point = mount1.to_model(&p.point);
-                    p.normal = mount1.to_model(&p.normal);
+                    p.point = mount1.model_frame(&p.point);
+                    p.normal = mount1.model_frame(&p.normal);
                 }
                 disc_stress(profile, model1, &one, rated_torque)
             }),

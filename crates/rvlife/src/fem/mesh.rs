@@ -90,7 +90,7 @@ pub struct MeshSpec {
 /// # Errors
 /// [`Error::Invalid`] if the loops cross each other; [`Error::Numerical`] if the refinement
 /// does not complete within `spec.max_added_vertices`.
-pub fn triangulate(loops: &[BoundaryLoop], spec: &MeshSpec) -> Result<Mesh> {
+pub(crate) fn triangulate(loops: &[BoundaryLoop], spec: &MeshSpec) -> Result<Mesh> {
     let mut vertices = Vec::new();
     let mut edges = Vec::new();
     for l in loops {
@@ -241,18 +241,4 @@ fn classify(loops: &[BoundaryLoop], m: &Vec2) -> LoopKind {
         .find(|l| l.circle.is_none())
         .map(|l| l.kind)
         .unwrap_or(LoopKind::Outline)
-}
-
-impl Mesh {
-    /// Total area, m^2 (from the corner nodes; curved edges add a chord-sag correction that is
-    /// not counted).
-    pub fn area(&self) -> f64 {
-        self.triangles
-            .iter()
-            .map(|t| {
-                let (a, b, c) = (self.nodes[t[0]], self.nodes[t[1]], self.nodes[t[2]]);
-                0.5 * (b - a).perp(&(c - a))
-            })
-            .sum()
-    }
 }

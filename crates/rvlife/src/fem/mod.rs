@@ -23,11 +23,11 @@
 //! motion have a flexible disc); compliances between arbitrary contact points are Catmull-Rom
 //! interpolated between the stations of the flank they lie on (diagonal terms along the
 //! diagonal). The compliance `C = B K^-1 B^T` is condensed with forward solves that visit only
-//! the elimination-tree reach of each station's load, `C = Y^T Y` ([`plane::Factor::condense`]:
+//! the elimination-tree reach of each station's load, `C = Y^T Y` (`plane::Factor::condense`:
 //! 0.2 s for the example's 1092 stations on 39 530 equations, where full solves took 1.5 s).
 //!
 //! **Worn stages.** A study meshes the unworn disc once and moves that mesh onto each worn
-//! outline ([`morph_mesh`], [`DiscSet::build_morphed`]): the same elements and sparsity pattern
+//! outline (`morph_mesh`, `DiscSet::build_morphed`): the same elements and sparsity pattern
 //! (the symbolic factorisation is shared), and results that change smoothly with the wear,
 //! where a fresh refinement of a profile that differs by picometres can add or drop nodes.
 
@@ -86,7 +86,7 @@ pub struct FemParams {
 pub(crate) const BYTES_PER_NODE: f64 = 10_000.0;
 
 /// Smallest and largest radius of the profile outline, m.
-pub fn outline_radii(profile: &Profile) -> (f64, f64) {
+pub(crate) fn outline_radii(profile: &Profile) -> (f64, f64) {
     profile
         .sample(256)
         .iter()
@@ -99,7 +99,7 @@ impl FemParams {
     /// the outline (about 11 nodes per outline element) and the interior at the largest size
     /// (2 nodes per equilateral element area); a fit to meshes of the built-in disc with flank
     /// sizes 0.1-0.5 mm and largest sizes 2-4 mm, within about 20 %.
-    pub fn estimated_nodes(&self, profile: &Profile) -> f64 {
+    pub(crate) fn estimated_nodes(&self, profile: &Profile) -> f64 {
         let boundary = outline_length(profile) / self.flank_size;
         let (root, _) = outline_radii(profile);
         let interior = PI * root * root / (0.433 * self.max_size * self.max_size);
@@ -108,7 +108,7 @@ impl FemParams {
 }
 
 /// Length of the profile outline, m.
-pub fn outline_length(profile: &Profile) -> f64 {
+pub(crate) fn outline_length(profile: &Profile) -> f64 {
     let pts = profile.sample(512);
     (0..pts.len())
         .map(|i| (pts[(i + 1) % pts.len()] - pts[i]).norm())
@@ -179,7 +179,7 @@ impl DiscModel {
     /// plane-stress stiffness and computes the station compliances.
     ///
     /// # Errors
-    /// Meshing or solver failures ([`Error::Numerical`]).
+    /// Meshing or solver failures (`Error::Numerical`).
     pub fn build(profile: &Profile, params: &FemParams) -> Result<DiscModel> {
         Self::build_on(profile, params, None)
     }
@@ -191,7 +191,7 @@ impl DiscModel {
     ///
     /// # Errors
     /// As [`DiscModel::build`].
-    pub fn build_morphed(
+    pub(crate) fn build_morphed(
         profile: &Profile,
         params: &FemParams,
         base: &DiscModel,
@@ -279,7 +279,7 @@ impl DiscModel {
     /// Nodal loads (`(node dof, N)`) of a unit pin force at `point` (m, on the outline) in the
     /// direction `dir` (unit): an elliptic pressure of half-width `w` on the outline edges within
     /// `w` of the point, scaled so that its resultant along `dir` is exactly 1 N.
-    pub fn patch_load(&self, point: &Vec2, dir: &Vec2) -> Vec<(usize, f64)> {
+    pub(crate) fn patch_load(&self, point: &Vec2, dir: &Vec2) -> Vec<(usize, f64)> {
         let w = self.params.patch;
         let mesh = &self.fe.mesh;
         let near = self.outline_edges.iter().copied().filter(|&e| {
@@ -308,7 +308,7 @@ impl DiscModel {
     /// four `(global station, weight)` pairs on the flank the parameter lies on (driving:
     /// local `t` in `[0, pi]`; the other flank otherwise). Parameters within 2 % of a flank's
     /// ends take the end station's compliance.
-    pub fn weights(&self, t: f64) -> [(usize, f64); 4] {
+    pub(crate) fn weights(&self, t: f64) -> [(usize, f64); 4] {
         let m = self.params.stations_per_flank;
         let tooth = (t / TAU).floor().rem_euclid(self.teeth as f64) as usize;
         let local = t.rem_euclid(TAU);
@@ -345,7 +345,7 @@ impl DiscModel {
     /// Compliance matrix (m/N, `n x n`, row-major) between contacts at the profile parameters
     /// `ts` (rad): the normal approach of contact `a` under a unit normal force at contact `b`.
     /// Diagonal terms are interpolated along the station diagonal.
-    pub fn compliance_at(&self, ts: &[f64]) -> Vec<f64> {
+    pub(crate) fn compliance_at(&self, ts: &[f64]) -> Vec<f64> {
         let n = ts.len();
         let ns = self.stations();
         let ws: Vec<[(usize, f64); 4]> = ts.iter().map(|&t| self.weights(t)).collect();
@@ -373,7 +373,7 @@ impl DiscModel {
     }
 
     /// Number of stations in all (both flanks of every tooth).
-    pub fn stations(&self) -> usize {
+    pub(crate) fn stations(&self) -> usize {
         2 * self.teeth * self.params.stations_per_flank
     }
 }
@@ -405,7 +405,7 @@ fn node_bcs(mesh: &Mesh) -> Vec<NodeBc> {
 
 /// How disc `d` of the reducer sits on an FE disc model. The discs of a reducer are one part
 /// mounted turned by their eccentric phase (RV: disc 2 is disc 1 turned by pi, which for an
-/// odd tooth count puts its teeth half a pitch round, [`crate::reducer::Reducer::profile_turn`]):
+/// odd tooth count puts its teeth half a pitch round, `crate::reducer::Reducer::profile_turn`):
 /// disc `d`'s profile is turned by `turn_d` against its crank bores and holes. When a rotation
 /// `alpha = -turn_d + 2 pi k / Zc` maps the bores and holes of `[fem]` onto themselves, disc `d`
 /// is the FE model of an unturned profile rotated by `alpha`: its contact at profile parameter
@@ -429,7 +429,7 @@ impl Mount {
     }
 
     /// A disc-frame vector in the model's frame.
-    pub fn to_model(&self, v: &Vec2) -> Vec2 {
+    pub(crate) fn model_frame(&self, v: &Vec2) -> Vec2 {
         crate::geometry::rotate(v, self.rotation)
     }
 }
@@ -438,7 +438,7 @@ impl Mount {
 /// its holes onto the FE model of `params` (profile unturned): `Some(k)` for the rotation
 /// `alpha = -turn + 2 pi k / Zc` (the smallest `k` in `0..Zc`) that maps every crank bore and
 /// hole onto one of the same kind and radius (within 1 nm), `None` if none does.
-pub fn mount_teeth(zc: usize, turn: f64, params: &FemParams) -> Option<usize> {
+pub(crate) fn mount_teeth(zc: usize, turn: f64, params: &FemParams) -> Option<usize> {
     let same = |a: &[Hole], alpha: f64| {
         a.iter().all(|h| {
             let c = crate::geometry::rotate(&h.centre, alpha);
@@ -465,7 +465,7 @@ pub struct DiscSet {
 
 impl DiscSet {
     /// Builds the FE model of `profile` with `params` and, for every disc of `reducer` that
-    /// cannot sit on it ([`mount_teeth`]), a model with the holes turned by `-turn_d`.
+    /// cannot sit on it (`mount_teeth`), a model with the holes turned by `-turn_d`.
     ///
     /// # Errors
     /// As [`DiscModel::build`].
@@ -483,7 +483,7 @@ impl DiscSet {
     ///
     /// # Errors
     /// As [`DiscModel::build`].
-    pub fn build_morphed(
+    pub(crate) fn build_morphed(
         profile: &Profile,
         params: &FemParams,
         reducer: &crate::reducer::Reducer,
@@ -542,7 +542,7 @@ impl DiscSet {
 
     /// Compliance (m/N, row-major) between disc `d`'s contacts at its profile parameters `ts`
     /// ([`DiscModel::compliance_at`] at the model's parameters).
-    pub fn compliance_at(&self, d: usize, ts: &[f64]) -> Vec<f64> {
+    pub(crate) fn compliance_at(&self, d: usize, ts: &[f64]) -> Vec<f64> {
         let (model, mount) = self.disc(d);
         let t: Vec<f64> = ts.iter().map(|&t| mount.parameter(t)).collect();
         model.compliance_at(&t)
@@ -554,17 +554,9 @@ impl DiscSet {
     }
 }
 
-/// Meshes the disc: the outline sampled at equal arc length `flank_size`, bores and holes as
-/// circles with segments of about a third of the largest element size (at least 32).
-///
-/// # Errors
-/// Meshing failures.
-pub fn disc_mesh(profile: &Profile, params: &FemParams) -> Result<Mesh> {
-    let (ts, ss) = arc_table(profile, 4000);
-    mesh_with_arc_table(profile, params, &ts, &ss)
-}
-
-/// [`disc_mesh`] with the arc-length table of one tooth (`t`, `s`) already computed.
+/// The FE mesh of the disc `profile` for `params` (its outline sampled at the flank element
+/// size, the holes, graded inside), with the arc-length table of one tooth (`t`, `s`) already
+/// computed.
 fn mesh_with_arc_table(
     profile: &Profile,
     params: &FemParams,
@@ -621,13 +613,13 @@ fn outline_parameters(profile: &Profile, params: &FemParams, ts: &[f64], ss: &[f
         .collect()
 }
 
-/// Reach of a mesh morph ([`morph_mesh`]) in element sizes on the outline: nodes further than
+/// Reach of a mesh morph (`morph_mesh`) in element sizes on the outline: nodes further than
 /// this from the outline (along mesh edges) keep their place.
-pub const MORPH_REACH_ELEMENTS: f64 = 4.0;
+pub(crate) const MORPH_REACH_ELEMENTS: f64 = 4.0;
 
 /// Smallest ratio of a morphed triangle's corner area to its area before the morph that
-/// [`morph_mesh`] accepts (otherwise the worn disc is meshed afresh).
-pub const MORPH_MIN_AREA_RATIO: f64 = 0.5;
+/// `morph_mesh` accepts (otherwise the worn disc is meshed afresh).
+pub(crate) const MORPH_MIN_AREA_RATIO: f64 = 0.5;
 
 /// The mesh of `base`, the model of the disc with profile `from`, moved onto the outline of
 /// `to`, the same modified profile with another wear map: the same
@@ -643,7 +635,7 @@ pub const MORPH_MIN_AREA_RATIO: f64 = 0.5;
 /// units; the rest stay. `None` when the outline polygon is not star-shaped about the centre,
 /// an outline node is off it, or a triangle's corner area falls below
 /// [`MORPH_MIN_AREA_RATIO`] of its own (the caller meshes `to` afresh).
-pub fn morph_mesh(base: &DiscModel, from: &Profile, to: &Profile) -> Option<Mesh> {
+pub(crate) fn morph_mesh(base: &DiscModel, from: &Profile, to: &Profile) -> Option<Mesh> {
     use std::cmp::Reverse;
     use std::collections::BinaryHeap;
     // The outline polygon `base` was meshed on (its arc table is `from`'s).

@@ -35,7 +35,7 @@
 //! Modes come from subspace iteration with the factorised stiffness (Bathe, *Finite Element
 //! Procedures*, 2nd ed., 2014, section 11.6): `X <- K^-1 M X`, Rayleigh-Ritz on the subspace
 //! (dense symmetric eigenproblem, nalgebra), until the wanted eigenvalues change by less than
-//! [`EIGEN_TOLERANCE`].
+//! `EIGEN_TOLERANCE`.
 
 use faer::sparse::SparseColMat;
 use faer::Mat;
@@ -47,7 +47,7 @@ use super::DiscModel;
 use crate::error::{Error, Result};
 
 /// Relative change of the wanted eigenvalues between two subspace iterations at convergence.
-pub const EIGEN_TOLERANCE: f64 = 1e-10;
+pub(crate) const EIGEN_TOLERANCE: f64 = 1e-10;
 
 /// Settings of the modal reduction (SI).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -161,7 +161,7 @@ impl<'a> ModalDisc<'a> {
     /// Mode amplitudes `b_i(t)` (m kg^-1/2, one per mode, into `out`) at profile parameter `t`
     /// (rad), interpolated between stations with the compliance's weights
     /// ([`DiscModel::weights`]).
-    pub fn amplitudes(&self, t: f64, out: &mut [f64]) {
+    pub(crate) fn amplitudes(&self, t: f64, out: &mut [f64]) {
         let m = self.modes();
         out[..m].iter_mut().for_each(|v| *v = 0.0);
         for (g, w) in self.disc.weights(t) {
@@ -175,7 +175,7 @@ impl<'a> ModalDisc<'a> {
     /// Residual compliance (m/N, `n x n` row-major) between contacts at profile parameters
     /// `ts` whose mode amplitudes are the rows of `amps` (`n x modes`):
     /// `R = C(ts) - sum_i b_i b_i^T / omega_i^2`.
-    pub fn residual_compliance(&self, ts: &[f64], amps: &[f64]) -> Vec<f64> {
+    pub(crate) fn residual_compliance(&self, ts: &[f64], amps: &[f64]) -> Vec<f64> {
         let n = ts.len();
         let m = self.modes();
         let mut r = self.disc.compliance_at(ts);

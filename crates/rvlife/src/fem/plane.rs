@@ -78,12 +78,12 @@ fn shape_derivatives(xi: f64, eta: f64) -> [[f64; 2]; 6] {
 }
 
 /// Shape functions of a 3-node (quadratic) edge at `s` in `[-1, 1]`: start, end, mid.
-pub fn edge_shape(s: f64) -> [f64; 3] {
+pub(crate) fn edge_shape(s: f64) -> [f64; 3] {
     [0.5 * s * (s - 1.0), 0.5 * s * (s + 1.0), 1.0 - s * s]
 }
 
 /// Derivatives of [`edge_shape`] with respect to `s`.
-pub fn edge_shape_derivative(s: f64) -> [f64; 3] {
+pub(crate) fn edge_shape_derivative(s: f64) -> [f64; 3] {
     [s - 0.5, s + 0.5, -2.0 * s]
 }
 
@@ -110,7 +110,7 @@ fn gradients(x: &[Vec2; 6], xi: f64, eta: f64) -> ([[f64; 2]; 6], f64) {
 ///
 /// # Errors
 /// [`Error::Numerical`] for an inverted or degenerate element.
-pub fn element_stiffness(x: &[Vec2; 6], mat: &PlaneStress) -> Result<[[f64; 12]; 12]> {
+pub(crate) fn element_stiffness(x: &[Vec2; 6], mat: &PlaneStress) -> Result<[[f64; 12]; 12]> {
     let d = mat.d();
     let mut k = [[0.0; 12]; 12];
     for &(xi, eta, w) in &GAUSS6 {
@@ -158,7 +158,7 @@ fn shape_functions(xi: f64, eta: f64) -> [f64; 6] {
 ///
 /// # Errors
 /// [`Error::Numerical`] for an inverted or degenerate element.
-pub fn element_mass(x: &[Vec2; 6], density: f64, thickness: f64) -> Result<[[f64; 6]; 6]> {
+pub(crate) fn element_mass(x: &[Vec2; 6], density: f64, thickness: f64) -> Result<[[f64; 6]; 6]> {
     let mut m = [[0.0; 6]; 6];
     for &(xi, eta, w) in &GAUSS6 {
         let (_, det) = gradients(x, xi, eta);
@@ -213,11 +213,9 @@ pub struct FeModel {
     /// Spiders.
     pub spiders: Vec<Spider>,
     dofs: Vec<DofExpr>,
-    spider_dofs: Vec<[DofExpr; 3]>,
     equations: usize,
     lift: Vec<f64>,
     llt: Factor,
-    nonzeros: usize,
     assembly: std::sync::Arc<Assembly>,
 }
 
@@ -229,12 +227,12 @@ struct Assembly {
     order: Argsort<usize>,
 }
 
-/// Loads per block of [`Factor::condense`]'s products.
-pub const CONDENSE_BLOCK: usize = 32;
+/// Loads per block of `Factor::condense`'s products.
+pub(crate) const CONDENSE_BLOCK: usize = 32;
 
 /// Sparse Cholesky factor `P K P^T = L L^T` of a stiffness matrix (faer's symbolic analysis
 /// with its approximate-minimum-degree ordering `P`, simplicial so that the columns of `L` and
-/// its elimination tree can be read by [`Factor::condense`]).
+/// its elimination tree can be read by `Factor::condense`).
 pub struct Factor {
     symbolic: std::sync::Arc<Symbolic>,
     values: Vec<f64>,
@@ -433,7 +431,7 @@ impl Factor {
     /// reach): each block's columns of `Y` in one sweep over the union of their reaches
     /// ([`Factor::forward_block`]), then each pair of blocks multiplied over the rows common to
     /// both (gathered contiguous, faer's `matmul`). Symmetric by construction; in parallel.
-    pub fn condense(&self, loads: &[Vec<(usize, f64)>]) -> Vec<f64> {
+    pub(crate) fn condense(&self, loads: &[Vec<(usize, f64)>]) -> Vec<f64> {
         use faer::linalg::matmul::matmul;
         use faer::{Accum, Par};
         use rayon::prelude::*;
@@ -518,7 +516,7 @@ pub struct NodalStress {
 
 impl NodalStress {
     /// Von Mises stress of node `i` (plane stress), Pa.
-    pub fn von_mises(&self, i: usize) -> f64 {
+    pub(crate) fn von_mises(&self, i: usize) -> f64 {
         let [sx, sy, t] = self.stress[i];
         (sx * sx - sx * sy + sy * sy + 3.0 * t * t).max(0.0).sqrt()
     }
@@ -546,7 +544,7 @@ impl FeModel {
     ///
     /// # Errors
     /// As [`FeModel::new`].
-    pub fn new_reusing(
+    pub(crate) fn new_reusing(
         mesh: Mesh,
         material: PlaneStress,
         bc: &[NodeBc],
@@ -678,7 +676,6 @@ impl FeModel {
         )
         .map_err(|e| Error::numerical("fem assembly", format!("{e:?}")))?;
         drop(values);
-        let nonzeros = k.compute_nnz();
         let llt = Factor::new(k.as_ref(), reuse.map(|f| &f.llt)).map_err(|e| {
             Error::numerical(
                 "fem solve",
@@ -690,11 +687,9 @@ impl FeModel {
             material,
             spiders,
             dofs,
-            spider_dofs,
             equations,
             lift,
             llt,
-            nonzeros,
             assembly,
         })
     }
@@ -706,7 +701,7 @@ impl FeModel {
     ///
     /// # Errors
     /// [`Error::Numerical`] for an inverted element or an assembly failure.
-    pub fn mass_matrix(&self, density: f64) -> Result<SparseColMat<usize, f64>> {
+    pub(crate) fn mass_matrix(&self, density: f64) -> Result<SparseColMat<usize, f64>> {
         let mesh = &self.mesh;
         let mut triplets: Vec<Triplet<usize, usize, f64>> =
             Vec::with_capacity(mesh.triangles.len() * 72);
@@ -742,7 +737,7 @@ impl FeModel {
     ///
     /// # Errors
     /// [`Error::Numerical`] for an inverted element.
-    pub fn rigid_inertia_loads(&self, density: f64) -> Result<([Vec<f64>; 3], f64, f64)> {
+    pub(crate) fn rigid_inertia_loads(&self, density: f64) -> Result<([Vec<f64>; 3], f64, f64)> {
         let mesh = &self.mesh;
         let nn = mesh.nodes.len();
         let mut full: [Vec<f64>; 3] = std::array::from_fn(|_| vec![0.0; 2 * nn]);
@@ -775,17 +770,12 @@ impl FeModel {
     }
 
     /// Number of unknowns.
-    pub fn equations(&self) -> usize {
+    pub(crate) fn equations(&self) -> usize {
         self.equations
     }
 
-    /// Non-zeros of the lower triangle of the stiffness matrix.
-    pub fn nonzeros(&self) -> usize {
-        self.nonzeros
-    }
-
     /// Reduces a nodal load vector (`2 N`, N; `fx, fy` per node) to the equations.
-    pub fn reduce(&self, load: &[f64]) -> Vec<f64> {
+    pub(crate) fn reduce(&self, load: &[f64]) -> Vec<f64> {
         let mut f = vec![0.0; self.equations];
         for (i, &v) in load.iter().enumerate() {
             if v != 0.0 {
@@ -798,7 +788,7 @@ impl FeModel {
     }
 
     /// Sparse form of [`FeModel::reduce`] for a load given as `(node dof, value)` pairs.
-    pub fn reduce_sparse(&self, load: &[(usize, f64)]) -> Vec<(usize, f64)> {
+    pub(crate) fn reduce_sparse(&self, load: &[(usize, f64)]) -> Vec<(usize, f64)> {
         let mut out: Vec<(usize, f64)> = Vec::new();
         for &(i, v) in load {
             for &(q, c) in &self.dofs[i].terms {
@@ -817,12 +807,12 @@ impl FeModel {
     }
 
     /// Solves for reduced loads given as the columns of `rhs` (equations x n), in place.
-    pub fn solve_reduced(&self, rhs: &mut Mat<f64>) {
+    pub(crate) fn solve_reduced(&self, rhs: &mut Mat<f64>) {
         self.llt.solve_in_place(rhs.as_mut());
     }
 
     /// Compliance between reduced loads `C = B K^-1 B^T` ([`Factor::condense`]).
-    pub fn condense(&self, loads: &[Vec<(usize, f64)>]) -> Vec<f64> {
+    pub(crate) fn condense(&self, loads: &[Vec<(usize, f64)>]) -> Vec<f64> {
         self.llt.condense(loads)
     }
 
@@ -836,23 +826,15 @@ impl FeModel {
     }
 
     /// Node displacements from the equation values `x(q)`.
-    pub fn expand(&self, x: impl Fn(usize) -> f64) -> Vec<f64> {
+    pub(crate) fn expand(&self, x: impl Fn(usize) -> f64) -> Vec<f64> {
         self.dofs
             .iter()
             .map(|d| d.constant + d.terms.iter().map(|&(q, c)| c * x(q)).sum::<f64>())
             .collect()
     }
 
-    /// Displacements `(ux, uy, rotation)` of spider `k` from the equation values `x(q)`.
-    pub fn spider_motion(&self, k: usize, x: impl Fn(usize) -> f64) -> [f64; 3] {
-        std::array::from_fn(|c| {
-            let d = &self.spider_dofs[k][c];
-            d.constant + d.terms.iter().map(|&(q, a)| a * x(q)).sum::<f64>()
-        })
-    }
-
     /// Node-averaged stresses of the displacement field `u` (`2 N`, m), Pa.
-    pub fn stresses(&self, u: &[f64]) -> NodalStress {
+    pub(crate) fn stresses(&self, u: &[f64]) -> NodalStress {
         let d = self.material.d();
         let n = self.mesh.nodes.len();
         let mut sum = vec![[0.0; 3]; n];
@@ -893,7 +875,7 @@ impl FeModel {
 /// Consistent nodal loads (`(node dof, N)` pairs) of a traction `traction(x)` (N/m^2, the force
 /// per unit area of the boundary; times the thickness gives N/m along the edge) over the
 /// boundary edges `edges`, by 8-point Gauss quadrature per edge ([`GAUSS_LEGENDRE8`]).
-pub fn traction_load(
+pub(crate) fn traction_load(
     mesh: &Mesh,
     thickness: f64,
     edges: impl Iterator<Item = usize>,
@@ -929,7 +911,7 @@ pub fn traction_load(
 
 /// 8-point Gauss-Legendre rule on `[-1, 1]`: `(point, weight)` (Abramowitz & Stegun,
 /// table 25.4), exact to degree 15.
-pub const GAUSS_LEGENDRE8: [(f64, f64); 8] = [
+pub(crate) const GAUSS_LEGENDRE8: [(f64, f64); 8] = [
     (-0.960_289_856_497_536_2, 0.101_228_536_290_376_3),
     (-0.796_666_477_413_626_7, 0.222_381_034_453_374_5),
     (-0.525_532_409_916_329, 0.313_706_645_877_887_3),

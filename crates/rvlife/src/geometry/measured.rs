@@ -21,15 +21,15 @@ use nalgebra::{DMatrix, DVector};
 use crate::geometry::{mesh_angle, Profile, Vec2, WearMap};
 
 /// Key of the measured profile in the config.
-pub const KEY: &str = "cycloid.measured_profile";
+pub(crate) const KEY: &str = "cycloid.measured_profile";
 
 /// Largest normal distance (m) of a measured point from the described profile: 0.3 mm (wear
 /// and manufacturing deviations are tens of micrometres; beyond this the points are in other
 /// units or another frame).
-pub const MAX_DEVIATION: f64 = 0.3e-3;
+pub(crate) const MAX_DEVIATION: f64 = 0.3e-3;
 
 /// Fewest points accepted.
-pub const MIN_POINTS: usize = 20;
+pub(crate) const MIN_POINTS: usize = 20;
 
 /// A measured profile fitted as a normal deviation map.
 #[derive(Debug, Clone, PartialEq)]
@@ -58,7 +58,7 @@ fn bad(path: &Path, allowed: impl Into<String>) -> Error {
 /// # Errors
 /// [`Error::Invalid`] naming [`KEY`] and the file: missing or unreadable file, no `x_mm`/`y_mm`
 /// columns, a value that is not a finite number, fewer than [`MIN_POINTS`] points.
-pub fn read_points(path: &Path) -> Result<Vec<Vec2>> {
+pub(crate) fn read_points(path: &Path) -> Result<Vec<Vec2>> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -139,7 +139,7 @@ pub fn read_points(path: &Path) -> Result<Vec<Vec2>> {
 /// profile, without wear) on a grid of `n` mesh angles (module documentation).
 ///
 /// # Errors
-/// [`Error::Invalid`] naming [`KEY`] and `source`: a point farther than [`MAX_DEVIATION`] from
+/// [`Error::Invalid`] naming `KEY` and `source`: a point farther than `MAX_DEVIATION` from
 /// the profile (with its distance), or a mesh-angle range without points.
 pub fn fit(profile: &Profile, points: &[Vec2], n: usize, source: &Path) -> Result<MeasuredProfile> {
     let tau = std::f64::consts::TAU;

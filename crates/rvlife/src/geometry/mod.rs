@@ -26,13 +26,13 @@ pub type Vec2 = Vector2<f64>;
 
 /// z-component of the cross product `a x b`.
 #[inline]
-pub fn cross(a: &Vec2, b: &Vec2) -> f64 {
+pub(crate) fn cross(a: &Vec2, b: &Vec2) -> f64 {
     a.x * b.y - a.y * b.x
 }
 
 /// Rotates `v` by `angle` (radians, counter-clockwise).
 #[inline]
-pub fn rotate(v: &Vec2, angle: f64) -> Vec2 {
+pub(crate) fn rotate(v: &Vec2, angle: f64) -> Vec2 {
     let (s, c) = angle.sin_cos();
     Vec2::new(c * v.x - s * v.y, s * v.x + c * v.y)
 }
@@ -111,17 +111,17 @@ impl CycloidGeometry {
     }
 
     /// Number of disc teeth `Zc = Zp - 1`.
-    pub fn disc_teeth(&self) -> usize {
+    pub(crate) fn disc_teeth(&self) -> usize {
         self.pins - 1
     }
 
     /// Short-amplitude coefficient `K1 = a Zp / Rp` (paper eq 4).
-    pub fn k1(&self) -> f64 {
+    pub(crate) fn k1(&self) -> f64 {
         self.eccentricity * self.pins as f64 / self.pin_circle_radius
     }
 
     /// Centre of pin `j` in the fixed frame, m (docs/model.md section 1).
-    pub fn pin_centre(&self, j: usize) -> Vec2 {
+    pub(crate) fn pin_centre(&self, j: usize) -> Vec2 {
         let g = TAU * j as f64 / self.pins as f64;
         Vec2::new(
             self.pin_circle_radius * g.cos(),
@@ -134,7 +134,7 @@ impl CycloidGeometry {
     /// centre hole 30 mm diameter) scaled by the disc's tooth-root radius `Rp - rrp - a`
     /// against the paper's [`PAPER_ROOT_RADIUS_MM`] (geometric similarity with the paper's
     /// reducer; docs/model.md section 15). The paper's geometry gets the paper's values.
-    pub fn scaled_from_root(&self, paper_mm: f64) -> f64 {
+    pub(crate) fn scaled_from_root(&self, paper_mm: f64) -> f64 {
         let root_mm = (self.pin_circle_radius - self.pin_radius - self.eccentricity) * 1e3;
         let scaled = paper_mm * root_mm / PAPER_ROOT_RADIUS_MM;
         // The paper's own stage: its values exactly, not their round-off.
@@ -146,13 +146,13 @@ impl CycloidGeometry {
     }
 
     /// Disc pitch radius `r_c = a Zc`, m: the lever arm scale of Li's method (docs/model.md section 5).
-    pub fn disc_pitch_radius(&self) -> f64 {
+    pub(crate) fn disc_pitch_radius(&self) -> f64 {
         self.eccentricity * self.disc_teeth() as f64
     }
 }
 
 /// Tooth-root radius of the paper's disc, mm: `Rp - rrp - a` = 64 - 3 - 1.3.
-pub const PAPER_ROOT_RADIUS_MM: f64 = 59.7;
+pub(crate) const PAPER_ROOT_RADIUS_MM: f64 = 59.7;
 
 /// Profile modifications (docs/model.md section 2), SI.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -170,16 +170,17 @@ mod params;
 mod profile;
 mod wear_map;
 
-pub use measured::{fit, read_points, MeasuredProfile};
+pub(crate) use measured::read_points;
+pub use measured::{fit, MeasuredProfile};
 pub use params::CycloidParams;
-pub use profile::{Profile, ProfilePoint, Projection, ToothTable, PROJECTION_WINDOW};
+pub use profile::{Profile, ProfilePoint, Projection, ToothTable};
 pub(crate) use wear_map::cubic_hermite;
 pub use wear_map::WearMap;
 
 /// Grid nodes within half-width `b` (m of arc length) of node `centre`, with the semi-elliptic
 /// weight `sqrt(1 - (x/b)^2)` of the Hertz pressure (Johnson, *Contact Mechanics*, 1985,
 /// eq 4.43), 1 at the centre; `ds` is the arc length of each step of a periodic grid (m).
-pub fn band_shape(ds: &[f64], centre: usize, b: f64) -> Vec<(usize, f64)> {
+pub(crate) fn band_shape(ds: &[f64], centre: usize, b: f64) -> Vec<(usize, f64)> {
     let n = ds.len();
     let mut weights = vec![(centre, 1.0)];
     for dir in [-1isize, 1] {
@@ -200,7 +201,7 @@ pub fn band_shape(ds: &[f64], centre: usize, b: f64) -> Vec<(usize, f64)> {
 }
 
 /// Mesh angle (rad, in `[0, 2 pi)`) of a profile parameter.
-pub fn mesh_angle(t: f64) -> f64 {
+pub(crate) fn mesh_angle(t: f64) -> f64 {
     t.rem_euclid(TAU)
 }
 

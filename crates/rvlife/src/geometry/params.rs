@@ -45,7 +45,7 @@ impl CycloidParams {
 
     /// Largest wear depth (m) of a profile built here: its map's depth less the measured
     /// deviation (which is not wear).
-    pub fn wear_depth(&self, profile: &Profile) -> f64 {
+    pub(crate) fn wear_depth(&self, profile: &Profile) -> f64 {
         let Some(w) = profile.wear() else {
             return 0.0;
         };

@@ -147,11 +147,6 @@ impl Profile {
         self.wear.as_ref()
     }
 
-    /// The same modified profile with another wear map.
-    pub fn with_wear(&self, wear: Option<WearMap>) -> Result<Self> {
-        Profile::new(self.geo.clone(), self.modification, wear)
-    }
-
     /// Closed form (paper eq 24) and its first two derivatives in `t`, without wear, for a
     /// given offset radius `r` (the equidistant radius `rrp'`; `r = 0` gives the pin-centre path).
     pub(crate) fn closed_form(&self, t: f64, r: f64) -> (Vec2, Vec2, Vec2) {
@@ -228,7 +223,7 @@ impl Profile {
     /// the macro-geometry that sets the Hertz contact. Wear changes depths by microns over
     /// millimetres of flank; the curvature of the wear map itself is grid-scale roughness finer
     /// than the contact band and is left out of the contact law.
-    pub fn macro_curvature(&self, t: f64) -> f64 {
+    pub(crate) fn macro_curvature(&self, t: f64) -> f64 {
         self.table.curvature(mesh_angle(t))
     }
 
@@ -253,7 +248,7 @@ impl Profile {
     /// # Errors
     /// [`Error::Numerical`] if the closest point lies on the edge of the window (the guess was
     /// more than a quarter tooth off).
-    pub fn project(&self, q: &Vec2, t0: f64) -> Result<Projection> {
+    pub(crate) fn project(&self, q: &Vec2, t0: f64) -> Result<Projection> {
         let (k, turn) = self.tooth_of(t0);
         let ql = rotate(q, turn);
         let tl = t0 - TAU * k;
@@ -282,7 +277,7 @@ impl Profile {
     /// `t_prev +- 8` table steps (a warm start inside a solver, where the pose moves by
     /// micrometres between calls). `None` if the foot leaves that bracket; callers then use
     /// [`Profile::project`], and solvers confirm their converged pose with it.
-    pub fn project_near(&self, q: &Vec2, t_prev: f64) -> Option<Projection> {
+    pub(crate) fn project_near(&self, q: &Vec2, t_prev: f64) -> Option<Projection> {
         let (k, turn) = self.tooth_of(t_prev);
         let ql = rotate(q, turn);
         let tl = t_prev - TAU * k;
@@ -340,11 +335,6 @@ impl Profile {
         Projection { point, distance }
     }
 
-    /// The tabulated tooth of this profile.
-    pub fn tooth_table(&self) -> &ToothTable {
-        &self.table
-    }
-
     /// Samples the closed profile: `points_per_tooth` points per tooth, `Zc` teeth, in the
     /// direction of increasing `t` (clockwise). Returns positions in metres.
     pub fn sample(&self, points_per_tooth: usize) -> Vec<Vec2> {
@@ -356,7 +346,7 @@ impl Profile {
     /// Smallest convex radius of curvature of the pin-centre path (m), over one tooth.
     /// The profile is undercut when `rrp + drrp` exceeds it (docs/model.md section 2: about
     /// 4.61 mm for the paper's stage).
-    pub fn pin_path_min_convex_radius(&self) -> f64 {
+    pub(crate) fn pin_path_min_convex_radius(&self) -> f64 {
         let n = 4000;
         (0..n)
             .map(|k| {
@@ -409,7 +399,7 @@ impl Profile {
     ///
     /// For the unmodified stage with `psi = -phi / Zc` this is exact:
     /// `t_j = -phi - 2 pi j Zc / Zp` (mesh angle `2 pi j / Zp - phi` modulo `2 pi`).
-    pub fn contact_parameter_guess(&self, j: usize, phi: f64, psi: f64) -> f64 {
+    pub(crate) fn contact_parameter_guess(&self, j: usize, phi: f64, psi: f64) -> f64 {
         let zp = self.geo.pins as f64;
         let extra = psi + phi / self.zc + self.modification.rotation;
         -phi - TAU * j as f64 * self.zc / zp + self.zc * extra
@@ -421,7 +411,7 @@ impl Profile {
 /// 0, radius 3.07 mm against a 3 mm pin in the paper's stage) is nearly conformal with the pin:
 /// there the foot of a pin that is a few micrometres off touching can lie anywhere on the root
 /// arc, so the window spans the whole root from any guess in it.
-pub const PROJECTION_WINDOW: f64 = std::f64::consts::FRAC_PI_2;
+pub(crate) const PROJECTION_WINDOW: f64 = std::f64::consts::FRAC_PI_2;
 
 /// The actual (worn) tooth tabulated on a uniform grid of the profile parameter: exact
 /// positions and tangents at the nodes, cubic Hermite in between (position error of order
@@ -543,7 +533,7 @@ impl ToothTable {
     /// Position, first and second derivative (m, m/rad, m/rad^2) of the tabulated tooth at
     /// parameter `t` (rad, within the table's span; clamped to its end cells outside).
     #[inline]
-    pub fn eval(&self, t: f64) -> (Vec2, Vec2, Vec2) {
+    pub(crate) fn eval(&self, t: f64) -> (Vec2, Vec2, Vec2) {
         let s = (t - self.t_start) / self.dt;
         let i = (s.floor().max(0.0) as usize).min(self.p.len() - 2);
         let u = s - i as f64;
@@ -565,7 +555,7 @@ impl ToothTable {
 
     /// Curvature of the modified profile without wear at mesh angle `m` (rad, in `[0, 2 pi)`),
     /// 1/m: the periodic cubic Hermite of the node values (relative error below 1e-7).
-    pub fn curvature(&self, m: f64) -> f64 {
+    pub(crate) fn curvature(&self, m: f64) -> f64 {
         let n = self.kappa.len();
         let s = m / self.dt;
         let i = (s.floor().max(0.0) as usize) % n;
@@ -589,7 +579,7 @@ impl ToothTable {
     /// `f = (z - q) . z'` with bisection whenever a step leaves the bracket (kept on the sign of
     /// `f`). `None` if the distance does not fall into the bracket from both ends (no interior
     /// minimum).
-    pub fn polish(&self, q: &Vec2, t0: f64, lo: f64, hi: f64) -> Option<f64> {
+    pub(crate) fn polish(&self, q: &Vec2, t0: f64, lo: f64, hi: f64) -> Option<f64> {
         let f_at = |t: f64| {
             let (z, dz, ddz) = self.eval(t);
             let d = z - q;
@@ -628,7 +618,7 @@ impl ToothTable {
 
     /// Global minimum of the distance from `q` over `[tc - w, tc + w]` (see
     /// [`Profile::project`]): the first of [`ToothTable::local_minima`] with no margin.
-    pub fn global_foot(&self, q: &Vec2, tc: f64, w: f64, seed: Option<f64>) -> Option<f64> {
+    pub(crate) fn global_foot(&self, q: &Vec2, tc: f64, w: f64, seed: Option<f64>) -> Option<f64> {
         self.local_minima(q, tc, w, seed, 0.0).map(|v| v[0].1)
     }
 
@@ -642,7 +632,7 @@ impl ToothTable {
     /// such a minimum; if none of them can hold a local maximum of the distance either
     /// (concave curvature times the largest distance in the cell below 1), the seed is the
     /// only minimum.
-    pub fn local_minima(
+    pub(crate) fn local_minima(
         &self,
         q: &Vec2,
         tc: f64,

@@ -73,7 +73,7 @@ impl WearMap {
     }
 
     /// Depths on the grid, m.
-    pub fn depths(&self) -> &[f64] {
+    pub(crate) fn depths(&self) -> &[f64] {
         &self.depth
     }
 
@@ -84,7 +84,7 @@ impl WearMap {
     }
 
     /// Largest depth, m.
-    pub fn max_depth(&self) -> f64 {
+    pub(crate) fn max_depth(&self) -> f64 {
         self.depth.iter().copied().fold(0.0, f64::max)
     }
 
@@ -116,14 +116,14 @@ impl WearMap {
     /// flank at two points a grid step apart). Where wear starts abruptly the spline can
     /// undershoot zero by a small fraction of the step in depth; the study's maps are filtered
     /// at the contact-band scale first, which keeps that below a nanometre.
-    pub fn eval(&self, t: f64) -> (f64, f64) {
+    pub(crate) fn eval(&self, t: f64) -> (f64, f64) {
         let (h, dh, _) = self.eval2(t);
         (h, dh)
     }
 
     /// Depth (m), `dh/dt` (m/rad) and `d2h/dt2` (m/rad^2, continuous and piecewise linear) at
     /// mesh angle `t`.
-    pub fn eval2(&self, t: f64) -> (f64, f64, f64) {
+    pub(crate) fn eval2(&self, t: f64) -> (f64, f64, f64) {
         let (p1, m1, p2, m2, u, dt) = self.cell(t);
         let (h, dh_du) = cubic_hermite(p1, m1, p2, m2, u);
         let dh = dh_du / dt;

@@ -14,7 +14,7 @@ use crate::error::{Error, Result};
 use crate::geometry::{mesh_angle, Profile};
 
 /// Points per tooth used for exports: fine enough that the chord error is below 0.01 um.
-pub const EXPORT_POINTS_PER_TOOTH: usize = 400;
+pub(crate) const EXPORT_POINTS_PER_TOOTH: usize = 400;
 
 /// Profile format, from the file extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -61,7 +61,7 @@ pub fn write_profile(profile: &Profile, path: &Path, format: ProfileFormat) -> R
     write_profile_sampled(profile, path, format, points_per_tooth(profile))
 }
 
-/// Points per tooth of [`write_profile`]: [`EXPORT_POINTS_PER_TOOTH`], or twice the nodes of
+/// Points per tooth of [`write_profile`]: `EXPORT_POINTS_PER_TOOTH`, or twice the nodes of
 /// the profile's wear (deviation) map if more.
 pub fn points_per_tooth(profile: &Profile) -> usize {
     EXPORT_POINTS_PER_TOOTH.max(2 * profile.wear().map_or(0, |w| w.depths().len()))
@@ -72,7 +72,7 @@ pub fn points_per_tooth(profile: &Profile) -> usize {
 ///
 /// # Errors
 /// [`Error::Io`] if the file cannot be written.
-pub fn write_profile_sampled(
+pub(crate) fn write_profile_sampled(
     profile: &Profile,
     path: &Path,
     format: ProfileFormat,

@@ -86,7 +86,7 @@ fn fields(value: &serde_json::Value, prefix: &str, out: &mut Vec<(String, String
 ///
 /// # Errors
 /// [`Error::Io`] if a plot cannot be read or the report cannot be written.
-pub fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Result<()> {
+pub(crate) fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Result<()> {
     let m = &study.model;
     let g = &m.cycloid.geometry;
     let mut h = String::with_capacity(2 << 20);

@@ -22,11 +22,8 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 
-pub use staging::{
-    check_output_dir, check_output_file, remove_pending, write_atomically, write_file_atomically,
-    Staging, MARKER,
-};
-pub use study::{write_dynamics, write_dynamics_files, write_files, write_study};
+pub use staging::{check_output_file, remove_pending, write_file_atomically, Staging};
+pub use study::{write_dynamics_files, write_files};
 
 pub(crate) fn csv_err(path: &Path) -> impl Fn(csv::Error) -> Error + '_ {
     move |e| Error::io(path, std::io::Error::other(e.to_string()))

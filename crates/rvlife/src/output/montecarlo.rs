@@ -54,13 +54,13 @@ fn fmt_opt(v: Option<f64>) -> String {
 ///
 /// # Errors
 /// [`Error::Io`].
-pub fn write_records(dir: &Path, records: &[SampleRecord]) -> Result<()> {
+pub(crate) fn write_records(dir: &Path, records: &[SampleRecord]) -> Result<()> {
     let (s, t) = records_csv(records);
     write(dir, "samples.csv", &s)?;
     write(dir, "stages.csv", &t)
 }
 
-/// The texts of `samples.csv` and `stages.csv` of [`write_records`].
+/// The texts of `samples.csv` and `stages.csv` of `write_records`.
 pub fn records_csv(records: &[SampleRecord]) -> (String, String) {
     let mut s = String::from("sample,status,accuracy_life_h,limited_by\n");
     let mut t = String::from("sample,hours");
@@ -105,7 +105,7 @@ fn write(dir: &Path, name: &str, text: &str) -> Result<()> {
 ///
 /// # Errors
 /// [`Error::Invalid`] naming the file if it is missing or malformed.
-pub fn read_records(dir: &Path) -> Result<Vec<SampleRecord>> {
+pub(crate) fn read_records(dir: &Path) -> Result<Vec<SampleRecord>> {
     let bad = |p: &Path, what: String| {
         Error::invalid(
             p.display().to_string(),

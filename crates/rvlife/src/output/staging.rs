@@ -1,29 +1,15 @@
 //! All-or-nothing outputs: a results directory is written into a temporary directory beside
 //! its target and renamed onto it only when complete (a single file likewise), a `--force`
-//! replaces only a directory rvlife wrote (its [`MARKER`]), and an interrupted run leaves
+//! replaces only a directory rvlife wrote (its `MARKER`), and an interrupted run leaves
 //! nothing behind ([`remove_pending`]).
 
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 
-/// Runs `write` on a fresh temporary directory beside `out` and renames it onto `out` when it
-/// succeeds ([`Staging::prepare`] then [`Staging::commit`]); on failure the temporary directory
-/// is removed and `out` is untouched.
-///
-/// # Errors
-/// As [`Staging::prepare`] and [`Staging::commit`]; any error of `write`.
-pub fn write_atomically(
-    out: &Path,
-    replace: bool,
-    write: impl FnOnce(&Path) -> Result<()>,
-) -> Result<PathBuf> {
-    Staging::prepare(out, replace)?.commit(write)
-}
-
 /// Name of the marker file in every results directory rvlife writes: `--force` replaces only a
 /// directory that has it.
-pub const MARKER: &str = ".rvlife-results";
+pub(crate) const MARKER: &str = ".rvlife-results";
 
 /// Prefix of the temporary directories and files beside an output, followed by the process id
 /// of the run that owns them.
@@ -171,11 +157,11 @@ pub struct Staging {
 }
 
 impl Staging {
-    /// Checks `out` ([`check_output_dir`]), creates its folder if missing, removes temporary
+    /// Checks `out` (`check_output_dir`), creates its folder if missing, removes temporary
     /// directories of dead runs beside it, and creates this run's temporary directory there.
     ///
     /// # Errors
-    /// [`Error::Invalid`] naming `--out` (see [`check_output_dir`], and a folder that cannot be
+    /// [`Error::Invalid`] naming `--out` (see `check_output_dir`, and a folder that cannot be
     /// written).
     pub fn prepare(out: &Path, replace: bool) -> Result<Staging> {
         check_output_dir(out, replace)?;
@@ -202,7 +188,7 @@ impl Staging {
         })
     }
 
-    /// Runs `write` on the temporary directory, adds the [`MARKER`] file, and renames the
+    /// Runs `write` on the temporary directory, adds the `MARKER` file, and renames the
     /// directory onto the target: without `replace`, only if the target is still absent or an
     /// empty directory (never over what another run put there meanwhile); with `replace`, the
     /// old results directory is moved aside first and removed after.
@@ -386,7 +372,7 @@ pub fn check_output_file(out: &Path, replace: bool) -> Result<()> {
 ///
 /// # Errors
 /// [`Error::Invalid`] naming `--out`.
-pub fn check_output_dir(out: &Path, replace: bool) -> Result<()> {
+pub(crate) fn check_output_dir(out: &Path, replace: bool) -> Result<()> {
     let last = out.components().next_back();
     if matches!(
         last,

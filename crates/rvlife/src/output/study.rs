@@ -15,12 +15,11 @@
 //! - `profiles/worn_<H>h.dxf` (and `.csv`): the profile used for TE at every stage;
 //! - `plots/*.svg`, `plots/*.png`: see [`crate::output::plot`].
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use rayon::prelude::*;
 
 use super::export::{write_profile_sampled, ProfileFormat, EXPORT_POINTS_PER_TOOTH};
-use super::staging::write_atomically;
 use super::{f, hours_tag, write_json, write_rows};
 use crate::error::{Error, Result};
 use crate::study::Study;
@@ -28,7 +27,7 @@ use crate::te::over_revolution;
 use crate::units::ARCMIN_PER_RAD;
 
 /// Writes all result files of `study` into the existing, empty directory `dir`, ending with
-/// `report.html` ([`crate::output::html::write_report`]).
+/// `report.html` (`crate::output::html::write_report`).
 ///
 /// # Errors
 /// [`Error::Io`] on any write failure.
@@ -249,33 +248,10 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
     crate::output::html::write_report(study, &summary, dir)
 }
 
-/// Writes the results of `study` to `out` atomically: into a temporary directory beside `out`,
-/// then renamed. If `out` exists it must be empty, unless `replace` is set, in which case the old
-/// directory is replaced only after the new one is complete.
-///
-/// # Errors
-/// [`Error::Invalid`] if `out` exists (non-empty) and `replace` is false; [`Error::Io`] on write
-/// failures (the temporary directory is removed, `out` is untouched).
-pub fn write_study(study: &Study, out: &Path, replace: bool) -> Result<PathBuf> {
-    write_atomically(out, replace, |dir| write_files(study, dir))
-}
-
-/// Writes a dynamic simulation's results directory all-or-nothing (like [`write_study`]):
-/// `summary.json` ([`crate::dynamics::DynamicsSummary`]), `dynamics.csv` (the time series),
-/// `pin_forces.csv` (if computed: `time_s`, `disc<d>_pin<j>_n`), and `plots/speeds` and
-/// `plots/te` (SVG and PNG).
-///
-/// # Errors
-/// As [`write_study`].
-pub fn write_dynamics(
-    res: &crate::dynamics::DynamicsResult,
-    out: &Path,
-    replace: bool,
-) -> Result<PathBuf> {
-    write_atomically(out, replace, |dir| write_dynamics_files(res, dir))
-}
-
-/// The files of [`write_dynamics`], written into the existing directory `dir`.
+/// Writes a dynamic simulation's results into the existing directory `dir` (written
+/// all-or-nothing through [`super::Staging`]): `summary.json`
+/// ([`crate::dynamics::DynamicsSummary`]), `dynamics.csv` (the time series), `pin_forces.csv`
+/// (if computed: `time_s`, `disc<d>_pin<j>_n`), and `plots/speeds` and `plots/te` (SVG and PNG).
 ///
 /// # Errors
 /// [`Error::Io`] on write failures.

@@ -50,7 +50,7 @@ pub(crate) fn at(v: &[f64], i: usize) -> f64 {
 
 impl PartErrors {
     /// Whether every error is zero (the nominal reducer).
-    pub fn is_zero(&self) -> bool {
+    pub(crate) fn is_zero(&self) -> bool {
         let zero = |v: &[f64]| v.iter().all(|&x| x == 0.0);
         zero(&self.pin_radial)
             && zero(&self.pin_tangential)
@@ -61,12 +61,12 @@ impl PartErrors {
     }
 
     /// Radius error of pin `j`, m.
-    pub fn pin_radius_error(&self, j: usize) -> f64 {
+    pub(crate) fn pin_radius_error(&self, j: usize) -> f64 {
         at(&self.pin_radius, j)
     }
 
     /// Whether the cranks carry any error.
-    pub fn has_crank_errors(&self) -> bool {
+    pub(crate) fn has_crank_errors(&self) -> bool {
         self.crank_eccentricity
             .iter()
             .chain(&self.crank_phase)

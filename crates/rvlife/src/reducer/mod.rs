@@ -6,11 +6,11 @@
 //! with the line-contact law of [`crate::contact::ContactModel`] on gaps measured from the
 //! actual (modified, worn) profile. Physics-notes sections 1, 6 and 9.
 //!
-//! - [`statics`]: static equilibrium of the model under an output torque with the input locked
+//! - `statics`: static equilibrium of the model under an output torque with the input locked
 //!   (the catalogue measuring set-up): loaded TE, load sharing between pins and between the two
 //!   discs, disc translations on their bearings, hysteresis curves. It serves `contact`, `te`,
 //!   `hysteresis` and the wear integration.
-//! - [`dynamics`]: the same bodies, bearings, meshes and contact law in time, with inertia,
+//! - `dynamics`: the same bodies, bearings, meshes and contact law in time, with inertia,
 //!   damping, a drive and a load history: the dynamic TE.
 //!
 //! Coordinates (fixed pin-ring frame, SI), laid out by [`Layout`]: the input (sun) angle
@@ -105,7 +105,7 @@ pub struct Layout {
 
 impl Layout {
     /// Input (sun) angle.
-    pub const SUN: usize = 0;
+    pub(crate) const SUN: usize = 0;
     /// Output (carrier) angle.
     pub const OUT: usize = 1;
     /// First coordinate of crank `k` (`x`, `y`, angle).
@@ -117,14 +117,14 @@ impl Layout {
         2 + 3 * self.cranks + 3 * d
     }
     /// Number of generalised coordinates.
-    pub fn dofs(&self) -> usize {
+    pub(crate) fn dofs(&self) -> usize {
         2 + 3 * self.cranks + 3 * self.discs
     }
 }
 
 /// Largest number of generalised coordinates (3 cranks and 2 discs; a single-stage drive
 /// with 3 discs has 11).
-pub const MAX_DOFS: usize = 2 + 3 * 3 + 6;
+pub(crate) const MAX_DOFS: usize = 2 + 3 * 3 + 6;
 
 /// What drives the discs and takes their torque out.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -196,7 +196,7 @@ pub struct Reducer {
 
 impl Reducer {
     /// How the contact geometry sees the worn flank ([`crate::contact::gap::GapField::new`]).
-    pub fn contact_band(&self) -> crate::contact::gap::Band<'_> {
+    pub(crate) fn contact_band(&self) -> crate::contact::gap::Band<'_> {
         crate::contact::gap::Band {
             contact: &self.contact,
             force: self.contact_band_force,
@@ -205,7 +205,7 @@ impl Reducer {
     }
 
     /// The coordinate layout.
-    pub fn layout(&self) -> Layout {
+    pub(crate) fn layout(&self) -> Layout {
         Layout {
             cranks: self.cranks,
             discs: self.disc_phases.len(),
@@ -219,7 +219,7 @@ impl Reducer {
 
     /// Absolute angle of the eccentric (crank angle, rad) at positions `q0 + dq`: crank 1's
     /// angle in an RV reducer, the input angle of a single-stage drive.
-    pub fn eccentric_angle(&self, q0: &[f64], dq: &[f64]) -> f64 {
+    pub(crate) fn eccentric_angle(&self, q0: &[f64], dq: &[f64]) -> f64 {
         match self.drive {
             Drive::Rv => {
                 let k = self.layout().crank(0) + 2;
@@ -233,7 +233,7 @@ impl Reducer {
     /// with the input locked, turning the carrier by `psi` turns the cranks relative to it by
     /// `(Z1/Z2) psi`, so the disc turns by `psi (Zp + Z1/Z2) / Zc` relative to its position at a
     /// fixed crank (docs/model.md section 6; 0.963 for the paper's reducer).
-    pub fn twist_factor(&self) -> f64 {
+    pub(crate) fn twist_factor(&self) -> f64 {
         let zp = self.geometry.pins as f64;
         (zp - 1.0) / (zp + self.mesh.sun_planet_ratio)
     }
@@ -242,14 +242,14 @@ impl Reducer {
     /// `60 n_in Zp / |i_H|` (docs/model.md section 1: one mesh cycle per crank revolution
     /// relative to the carrier; the paper counts input revolutions instead, see
     /// [`crate::wear`]).
-    pub fn mesh_cycles_per_hour(&self, speed_rpm: f64) -> f64 {
+    pub(crate) fn mesh_cycles_per_hour(&self, speed_rpm: f64) -> f64 {
         60.0 * speed_rpm * self.geometry.pins as f64 / self.ratio.abs()
     }
 
     /// Share of the output torque on one disc for the closed-form estimates (Li's
     /// distribution, the paper's wear model, reference forces): `load_share` with rigid
     /// support, 1/2 with bearings (two discs).
-    pub fn disc_share(&self) -> f64 {
+    pub(crate) fn disc_share(&self) -> f64 {
         match self.support {
             Support::Rigid { load_share } => load_share,
             Support::Bearings => 0.5,
@@ -259,14 +259,14 @@ impl Reducer {
     /// Torque (N m) on one disc at a fixed crank angle equivalent to the output torque
     /// `torque` (N m): `share T Zc/(Zp + Z1/Z2)` (docs/model.md section 6: the first stage
     /// turns the cranks when the output twists with the input locked).
-    pub fn equivalent_disc_torque(&self, torque: f64) -> f64 {
+    pub(crate) fn equivalent_disc_torque(&self, torque: f64) -> f64 {
         self.disc_share() * torque * self.twist_factor()
     }
 
     /// Displacement of pin `j`'s centre from its nominal position by the part errors, fixed
     /// frame, m: radial and tangential errors along the pin's own directions plus the pin
     /// circle's offset (docs/model.md section 10).
-    pub fn pin_displacement(&self, j: usize) -> Vec2 {
+    pub(crate) fn pin_displacement(&self, j: usize) -> Vec2 {
         let g = std::f64::consts::TAU * j as f64 / self.geometry.pins as f64;
         let (er, et) = (Vec2::new(g.cos(), g.sin()), Vec2::new(-g.sin(), g.cos()));
         let err = &self.errors;
@@ -277,7 +277,7 @@ impl Reducer {
     /// frame) and rotation (rad), for the disc's eccentric direction `alpha` (rad, fixed frame)
     /// and the carrier angle `carrier` (rad). Least-squares fit of the bores' displacements
     /// (module documentation). Zero without crank errors.
-    pub fn disc_correction(&self, alpha: f64, carrier: f64) -> (Vec2, f64) {
+    pub(crate) fn disc_correction(&self, alpha: f64, carrier: f64) -> (Vec2, f64) {
         let err = &self.errors;
         if !err.has_crank_errors() || self.cranks == 0 {
             return (Vec2::zeros(), 0.0);
@@ -314,7 +314,7 @@ impl Reducer {
     /// order: the largest pin displacement and radius error, plus the largest disc translation
     /// and the rotation's effect at the pin circle (`|v_k| <= |de_k| + e |dphi_k|`; the fitted
     /// rotation is at most `2 max |v_k| / R_c`), with a factor 1.5 of margin.
-    pub fn error_gap_bound(&self) -> f64 {
+    pub(crate) fn error_gap_bound(&self) -> f64 {
         let err = &self.errors;
         let amax = |v: &[f64]| v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
         let pins = (0..self.geometry.pins)
@@ -330,43 +330,44 @@ impl Reducer {
     }
 
     /// Crank angle speed ratio of the locked-input mode: `d vartheta / d theta_o = 1 + Z1/Z2`.
-    pub fn crank_mode_ratio(&self) -> f64 {
+    pub(crate) fn crank_mode_ratio(&self) -> f64 {
         1.0 + self.mesh.sun_planet_ratio
     }
 
     /// Seat of crank `k` on the carrier at `theta_o = 0` (= its bore centre in the disc frame),
     /// m: on the crank circle at `2 pi k / cranks`.
-    pub fn seat(&self, k: usize) -> Vec2 {
+    pub(crate) fn seat(&self, k: usize) -> Vec2 {
         let al = 2.0 * PI * k as f64 / self.cranks as f64;
         Vec2::new(al.cos(), al.sin()) * self.crank_circle_radius
     }
 
     /// Line of action of crank `k`'s mesh at `theta_o = 0` (unit vector).
-    pub fn line_of_action(&self, k: usize) -> Vec2 {
+    #[cfg(test)]
+    pub(crate) fn line_of_action(&self, k: usize) -> Vec2 {
         let (sin, cos) = self.mesh.pressure_angle.sin_cos();
         line_of_action(self.seat(k), sin, cos)
     }
 
     /// Eccentric phase of disc `d`, rad (RV: 0 and pi).
-    pub fn phase(&self, d: usize) -> f64 {
+    pub(crate) fn phase(&self, d: usize) -> f64 {
         self.disc_phases[d]
     }
 
     /// Angle (rad) by which the profile of disc `d` is turned in its own frame,
     /// `-phase / Zc`: a disc whose eccentric leads by `phase` sits that much of a tooth
     /// turned (RV: 0 and `-pi/Zc`, half a tooth).
-    pub fn profile_turn(&self, d: usize) -> f64 {
+    pub(crate) fn profile_turn(&self, d: usize) -> f64 {
         -self.phase(d) / self.geometry.disc_teeth() as f64
     }
 
     /// Input angle (rad) at which disc 1's eccentric points at crank angle `phi` (rad):
     /// `vartheta = kappa theta_s` with `kappa = (1 + Z1/Z2)/i_H - Z1/Z2 = -Zc/i_H`.
-    pub fn input_angle_for_crank(&self, phi: f64) -> f64 {
+    pub(crate) fn input_angle_for_crank(&self, phi: f64) -> f64 {
         phi / self.kappa()
     }
 
     /// `kappa = d vartheta / d theta_s` of the nominal kinematics.
-    pub fn kappa(&self) -> f64 {
+    pub(crate) fn kappa(&self) -> f64 {
         let r = self.mesh.sun_planet_ratio;
         (1.0 + r) / self.ratio - r
     }
@@ -434,7 +435,7 @@ impl Reducer {
     /// half-angle sines), not as a difference of absolute positions, so it keeps full relative
     /// precision down to the smallest loads. Every force derives from
     /// [`Reducer::structural_energy`] (plus damping).
-    pub fn structural_forces(&self, q0: &[f64], dq: &[f64], qd: &[f64], g: &mut [f64]) {
+    pub(crate) fn structural_forces(&self, q0: &[f64], dq: &[f64], qd: &[f64], g: &mut [f64]) {
         let lay = self.layout();
         let th_o = q0[Layout::OUT] + dq[Layout::OUT];
         let (w_s, w_o) = (qd[Layout::SUN], qd[Layout::OUT]);
@@ -580,6 +581,7 @@ impl Reducer {
 
     /// Elastic energy (J) of a single-stage drive's eccentric bearings and pins in holes at
     /// positions `q0 + dq`.
+    #[cfg(test)]
     fn single_stage_energy(&self, w: &OutputPins, q0: &[f64], dq: &[f64]) -> f64 {
         let lay = self.layout();
         let a = self.geometry.eccentricity;
@@ -604,7 +606,8 @@ impl Reducer {
 
     /// Elastic energy of the meshes and the crank bearings (J) at positions `q0 + dq` (see
     /// [`Reducer::structural_forces`]).
-    pub fn structural_energy(&self, q0: &[f64], dq: &[f64]) -> f64 {
+    #[cfg(test)]
+    pub(crate) fn structural_energy(&self, q0: &[f64], dq: &[f64]) -> f64 {
         let lay = self.layout();
         let th_o = q0[Layout::OUT] + dq[Layout::OUT];
         let d_o = dq[Layout::OUT];

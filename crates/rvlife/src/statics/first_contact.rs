@@ -60,7 +60,7 @@ impl<'a> StaticAnalysis<'a> {
     ///
     /// # Errors
     /// [`Error::Numerical`] if no pin can stop the mechanism.
-    pub fn first_contact(&self, phi: f64, direction: f64) -> Result<f64> {
+    pub(crate) fn first_contact(&self, phi: f64, direction: f64) -> Result<f64> {
         let s = if direction < 0.0 { -1.0 } else { 1.0 };
         let zp = self.red.geometry.pins;
         let est = self.stopping_pins(phi, s)?;
@@ -121,7 +121,7 @@ impl<'a> StaticAnalysis<'a> {
     ///
     /// # Errors
     /// [`Error::Numerical`] if no pin can stop the mechanism.
-    pub fn touching_pins(
+    pub(crate) fn touching_pins(
         &self,
         phi: f64,
         direction: f64,
@@ -179,7 +179,7 @@ impl<'a> StaticAnalysis<'a> {
     ///
     /// # Errors
     /// [`Error::Numerical`] if the contact geometry cannot be evaluated.
-    pub fn pin_touching_twist(
+    pub(crate) fn pin_touching_twist(
         &self,
         phi: f64,
         disc: usize,
@@ -196,7 +196,7 @@ impl<'a> StaticAnalysis<'a> {
     ///
     /// # Errors
     /// [`Error::Invalid`] if `red` has another gap table or band than this analysis's reducer.
-    pub fn for_reducer<'b>(&self, red: &'b Reducer) -> Result<StaticAnalysis<'b>>
+    pub(crate) fn for_reducer<'b>(&self, red: &'b Reducer) -> Result<StaticAnalysis<'b>>
     where
         'a: 'b,
     {

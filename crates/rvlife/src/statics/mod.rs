@@ -8,7 +8,7 @@
 //! are the deviations of every other coordinate from the nominal kinematics
 //! ([`Reducer::nominal`]): the carrier twist `psi` (the output's TE under load), each crank's
 //! centre and angle, each disc's centre and angle. The forces are those of the dynamic model:
-//! meshes and bearings ([`Reducer::structural_forces`]) and the disc-pin contacts with the
+//! meshes and bearings (`Reducer::structural_forces`) and the disc-pin contacts with the
 //! line-contact law on the contact geometry both analyses share, the gap field of the actual
 //! profile ([`GapField`]: exact global closest points at touching, averaged over the Hertz
 //! band).
@@ -19,14 +19,14 @@
 //! is monotone; the outer loop finds `T(psi) = T` by safeguarded Newton with the condensed
 //! stiffness `dT/dpsi = K_oo - K_oi K_ii^-1 K_io` and an Euler predictor of the inner
 //! coordinates. Every solution is returned only with its residual (every generalised force,
-//! moments over the pin circle radius) below [`RESIDUAL_TOLERANCE`] of the force scale;
+//! moments over the pin circle radius) below `RESIDUAL_TOLERANCE` of the force scale;
 //! otherwise an error names the crank angle, the torque and the wear.
 //!
 //! **`T -> 0+` (STE).** With no load the bearings are undeformed and the mechanism moves as one
 //! rigid body along its locked-input mode: carrier `+psi`, cranks `+(1 + Z1/Z2) psi` about their
 //! axes, discs turning with the carrier. The first contact along that mode, over every pin of
 //! both discs (no lever-arm cut-off), is the limit of the loaded twist as the torque tends to
-//! zero ([`StaticAnalysis::first_contact`]): the static TE.
+//! zero (`StaticAnalysis::first_contact`): the static TE.
 //!
 //! **Rigid support** ([`Support::Rigid`], the paper's and Li's model): one disc with its centre
 //! on the eccentric carries `load_share T`; the only unknown is the twist along the same mode,
@@ -54,7 +54,7 @@ use crate::units::ARCMIN_PER_RAD;
 /// sum of the pin forces (what the bearings carry), and at least the output torque over the
 /// pin circle radius; or below the round-off floor of the contact forces where that is larger
 /// ([`ROUNDOFF_GAP_ULPS`]).
-pub const RESIDUAL_TOLERANCE: f64 = 1e-9;
+pub(crate) const RESIDUAL_TOLERANCE: f64 = 1e-9;
 
 /// Round-off of a computed gap, in units of the last place of the pin circle radius: a gap is
 /// the difference of two lengths of the size of the pin circle radius (pin centre and pin path
@@ -64,27 +64,27 @@ pub const RESIDUAL_TOLERANCE: f64 = 1e-9;
 /// 0.1 % of its rated torque that is about 1e-8 of the force scale, above
 /// [`RESIDUAL_TOLERANCE`]. Such a solution is accepted at that floor, which it reports
 /// ([`StaticSolution::roundoff_floor`]).
-pub const ROUNDOFF_GAP_ULPS: f64 = 4.0;
+pub(crate) const ROUNDOFF_GAP_ULPS: f64 = 4.0;
 
 /// Largest elastic twist beyond first contact the static analysis follows, rad (about 34
 /// arcmin: 30 times the twist of the example at its rated torque).
-pub const MAX_TWIST: f64 = 0.01;
+pub(crate) const MAX_TWIST: f64 = 0.01;
 
-/// Most solves of one loading path in [`StaticAnalysis::solve_in_load_steps`].
-pub const MAX_LOAD_STEPS: usize = 96;
+/// Most solves of one loading path in `StaticAnalysis::solve_in_load_steps`.
+pub(crate) const MAX_LOAD_STEPS: usize = 96;
 
-/// Consecutive crank angles solved in one run of [`StaticAnalysis::solve_sequence`], each
+/// Consecutive crank angles solved in one run of `StaticAnalysis::solve_sequence`, each
 /// started from the previous one.
-pub const SEQUENCE_RUN: usize = 16;
+pub(crate) const SEQUENCE_RUN: usize = 16;
 
-/// One pin's share of a static solution (also of [`crate::contact::solve`]).
+/// One pin's share of a static solution.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct PinLoad {
     /// Pin index `j`.
     pub pin: usize,
-    /// Profile parameter of the contact (global, rad): in the static analysis the pin centre's
-    /// path parameter in the gap field, which is the contact point's on the unworn flank and
-    /// close to it on a worn one; the closest point's in [`crate::contact::solve`].
+    /// Profile parameter of the contact (global, rad): the pin centre's path parameter in the
+    /// gap field, which is the contact point's on the unworn flank and close to it on a worn
+    /// one.
     pub profile_parameter: f64,
     /// Mesh angle of the contact, rad.
     pub mesh_angle: f64,
@@ -130,7 +130,7 @@ pub struct DiscLoad {
 
 impl DiscLoad {
     /// Largest pin force, N.
-    pub fn max_force(&self) -> f64 {
+    pub(crate) fn max_force(&self) -> f64 {
         self.pins.iter().map(|p| p.force).fold(0.0, f64::max)
     }
     /// Number of pins carrying a force.
@@ -154,11 +154,11 @@ pub struct StaticSolution {
     pub stiffness: f64,
     /// The discs (two with bearings, one with rigid support).
     pub discs: Vec<DiscLoad>,
-    /// Relative residual of the equilibrium (see [`RESIDUAL_TOLERANCE`]).
+    /// Relative residual of the equilibrium (see `RESIDUAL_TOLERANCE`).
     pub residual: f64,
     /// Round-off floor of the residual, relative like it: `4 eps Rp sum k_j` over the loaded
-    /// pins over the force scale ([`ROUNDOFF_GAP_ULPS`]). The solution is accepted when its
-    /// residual is below the larger of this and [`RESIDUAL_TOLERANCE`].
+    /// pins over the force scale (`ROUNDOFF_GAP_ULPS`). The solution is accepted when its
+    /// residual is below the larger of this and `RESIDUAL_TOLERANCE`.
     pub roundoff_floor: f64,
     /// Coordinate deviations from the nominal kinematics (bearing support; empty with rigid
     /// support), in the layout of [`Layout`], SI.
@@ -168,11 +168,11 @@ pub struct StaticSolution {
 
 impl StaticSolution {
     /// Largest pin force over the discs, N.
-    pub fn max_force(&self) -> f64 {
+    pub(crate) fn max_force(&self) -> f64 {
         self.discs.iter().map(|d| d.max_force()).fold(0.0, f64::max)
     }
     /// Largest Hertz pressure over the discs, Pa.
-    pub fn max_pressure(&self) -> f64 {
+    pub(crate) fn max_pressure(&self) -> f64 {
         self.discs
             .iter()
             .flat_map(|d| d.pins.iter().map(|p| p.max_pressure))
@@ -188,7 +188,7 @@ impl StaticSolution {
     }
 }
 
-/// One pin at the pose where it first touches (see [`StaticAnalysis::touching_pins`]).
+/// One pin at the pose where it first touches (see `StaticAnalysis::touching_pins`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TouchingPin {
     /// Disc index (from 0).
@@ -352,11 +352,6 @@ impl<'a> StaticAnalysis<'a> {
     /// The disc profile analysed.
     pub fn profile(&self) -> &'a Profile {
         self.profile
-    }
-
-    /// The contact geometry.
-    pub fn gap_field(&self) -> &GapField {
-        &self.field
     }
 
     fn discs(&self) -> usize {

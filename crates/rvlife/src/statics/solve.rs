@@ -9,7 +9,7 @@ impl<'a> StaticAnalysis<'a> {
     ///
     /// # Errors
     /// [`Error::Invalid`] for a non-finite input; [`Error::Numerical`] naming the crank angle,
-    /// torque and wear if the equilibrium is not reached to [`RESIDUAL_TOLERANCE`], or if the
+    /// torque and wear if the equilibrium is not reached to `RESIDUAL_TOLERANCE`, or if the
     /// contact law leaves its range.
     pub fn solve(&self, phi: f64, torque: f64) -> Result<StaticSolution> {
         check_input(phi, torque)?;
@@ -23,7 +23,7 @@ impl<'a> StaticAnalysis<'a> {
     ///
     /// # Errors
     /// As [`StaticAnalysis::solve`].
-    pub fn solve_from(&self, phi: f64, torque: f64, psi0: f64) -> Result<StaticSolution> {
+    pub(crate) fn solve_from(&self, phi: f64, torque: f64, psi0: f64) -> Result<StaticSolution> {
         self.solve_near(phi, torque, psi0, None)
     }
 
@@ -34,7 +34,7 @@ impl<'a> StaticAnalysis<'a> {
     ///
     /// # Errors
     /// As [`StaticAnalysis::solve`].
-    pub fn solve_near(
+    pub(crate) fn solve_near(
         &self,
         phi: f64,
         torque: f64,
@@ -53,7 +53,7 @@ impl<'a> StaticAnalysis<'a> {
     /// # Errors
     /// As [`StaticAnalysis::solve`]; [`Error::Invalid`] if `offsets` is neither empty nor
     /// `2 x Zp` long or holds a non-finite value.
-    pub fn solve_with_offsets(
+    pub(crate) fn solve_with_offsets(
         &self,
         phi: f64,
         torque: f64,
@@ -180,7 +180,7 @@ impl<'a> StaticAnalysis<'a> {
     ///
     /// # Errors
     /// As [`StaticAnalysis::solve`], for the first crank angle that fails.
-    pub fn solve_sequence(&self, phis: &[f64], torque: f64) -> Result<Vec<StaticSolution>> {
+    pub(crate) fn solve_sequence(&self, phis: &[f64], torque: f64) -> Result<Vec<StaticSolution>> {
         let s = if torque < 0.0 { -1.0 } else { 1.0 };
         let runs: Vec<Vec<StaticSolution>> = phis
             .par_chunks(SEQUENCE_RUN)

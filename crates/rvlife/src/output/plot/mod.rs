@@ -80,7 +80,8 @@ mod dynamics;
 mod study;
 
 pub use dynamics::dynamics;
-pub use study::{flexible_te_hours, hysteresis, von_mises, write_all};
+pub use study::hysteresis;
+pub(crate) use study::write_all;
 
 /// Width of the legend strip at the right of every figure, px: legends never cover data.
 const LEGEND_WIDTH: u32 = 235;
@@ -284,7 +285,7 @@ pub fn curves_against_hours(
 ///
 /// # Errors
 /// [`Error::Io`] if a file cannot be written.
-pub fn fan_chart(
+pub(crate) fn fan_chart(
     dir: &Path,
     stem: &str,
     title: &str,
@@ -325,7 +326,7 @@ pub fn fan_chart(
 ///
 /// # Errors
 /// [`Error::Io`] if a file cannot be written.
-pub fn histogram(
+pub(crate) fn histogram(
     dir: &Path,
     stem: &str,
     title: &str,

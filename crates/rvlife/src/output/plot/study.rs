@@ -15,7 +15,7 @@ use crate::study::Study;
 ///
 /// # Errors
 /// [`Error::Io`] if a file cannot be written.
-pub fn write_all(study: &Study, dir: &Path) -> Result<()> {
+pub(crate) fn write_all(study: &Study, dir: &Path) -> Result<()> {
     let n = study.stages.len();
     let hours: Vec<f64> = study.stages.iter().map(|s| s.hours).collect();
 
@@ -557,7 +557,7 @@ pub fn hysteresis(study: &Study, dir: &Path) -> Result<()> {
 ///
 /// # Errors
 /// [`Error::Io`] if a file cannot be written.
-pub fn flexible_te_hours(study: &Study, dir: &Path) -> Result<()> {
+pub(crate) fn flexible_te_hours(study: &Study, dir: &Path) -> Result<()> {
     let sums: Vec<_> = study.stages.iter().map(|s| s.summary.clone()).collect();
     let lines: [(&str, RGBColor, StageValue); 4] = [
         ("rigid STE mean (no load)", BLUE, |s| s.ste_mean_arcmin),
@@ -601,7 +601,7 @@ pub fn flexible_te_hours(study: &Study, dir: &Path) -> Result<()> {
 ///
 /// # Errors
 /// [`Error::Io`] if a file cannot be written.
-pub fn von_mises(
+pub(crate) fn von_mises(
     mesh: &crate::fem::mesh::Mesh,
     nodal: &[f64],
     title: &str,

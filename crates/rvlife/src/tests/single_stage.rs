@@ -1,9 +1,9 @@
 //! Single-stage cycloid drives: input on the eccentric shaft, output by pins in holes.
 
-use rvlife::config::{preset_text, Config, Model};
-use rvlife::statics::StaticAnalysis;
-use rvlife::te::mesh_cycle_angles;
-use rvlife::units::ARCMIN_PER_RAD;
+use crate::config::{preset_text, Config, Model};
+use crate::statics::StaticAnalysis;
+use crate::te::mesh_cycle_angles;
+use crate::units::ARCMIN_PER_RAD;
 
 fn config_text(discs: usize, equidistant_mm: f64) -> String {
     preset_text("single-stage")
@@ -148,6 +148,6 @@ fn single_stage_input_errors_name_their_key() {
         assert!(err(t).contains("dynamics.enabled"));
     }
     // RV keys of the single stage are refused for an RV reducer.
-    let rv = rvlife::config::EXAMPLE_TOML.replace("planets = 2 ", "planets = 2\ndiscs = 3\n");
+    let rv = crate::config::EXAMPLE_TOML.replace("planets = 2 ", "planets = 2\ndiscs = 3\n");
     assert!(err(rv).contains("reducer.discs"));
 }

@@ -3,14 +3,15 @@
 use std::f64::consts::TAU;
 use std::sync::OnceLock;
 
-use rvlife::config::{Config, Model};
-use rvlife::contact::{li_load_distribution, pin_geometries, ApproachLaw, ContactModel, Materials};
-use rvlife::geometry::{CycloidGeometry, Modification, Profile, WearMap};
-use rvlife::reducer::{Reducer, Support};
-use rvlife::statics::StaticAnalysis;
-use rvlife::te::static_te;
-use rvlife::units::ARCMIN_PER_RAD;
-use rvlife::wear::WearModelKind;
+use crate::config::{Config, Model};
+use crate::contact::pin::pin_geometries;
+use crate::contact::{li_load_distribution, ApproachLaw, ContactModel, Materials};
+use crate::geometry::{CycloidGeometry, Modification, Profile, WearMap};
+use crate::reducer::{Reducer, Support};
+use crate::statics::StaticAnalysis;
+use crate::te::static_te;
+use crate::units::ARCMIN_PER_RAD;
+use crate::wear::WearModelKind;
 
 fn model() -> Model {
     Config::example().validate().unwrap()
@@ -27,7 +28,7 @@ fn example_discs() -> &'static [(f64, Profile)] {
 fn worn_discs(m: &Model) -> Vec<(f64, Profile)> {
     let mut m = m.clone();
     m.wear.stage_hours = vec![1250.0, 7500.0];
-    let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
+    let hist = crate::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
     let mut profiles = vec![(0.0, m.profile().unwrap())];
     for (h, map) in hist.hours.iter().zip(&hist.maps) {
         profiles.push((
@@ -321,7 +322,7 @@ fn wear_is_linear_in_hours_without_updates() {
     let mut m = model();
     m.wear.update_hours = 0.0;
     m.wear.stage_hours = vec![0.0, 1000.0, 2000.0, 4000.0];
-    let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
+    let hist = crate::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
     assert_eq!(hist.rate_evaluations(), 1);
     let base = &hist.maps[1];
     assert!(base.iter().copied().fold(0.0, f64::max) > 0.0);
@@ -339,7 +340,7 @@ fn wear_is_linear_in_hours_without_updates() {
 fn wear_with_updates_grows_and_concentrates_load() {
     let mut m = model();
     m.wear.stage_hours = vec![0.0, 1000.0, 2000.0];
-    let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
+    let hist = crate::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
     let n = hist.maps[0].len();
     let max = hist.max_depths();
     assert!(max[1] > 0.0 && max[2] > max[1]);
@@ -393,7 +394,7 @@ fn paper_wear_model() {
     let mut m = model();
     m.wear.model = WearModelKind::Paper;
     m.wear.stage_hours = vec![0.0, 1000.0, 2000.0];
-    let study = rvlife::study::run(&m, &|_, _| {}).unwrap();
+    let study = crate::study::run(&m, &|_, _| {}).unwrap();
     let max = study.wear.max_depths();
     assert!((max[2] / max[1] - 2.0).abs() < 1e-9);
     let s = &study.stages[2];
@@ -405,7 +406,7 @@ fn paper_wear_model() {
 #[test]
 fn example_is_calibrated_to_sixty_microns() {
     let m = model();
-    let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
+    let hist = crate::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
     let last = *hist.max_depths().last().unwrap();
     assert!((last * 1e6 - 60.0).abs() < 1.5, "{} um", last * 1e6);
 }
@@ -417,7 +418,7 @@ fn example_is_calibrated_to_sixty_microns() {
 fn worn_disc_contact_balances_over_a_mesh_cycle() {
     let mut m = model();
     m.wear.stage_hours = vec![4000.0];
-    let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
+    let hist = crate::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
     let worn = m
         .cycloid
         .profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))
@@ -451,7 +452,7 @@ fn load_spectra_scale_the_wear() {
         "duration_s,torque_nm,speed_rpm\n2.0,412.0,1500.0\n2.0,0.0,1500.0\n",
     )
     .unwrap();
-    let base = rvlife::config::EXAMPLE_TOML
+    let base = crate::config::EXAMPLE_TOML
         .replace("profile_update_hours = 250.0", "profile_update_hours = 0.0");
     let text = base.replace(
         "kind = \"constant\"              # \"constant\", \"sinusoidal\" or \"duty_cycle\"\ntorque_nm = 412.0",
@@ -466,8 +467,8 @@ fn load_spectra_scale_the_wear() {
         .unwrap()
         .validate()
         .unwrap();
-    let a = rvlife::wear::integrate(&constant.wear_inputs(), &|_, _| {}).unwrap();
-    let b = rvlife::wear::integrate(&halved.wear_inputs(), &|_, _| {}).unwrap();
+    let a = crate::wear::integrate(&constant.wear_inputs(), &|_, _| {}).unwrap();
+    let b = crate::wear::integrate(&halved.wear_inputs(), &|_, _| {}).unwrap();
     let (ma, mb) = (a.max_depths()[6], b.max_depths()[6]);
     assert!((mb / ma - 0.5).abs() < 1e-9, "{ma} {mb}");
 
@@ -479,7 +480,7 @@ fn load_spectra_scale_the_wear() {
         .unwrap()
         .validate()
         .unwrap();
-    let h = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
+    let h = crate::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
     let map = &h.maps[6];
     let n = map.len();
     // Mirror symmetry of the tooth: mesh angle t on one flank pairs with 2 pi - t on the other.
@@ -504,14 +505,14 @@ fn wear_depth_is_monotone_in_archard_coefficient_on_a_fixed_schedule() {
     m.reducer = rigid(0.55);
     m.wear.stage_hours = vec![0.0, 3000.0];
     let k0 = m.wear.archard;
-    let free = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
+    let free = crate::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
     assert!(free.update_hours.len() > 10, "{:?}", free.update_hours);
     let schedule = free.update_hours.clone();
     let depth = |k: f64| {
         let mut mk = m.clone();
         mk.wear.archard = k;
         let h =
-            rvlife::wear::integrate_on_schedule(&mk.wear_inputs(), &schedule, &|_, _| {}).unwrap();
+            crate::wear::integrate_on_schedule(&mk.wear_inputs(), &schedule, &|_, _| {}).unwrap();
         assert_eq!(h.update_hours, schedule);
         *h.max_depths().last().unwrap()
     };
@@ -526,7 +527,7 @@ fn wear_depth_is_monotone_in_archard_coefficient_on_a_fixed_schedule() {
     assert!((0.3..=1.2).contains(&elasticity), "{elasticity} {hs:?}");
 
     let target = 1.05 * hs[3];
-    let (k, achieved) = rvlife::wear::calibrate(&m.wear_inputs(), target).unwrap();
+    let (k, achieved) = crate::wear::calibrate(&m.wear_inputs(), target).unwrap();
     assert!(
         (achieved / target - 1.0).abs() < 1e-3,
         "{achieved} {target}"
@@ -546,7 +547,7 @@ fn wear_depth_is_monotone_in_archard_coefficient_on_a_fixed_schedule() {
 ///   first stage, `sum_d M_d = T Zc / (Zp + Z1/Z2)`, within 1e-4 (measured 2.0e-5). On worn
 ///   discs the relation is not exact (measured 3.5e-3 at 1250 h, 1.2e-2 at 7500 h; printed).
 /// - No pin penetrates beyond the contact law's approach, in the elastic sense
-///   ([`rvlife::contact::elastic`]): the approach on the law's circle minus the approach that
+///   ([`crate::contact::elastic`]): the approach on the law's circle minus the approach that
 ///   carries the pin's force on the exact worn flank by non-Hertzian line contact is within 5 %
 ///   of the law's approach plus 0.1 um, on every loaded pin at every tenth crank angle and on
 ///   every pin that the rigid comparison below flags. Measured beyond that: 0, 0.051 and
@@ -694,7 +695,7 @@ fn fine_scan(m: &Model, discs: &[(f64, Profile)], elastic_hours: &[f64]) {
                             // carries the pin's force on the exact flank (non-Hertzian line
                             // contact) against the approach on the law's circle.
                             if p.force > 0.0 && (rigid_fails || k % 10 == 0) {
-                                let e = rvlife::contact::elastic::approach_excess(
+                                let e = crate::contact::elastic::approach_excess(
                                     profile,
                                     &q,
                                     pin_radius,
@@ -795,7 +796,7 @@ fn virtual_work_of_the_output_torque() {
                 .map(|s| sa.solve(phi, t0 + s * h).unwrap())
                 .collect();
             // The same pins loaded over the whole stencil.
-            let loaded = |s: &rvlife::statics::StaticSolution| -> Vec<bool> {
+            let loaded = |s: &crate::statics::StaticSolution| -> Vec<bool> {
                 s.discs
                     .iter()
                     .flat_map(|d| d.pins.iter().map(|p| p.force > 0.0))
@@ -813,7 +814,7 @@ fn virtual_work_of_the_output_torque() {
                 &mut qd,
                 &mut qdd,
             );
-            let d5 = |f: &dyn Fn(&rvlife::statics::StaticSolution) -> f64| {
+            let d5 = |f: &dyn Fn(&crate::statics::StaticSolution) -> f64| {
                 (f(&sols[0]) - 8.0 * f(&sols[1]) + 8.0 * f(&sols[3]) - f(&sols[4])) / (12.0 * h)
             };
             let lhs = t0 * d5(&|s| s.twist);
@@ -854,7 +855,7 @@ fn static_analysis_follows_the_loading_path_across_a_change_of_contacts() {
     m.reducer.contact_band_force = 98.0;
     m.wear.archard = 6.844807e-9 * 1e-9;
     m.wear.stage_hours = vec![6250.0];
-    let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
+    let hist = crate::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
     let profile = m
         .cycloid
         .profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))

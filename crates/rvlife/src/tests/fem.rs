@@ -3,16 +3,16 @@
 
 use std::f64::consts::{PI, TAU};
 
-use rvlife::config::{Config, Model};
-use rvlife::fem::flex::{
+use crate::config::{Config, Model};
+use crate::fem::flex::{
     analyse_stage, faces_driving_flank, faces_loaded_flank, solve_flexible,
     solve_flexible_bearings, FlexibleLaw, FLEX_OFFSET_TOLERANCE,
 };
-use rvlife::fem::mesh::{triangulate, BoundaryLoop, LoopKind, MeshSpec};
-use rvlife::fem::plane::{traction_load, FeModel, NodeBc, PlaneStress};
-use rvlife::fem::{DiscModel, DiscSet};
-use rvlife::geometry::{Vec2, WearMap};
-use rvlife::units::ARCMIN_PER_RAD;
+use crate::fem::mesh::{triangulate, BoundaryLoop, LoopKind, MeshSpec};
+use crate::fem::plane::{traction_load, FeModel, NodeBc, PlaneStress};
+use crate::fem::{DiscModel, DiscSet};
+use crate::geometry::{Vec2, WearMap};
+use crate::units::ARCMIN_PER_RAD;
 
 fn model_with(edit: impl FnOnce(&mut Config)) -> Model {
     let mut c = Config::example();
@@ -21,7 +21,7 @@ fn model_with(edit: impl FnOnce(&mut Config)) -> Model {
 }
 
 /// The profile of `m` worn uniformly by `depth` (m) along the whole flank.
-fn uniformly_worn(m: &Model, depth: f64) -> rvlife::geometry::Profile {
+fn uniformly_worn(m: &Model, depth: f64) -> crate::geometry::Profile {
     m.cycloid
         .profile(Some(WearMap::uniform(360, depth).unwrap()))
         .unwrap()
@@ -230,7 +230,7 @@ fn disc_compliance_converges_under_refinement() {
 
 /// The example with the disc modulus times `scale` (FE body and Hertz law alike) and 4 crank
 /// angles, its profile under 10 um of uniform wear, and the FE disc of that profile.
-fn scaled_disc(scale: f64) -> (Model, rvlife::geometry::Profile, DiscSet) {
+fn scaled_disc(scale: f64) -> (Model, crate::geometry::Profile, DiscSet) {
     let m = model_with(|c| {
         c.materials.disc.youngs_modulus_gpa *= scale;
         c.fem.crank_angles = 4;
@@ -242,9 +242,9 @@ fn scaled_disc(scale: f64) -> (Model, rvlife::geometry::Profile, DiscSet) {
 
 /// The example's reducer with its disc centre fixed on the eccentric, carrying half the output
 /// torque (the fixed-centre flexible model).
-fn fixed_centre(m: &Model) -> rvlife::reducer::Reducer {
+fn fixed_centre(m: &Model) -> crate::reducer::Reducer {
     let mut red = m.reducer.clone();
-    red.support = rvlife::reducer::Support::Rigid { load_share: 0.5 };
+    red.support = crate::reducer::Support::Rigid { load_share: 0.5 };
     red
 }
 
@@ -257,7 +257,7 @@ fn stiff_disc_approaches_the_rigid_result() {
     let run = |scale: f64| {
         let (m, p, d) = scaled_disc(scale);
         let red = fixed_centre(&m);
-        let sa = rvlife::statics::StaticAnalysis::new(&red, &p).unwrap();
+        let sa = crate::statics::StaticAnalysis::new(&red, &p).unwrap();
         let phi = 0.3;
         let s = solve_flexible(&sa, d.disc(0).0, phi, m.rating.rated_torque).unwrap();
         let rigid_static = s.first_contact_rotation;
@@ -288,7 +288,7 @@ fn stiff_disc_approaches_the_rigid_result() {
 fn flexible_discs_on_bearings_tend_to_the_rigid_static_analysis() {
     let run = |scale: f64| {
         let (m, p, d) = scaled_disc(scale);
-        let sa = rvlife::statics::StaticAnalysis::new(&m.reducer, &p).unwrap();
+        let sa = crate::statics::StaticAnalysis::new(&m.reducer, &p).unwrap();
         let phi = 0.3;
         let psi0 = sa.first_contact(phi, 1.0).unwrap();
         let rigid = sa.solve_from(phi, m.rating.rated_torque, psi0).unwrap();
@@ -342,15 +342,15 @@ fn flexible_contact_is_complementary() {
     let p = uniformly_worn(&m, 20e-6);
     let d = DiscModel::build(&p, &m.fem.params).unwrap();
     let red = fixed_centre(&m);
-    let sa = rvlife::statics::StaticAnalysis::new(&red, &p).unwrap();
+    let sa = crate::statics::StaticAnalysis::new(&red, &p).unwrap();
     let s = solve_flexible(&sa, &d, 0.1, m.rating.rated_torque).unwrap();
     assert!(s.pins.len() >= 3);
-    let law = rvlife::fem::flex::FlexibleLaw {
+    let law = crate::fem::flex::FlexibleLaw {
         model: m.reducer.contact,
         patch: m.fem.params.patch,
     };
     for q in &s.pins {
-        let g = rvlife::contact::pin_geometry(&p, q.pin, 0.1, s.disc_rotation).unwrap();
+        let g = crate::contact::pin_geometry(&p, q.pin, 0.1, s.disc_rotation).unwrap();
         let (w, _) = law.approach(q.force, g.curvature);
         let closure = w + q.body_deflection + g.gap;
         assert!(closure.abs() < 1e-11, "pin {} closure {closure:e}", q.pin);
@@ -361,7 +361,7 @@ fn flexible_contact_is_complementary() {
         if loaded.contains(&j) {
             continue;
         }
-        let g = rvlife::contact::pin_geometry(&p, j, 0.1, s.disc_rotation).unwrap();
+        let g = crate::contact::pin_geometry(&p, j, 0.1, s.disc_rotation).unwrap();
         if g.t.rem_euclid(TAU) > PI {
             continue;
         }
@@ -430,7 +430,7 @@ fn flexible_disc_has_both_senses() {
             m.profile().unwrap()
         } else {
             m.wear.stage_hours = vec![hours];
-            let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
+            let hist = crate::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
             m.cycloid
                 .profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))
                 .unwrap()
@@ -446,7 +446,7 @@ fn flexible_disc_has_both_senses() {
         let backlash = mean(&st.rigid_ste) - mean(&st.rigid_ste_reverse);
         let lost = ste - ste_r;
         // The rigid model's catalogue quantities at the same crank angles.
-        let sa = rvlife::statics::StaticAnalysis::new(&m.reducer, &profile).unwrap();
+        let sa = crate::statics::StaticAnalysis::new(&m.reducer, &profile).unwrap();
         let (mut rigid_lost, mut rigid_a) = (0.0, 0.0);
         let t_m = st.ste_torque;
         for &phi in &st.crank_angle {
@@ -529,7 +529,7 @@ fn flexible_disc_has_both_senses() {
 }
 
 /// Disc 2 of the RV reducer is disc 1's part turned by pi: its contacts sit on disc 1's FE
-/// model `(Zc + 1) / 2` teeth round ([`rvlife::fem::Mount`]). The mapping is the geometry's
+/// model `(Zc + 1) / 2` teeth round ([`crate::fem::Mount`]). The mapping is the geometry's
 /// (the profile point of the model's parameter is the disc's point turned by the mount's
 /// rotation, at 40 parameters), and the compliance it gives equals that of a model meshed
 /// with the holes turned against the profile as disc 2 has them (the other way of modelling
@@ -537,7 +537,7 @@ fn flexible_disc_has_both_senses() {
 /// have no such symmetry: no mount.
 #[test]
 fn disc_two_is_disc_one_turned_by_pi() {
-    use rvlife::fem::{mount_teeth, DiscSet};
+    use crate::fem::{mount_teeth, DiscSet};
     let m = model_with(|c| c.fem.crank_angles = 4);
     let p = uniformly_worn(&m, 10e-6);
     let zc = m.cycloid.geometry.disc_teeth();
@@ -550,7 +550,7 @@ fn disc_two_is_disc_one_turned_by_pi() {
     for k in 0..40 {
         let t = TAU * zc as f64 * k as f64 / 40.0 + 0.37;
         let on_model = p.point(mount.parameter(t)).p;
-        let turned = mount.to_model(&p.point(t).p);
+        let turned = mount.model_frame(&p.point(t).p);
         assert!(
             (on_model - turned).norm() < 1e-12,
             "t {t}: {on_model:?} vs {turned:?}"
@@ -559,7 +559,7 @@ fn disc_two_is_disc_one_turned_by_pi() {
     // The same part modelled directly: holes turned by -turn against the profile.
     let mut params = m.fem.params.clone();
     for h in params.bores.iter_mut().chain(params.holes.iter_mut()) {
-        h.centre = rvlife::geometry::rotate(&h.centre, -turn);
+        h.centre = crate::geometry::rotate(&h.centre, -turn);
     }
     let direct = DiscModel::build(&p, &params).unwrap();
     // Contacts on the driving flanks of the teeth a loaded disc 2 touches at crank angle 0.
@@ -592,8 +592,8 @@ fn disc_two_is_disc_one_turned_by_pi() {
     let mut three = m.fem.params.clone();
     let r = three.bores[0].centre.norm();
     three.bores = (0..3)
-        .map(|k| rvlife::fem::Hole {
-            centre: rvlife::geometry::Vec2::new(
+        .map(|k| crate::fem::Hole {
+            centre: crate::geometry::Vec2::new(
                 r * (TAU * k as f64 / 3.0).cos(),
                 r * (TAU * k as f64 / 3.0).sin(),
             ),
@@ -640,7 +640,7 @@ fn condensed_compliance_equals_full_solves() {
 /// Profile parameter near the closest point of `profile` to `x` (within a few thousandths of a
 /// tooth): the sample of 2000 per tooth with the nearest polar angle (the outline is
 /// star-shaped about the centre).
-fn parameter_near(profile: &rvlife::geometry::Profile, x: &Vec2) -> f64 {
+fn parameter_near(profile: &crate::geometry::Profile, x: &Vec2) -> f64 {
     let zc = profile.geometry().disc_teeth();
     let n = 2000 * zc;
     let dt = TAU * zc as f64 / n as f64;
@@ -658,7 +658,7 @@ fn parameter_near(profile: &rvlife::geometry::Profile, x: &Vec2) -> f64 {
         .unwrap()
 }
 
-/// The unworn disc's mesh moved onto a worn outline ([`rvlife::fem::morph_mesh`]): the same
+/// The unworn disc's mesh moved onto a worn outline ([`crate::fem::morph_mesh`]): the same
 /// elements; every outline node of two teeth as far from the worn profile as it was from the
 /// unworn one (vertices of the outline polygon on the curve, nodes on its chords off it by the
 /// chord sag, about 1.6 um, which the wear changes by about 1 % with the radius of curvature:

@@ -1,11 +1,11 @@
 //! Accuracy life: the hours at which the first `[life]` threshold is crossed.
 
-use rvlife::config::{Config, Model};
-use rvlife::geometry::WearMap;
-use rvlife::study::study_life;
+use crate::config::{Config, Model};
+use crate::geometry::WearMap;
+use crate::study::study_life;
 
 fn model() -> Model {
-    let text = rvlife::config::EXAMPLE_TOML
+    let text = crate::config::EXAMPLE_TOML
         .replace("equidistant_mm = 0.0 ", "equidistant_mm = 0.008 ")
         .replace("offset_mm = 0.0 ", "offset_mm = -0.005 ")
         .replace("enabled = true ", "enabled = false ");
@@ -26,7 +26,7 @@ fn model() -> Model {
 #[test]
 fn accuracy_life_is_where_the_worn_reducer_reaches_the_threshold() {
     let mut m = model();
-    let study = rvlife::study::run(&m, &|_, _| {}).unwrap();
+    let study = crate::study::run(&m, &|_, _| {}).unwrap();
     let s: Vec<_> = study.stages.iter().map(|s| s.summary.clone()).collect();
     let (a, b) = (&s[2], &s[3]);
     assert!(b.lost_motion_arcmin > a.lost_motion_arcmin);
@@ -45,17 +45,14 @@ fn accuracy_life_is_where_the_worn_reducer_reaches_the_threshold() {
     );
     let mut at = m.clone();
     at.wear.stage_hours = vec![h];
-    let hist = rvlife::wear::integrate_on_schedule(
-        &at.wear_inputs(),
-        &study.wear.update_hours,
-        &|_, _| {},
-    )
-    .unwrap();
+    let hist =
+        crate::wear::integrate_on_schedule(&at.wear_inputs(), &study.wear.update_hours, &|_, _| {})
+            .unwrap();
     let p = m
         .cycloid
         .profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))
         .unwrap();
-    let lm = rvlife::study::analyse_profile(&m, &p, h)
+    let lm = crate::study::analyse_profile(&m, &p, h)
         .unwrap()
         .summary
         .lost_motion_arcmin;
@@ -79,12 +76,12 @@ fn accuracy_life_is_where_the_worn_reducer_reaches_the_threshold() {
     assert!(h > q.hours && h <= 2.0 * q.hours, "life {h} h");
     let mut at = m.clone();
     at.wear.stage_hours = vec![h];
-    let hist = rvlife::wear::integrate(&at.wear_inputs(), &|_, _| {}).unwrap();
+    let hist = crate::wear::integrate(&at.wear_inputs(), &|_, _| {}).unwrap();
     let pr = m
         .cycloid
         .profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))
         .unwrap();
-    let lm = rvlife::study::analyse_profile(&m, &pr, h)
+    let lm = crate::study::analyse_profile(&m, &pr, h)
         .unwrap()
         .summary
         .lost_motion_arcmin;

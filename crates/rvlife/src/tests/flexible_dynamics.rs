@@ -1,16 +1,16 @@
 //! The flexible disc in the multibody model (fixed-interface modes and residual flexibility of
 //! the FE disc, `fem::modal`): its quasi-static limit, its stiff limit and its modal convergence.
 
-use rvlife::config::{Config, Model};
-use rvlife::dynamics::ode::{self, OdeSystem};
-use rvlife::dynamics::params::{Drive, Method};
-use rvlife::dynamics::{simulate_with, DynamicsParams, FlexibleDiscs, PinForce, System};
-use rvlife::fem::flex::solve_flexible_bearings;
-use rvlife::fem::modal::{ModalDisc, ModalSettings};
-use rvlife::fem::DiscSet;
-use rvlife::geometry::{Profile, WearMap};
-use rvlife::statics::StaticAnalysis;
-use rvlife::units::ARCMIN_PER_RAD;
+use crate::config::{Config, Model};
+use crate::dynamics::ode::{self, OdeSystem};
+use crate::dynamics::params::{Drive, Method};
+use crate::dynamics::{simulate_with, DynamicsParams, FlexibleDiscs, PinForce, System};
+use crate::fem::flex::solve_flexible_bearings;
+use crate::fem::modal::{ModalDisc, ModalSettings};
+use crate::fem::DiscSet;
+use crate::geometry::{Profile, WearMap};
+use crate::statics::StaticAnalysis;
+use crate::units::ARCMIN_PER_RAD;
 
 fn model_with(edit: impl FnOnce(&mut Config)) -> Model {
     let mut c = Config::example();
@@ -72,7 +72,7 @@ fn stage(m: &Model, hours: f64) -> Profile {
     }
     let mut m = m.clone();
     m.wear.stage_hours = vec![hours];
-    let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
+    let hist = crate::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
     m.cycloid
         .profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))
         .unwrap()
@@ -103,7 +103,7 @@ fn slow_flexible_dte_equals_the_static_flexible_analysis() {
         );
         let sa = StaticAnalysis::new(&m.reducer, &profile).unwrap();
         let kappa = m.reducer.kappa();
-        let window: Vec<&rvlife::dynamics::Sample> = r
+        let window: Vec<&crate::dynamics::Sample> = r
             .samples
             .iter()
             .filter(|s| s.time_s >= p.window.0 && s.time_s <= p.window.1)

@@ -2,14 +2,14 @@
 
 use std::path::Path;
 
+use crate::config::{Config, Model};
+use crate::geometry::{Profile, WearMap};
+use crate::output::export::{write_profile, ProfileFormat};
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
-use rvlife::config::{Config, Model};
-use rvlife::geometry::{Profile, WearMap};
-use rvlife::output::export::{write_profile, ProfileFormat};
 
 fn text(measured: Option<&Path>) -> String {
-    let t = rvlife::config::EXAMPLE_TOML
+    let t = crate::config::EXAMPLE_TOML
         .replace("equidistant_mm = 0.0 ", "equidistant_mm = 0.008 ")
         .replace("offset_mm = 0.0 ", "offset_mm = -0.005 ");
     match measured {
@@ -50,7 +50,7 @@ fn exported_profiles_round_trip_through_measured_profile() {
     let m = model(None);
     let mut worn = m.clone();
     worn.wear.stage_hours = vec![7500.0];
-    let hist = rvlife::wear::integrate(&worn.wear_inputs(), &|_, _| {}).unwrap();
+    let hist = crate::wear::integrate(&worn.wear_inputs(), &|_, _| {}).unwrap();
     let n = hist.maps[0].len();
     let cases = [
         ("modified", m.profile().unwrap()),
@@ -91,8 +91,8 @@ fn exported_profiles_round_trip_through_measured_profile() {
     }
     let path = dir.path().join("7500h.csv");
     let mm = model(Some(&path));
-    let a = rvlife::te::static_te(&mm.reducer, &mm.profile().unwrap(), 12).unwrap();
-    let b = rvlife::te::static_te(&m.reducer, &cases[2].1, 12).unwrap();
+    let a = crate::te::static_te(&mm.reducer, &mm.profile().unwrap(), 12).unwrap();
+    let b = crate::te::static_te(&m.reducer, &cases[2].1, 12).unwrap();
     for (x, y) in a.forward.iter().zip(&b.forward) {
         assert!((x - y).abs() < 1e-6 * y.abs().max(1e-6), "{x} vs {y}");
     }
@@ -191,7 +191,7 @@ fn bad_measured_profiles_are_refused_with_the_key() {
             .validate()
             .unwrap_err();
         assert!(
-            matches!(e, rvlife::Error::Invalid { .. })
+            matches!(e, crate::Error::Invalid { .. })
                 && e.to_string().contains("cycloid.measured_profile"),
             "{}: {e}",
             p.display()

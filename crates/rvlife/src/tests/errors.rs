@@ -1,19 +1,19 @@
 //! Part errors and the transmission error over an output revolution.
 
-use rvlife::config::{Config, Model};
-use rvlife::geometry::Vec2;
-use rvlife::reducer::errors::PartErrors;
-use rvlife::reducer::{Reducer, Support};
-use rvlife::statics::StaticAnalysis;
-use rvlife::te::{
+use crate::config::{Config, Model};
+use crate::geometry::Vec2;
+use crate::reducer::errors::PartErrors;
+use crate::reducer::{Reducer, Support};
+use crate::statics::StaticAnalysis;
+use crate::te::{
     over_revolution, revolution, revolution_exact, revolution_perturbed, static_te, RevolutionTe,
 };
-use rvlife::units::ARCMIN_PER_RAD;
+use crate::units::ARCMIN_PER_RAD;
 
 /// The example with a clearance: `equidistant_um` of equidistant and `offset_um` of offset
 /// modification.
 fn model(equidistant_um: f64, offset_um: f64) -> Model {
-    let text = rvlife::config::EXAMPLE_TOML
+    let text = crate::config::EXAMPLE_TOML
         .replace(
             "equidistant_mm = 0.0 ",
             &format!("equidistant_mm = {} ", equidistant_um * 1e-3),

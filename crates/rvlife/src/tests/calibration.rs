@@ -1,8 +1,8 @@
-//! The k-h scaling that `rvlife calibrate --measured` rests on ([`rvlife::calibration`]).
+//! The k-h scaling that `rvlife calibrate --measured` rests on ([`crate::calibration`]).
 
-use rvlife::config::{Config, Model};
-use rvlife::quantities::StageSummary;
-use rvlife::wear::{integrate, integrate_on_schedule};
+use crate::config::{Config, Model};
+use crate::quantities::StageSummary;
+use crate::wear::{integrate, integrate_on_schedule};
 
 /// One number of a stage summary.
 type StageValue = fn(&StageSummary) -> f64;
@@ -52,10 +52,10 @@ fn direct_run_at_twice_k_matches_the_reference_at_twice_the_hours() {
     let mut m2 = fast_model(&hours);
     m2.wear.archard *= 2.0;
     let t = std::time::Instant::now();
-    let direct = rvlife::study::run(&m2, &|_, _| {}).unwrap();
+    let direct = crate::study::run(&m2, &|_, _| {}).unwrap();
     let wall = t.elapsed().as_secs_f64();
     let m = fast_model(&hours.iter().map(|h| 2.0 * h).collect::<Vec<_>>());
-    let reference = rvlife::study::run(&m, &|_, _| {}).unwrap();
+    let reference = crate::study::run(&m, &|_, _| {}).unwrap();
     let quantities: [(&str, StageValue); 3] = [
         ("lost_motion_arcmin", |s| s.lost_motion_arcmin),
         ("backlash_arcmin", |s| s.backlash_arcmin),

@@ -1,14 +1,14 @@
 //! Physics checks of the multibody model that can fail.
 
-use rvlife::config::{Config, Model};
-use rvlife::dynamics::ode::OdeSystem;
-use rvlife::dynamics::params::{Drive, LoadProfile, Method};
-use rvlife::dynamics::system::Layout;
-use rvlife::dynamics::{ode, simulate, GapField, System};
-use rvlife::geometry::WearMap;
-use rvlife::te::loaded_te;
-use rvlife::units::ARCMIN_PER_RAD;
-use rvlife::wear::WearModelKind;
+use crate::config::{Config, Model};
+use crate::dynamics::ode::OdeSystem;
+use crate::dynamics::params::{Drive, LoadProfile, Method};
+use crate::dynamics::system::Layout;
+use crate::dynamics::{ode, simulate, GapField, System};
+use crate::geometry::WearMap;
+use crate::te::loaded_te;
+use crate::units::ARCMIN_PER_RAD;
+use crate::wear::WearModelKind;
 
 fn example() -> Config {
     Config::example()
@@ -94,7 +94,7 @@ fn slow_constant_torque_gives_the_static_loaded_te() {
 fn slow_constant_torque_gives_the_static_solution_at_every_stage() {
     let mut m = slow_model(|_| {});
     m.wear.stage_hours = vec![1250.0, 7500.0];
-    let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
+    let hist = crate::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
     let mut stages = vec![(0.0, m.profile().unwrap())];
     for (h, map) in hist.hours.iter().zip(&hist.maps) {
         stages.push((
@@ -137,7 +137,7 @@ fn slow_model(edit: impl FnOnce(&mut Config)) -> Model {
 /// 24 samples, at the sample's crank angle, the DTE equals the static twist within 1 %, every
 /// pin force the static one within 1 % of the largest static force, and each disc's
 /// translation on its bearings the static one within 1 % of its length.
-fn slow_dte_matches_static(m: &Model, profile: &rvlife::geometry::Profile, what: &str) {
+fn slow_dte_matches_static(m: &Model, profile: &crate::geometry::Profile, what: &str) {
     let mut p = m.dynamics.params.clone();
     let i = &mut p.inertia;
     for v in [
@@ -158,7 +158,7 @@ fn slow_dte_matches_static(m: &Model, profile: &rvlife::geometry::Profile, what:
         (got - expected).abs() < 0.01 * expected,
         "{what}: DTE {got} arcmin vs static {expected}"
     );
-    let sa = rvlife::statics::StaticAnalysis::new(&m.reducer, profile).unwrap();
+    let sa = crate::statics::StaticAnalysis::new(&m.reducer, profile).unwrap();
     let lay = m.reducer.layout();
     let zp = m.cycloid.geometry.pins;
     let kappa = m.reducer.kappa();
@@ -278,7 +278,7 @@ fn energy_is_conserved_without_damping() {
             sys.rhs(t, z, &mut dz, Some(&mut pins));
             elastic = elastic.max(
                 pins.iter()
-                    .map(|p: &rvlife::dynamics::PinForce| p.normal)
+                    .map(|p: &crate::dynamics::PinForce| p.normal)
                     .sum(),
             );
             Ok(())
@@ -304,7 +304,7 @@ fn fast_integrator_matches_a_tight_reference_at_every_stage() {
     let mut tight = m.dynamics.params.clone();
     tight.integrator = Method::Tsit45;
     tight.rtol = 1e-7;
-    let hist = rvlife::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
+    let hist = crate::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
     for (hours, map) in hist.hours.iter().zip(&hist.maps) {
         // The stage profile as the study analyses it (the paper's uniform wear of the largest
         // depth, or the wear map).
@@ -365,7 +365,7 @@ fn open_pin_skip_and_warm_starts_leave_the_rhs_unchanged() {
     let m = model_with(|_| {});
     let mut m7500 = m.clone();
     m7500.wear.stage_hours = vec![7500.0];
-    let hist = rvlife::wear::integrate(&m7500.wear_inputs(), &|_, _| {}).unwrap();
+    let hist = crate::wear::integrate(&m7500.wear_inputs(), &|_, _| {}).unwrap();
     let max = hist.maps[0].iter().copied().fold(0.0, f64::max);
     let profile = m
         .cycloid
@@ -384,7 +384,7 @@ fn open_pin_skip_and_warm_starts_leave_the_rhs_unchanged() {
         sys.rhs(t, z, &mut cold, Some(&mut pins));
         loaded += pins
             .iter()
-            .filter(|p: &&rvlife::dynamics::PinForce| p.normal > 0.0)
+            .filter(|p: &&crate::dynamics::PinForce| p.normal > 0.0)
             .count();
         let scale = cold.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
         for (a, b) in warm.iter().zip(&cold) {

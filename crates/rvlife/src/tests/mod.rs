@@ -1,0 +1,13 @@
+//! The library's tests of physics that can fail (closed forms, conservation, invariants
+//! scanned over crank angles and torques, limits, published numbers), inside the crate so that
+//! they reach the analyses' internals; each file's own documentation says what it checks.
+
+mod calibration;
+mod dynamics;
+mod errors;
+mod fem;
+mod flexible_dynamics;
+mod life;
+mod measured;
+mod physics;
+mod single_stage;
