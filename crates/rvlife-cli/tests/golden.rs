@@ -22,6 +22,8 @@
 //! `RVLIFE_GOLDEN_WRITE=1 cargo test --release -p rvlife-cli --test golden`
 //! (`RVLIFE_GOLDEN_BIN=PATH` records the outputs of another build of `rvlife`).
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -273,18 +275,7 @@ fn montecarlo_outputs_are_unchanged() {
         ("offset_mm = 0.0 ", "offset_mm = -0.005 "),
         ("enabled = true ", "enabled = false "),
     ]);
-    cfg.push_str(
-        "\n[tolerances]\n\
-         pin_radial_um = { normal = 1.0 }\n\
-         pin_tangential_um = { normal = 1.0 }\n\
-         pin_radius_um = { iso_grade = 5 }\n\
-         pin_circle_runout_um = { uniform = 4.0 }\n\
-         crank_eccentricity_um = { normal = 1.0 }\n\
-         crank_phase_arcmin = { normal = 0.5 }\n\
-         equidistant_um = { normal = 0.5 }\n\
-         offset_um = { normal = 0.5 }\n\
-         \n[life]\nlost_motion_arcmin = 2.3\nangular_te_arcmin = 1.5\n",
-    );
+    cfg.push_str(common::MONTE_CARLO_SPEC);
     c.input("mc.toml", &cfg);
     c.run(
         "montecarlo",

@@ -24,18 +24,7 @@ fn config(dir: &Path, stages: &str) -> PathBuf {
         })
         .collect::<Vec<_>>()
         .join("\n");
-    text.push_str(
-        "\n[tolerances]\n\
-         pin_radial_um = { normal = 1.0 }\n\
-         pin_tangential_um = { normal = 1.0 }\n\
-         pin_radius_um = { iso_grade = 5 }\n\
-         pin_circle_runout_um = { uniform = 4.0 }\n\
-         crank_eccentricity_um = { normal = 1.0 }\n\
-         crank_phase_arcmin = { normal = 0.5 }\n\
-         equidistant_um = { normal = 0.5 }\n\
-         offset_um = { normal = 0.5 }\n\
-         \n[life]\nlost_motion_arcmin = 2.3\nangular_te_arcmin = 1.5\n",
-    );
+    text.push_str(common::MONTE_CARLO_SPEC);
     let p = dir.join("mc.toml");
     std::fs::write(&p, text).unwrap();
     p

@@ -736,3 +736,17 @@ pub fn assert_report(out: &Path) {
     );
     std::fs::remove_file(&shot).unwrap();
 }
+
+/// The Monte Carlo tests' tolerances of every kind (pins 1 um, IT5 radii, 4 um run-out, cranks
+/// 1 um and 0.5 arcmin, modifications 0.5 um) and life spec (lost motion 2.3 arcmin, angular
+/// TE 1.5 arcmin), appended to a config.
+pub const MONTE_CARLO_SPEC: &str = "\n[tolerances]\n\
+         pin_radial_um = { normal = 1.0 }\n\
+         pin_tangential_um = { normal = 1.0 }\n\
+         pin_radius_um = { iso_grade = 5 }\n\
+         pin_circle_runout_um = { uniform = 4.0 }\n\
+         crank_eccentricity_um = { normal = 1.0 }\n\
+         crank_phase_arcmin = { normal = 0.5 }\n\
+         equidistant_um = { normal = 0.5 }\n\
+         offset_um = { normal = 0.5 }\n\
+         \n[life]\nlost_motion_arcmin = 2.3\nangular_te_arcmin = 1.5\n";
