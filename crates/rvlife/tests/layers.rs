@@ -551,9 +551,16 @@ fn citations_of_the_model_document_exist_and_stay_in_the_repository() {
                 problems.push(format!("{}: cites docs/model.md section {n}", f.display()));
             }
         }
-        let outside = ["physics-notes", "../shared", "/work/", "shared/paper"];
+        // Documents and places outside the repository (spelled in pieces, so that this file
+        // does not cite them itself).
+        let outside = [
+            concat!("physics", "-notes"),
+            concat!("../", "shared"),
+            concat!("/wo", "rk/"),
+            concat!("shared", "/paper"),
+        ];
         for o in outside {
-            if text.contains(o) && !f.ends_with("layers.rs") {
+            if text.contains(o) {
                 problems.push(format!(
                     "{}: cites `{o}`, outside the repository",
                     f.display()
