@@ -102,8 +102,8 @@ impl Quantity {
 
 /// A stage's record: every quantity of [`STAGE`] at one working-hour stage (engineering units
 /// in the names). Serialised (`summary.json`) as the object of [`STAGE`]'s names, in its
-/// order, the absent values left out.
-#[derive(Debug, Clone, PartialEq)]
+/// order, the absent values left out. The default is all zero and absent.
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct StageSummary {
     /// Working hours, h.
     pub hours: f64,
@@ -854,22 +854,8 @@ mod tests {
             disc_load_share: 0.5,
             torsional_stiffness_nm_per_arcmin: 18.0,
             tangent_stiffness_nm_per_arcmin: 19.0,
-            flexible_torsional_stiffness_nm_per_arcmin: None,
-            flexible_ste_reverse_mean_arcmin: None,
-            flexible_loaded_te_reverse_mean_arcmin: None,
-            flexible_backlash_arcmin: None,
-            flexible_lost_motion_arcmin: None,
-            flexible_ste_mean_arcmin: None,
-            flexible_ste_peak_to_peak_arcmin: None,
-            flexible_loaded_te_mean_arcmin: None,
-            flexible_loaded_te_peak_to_peak_arcmin: None,
-            rigid_loaded_te_revolution_mean_arcmin: None,
-            max_von_mises_mpa: None,
-            max_root_stress_mpa: None,
-            dte_mean_arcmin: None,
-            dte_peak_to_peak_arcmin: None,
-            dte_rms_arcmin: None,
-            dte_range_arcmin: None,
+
+            ..Default::default()
         };
         let p = AccuracyPoint::of(&s);
         for q in ACCURACY {

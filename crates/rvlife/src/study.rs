@@ -325,22 +325,8 @@ pub(crate) fn analyse_profile(
         disc_load_share: share,
         torsional_stiffness_nm_per_arcmin: acc.torsional_stiffness / ARCMIN_PER_RAD,
         tangent_stiffness_nm_per_arcmin: loaded.mean_stiffness() / ARCMIN_PER_RAD,
-        flexible_torsional_stiffness_nm_per_arcmin: None,
-        flexible_ste_reverse_mean_arcmin: None,
-        flexible_loaded_te_reverse_mean_arcmin: None,
-        flexible_backlash_arcmin: None,
-        flexible_lost_motion_arcmin: None,
-        flexible_ste_mean_arcmin: None,
-        flexible_ste_peak_to_peak_arcmin: None,
-        flexible_loaded_te_mean_arcmin: None,
-        flexible_loaded_te_peak_to_peak_arcmin: None,
-        rigid_loaded_te_revolution_mean_arcmin: None,
-        max_von_mises_mpa: None,
-        max_root_stress_mpa: None,
-        dte_mean_arcmin: None,
-        dte_peak_to_peak_arcmin: None,
-        dte_rms_arcmin: None,
-        dte_range_arcmin: None,
+        // The dynamics' and the flexible disc's quantities are added by the study.
+        ..Default::default()
     };
     check_finite(&summary)?;
     Ok(ProfileAnalysis {

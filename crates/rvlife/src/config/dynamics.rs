@@ -26,23 +26,24 @@ pub struct DynamicsConfig {
     /// Add the dynamic TE to every stage of `rvlife run`.
     #[serde(default)]
     pub enabled: bool,
-    /// Simulated time, s.
+    /// Simulated time, s. Range: (0, 60] s.
     #[serde(default = "d_end")]
     pub end_time_s: f64,
-    /// TE statistics window `[start, end]`, s.
+    /// TE statistics window `[start, end]`, s. Range: 0 <= start < end <= end_time_s.
     #[serde(default = "d_window")]
     pub window_s: [f64; 2],
-    /// Sampling interval of the time series, s.
+    /// Sampling interval of the time series, s. Range: (0, window length] s, at most 2e6 samples.
     #[serde(default = "d_interval")]
     pub output_interval_s: f64,
     /// Relative tolerance of the integrator (absolute tolerances scale with it).
+    /// Range: [1e-10, 1e-2].
     #[serde(default = "d_rtol")]
     pub relative_tolerance: f64,
     /// Time integrator: `"esdirk34"` (implicit, steps set by accuracy) or `"tsit45"` (explicit,
     /// steps set by the stiffest mode) ([`crate::dynamics::ode`]).
     #[serde(default = "d_integrator")]
     pub integrator: String,
-    /// Mesh angles per tooth of the tabulated gap field.
+    /// Mesh angles per tooth of the tabulated gap field. Range: whole number, 64 to 65 536.
     #[serde(default = "d_gap_points")]
     pub gap_points_per_tooth: i64,
     /// Input drive.
@@ -75,13 +76,13 @@ fn d_disc() -> String {
 #[serde(deny_unknown_fields)]
 pub struct FlexibleConfig {
     /// Cut-off frequency, kHz: every fixed-interface mode of the disc (bores held) below it is
-    /// kept; the rest enter through their residual flexibility.
+    /// kept; the rest enter through their residual flexibility. Range: (0, 1e4] kHz.
     #[serde(default = "d_cutoff")]
     pub cutoff_khz: f64,
-    /// Modal damping ratio of every mode (structural steel, 0.5-2 %).
+    /// Modal damping ratio of every mode (structural steel, 0.5-2 %). Range: [0, 1].
     #[serde(default = "d_modal_zeta")]
     pub damping_ratio: f64,
-    /// Largest number of modes per disc.
+    /// Largest number of modes per disc. Range: whole number, 1 to 1000.
     #[serde(default = "d_max_modes")]
     pub max_modes: i64,
 }
@@ -153,18 +154,20 @@ pub struct DriveConfig {
     #[serde(default = "d_speed_kind")]
     pub kind: String,
     /// Final input speed, deg/s (`speed`; paper: 9000).
+    /// Range: finite, non-zero, |speed| <= 1e6 deg/s.
     #[serde(default = "d_speed")]
     pub speed_deg_s: f64,
-    /// Start of the speed ramp, s.
+    /// Start of the speed ramp, s. Range: [0, end_time_s] s.
     #[serde(default)]
     pub ramp_start_s: f64,
     /// End of the speed ramp (or of the torque ramp), s.
+    /// Range: after ramp_start_s, within end_time_s.
     #[serde(default = "d_ramp")]
     pub ramp_end_s: f64,
-    /// Motor torque, N m (`torque`).
+    /// Motor torque, N m (`torque`). Range: |torque| <= 1e5 N m.
     #[serde(default)]
     pub torque_nm: Option<f64>,
-    /// Initial input speed, deg/s (`torque`).
+    /// Initial input speed, deg/s (`torque`). Range: |speed| <= 1e6 deg/s.
     #[serde(default)]
     pub initial_speed_deg_s: f64,
 }
@@ -198,25 +201,27 @@ impl Default for DriveConfig {
 pub struct ImpactConfig {
     /// Stiffness `k` in `F = k d^e`, N/m^e (default: fitted to the config's Hertz line-contact
     /// law; give it together with `exponent`).
+    /// Range: (0, 1e30], with a contact stiffness in [1e5, 1e13] N/m at the reference force.
     #[serde(default)]
     pub stiffness_n_per_m_e: Option<f64>,
-    /// Exponent `e` (default: fitted with the stiffness).
+    /// Exponent `e` (default: fitted with the stiffness). Range: [1, 3].
     #[serde(default)]
     pub exponent: Option<f64>,
-    /// Maximum damping `c_max`, N s/m (default: from `damping_ratio`).
+    /// Maximum damping `c_max`, N s/m (default: from `damping_ratio`). Range: [0, 1e9] N s/m.
     #[serde(default)]
     pub max_damping_n_s_per_m: Option<f64>,
     /// Damping ratio of a disc on the contact stiffness at the reference force, used when
     /// `max_damping_n_s_per_m` is not given.
+    /// Range: [0, 10].
     #[serde(default = "d_impact_zeta")]
     pub damping_ratio: f64,
-    /// Penetration `d_max` at which the damping is full, um.
+    /// Penetration `d_max` at which the damping is full, um. Range: (0, 1000] um.
     #[serde(default = "d_pen")]
     pub penetration_um: f64,
-    /// Coulomb friction coefficient (0: off).
+    /// Coulomb friction coefficient (0: off). Range: [0, 1].
     #[serde(default)]
     pub friction_coefficient: f64,
-    /// Sliding speed over which the friction is smoothed (`tanh`), mm/s.
+    /// Sliding speed over which the friction is smoothed (`tanh`), mm/s. Range: (0, 1e6] mm/s.
     #[serde(default = "d_fv")]
     pub friction_velocity_mm_s: f64,
 }
@@ -249,54 +254,56 @@ impl Default for ImpactConfig {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct InertiaConfig {
-    /// Disc density, kg/m^3 (GCr15).
+    /// Disc density, kg/m^3 (GCr15). Range: (0, 1e5] kg/m^3.
     #[serde(default = "d_rho_steel")]
     pub disc_density_kg_m3: f64,
-    /// Crankshaft and planet density, kg/m^3 (GCr15).
+    /// Crankshaft and planet density, kg/m^3 (GCr15). Range: (0, 1e5] kg/m^3.
     #[serde(default = "d_rho_steel")]
     pub crank_density_kg_m3: f64,
-    /// Carrier and output shaft density, kg/m^3 (20CrMnTi).
+    /// Carrier and output shaft density, kg/m^3 (20CrMnTi). Range: (0, 1e5] kg/m^3.
     #[serde(default = "d_rho_out")]
     pub output_density_kg_m3: f64,
     /// Radius of the crank bores in the disc, mm (default: the paper's 13 mm scaled with the
     /// disc's root radius, `crate::geometry::CycloidGeometry::scaled_from_root`).
+    /// Range: (0, 1e4] mm, clear of the tooth roots and the centre.
     #[serde(default)]
     pub crank_bore_radius_mm: Option<f64>,
-    /// Crankshaft journal radius, mm.
+    /// Crankshaft journal radius, mm. Range: (0, 1e4] mm.
     #[serde(default = "d_journal")]
     pub crankshaft_radius_mm: f64,
-    /// Crankshaft length, mm.
+    /// Crankshaft length, mm. Range: (0, 1e5] mm.
     #[serde(default = "d_crank_len")]
     pub crankshaft_length_mm: f64,
     /// Axial thickness of carrier + output flange (a solid disk of the pin-circle radius minus
-    /// the pin radius), mm.
+    /// the pin radius), mm. Range: (0, 1e5] mm.
     #[serde(default = "d_carrier")]
     pub carrier_thickness_mm: f64,
-    /// Input shaft radius, mm.
+    /// Input shaft radius, mm. Range: (0, 1e4] mm.
     #[serde(default = "d_in_r")]
     pub input_shaft_radius_mm: f64,
-    /// Input shaft length, mm.
+    /// Input shaft length, mm. Range: (0, 1e5] mm.
     #[serde(default = "d_in_len")]
     pub input_shaft_length_mm: f64,
-    /// Extra inertia of what the output drives, kg m^2.
+    /// Extra inertia of what the output drives, kg m^2. Range: [0, 1e6] kg m^2.
     #[serde(default)]
     pub load_inertia_kg_m2: f64,
-    /// Override: disc mass, kg.
+    /// Override: disc mass, kg. Range: (0, 1e6] kg.
     #[serde(default)]
     pub disc_mass_kg: Option<f64>,
-    /// Override: disc inertia about its centre, kg m^2.
+    /// Override: disc inertia about its centre, kg m^2. Range: (0, 1e6] kg m^2.
     #[serde(default)]
     pub disc_inertia_kg_m2: Option<f64>,
-    /// Override: crankshaft + planet mass, kg.
+    /// Override: crankshaft + planet mass, kg. Range: (0, 1e6] kg.
     #[serde(default)]
     pub crank_mass_kg: Option<f64>,
-    /// Override: crankshaft + planet inertia about the crank axis, kg m^2.
+    /// Override: crankshaft + planet inertia about the crank axis, kg m^2. Range: (0, 1e6] kg m^2.
     #[serde(default)]
     pub crank_inertia_kg_m2: Option<f64>,
     /// Override: carrier + output shaft inertia (without `load_inertia_kg_m2`), kg m^2.
+    /// Range: (0, 1e6] kg m^2.
     #[serde(default)]
     pub output_inertia_kg_m2: Option<f64>,
-    /// Override: input shaft + sun inertia, kg m^2.
+    /// Override: input shaft + sun inertia, kg m^2. Range: (0, 1e6] kg m^2.
     #[serde(default)]
     pub input_inertia_kg_m2: Option<f64>,
 }
@@ -822,22 +829,22 @@ pub struct DynLoadConfig {
     /// Load kind.
     #[serde(default = "d_load_kind")]
     pub kind: String,
-    /// Constant torque, N m (`constant`; default: rated torque).
+    /// Constant torque, N m (`constant`; default: rated torque). Range: |torque| <= 1e6 N m.
     #[serde(default)]
     pub torque_nm: Option<f64>,
-    /// Ramp time of the constant torque (`STEP` from 0), s.
+    /// Ramp time of the constant torque (`STEP` from 0), s. Range: [0, end_time_s] s.
     #[serde(default)]
     pub ramp_s: f64,
-    /// Amplitude, N m (`sinusoidal`; default: rated torque).
+    /// Amplitude, N m (`sinusoidal`; default: rated torque). Range: [0, 1e6] N m.
     #[serde(default)]
     pub amplitude_nm: Option<f64>,
-    /// Period, s (`sinusoidal`).
+    /// Period, s (`sinusoidal`). Range: (0, 1e6] s.
     #[serde(default = "d_period")]
     pub period_s: f64,
-    /// Mean, N m (`sinusoidal`).
+    /// Mean, N m (`sinusoidal`). Range: |torque| <= 1e6 N m.
     #[serde(default)]
     pub offset_nm: f64,
-    /// Phase, degrees (`sinusoidal`).
+    /// Phase, degrees (`sinusoidal`). Range: any finite number.
     #[serde(default)]
     pub phase_deg: f64,
     /// CSV with columns `time_s,torque_nm` (`table`), relative to the config file; linear

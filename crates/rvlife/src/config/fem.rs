@@ -27,50 +27,56 @@ pub struct FemConfig {
     #[serde(default)]
     pub enabled: bool,
     /// Diameter of the crank bearing bores, mm (default: twice `dynamics.inertia.crank_bore_radius_mm`).
+    /// Range: [1, root radius] mm, holes clear of the teeth and of each other.
     #[serde(default)]
     pub crank_bore_diameter_mm: Option<f64>,
     /// Radius of the circle of the crank bores, mm (default: the sun-planet centre distance of
-    /// `dynamics.gears`).
+    /// `dynamics.gears`). Range: [1, root radius] mm.
     #[serde(default)]
     pub crank_circle_radius_mm: Option<f64>,
-    /// Number of output-pin (carrier pillar) holes; 0 for none.
+    /// Number of output-pin (carrier pillar) holes; 0 for none. Range: whole number, 0 to 24.
     #[serde(default = "d_holes")]
     pub output_pin_holes: u32,
     /// Diameter of the output-pin holes, mm (default: the paper's 22 mm scaled with the disc's
     /// root radius, `crate::geometry::CycloidGeometry::scaled_from_root`).
+    /// Range: [0.5, root radius] mm.
     #[serde(default)]
     pub output_pin_hole_diameter_mm: Option<f64>,
     /// Radius of the circle of the output-pin holes, mm (default: the crank circle radius).
+    /// Range: [0, root radius] mm.
     #[serde(default)]
     pub output_pin_circle_radius_mm: Option<f64>,
     /// Angle of the first output-pin hole from the first crank bore, deg (default `180/holes`:
-    /// between the bores).
+    /// between the bores). Range: [-360, 360] deg.
     #[serde(default)]
     pub output_pin_hole_phase_deg: Option<f64>,
     /// Diameter of the centre hole (input shaft passage), mm; 0 for none (default: the paper's
     /// 30 mm scaled with the disc's root radius, `crate::geometry::CycloidGeometry::scaled_from_root`).
+    /// Range: [0, 2 x root radius] mm.
     #[serde(default)]
     pub centre_hole_diameter_mm: Option<f64>,
     /// Element size along the tooth outline, mm.
+    /// Range: [0.01, 5] mm, the mesh within max_memory_gb.
     #[serde(default = "d_flank")]
     pub flank_element_size_mm: f64,
-    /// Largest element size inside the disc, mm.
+    /// Largest element size inside the disc, mm. Range: [flank_element_size_mm, 50] mm.
     #[serde(default = "d_max_size")]
     pub max_element_size_mm: f64,
     /// Half-width of the pressure patch that stands for a pin load, mm.
+    /// Range: [1.5 x flank_element_size_mm, 5] mm.
     #[serde(default = "d_patch")]
     pub load_patch_half_width_mm: f64,
-    /// Load stations per tooth flank.
+    /// Load stations per tooth flank. Range: whole number, 4 to 200.
     #[serde(default = "d_stations")]
     pub stations_per_flank: u32,
-    /// Crank angles per crank revolution of the flexible analysis.
+    /// Crank angles per crank revolution of the flexible analysis. Range: whole number, 4 to 3600.
     #[serde(default = "d_cranks")]
     pub crank_angles: u32,
     /// Measuring torque of the flexible STE, as a fraction of the rated torque (lost-motion
-    /// convention of RV catalogues: +-3 % of the rated torque).
+    /// convention of RV catalogues: +-3 % of the rated torque). Range: [1e-4, 0.5].
     #[serde(default = "d_ste_fraction")]
     pub ste_torque_fraction: f64,
-    /// Memory the disc model may use, GB; a finer mesh is refused.
+    /// Memory the disc model may use, GB; a finer mesh is refused. Range: [0.01, 1024] GB.
     #[serde(default = "d_memory")]
     pub max_memory_gb: f64,
 }
