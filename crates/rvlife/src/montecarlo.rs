@@ -83,12 +83,10 @@ pub(crate) fn check_work(
     let mut per_sample = points as f64 * per_cycle as f64 * budget::MONTE_CARLO_SOLVES_PER_ANGLE;
     if full_wear {
         let w = &model.wear;
-        let paper = w.model == crate::wear::WearModelKind::Paper;
-        let last = w.stage_hours.last().copied().unwrap_or(0.0);
         per_sample += 8.0
             * horizon.max(1.0)
-            * budget::scheduled_updates(paper, last, w.update_hours)
-            * budget::per_rate_evaluation(paper, model.load.levels.len(), w.crank_steps);
+            * w.scheduled_updates()
+            * w.rate_evaluation_solves(model.load.levels.len());
     }
     let total = samples as f64 * per_sample;
     if total <= model.work_budget {

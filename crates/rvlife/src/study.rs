@@ -179,10 +179,8 @@ fn check_finite(summary: &StageSummary) -> Result<()> {
 /// budget.
 pub(crate) fn check_work(model: &Model) -> Result<()> {
     let w = &model.wear;
-    let paper = w.model == WearModelKind::Paper;
-    let last = w.stage_hours.last().copied().unwrap_or(0.0);
-    let updates = budget::scheduled_updates(paper, last, w.update_hours);
-    let wear = updates * budget::per_rate_evaluation(paper, model.load.levels.len(), w.crank_steps);
+    let updates = w.scheduled_updates();
+    let wear = updates * w.rate_evaluation_solves(model.load.levels.len());
     let stages = w.stage_hours.len() as f64 * budget::stage_solves(model.te.samples);
     let total = wear + stages;
     if total <= model.work_budget {

@@ -77,6 +77,21 @@ pub struct WearParams {
     pub overlap_ratio: f64,
 }
 
+impl WearParams {
+    /// Wear-rate evaluations the profile-update step asks for up to the last stage
+    /// ([`budget::scheduled_updates`]).
+    pub(crate) fn scheduled_updates(&self) -> f64 {
+        let last = self.stage_hours.last().copied().unwrap_or(0.0);
+        budget::scheduled_updates(self.model == WearModelKind::Paper, last, self.update_hours)
+    }
+
+    /// Static solves of one wear-rate evaluation over `levels` load levels
+    /// ([`budget::per_rate_evaluation`]).
+    pub(crate) fn rate_evaluation_solves(&self, levels: usize) -> f64 {
+        budget::per_rate_evaluation(self.model == WearModelKind::Paper, levels, self.crank_steps)
+    }
+}
+
 /// What the wear integration reads: the reducer's mechanical model, the disc the profiles are
 /// built from, the wear settings, the load spectrum, the torque of the band filter, the work
 /// budget ([`crate::config::Model::wear_inputs`]).
@@ -585,15 +600,13 @@ fn integrate_inner(
 /// otherwise the Archard coefficient key, with the estimate and the budget.
 pub(crate) fn check_updates(inputs: &WearInputs, horizon: f64, max_rate: f64) -> Result<()> {
     let w = inputs.wear;
-    let paper = w.model == WearModelKind::Paper;
-    if paper || w.update_hours <= 0.0 {
+    if w.model == WearModelKind::Paper || w.update_hours <= 0.0 {
         return Ok(());
     }
-    let last = w.stage_hours.last().copied().unwrap_or(0.0);
     let updates = (horizon * max_rate / w.max_wear_step)
         .ceil()
-        .max(budget::scheduled_updates(paper, last, w.update_hours));
-    let total = updates * budget::per_rate_evaluation(paper, inputs.load.len(), w.crank_steps)
+        .max(w.scheduled_updates());
+    let total = updates * w.rate_evaluation_solves(inputs.load.len())
         + w.stage_hours.len() as f64 * inputs.budget.per_stage;
     if total <= inputs.budget.solves {
         return Ok(());

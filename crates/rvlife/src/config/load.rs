@@ -61,6 +61,22 @@ impl LoadConfig {
         rated: f64,
         speed: f64,
         path: impl Fn(&Path) -> PathBuf,
+    ) -> Result<(LoadParams, Vec<String>)> {
+        let (levels, keys) = self.levels(rated, speed, path)?;
+        let levels_key = match self.kind.as_str() {
+            "duty_cycle" => "load.file",
+            "sinusoidal" => "load.levels",
+            _ => "load.kind",
+        };
+        Ok((LoadParams { levels, levels_key }, keys))
+    }
+
+    /// The load levels of [`LoadConfig::validate`] and the key of each.
+    fn levels(
+        &self,
+        rated: f64,
+        speed: f64,
+        path: impl Fn(&Path) -> PathBuf,
     ) -> Result<(Vec<LoadLevel>, Vec<String>)> {
         let l = self;
         let unused = |name: &str, v: bool| -> Result<()> {

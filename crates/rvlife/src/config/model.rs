@@ -124,19 +124,11 @@ impl Config {
             65536,
         )?;
         let errors = self.errors.validate(geometry.pins, parts.cranks)?;
-        let (levels, level_keys) =
+        let (load, level_keys) =
             self.load
                 .validate(rating.rated_torque, rating.input_speed_rpm, |p| {
                     self.path(p)
                 })?;
-        let load = LoadParams {
-            levels,
-            levels_key: match self.load.kind.as_str() {
-                "duty_cycle" => "load.file",
-                "sinusoidal" => "load.levels",
-                _ => "load.kind",
-            },
-        };
         let wear = self.wear.validate()?;
         let te = self.te.validate(rating.rated_torque)?;
         // Across sections.
