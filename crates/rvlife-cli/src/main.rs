@@ -832,7 +832,13 @@ fn main() -> ExitCode {
         std::process::exit(130);
     });
     let cli = Cli::parse();
-    match run(cli) {
+    let result = run(cli);
+    // A signal arrived: its handler is removing the temporary outputs and ends the process
+    // with 130; an error met meanwhile (a file removed under a writer) is not reported.
+    while rvlife::output::interrupted() {
+        std::thread::park();
+    }
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

@@ -22,7 +22,7 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 
-pub use staging::{check_output_file, remove_pending, write_file_atomically, Staging};
+pub use staging::{check_output_file, interrupted, remove_pending, write_file_atomically, Staging};
 pub use study::{write_dynamics_files, write_files};
 
 pub(crate) fn csv_err(path: &Path) -> impl Fn(csv::Error) -> Error + '_ {

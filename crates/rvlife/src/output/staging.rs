@@ -29,10 +29,26 @@ fn unregister(p: &Path) {
     pending().retain(|x| x != p);
 }
 
+/// Set by [`remove_pending`]: the process is being interrupted.
+static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Whether [`remove_pending`] has started: the process is ending on a signal, so an error a
+/// writer meets now (its temporary directory removed under it) is not the run's result.
+pub fn interrupted() -> bool {
+    INTERRUPTED.load(std::sync::atomic::Ordering::SeqCst)
+}
+
 /// Removes every temporary output of this process that is not yet in place (a signal handler
 /// calls it before the process exits, so that an interrupted run leaves nothing behind).
+///
+/// The list stays locked when it returns, so that no writer registers a new temporary output
+/// before the caller ends the process; call it only on the way out.
 pub fn remove_pending() {
-    let list = std::mem::take(&mut *pending());
+    INTERRUPTED.store(true, std::sync::atomic::Ordering::SeqCst);
+    let mut guard = pending();
+    let list = std::mem::take(&mut *guard);
+    // Held until the process exits.
+    std::mem::forget(guard);
     for p in list {
         // Twice: a writer thread may add a file while the first pass runs.
         for _ in 0..2 {
