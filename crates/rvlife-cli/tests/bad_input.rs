@@ -193,13 +193,15 @@ fn bad_profile_extension() {
 fn bad_dynamics_stiffness_damping_and_times() {
     let ex = example_text();
     check_bad_dynamics(
-        &set_key(
-            &ex,
-            "reducer.bearings",
-            "crank_disc_stiffness_n_per_um",
-            "-5.0",
+        &ex.replace(
+            "# crank_disc_stiffness_n_per_um = 500.0",
+            "crank_disc_stiffness_n_per_um = -5.0",
         ),
         &["reducer.bearings.crank_disc_stiffness_n_per_um", "-5"],
+    );
+    check_bad_dynamics(
+        &set_key(&ex, "reducer.bearings", "crank_disc_rollers", "-5"),
+        &["reducer.bearings.crank_disc_rollers", "-5"],
     );
     check_bad_dynamics(
         &set_key(&ex, "reducer.gears", "mesh_stiffness_n_per_um", "1e12"),

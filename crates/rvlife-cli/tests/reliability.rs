@@ -97,11 +97,9 @@ fn torques_beyond_the_stage_are_refused_by_their_key() {
     assert_input_error(&o, "contact --torque-nm", &["--torque-nm", "clockwise"]);
     // Disc bearings a hundred times softer: the disc would move by most of the eccentricity
     // under the rated torque (the load steps ran for hours, advancing by ever smaller steps).
-    let t = set_key(
-        &fast_text(),
-        "reducer.bearings",
-        "crank_disc_stiffness_n_per_um",
-        "5",
+    let t = set_key(&fast_text(), "reducer.bearings", "model", "\"linear\"").replace(
+        "# crank_disc_stiffness_n_per_um = 500.0",
+        "crank_disc_stiffness_n_per_um = 5.0",
     );
     let (_d, o) = run_config(&t, &["contact", "--crank-deg", "0", "--torque-nm", "100"]);
     assert_input_error(

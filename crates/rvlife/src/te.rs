@@ -288,11 +288,12 @@ impl TwistTable {
         let mut negative = Vec::with_capacity(fractions.len());
         for (side, out) in [(1.0, &mut positive), (-1.0, &mut negative)] {
             let psi0 = sa.first_contact(phi, side)?;
+            let zero = sa.no_load_twist(phi, side)?;
             // Up the torque grid, each solve started from the one below.
             let mut below: Option<StaticSolution> = None;
             for &f in fractions {
                 out.push(if f == 0.0 {
-                    psi0
+                    zero
                 } else {
                     let sol = sa.solve_near(phi, side * f * rated, psi0, below.as_ref())?;
                     let twist = sol.twist;
@@ -664,7 +665,7 @@ fn revolution_with(sa: &StaticAnalysis, samples: usize, polish: bool) -> Result<
 fn static_te_with(sa: &StaticAnalysis, phis: &[f64]) -> Result<StaticTe> {
     let pairs: Vec<(f64, f64)> = phis
         .par_iter()
-        .map(|&phi| Ok((sa.first_contact(phi, 1.0)?, -sa.first_contact(phi, -1.0)?)))
+        .map(|&phi| Ok((sa.no_load_twist(phi, 1.0)?, -sa.no_load_twist(phi, -1.0)?)))
         .collect::<Result<_>>()?;
     Ok(StaticTe {
         crank_angle: phis.to_vec(),

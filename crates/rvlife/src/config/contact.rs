@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::range::{check, Range};
-use crate::contact::{ApproachLaw, ContactModel, Materials};
+use crate::contact::{ApproachLaw, ContactModel, Groove, Materials};
 use crate::error::{Error, Result};
 use crate::geometry::CycloidGeometry;
 use crate::reducer::Support;
@@ -46,6 +46,18 @@ pub struct ContactConfig {
     /// `"single"` (averaged over the band of `band_force_n`).
     #[serde(default = "default_band")]
     pub band: String,
+    /// How the pins are held: `"rigid"` (default, the earlier model) or `"groove"` (each pin
+    /// seated in a housing groove, the pin-groove contact in series with the flank contact).
+    #[serde(default = "default_pin_support")]
+    pub pin_support: String,
+    /// Groove radius minus pin radius, um (default 10 um: an **estimate** of a running fit of
+    /// a hardened pin in a ground groove). Range: [1, 1000] um.
+    #[serde(default)]
+    pub groove_clearance_um: Option<f64>,
+}
+
+fn default_pin_support() -> String {
+    "rigid".into()
 }
 
 fn default_band() -> String {
@@ -75,6 +87,8 @@ impl Default for ContactConfig {
             load_share: None,
             band_force_n: None,
             band: default_band(),
+            pin_support: default_pin_support(),
+            groove_clearance_um: None,
         }
     }
 }
@@ -160,7 +174,32 @@ impl ContactConfig {
             "body" => Some(geometry.pin_circle_radius),
             _ => None,
         };
+        let groove_clearance = match self.groove_clearance_um {
+            Some(v) => {
+                check(
+                    "contact.groove_clearance_um",
+                    v,
+                    Range::closed(1.0, 1e3, "um"),
+                )? * 1e-6
+            }
+            None => 10e-6,
+        };
+        let groove = match one_of(
+            "contact.pin_support",
+            &self.pin_support,
+            &["groove", "rigid"],
+            "must be \"groove\" or \"rigid\"",
+        )? {
+            // Loaded over the disc width, into a housing wall of about 0.15 Rp (estimate).
+            "groove" if !matches!(law, ApproachLaw::Linear { .. }) => Some(Groove {
+                clearance: groove_clearance,
+                length: geometry.width,
+                housing_depth: 0.15 * geometry.pin_circle_radius,
+            }),
+            _ => None,
+        };
         let law = ContactModel {
+            groove,
             law,
             materials,
             width: geometry.width,

@@ -536,10 +536,10 @@ fn damped(reducer: &Reducer, (zeta_m, zeta_b): (f64, f64), inertia: &Inertias) -
     let m_eq = inertia.crank / (r_bp * r_bp);
     let mut red = reducer.clone();
     red.mesh.damping = 2.0 * zeta_m * (mesh0.stiffness * m_eq).sqrt();
-    red.bearings.carrier_damping =
-        2.0 * zeta_b * (reducer.bearings.carrier_stiffness * inertia.crank_mass).sqrt();
-    red.bearings.disc_damping =
-        2.0 * zeta_b * (reducer.bearings.disc_stiffness * inertia.disc_mass).sqrt();
+    red.bearings.carrier.damping =
+        2.0 * zeta_b * (reducer.bearings.carrier.reference_stiffness() * inertia.crank_mass).sqrt();
+    red.bearings.disc.damping =
+        2.0 * zeta_b * (reducer.bearings.disc.reference_stiffness() * inertia.disc_mass).sqrt();
     red
 }
 

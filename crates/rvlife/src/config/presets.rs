@@ -6,7 +6,8 @@
 //! ratio 81 offered for each) are marked as such. The internal dimensions of the RV-20E and
 //! RV-80E classes are **estimates**: the paper's RV-40E-class stage (Tables 1-2) scaled by the
 //! cube root of the rated-torque ratio (geometric similarity at equal contact stress: torque
-//! goes as length cubed), with the stiffnesses of meshes and bearings scaled linearly; sizes
+//! goes as length cubed), with the mesh stiffness scaled linearly (the crank bearings' rollers
+//! follow the disc width and the crank circle); sizes
 //! outside `[cycloid]` then default from the stage ([`crate::geometry::CycloidGeometry::scaled_from_root`]).
 
 use crate::config::EXAMPLE_TOML;
@@ -29,12 +30,6 @@ const RV20E: &[(&str, &str, &str)] = &[
     ("reducer", "rated_torque_nm", "167.0"),
     ("reducer.gears", "face_width_mm", "7.4"),
     ("reducer.gears", "mesh_stiffness_n_per_um", "148.0"),
-    (
-        "reducer.bearings",
-        "crank_carrier_stiffness_n_per_um",
-        "740.0",
-    ),
-    ("reducer.bearings", "crank_disc_stiffness_n_per_um", "370.0"),
     ("cycloid", "eccentricity_mm", "0.96"),
     ("cycloid", "pin_circle_radius_mm", "47.4"),
     ("cycloid", "pin_radius_mm", "2.2"),
@@ -47,12 +42,6 @@ const RV80E: &[(&str, &str, &str)] = &[
     ("reducer", "rated_torque_nm", "784.0"),
     ("reducer.gears", "face_width_mm", "12.4"),
     ("reducer.gears", "mesh_stiffness_n_per_um", "248.0"),
-    (
-        "reducer.bearings",
-        "crank_carrier_stiffness_n_per_um",
-        "1239.0",
-    ),
-    ("reducer.bearings", "crank_disc_stiffness_n_per_um", "620.0"),
     ("cycloid", "eccentricity_mm", "1.61"),
     ("cycloid", "pin_circle_radius_mm", "79.3"),
     ("cycloid", "pin_radius_mm", "3.72"),

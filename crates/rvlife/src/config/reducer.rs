@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use super::range::{check, whole, Range};
 use crate::error::{Error, Result};
 use crate::geometry::CycloidGeometry;
-use crate::reducer::{Bearings, Drive, Mesh, OutputPins};
+use crate::reducer::{BearingLaw, Bearings, Drive, Mesh, OutputPins, RadialBearing};
 
 /// `[reducer]`: the drive (RV with its planetary first stage, or single-stage) and the rating.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -136,43 +136,121 @@ impl Default for GearsConfig {
     }
 }
 
-/// `[reducer.bearings]`: crank bearings as radial spring-dampers (read by the static and the
-/// dynamic analysis).
+/// `[reducer.bearings]`: the crank bearings (read by the static and the dynamic analysis;
+/// docs/model.md section 5.9). `model = "rollers"` (default): roller sets with a Palmgren line
+/// contact per roller ([`RadialBearing`]); `"linear"`: isotropic linear springs (the earlier
+/// model, `crank_*_stiffness_n_per_um`). Each model reads only its own keys.
+///
+/// Defaults of the roller sets are **estimates** for the RV-E class, scaled with the stage:
+/// needle rollers as long as 0.9 of the disc width, 18 on each eccentric; a tapered roller
+/// pair per crank, 16 rollers per row, 0.9 of the disc width long, contact angle 15 deg;
+/// radial internal clearances 0 (zero-clearance assembly by selective fit).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BearingsConfig {
-    /// Radial stiffness of one crank-carrier bearing pair, N/um (tapered roller bearings).
-    /// Range: (0, 1e7] N/um.
+    /// `"rollers"` (default) or `"linear"`.
+    #[serde(default = "d_model")]
+    pub model: String,
+    /// Linear model: radial stiffness of one crank-carrier bearing pair, N/um. Range:
+    /// [1, 1e6] N/um.
     #[serde(default = "d_kcc")]
     pub crank_carrier_stiffness_n_per_um: f64,
-    /// Radial stiffness of one crank-disc (eccentric needle) bearing, N/um. Range: (0, 1e7]
-    /// N/um.
+    /// Linear model: radial stiffness of one crank-disc (eccentric needle) bearing, N/um.
+    /// Range: [1, 1e6] N/um.
     #[serde(default = "d_kcd")]
     pub crank_disc_stiffness_n_per_um: f64,
+    /// Rollers: needle rollers on each eccentric. Range: whole number, 6 to 200.
+    #[serde(default = "d_cd_rollers")]
+    pub crank_disc_rollers: i64,
+    /// Rollers: needle length, mm (default 0.9 of the disc width). Range: [0.5, 500] mm.
+    #[serde(default)]
+    pub crank_disc_roller_length_mm: Option<f64>,
+    /// Rollers: rollers per row of a crank-carrier bearing (two rows per crank). Range: whole
+    /// number, 6 to 200.
+    #[serde(default = "d_cc_rollers")]
+    pub crank_carrier_rollers: i64,
+    /// Rollers: crank-carrier roller length, mm (default 0.9 of the disc width). Range:
+    /// [0.5, 500] mm.
+    #[serde(default)]
+    pub crank_carrier_roller_length_mm: Option<f64>,
+    /// Rollers: contact angle of the tapered crank-carrier rollers, deg. Range: [0, 45] deg.
+    #[serde(default = "d_cc_angle")]
+    pub crank_carrier_contact_angle_deg: f64,
+    /// Radial internal clearance of both bearings, um (ISO 5753-1: the total radial play, ring
+    /// to ring), unless the bearing's own key is given. Range: [0, 1000] um.
+    #[serde(default)]
+    pub clearance_um: Option<f64>,
+    /// Radial internal clearance of each crank-disc bearing, um. Range: [0, 1000] um.
+    #[serde(default)]
+    pub crank_disc_clearance_um: Option<f64>,
+    /// Radial internal clearance of each crank-carrier bearing, um. Range: [0, 1000] um.
+    #[serde(default)]
+    pub crank_carrier_clearance_um: Option<f64>,
+    /// Bending stiffness of the crankshaft at an eccentric, in series with the crank-disc
+    /// bearing, N/um (default from beam theory: [`crank_bending_stiffness`]; RV only).
+    /// Range: [1, 1e7] N/um.
+    #[serde(default)]
+    pub crank_bending_stiffness_n_per_um: Option<f64>,
     /// Damping ratio of the bearing modes (dynamics only). Range: [0, 10].
     #[serde(default = "d_zeta")]
     pub damping_ratio: f64,
-    /// Radial clearance, um. Range: [0, 1000] um.
-    #[serde(default)]
-    pub clearance_um: f64,
 }
 
+fn d_model() -> String {
+    "rollers".into()
+}
 fn d_kcc() -> f64 {
     1000.0
 }
 fn d_kcd() -> f64 {
     500.0
 }
+fn d_cd_rollers() -> i64 {
+    18
+}
+fn d_cc_rollers() -> i64 {
+    16
+}
+fn d_cc_angle() -> f64 {
+    15.0
+}
 
 impl Default for BearingsConfig {
     fn default() -> Self {
         BearingsConfig {
+            model: d_model(),
             crank_carrier_stiffness_n_per_um: d_kcc(),
             crank_disc_stiffness_n_per_um: d_kcd(),
+            crank_disc_rollers: d_cd_rollers(),
+            crank_disc_roller_length_mm: None,
+            crank_carrier_rollers: d_cc_rollers(),
+            crank_carrier_roller_length_mm: None,
+            crank_carrier_contact_angle_deg: d_cc_angle(),
+            clearance_um: None,
+            crank_disc_clearance_um: None,
+            crank_carrier_clearance_um: None,
+            crank_bending_stiffness_n_per_um: None,
             damping_ratio: d_zeta(),
-            clearance_um: 0.0,
         }
     }
+}
+
+/// Young's modulus of the crankshaft, Pa (bearing steel).
+const CRANK_YOUNGS_MODULUS: f64 = 210e9;
+
+/// Bending stiffness (N/m) of the crankshaft at one eccentric, in series with its crank-disc
+/// bearing: the crank as a beam simply supported at its two crank-carrier bearings, span
+/// `L = 4 B`, diameter `d = 0.4` of the crank circle radius (**estimates** for the RV-E class:
+/// the discs and the bearings side by side between the carrier plates), loaded at the
+/// eccentric `x = L/2 - 0.6 B` from a support: `k = 3 E I L / (x^2 (L - x)^2)` (Roark, table
+/// 8.1, case 1e), `I = pi d^4 / 64`. The other disc's load, nearly opposite, is left out,
+/// which overstates the compliance.
+pub(crate) fn crank_bending_stiffness(width: f64, crank_circle_radius: f64) -> f64 {
+    let span = 4.0 * width;
+    let d = 0.4 * crank_circle_radius;
+    let x = 0.5 * span - 0.6 * width;
+    let inertia = std::f64::consts::PI * d.powi(4) / 64.0;
+    3.0 * CRANK_YOUNGS_MODULUS * inertia * span / (x * x * (span - x) * (span - x))
 }
 
 /// The rating of `[reducer]`, SI.
@@ -276,11 +354,16 @@ impl ReducerConfig {
         } else {
             self.gears.validate(z1, z2, geometry)?
         };
-        let (bearings, bearing_zeta) = self.bearings.validate()?;
+        let crank_circle = if single {
+            0.0
+        } else {
+            rv_mesh.sun_pitch_radius + rv_mesh.planet_pitch_radius
+        };
+        let (bearings, bearing_zeta) = self.bearings.validate(geometry, crank_circle)?;
         let (drive, cranks, crank_circle_radius, mesh) = match output_pins {
             Some(mut w) => {
                 if w.stiffness <= 0.0 {
-                    w.stiffness = bearings.disc_stiffness;
+                    w.stiffness = bearings.disc.reference_stiffness();
                 }
                 let mut m = rv_mesh;
                 m.sun_planet_ratio = -1.0;
@@ -487,28 +570,118 @@ impl GearsConfig {
 }
 
 impl BearingsConfig {
-    /// The crank bearings of `[reducer.bearings]`, and their damping ratio (applied by the
-    /// dynamic analysis).
-    fn validate(&self) -> Result<(Bearings, f64)> {
+    /// The crank bearings of `[reducer.bearings]` for the stage `geometry` and a crank circle
+    /// of radius `crank_circle_radius` (m; 0 for a single-stage drive, whose eccentric has no
+    /// crank to bend), and their damping ratio (applied by the dynamic analysis).
+    fn validate(
+        &self,
+        geometry: &CycloidGeometry,
+        crank_circle_radius: f64,
+    ) -> Result<(Bearings, f64)> {
         let key = |k: &str| format!("reducer.bearings.{k}");
+        let clearance = |k: &str, own: Option<f64>| -> Result<f64> {
+            let (name, v) = match (own, self.clearance_um) {
+                (Some(v), _) => (key(k), v),
+                (None, Some(v)) => (key("clearance_um"), v),
+                (None, None) => return Ok(0.0),
+            };
+            Ok(check(&name, v, Range::non_negative(1e3, "um"))? * 1e-6)
+        };
+        let length = |k: &str, v: Option<f64>| -> Result<f64> {
+            match v {
+                Some(v) => Ok(check(&key(k), v, Range::closed(0.5, 500.0, "mm"))? * 1e-3),
+                None => Ok(0.9 * geometry.width),
+            }
+        };
+        // Checked whatever the model, so that a wrong value is never silently kept.
+        let linear = (
+            BearingLaw::Linear {
+                stiffness: check(
+                    &key("crank_carrier_stiffness_n_per_um"),
+                    self.crank_carrier_stiffness_n_per_um,
+                    Range::closed(1.0, 1e6, "N/um"),
+                )? * 1e6,
+            },
+            BearingLaw::Linear {
+                stiffness: check(
+                    &key("crank_disc_stiffness_n_per_um"),
+                    self.crank_disc_stiffness_n_per_um,
+                    Range::closed(1.0, 1e6, "N/um"),
+                )? * 1e6,
+            },
+        );
+        let (carrier_law, disc_law) = match self.model.as_str() {
+            "rollers" => {
+                let angle = check(
+                    &key("crank_carrier_contact_angle_deg"),
+                    self.crank_carrier_contact_angle_deg,
+                    Range::closed(0.0, 45.0, "deg"),
+                )?
+                .to_radians();
+                (
+                    BearingLaw::rollers(
+                        whole(
+                            &key("crank_carrier_rollers"),
+                            self.crank_carrier_rollers,
+                            6,
+                            200,
+                        )?,
+                        2,
+                        length(
+                            "crank_carrier_roller_length_mm",
+                            self.crank_carrier_roller_length_mm,
+                        )?,
+                        angle,
+                    ),
+                    BearingLaw::rollers(
+                        whole(&key("crank_disc_rollers"), self.crank_disc_rollers, 6, 200)?,
+                        1,
+                        length(
+                            "crank_disc_roller_length_mm",
+                            self.crank_disc_roller_length_mm,
+                        )?,
+                        0.0,
+                    ),
+                )
+            }
+            "linear" => linear,
+            other => {
+                return Err(Error::invalid(
+                    key("model"),
+                    format!("\"{other}\""),
+                    "must be \"rollers\" or \"linear\"",
+                ))
+            }
+        };
+        let bending = match self.crank_bending_stiffness_n_per_um {
+            Some(k) => {
+                check(
+                    &key("crank_bending_stiffness_n_per_um"),
+                    k,
+                    Range::closed(1.0, 1e7, "N/um"),
+                )? * 1e6
+            }
+            None if crank_circle_radius > 0.0 && self.model == "rollers" => {
+                crank_bending_stiffness(geometry.width, crank_circle_radius)
+            }
+            None => f64::INFINITY,
+        };
         let bearings = Bearings {
-            carrier_stiffness: check(
-                &key("crank_carrier_stiffness_n_per_um"),
-                self.crank_carrier_stiffness_n_per_um,
-                Range::positive(1e7, "N/um"),
-            )? * 1e6,
-            carrier_damping: 0.0,
-            disc_stiffness: check(
-                &key("crank_disc_stiffness_n_per_um"),
-                self.crank_disc_stiffness_n_per_um,
-                Range::positive(1e7, "N/um"),
-            )? * 1e6,
-            disc_damping: 0.0,
-            clearance: check(
-                &key("clearance_um"),
-                self.clearance_um,
-                Range::non_negative(1e3, "um"),
-            )? * 1e-6,
+            carrier: RadialBearing {
+                law: carrier_law,
+                clearance: clearance(
+                    "crank_carrier_clearance_um",
+                    self.crank_carrier_clearance_um,
+                )?,
+                series_stiffness: f64::INFINITY,
+                damping: 0.0,
+            },
+            disc: RadialBearing {
+                law: disc_law,
+                clearance: clearance("crank_disc_clearance_um", self.crank_disc_clearance_um)?,
+                series_stiffness: bending,
+                damping: 0.0,
+            },
         };
         let zeta = check(
             &key("damping_ratio"),

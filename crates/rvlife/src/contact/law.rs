@@ -50,9 +50,28 @@ pub enum ApproachLaw {
     },
 }
 
+/// The housing groove a pin is seated in (SI): a conformal line contact on the far side of the
+/// pin, in series with the pin-flank contact (docs/model.md section 3.4). Its approach has the
+/// form of the flank's, `delta_g = 2F/(pi L) [C_pin (c0 + ln(4 rrp/b_g)) + C_housing (c0 +
+/// ln(4 h/b_g))]` with the Hertz half-width `b_g` of the reduced radius `rrp R_g / (R_g -
+/// rrp)` (Johnson, *Contact Mechanics*, sections 4.3 and 5.6: conformal cylinders), so the
+/// two contacts in series keep the law's closed form.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Groove {
+    /// Groove radius minus pin radius, m (> 0).
+    pub clearance: f64,
+    /// Loaded length of the pin in its groove, m.
+    pub length: f64,
+    /// Reference depth of the housing term, m.
+    pub housing_depth: f64,
+}
+
 /// Hertz line-contact model of a pin on the disc flank.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactModel {
+    /// The housing groove of the pins in series with the flank contact (`None`: pins held
+    /// rigidly, the earlier model).
+    pub groove: Option<Groove>,
     /// The approach law.
     pub law: ApproachLaw,
     /// The materials.
@@ -158,7 +177,13 @@ impl ContactModel {
             * (c1 * (c0 + (4.0 * rho).ln() - 0.5 * cb.ln())
                 + c2 * (c0 + (4.0 * rp).ln() - 0.5 * cb.ln()));
         let g1 = 0.5 * k * (c1 + c2);
-        Some((g0, g1))
+        match self.groove {
+            None => Some((g0, g1)),
+            Some(gr) => {
+                let (h0, h1) = self.groove_coefficients(&gr, c0);
+                Some((g0 + h0, g1 + h1))
+            }
+        }
     }
 
     /// Change of the contact force with the flank curvature at a fixed approach, `dF/dkappa`
@@ -166,6 +191,22 @@ impl ContactModel {
     /// curvature `disc_curvature` (1/m): from `delta = F (g0(kappa) - g1 ln F)`,
     /// `dF/dkappa = -F g0'(kappa) dF/ddelta` (`g0'` by a central difference of the closed
     /// form). Zero for the linear law or no force.
+    /// `(h0, h1)` of the groove's approach `F (h0 - h1 ln F)` ([`Groove`]), for the law's
+    /// constant `c0`.
+    fn groove_coefficients(&self, gr: &Groove, c0: f64) -> (f64, f64) {
+        let pi = std::f64::consts::PI;
+        let (c_housing, c_pin) = self.materials.compliances();
+        let rp = self.pin_radius;
+        let reduced = rp * (rp + gr.clearance) / gr.clearance;
+        let e = self.materials.contact_modulus();
+        let cb = 4.0 * reduced / (pi * gr.length * e);
+        let k = 2.0 / (pi * gr.length);
+        let h0 = k
+            * (c_pin * (c0 + (4.0 * rp).ln() - 0.5 * cb.ln())
+                + c_housing * (c0 + (4.0 * gr.housing_depth).ln() - 0.5 * cb.ln()));
+        (h0, 0.5 * k * (c_pin + c_housing))
+    }
+
     pub(crate) fn force_curvature_derivative(
         &self,
         force: f64,
@@ -218,8 +259,13 @@ impl ContactModel {
         let (c0, rho, rp) = self.log_law_terms(disc_curvature);
         let (c1, c2) = self.materials.compliances();
         let b = self.hertz(force, disc_curvature).half_width;
+        let groove = self.groove.map_or(0.0, |gr| {
+            let (h0, h1) = self.groove_coefficients(&gr, c0);
+            force * (h0 - h1 * force.ln())
+        });
         2.0 * force / (std::f64::consts::PI * self.width)
             * (c1 * (c0 + (4.0 * rho / b).ln()) + c2 * (c0 + (4.0 * rp / b).ln()))
+            + groove
     }
 
     /// Force (N) and contact stiffness `dF/ddelta` (N/m) at approach `delta` (m): the inverse of

@@ -22,7 +22,11 @@
 //! eccentric (no bearing compliance) carrying a fixed share of the output torque; the first-stage
 //! kinematics still apply (turning the carrier with the input locked turns the cranks too).
 
+mod bearing;
 pub mod errors;
+
+pub(crate) use bearing::{BearingEval, Frozen};
+pub use bearing::{BearingLaw, RadialBearing, DEAD_BAND_STIFFNESS};
 
 use std::f64::consts::PI;
 
@@ -79,19 +83,15 @@ pub struct Mesh {
     pub backlash: f64,
 }
 
-/// Crank bearings as isotropic radial spring-dampers with optional radial clearance (SI).
+/// The crank bearings ([`RadialBearing`]: rollers or linear springs, with clearance).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Bearings {
-    /// Crank-carrier stiffness (one crank's bearing pair), N/m.
-    pub carrier_stiffness: f64,
-    /// Crank-carrier damping, N s/m (dynamics only).
-    pub carrier_damping: f64,
-    /// Crank-disc stiffness (one eccentric needle bearing), N/m.
-    pub disc_stiffness: f64,
-    /// Crank-disc damping, N s/m (dynamics only).
-    pub disc_damping: f64,
-    /// Radial clearance, m.
-    pub clearance: f64,
+    /// One crank's crank-carrier bearings (a tapered roller pair: two rows), between the
+    /// crank's centre and its seat in the carrier.
+    pub carrier: RadialBearing,
+    /// One crank-disc (eccentric needle) bearing, between an eccentric's centre and its bore
+    /// in the disc; in a single-stage drive the eccentric bearing of each disc.
+    pub disc: RadialBearing,
 }
 
 /// Indices of the generalised coordinates.
@@ -195,6 +195,32 @@ pub struct Reducer {
 }
 
 impl Reducer {
+    /// Whether the meshes and bearings are linear springs (no clearance, backlash, rollers or
+    /// parts in series), so that their stiffness matrix is the same at every configuration.
+    pub(crate) fn structure_is_linear(&self) -> bool {
+        let linear = |b: &RadialBearing| {
+            matches!(b.law, BearingLaw::Linear { .. })
+                && b.clearance <= 0.0
+                && b.series_stiffness.is_infinite()
+        };
+        self.mesh.backlash <= 0.0 && linear(&self.bearings.carrier) && linear(&self.bearings.disc)
+    }
+
+    /// The largest half play of the bearings and meshes, m: half a bearing's radial clearance,
+    /// half the meshes' backlash along the line of action (0: no play).
+    pub(crate) fn max_half_play(&self) -> f64 {
+        0.5 * self
+            .bearings
+            .carrier
+            .clearance
+            .max(self.bearings.disc.clearance)
+            .max(if self.cranks > 0 {
+                self.mesh.backlash
+            } else {
+                0.0
+            })
+    }
+
     /// How the contact geometry sees the worn flank ([`crate::contact::gap::GapField::new`]).
     pub(crate) fn contact_band(&self) -> crate::contact::gap::Band<'_> {
         crate::contact::gap::Band {
@@ -436,6 +462,18 @@ impl Reducer {
     /// precision down to the smallest loads. Every force derives from
     /// [`Reducer::structural_energy`] (plus damping).
     pub(crate) fn structural_forces(&self, q0: &[f64], dq: &[f64], qd: &[f64], g: &mut [f64]) {
+        self.structural_forces_with(q0, dq, qd, g, &mut BearingEval::Exact);
+    }
+
+    /// [`Reducer::structural_forces`] with the bearings evaluated as `eval` says.
+    pub(crate) fn structural_forces_with(
+        &self,
+        q0: &[f64],
+        dq: &[f64],
+        qd: &[f64],
+        g: &mut [f64],
+        eval: &mut BearingEval,
+    ) {
         let lay = self.layout();
         let th_o = q0[Layout::OUT] + dq[Layout::OUT];
         let (w_s, w_o) = (qd[Layout::SUN], qd[Layout::OUT]);
@@ -481,12 +519,22 @@ impl Reducer {
             let delta_dot =
                 m.sun_base_radius * w_s + m.planet_base_radius * w_k - u.dot(&xd) + d_th_o * w_o;
             let half = 0.5 * m.backlash;
-            let f = if delta > half {
-                (m.stiffness * (delta - half) + m.damping * delta_dot).max(0.0)
-            } else if delta < -half {
-                (m.stiffness * (delta + half) + m.damping * delta_dot).min(0.0)
+            let f = if half <= 0.0 {
+                m.stiffness * delta + m.damping * delta_dot
             } else {
-                0.0
+                let (fe, _, _) = bearing::take_up(delta.abs() - half, m.stiffness);
+                let fe = fe.copysign(delta);
+                let damped = if fe != 0.0 {
+                    let v = fe + m.damping * delta_dot;
+                    if v * fe > 0.0 {
+                        v
+                    } else {
+                        0.0
+                    }
+                } else {
+                    0.0
+                };
+                damped + DEAD_BAND_STIFFNESS * delta
             };
             g[Layout::SUN] -= f * m.sun_base_radius;
             g[ic + 2] -= f * m.planet_base_radius;
@@ -495,7 +543,7 @@ impl Reducer {
             g[ic + 1] += f * u.y;
             // Crank-carrier bearing.
             let rd = xd - dseat * w_o;
-            let fb = spring(rel, rd, b.carrier_stiffness, b.carrier_damping, b.clearance);
+            let fb = eval.force(&b.carrier, rel, rd);
             g[ic] -= fb.x;
             g[ic + 1] -= fb.y;
             g[Layout::OUT] += fb.dot(&dseat);
@@ -512,7 +560,7 @@ impl Reducer {
                 let darm = disc_step.apply(&seat0);
                 let r = dx + decc - dc - darm;
                 let rdot = xd + de_dth * w_k - cd - perp(arm) * qd[id + 2];
-                let fe = spring(r, rdot, b.disc_stiffness, b.disc_damping, b.clearance);
+                let fe = eval.force(&b.disc, r, rdot);
                 g[ic] -= fe.x;
                 g[ic + 1] -= fe.y;
                 g[ic + 2] -= fe.dot(&de_dth);
@@ -522,7 +570,7 @@ impl Reducer {
             }
         }
         if let Drive::SingleStage(w) = self.drive {
-            self.single_stage_forces(&w, q0, dq, qd, g);
+            self.single_stage_forces(&w, q0, dq, qd, g, eval);
         }
     }
 
@@ -537,6 +585,7 @@ impl Reducer {
         dq: &[f64],
         qd: &[f64],
         g: &mut [f64],
+        eval: &mut BearingEval,
     ) {
         let lay = self.layout();
         let a = self.geometry.eccentricity;
@@ -556,7 +605,7 @@ impl Reducer {
             // Eccentric bearing: eccentric centre minus disc centre, zero nominally.
             let r = decc - dc;
             let rdot = perp(ecc) * w_s - cd;
-            let fe = spring(r, rdot, b.disc_stiffness, b.disc_damping, b.clearance);
+            let fe = eval.force(&b.disc, r, rdot);
             g[Layout::SUN] -= fe.dot(&perp(ecc));
             g[id] += fe.x;
             g[id + 1] += fe.y;
@@ -570,7 +619,7 @@ impl Reducer {
                 if pen <= 0.0 || len == 0.0 {
                     continue;
                 }
-                let f = dvec * (w.stiffness * pen / len);
+                let f = dvec * (bearing::take_up(pen, w.stiffness).0 / len);
                 g[Layout::OUT] -= f.dot(&perp(rotate(&wk, th_o)));
                 g[id] += f.x;
                 g[id + 1] += f.y;
@@ -592,13 +641,12 @@ impl Reducer {
             let ang0 = q0[Layout::SUN] + self.phase(d);
             let decc = rotation_difference(&Vec2::new(a, 0.0), ang0, dq[Layout::SUN]);
             let dc = Vec2::new(dq[id], dq[id + 1]);
-            let x = ((decc - dc).norm() - b.clearance).max(0.0);
-            e += 0.5 * b.disc_stiffness * x * x;
+            e += b.disc.energy(decc - dc);
             let c0 = Vec2::new(q0[id], q0[id + 1]);
             for k in 0..w.count {
                 let (_, dvec) = pin_in_hole(w, k, q0, dq, id, c0 + dc);
-                let pen = (dvec.norm() - (a + w.hole_clearance)).max(0.0);
-                e += 0.5 * w.stiffness * pen * pen;
+                let pen = dvec.norm() - (a + w.hole_clearance);
+                e += bearing::take_up(pen, w.stiffness).2;
             }
         }
         e
@@ -614,10 +662,6 @@ impl Reducer {
         let a = self.geometry.eccentricity;
         let b = &self.bearings;
         let m = &self.mesh;
-        let spring_energy = |r: Vec2, k: f64| {
-            let x = (r.norm() - b.clearance).max(0.0);
-            0.5 * k * x * x
-        };
         let mut e = 0.0;
         for k in 0..self.cranks {
             let ic = lay.crank(k);
@@ -628,16 +672,20 @@ impl Reducer {
             let delta = m.sun_base_radius * (dq[Layout::SUN] - d_o)
                 + m.planet_base_radius * (dq[ic + 2] - d_o)
                 - u.dot(&rel);
-            let dl = (delta.abs() - 0.5 * m.backlash).max(0.0);
-            e += 0.5 * m.stiffness * dl * dl;
-            e += spring_energy(rel, b.carrier_stiffness);
+            if m.backlash > 0.0 {
+                e += bearing::take_up(delta.abs() - 0.5 * m.backlash, m.stiffness).2;
+                e += 0.5 * DEAD_BAND_STIFFNESS * delta * delta;
+            } else {
+                e += 0.5 * m.stiffness * delta * delta;
+            }
+            e += b.carrier.energy(rel);
             for d in 0..self.discs() {
                 let id = lay.disc(d);
                 let ang0 = q0[ic + 2] + self.phase(d);
                 let decc = rotation_difference(&Vec2::new(a, 0.0), ang0, dq[ic + 2]);
                 let dc = Vec2::new(dq[id], dq[id + 1]);
                 let darm = rotation_difference(&seat0, q0[id + 2], dq[id + 2]);
-                e += spring_energy(dx + decc - dc - darm, b.disc_stiffness);
+                e += b.disc.energy(dx + decc - dc - darm);
             }
         }
         if let Drive::SingleStage(w) = self.drive {
@@ -707,20 +755,4 @@ impl RotationStep {
     pub(crate) fn apply(&self, v: &Vec2) -> Vec2 {
         self.at * (*v * self.cos_minus_one + perp(*v) * self.sin)
     }
-}
-
-/// Force (N) of an isotropic radial spring-damper with clearance on its first end, for the
-/// relative position `r` and relative velocity `rd` of the first end from the second.
-#[inline]
-pub(crate) fn spring(r: Vec2, rd: Vec2, k: f64, c: f64, clearance: f64) -> Vec2 {
-    if clearance <= 0.0 {
-        return r * k + rd * c;
-    }
-    let len = r.norm();
-    if len <= clearance {
-        return Vec2::zeros();
-    }
-    let n = r / len;
-    let f = k * (len - clearance) + c * rd.dot(&n);
-    n * f.max(0.0)
 }

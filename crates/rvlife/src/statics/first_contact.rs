@@ -109,6 +109,55 @@ impl<'a> StaticAnalysis<'a> {
         Ok(s * best)
     }
 
+    /// The `T -> 0+` limit of the loaded twist (rad) in direction `direction` at crank angle
+    /// `phi`: [`StaticAnalysis::first_contact`] when the reducer has no play in its bearings
+    /// and meshes; otherwise the mechanism first turns through its play (the bearings' centres
+    /// and the meshes move within their clearances until pins stop the discs), and the limit
+    /// is extrapolated from loaded solutions at `T_1`, `2 T_1` and `4 T_1` (the fit
+    /// `psi = psi_0 + a T^0.9 + b T`: the rollers' approach goes as `F^0.9`, the contacts'
+    /// nearly as `F`), `T_1` the torque at which a bearing force `10^3 k_0 c/2` balances it
+    /// at the crank circle (`k_0` = [`crate::reducer::DEAD_BAND_STIFFNESS`], `c/2` the largest
+    /// half play): loads far above the dead-band springs and far below the rated ones
+    /// (docs/model.md section 5.10).
+    ///
+    /// # Errors
+    /// Those of [`StaticAnalysis::first_contact`] and [`StaticAnalysis::solve`].
+    pub(crate) fn no_load_twist(&self, phi: f64, direction: f64) -> Result<f64> {
+        let s = if direction < 0.0 { -1.0 } else { 1.0 };
+        let play = self.red.max_half_play();
+        let psi0 = self.first_contact(phi, s)?;
+        if play <= 0.0 || self.red.support != Support::Bearings {
+            return Ok(psi0);
+        }
+        let arm = match self.red.drive {
+            Drive::Rv => self.red.crank_circle_radius,
+            Drive::SingleStage(_) => {
+                self.red.geometry.eccentricity * self.red.geometry.disc_teeth() as f64
+            }
+        };
+        let t1 = 1e3 * crate::reducer::DEAD_BAND_STIFFNESS * play * arm;
+        let mut psi = [0.0; 3];
+        let mut below: Option<StaticSolution> = None;
+        for (i, f) in [1.0, 2.0, 4.0].iter().enumerate() {
+            let sol = self.solve_near(phi, s * f * t1, psi0, below.as_ref())?;
+            psi[i] = sol.twist;
+            below = Some(sol);
+        }
+        // psi_i = psi_0 + a x_i^0.9 + b x_i at x = 1, 2, 4 (units of T_1).
+        let m = nalgebra::Matrix3::from_fn(|r, c| {
+            let x = [1.0_f64, 2.0, 4.0][r];
+            [1.0, x.powf(0.9), x][c]
+        });
+        let sol = m
+            .lu()
+            .solve(&nalgebra::Vector3::new(psi[0], psi[1], psi[2]))
+            .ok_or_else(|| self.fail(phi, "the no-load extrapolation is singular"))?;
+        // The limit lies between the rigid first contact and the lightest loaded solution.
+        let lo = psi0.min(psi[0]);
+        let hi = psi0.max(psi[0]);
+        Ok(sol[0].clamp(lo, hi))
+    }
+
     /// Every pin that can stop the unloaded mechanism turned in direction `direction` at crank
     /// angle `phi`, with its own touching twist: the pins whose linear estimate `gap_j / m_j`
     /// could fall below the smallest if every gap changed by up to `gap_reach` (m), each

@@ -274,6 +274,17 @@ impl<'a> StaticAnalysis<'a> {
         let zero = [0.0; MAX_DOFS];
         let mut zz = [0.0; MAX_DOFS];
         zz[..n].copy_from_slice(&z[..n]);
+        // The bearings' laws linearised here: differences of exact kinematics with no roller
+        // sums, exact to round-off for the linear part and the geometric terms alike.
+        let mut frozen: Vec<Frozen> = Vec::with_capacity(12);
+        let mut g0 = [0.0; MAX_DOFS];
+        red.structural_forces_with(
+            &fr.q0[..n],
+            &z[..n],
+            &zero[..n],
+            &mut g0[..n],
+            &mut BearingEval::Record(&mut frozen),
+        );
         // The pins in holes of a single-stage drive touch at zero load: steps well below their
         // approach at the smallest loads solved (1e-8 m at 1 N m) keep the tangent of each
         // contact on its own side of the kink.
@@ -285,9 +296,21 @@ impl<'a> StaticAnalysis<'a> {
             let h = if is_angle(c) { step / rp } else { step };
             let (mut gp, mut gm) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
             zz[c] = z[c] + h;
-            red.structural_forces(&fr.q0[..n], &zz[..n], &zero[..n], &mut gp[..n]);
+            red.structural_forces_with(
+                &fr.q0[..n],
+                &zz[..n],
+                &zero[..n],
+                &mut gp[..n],
+                &mut BearingEval::Frozen(&frozen, 0),
+            );
             zz[c] = z[c] - h;
-            red.structural_forces(&fr.q0[..n], &zz[..n], &zero[..n], &mut gm[..n]);
+            red.structural_forces_with(
+                &fr.q0[..n],
+                &zz[..n],
+                &zero[..n],
+                &mut gm[..n],
+                &mut BearingEval::Frozen(&frozen, 0),
+            );
             zz[c] = z[c];
             for r in 0..n {
                 k[(r, c)] = -(gp[r] - gm[r]) / (2.0 * h);
@@ -318,7 +341,7 @@ impl<'a> StaticAnalysis<'a> {
         fr: &Frame,
         z: &[f64],
     ) -> DMatrix<f64> {
-        if let Drive::SingleStage(_) = self.red.drive {
+        if matches!(self.red.drive, Drive::SingleStage(_)) || !self.red.structure_is_linear() {
             let ks = self.structural_stiffness(fr, z);
             return self.tangent_with(&ks, ev);
         }

@@ -46,7 +46,9 @@ use crate::contact::gap::GapField;
 use crate::contact::DiscPose;
 use crate::error::{Error, Result};
 use crate::geometry::{cross, mesh_angle, Profile, Vec2};
-use crate::reducer::{perp, rotation_difference, Drive, Layout, Reducer, Support, MAX_DOFS};
+use crate::reducer::{
+    perp, rotation_difference, BearingEval, Drive, Frozen, Layout, Reducer, Support, MAX_DOFS,
+};
 use crate::units::ARCMIN_PER_RAD;
 
 /// Relative residual every static solution is checked against: every generalised force of the

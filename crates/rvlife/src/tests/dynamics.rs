@@ -60,7 +60,7 @@ fn unloaded_perfect_reducer_has_no_te_beyond_inertia_deflections() {
     let f = r.summary.max_pin_force_n;
     let lever = 0.05 * m.cycloid.geometry.disc_pitch_radius();
     let bound = (p.reducer.contact.approach(f.max(1e-3), 0.0)
-        + f / p.reducer.bearings.disc_stiffness)
+        + f / p.reducer.bearings.disc.reference_stiffness())
         / lever
         * ARCMIN_PER_RAD;
     let worst = r

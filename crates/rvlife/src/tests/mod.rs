@@ -3,6 +3,7 @@
 //! they reach the analyses' internals; each file's own documentation says what it checks.
 
 mod calibration;
+mod clearance;
 mod dynamics;
 mod errors;
 mod fem;

@@ -63,8 +63,9 @@ fn single_stage_kinematics_and_uniform_play() {
 }
 
 /// Equilibrium and load sharing from the model: the discs' pin moments sum to the output
-/// torque (no first stage: twist factor 1) to 1e-5 at 24 crank angles and three torques
-/// (1.1e-6 measured: the pins-in-holes forces act on the deflected discs);
+/// torque (no first stage: twist factor 1) to 3e-5 at 24 crank angles and three torques
+/// (1.0e-5 measured with roller eccentric bearings, 1.1e-6 with linear ones: the pins-in-holes
+/// forces act on the deflected discs);
 /// three discs 120 deg apart share it within 5 % of a third each on the mesh-cycle mean, two
 /// discs 180 deg apart equally to 1e-6.
 #[test]
@@ -81,7 +82,7 @@ fn single_stage_discs_share_the_output_torque() {
                 assert_eq!(sol.discs.len(), discs);
                 let sum: f64 = sol.discs.iter().map(|d| d.torque).sum();
                 assert!(
-                    (sum - t).abs() < 1e-5 * t.abs(),
+                    (sum - t).abs() < 3e-5 * t.abs(),
                     "{discs} discs: {sum} vs {t}"
                 );
                 if t == 412.0 {

@@ -1,0 +1,370 @@
+//! One radial bearing of the reducer: a linear spring or a set of rollers with a Hertz line
+//! contact per roller, with radial internal clearance, a compliance in series and damping
+//! (docs/model.md section 5.9).
+//!
+//! **Rollers** (Harris and Kotzalas, *Rolling Bearing Analysis*, 5th ed., vol. 2, ch. 1; the
+//! approach of ISO/TS 16281): `Z` rollers per row, equally spaced, one of them under the load
+//! (the stiffest position; Stribeck's). A displacement `d` of the inner ring's centre from the
+//! outer's compresses roller `i`, at angle `psi_i = 2 pi i / Z` from the displacement, by
+//! `delta_i = d cos(psi_i) cos(alpha) - c/2` (`c`: radial internal clearance, ISO 5753-1: the
+//! total radial play ring to ring; `alpha`: the contact angle of a tapered roller bearing,
+//! 0 for needles) and carries `Q_i = K_n delta_i^(10/9)` where `delta_i > 0`. `K_n` is
+//! Palmgren's line contact, inner and outer raceway in series: `delta = 2 x 3.84e-5
+//! Q^0.9 / l^0.8` (mm, N, roller length `l` in mm; steel). The radial force is
+//! `F_r = rows sum Q_i cos(psi_i) cos(alpha)`.
+//!
+//! **Linear**: `F = k max(|r| - c/2, 0)` along `r`, the earlier model.
+//!
+//! **Dead band.** Within its clearance a bearing carries no load and its centre is free: a
+//! spring of [`DEAD_BAND_STIFFNESS`] in parallel (standing in for lubricant film and seals)
+//! keeps the equilibrium unique without a measurable force (0.01 N across 10 um of play).
+//!
+//! **In series**: a linear stiffness `k_s` (the crank's bending at the bearing, beam theory)
+//! adds `F / k_s` to the displacement the bearing itself takes.
+
+use nalgebra::Matrix2;
+
+use crate::geometry::Vec2;
+
+/// Stiffness (N/m) of the spring in parallel with every element that has a dead band (bearings
+/// with clearance, rollers at zero load, meshes with backlash): the force across 10 um of play
+/// is 0.01 N, against the tens of newtons of the smallest loads the analyses apply.
+pub const DEAD_BAND_STIFFNESS: f64 = 1e3;
+
+/// Width (m) over which a linear spring with play takes up its stiffness (a linear bearing
+/// with clearance, a mesh with backlash): the force rises as `k x^2 / (2 w)` over the first
+/// `w` beyond the play, then as `k (x - w/2)`, so that Newton's method does not cycle across
+/// the kink. It shifts the play by `w/2`, 5 nm.
+pub const TAKE_UP_WIDTH: f64 = 1e-8;
+
+/// Force (N), stiffness (N/m) and energy (J) of a linear spring of stiffness `k` (N/m)
+/// compressed `x` (m) beyond its play ([`TAKE_UP_WIDTH`]; zero for `x <= 0`).
+#[inline]
+pub(crate) fn take_up(x: f64, k: f64) -> (f64, f64, f64) {
+    let w = TAKE_UP_WIDTH;
+    if x <= 0.0 {
+        (0.0, 0.0, 0.0)
+    } else if x < w {
+        (k * x * x / (2.0 * w), k * x / w, k * x * x * x / (6.0 * w))
+    } else {
+        let y = x - 0.5 * w;
+        (k * y, k, 0.5 * k * y * y + k * w * w / 24.0)
+    }
+}
+
+/// Palmgren's constant of a roller-raceway line contact (steel): `delta = 3.84e-5 Q^0.9 /
+/// l^0.8` in mm, N and mm (Harris and Kotzalas, vol. 2, eq. 1.? of ch. 1; Palmgren, *Ball and
+/// Roller Bearing Engineering*, 1959).
+const PALMGREN_MM: f64 = 3.84e-5;
+
+/// How one bearing carries a radial load (SI).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum BearingLaw {
+    /// Isotropic linear spring, N/m.
+    Linear {
+        /// Radial stiffness, N/m.
+        stiffness: f64,
+    },
+    /// Rolling elements with a Palmgren line contact each.
+    Rollers {
+        /// Rollers per row.
+        count: usize,
+        /// Rows (a tapered roller bearing pair: 2).
+        rows: usize,
+        /// `K_n` of one roller, inner and outer contact in series, N/m^(10/9).
+        contact_constant: f64,
+        /// Contact angle, rad (0: needle or cylindrical rollers).
+        contact_angle: f64,
+    },
+}
+
+impl BearingLaw {
+    /// Rollers of length `length` (m), `count` per row, `rows` rows at contact angle `angle`
+    /// (rad), with Palmgren's line contact (`K_n = (l_mm^0.8 / (2 x 3.84e-5))^(10/9)` in
+    /// N/mm^(10/9), converted to SI).
+    pub fn rollers(count: usize, rows: usize, length: f64, angle: f64) -> Self {
+        let l_mm = length * 1e3;
+        let k_mm = (l_mm.powf(0.8) / (2.0 * PALMGREN_MM)).powf(10.0 / 9.0);
+        BearingLaw::Rollers {
+            count,
+            rows,
+            contact_constant: k_mm * 1e3_f64.powf(10.0 / 9.0),
+            contact_angle: angle,
+        }
+    }
+}
+
+/// One radial bearing (SI).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RadialBearing {
+    /// Load-displacement law.
+    pub law: BearingLaw,
+    /// Radial internal clearance, m (ISO 5753-1: the total play, ring to ring; the centre
+    /// moves freely within half of it).
+    pub clearance: f64,
+    /// Stiffness of the parts in series with the bearing, N/m (`f64::INFINITY`: none).
+    pub series_stiffness: f64,
+    /// Damping along the load, N s/m (dynamics only).
+    pub damping: f64,
+}
+
+/// `x^(10/9)` and `x^(1/9)` for `x >= 0`.
+#[inline]
+fn pow_10_9(x: f64) -> (f64, f64) {
+    let ninth = x.powf(1.0 / 9.0);
+    (x * ninth, ninth)
+}
+
+impl RadialBearing {
+    /// Whether the bearing has a dead band (clearance, or rollers, whose stiffness vanishes at
+    /// zero load), so that [`DEAD_BAND_STIFFNESS`] acts beside it.
+    pub fn has_dead_band(&self) -> bool {
+        self.clearance > 0.0 || matches!(self.law, BearingLaw::Rollers { .. })
+    }
+
+    /// Radial force (N) of the bearing itself at a centre displacement `d >= 0` (m), and its
+    /// derivative `dF/dd` (N/m); without the series parts and the dead-band spring.
+    pub fn own_force(&self, d: f64) -> (f64, f64) {
+        let half = 0.5 * self.clearance;
+        match self.law {
+            BearingLaw::Linear { stiffness } if half > 0.0 => {
+                let (f, k, _) = take_up(d - half, stiffness);
+                (f, k)
+            }
+            BearingLaw::Linear { stiffness } => (stiffness * d, stiffness),
+            BearingLaw::Rollers {
+                count,
+                rows,
+                contact_constant,
+                contact_angle,
+            } => {
+                // Roller 0 under the load and the pairs +-i beside it, while they face it
+                // (their cosines by rotation steps).
+                let ca = contact_angle.cos();
+                let (s1, c1) = (std::f64::consts::TAU / count as f64).sin_cos();
+                let (mut f, mut k) = (0.0, 0.0);
+                let (mut c, mut sn) = (1.0_f64, 0.0_f64);
+                let mut weight = 1.0;
+                for _ in 0..count {
+                    let cc = c * ca;
+                    let delta = d * cc - half;
+                    if delta <= 0.0 {
+                        break;
+                    }
+                    let (p, ninth) = pow_10_9(delta);
+                    f += weight * p * cc;
+                    k += weight * ninth * cc * cc;
+                    (c, sn) = (c * c1 - sn * s1, sn * c1 + c * s1);
+                    weight = 2.0;
+                }
+                let r = rows as f64 * contact_constant;
+                (r * f, r * k * 10.0 / 9.0)
+            }
+        }
+    }
+
+    /// Load of each roller of one row (N) at a centre displacement `d` (m), roller 0 under the
+    /// load (empty for a linear bearing): for the load-distribution checks.
+    pub fn roller_loads(&self, d: f64) -> Vec<f64> {
+        match self.law {
+            BearingLaw::Linear { .. } => Vec::new(),
+            BearingLaw::Rollers {
+                count,
+                contact_constant,
+                contact_angle,
+                ..
+            } => (0..count)
+                .map(|i| {
+                    let c = (std::f64::consts::TAU * i as f64 / count as f64).cos()
+                        * contact_angle.cos();
+                    let delta = d * c - 0.5 * self.clearance;
+                    if delta > 0.0 {
+                        contact_constant * pow_10_9(delta).0
+                    } else {
+                        0.0
+                    }
+                })
+                .collect(),
+        }
+    }
+
+    /// Radial force (N) at a total displacement `x >= 0` (m) of the bearing and its series
+    /// parts, and `dF/dx` (N/m): the bearing's share `d` solves `d + F(d)/k_s = x` (Newton on a
+    /// monotone function, from the stiff side); plus the dead-band spring.
+    pub fn radial_force(&self, x: f64) -> (f64, f64) {
+        let reg = if self.has_dead_band() {
+            DEAD_BAND_STIFFNESS
+        } else {
+            0.0
+        };
+        let ks = self.series_stiffness;
+        let (f, k) = if ks.is_finite() {
+            let half = 0.5 * self.clearance;
+            if x <= half {
+                (0.0, 0.0)
+            } else {
+                // g(d) = d + F(d)/ks - x is increasing and concave above the clearance
+                // (F convex), so Newton from d = x (g >= 0) descends monotonically.
+                let mut d = x;
+                let mut out = self.own_force(d);
+                for _ in 0..60 {
+                    let g = d + out.0 / ks - x;
+                    let gp = 1.0 + out.1 / ks;
+                    let step = g / gp;
+                    d = (d - step).max(half);
+                    out = self.own_force(d);
+                    if step.abs() <= 1e-15 * x.max(1e-9) {
+                        break;
+                    }
+                }
+                let (f, kb) = out;
+                (f, if kb > 0.0 { kb * ks / (kb + ks) } else { 0.0 })
+            }
+        } else {
+            self.own_force(x)
+        };
+        (f + reg * x, k + reg)
+    }
+
+    /// Force (N) on the first end for the relative position `r` (m) and relative velocity
+    /// `rd` (m/s) of the first end from the second: along `r`, [`RadialBearing::radial_force`]
+    /// of `|r|` plus damping along `r` while the bearing carries load.
+    #[inline]
+    pub fn force(&self, r: Vec2, rd: Vec2) -> Vec2 {
+        if let (BearingLaw::Linear { stiffness }, true, true) = (
+            self.law,
+            self.clearance <= 0.0,
+            self.series_stiffness.is_infinite(),
+        ) {
+            return r * stiffness + rd * self.damping;
+        }
+        let len = r.norm();
+        if len == 0.0 {
+            return rd * self.damping.min(DEAD_BAND_STIFFNESS);
+        }
+        let n = r / len;
+        let (f, _) = self.radial_force(len);
+        let elastic = f - DEAD_BAND_STIFFNESS * len * f64::from(self.has_dead_band());
+        let damp = if elastic > 0.0 {
+            self.damping * rd.dot(&n)
+        } else {
+            0.0
+        };
+        n * (f + damp).max(0.0)
+    }
+
+    /// Static stiffness matrix `dF/dr` (N/m) at the relative position `r` (m):
+    /// `F'(|r|) n n^T + F(|r|)/|r| (I - n n^T)` with `n = r/|r|` ([`RadialBearing::radial_force`]).
+    pub fn stiffness_matrix(&self, r: Vec2) -> Matrix2<f64> {
+        let len = r.norm();
+        let (f, k) = self.radial_force(len);
+        if len == 0.0 {
+            return Matrix2::identity() * k;
+        }
+        let n = r / len;
+        let nn = n * n.transpose();
+        nn * k + (Matrix2::identity() - nn) * (f / len)
+    }
+
+    /// Elastic energy (J) at the relative position `r` (m), whose gradient is
+    /// [`RadialBearing::force`] at rest: the rollers' `rows K_n sum (9/19) delta_i^(19/9)`
+    /// (or the linear spring's) at the bearing's own share `d`, plus `F^2 / (2 k_s)` in the
+    /// series parts and the dead-band spring's.
+    #[cfg(test)]
+    pub(crate) fn energy(&self, r: Vec2) -> f64 {
+        let x = r.norm();
+        let reg = if self.has_dead_band() {
+            0.5 * DEAD_BAND_STIFFNESS * x * x
+        } else {
+            0.0
+        };
+        let half = 0.5 * self.clearance;
+        if x <= half {
+            return reg;
+        }
+        let (f, _) = self.radial_force(x);
+        let f = f - if self.has_dead_band() {
+            DEAD_BAND_STIFFNESS * x
+        } else {
+            0.0
+        };
+        let (d, series) = if self.series_stiffness.is_finite() {
+            let ks = self.series_stiffness;
+            (x - f / ks, f * f / (2.0 * ks))
+        } else {
+            (x, 0.0)
+        };
+        let own = match self.law {
+            BearingLaw::Linear { stiffness } if half > 0.0 => take_up(d - half, stiffness).2,
+            BearingLaw::Linear { stiffness } => 0.5 * stiffness * d * d,
+            BearingLaw::Rollers {
+                count,
+                rows,
+                contact_constant,
+                contact_angle,
+            } => {
+                let mut e = 0.0;
+                for i in 0..count {
+                    let c = (std::f64::consts::TAU * i as f64 / count as f64).cos()
+                        * contact_angle.cos();
+                    let delta = d * c - half;
+                    if delta > 0.0 {
+                        e += 9.0 / 19.0 * delta.powf(19.0 / 9.0);
+                    }
+                }
+                rows as f64 * contact_constant * e
+            }
+        };
+        reg + own + series
+    }
+
+    /// Tangent stiffness (N/m) of the bearing at 5 um beyond its clearance: the scale of its
+    /// damping in the dynamics and of the defaults that take a bearing's stiffness.
+    pub fn reference_stiffness(&self) -> f64 {
+        self.radial_force(0.5 * self.clearance + 5e-6).1
+    }
+}
+
+/// A bearing's state recorded by [`BearingEval::Record`]: relative position (m), static force
+/// (N) and stiffness matrix (N/m).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Frozen {
+    r: Vec2,
+    f: Vec2,
+    k: Matrix2<f64>,
+}
+
+/// How [`crate::reducer::Reducer::structural_forces_with`] evaluates the bearings: exactly,
+/// exactly while recording each bearing's state (in call order), or each bearing's law
+/// linearised at a recorded state (for the structural stiffness by differences of the forces:
+/// exact kinematics, no roller sums).
+pub(crate) enum BearingEval<'a> {
+    Exact,
+    Record(&'a mut Vec<Frozen>),
+    Frozen(&'a [Frozen], usize),
+}
+
+impl BearingEval<'_> {
+    /// The force of `bearing` at `r` with relative velocity `rd`
+    /// ([`RadialBearing::force`]), as this evaluation takes it.
+    #[inline]
+    pub(crate) fn force(&mut self, bearing: &RadialBearing, r: Vec2, rd: Vec2) -> Vec2 {
+        match self {
+            BearingEval::Exact => bearing.force(r, rd),
+            BearingEval::Record(list) => {
+                let f = bearing.force(r, Vec2::zeros());
+                list.push(Frozen {
+                    r,
+                    f,
+                    k: bearing.stiffness_matrix(r),
+                });
+                f
+            }
+            BearingEval::Frozen(list, next) => {
+                let s = list[*next];
+                *next += 1;
+                s.f + s.k * (r - s.r)
+            }
+        }
+    }
+}
