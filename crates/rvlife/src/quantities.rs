@@ -139,6 +139,19 @@ pub struct StageSummary {
     pub pins_in_contact_max: usize,
     /// Disc 1's share of the output torque.
     pub disc_load_share: f64,
+    /// Lost motion's part from the elastic compliance (lost motion minus backlash), arcmin.
+    pub lost_motion_elastic_arcmin: f64,
+    /// Lost motion's part from the assembly play (the new reducer's backlash), arcmin.
+    pub lost_motion_assembly_arcmin: f64,
+    /// Lost motion's part from the crank bearings' wear, arcmin.
+    pub lost_motion_bearing_wear_arcmin: f64,
+    /// Lost motion's part from the discs' wear (the remainder), arcmin.
+    pub lost_motion_disc_wear_arcmin: f64,
+    /// Radial internal clearance of each crank-disc bearing at this stage (assembly plus
+    /// wear), um.
+    pub crank_disc_clearance_um: f64,
+    /// Radial internal clearance of each crank-carrier bearing at this stage, um.
+    pub crank_carrier_clearance_um: f64,
     /// Torsional stiffness `b/a`, N m/arcmin.
     pub torsional_stiffness_nm_per_arcmin: f64,
     /// Tangent stiffness at the loaded-TE torque, N m/arcmin.
@@ -460,6 +473,61 @@ pub const DISC_LOAD_SHARE: Quantity = number(
      otherwise.",
     |s| Value::Number(s.disc_load_share),
 );
+/// Lost motion's elastic part.
+pub const LOST_MOTION_ELASTIC: Quantity = number(
+    "lost_motion_elastic_arcmin",
+    "arcmin",
+    "lost motion: elastic",
+    "Part of the lost motion from the elastic compliance of the reducer: the lost motion minus \
+     the backlash (the twist between the no-load points and the midpoints at +-3 % of rated \
+     torque; docs/model.md section 6.5).",
+    |s| Value::Number(s.lost_motion_elastic_arcmin),
+);
+/// Lost motion's part from the assembly play.
+pub const LOST_MOTION_ASSEMBLY: Quantity = number(
+    "lost_motion_assembly_arcmin",
+    "arcmin",
+    "lost motion: assembly play",
+    "Part of the lost motion from the play of the new reducer (profile modifications, bearing \
+     clearances, mesh backlash): its backlash when new (docs/model.md section 6.5).",
+    |s| Value::Number(s.lost_motion_assembly_arcmin),
+);
+/// Lost motion's part from the crank bearings' wear.
+pub const LOST_MOTION_BEARING_WEAR: Quantity = number(
+    "lost_motion_bearing_wear_arcmin",
+    "arcmin",
+    "lost motion: bearing wear",
+    "Part of the lost motion from the crank bearings' wear: the backlash of the unworn disc on \
+     the stage's bearings minus the new reducer's (docs/model.md section 6.5).",
+    |s| Value::Number(s.lost_motion_bearing_wear_arcmin),
+);
+/// Lost motion's part from the discs' wear.
+pub const LOST_MOTION_DISC_WEAR: Quantity = number(
+    "lost_motion_disc_wear_arcmin",
+    "arcmin",
+    "lost motion: disc wear",
+    "Part of the lost motion from the discs' wear: the stage's backlash minus that of the \
+     unworn disc on the stage's bearings (docs/model.md section 6.5).",
+    |s| Value::Number(s.lost_motion_disc_wear_arcmin),
+);
+/// Clearance of the crank-disc bearings.
+pub const CRANK_DISC_CLEARANCE: Quantity = number(
+    "crank_disc_clearance_um",
+    "um",
+    "crank-disc bearing clearance",
+    "Radial internal clearance of each crank-disc (eccentric) bearing at the stage: the \
+     assembly clearance plus the wear of its raceways (docs/model.md section 7.9).",
+    |s| Value::Number(s.crank_disc_clearance_um),
+);
+/// Clearance of the crank-carrier bearings.
+pub const CRANK_CARRIER_CLEARANCE: Quantity = number(
+    "crank_carrier_clearance_um",
+    "um",
+    "crank-carrier bearing clearance",
+    "Radial internal clearance of each crank-carrier bearing at the stage: the assembly \
+     clearance plus the wear of its raceways (docs/model.md section 7.9).",
+    |s| Value::Number(s.crank_carrier_clearance_um),
+);
 /// Torsional stiffness `b/a`.
 pub const TORSIONAL_STIFFNESS: Quantity = Quantity {
     accuracy: Some(|p| p.torsional_stiffness_nm_per_arcmin),
@@ -637,7 +705,7 @@ pub const DTE_RANGE: Quantity = Quantity {
 
 /// Every quantity of a stage, in the order of `summary.json`: `stages.csv`, the report's stage
 /// table, `rvlife run --all` and the Python study's columns list them all.
-pub const STAGE: [&Quantity; 35] = [
+pub const STAGE: [&Quantity; 41] = [
     &HOURS,
     &MAX_WEAR,
     &STE_MEAN,
@@ -647,6 +715,10 @@ pub const STAGE: [&Quantity; 35] = [
     &BACKLASH_MAX,
     &ANGULAR_TE,
     &LOST_MOTION,
+    &LOST_MOTION_ELASTIC,
+    &LOST_MOTION_ASSEMBLY,
+    &LOST_MOTION_BEARING_WEAR,
+    &LOST_MOTION_DISC_WEAR,
     &HYSTERESIS_LOSS,
     &LOADED_TE_MEAN,
     &LOADED_TE_PEAK_TO_PEAK,
@@ -655,6 +727,8 @@ pub const STAGE: [&Quantity; 35] = [
     &PINS_IN_CONTACT,
     &PINS_IN_CONTACT_MAX,
     &DISC_LOAD_SHARE,
+    &CRANK_DISC_CLEARANCE,
+    &CRANK_CARRIER_CLEARANCE,
     &TORSIONAL_STIFFNESS,
     &TANGENT_STIFFNESS,
     &FLEXIBLE_TORSIONAL_STIFFNESS,

@@ -25,10 +25,11 @@ use crate::geometry::{Profile, WearMap};
 use crate::quantities::{AccuracyPoint, StageSummary, STAGE};
 use crate::statics::StaticAnalysis;
 use crate::te::{
-    hysteresis_with, loaded_te_with, mesh_cycle_angles, revolution, CurveStats, LoadedTe, StaticTe,
-    TwistTable, HYSTERESIS_LEVELS,
+    hysteresis_with, loaded_te_with, mesh_cycle_angles, revolution, static_te, CurveStats,
+    LoadedTe, StaticTe, TwistTable, HYSTERESIS_LEVELS,
 };
 use crate::units::ARCMIN_PER_RAD;
+use crate::wear::{bearing_wear_rates, BearingWearRates};
 use crate::wear::{
     integrate, integrate_on_schedule, ValidityLimit, WearHistory, WearInputs, WearModelKind,
 };
@@ -321,6 +322,12 @@ pub(crate) fn analyse_profile(
         pins_in_contact: pmin,
         pins_in_contact_max: pmax,
         disc_load_share: share,
+        // The split of the lost motion as if the whole play were the assembly's; the study
+        // splits the play between assembly, bearing wear and disc wear (`split_play`).
+        lost_motion_elastic_arcmin: arcmin(acc.lost_motion - acc.backlash),
+        lost_motion_assembly_arcmin: arcmin(acc.backlash),
+        crank_disc_clearance_um: red.bearings.disc.clearance * 1e6,
+        crank_carrier_clearance_um: red.bearings.carrier.clearance * 1e6,
         torsional_stiffness_nm_per_arcmin: acc.torsional_stiffness / ARCMIN_PER_RAD,
         tangent_stiffness_nm_per_arcmin: loaded.mean_stiffness() / ARCMIN_PER_RAD,
         // The dynamics' and the flexible disc's quantities are added by the study.
@@ -356,8 +363,57 @@ enum Outcome {
 /// before it has failed its static analysis (`failed`: the lowest such index, which a failure
 /// here lowers); `tick` after each analysis.
 #[allow(clippy::too_many_arguments)]
+/// The crank bearings' clearance growth of `model`, m/h (zero unless
+/// `wear.bearing_archard_coefficient_mm3_per_n_m` is set; docs/model.md section 7.9).
+///
+/// # Errors
+/// Those of [`bearing_wear_rates`].
+pub(crate) fn bearing_rates(model: &Model) -> Result<BearingWearRates> {
+    if model.wear.bearings.archard <= 0.0 {
+        return Ok(BearingWearRates::default());
+    }
+    bearing_wear_rates(&model.wear_inputs(), &model.profile()?, model.te.samples)
+}
+
+/// `model` with its crank bearings worn for `hours` at `rates` (itself when they do not wear).
+pub(crate) fn worn_bearings(
+    model: &Model,
+    rates: BearingWearRates,
+    hours: f64,
+) -> std::borrow::Cow<'_, Model> {
+    if rates == BearingWearRates::default() || hours <= 0.0 {
+        std::borrow::Cow::Borrowed(model)
+    } else {
+        std::borrow::Cow::Owned(
+            model.with_grown_clearances(rates.disc * hours, rates.carrier * hours),
+        )
+    }
+}
+
+/// The new reducer's mean backlash over a mesh cycle with the disc `profile` (rad): the play the
+/// stages' lost motion is split against (docs/model.md section 6.5).
+fn mean_play(model: &Model, profile: &Profile) -> Result<f64> {
+    Ok(static_te(&model.reducer, profile, model.te.samples)?
+        .backlash_stats()
+        .mean)
+}
+
+/// Splits the play of `s` (its backlash) into the new reducer's (`new_play`, rad), the
+/// bearings' wear (the unworn disc's play on the stage's bearings, `unworn_play`, rad, beyond
+/// `new_play`) and the disc's wear (the rest); the elastic part is the lost motion beyond the
+/// backlash (docs/model.md section 6.5).
+fn split_play(s: &mut StageSummary, new_play: f64, unworn_play: f64) {
+    s.lost_motion_assembly_arcmin = arcmin(new_play);
+    s.lost_motion_bearing_wear_arcmin = arcmin(unworn_play - new_play);
+    s.lost_motion_disc_wear_arcmin = s.backlash_arcmin - arcmin(unworn_play);
+    s.lost_motion_elastic_arcmin = s.lost_motion_arcmin - s.backlash_arcmin;
+}
+
+#[allow(clippy::too_many_arguments)]
 fn run_stage(
     model: &Model,
+    rates: BearingWearRates,
+    new_play: f64,
     i: usize,
     hours: f64,
     map: &[f64],
@@ -369,6 +425,10 @@ fn run_stage(
     if i > failed.load(Ordering::Relaxed) {
         return Outcome::Skipped;
     }
+    // The crank bearings as worn by this stage's hours (their rates are constant in time).
+    let base_model = model;
+    let staged = worn_bearings(model, rates, hours);
+    let model: &Model = &staged;
     let max = map.iter().copied().fold(0.0, f64::max);
     let maps = (|| -> Result<(Option<WearMap>, Option<WearMap>)> {
         let wear_map = if max > 0.0 {
@@ -390,13 +450,26 @@ fn run_stage(
         .cycloid
         .profile(te_map)
         .and_then(|p| analyse_profile(model, &p, hours).map(|a| (p, a)));
-    let (profile, a) = match analysed {
+    let (profile, mut a) = match analysed {
         Ok(x) => x,
         Err(e) => {
             failed.fetch_min(i, Ordering::Relaxed);
             return Outcome::Static(e, max);
         }
     };
+    // The unworn disc's play on this stage's bearings (the new reducer's unless they wear).
+    let unworn_play = if std::ptr::eq(model, base_model) {
+        Ok(new_play)
+    } else {
+        mean_play(model, base_profile)
+    };
+    match unworn_play {
+        Ok(b) => split_play(&mut a.summary, new_play, b),
+        Err(e) => {
+            failed.fetch_min(i, Ordering::Relaxed);
+            return Outcome::Static(e, max);
+        }
+    }
     tick();
     let rest = if i > failed.load(Ordering::Relaxed) {
         Ok((None, None))
@@ -503,6 +576,15 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
     // wear).
     let flexible_dynamics = model.dynamics.enabled && model.dynamics.params.flexible.is_some();
     let base_profile = model.profile()?;
+    // The crank bearings' clearance growth, from the new reducer's loads (docs/model.md
+    // section 7.9).
+    let rates = bearing_rates(model)?;
+    let wear_inputs = WearInputs {
+        bearing_rates: rates,
+        ..model.wear_inputs()
+    };
+    // The new reducer's play, against which the stages' lost motion is split.
+    let new_play = mean_play(model, &base_profile)?;
     // Progress: the wear-rate evaluations so far plus the stage analyses done.
     let (wear_done, done) = (AtomicUsize::new(0), AtomicUsize::new(0));
     let report = || {
@@ -521,7 +603,7 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
     let unworn_first = w.stage_hours.first() == Some(&0.0);
     let (wear, base) = rayon::join(
         || {
-            integrate(&model.wear_inputs(), &|d, _| {
+            integrate(&wear_inputs, &|d, _| {
                 wear_done.fetch_max(d, Ordering::Relaxed);
                 report();
             })
@@ -539,6 +621,8 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
             let first = unworn_first.then(|| {
                 run_stage(
                     model,
+                    rates,
+                    new_play,
                     0,
                     0.0,
                     &[],
@@ -577,6 +661,8 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
                 while let Some(&i) = order.get(next.fetch_add(1, Ordering::Relaxed)) {
                     let _ = slots[i].set(run_stage(
                         model,
+                        rates,
+                        new_play,
                         i,
                         wear.hours[i],
                         &wear.maps[i],
@@ -742,11 +828,13 @@ pub(crate) fn study_life(
 ) -> Result<Option<crate::life::AccuracyLife>> {
     let points: Vec<AccuracyPoint> = stages.iter().map(AccuracyPoint::of).collect();
     let last = stages.last().map_or(0.0, |s| s.hours);
+    let rates = bearing_rates(model)?;
     crate::life::accuracy_life(&model.life, &points, |h| {
         let mut w = model.wear.clone();
         w.stage_hours = vec![h];
         let inputs = WearInputs {
             wear: &w,
+            bearing_rates: rates,
             ..model.wear_inputs()
         };
         // Within the stages on the study's own update schedule; beyond, by the model's rule.
@@ -769,7 +857,7 @@ pub(crate) fn study_life(
             WearModelKind::Flodin => Some(WearMap::new(map.clone())?),
         };
         let profile = model.cycloid.profile(wear)?;
-        let a = analyse_profile(model, &profile, h)?;
+        let a = analyse_profile(&worn_bearings(model, rates, h), &profile, h)?;
         Ok(AccuracyPoint::of(&a.summary))
     })
 }

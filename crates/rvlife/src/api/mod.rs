@@ -83,6 +83,22 @@ pub(crate) fn support_name(model: &Model) -> &'static str {
     }
 }
 
+/// `model` as a command at `wear` sees it: with its crank bearings worn for `wear.hours` when
+/// `wear.bearing_archard_coefficient_mm3_per_n_m` is set (docs/model.md section 7.9), else
+/// itself.
+///
+/// # Errors
+/// Those of the bearings' wear rates (a static analysis of the new reducer).
+pub fn model_at(model: &Model, wear: Wear) -> Result<std::borrow::Cow<'_, Model>> {
+    match wear.hours {
+        Some(h) if wear.wear_um.is_none() && model.wear.bearings.archard > 0.0 => {
+            let rates = crate::study::bearing_rates(model)?;
+            Ok(crate::study::worn_bearings(model, rates, h))
+        }
+        _ => Ok(std::borrow::Cow::Borrowed(model)),
+    }
+}
+
 /// The profile of a command: nominal (`nominal`: no modification, no measured profile), worn
 /// uniformly by `wear.wear_um` (um, the paper's conservative model), or by the config's wear
 /// model after `wear.hours` (h; `progress(done, total)` reports the wear integration), or the
@@ -149,6 +165,7 @@ pub fn profile_for(
             w.stage_hours = vec![h];
             let inputs = crate::wear::WearInputs {
                 wear: &w,
+                bearing_rates: crate::study::bearing_rates(&model)?,
                 ..model.wear_inputs()
             };
             let hist = crate::wear::integrate(&inputs, progress)?;
@@ -197,6 +214,8 @@ pub fn contact(
     finite(spelling, "torque_nm", torque_nm)?;
     model.check_torque(&spelling.name("torque_nm"), torque_nm)?;
     let profile = profile_for(model, wear, false, spelling, progress)?;
+    let staged = model_at(model, wear)?;
+    let model: &Model = &staged;
     let sa = StaticAnalysis::new(&model.reducer, &profile)?;
     let sol = sa.solve(crank_deg.to_radians(), torque_nm)?;
     let discs = sol
@@ -260,6 +279,8 @@ pub fn te(
         model.check_torque(&spelling.name("torque_nm"), t)?;
     }
     let profile = profile_for(model, wear, false, spelling, progress)?;
+    let staged = model_at(model, wear)?;
+    let model: &Model = &staged;
     let red = &model.reducer;
     let phis = mesh_cycle_angles(red.geometry.pins, model.te.samples);
     let sa = StaticAnalysis::new(red, &profile)?;
@@ -357,6 +378,8 @@ pub fn hysteresis_curve(
         ));
     }
     let profile = profile_for(model, wear, false, spelling, progress)?;
+    let staged = model_at(model, wear)?;
+    let model: &Model = &staged;
     let red = &model.reducer;
     let mut phis = mesh_cycle_angles(red.geometry.pins, model.te.samples);
     phis.push(crank_deg.to_radians());
@@ -532,6 +555,8 @@ pub fn dynamics(
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<crate::dynamics::DynamicsResult> {
     let profile = profile_for(model, wear, false, spelling, progress)?;
+    let staged = model_at(model, wear)?;
+    let model: &Model = &staged;
     crate::dynamics::simulate_discs(
         &profile,
         &model.dynamics.params,

@@ -72,6 +72,7 @@ impl Model {
             load: &self.load.levels,
             band_torque: self.te.loaded_torque,
             budget: self.budget(),
+            bearing_rates: Default::default(),
         }
     }
 
@@ -81,6 +82,18 @@ impl Model {
             solves: self.work_budget,
             per_stage: crate::budget::stage_solves(self.te.samples),
         }
+    }
+
+    /// This model with its crank bearings' radial clearances grown by `disc` and `carrier`
+    /// (m; the wear of docs/model.md section 7.9), in the reducer of the static analysis and in
+    /// the dynamic analysis's copy.
+    pub(crate) fn with_grown_clearances(&self, disc: f64, carrier: f64) -> Model {
+        let mut m = self.clone();
+        for red in [&mut m.reducer, &mut m.dynamics.params.reducer] {
+            red.bearings.disc.clearance += disc;
+            red.bearings.carrier.clearance += carrier;
+        }
+        m
     }
 
     /// The unworn profile (with the modifications and measured deviation).

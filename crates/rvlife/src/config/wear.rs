@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use super::range::{check, whole, Range};
 use crate::error::{Error, Result};
-use crate::wear::{WearModelKind, WearParams};
+use crate::wear::{BearingWearParams, WearModelKind, WearParams};
 
 /// `[wear]`.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -46,6 +46,19 @@ pub struct WearConfig {
     /// (0, 100].
     #[serde(default = "default_overlap")]
     pub overlap_ratio: f64,
+    /// Archard coefficient of the crank bearings' roller-raceway contacts, mm^3/(N m) (default
+    /// 0: the bearings keep their clearance; docs/model.md section 7.9). Range: [0, 1e6]
+    /// mm^3/(N m).
+    #[serde(default)]
+    pub bearing_archard_coefficient_mm3_per_n_m: f64,
+    /// Slip ratio of the bearings' rolling contacts, sliding per rolled distance (default
+    /// 0.02: an **estimate** for lightly loaded roller bearings). Range: [0, 1].
+    #[serde(default = "default_slip")]
+    pub bearing_slip_ratio: f64,
+}
+
+fn default_slip() -> f64 {
+    0.02
 }
 
 fn default_wear_model() -> String {
@@ -158,7 +171,20 @@ impl WearConfig {
             w.overlap_ratio,
             Range::positive(100.0, ""),
         )?;
+        let bearings = BearingWearParams {
+            archard: check(
+                "wear.bearing_archard_coefficient_mm3_per_n_m",
+                w.bearing_archard_coefficient_mm3_per_n_m,
+                Range::non_negative(1e6, "mm^3/(N m)"),
+            )? * 1e-9,
+            slip: check(
+                "wear.bearing_slip_ratio",
+                w.bearing_slip_ratio,
+                Range::closed(0.0, 1.0, ""),
+            )?,
+        };
         Ok(WearParams {
+            bearings,
             model: wear_model,
             archard,
             archard_key,

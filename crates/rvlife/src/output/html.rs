@@ -289,6 +289,7 @@ pub(crate) fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Resu
         "load",
         "te",
         "te_hours",
+        "lost_motion_sources",
         "hysteresis",
         "flexible_te_hours",
         "von_mises",

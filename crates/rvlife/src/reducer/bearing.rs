@@ -75,6 +75,8 @@ pub enum BearingLaw {
         contact_constant: f64,
         /// Contact angle, rad (0: needle or cylindrical rollers).
         contact_angle: f64,
+        /// Roller length, m.
+        length: f64,
     },
 }
 
@@ -90,6 +92,7 @@ impl BearingLaw {
             rows,
             contact_constant: k_mm * 1e3_f64.powf(10.0 / 9.0),
             contact_angle: angle,
+            length,
         }
     }
 }
@@ -137,6 +140,7 @@ impl RadialBearing {
                 rows,
                 contact_constant,
                 contact_angle,
+                ..
             } => {
                 // Roller 0 under the load and the pairs +-i beside it, while they face it
                 // (their cosines by rotation steps).
@@ -164,7 +168,7 @@ impl RadialBearing {
     }
 
     /// Load of each roller of one row (N) at a centre displacement `d` (m), roller 0 under the
-    /// load (empty for a linear bearing): for the load-distribution checks.
+    /// load (empty for a linear bearing).
     pub fn roller_loads(&self, d: f64) -> Vec<f64> {
         match self.law {
             BearingLaw::Linear { .. } => Vec::new(),
@@ -186,6 +190,36 @@ impl RadialBearing {
                 })
                 .collect(),
         }
+    }
+
+    /// Load (N) of the most loaded roller of one row when the bearing carries the radial load
+    /// `f` (N): the displacement that carries `f` found by bisection on
+    /// [`RadialBearing::own_force`] (monotone), then the roller under the load. `None` for a
+    /// linear bearing, which has no rollers.
+    pub fn most_loaded_roller(&self, f: f64) -> Option<f64> {
+        let BearingLaw::Rollers { .. } = self.law else {
+            return None;
+        };
+        if f <= 0.0 {
+            return Some(0.0);
+        }
+        let half = 0.5 * self.clearance;
+        let (mut lo, mut hi) = (half, half + 1e-6);
+        while self.own_force(hi).0 < f && hi < 1.0 {
+            hi = half + 2.0 * (hi - half);
+        }
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if self.own_force(mid).0 < f {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+            if hi - lo <= 1e-15 * hi {
+                break;
+            }
+        }
+        Some(self.roller_loads(0.5 * (lo + hi))[0])
     }
 
     /// Radial force (N) at a total displacement `x >= 0` (m) of the bearing and its series
@@ -302,6 +336,7 @@ impl RadialBearing {
                 rows,
                 contact_constant,
                 contact_angle,
+                ..
             } => {
                 let mut e = 0.0;
                 for i in 0..count {
@@ -332,6 +367,13 @@ pub(crate) struct Frozen {
     r: Vec2,
     f: Vec2,
     k: Matrix2<f64>,
+}
+
+impl Frozen {
+    /// The recorded static force, N.
+    pub(crate) fn force(&self) -> Vec2 {
+        self.f
+    }
 }
 
 /// How [`crate::reducer::Reducer::structural_forces_with`] evaluates the bearings: exactly,

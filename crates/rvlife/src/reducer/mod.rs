@@ -206,6 +206,17 @@ impl Reducer {
         self.mesh.backlash <= 0.0 && linear(&self.bearings.carrier) && linear(&self.bearings.disc)
     }
 
+    /// Speed of a crank bearing's inner ring relative to its outer ring per unit input speed
+    /// (rad/s per rad/s): RV, the crank relative to the carrier and the discs, `kappa - 1/i_H`
+    /// (both crank bearings; section 1.1 of docs/model.md); single-stage, the eccentric
+    /// relative to its disc, `1 - 1/i_H` (`i_H = -Zc`).
+    pub(crate) fn bearing_speed_ratio(&self) -> f64 {
+        match self.drive {
+            Drive::Rv => self.kappa() - 1.0 / self.ratio,
+            Drive::SingleStage(_) => 1.0 - 1.0 / self.ratio,
+        }
+    }
+
     /// The largest half play of the bearings and meshes, m: half a bearing's radial clearance,
     /// half the meshes' backlash along the line of action (0: no play).
     pub(crate) fn max_half_play(&self) -> f64 {

@@ -24,6 +24,28 @@ impl<'a> StaticAnalysis<'a> {
         }
     }
 
+    /// Radial forces (N) of the crank bearings at the solution `sol`, in the order of
+    /// [`Reducer::structural_forces`]: for each crank its crank-carrier pair, then its
+    /// crank-disc bearing of each disc (single-stage: each disc's eccentric bearing). Empty
+    /// with rigid support.
+    pub(crate) fn bearing_forces(&self, sol: &StaticSolution) -> Vec<f64> {
+        let n = self.red.layout().dofs();
+        if sol.deviations.len() != n {
+            return Vec::new();
+        }
+        let fr = self.frame(sol.crank_angle);
+        let mut recorded: Vec<Frozen> = Vec::with_capacity(12);
+        let (zero, mut g) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
+        self.red.structural_forces_with(
+            &fr.q0[..n],
+            &sol.deviations,
+            &zero[..n],
+            &mut g[..n],
+            &mut BearingEval::Record(&mut recorded),
+        );
+        recorded.iter().map(|b| b.force().norm()).collect()
+    }
+
     /// Deviations `z` of the locked-input rigid-body mode at carrier twist `psi` from the
     /// nominal positions of `fr` (bearings and meshes undeformed): carrier `+psi`, crank seats
     /// turned with it, cranks `+(1 + Z1/Z2) psi` about their axes, disc centres on the

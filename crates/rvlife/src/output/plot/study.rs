@@ -440,6 +440,7 @@ pub(crate) fn write_all(study: &Study, dir: &Path) -> Result<()> {
             Ok(())
         }
     )?;
+    lost_motion_sources(study, dir)?;
     hysteresis(study, dir)?;
     if study.stages.iter().all(|s| s.flexible.is_some()) {
         flexible_te_hours(study, dir)?;
@@ -468,6 +469,82 @@ pub(crate) fn write_all(study: &Study, dir: &Path) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// `lost_motion_sources`: each stage's lost motion stacked by its sources (elastic, assembly
+/// play, bearing wear, disc wear; docs/model.md section 6.5) against the hours, each part an
+/// area between the running sums, the total lost motion as a line on top.
+fn lost_motion_sources(study: &Study, dir: &Path) -> Result<()> {
+    let sums: Vec<&crate::quantities::StageSummary> =
+        study.stages.iter().map(|s| &s.summary).collect();
+    let parts: [(&str, RGBColor, StageValue); 4] = [
+        ("elastic (lost motion beyond the backlash)", BLUE, |s| {
+            s.lost_motion_elastic_arcmin
+        }),
+        ("assembly play (new reducer's backlash)", GREEN, |s| {
+            s.lost_motion_assembly_arcmin
+        }),
+        ("crank bearings' wear", MAGENTA, |s| {
+            s.lost_motion_bearing_wear_arcmin
+        }),
+        ("discs' wear", RED, |s| s.lost_motion_disc_wear_arcmin),
+    ];
+    let ymax = sums
+        .iter()
+        .map(|s| s.lost_motion_arcmin)
+        .fold(0.05f64, f64::max);
+    let hmax = sums.last().map_or(1.0, |s| s.hours).max(1.0);
+    figure!(dir, "lost_motion_sources", |root: &DrawingArea<
+        _,
+        Shift,
+    >|
+     -> std::result::Result<
+        (),
+        Box<dyn std::error::Error>,
+    > {
+        let (plot, strip) = with_legend_strip(root);
+        let mut chart = ChartBuilder::on(&plot)
+            .caption("Where the lost motion comes from", ("sans-serif", 24))
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(65)
+            .build_cartesian_2d(0.0..hmax * 1.02, 0.0..ymax * 1.1)?;
+        chart
+            .configure_mesh()
+            .x_desc("working hours (h)")
+            .y_desc("lost motion (arcmin), stacked by source")
+            .x_label_formatter(&|v| format!("{v:.0}"))
+            .draw()?;
+        let mut legend = Legend::new();
+        let mut below: Vec<f64> = vec![0.0; sums.len()];
+        for (label, c, value) in parts {
+            let top: Vec<f64> = sums
+                .iter()
+                .zip(&below)
+                .map(|(s, b)| b + value(s).max(0.0))
+                .collect();
+            let mut outline: Vec<(f64, f64)> =
+                sums.iter().zip(&top).map(|(s, t)| (s.hours, *t)).collect();
+            outline.extend(sums.iter().zip(&below).rev().map(|(s, b)| (s.hours, *b)));
+            chart.draw_series(std::iter::once(Polygon::new(outline, c.mix(0.35).filled())))?;
+            chart.draw_series(LineSeries::new(
+                sums.iter().zip(&top).map(|(s, t)| (s.hours, *t)),
+                c.stroke_width(1),
+            ))?;
+            legend.push((label.to_string(), Key::Band(c)));
+            below = top;
+        }
+        chart.draw_series(LineSeries::new(
+            sums.iter().map(|s| (s.hours, s.lost_motion_arcmin)),
+            BLACK.stroke_width(2),
+        ))?;
+        legend.push((
+            "lost motion (+-3 % of rated torque)".to_string(),
+            Key::Line(BLACK),
+        ));
+        draw_legend(&strip, 60, &legend)?;
+        Ok(())
+    })
 }
 
 /// Draws one labelled line with markers per `(label, colour, value)` against the stages' hours.

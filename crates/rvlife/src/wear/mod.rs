@@ -20,6 +20,13 @@
 //! `alpha` from eq 1, total distance `X = S n1 t eps_a` (eq 19, input revolutions times the
 //! overlap ratio), `h = k X P` (eq 20); no profile update.
 
+//!
+//! The crank bearings' wear, as growth of their radial clearance: [`bearings`].
+
+mod bearings;
+
+pub use bearings::{bearing_wear_rates, clearance_growth, BearingWearParams, BearingWearRates};
+
 use std::f64::consts::TAU;
 
 use rayon::prelude::*;
@@ -75,6 +82,8 @@ pub struct WearParams {
     pub pin_rolling_fraction: f64,
     /// Overlap ratio of the paper's model.
     pub overlap_ratio: f64,
+    /// The crank bearings' wear ([`bearings`]).
+    pub bearings: BearingWearParams,
 }
 
 impl WearParams {
@@ -110,6 +119,10 @@ pub struct WearInputs<'a> {
     pub band_torque: f64,
     /// The work budget and the stages' analyses' cost.
     pub budget: Budget,
+    /// Clearance growth of the crank bearings, m/h: the wear rate at hour `t` is that of the
+    /// reducer with its bearings opened by `t` times these ([`bearing_wear_rates`]; zero: the
+    /// assembly clearances throughout).
+    pub bearing_rates: BearingWearRates,
 }
 
 impl WearInputs<'_> {
@@ -507,13 +520,19 @@ fn integrate_inner(
             si += 1;
             continue;
         }
-        // Rate from the current worn profile, held until the next update.
+        // Rate from the current worn profile (on the bearings worn to this hour), held until
+        // the next update.
+        let grown = inputs.bearing_rates.grown(inputs.reducer, t);
+        let at_hours = WearInputs {
+            reducer: grown.as_ref().unwrap_or(inputs.reducer),
+            ..*inputs
+        };
         let worn = h.iter().any(|&x| x > 0.0);
         let rate = if worn {
             let smoothed = smoother.apply(&h);
             let evaluated = WearMap::new(smoothed.clone())
                 .and_then(|m| inputs.disc.profile(Some(m)))
-                .and_then(|p| wear_rate(&p, inputs));
+                .and_then(|p| wear_rate(&p, &at_hours));
             match evaluated {
                 Ok(r) => r,
                 Err(e) => {
@@ -526,7 +545,7 @@ fn integrate_inner(
                 }
             }
         } else {
-            wear_rate(&inputs.disc.profile(None)?, inputs)?
+            wear_rate(&inputs.disc.profile(None)?, &at_hours)?
         };
         if rate.iter().any(|r| !r.is_finite()) {
             return Err(Error::numerical("wear integration", "non-finite wear rate"));
