@@ -492,6 +492,22 @@ fn budget_error(path: &Path, h_max: f64, horizon: f64, e: Error) -> Error {
     }
 }
 
+/// The fit's k-h scaling holds for a steady coefficient: a config with running-in
+/// (`wear.running_in_factor` > 1, whose time constant is in real hours) is refused by its key.
+fn steady_only(model: &Model) -> Result<()> {
+    let r = model.wear.running_in.factor;
+    if r > 1.0 {
+        return Err(Error::invalid(
+            "wear.running_in_factor",
+            r,
+            "must be 1 for calibrate --measured: the fit of the steady coefficient scales the \
+             hours, which a running-in time constant does not allow (fitting the running-in \
+             is not built yet)",
+        ));
+    }
+    Ok(())
+}
+
 /// Checks, before any work, that the first reference study of the calibration fits the work
 /// budget ([`crate::budget`]): the stage analyses and profile updates over
 /// `4 x` the largest measured hours at the config's coefficient, including the updates that
@@ -500,6 +516,7 @@ fn budget_error(path: &Path, h_max: f64, horizon: f64, e: Error) -> Error {
 /// # Errors
 /// [`Error::Invalid`] naming `--measured`, the hours and the estimate.
 pub fn check_budget(model: &Model, data: &Measurements) -> Result<()> {
+    steady_only(model)?;
     let h_max = data.max_hours();
     let horizon = FIRST_HORIZON * h_max;
     let m = reference_model(model, model.wear.archard, horizon, FIRST_STAGES);
@@ -855,6 +872,7 @@ pub fn calibrate(
     progress: &dyn Fn(usize),
 ) -> Result<Calibration> {
     data.check_for_fit(options.fit_running_in)?;
+    steady_only(model)?;
     let h_max = data.max_hours();
     let fit_b0 = options.fit_running_in;
     let k_cfg = model.wear.archard;

@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use super::range::{check, whole, Range};
 use crate::error::{Error, Result};
-use crate::wear::{BearingWearParams, WearModelKind, WearParams};
+use crate::wear::{BearingWearParams, RunningIn, WearModelKind, WearParams};
 
 /// `[wear]`.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -55,6 +55,21 @@ pub struct WearConfig {
     /// 0.02: an **estimate** for lightly loaded roller bearings). Range: [0, 1].
     #[serde(default = "default_slip")]
     pub bearing_slip_ratio: f64,
+    /// Running-in: the disc's Archard coefficient when new over its steady value (default 1:
+    /// no running-in; docs/model.md section 7.10). Range: [1, 1000].
+    #[serde(default = "default_running_in_factor")]
+    pub running_in_factor: f64,
+    /// Running-in: the time constant over which the coefficient falls to its steady value, h
+    /// (read when `running_in_factor` > 1). Range: (0, 1e6] h.
+    #[serde(default = "default_running_in_hours")]
+    pub running_in_hours: f64,
+}
+
+fn default_running_in_factor() -> f64 {
+    1.0
+}
+fn default_running_in_hours() -> f64 {
+    200.0
 }
 
 fn default_slip() -> f64 {
@@ -183,7 +198,20 @@ impl WearConfig {
                 Range::closed(0.0, 1.0, ""),
             )?,
         };
+        let running_in = RunningIn {
+            factor: check(
+                "wear.running_in_factor",
+                w.running_in_factor,
+                Range::closed(1.0, 1e3, ""),
+            )?,
+            hours: check(
+                "wear.running_in_hours",
+                w.running_in_hours,
+                Range::positive(1e6, "h"),
+            )?,
+        };
         Ok(WearParams {
+            running_in,
             bearings,
             model: wear_model,
             archard,

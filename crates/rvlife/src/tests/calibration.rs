@@ -81,3 +81,49 @@ fn direct_run_at_twice_k_matches_the_reference_at_twice_the_hours() {
         reference.wear.rate_evaluations()
     );
 }
+
+/// Running-in is a warp of the hours: with the rate from the new profile (no profile updates)
+/// the wear after `t` hours with `k(t) = k_ss (1 + (r - 1) exp(-t/tau))` is the steady wear
+/// times `H(t)/t`, `H(t) = t + (r - 1) tau (1 - exp(-t/tau))`, to round-off (1e-12); with
+/// profile updates it is the steady wear after `H(t)` hours within 1 % (the update schedules
+/// differ). `r` = 3, `tau` = 300 h.
+#[test]
+fn running_in_warps_the_hours() {
+    let hours = [0.0, 300.0, 1000.0, 3000.0];
+    let mut m = fast_model(&hours);
+    m.wear.update_hours = 0.0;
+    let steady = integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
+    let mut r = m.clone();
+    r.wear.running_in = crate::wear::RunningIn {
+        factor: 3.0,
+        hours: 300.0,
+    };
+    let warped = integrate(&r.wear_inputs(), &|_, _| {}).unwrap();
+    let depth =
+        |h: &crate::wear::WearHistory, i: usize| h.maps[i].iter().copied().fold(0.0, f64::max);
+    for (i, &t) in hours.iter().enumerate().skip(1) {
+        let big_h = r.wear.running_in.equivalent_hours(t);
+        let ratio = depth(&warped, i) / depth(&steady, i);
+        println!("{t} h: ratio {ratio:.6}, H/t {:.6}", big_h / t);
+        assert!((ratio / (big_h / t) - 1.0).abs() < 1e-12);
+    }
+    // With updates: at t against the steady run at H(t).
+    let mut m = fast_model(&hours);
+    let mut r = m.clone();
+    r.wear.running_in = crate::wear::RunningIn {
+        factor: 3.0,
+        hours: 300.0,
+    };
+    let warped = integrate(&r.wear_inputs(), &|_, _| {}).unwrap();
+    let equivalent: Vec<f64> = hours
+        .iter()
+        .map(|&t| r.wear.running_in.equivalent_hours(t))
+        .collect();
+    m.wear.stage_hours = equivalent;
+    let steady = integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
+    for (i, t) in hours.iter().enumerate().skip(1) {
+        let ratio = depth(&warped, i) / depth(&steady, i);
+        println!("with updates, {t} h: {ratio:.5}");
+        assert!((ratio - 1.0).abs() < 0.01, "{ratio}");
+    }
+}

@@ -84,6 +84,37 @@ pub struct WearParams {
     pub overlap_ratio: f64,
     /// The crank bearings' wear ([`bearings`]).
     pub bearings: BearingWearParams,
+    /// Running-in of the disc's coefficient.
+    pub running_in: RunningIn,
+}
+
+/// Running-in of the disc's Archard coefficient (docs/model.md section 7.10): `k(t) = k_ss
+/// (1 + (r - 1) exp(-t/tau))`, falling from `r k_ss` when new to the steady `k_ss` over the
+/// time constant `tau` (the exponential approach to steady wear; Blau, *On the nature of
+/// running-in*, Tribology International 39, 2006). The wear rate is `k` times a function of
+/// the worn profile, so the wear after `t` hours is the steady wear after the equivalent hours
+/// `H(t) = t + (r - 1) tau (1 - exp(-t/tau))`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunningIn {
+    /// `r = k(0)/k_ss` (1: no running-in).
+    pub factor: f64,
+    /// `tau`, h.
+    pub hours: f64,
+}
+
+impl RunningIn {
+    /// Equivalent steady hours `H(t)` of `t` working hours.
+    pub fn equivalent_hours(&self, t: f64) -> f64 {
+        if self.factor <= 1.0 {
+            return t;
+        }
+        t + (self.factor - 1.0) * self.hours * (-(-t / self.hours).exp_m1())
+    }
+
+    /// `k(t)/k_ss` at `t` working hours.
+    pub fn factor_at(&self, t: f64) -> f64 {
+        1.0 + (self.factor - 1.0) * (-t / self.hours).exp()
+    }
 }
 
 impl WearParams {
@@ -576,14 +607,17 @@ fn integrate_inner(
             // Explicit Euler in hours is stable only while no point wears much more than the
             // contact approach between updates: cap the largest increment.
             if step.is_finite() && max_rate > 0.0 {
-                seg_end = seg_end.min(t + w.max_wear_step / max_rate);
+                seg_end = seg_end.min(t + w.max_wear_step / (max_rate * w.running_in.factor_at(t)));
             }
             // Every update advances the hours (the budget check bounds the count of them).
             seg_end.max(t + 4.0 * eps)
         };
+        // The rate is the steady coefficient's; running-in scales the hours.
+        let run_in = w.running_in;
         let advance = |h: &mut Vec<f64>, to: f64, t: &mut f64| {
+            let dh = run_in.equivalent_hours(to) - run_in.equivalent_hours(*t);
             for (x, r) in h.iter_mut().zip(&rate) {
-                *x += r * (to - *t);
+                *x += r * dh;
             }
             *t = to;
         };
@@ -622,7 +656,7 @@ pub(crate) fn check_updates(inputs: &WearInputs, horizon: f64, max_rate: f64) ->
     if w.model == WearModelKind::Paper || w.update_hours <= 0.0 {
         return Ok(());
     }
-    let updates = (horizon * max_rate / w.max_wear_step)
+    let updates = (w.running_in.equivalent_hours(horizon) * max_rate / w.max_wear_step)
         .ceil()
         .max(w.scheduled_updates());
     let total = updates * w.rate_evaluation_solves(inputs.load.len())
