@@ -6,9 +6,9 @@
 //! approach of ISO/TS 16281): `Z` rollers per row, equally spaced, one of them under the load
 //! (the stiffest position; Stribeck's). A displacement `d` of the inner ring's centre from the
 //! outer's compresses roller `i`, at angle `psi_i = 2 pi i / Z` from the displacement, by
-//! `delta_i = d cos(psi_i) cos(alpha) - c/2` (`c`: radial internal clearance, ISO 5753-1: the
-//! total radial play ring to ring; `alpha`: the contact angle of a tapered roller bearing,
-//! 0 for needles) and carries `Q_i = K_n delta_i^(10/9)` where `delta_i > 0`. `K_n` is
+//! `delta_i = (d cos(psi_i) - c/2) cos(alpha)` (`c`: radial internal clearance, ISO 5753-1: the
+//! total radial play ring to ring, so the centres move freely by `c/2` radially; `alpha`: the
+//! contact angle of a tapered roller bearing, 0 for needles) and carries `Q_i = K_n delta_i^(10/9)` where `delta_i > 0`. `K_n` is
 //! Palmgren's line contact, inner and outer raceway in series: `delta = 2 x 3.84e-5
 //! Q^0.9 / l^0.8` (mm, N, roller length `l` in mm; steel). The radial force is
 //! `F_r = rows sum Q_i cos(psi_i) cos(alpha)`.
@@ -151,7 +151,7 @@ impl RadialBearing {
                 let mut weight = 1.0;
                 for _ in 0..count {
                     let cc = c * ca;
-                    let delta = d * cc - half;
+                    let delta = (d * c - half) * ca;
                     if delta <= 0.0 {
                         break;
                     }
@@ -179,9 +179,8 @@ impl RadialBearing {
                 ..
             } => (0..count)
                 .map(|i| {
-                    let c = (std::f64::consts::TAU * i as f64 / count as f64).cos()
-                        * contact_angle.cos();
-                    let delta = d * c - 0.5 * self.clearance;
+                    let c = (std::f64::consts::TAU * i as f64 / count as f64).cos();
+                    let delta = (d * c - 0.5 * self.clearance) * contact_angle.cos();
                     if delta > 0.0 {
                         contact_constant * pow_10_9(delta).0
                     } else {
@@ -340,9 +339,8 @@ impl RadialBearing {
             } => {
                 let mut e = 0.0;
                 for i in 0..count {
-                    let c = (std::f64::consts::TAU * i as f64 / count as f64).cos()
-                        * contact_angle.cos();
-                    let delta = d * c - half;
+                    let c = (std::f64::consts::TAU * i as f64 / count as f64).cos();
+                    let delta = (d * c - half) * contact_angle.cos();
                     if delta > 0.0 {
                         e += 9.0 / 19.0 * delta.powf(19.0 / 9.0);
                     }
