@@ -234,7 +234,7 @@ fn study_stops_at_the_validity_limit_with_the_stages_before_it() {
         &fast_text(),
         "wear",
         "archard_coefficient_mm3_per_n_m",
-        "3.4e-7",
+        "1e-6",
     );
     let t = set_key(&t, "wear", "max_wear_step_um", "20.0");
     let t = set_key(

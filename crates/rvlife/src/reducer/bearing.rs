@@ -299,6 +299,27 @@ impl RadialBearing {
         nn * k + (Matrix2::identity() - nn) * (f / len)
     }
 
+    /// [`RadialBearing::stiffness_matrix`] with each principal stiffness raised to at least
+    /// half the bearing's [`RadialBearing::reference_stiffness`]: a stiffer stand-in for the
+    /// first Newton steps of a solve that starts with the bearings unloaded, where the rollers'
+    /// tangent stiffness vanishes (`F ~ d^(10/9)`). A bearing with clearance keeps its exact
+    /// stiffness: within its dead band a floored stiffness would pull the step toward a contact
+    /// that is not there.
+    pub fn stiffness_matrix_floored(&self, r: Vec2) -> Matrix2<f64> {
+        if self.clearance > 0.0 {
+            return self.stiffness_matrix(r);
+        }
+        let floor = 0.5 * self.reference_stiffness();
+        let len = r.norm();
+        let (f, k) = self.radial_force(len);
+        if len == 0.0 {
+            return Matrix2::identity() * k.max(floor);
+        }
+        let n = r / len;
+        let nn = n * n.transpose();
+        nn * k.max(floor) + (Matrix2::identity() - nn) * (f / len).max(floor)
+    }
+
     /// Elastic energy (J) at the relative position `r` (m), whose gradient is
     /// [`RadialBearing::force`] at rest: the rollers' `rows K_n sum (9/19) delta_i^(19/9)`
     /// (or the linear spring's) at the bearing's own share `d`, plus `F^2 / (2 k_s)` in the
@@ -380,7 +401,9 @@ impl Frozen {
 /// exact kinematics, no roller sums).
 pub(crate) enum BearingEval<'a> {
     Exact,
-    Record(&'a mut Vec<Frozen>),
+    /// Records each bearing's state; with `true` its stiffness floored
+    /// ([`RadialBearing::stiffness_matrix_floored`]).
+    Record(&'a mut Vec<Frozen>, bool),
     Frozen(&'a [Frozen], usize),
 }
 
@@ -391,12 +414,16 @@ impl BearingEval<'_> {
     pub(crate) fn force(&mut self, bearing: &RadialBearing, r: Vec2, rd: Vec2) -> Vec2 {
         match self {
             BearingEval::Exact => bearing.force(r, rd),
-            BearingEval::Record(list) => {
+            BearingEval::Record(list, floored) => {
                 let f = bearing.force(r, Vec2::zeros());
                 list.push(Frozen {
                     r,
                     f,
-                    k: bearing.stiffness_matrix(r),
+                    k: if *floored {
+                        bearing.stiffness_matrix_floored(r)
+                    } else {
+                        bearing.stiffness_matrix(r)
+                    },
                 });
                 f
             }

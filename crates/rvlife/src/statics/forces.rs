@@ -41,7 +41,7 @@ impl<'a> StaticAnalysis<'a> {
             &sol.deviations,
             &zero[..n],
             &mut g[..n],
-            &mut BearingEval::Record(&mut recorded),
+            &mut BearingEval::Record(&mut recorded, false),
         );
         recorded.iter().map(|b| b.force().norm()).collect()
     }
@@ -289,6 +289,17 @@ impl<'a> StaticAnalysis<'a> {
     /// [`Reducer::structural_forces`] at deviations `z` (linear springs on exact rigid-body
     /// kinematics: the differences are exact to round-off).
     pub(super) fn structural_stiffness(&self, fr: &Frame, z: &[f64]) -> DMatrix<f64> {
+        self.structural_stiffness_with(fr, z, false)
+    }
+
+    /// [`StaticAnalysis::structural_stiffness`], with the bearings' stiffness floored when
+    /// `floored` ([`crate::reducer::RadialBearing::stiffness_matrix_floored`]).
+    pub(super) fn structural_stiffness_with(
+        &self,
+        fr: &Frame,
+        z: &[f64],
+        floored: bool,
+    ) -> DMatrix<f64> {
         let red = self.red;
         let n = red.layout().dofs();
         let rp = red.geometry.pin_circle_radius;
@@ -305,7 +316,7 @@ impl<'a> StaticAnalysis<'a> {
             &z[..n],
             &zero[..n],
             &mut g0[..n],
-            &mut BearingEval::Record(&mut frozen),
+            &mut BearingEval::Record(&mut frozen, floored),
         );
         // The pins in holes of a single-stage drive touch at zero load: steps well below their
         // approach at the smallest loads solved (1e-8 m at 1 N m) keep the tangent of each
@@ -368,6 +379,22 @@ impl<'a> StaticAnalysis<'a> {
             return self.tangent_with(&ks, ev);
         }
         self.tangent_with(k_struct, ev)
+    }
+
+    /// [`StaticAnalysis::tangent`] with the bearings' stiffness floored (a stiffer stand-in for
+    /// the first Newton steps from unloaded bearings; never returned with a solution).
+    pub(super) fn tangent_floored(
+        &self,
+        k_struct: &DMatrix<f64>,
+        ev: &Eval,
+        fr: &Frame,
+        z: &[f64],
+    ) -> DMatrix<f64> {
+        if self.red.structure_is_linear() {
+            return self.tangent(k_struct, ev, fr, z);
+        }
+        let ks = self.structural_stiffness_with(fr, z, true);
+        self.tangent_with(&ks, ev)
     }
 
     pub(super) fn tangent_with(&self, k_struct: &DMatrix<f64>, ev: &Eval) -> DMatrix<f64> {

@@ -196,19 +196,30 @@ impl<'a> StaticAnalysis<'a> {
         }
         let mut kt: Option<DMatrix<f64>> = None;
         let mut last_res = f64::INFINITY;
+        // Whether `kt` is the exact tangent (not the floored stand-in).
+        let mut exact = true;
         for _ in 0..30 {
             let res = (1..n).map(|i| scaled(&ev.g, i).abs()).fold(0.0, f64::max);
             let scale = ev.scale.max(force_floor).max(1e-300);
+            // Far from the equilibrium the bearings may be unloaded, where the rollers' tangent
+            // stiffness vanishes and the exact Newton step overshoots: their stiffness is
+            // floored until the residual is within a thousandth of the force scale.
+            let floored = res > 1e-3 * scale;
             // A tangent is closed form per loaded pin, cheaper than an evaluation: it is rebuilt
             // at every step unless the residual fell a thousandfold.
-            let fresh = kt.is_none() || res > 1e-3 * last_res;
+            let fresh = kt.is_none() || res > 1e-3 * last_res || (exact == floored);
             if fresh {
-                kt = Some(self.tangent(k_struct, &ev, fr, z));
+                kt = Some(if floored {
+                    self.tangent_floored(k_struct, &ev, fr, z)
+                } else {
+                    self.tangent(k_struct, &ev, fr, z)
+                });
+                exact = !floored;
             }
             last_res = res;
             if res <= 0.01 * RESIDUAL_TOLERANCE * scale {
                 let kt = match kt {
-                    Some(kt) if fresh => kt,
+                    Some(kt) if fresh && exact => kt,
                     _ => self.tangent(k_struct, &ev, fr, z),
                 };
                 return Ok(Some((ev, kt)));
