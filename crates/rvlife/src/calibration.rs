@@ -492,9 +492,21 @@ fn budget_error(path: &Path, h_max: f64, horizon: f64, e: Error) -> Error {
     }
 }
 
-/// The fit's k-h scaling holds for a steady coefficient: a config with running-in
-/// (`wear.running_in_factor` > 1, whose time constant is in real hours) is refused by its key.
+/// The fit's k-h scaling holds for a steady coefficient of the disc alone: a config with
+/// running-in (`wear.running_in_factor` > 1, whose time constant is in real hours) or with
+/// wearing crank bearings (their clearance grows with real hours, whatever the disc's
+/// coefficient) is refused by its key.
 fn steady_only(model: &Model) -> Result<()> {
+    let kb = model.wear.bearings.archard;
+    if kb > 0.0 {
+        return Err(Error::invalid(
+            "wear.bearing_archard_coefficient_mm3_per_n_m",
+            kb * 1e9,
+            "must be 0 for calibrate --measured: the fit of the disc's coefficient scales the \
+             hours, which the bearings' wear, counted in real hours, does not follow (fitting \
+             both coefficients is not built yet)",
+        ));
+    }
     let r = model.wear.running_in.factor;
     if r > 1.0 {
         return Err(Error::invalid(
