@@ -205,11 +205,12 @@ enum Command {
         /// Measurements CSV: a column `hours` (h) and one or more of `lost_motion_arcmin`,
         /// `backlash_arcmin`, `angular_te_arcmin`, `max_wear_um` (empty cell: not measured). Fits the Archard
         /// coefficient by weighted least squares with a 95 % confidence interval (Gauss-Newton,
-        /// Student-t) instead of aiming at --target-wear-um.
+        /// Student-t) instead of aiming at --target-wear-um; with `[wear] running_in_factor` > 1
+        /// in the config it fits that factor too (`running_in_hours` kept).
         #[arg(long, conflicts_with = "target_wear_um")]
         measured: Option<PathBuf>,
         /// Also fit a running-in play b0 (arcmin) added to backlash and lost motion (the
-        /// assembly play of a new reducer, which the model does not have).
+        /// assembly play of a new reducer beyond the model's own).
         #[arg(long, requires = "measured")]
         fit_running_in: bool,
         /// Results directory for the fit: calibration.json, residuals.csv, calibration.svg/png
@@ -743,8 +744,10 @@ fn calibrate_measured(
     use rvlife::calibration::{calibrate, check_budget, Measurements, Options};
     use rvlife::output::calibration::write_files;
     let data = Measurements::read(path)?;
-    data.check_for_fit(fit_running_in)?;
+    data.check_for_fit(fit_running_in, false)?;
     let model = rvlife::api::validated(&load_config(config, budget)?)?;
+    let options = Options { fit_running_in };
+    options.check(&model, &data)?;
     check_budget(&model, &data)?;
     let staging = match out {
         Some(dir) => Some(rvlife::output::Staging::prepare(dir, force)?),
@@ -752,7 +755,7 @@ fn calibrate_measured(
     };
     let start = std::time::Instant::now();
     let pb = busy("calibrating");
-    let cal = calibrate(&model, &data, Options { fit_running_in }, &|pass| {
+    let cal = calibrate(&model, &data, options, &|pass| {
         pb.set_message(format!("calibrating: reference study {pass}"));
     });
     pb.finish_and_clear();
@@ -788,6 +791,13 @@ fn calibrate_measured(
         println!(
             "running-in play b0 = {:.5} arcmin, {pct:.0} % CI [{:.5}, {:.5}]",
             b.value, b.lower, b.upper
+        );
+    }
+    if let (Some(r), Some(tau)) = (&cal.running_in_factor, cal.running_in_hours) {
+        println!(
+            "running_in_factor = {:.5}   # {pct:.0} % CI [{:.5}, {:.5}]; running_in_hours = {tau} \
+             (the config's, not fitted)",
+            r.value, r.lower, r.upper
         );
     }
     for q in &cal.quantities {

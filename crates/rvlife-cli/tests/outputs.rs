@@ -407,30 +407,34 @@ fn calibrate_measured_bad_inputs_exit_2_before_work() {
         "running-in, 2 values",
         &["2 measured value(s)", "at least 3"],
     );
-    // The fit scales the hours of a steady disc coefficient: running-in and bearing wear
-    // (both in real hours) are refused by their keys.
-    let p = dir.path().join("three.csv");
-    std::fs::write(&p, "hours,backlash_arcmin\n100,1\n200,2\n300,3\n").unwrap();
-    for (key, value, needle) in [
-        ("running_in_factor", "3.0", "wear.running_in_factor"),
+    // The fit scales the hours by the disc's coefficient: bearing wear (in real hours) is
+    // refused by its key; a running-in factor is fitted, which needs one more value.
+    let three = dir.path().join("three.csv");
+    std::fs::write(&three, "hours,backlash_arcmin\n100,1\n200,2\n300,3\n").unwrap();
+    for (line, file, needles) in [
         (
-            "bearing_archard_coefficient_mm3_per_n_m",
-            "1e-9",
-            "wear.bearing_archard_coefficient_mm3_per_n_m",
+            "bearing_archard_coefficient_mm3_per_n_m = 1e-9",
+            &three,
+            &["wear.bearing_archard_coefficient_mm3_per_n_m", "must be 0"][..],
+        ),
+        (
+            "running_in_factor = 3.0",
+            &p,
+            &["2 measured value(s)", "running-in factor r", "at least 3"][..],
         ),
     ] {
         let cfg = write_config(
             dir.path(),
             "c.toml",
-            &add_line(&example_text(), "wear", &format!("{key} = {value}")),
+            &add_line(&example_text(), "wear", line),
         );
         let o = rvlife([
             "calibrate".as_ref(),
             cfg.as_os_str(),
             "--measured".as_ref(),
-            p.as_os_str(),
+            file.as_os_str(),
         ]);
-        assert_input_error(&o, key, &[needle, "must be"]);
+        assert_input_error(&o, line, needles);
     }
     // --fit-running-in and --out need --measured (clap: exit 2).
     let o = rvlife(["calibrate", "--fit-running-in"]);

@@ -10,7 +10,11 @@
 //!
 //! `Q(H; k_ref)` the study's stage value after `H` hours at the reference coefficient `k_ref`,
 //! `k` the fitted Archard coefficient (m^2/N) and `b0` (arcmin, optional) the running-in play
-//! of an assembled reducer that the model, with its zero-clearance pins, does not have.
+//! of an assembled reducer beyond the model's own. With a running-in in the config
+//! (`wear.running_in_factor` > 1) the hours `h` become the equivalent steady hours
+//! `H(h) = h + (r - 1) tau (1 - exp(-h/tau))` (docs/model.md section 7.10) and the factor `r` is
+//! fitted too (`ln r` by Brent's method on the profile likelihood, `ln k` and `b0` fitted at
+//! each `r`), its time constant `tau` kept (docs/model.md section 13.2).
 //!
 //! The k-h scaling is exact in the code, not an approximation: the wear rate
 //! (`crate::wear::wear_rate`) is `k` times a function of the worn profile only, so the depth
@@ -51,7 +55,10 @@
 //! assumes independent Gaussian errors and a model that is nearly linear in `ln k` over the
 //! interval; it does not include the model's own error (its discretisation, its physics).
 
-use std::path::{Path, PathBuf};
+mod measurements;
+mod pchip;
+
+use std::path::Path;
 
 use argmin::core::{CostFunction, Executor};
 use argmin::solver::brent::BrentOpt;
@@ -61,64 +68,14 @@ use statrs::distribution::{ContinuousCDF, StudentsT};
 
 use crate::config::Model;
 use crate::error::{Error, Result};
-use crate::quantities::{self, Quantity, StageSummary};
+use crate::quantities::StageSummary;
+use crate::wear::RunningIn;
 
-/// The option that names the measurements in messages.
-const OPTION: &str = "--measured";
+use measurements::bad;
+pub(crate) use measurements::QUANTITIES;
+pub use measurements::{Measurable, Measurements, Series};
+use pchip::Pchip;
 
-/// One measurable quantity: a quantity of the stage table ([`crate::quantities`]) that a
-/// measurements file may hold as a column (its name, with the unit), and whether the running-in
-/// play adds to it.
-#[derive(Debug, Clone, Copy)]
-pub struct Measurable {
-    /// The quantity: its name is the column, its unit the column's.
-    pub quantity: &'static Quantity,
-    /// True if the running-in play `b0` adds to it (backlash, lost motion).
-    pub running_in: bool,
-}
-
-impl Measurable {
-    /// Column name in the measurements file.
-    pub fn column(&self) -> &'static str {
-        self.quantity.name
-    }
-
-    /// Unit of the column (as in its name).
-    pub fn unit(&self) -> &'static str {
-        self.quantity.unit
-    }
-
-    /// The stage's value.
-    fn value(&self, s: &StageSummary) -> f64 {
-        s.value(self.quantity).number().unwrap_or(f64::NAN)
-    }
-}
-
-/// The columns a measurements file may have besides `hours`: quantities of the stage table.
-/// A quantity the study gains can be measured by adding it here.
-pub(crate) const QUANTITIES: &[Measurable] = &[
-    Measurable {
-        quantity: &quantities::LOST_MOTION,
-        running_in: true,
-    },
-    Measurable {
-        quantity: &quantities::BACKLASH,
-        running_in: true,
-    },
-    Measurable {
-        quantity: &quantities::ANGULAR_TE,
-        running_in: false,
-    },
-    Measurable {
-        quantity: &quantities::MAX_WEAR,
-        running_in: false,
-    },
-];
-
-/// Largest working hours accepted in a measurements file, h (the range of `wear.stage_hours`).
-pub(crate) const MAX_HOURS: f64 = 1e7;
-/// Largest measured value accepted (arcmin or um).
-pub(crate) const MAX_VALUE: f64 = 1e4;
 /// Reference horizon of the first pass, in multiples of the largest measured hours.
 const FIRST_HORIZON: f64 = 4.0;
 /// Stages of the first pass.
@@ -131,315 +88,8 @@ const REFINE_STAGES: usize = 32;
 const MAX_PASSES: usize = 5;
 /// Confidence level of the reported interval.
 pub(crate) const CONFIDENCE: f64 = 0.95;
-
-/// Measured values of one quantity.
-#[derive(Debug, Clone, Serialize)]
-pub struct Series {
-    /// Column name (an entry of `QUANTITIES`).
-    pub column: &'static str,
-    /// Index into `QUANTITIES`.
-    #[serde(skip)]
-    pub quantity: usize,
-    /// Working hours of each value, h.
-    pub hours: Vec<f64>,
-    /// Measured values, in the column's unit.
-    pub values: Vec<f64>,
-}
-
-/// A measurements file: one series per quantity column (an empty cell is a value not
-/// measured at that row's hours).
-#[derive(Debug, Clone, Serialize)]
-pub struct Measurements {
-    /// The file.
-    pub path: PathBuf,
-    /// The quantity columns in file order.
-    pub series: Vec<Series>,
-}
-
-fn bad(path: &Path, what: impl Into<String>) -> Error {
-    Error::invalid(OPTION, path.display(), what)
-}
-
-impl Measurements {
-    /// Reads and checks a CSV file with a header: a column `hours` (h, in `[0, 1e7]`) and one
-    /// or more of the `QUANTITIES` columns (values finite, in `[0, 1e4]` of their unit; an
-    /// empty cell is no value). `#` starts a comment line.
-    ///
-    /// # Errors
-    /// [`Error::Invalid`] naming `--measured` and the file: it cannot be read; no `hours`
-    /// column; unknown or repeated columns (listing the allowed ones); a column of a quantity
-    /// the study does not compute yet; a cell that is not a number or out of range (with its
-    /// row and column); no quantity column or no value at all.
-    pub fn read(path: &Path) -> Result<Measurements> {
-        let text =
-            std::fs::read_to_string(path).map_err(|e| bad(path, format!("cannot be read: {e}")))?;
-        Self::parse(path, &text)
-    }
-
-    /// [`Measurements::read`] on the text of the file.
-    ///
-    /// # Errors
-    /// As [`Measurements::read`].
-    pub fn parse(path: &Path, text: &str) -> Result<Measurements> {
-        let allowed: Vec<&str> = std::iter::once("hours")
-            .chain(QUANTITIES.iter().map(Measurable::column))
-            .collect();
-        let mut rdr = csv::ReaderBuilder::new()
-            .has_headers(true)
-            .trim(csv::Trim::All)
-            .comment(Some(b'#'))
-            .flexible(false)
-            .from_reader(text.as_bytes());
-        let header: Vec<String> = rdr
-            .headers()
-            .map_err(|e| bad(path, format!("is not a CSV file with a header: {e}")))?
-            .iter()
-            .map(str::to_string)
-            .collect();
-        let unknown: Vec<&str> = header
-            .iter()
-            .map(String::as_str)
-            .filter(|c| !allowed.contains(c))
-            .collect();
-        if !unknown.is_empty() {
-            return Err(bad(
-                path,
-                format!(
-                    "unknown column(s) {}; allowed: {}",
-                    unknown.join(", "),
-                    allowed.join(", ")
-                ),
-            ));
-        }
-        for (i, c) in header.iter().enumerate() {
-            if header[..i].contains(c) {
-                return Err(bad(path, format!("column {c} is given twice")));
-            }
-        }
-        let Some(hours_col) = header.iter().position(|c| c == "hours") else {
-            return Err(bad(
-                path,
-                format!(
-                    "has no `hours` column (working hours, h); columns: {}",
-                    header.join(", ")
-                ),
-            ));
-        };
-        let mut series = Vec::new();
-        let mut cols = Vec::new();
-        for (i, c) in header.iter().enumerate() {
-            if i == hours_col {
-                continue;
-            }
-            let q = QUANTITIES
-                .iter()
-                .position(|q| q.column() == c)
-                .expect("checked against the allowed columns");
-            series.push(Series {
-                column: QUANTITIES[q].column(),
-                quantity: q,
-                hours: Vec::new(),
-                values: Vec::new(),
-            });
-            cols.push(i);
-        }
-        if series.is_empty() {
-            return Err(bad(
-                path,
-                format!(
-                    "has no measured quantity; give one or more of the columns {}",
-                    allowed[1..].join(", ")
-                ),
-            ));
-        }
-        for (r, rec) in rdr.records().enumerate() {
-            let row = r + 2; // 1-based, after the header
-            let rec = rec.map_err(|e| bad(path, format!("row {row}: {e}")))?;
-            let cell = |i: usize| -> Result<Option<f64>> {
-                let s = rec.get(i).unwrap_or("");
-                if s.is_empty() {
-                    return Ok(None);
-                }
-                s.parse::<f64>().map(Some).map_err(|_| {
-                    bad(
-                        path,
-                        format!("row {row}, column {}: {s:?} is not a number", header[i]),
-                    )
-                })
-            };
-            let Some(h) = cell(hours_col)? else {
-                return Err(bad(path, format!("row {row}: the hours cell is empty")));
-            };
-            if !(h.is_finite() && (0.0..=MAX_HOURS).contains(&h)) {
-                return Err(bad(
-                    path,
-                    format!("row {row}, column hours = {h}: must be a finite number in [0, 1e7] h"),
-                ));
-            }
-            for (s, &i) in series.iter_mut().zip(&cols) {
-                if let Some(v) = cell(i)? {
-                    if !(v.is_finite() && (0.0..=MAX_VALUE).contains(&v)) {
-                        return Err(bad(
-                            path,
-                            format!(
-                                "row {row}, column {} = {v}: must be a finite number in \
-                                 [0, 1e4] {}",
-                                header[i],
-                                QUANTITIES[s.quantity].unit()
-                            ),
-                        ));
-                    }
-                    s.hours.push(h);
-                    s.values.push(v);
-                }
-            }
-        }
-        series.retain(|s| !s.values.is_empty());
-        if series.is_empty() {
-            return Err(bad(path, "has no measured values (no data rows)"));
-        }
-        Ok(Measurements {
-            path: path.to_path_buf(),
-            series,
-        })
-    }
-
-    /// Number of measured values over all series.
-    pub fn len(&self) -> usize {
-        self.series.iter().map(|s| s.values.len()).sum()
-    }
-
-    /// True if there are no measured values (never after [`Measurements::read`]).
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    /// Largest measured working hours, h.
-    pub fn max_hours(&self) -> f64 {
-        self.series
-            .iter()
-            .flat_map(|s| s.hours.iter().copied())
-            .fold(0.0, f64::max)
-    }
-
-    /// Checks that the measurements can determine the parameters: `N >= p + 1` values
-    /// (`p` = 1, or 2 with `fit_running_in`), some hours above 0, and with `fit_running_in` a
-    /// backlash or lost-motion column.
-    ///
-    /// # Errors
-    /// [`Error::Invalid`] naming `--measured` (or `--fit-running-in`).
-    pub fn check_for_fit(&self, fit_running_in: bool) -> Result<()> {
-        let p = 1 + usize::from(fit_running_in);
-        if self.len() < p + 1 {
-            return Err(bad(
-                &self.path,
-                format!(
-                    "has {} measured value(s); fitting {} parameter(s) ({}) needs at least {} \
-                     (parameters + 1, for the residual variance)",
-                    self.len(),
-                    p,
-                    if fit_running_in { "k and b0" } else { "k" },
-                    p + 1
-                ),
-            ));
-        }
-        if self.max_hours() <= 0.0 {
-            return Err(bad(
-                &self.path,
-                "all measurements are at 0 h, where there is no wear: the Archard coefficient \
-                 cannot be found; give measurements after some working hours",
-            ));
-        }
-        if fit_running_in
-            && !self
-                .series
-                .iter()
-                .any(|s| QUANTITIES[s.quantity].running_in)
-        {
-            return Err(Error::invalid(
-                "--fit-running-in",
-                "set",
-                format!(
-                    "the running-in play adds to backlash and lost motion, and {} has neither \
-                     column (backlash_arcmin, lost_motion_arcmin)",
-                    self.path.display()
-                ),
-            ));
-        }
-        Ok(())
-    }
-}
-
-/// Monotone piecewise-cubic Hermite interpolation (Fritsch and Carlson, SIAM J. Numer. Anal.
-/// 17, 1980; end slopes as in Moler, Numerical Computing with MATLAB, `pchip`), linear beyond
-/// the ends. Keeps a monotone series monotone and is continuously differentiable.
-#[derive(Debug, Clone)]
-struct Pchip {
-    x: Vec<f64>,
-    y: Vec<f64>,
-    d: Vec<f64>,
-}
-
-impl Pchip {
-    /// `x` strictly increasing, at least 2 points.
-    fn new(x: Vec<f64>, y: Vec<f64>) -> Pchip {
-        let n = x.len();
-        let h: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
-        let del: Vec<f64> = (0..n - 1).map(|i| (y[i + 1] - y[i]) / h[i]).collect();
-        let mut d = vec![0.0; n];
-        if n == 2 {
-            d = vec![del[0]; 2];
-        } else {
-            for i in 1..n - 1 {
-                if del[i - 1] * del[i] > 0.0 {
-                    let w1 = 2.0 * h[i] + h[i - 1];
-                    let w2 = h[i] + 2.0 * h[i - 1];
-                    d[i] = (w1 + w2) / (w1 / del[i - 1] + w2 / del[i]);
-                }
-            }
-            let end = |h0: f64, h1: f64, d0: f64, d1: f64| {
-                let s = ((2.0 * h0 + h1) * d0 - h0 * d1) / (h0 + h1);
-                if s * d0 <= 0.0 {
-                    0.0
-                } else if d0 * d1 < 0.0 && s.abs() > 3.0 * d0.abs() {
-                    3.0 * d0
-                } else {
-                    s
-                }
-            };
-            d[0] = end(h[0], h[1], del[0], del[1]);
-            d[n - 1] = end(h[n - 2], h[n - 3], del[n - 2], del[n - 3]);
-        }
-        Pchip { x, y, d }
-    }
-
-    /// Value and derivative at `t`.
-    fn eval(&self, t: f64) -> (f64, f64) {
-        let n = self.x.len();
-        if t <= self.x[0] {
-            return (self.y[0] + self.d[0] * (t - self.x[0]), self.d[0]);
-        }
-        if t >= self.x[n - 1] {
-            return (
-                self.y[n - 1] + self.d[n - 1] * (t - self.x[n - 1]),
-                self.d[n - 1],
-            );
-        }
-        let i = self.x.partition_point(|&v| v <= t).clamp(1, n - 1) - 1;
-        let h = self.x[i + 1] - self.x[i];
-        let s = (t - self.x[i]) / h;
-        let (y0, y1, d0, d1) = (self.y[i], self.y[i + 1], self.d[i], self.d[i + 1]);
-        let v = (2.0 * s.powi(3) - 3.0 * s * s + 1.0) * y0
-            + (s.powi(3) - 2.0 * s * s + s) * h * d0
-            + (-2.0 * s.powi(3) + 3.0 * s * s) * y1
-            + (s.powi(3) - s * s) * h * d1;
-        let dv = (6.0 * s * s - 6.0 * s) / h * y0
-            + (3.0 * s * s - 4.0 * s + 1.0) * d0
-            + (-6.0 * s * s + 6.0 * s) / h * y1
-            + (3.0 * s * s - 2.0 * s) * d1;
-        (v, dv)
-    }
-}
+/// Largest running-in factor `r` the fit searches.
+const MAX_RUNNING_IN_FACTOR: f64 = 1000.0;
 
 /// One reference study: the quantities against equivalent hours at one coefficient.
 #[derive(Debug, Clone)]
@@ -453,12 +103,20 @@ struct Reference {
 }
 
 impl Reference {
-    /// Model value and its derivative with respect to `ln k` of quantity `q` at hours `h`.
-    fn model(&self, q: usize, h: f64, k: f64) -> (f64, f64) {
+    /// Model value of quantity `q` at `h` working hours for the coefficient `k` (m^2/N) with
+    /// the running-in `run_in`, and its derivatives with respect to `ln k` and `ln r`: the
+    /// reference's value at the equivalent hours `H(h) k / k_ref` (docs/model.md section 7.10).
+    fn model(&self, q: usize, h: f64, k: f64, run_in: RunningIn) -> (f64, f64, f64) {
         let c = &self.curves[q];
-        let big_h = h * k / self.archard;
+        let big_h = run_in.equivalent_hours(h) * k / self.archard;
         let (v, dv) = c.eval(big_h);
-        (v, dv * big_h)
+        // dH/d ln r = r tau (1 - exp(-h/tau)).
+        let dh_dlnr = if run_in.factor > 1.0 {
+            run_in.factor * run_in.hours * -(-h / run_in.hours).exp_m1()
+        } else {
+            0.0
+        };
+        (v, dv * big_h, dv * dh_dlnr * k / self.archard)
     }
 }
 
@@ -467,6 +125,8 @@ impl Reference {
 fn reference_model(model: &Model, archard: f64, horizon: f64, stages: usize) -> Model {
     let mut m = model.clone();
     m.wear.archard = archard;
+    // Steady: the fit applies the running-in as a warp of the hours.
+    m.wear.running_in.factor = 1.0;
     m.dynamics.enabled = false;
     m.fem.enabled = false;
     m.wear.stage_hours = (0..=stages)
@@ -492,11 +152,10 @@ fn budget_error(path: &Path, h_max: f64, horizon: f64, e: Error) -> Error {
     }
 }
 
-/// The fit's k-h scaling holds for a steady coefficient of the disc alone: a config with
-/// running-in (`wear.running_in_factor` > 1, whose time constant is in real hours) or with
-/// wearing crank bearings (their clearance grows with real hours, whatever the disc's
-/// coefficient) is refused by its key.
-fn steady_only(model: &Model) -> Result<()> {
+/// The fit's k-h scaling holds for the disc's wear alone: a config with wearing crank bearings
+/// (their clearance grows with real hours, whatever the disc's coefficient) is refused by its
+/// key.
+fn disc_wear_only(model: &Model) -> Result<()> {
     let kb = model.wear.bearings.archard;
     if kb > 0.0 {
         return Err(Error::invalid(
@@ -507,30 +166,20 @@ fn steady_only(model: &Model) -> Result<()> {
              both coefficients is not built yet)",
         ));
     }
-    let r = model.wear.running_in.factor;
-    if r > 1.0 {
-        return Err(Error::invalid(
-            "wear.running_in_factor",
-            r,
-            "must be 1 for calibrate --measured: the fit of the steady coefficient scales the \
-             hours, which a running-in time constant does not allow (fitting the running-in \
-             is not built yet)",
-        ));
-    }
     Ok(())
 }
 
 /// Checks, before any work, that the first reference study of the calibration fits the work
-/// budget ([`crate::budget`]): the stage analyses and profile updates over
-/// `4 x` the largest measured hours at the config's coefficient, including the updates that
+/// budget ([`crate::budget`]): the stage analyses and profile updates over `4 x` the
+/// equivalent hours of the largest measured hours at the config's coefficient and running-in, including the updates that
 /// `wear.max_wear_step_um` asks for at the unworn disc's wear rate (one wear-rate evaluation).
 ///
 /// # Errors
 /// [`Error::Invalid`] naming `--measured`, the hours and the estimate.
 pub fn check_budget(model: &Model, data: &Measurements) -> Result<()> {
-    steady_only(model)?;
+    disc_wear_only(model)?;
     let h_max = data.max_hours();
-    let horizon = FIRST_HORIZON * h_max;
+    let horizon = FIRST_HORIZON * model.wear.running_in.equivalent_hours(h_max);
     let m = reference_model(model, model.wear.archard, horizon, FIRST_STAGES);
     let check = || -> Result<()> {
         crate::study::check_work(&m)?;
@@ -611,6 +260,13 @@ pub struct Calibration {
     /// Running-in play added to backlash and lost motion, arcmin (with `--fit-running-in`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub running_in_backlash_arcmin: Option<Estimate>,
+    /// Running-in factor `r = k(0)/k_ss` of the disc's coefficient, fitted when the config
+    /// has one (`wear.running_in_factor` > 1), its interval from that of `ln r`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub running_in_factor: Option<Estimate>,
+    /// Its time constant `tau`, h: the config's `wear.running_in_hours`, not fitted.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub running_in_hours: Option<f64>,
     /// Confidence level of the intervals.
     pub confidence: f64,
     /// How the interval is found.
@@ -649,11 +305,51 @@ pub struct Options {
     pub fit_running_in: bool,
 }
 
+impl Options {
+    /// The parameters fitted for `model`: `ln k` always, `b0` with
+    /// [`Options::fit_running_in`], the running-in factor `r` when the config has a running-in
+    /// (`wear.running_in_factor` > 1, the fit's start; its time constant is kept).
+    fn fitted(self, model: &Model) -> Fitted {
+        Fitted {
+            b0: self.fit_running_in,
+            factor: model.wear.running_in.factor > 1.0,
+        }
+    }
+
+    /// Checks, before any work, that `data` can determine the parameters fitted for `model`
+    /// ([`Measurements::check_for_fit`]).
+    ///
+    /// # Errors
+    /// As [`Measurements::check_for_fit`].
+    pub fn check(self, model: &Model, data: &Measurements) -> Result<()> {
+        let f = self.fitted(model);
+        data.check_for_fit(f.b0, f.factor)
+    }
+}
+
 /// Least-squares fit on one reference.
 struct Fit {
     ln_k: f64,
     b0: f64,
+    /// The running-in with its fitted factor (factor 1: none).
+    run_in: RunningIn,
     sigma: Vec<f64>,
+}
+
+/// Which parameters a fit determines.
+#[derive(Debug, Clone, Copy)]
+struct Fitted {
+    /// The running-in play `b0`.
+    b0: bool,
+    /// The running-in factor `r`.
+    factor: bool,
+}
+
+impl Fitted {
+    /// Number of parameters `p`.
+    fn count(self) -> usize {
+        1 + usize::from(self.b0) + usize::from(self.factor)
+    }
 }
 
 /// All measured points as (series index, hours, value).
@@ -671,13 +367,14 @@ fn profile_cost(
     data: &Measurements,
     sigma: &[f64],
     fit_b0: bool,
+    run_in: RunningIn,
     ln_k: f64,
 ) -> (f64, f64) {
     let k = ln_k.exp();
     let pts = points(data);
     let model: Vec<f64> = pts
         .iter()
-        .map(|&(j, h, _)| reference.model(data.series[j].quantity, h, k).0)
+        .map(|&(j, h, _)| reference.model(data.series[j].quantity, h, k, run_in).0)
         .collect();
     let ri = |j: usize| QUANTITIES[data.series[j].quantity].running_in;
     let b0 = if fit_b0 {
@@ -710,11 +407,12 @@ fn minimise(
     data: &Measurements,
     sigma: &[f64],
     fit_b0: bool,
+    run_in: RunningIn,
     lo: f64,
     hi: f64,
 ) -> Result<f64> {
     const SCAN: usize = 60;
-    let cost = |x: f64| profile_cost(reference, data, sigma, fit_b0, x).1;
+    let cost = |x: f64| profile_cost(reference, data, sigma, fit_b0, run_in, x).1;
     let xs: Vec<f64> = (0..=SCAN)
         .map(|i| lo + (hi - lo) * i as f64 / SCAN as f64)
         .collect();
@@ -722,20 +420,7 @@ fn minimise(
         .min_by(|&a, &b| cost(xs[a]).total_cmp(&cost(xs[b])))
         .expect("a scan");
     let (a, b) = (xs[best.saturating_sub(1)], xs[(best + 1).min(SCAN)]);
-    struct Cost<'a>(&'a dyn Fn(f64) -> f64);
-    impl CostFunction for Cost<'_> {
-        type Param = f64;
-        type Output = f64;
-        fn cost(&self, x: &f64) -> std::result::Result<f64, argmin::core::Error> {
-            Ok((self.0)(*x))
-        }
-    }
-    let res = Executor::new(Cost(&cost), BrentOpt::new(a, b).set_tolerance(1e-8, 1e-10))
-        .configure(|st| st.max_iters(200))
-        .timer(false)
-        .run()
-        .map_err(|e| Error::numerical("calibration", e.to_string()))?;
-    let x = res.state.best_param.unwrap_or(xs[best]);
+    let x = brent(&cost, a, b)?.unwrap_or(xs[best]);
     Ok(if cost(x) <= cost(xs[best]) {
         x
     } else {
@@ -743,16 +428,39 @@ fn minimise(
     })
 }
 
-/// Iteratively reweighted fit on one reference, `ln k` in `[lo, hi]`.
+/// A cost function of one variable, for argmin.
+struct Cost<'a>(&'a dyn Fn(f64) -> f64);
+
+impl CostFunction for Cost<'_> {
+    type Param = f64;
+    type Output = f64;
+    fn cost(&self, x: &f64) -> std::result::Result<f64, argmin::core::Error> {
+        Ok((self.0)(*x))
+    }
+}
+
+/// Brent's method (argmin) on `cost` between `a` and `b`: its best point, if any.
+fn brent(cost: &dyn Fn(f64) -> f64, a: f64, b: f64) -> Result<Option<f64>> {
+    let res = Executor::new(Cost(cost), BrentOpt::new(a, b).set_tolerance(1e-8, 1e-10))
+        .configure(|st| st.max_iters(200))
+        .timer(false)
+        .run()
+        .map_err(|e| Error::numerical("calibration", e.to_string()))?;
+    Ok(res.state.best_param)
+}
+
+/// Iteratively reweighted fit on one reference at the running-in `run_in`, `ln k` in
+/// `[lo, hi]`; `p` parameters in all (for the residual variance).
 fn fit_on(
     reference: &Reference,
     data: &Measurements,
     fit_b0: bool,
-    lo: f64,
-    hi: f64,
+    run_in: RunningIn,
+    p: usize,
+    (lo, hi): (f64, f64),
 ) -> Result<Fit> {
     let n_total = data.len() as f64;
-    let p = 1.0 + f64::from(u8::from(fit_b0));
+    let p = p as f64;
     // Start: every unit scaled by the size of its values.
     let size = |u: &str| {
         let (ss, n) = data
@@ -780,13 +488,13 @@ fn fit_on(
     };
     let mut ln_k = f64::NAN;
     for _ in 0..8 {
-        let x = minimise(reference, data, &sigma, fit_b0, lo, hi)?;
+        let x = minimise(reference, data, &sigma, fit_b0, run_in, lo, hi)?;
         let converged = (x - ln_k).abs() < 1e-7;
         ln_k = x;
         if groups == 1 || converged {
             break;
         }
-        let (b0, _) = profile_cost(reference, data, &sigma, fit_b0, ln_k);
+        let (b0, _) = profile_cost(reference, data, &sigma, fit_b0, run_in, ln_k);
         let k = ln_k.exp();
         // Sum of squared residuals and count of each series.
         let per_series: Vec<(f64, usize)> = data
@@ -799,7 +507,7 @@ fn fit_on(
                     .iter()
                     .zip(&s.values)
                     .map(|(h, y)| {
-                        let m = reference.model(s.quantity, *h, k).0
+                        let m = reference.model(s.quantity, *h, k, run_in).0
                             + if q.running_in { b0 } else { 0.0 };
                         (y - m).powi(2)
                     })
@@ -818,8 +526,89 @@ fn fit_on(
             })
             .collect();
     }
-    let (b0, _) = profile_cost(reference, data, &sigma, fit_b0, ln_k);
-    Ok(Fit { ln_k, b0, sigma })
+    let (b0, _) = profile_cost(reference, data, &sigma, fit_b0, run_in, ln_k);
+    Ok(Fit {
+        ln_k,
+        b0,
+        run_in,
+        sigma,
+    })
+}
+
+/// `sum_u n_u ln(RSS_u / n_u)` over the units `u` of the data: twice the negative Gaussian log
+/// likelihood with each unit's noise level at its estimate, up to a constant (with one unit,
+/// `n ln(RSS/n)`, monotone in the residual sum of squares).
+fn profile_likelihood(reference: &Reference, data: &Measurements, fit: &Fit) -> f64 {
+    let k = fit.ln_k.exp();
+    let mut units: Vec<(&str, f64, usize)> = Vec::new();
+    for s in &data.series {
+        let q = QUANTITIES[s.quantity];
+        let rss: f64 = s
+            .hours
+            .iter()
+            .zip(&s.values)
+            .map(|(h, y)| {
+                let m = reference.model(s.quantity, *h, k, fit.run_in).0
+                    + if q.running_in { fit.b0 } else { 0.0 };
+                (y - m).powi(2)
+            })
+            .sum();
+        match units.iter_mut().find(|u| u.0 == q.unit()) {
+            Some(u) => {
+                u.1 += rss;
+                u.2 += s.values.len();
+            }
+            None => units.push((q.unit(), rss, s.values.len())),
+        }
+    }
+    units
+        .iter()
+        .map(|&(_, rss, n)| n as f64 * (rss / n as f64).max(1e-300).ln())
+        .sum()
+}
+
+/// The fit with the running-in factor `r` too (time constant `tau` h): Brent's method (argmin)
+/// on the profile likelihood over `ln r` in `[0, ln MAX_RUNNING_IN_FACTOR]` after a scan of 41
+/// points, `ln k` (and `b0`) fitted at each `r` by [`fit_on`], `ln k` bounded by `bracket(r)`.
+fn fit_with_running_in(
+    reference: &Reference,
+    data: &Measurements,
+    fit_b0: bool,
+    tau: f64,
+    p: usize,
+    bracket: &dyn Fn(f64) -> (f64, f64),
+) -> Result<Fit> {
+    const SCAN: usize = 40;
+    let at = |ln_r: f64| -> Option<Fit> {
+        let run_in = RunningIn {
+            factor: ln_r.exp(),
+            hours: tau,
+        };
+        let (lo, hi) = bracket(run_in.factor);
+        if hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
+            return None;
+        }
+        fit_on(reference, data, fit_b0, run_in, p, (lo, hi)).ok()
+    };
+    let cost =
+        |ln_r: f64| at(ln_r).map_or(f64::INFINITY, |f| profile_likelihood(reference, data, &f));
+    let top = MAX_RUNNING_IN_FACTOR.ln();
+    let xs: Vec<f64> = (0..=SCAN).map(|i| top * i as f64 / SCAN as f64).collect();
+    let costs: Vec<f64> = xs.iter().map(|&x| cost(x)).collect();
+    let best = (0..=SCAN)
+        .min_by(|&a, &b| costs[a].total_cmp(&costs[b]))
+        .expect("a scan");
+    if !costs[best].is_finite() {
+        return Err(bad(
+            &data.path,
+            "no running-in factor in [1, 1000] gives a fit within the reference study's \
+             validity: the data do not follow the model",
+        ));
+    }
+    let (a, b) = (xs[best.saturating_sub(1)], xs[(best + 1).min(SCAN)]);
+    let x = brent(&cost, a, b)?.unwrap_or(xs[best]);
+    let x = if cost(x) <= costs[best] { x } else { xs[best] };
+    at(x).ok_or_else(|| Error::numerical("calibration", "the running-in fit lost its optimum"))
 }
 
 /// Runs one reference study and builds its interpolants.
@@ -883,12 +672,15 @@ pub fn calibrate(
     options: Options,
     progress: &dyn Fn(usize),
 ) -> Result<Calibration> {
-    data.check_for_fit(options.fit_running_in)?;
-    steady_only(model)?;
+    let fitted = options.fitted(model);
+    data.check_for_fit(fitted.b0, fitted.factor)?;
+    disc_wear_only(model)?;
     let h_max = data.max_hours();
-    let fit_b0 = options.fit_running_in;
+    let fit_b0 = fitted.b0;
     let k_cfg = model.wear.archard;
     let mut archard = k_cfg;
+    // The running-in of the current estimate (the config's to start).
+    let mut run_in = model.wear.running_in;
     let mut runs = 0;
     let mut stages_total = 0;
     let mut last_fit: Option<(Reference, Fit)> = None;
@@ -899,22 +691,51 @@ pub fn calibrate(
             (REFINE_HORIZON, REFINE_STAGES)
         };
         progress(pass + 1);
-        let reference = run_reference(model, data, archard, factor * h_max, stages)?;
+        let horizon = factor * run_in.equivalent_hours(h_max);
+        let reference = run_reference(model, data, archard, horizon, stages)?;
         runs += 1;
         stages_total += stages + 1;
-        // ln k bracket: up to the validity of the reference; down to a thousandth of the
-        // first pass' horizon, a quarter of the refining passes'.
-        let hi = (archard * reference.last_hours / h_max).ln();
+        // ln k bracket: up to the validity of the reference at the running-in factor `r`;
+        // down to a thousandth of the first pass' horizon, a quarter of the refining passes'.
+        let last = reference.last_hours;
+        let hi_at = |r: f64| {
+            let h_eq = RunningIn {
+                factor: r,
+                ..run_in
+            }
+            .equivalent_hours(h_max);
+            (archard * last / h_eq).ln()
+        };
         let lo = if pass == 0 {
             (archard / 1000.0).ln()
         } else {
             (archard / 4.0).ln()
         };
-        let fit = fit_on(&reference, data, fit_b0, lo, hi)?;
+        let fit = if fitted.factor {
+            let bracket = |r: f64| (lo, hi_at(r));
+            fit_with_running_in(
+                &reference,
+                data,
+                fit_b0,
+                run_in.hours,
+                fitted.count(),
+                &bracket,
+            )?
+        } else {
+            fit_on(
+                &reference,
+                data,
+                fit_b0,
+                run_in,
+                fitted.count(),
+                (lo, hi_at(run_in.factor)),
+            )?
+        };
+        let hi = hi_at(fit.run_in.factor);
         let k = fit.ln_k.exp();
         let at_top = hi - fit.ln_k < 1e-3;
         let settled = pass > 0 && (fit.ln_k - archard.ln()).abs() < 1.25f64.ln() && !at_top;
-        if at_top && reference.last_hours < 0.999 * factor * h_max {
+        if at_top && reference.last_hours < 0.999 * horizon {
             return Err(bad(
                 &data.path,
                 format!(
@@ -935,13 +756,14 @@ pub fn calibrate(
             ));
         }
         archard = k;
+        run_in = fit.run_in;
         last_fit = Some((reference, fit));
         if settled {
             break;
         }
     }
     let (reference, fit) = last_fit.expect("at least one pass");
-    summarise(model, data, &reference, &fit, fit_b0, runs, stages_total)
+    summarise(model, data, &reference, &fit, fitted, runs, stages_total)
 }
 
 /// Interval, residuals and curves of the final fit.
@@ -950,13 +772,17 @@ fn summarise(
     data: &Measurements,
     reference: &Reference,
     fit: &Fit,
-    fit_b0: bool,
+    fitted: Fitted,
     runs: usize,
     stages: usize,
 ) -> Result<Calibration> {
     let pts = points(data);
     let n = pts.len();
-    let p = 1 + usize::from(fit_b0);
+    let p = fitted.count();
+    let fit_b0 = fitted.b0;
+    // Columns of the Jacobian: ln k, then ln r and b0 when fitted.
+    let col_r = fitted.factor.then_some(1);
+    let col_b0 = fit_b0.then_some(1 + usize::from(fitted.factor));
     let k = fit.ln_k.exp();
     let ri = |j: usize| QUANTITIES[data.series[j].quantity].running_in;
     // Weighted Jacobian and residuals.
@@ -965,12 +791,15 @@ fn summarise(
     let mut residuals = Vec::with_capacity(n);
     for (i, &(j, h, y)) in pts.iter().enumerate() {
         let q = data.series[j].quantity;
-        let (m, dm) = reference.model(q, h, k);
+        let (m, dm, dm_dlnr) = reference.model(q, h, k, fit.run_in);
         let m = m + if ri(j) { fit.b0 } else { 0.0 };
         let w = 1.0 / fit.sigma[j];
         jac[(i, 0)] = dm * w;
-        if fit_b0 && ri(j) {
-            jac[(i, 1)] = w;
+        if let Some(c) = col_r {
+            jac[(i, c)] = dm_dlnr * w;
+        }
+        if let (Some(c), true) = (col_b0, ri(j)) {
+            jac[(i, c)] = w;
         }
         res[i] = (y - m) * w;
         residuals.push(Residual {
@@ -1005,12 +834,21 @@ fn summarise(
         lower: (fit.ln_k - t * se).exp(),
         upper: (fit.ln_k + t * se).exp(),
     };
-    let running_in = fit_b0.then(|| {
-        let sb = cov[(1, 1)].max(0.0).sqrt();
+    let running_in = col_b0.map(|c| {
+        let sb = cov[(c, c)].max(0.0).sqrt();
         Estimate {
             value: fit.b0,
             lower: fit.b0 - t * sb,
             upper: fit.b0 + t * sb,
+        }
+    });
+    let running_in_factor = col_r.map(|c| {
+        let sr = cov[(c, c)].max(0.0).sqrt();
+        let ln_r = fit.run_in.factor.ln();
+        Estimate {
+            value: fit.run_in.factor,
+            lower: (ln_r - t * sr).exp(),
+            upper: (ln_r + t * sr).exp(),
         }
     });
     let quantities = data
@@ -1045,7 +883,7 @@ fn summarise(
             values: grid
                 .iter()
                 .map(|&h| {
-                    reference.model(s.quantity, h, k).0
+                    reference.model(s.quantity, h, k, fit.run_in).0
                         + if QUANTITIES[s.quantity].running_in {
                             fit.b0
                         } else {
@@ -1066,10 +904,18 @@ fn summarise(
         config_archard_coefficient_m2_per_n: model.wear.archard,
         ln_k_standard_error: se,
         running_in_backlash_arcmin: running_in,
+        running_in_factor,
+        running_in_hours: fitted.factor.then_some(fit.run_in.hours),
         confidence: CONFIDENCE,
-        interval_method: "Gauss-Newton (Wald) covariance s^2 (J^T W J)^-1 in (ln k, b0), \
-                          residual variance from the data, Student-t with N - p degrees of \
-                          freedom; weights 1/sigma^2 per unit, estimated from the residuals",
+        interval_method: if fitted.factor {
+            "Gauss-Newton (Wald) covariance s^2 (J^T W J)^-1 in (ln k, ln r, b0), residual \
+             variance from the data, Student-t with N - p degrees of freedom; weights 1/sigma^2 \
+             per unit, estimated from the residuals"
+        } else {
+            "Gauss-Newton (Wald) covariance s^2 (J^T W J)^-1 in (ln k, b0), residual variance \
+             from the data, Student-t with N - p degrees of freedom; weights 1/sigma^2 per \
+             unit, estimated from the residuals"
+        },
         points: n,
         parameters: p,
         degrees_of_freedom: dof,
@@ -1133,7 +979,7 @@ mod tests {
         let e = Measurements::parse(p, "hours,backlash_arcmin\n1,x\n").unwrap_err();
         assert!(e.to_string().contains("not a number"), "{e}");
         let m = Measurements::parse(p, "hours,backlash_arcmin\n1,2\n").unwrap();
-        let e = m.check_for_fit(false).unwrap_err();
+        let e = m.check_for_fit(false, false).unwrap_err();
         assert!(e.to_string().contains("at least 2"), "{e}");
     }
 }
