@@ -121,6 +121,12 @@ pub struct StageSummary {
     pub backlash_max_arcmin: f64,
     /// Angular transmission error, arcmin.
     pub angular_te_arcmin: f64,
+    /// Angular TE of the new reducer (its part errors and assembly play), arcmin.
+    pub angular_te_assembly_arcmin: f64,
+    /// Angular TE's change from the crank bearings' wear, arcmin.
+    pub angular_te_bearing_wear_arcmin: f64,
+    /// Angular TE's change from the discs' wear (the remainder), arcmin.
+    pub angular_te_disc_wear_arcmin: f64,
     /// Lost motion (catalogue), arcmin.
     pub lost_motion_arcmin: f64,
     /// Hysteresis loss, arcmin.
@@ -391,6 +397,34 @@ pub const ANGULAR_TE: Quantity = Quantity {
         |s| Value::Number(s.angular_te_arcmin),
     )
 };
+/// Angular TE's part from the new reducer.
+pub const ANGULAR_TE_ASSEMBLY: Quantity = number(
+    "angular_te_assembly_arcmin",
+    "arcmin",
+    "angular TE: new reducer",
+    "Part of the angular TE that the new reducer has (its part errors, modifications and \
+     assembly play): its angular TE when new (docs/model.md section 6.5).",
+    |s| Value::Number(s.angular_te_assembly_arcmin),
+);
+/// Angular TE's change from the crank bearings' wear.
+pub const ANGULAR_TE_BEARING_WEAR: Quantity = number(
+    "angular_te_bearing_wear_arcmin",
+    "arcmin",
+    "angular TE: bearing wear",
+    "Change of the angular TE from the crank bearings' wear: the angular TE of the unworn disc \
+     on the stage's bearings minus the new reducer's (docs/model.md section 6.5).",
+    |s| Value::Number(s.angular_te_bearing_wear_arcmin),
+);
+/// Angular TE's change from the discs' wear.
+pub const ANGULAR_TE_DISC_WEAR: Quantity = number(
+    "angular_te_disc_wear_arcmin",
+    "arcmin",
+    "angular TE: disc wear",
+    "Change of the angular TE from the discs' wear: the stage's angular TE minus that of the \
+     unworn disc on the stage's bearings (docs/model.md section 6.5; a peak-to-peak value, so \
+     a part can be negative).",
+    |s| Value::Number(s.angular_te_disc_wear_arcmin),
+);
 /// Lost motion.
 pub const LOST_MOTION: Quantity = Quantity {
     accuracy: Some(|p| p.lost_motion_arcmin),
@@ -705,7 +739,7 @@ pub const DTE_RANGE: Quantity = Quantity {
 
 /// Every quantity of a stage, in the order of `summary.json`: `stages.csv`, the report's stage
 /// table, `rvlife run --all` and the Python study's columns list them all.
-pub const STAGE: [&Quantity; 41] = [
+pub const STAGE: [&Quantity; 44] = [
     &HOURS,
     &MAX_WEAR,
     &STE_MEAN,
@@ -714,6 +748,9 @@ pub const STAGE: [&Quantity; 41] = [
     &BACKLASH,
     &BACKLASH_MAX,
     &ANGULAR_TE,
+    &ANGULAR_TE_ASSEMBLY,
+    &ANGULAR_TE_BEARING_WEAR,
+    &ANGULAR_TE_DISC_WEAR,
     &LOST_MOTION,
     &LOST_MOTION_ELASTIC,
     &LOST_MOTION_ASSEMBLY,

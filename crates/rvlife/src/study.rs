@@ -326,6 +326,7 @@ pub(crate) fn analyse_profile(
         // splits the play between assembly, bearing wear and disc wear (`split_play`).
         lost_motion_elastic_arcmin: arcmin(acc.lost_motion - acc.backlash),
         lost_motion_assembly_arcmin: arcmin(acc.backlash),
+        angular_te_assembly_arcmin: arcmin(angular_te),
         crank_disc_clearance_um: red.bearings.disc.clearance * 1e6,
         crank_carrier_clearance_um: red.bearings.carrier.clearance * 1e6,
         torsional_stiffness_nm_per_arcmin: acc.torsional_stiffness / ARCMIN_PER_RAD,
@@ -390,30 +391,50 @@ pub(crate) fn worn_bearings(
     }
 }
 
-/// The new reducer's mean backlash over a mesh cycle with the disc `profile` (rad): the play the
-/// stages' lost motion is split against (docs/model.md section 6.5).
-fn mean_play(model: &Model, profile: &Profile) -> Result<f64> {
-    Ok(static_te(&model.reducer, profile, model.te.samples)?
-        .backlash_stats()
-        .mean)
+/// The no-load accuracy of a reducer with a given disc: what the stages' lost motion and
+/// angular TE are split against (docs/model.md section 6.5).
+#[derive(Debug, Clone, Copy)]
+struct NoLoad {
+    /// Mean backlash over a mesh cycle, rad.
+    play: f64,
+    /// Angular TE (over an output revolution with part errors, a mesh cycle without), rad.
+    angular_te: f64,
 }
 
-/// Splits the play of `s` (its backlash) into the new reducer's (`new_play`, rad), the
-/// bearings' wear (the unworn disc's play on the stage's bearings, `unworn_play`, rad, beyond
-/// `new_play`) and the disc's wear (the rest); the elastic part is the lost motion beyond the
-/// backlash (docs/model.md section 6.5).
-fn split_play(s: &mut StageSummary, new_play: f64, unworn_play: f64) {
-    s.lost_motion_assembly_arcmin = arcmin(new_play);
-    s.lost_motion_bearing_wear_arcmin = arcmin(unworn_play - new_play);
-    s.lost_motion_disc_wear_arcmin = s.backlash_arcmin - arcmin(unworn_play);
+/// [`NoLoad`] of `model`'s reducer with the disc `profile`.
+fn no_load(model: &Model, profile: &Profile) -> Result<NoLoad> {
+    let red = &model.reducer;
+    let ste = static_te(red, profile, model.te.samples)?;
+    let angular_te = if red.errors.is_zero() {
+        ste.stats().peak_to_peak
+    } else {
+        revolution(&StaticAnalysis::new(red, profile)?, model.te.samples)?.angular_te()
+    };
+    Ok(NoLoad {
+        play: ste.backlash_stats().mean,
+        angular_te,
+    })
+}
+
+/// Splits the play of `s` (its backlash) into the new reducer's (`new`), the bearings' wear
+/// (the unworn disc's on the stage's bearings, `unworn`, beyond `new`) and the disc's wear (the
+/// rest), the elastic part being the lost motion beyond the backlash; and its angular TE the
+/// same way (docs/model.md section 6.5).
+fn split_play(s: &mut StageSummary, new: NoLoad, unworn: NoLoad) {
+    s.lost_motion_assembly_arcmin = arcmin(new.play);
+    s.lost_motion_bearing_wear_arcmin = arcmin(unworn.play - new.play);
+    s.lost_motion_disc_wear_arcmin = s.backlash_arcmin - arcmin(unworn.play);
     s.lost_motion_elastic_arcmin = s.lost_motion_arcmin - s.backlash_arcmin;
+    s.angular_te_assembly_arcmin = arcmin(new.angular_te);
+    s.angular_te_bearing_wear_arcmin = arcmin(unworn.angular_te - new.angular_te);
+    s.angular_te_disc_wear_arcmin = s.angular_te_arcmin - arcmin(unworn.angular_te);
 }
 
 #[allow(clippy::too_many_arguments)]
 fn run_stage(
     model: &Model,
     rates: BearingWearRates,
-    new_play: f64,
+    new: NoLoad,
     i: usize,
     hours: f64,
     map: &[f64],
@@ -458,13 +479,13 @@ fn run_stage(
         }
     };
     // The unworn disc's play on this stage's bearings (the new reducer's unless they wear).
-    let unworn_play = if std::ptr::eq(model, base_model) {
-        Ok(new_play)
+    let unworn = if std::ptr::eq(model, base_model) {
+        Ok(new)
     } else {
-        mean_play(model, base_profile)
+        no_load(model, base_profile)
     };
-    match unworn_play {
-        Ok(b) => split_play(&mut a.summary, new_play, b),
+    match unworn {
+        Ok(b) => split_play(&mut a.summary, new, b),
         Err(e) => {
             failed.fetch_min(i, Ordering::Relaxed);
             return Outcome::Static(e, max);
@@ -584,7 +605,7 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
         ..model.wear_inputs()
     };
     // The new reducer's play, against which the stages' lost motion is split.
-    let new_play = mean_play(model, &base_profile)?;
+    let new = no_load(model, &base_profile)?;
     // Progress: the wear-rate evaluations so far plus the stage analyses done.
     let (wear_done, done) = (AtomicUsize::new(0), AtomicUsize::new(0));
     let report = || {
@@ -622,7 +643,7 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
                 run_stage(
                     model,
                     rates,
-                    new_play,
+                    new,
                     0,
                     0.0,
                     &[],
@@ -662,7 +683,7 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
                     let _ = slots[i].set(run_stage(
                         model,
                         rates,
-                        new_play,
+                        new,
                         i,
                         wear.hours[i],
                         &wear.maps[i],

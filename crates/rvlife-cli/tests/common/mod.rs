@@ -702,7 +702,7 @@ pub fn assert_report(out: &Path) {
             "--hide-scrollbars",
             "--enable-logging=stderr",
             "--v=0",
-            "--window-size=1200,2400",
+            "--window-size=1200,4000",
         ])
         .arg(format!("--screenshot={}", shot.display()))
         .arg(format!("file://{}", path.canonicalize().unwrap().display()))

@@ -290,6 +290,7 @@ pub(crate) fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Resu
         "te",
         "te_hours",
         "lost_motion_sources",
+        "angular_te_sources",
         "hysteresis",
         "flexible_te_hours",
         "von_mises",

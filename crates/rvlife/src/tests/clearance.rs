@@ -306,7 +306,8 @@ fn bearing_wear_follows_archard_on_the_most_loaded_roller() {
 /// (the unworn disc's play on the worn bearings beyond the new reducer's), and the disc's wear
 /// at least its part on unworn bearings: the sequential split puts the interaction in the
 /// disc's part (measured at 1250 h: 0.158 arcmin on bearings worn by 2.5 um, 0.067 on unworn
-/// ones; a worn flank lets a disc that moves in its bearings turn further).
+/// ones; a worn flank lets a disc that moves in its bearings turn further). The angular TE's
+/// split adds up to it exactly, and the bearings' wear gives it no part (below 1e-6 arcmin).
 #[test]
 fn worn_bearings_open_the_play_over_the_hours() {
     let mut cfg = Config::example();
@@ -343,6 +344,13 @@ fn worn_bearings_open_the_play_over_the_hours() {
                 + x.lost_motion_bearing_wear_arcmin
                 + x.lost_motion_disc_wear_arcmin;
             assert!((sum - x.lost_motion_arcmin).abs() < 1e-12, "{sum}");
+            let sum = x.angular_te_assembly_arcmin
+                + x.angular_te_bearing_wear_arcmin
+                + x.angular_te_disc_wear_arcmin;
+            assert!((sum - x.angular_te_arcmin).abs() < 1e-12, "{sum}");
+            // The same clearance in every crank bearing shifts the first contact by the same
+            // angle at every crank angle: play, but no angular TE.
+            assert!(x.angular_te_bearing_wear_arcmin.abs() < 1e-6, "{x:?}");
         }
         assert_eq!(a.lost_motion_bearing_wear_arcmin, 0.0);
         println!(

@@ -441,6 +441,7 @@ pub(crate) fn write_all(study: &Study, dir: &Path) -> Result<()> {
         }
     )?;
     lost_motion_sources(study, dir)?;
+    angular_te_sources(study, dir)?;
     hysteresis(study, dir)?;
     if study.stages.iter().all(|s| s.flexible.is_some()) {
         flexible_te_hours(study, dir)?;
@@ -545,6 +546,45 @@ fn lost_motion_sources(study: &Study, dir: &Path) -> Result<()> {
         draw_legend(&strip, 60, &legend)?;
         Ok(())
     })
+}
+
+/// `angular_te_sources`: each stage's angular TE and its parts against the hours (the new
+/// reducer's, the change from the crank bearings' wear and from the discs' wear; docs/model.md
+/// section 6.5). Lines, not stacked areas: a peak-to-peak value's parts can be negative.
+fn angular_te_sources(study: &Study, dir: &Path) -> Result<()> {
+    let sums: Vec<_> = study.stages.iter().map(|s| s.summary.clone()).collect();
+    let lines: [(&str, RGBColor, StageValue); 4] = [
+        ("angular TE", BLACK, |s| s.angular_te_arcmin),
+        ("new reducer's", GREEN, |s| s.angular_te_assembly_arcmin),
+        ("change from the crank bearings' wear", MAGENTA, |s| {
+            s.angular_te_bearing_wear_arcmin
+        }),
+        ("change from the discs' wear", RED, |s| {
+            s.angular_te_disc_wear_arcmin
+        }),
+    ];
+    let h_max = sums.iter().map(|s| s.hours).fold(1.0, f64::max);
+    let (lo, hi) = series_range(
+        sums.iter()
+            .flat_map(|s| lines.iter().map(move |l| (l.2)(s))),
+    );
+    figure!(
+        dir,
+        "angular_te_sources",
+        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+            let (plot, strip) = with_legend_strip(root);
+            let mut chart = hours_axes(
+                &plot,
+                "Where the angular TE comes from",
+                "angular TE and its parts (arcmin)",
+                h_max,
+                (lo.min(0.0), hi.max(1e-3)),
+            )?;
+            let legend = stage_lines(&mut chart, &sums, &lines)?;
+            draw_legend(&strip, 60, &legend)?;
+            Ok(())
+        }
+    )
 }
 
 /// Draws one labelled line with markers per `(label, colour, value)` against the stages' hours.
