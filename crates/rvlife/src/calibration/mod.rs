@@ -411,20 +411,31 @@ fn minimise(
     lo: f64,
     hi: f64,
 ) -> Result<f64> {
-    const SCAN: usize = 60;
     let cost = |x: f64| profile_cost(reference, data, sigma, fit_b0, run_in, x).1;
-    let xs: Vec<f64> = (0..=SCAN)
-        .map(|i| lo + (hi - lo) * i as f64 / SCAN as f64)
+    Ok(scan_then_brent(&cost, lo, hi, 60)?.0)
+}
+
+/// Minimises `cost` over `[lo, hi]`: a scan of `n + 1` evenly spaced points, then Brent's
+/// method between the neighbours of the best ([`brent`]); the better of the two and its cost
+/// (the scan's best when no point has a finite cost).
+fn scan_then_brent(cost: &dyn Fn(f64) -> f64, lo: f64, hi: f64, n: usize) -> Result<(f64, f64)> {
+    let xs: Vec<f64> = (0..=n)
+        .map(|i| lo + (hi - lo) * i as f64 / n as f64)
         .collect();
-    let best = (0..=SCAN)
-        .min_by(|&a, &b| cost(xs[a]).total_cmp(&cost(xs[b])))
+    let costs: Vec<f64> = xs.iter().map(|&x| cost(x)).collect();
+    let best = (0..=n)
+        .min_by(|&a, &b| costs[a].total_cmp(&costs[b]))
         .expect("a scan");
-    let (a, b) = (xs[best.saturating_sub(1)], xs[(best + 1).min(SCAN)]);
-    let x = brent(&cost, a, b)?.unwrap_or(xs[best]);
-    Ok(if cost(x) <= cost(xs[best]) {
-        x
+    if !costs[best].is_finite() {
+        return Ok((xs[best], costs[best]));
+    }
+    let (a, b) = (xs[best.saturating_sub(1)], xs[(best + 1).min(n)]);
+    let x = brent(cost, a, b)?.unwrap_or(xs[best]);
+    let c = cost(x);
+    Ok(if c <= costs[best] {
+        (x, c)
     } else {
-        xs[best]
+        (xs[best], costs[best])
     })
 }
 
@@ -578,7 +589,6 @@ fn fit_with_running_in(
     p: usize,
     bracket: &dyn Fn(f64) -> (f64, f64),
 ) -> Result<Fit> {
-    const SCAN: usize = 40;
     let at = |ln_r: f64| -> Option<Fit> {
         let run_in = RunningIn {
             factor: ln_r.exp(),
@@ -592,22 +602,14 @@ fn fit_with_running_in(
     };
     let cost =
         |ln_r: f64| at(ln_r).map_or(f64::INFINITY, |f| profile_likelihood(reference, data, &f));
-    let top = MAX_RUNNING_IN_FACTOR.ln();
-    let xs: Vec<f64> = (0..=SCAN).map(|i| top * i as f64 / SCAN as f64).collect();
-    let costs: Vec<f64> = xs.iter().map(|&x| cost(x)).collect();
-    let best = (0..=SCAN)
-        .min_by(|&a, &b| costs[a].total_cmp(&costs[b]))
-        .expect("a scan");
-    if !costs[best].is_finite() {
+    let (x, c) = scan_then_brent(&cost, 0.0, MAX_RUNNING_IN_FACTOR.ln(), 40)?;
+    if !c.is_finite() {
         return Err(bad(
             &data.path,
             "no running-in factor in [1, 1000] gives a fit within the reference study's \
              validity: the data do not follow the model",
         ));
     }
-    let (a, b) = (xs[best.saturating_sub(1)], xs[(best + 1).min(SCAN)]);
-    let x = brent(&cost, a, b)?.unwrap_or(xs[best]);
-    let x = if cost(x) <= costs[best] { x } else { xs[best] };
     at(x).ok_or_else(|| Error::numerical("calibration", "the running-in fit lost its optimum"))
 }
 
