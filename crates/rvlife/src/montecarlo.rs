@@ -130,6 +130,10 @@ pub struct SharedWear {
     pub hours: Vec<f64>,
     /// Wear maps (None: unworn).
     pub maps: Vec<Option<WearMap>>,
+    /// The pins' wear maps at the same hours, m (empty: unworn; docs/model.md section 7.11).
+    pub pin_maps: Vec<Vec<f64>>,
+    /// Clearance growth of the crank bearings (docs/model.md section 7.9).
+    pub bearing_rates: crate::wear::BearingWearRates,
     /// Index in `hours` of each stage.
     pub stage_index: Vec<usize>,
     /// Index in `hours` of each point beyond the last stage where the accuracy life is looked
@@ -183,7 +187,12 @@ pub(crate) fn shared_wear(model: &Model) -> Result<SharedWear> {
     let (mut hours, stage_index, mut extension_index) = dense_hours(model);
     let mut m = model.clone();
     m.wear.stage_hours = hours.clone();
-    let hist = crate::wear::integrate(&m.wear_inputs(), &|_, _| {})?;
+    let bearing_rates = crate::config::bearing_rates(model)?;
+    let inputs = crate::wear::WearInputs {
+        bearing_rates,
+        ..m.wear_inputs()
+    };
+    let hist = crate::wear::integrate(&inputs, &|_, _| {})?;
     let last_stage = stage_index.last().copied().unwrap_or(0);
     if let Some(l) = &hist.limit {
         if hist.maps.len() <= last_stage {
@@ -209,6 +218,8 @@ pub(crate) fn shared_wear(model: &Model) -> Result<SharedWear> {
     Ok(SharedWear {
         hours,
         maps,
+        pin_maps: hist.pin_maps.clone(),
+        bearing_rates,
         stage_index,
         extension_index,
     })
@@ -321,7 +332,11 @@ pub(crate) fn run_sample(
         },
     };
     let per_cycle = plan.samples_per_mesh_cycle;
-    let at = |i: usize| accuracy_at(&m, wear.maps[i].clone(), wear.hours[i], per_cycle);
+    let at = |i: usize| {
+        let pins = wear.pin_maps.get(i).map_or(&[][..], |p| &p[..]);
+        let worn = crate::config::worn_parts(&m, wear.bearing_rates, wear.hours[i], pins);
+        accuracy_at(&worn, wear.maps[i].clone(), wear.hours[i], per_cycle)
+    };
     let mut points = Vec::new();
     let mut status = "ok".to_string();
     for &i in &wear.stage_index {

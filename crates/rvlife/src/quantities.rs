@@ -125,6 +125,8 @@ pub struct StageSummary {
     pub angular_te_assembly_arcmin: f64,
     /// Angular TE's change from the crank bearings' wear, arcmin.
     pub angular_te_bearing_wear_arcmin: f64,
+    /// Angular TE's change from the pins' wear, arcmin.
+    pub angular_te_pin_wear_arcmin: f64,
     /// Angular TE's change from the discs' wear (the remainder), arcmin.
     pub angular_te_disc_wear_arcmin: f64,
     /// Lost motion (catalogue), arcmin.
@@ -151,8 +153,12 @@ pub struct StageSummary {
     pub lost_motion_assembly_arcmin: f64,
     /// Lost motion's part from the crank bearings' wear, arcmin.
     pub lost_motion_bearing_wear_arcmin: f64,
+    /// Lost motion's part from the pins' wear, arcmin.
+    pub lost_motion_pin_wear_arcmin: f64,
     /// Lost motion's part from the discs' wear (the remainder), arcmin.
     pub lost_motion_disc_wear_arcmin: f64,
+    /// Largest wear depth of the pins, um.
+    pub pin_max_wear_um: f64,
     /// Radial internal clearance of each crank-disc bearing at this stage (assembly plus
     /// wear), um.
     pub crank_disc_clearance_um: f64,
@@ -415,13 +421,23 @@ pub const ANGULAR_TE_BEARING_WEAR: Quantity = number(
      on the stage's bearings minus the new reducer's (docs/model.md section 6.5).",
     |s| Value::Number(s.angular_te_bearing_wear_arcmin),
 );
+/// Angular TE's change from the pins' wear.
+pub const ANGULAR_TE_PIN_WEAR: Quantity = number(
+    "angular_te_pin_wear_arcmin",
+    "arcmin",
+    "angular TE: pin wear",
+    "Change of the angular TE from the pins' wear: the angular TE of the unworn disc on the \
+     stage's bearings and pins minus that on the stage's bearings and unworn pins \
+     (docs/model.md section 6.5).",
+    |s| Value::Number(s.angular_te_pin_wear_arcmin),
+);
 /// Angular TE's change from the discs' wear.
 pub const ANGULAR_TE_DISC_WEAR: Quantity = number(
     "angular_te_disc_wear_arcmin",
     "arcmin",
     "angular TE: disc wear",
     "Change of the angular TE from the discs' wear: the stage's angular TE minus that of the \
-     unworn disc on the stage's bearings (docs/model.md section 6.5; a peak-to-peak value, so \
+     unworn disc on the stage's bearings and pins (docs/model.md section 6.5; a peak-to-peak value, so \
      a part can be negative).",
     |s| Value::Number(s.angular_te_disc_wear_arcmin),
 );
@@ -535,13 +551,32 @@ pub const LOST_MOTION_BEARING_WEAR: Quantity = number(
      the stage's bearings minus the new reducer's (docs/model.md section 6.5).",
     |s| Value::Number(s.lost_motion_bearing_wear_arcmin),
 );
+/// Lost motion's part from the pins' wear.
+pub const LOST_MOTION_PIN_WEAR: Quantity = number(
+    "lost_motion_pin_wear_arcmin",
+    "arcmin",
+    "lost motion: pin wear",
+    "Part of the lost motion from the pins' wear: the backlash of the unworn disc on the \
+     stage's bearings and pins minus that on the stage's bearings and unworn pins \
+     (docs/model.md section 6.5).",
+    |s| Value::Number(s.lost_motion_pin_wear_arcmin),
+);
+/// Largest wear depth of the pins.
+pub const PIN_MAX_WEAR: Quantity = number(
+    "pin_max_wear_um",
+    "um",
+    "pin max wear",
+    "Largest wear depth of the pins around their circumference (docs/model.md section 7.11; \
+     0 when wear.pin_archard_coefficient_mm3_per_n_m is 0).",
+    |s| Value::Number(s.pin_max_wear_um),
+);
 /// Lost motion's part from the discs' wear.
 pub const LOST_MOTION_DISC_WEAR: Quantity = number(
     "lost_motion_disc_wear_arcmin",
     "arcmin",
     "lost motion: disc wear",
     "Part of the lost motion from the discs' wear: the stage's backlash minus that of the \
-     unworn disc on the stage's bearings (docs/model.md section 6.5).",
+     unworn disc on the stage's bearings and pins (docs/model.md section 6.5).",
     |s| Value::Number(s.lost_motion_disc_wear_arcmin),
 );
 /// Clearance of the crank-disc bearings.
@@ -739,9 +774,10 @@ pub const DTE_RANGE: Quantity = Quantity {
 
 /// Every quantity of a stage, in the order of `summary.json`: `stages.csv`, the report's stage
 /// table, `rvlife run --all` and the Python study's columns list them all.
-pub const STAGE: [&Quantity; 44] = [
+pub const STAGE: [&Quantity; 47] = [
     &HOURS,
     &MAX_WEAR,
+    &PIN_MAX_WEAR,
     &STE_MEAN,
     &STE_PEAK_TO_PEAK,
     &STE_REVERSE_MEAN,
@@ -750,11 +786,13 @@ pub const STAGE: [&Quantity; 44] = [
     &ANGULAR_TE,
     &ANGULAR_TE_ASSEMBLY,
     &ANGULAR_TE_BEARING_WEAR,
+    &ANGULAR_TE_PIN_WEAR,
     &ANGULAR_TE_DISC_WEAR,
     &LOST_MOTION,
     &LOST_MOTION_ELASTIC,
     &LOST_MOTION_ASSEMBLY,
     &LOST_MOTION_BEARING_WEAR,
+    &LOST_MOTION_PIN_WEAR,
     &LOST_MOTION_DISC_WEAR,
     &HYSTERESIS_LOSS,
     &LOADED_TE_MEAN,

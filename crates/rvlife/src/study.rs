@@ -29,7 +29,7 @@ use crate::te::{
     LoadedTe, StaticTe, TwistTable, HYSTERESIS_LEVELS,
 };
 use crate::units::ARCMIN_PER_RAD;
-use crate::wear::{bearing_wear_rates, BearingWearRates};
+use crate::wear::BearingWearRates;
 use crate::wear::{
     integrate, integrate_on_schedule, ValidityLimit, WearHistory, WearInputs, WearModelKind,
 };
@@ -327,6 +327,7 @@ pub(crate) fn analyse_profile(
         lost_motion_elastic_arcmin: arcmin(acc.lost_motion - acc.backlash),
         lost_motion_assembly_arcmin: arcmin(acc.backlash),
         angular_te_assembly_arcmin: arcmin(angular_te),
+        pin_max_wear_um: red.pin_wear.max_depth() * 1e6,
         crank_disc_clearance_um: red.bearings.disc.clearance * 1e6,
         crank_carrier_clearance_um: red.bearings.carrier.clearance * 1e6,
         torsional_stiffness_nm_per_arcmin: acc.torsional_stiffness / ARCMIN_PER_RAD,
@@ -358,39 +359,6 @@ enum Outcome {
     Done(Box<(Stage, Result<StageRow>)>),
 }
 
-/// Stage `i` of a study at `hours` with the wear depth `map` (m per grid point; empty or zero:
-/// unworn): the worn profile (the uniform one of the paper's wear model), its static analysis,
-/// then its dynamics and flexible analysis ([`dynamics_and_flexible`]). Skipped when a stage
-/// before it has failed its static analysis (`failed`: the lowest such index, which a failure
-/// here lowers); `tick` after each analysis.
-#[allow(clippy::too_many_arguments)]
-/// The crank bearings' clearance growth of `model`, m/h (zero unless
-/// `wear.bearing_archard_coefficient_mm3_per_n_m` is set; docs/model.md section 7.9).
-///
-/// # Errors
-/// Those of [`bearing_wear_rates`].
-pub(crate) fn bearing_rates(model: &Model) -> Result<BearingWearRates> {
-    if model.wear.bearings.archard <= 0.0 {
-        return Ok(BearingWearRates::default());
-    }
-    bearing_wear_rates(&model.wear_inputs(), &model.profile()?, model.te.samples)
-}
-
-/// `model` with its crank bearings worn for `hours` at `rates` (itself when they do not wear).
-pub(crate) fn worn_bearings(
-    model: &Model,
-    rates: BearingWearRates,
-    hours: f64,
-) -> std::borrow::Cow<'_, Model> {
-    if rates == BearingWearRates::default() || hours <= 0.0 {
-        std::borrow::Cow::Borrowed(model)
-    } else {
-        std::borrow::Cow::Owned(
-            model.with_grown_clearances(rates.disc * hours, rates.carrier * hours),
-        )
-    }
-}
-
 /// The no-load accuracy of a reducer with a given disc: what the stages' lost motion and
 /// angular TE are split against (docs/model.md section 6.5).
 #[derive(Debug, Clone, Copy)]
@@ -417,19 +385,27 @@ fn no_load(model: &Model, profile: &Profile) -> Result<NoLoad> {
 }
 
 /// Splits the play of `s` (its backlash) into the new reducer's (`new`), the bearings' wear
-/// (the unworn disc's on the stage's bearings, `unworn`, beyond `new`) and the disc's wear (the
-/// rest), the elastic part being the lost motion beyond the backlash; and its angular TE the
-/// same way (docs/model.md section 6.5).
-fn split_play(s: &mut StageSummary, new: NoLoad, unworn: NoLoad) {
+/// (the unworn disc's on the stage's bearings and unworn pins, `bearings`, beyond `new`), the
+/// pins' wear (the unworn disc's on the stage's bearings and pins, `parts`, beyond
+/// `bearings`) and the disc's wear (the rest), the elastic part being the lost motion beyond
+/// the backlash; and its angular TE the same way (docs/model.md section 6.5).
+fn split_play(s: &mut StageSummary, new: NoLoad, bearings: NoLoad, parts: NoLoad) {
     s.lost_motion_assembly_arcmin = arcmin(new.play);
-    s.lost_motion_bearing_wear_arcmin = arcmin(unworn.play - new.play);
-    s.lost_motion_disc_wear_arcmin = s.backlash_arcmin - arcmin(unworn.play);
+    s.lost_motion_bearing_wear_arcmin = arcmin(bearings.play - new.play);
+    s.lost_motion_pin_wear_arcmin = arcmin(parts.play - bearings.play);
+    s.lost_motion_disc_wear_arcmin = s.backlash_arcmin - arcmin(parts.play);
     s.lost_motion_elastic_arcmin = s.lost_motion_arcmin - s.backlash_arcmin;
     s.angular_te_assembly_arcmin = arcmin(new.angular_te);
-    s.angular_te_bearing_wear_arcmin = arcmin(unworn.angular_te - new.angular_te);
-    s.angular_te_disc_wear_arcmin = s.angular_te_arcmin - arcmin(unworn.angular_te);
+    s.angular_te_bearing_wear_arcmin = arcmin(bearings.angular_te - new.angular_te);
+    s.angular_te_pin_wear_arcmin = arcmin(parts.angular_te - bearings.angular_te);
+    s.angular_te_disc_wear_arcmin = s.angular_te_arcmin - arcmin(parts.angular_te);
 }
 
+/// Stage `i` of a study at `hours` with the wear depth `map` (m per grid point; empty or zero:
+/// unworn) and the pins' wear `pin_map` (m round the pin; empty or zero: unworn): the worn profile (the uniform one of the paper's wear model), its static analysis,
+/// then its dynamics and flexible analysis ([`dynamics_and_flexible`]). Skipped when a stage
+/// before it has failed its static analysis (`failed`: the lowest such index, which a failure
+/// here lowers); `tick` after each analysis.
 #[allow(clippy::too_many_arguments)]
 fn run_stage(
     model: &Model,
@@ -438,6 +414,7 @@ fn run_stage(
     i: usize,
     hours: f64,
     map: &[f64],
+    pin_map: &[f64],
     base: Option<&DiscSet>,
     base_profile: &Profile,
     failed: &AtomicUsize,
@@ -446,9 +423,10 @@ fn run_stage(
     if i > failed.load(Ordering::Relaxed) {
         return Outcome::Skipped;
     }
-    // The crank bearings as worn by this stage's hours (their rates are constant in time).
+    // The crank bearings as worn by this stage's hours (their rates are constant in time),
+    // and the pins as worn by then.
     let base_model = model;
-    let staged = worn_bearings(model, rates, hours);
+    let staged = crate::config::worn_parts(model, rates, hours, pin_map);
     let model: &Model = &staged;
     let max = map.iter().copied().fold(0.0, f64::max);
     let maps = (|| -> Result<(Option<WearMap>, Option<WearMap>)> {
@@ -478,14 +456,27 @@ fn run_stage(
             return Outcome::Static(e, max);
         }
     };
-    // The unworn disc's play on this stage's bearings (the new reducer's unless they wear).
-    let unworn = if std::ptr::eq(model, base_model) {
-        Ok(new)
-    } else {
-        no_load(model, base_profile)
+    // The unworn disc's play on this stage's bearings, then on its bearings and pins (the new
+    // reducer's unless they wear).
+    let unworn = || -> Result<(NoLoad, NoLoad)> {
+        if std::ptr::eq(model, base_model) {
+            return Ok((new, new));
+        }
+        let bearings_only = crate::config::worn_parts(base_model, rates, hours, &[]);
+        let bearings = if std::ptr::eq(&*bearings_only, base_model) {
+            new
+        } else {
+            no_load(&bearings_only, base_profile)?
+        };
+        let parts = if model.reducer.pin_wear.is_zero() {
+            bearings
+        } else {
+            no_load(model, base_profile)?
+        };
+        Ok((bearings, parts))
     };
-    match unworn {
-        Ok(b) => split_play(&mut a.summary, new, b),
+    match unworn() {
+        Ok((b, p)) => split_play(&mut a.summary, new, b, p),
         Err(e) => {
             failed.fetch_min(i, Ordering::Relaxed);
             return Outcome::Static(e, max);
@@ -599,7 +590,7 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
     let base_profile = model.profile()?;
     // The crank bearings' clearance growth, from the new reducer's loads (docs/model.md
     // section 7.9).
-    let rates = bearing_rates(model)?;
+    let rates = crate::config::bearing_rates(model)?;
     let wear_inputs = WearInputs {
         bearing_rates: rates,
         ..model.wear_inputs()
@@ -647,6 +638,7 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
                     0,
                     0.0,
                     &[],
+                    &[],
                     base.as_ref(),
                     &base_profile,
                     &failed,
@@ -687,6 +679,7 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
                         i,
                         wear.hours[i],
                         &wear.maps[i],
+                        &wear.pin_maps[i],
                         base.as_ref(),
                         &base_profile,
                         &failed,
@@ -849,7 +842,7 @@ pub(crate) fn study_life(
 ) -> Result<Option<crate::life::AccuracyLife>> {
     let points: Vec<AccuracyPoint> = stages.iter().map(AccuracyPoint::of).collect();
     let last = stages.last().map_or(0.0, |s| s.hours);
-    let rates = bearing_rates(model)?;
+    let rates = crate::config::bearing_rates(model)?;
     crate::life::accuracy_life(&model.life, &points, |h| {
         let mut w = model.wear.clone();
         w.stage_hours = vec![h];
@@ -878,7 +871,12 @@ pub(crate) fn study_life(
             WearModelKind::Flodin => Some(WearMap::new(map.clone())?),
         };
         let profile = model.cycloid.profile(wear)?;
-        let a = analyse_profile(&worn_bearings(model, rates, h), &profile, h)?;
+        let pins = hist.pin_maps.first().map_or(&[][..], |p| &p[..]);
+        let a = analyse_profile(
+            &crate::config::worn_parts(model, rates, h, pins),
+            &profile,
+            h,
+        )?;
         Ok(AccuracyPoint::of(&a.summary))
     })
 }

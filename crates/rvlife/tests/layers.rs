@@ -559,8 +559,9 @@ fn citations_of_the_model_document_exist_and_stay_in_the_repository() {
             concat!("/wo", "rk/"),
             concat!("shared", "/paper"),
         ];
+        let lower = text.to_lowercase();
         for o in outside {
-            if text.contains(o) {
+            if lower.contains(o) {
                 problems.push(format!(
                     "{}: cites `{o}`, outside the repository",
                     f.display()

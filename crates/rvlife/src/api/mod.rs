@@ -83,22 +83,6 @@ pub(crate) fn support_name(model: &Model) -> &'static str {
     }
 }
 
-/// `model` as a command at `wear` sees it: with its crank bearings worn for `wear.hours` when
-/// `wear.bearing_archard_coefficient_mm3_per_n_m` is set (docs/model.md section 7.9), else
-/// itself.
-///
-/// # Errors
-/// Those of the bearings' wear rates (a static analysis of the new reducer).
-pub fn model_at(model: &Model, wear: Wear) -> Result<std::borrow::Cow<'_, Model>> {
-    match wear.hours {
-        Some(h) if wear.wear_um.is_none() && model.wear.bearings.archard > 0.0 => {
-            let rates = crate::study::bearing_rates(model)?;
-            Ok(crate::study::worn_bearings(model, rates, h))
-        }
-        _ => Ok(std::borrow::Cow::Borrowed(model)),
-    }
-}
-
 /// The profile of a command: nominal (`nominal`: no modification, no measured profile), worn
 /// uniformly by `wear.wear_um` (um, the paper's conservative model), or by the config's wear
 /// model after `wear.hours` (h; `progress(done, total)` reports the wear integration), or the
@@ -115,6 +99,26 @@ pub fn profile_for(
     spelling: Spelling,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Profile> {
+    worn_for(model, wear, nominal, spelling, progress).map(|w| w.1)
+}
+
+/// The reducer and profile of a command at `wear` ([`profile_for`]'s profile): after
+/// `wear.hours` the model has its crank bearings worn when
+/// `wear.bearing_archard_coefficient_mm3_per_n_m` is set (docs/model.md section 7.9) and its
+/// pins worn when `wear.pin_archard_coefficient_mm3_per_n_m` is (section 7.11); otherwise it is
+/// `model` itself.
+///
+/// # Errors
+/// As [`profile_for`]; those of the bearings' wear rates (a static analysis of the new
+/// reducer).
+pub fn worn_for<'a>(
+    model: &'a Model,
+    wear: Wear,
+    nominal: bool,
+    spelling: Spelling,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<(std::borrow::Cow<'a, Model>, Profile)> {
+    let base = model;
     let mut model = model.clone();
     if nominal {
         model.cycloid = model.cycloid.nominal();
@@ -135,6 +139,7 @@ pub fn profile_for(
                 .then(|| WearMap::uniform(n, w * 1e-6))
                 .transpose()
                 .and_then(|m| model.cycloid.profile(m))
+                .map(|p| (std::borrow::Cow::Borrowed(base), p))
                 .map_err(|e| match e {
                     Error::Invalid { allowed, .. } => {
                         Error::invalid(spelling.name("wear_um"), w, allowed)
@@ -163,9 +168,10 @@ pub fn profile_for(
             }
             let mut w = model.wear.clone();
             w.stage_hours = vec![h];
+            let rates = crate::config::bearing_rates(&model)?;
             let inputs = crate::wear::WearInputs {
                 wear: &w,
-                bearing_rates: crate::study::bearing_rates(&model)?,
+                bearing_rates: rates,
                 ..model.wear_inputs()
             };
             let hist = crate::wear::integrate(&inputs, progress)?;
@@ -180,16 +186,22 @@ pub fn profile_for(
                     ),
                 ));
             }
+            let pins = hist.pin_maps.first().cloned().unwrap_or_default();
             let map = hist.maps.into_iter().next().unwrap_or_default();
-            if map.iter().any(|&x| x > 0.0) {
+            let profile = model.cycloid.profile(if map.iter().any(|&x| x > 0.0) {
                 Some(WearMap::new(map)?)
             } else {
                 None
-            }
+            })?;
+            let staged = crate::config::worn_parts(base, rates, h, &pins);
+            return Ok((staged, profile));
         }
         (None, None) => None,
     };
-    model.cycloid.profile(map)
+    Ok((
+        std::borrow::Cow::Borrowed(base),
+        model.cycloid.profile(map)?,
+    ))
 }
 
 /// Static equilibrium of the reducer at crank angle `crank_deg` (deg) under output torque
@@ -213,8 +225,7 @@ pub fn contact(
     finite(spelling, "crank_deg", crank_deg)?;
     finite(spelling, "torque_nm", torque_nm)?;
     model.check_torque(&spelling.name("torque_nm"), torque_nm)?;
-    let profile = profile_for(model, wear, false, spelling, progress)?;
-    let staged = model_at(model, wear)?;
+    let (staged, profile) = worn_for(model, wear, false, spelling, progress)?;
     let model: &Model = &staged;
     let sa = StaticAnalysis::new(&model.reducer, &profile)?;
     let sol = sa.solve(crank_deg.to_radians(), torque_nm)?;
@@ -278,8 +289,7 @@ pub fn te(
         finite(spelling, "torque_nm", t)?;
         model.check_torque(&spelling.name("torque_nm"), t)?;
     }
-    let profile = profile_for(model, wear, false, spelling, progress)?;
-    let staged = model_at(model, wear)?;
+    let (staged, profile) = worn_for(model, wear, false, spelling, progress)?;
     let model: &Model = &staged;
     let red = &model.reducer;
     let phis = mesh_cycle_angles(red.geometry.pins, model.te.samples);
@@ -377,8 +387,7 @@ pub fn hysteresis_curve(
             "must be a whole number from 1 to 1000",
         ));
     }
-    let profile = profile_for(model, wear, false, spelling, progress)?;
-    let staged = model_at(model, wear)?;
+    let (staged, profile) = worn_for(model, wear, false, spelling, progress)?;
     let model: &Model = &staged;
     let red = &model.reducer;
     let mut phis = mesh_cycle_angles(red.geometry.pins, model.te.samples);
@@ -554,8 +563,7 @@ pub fn dynamics(
     spelling: Spelling,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<crate::dynamics::DynamicsResult> {
-    let profile = profile_for(model, wear, false, spelling, progress)?;
-    let staged = model_at(model, wear)?;
+    let (staged, profile) = worn_for(model, wear, false, spelling, progress)?;
     let model: &Model = &staged;
     crate::dynamics::simulate_discs(
         &profile,

@@ -166,6 +166,15 @@ fn disc_wear_only(model: &Model) -> Result<()> {
              both coefficients is not built yet)",
         ));
     }
+    let kp = model.wear.pin_archard;
+    if kp > 0.0 {
+        return Err(Error::invalid(
+            "wear.pin_archard_coefficient_mm3_per_n_m",
+            kp * 1e9,
+            "must be 0 for calibrate --measured: the fit is of the disc's coefficient alone \
+             (fitting the pins' with it is not built yet)",
+        ));
+    }
     Ok(())
 }
 
@@ -185,7 +194,7 @@ pub fn check_budget(model: &Model, data: &Measurements) -> Result<()> {
         crate::study::check_work(&m)?;
         let inputs = m.wear_inputs();
         let rate = crate::wear::wear_rate(&m.profile()?, &inputs)?;
-        let max_rate = rate.iter().copied().fold(0.0, f64::max);
+        let max_rate = rate.disc.iter().copied().fold(0.0, f64::max);
         crate::wear::check_updates(&inputs, horizon, max_rate)
     };
     check().map_err(|e| budget_error(&data.path, h_max, horizon, e))

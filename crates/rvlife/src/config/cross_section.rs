@@ -40,6 +40,7 @@ pub(super) fn reducer(
         errors,
         drive: parts.drive,
         disc_phases: parts.disc_phases.clone(),
+        pin_wear: Default::default(),
     };
     reducer.contact_band_force = match contact.band_force {
         Some(f) => f,

@@ -297,3 +297,40 @@ impl Config {
         ))
     }
 }
+
+/// `model` with its crank bearings worn for `hours` at `rates` and its pins worn by the map
+/// `pin_map` (m around the pin, [`crate::reducer::PinWear`]; the static analysis sees it);
+/// itself when neither wears.
+pub(crate) fn worn_parts<'a>(
+    model: &'a Model,
+    rates: crate::wear::BearingWearRates,
+    hours: f64,
+    pin_map: &[f64],
+) -> std::borrow::Cow<'a, Model> {
+    let bearings = rates != crate::wear::BearingWearRates::default() && hours > 0.0;
+    let pins = pin_map.iter().any(|&d| d > 0.0);
+    if !bearings && !pins {
+        return std::borrow::Cow::Borrowed(model);
+    }
+    let mut m = if bearings {
+        model.with_grown_clearances(rates.disc * hours, rates.carrier * hours)
+    } else {
+        model.clone()
+    };
+    if pins {
+        m.reducer.pin_wear = crate::reducer::PinWear::new(pin_map.to_vec());
+    }
+    std::borrow::Cow::Owned(m)
+}
+
+/// The crank bearings' clearance growth of `model`, m/h (zero unless
+/// `wear.bearing_archard_coefficient_mm3_per_n_m` is set; docs/model.md section 7.9).
+///
+/// # Errors
+/// Those of [`crate::wear::bearing_wear_rates`].
+pub(crate) fn bearing_rates(model: &Model) -> Result<crate::wear::BearingWearRates> {
+    if model.wear.bearings.archard <= 0.0 {
+        return Ok(crate::wear::BearingWearRates::default());
+    }
+    crate::wear::bearing_wear_rates(&model.wear_inputs(), &model.profile()?, model.te.samples)
+}

@@ -51,6 +51,11 @@ pub struct WearConfig {
     /// mm^3/(N m).
     #[serde(default)]
     pub bearing_archard_coefficient_mm3_per_n_m: f64,
+    /// Archard coefficient of the pins' side of the disc-pin contacts, mm^3/(N m) (default 0:
+    /// the pins do not wear; docs/model.md section 7.11; `flodin` model only). Range:
+    /// [0, 1e6] mm^3/(N m).
+    #[serde(default)]
+    pub pin_archard_coefficient_mm3_per_n_m: f64,
     /// Slip ratio of the bearings' rolling contacts, sliding per rolled distance (default
     /// 0.02: an **estimate** for lightly loaded roller bearings). Range: [0, 1].
     #[serde(default = "default_slip")]
@@ -198,6 +203,18 @@ impl WearConfig {
                 Range::closed(0.0, 1.0, ""),
             )?,
         };
+        let pin_archard = check(
+            "wear.pin_archard_coefficient_mm3_per_n_m",
+            w.pin_archard_coefficient_mm3_per_n_m,
+            Range::non_negative(1e6, "mm^3/(N m)"),
+        )? * 1e-9;
+        if pin_archard > 0.0 && wear_model == WearModelKind::Paper {
+            return Err(Error::invalid(
+                "wear.pin_archard_coefficient_mm3_per_n_m",
+                w.pin_archard_coefficient_mm3_per_n_m,
+                "must be 0 with wear.model = \"paper\" (the paper's model wears the disc only)",
+            ));
+        }
         let running_in = RunningIn {
             factor: check(
                 "wear.running_in_factor",
@@ -221,6 +238,7 @@ impl WearConfig {
             max_wear_step,
             crank_steps: wear_steps,
             pin_rolling_fraction,
+            pin_archard,
             overlap_ratio,
         })
     }

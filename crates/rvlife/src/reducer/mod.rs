@@ -4,7 +4,7 @@
 //! on crank-carrier bearings, the output carrier, two cycloid discs on the cranks' eccentrics
 //! (crank-disc bearings), 180 degrees apart, the sun-planet meshes, and the disc-pin contacts
 //! with the line-contact law of [`crate::contact::ContactModel`] on gaps measured from the
-//! actual (modified, worn) profile. Physics-notes sections 1, 6 and 9.
+//! actual (modified, worn) profile. docs/model.md sections 1, 5 and 8.
 //!
 //! - `statics`: static equilibrium of the model under an output torque with the input locked
 //!   (the catalogue measuring set-up): loaded TE, load sharing between pins and between the two
@@ -24,9 +24,11 @@
 
 mod bearing;
 pub mod errors;
+mod pin_wear;
 
 pub(crate) use bearing::{BearingEval, Frozen};
 pub use bearing::{BearingLaw, RadialBearing, DEAD_BAND_STIFFNESS};
+pub use pin_wear::{angle_on_pin, contact_direction, PinWear, PIN_MAP_POINTS};
 
 use std::f64::consts::PI;
 
@@ -192,6 +194,9 @@ pub struct Reducer {
     pub drive: Drive,
     /// Eccentric phase of each disc, rad (RV: 0 and pi; single-stage: 1 to 3 discs).
     pub disc_phases: Vec<f64>,
+    /// The pins' wear (docs/model.md section 7.11), seen by the static analysis; empty for
+    /// unworn pins. The multibody model and the flexible disc use unworn pins.
+    pub pin_wear: PinWear,
 }
 
 impl Reducer {

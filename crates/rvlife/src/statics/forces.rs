@@ -157,7 +157,13 @@ impl<'a> StaticAnalysis<'a> {
             guess
         };
         let (ge, t) = self.field.eval(&q, start);
-        let gap = ge.gap + offset + self.pin_gap[j];
+        // The pin's wear where the disc meets it, at the kinematic contact (a constant of the
+        // solve: the tangent stays exact).
+        let worn = self
+            .red
+            .pin_wear
+            .gap_at(&self.red.geometry, j, pose.crank_angle);
+        let gap = ge.gap + offset + self.pin_gap[j] + worn;
         let (force, stiffness) = if gap < 0.0 {
             self.red
                 .contact

@@ -11,4 +11,5 @@ mod flexible_dynamics;
 mod life;
 mod measured;
 mod physics;
+mod pin_wear;
 mod single_stage;

@@ -67,7 +67,7 @@ fn steel() -> Materials {
     }
 }
 
-/// Physics-notes section 2: the unmodified profile touches every pin at every crank angle.
+/// docs/model.md section 2: the unmodified profile touches every pin at every crank angle.
 #[test]
 fn unmodified_profile_touches_every_pin() {
     let profile = Profile::new(paper_geometry(), Modification::default(), None).unwrap();

@@ -36,7 +36,7 @@ use crate::budget::{self, Budget};
 use crate::contact::li_load_distribution;
 use crate::error::{Error, Result};
 use crate::geometry::{band_shape, mesh_angle, rotate, CycloidParams, Profile, Vec2, WearMap};
-use crate::reducer::Reducer;
+use crate::reducer::{contact_direction, Reducer, PIN_MAP_POINTS};
 use crate::statics::StaticAnalysis;
 
 /// Wear model choice (`wear.model`).
@@ -80,6 +80,9 @@ pub struct WearParams {
     pub crank_steps: usize,
     /// Fraction of the sliding taken up by pins turning in their grooves, 0..1.
     pub pin_rolling_fraction: f64,
+    /// Archard coefficient of the pins, m^2/N (0: the pins do not wear; docs/model.md section
+    /// 7.11).
+    pub pin_archard: f64,
     /// Overlap ratio of the paper's model.
     pub overlap_ratio: f64,
     /// The crank bearings' wear ([`bearings`]).
@@ -200,8 +203,22 @@ fn resample_periodic(mut samples: Vec<(f64, f64)>, n: usize) -> Vec<f64> {
 /// one).
 pub(crate) const REVOLUTION_POSITIONS: usize = 8;
 
-/// Wear depth per mesh cycle (m) on the wear-map grid, for the output torque `torque` (N m),
-/// on the actual profile `profile` (default model, see the module docs).
+/// Wear of one mesh cycle ([`wear_per_mesh_cycle`]).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct MeshCycleWear {
+    /// Disc: depth per mesh cycle (one sweep of every tooth point), m, on the wear-map grid.
+    pub disc: Vec<f64>,
+    /// Pins: depth per sweep of the pin (one revolution of the eccentric), m, on the pin map's
+    /// grid ([`PIN_MAP_POINTS`] around the pin); empty when the pins do not wear.
+    pub pin: Vec<f64>,
+    /// Archard's sliding integral of the cycle, `sum F |v_s| dphi` over the contacts, N m
+    /// (the mean over the positions and discs averaged, like the depths).
+    pub sliding: f64,
+}
+
+/// Wear of one mesh cycle for the output torque `torque` (N m), on the actual profile
+/// `profile` (default model, see the module docs), for the disc and, when they wear, the pins
+/// (docs/model.md section 7.11).
 ///
 /// # Errors
 /// Propagates contact-solver failures.
@@ -209,15 +226,22 @@ pub(crate) fn wear_per_mesh_cycle(
     profile: &Profile,
     inputs: &WearInputs,
     torque: f64,
-) -> Result<Vec<f64>> {
+) -> Result<MeshCycleWear> {
     let n = inputs.grid_points();
+    let pins_wear = inputs.wear.pin_archard > 0.0;
+    let n_pin = if pins_wear { PIN_MAP_POINTS } else { 0 };
     if torque == 0.0 {
-        return Ok(vec![0.0; n]);
+        return Ok(MeshCycleWear {
+            disc: vec![0.0; n],
+            pin: vec![0.0; n_pin],
+            sliding: 0.0,
+        });
     }
     let geo = profile.geometry();
     let zp = geo.pins as f64;
     let zc = geo.disc_teeth() as f64;
     let steps = inputs.wear.crank_steps;
+    let dphi = TAU / (zp * steps as f64);
     let slide_scale = 1.0 - inputs.wear.pin_rolling_fraction;
     let sa = StaticAnalysis::new(inputs.reducer, profile)?;
     let phis: Vec<f64> = (0..steps)
@@ -241,15 +265,18 @@ pub(crate) fn wear_per_mesh_cycle(
     }
     let discs = if errors { solutions[0].discs.len() } else { 1 };
     let weight = 1.0 / (positions * discs) as f64;
-    let per_step: Vec<Vec<(f64, f64, f64)>> = solutions
+    // Per loaded contact: (mesh angle, disc depth, half-width) and, for the pins, (angle
+    // around the pin, its sweep per unit crank angle, sliding integral F |v_s| dphi).
+    type Sample = ((f64, f64, f64), (f64, f64, f64));
+    let per_step: Vec<Vec<Sample>> = solutions
         .par_iter()
         .flat_map(|sol| sol.discs[..discs].par_iter())
-        .map(|disc| -> Result<Vec<(f64, f64, f64)>> {
+        .map(|disc| -> Result<Vec<Sample>> {
             let (centre, psi) = (disc.pose.centre, disc.pose.angle);
             let mut out = Vec::with_capacity(disc.pins.len());
             for p in &disc.pins {
                 if p.force <= 0.0 {
-                    out.push((p.mesh_angle, 0.0, 0.0));
+                    out.push(((p.mesh_angle, 0.0, 0.0), (0.0, 0.0, 0.0)));
                     continue;
                 }
                 let pt = profile.point(p.profile_parameter);
@@ -262,7 +289,13 @@ pub(crate) fn wear_per_mesh_cycle(
                 let v_slide = (v.dot(&tangent) * slide_scale).abs();
                 let v_disc = pt.dp.norm();
                 let dh = weight * inputs.wear.archard * p.force * v_slide / (geo.width * v_disc);
-                out.push((p.mesh_angle, dh, p.half_width));
+                // Where on the pin and how fast the contact moves round it: the pitch point's
+                // kinematics (the coordinate the static analysis reads the map at).
+                let (beta, dbeta) = contact_direction(geo, p.pin, disc.pose.crank_angle);
+                out.push((
+                    (p.mesh_angle, dh, p.half_width),
+                    (beta, dbeta, weight * p.force * v_slide * dphi),
+                ));
             }
             Ok(out)
         })
@@ -275,10 +308,10 @@ pub(crate) fn wear_per_mesh_cycle(
     let groups = positions * discs;
     for g in 0..groups {
         // Rows of one position and disc: steps solutions (position-major), disc `g % discs`.
-        let rows: Vec<&Vec<(f64, f64, f64)>> = (0..group)
+        let rows: Vec<&Vec<Sample>> = (0..group)
             .map(|k| &per_step[((g / discs) * group + k) * discs + g % discs])
             .collect();
-        let samples: Vec<(f64, f64, f64)> = rows.into_iter().flatten().copied().collect();
+        let samples: Vec<(f64, f64, f64)> = rows.into_iter().flatten().map(|s| s.0).collect();
         let d = resample_periodic(samples.iter().map(|s| (s.0, s.1)).collect(), n);
         let h = resample_periodic(samples.iter().map(|s| (s.0, s.2)).collect(), n);
         for m in 0..n {
@@ -286,7 +319,91 @@ pub(crate) fn wear_per_mesh_cycle(
             half_width[m] += h[m] / groups as f64;
         }
     }
-    Ok(spread_over_band(profile, &depth, &half_width))
+    let samples = per_step.iter().flatten();
+    let sliding: f64 = samples.clone().map(|s| s.1 .2).sum();
+    let pin = if pins_wear {
+        pin_deposit(
+            samples.map(|s| (s.1, s.0 .2)),
+            geo.pin_radius,
+            inputs.wear.pin_archard / geo.width,
+            dphi,
+            inputs.wear.pin_rolling_fraction > 0.0,
+        )
+    } else {
+        Vec::new()
+    };
+    Ok(MeshCycleWear {
+        disc: spread_over_band(profile, &depth, &half_width),
+        pin,
+        sliding,
+    })
+}
+
+/// The pins' wear of one sweep (docs/model.md section 7.11), m on [`PIN_MAP_POINTS`] around
+/// the pin, from the contacts of one mesh cycle (every pin's, together the whole path of one
+/// pin over a revolution of the eccentric): `((beta, d beta/d phi, F |v_s| dphi), b)` with `b`
+/// the Hertz half-width, m. Each contact removes the area `k/B F |v_s| dphi` (`k_per_width`
+/// = `k/B`, 1/Pa/m) from the arc `r dbeta` its contact point sweeps during its crank step
+/// `dphi` (uniformly: Archard's depth `k F |v_s|/(B v_p)` with `v_p = r |d beta/d phi|`), and
+/// the result is spread over the Hertz band (`+-b/r` around the pin, semi-elliptic, area
+/// conserving). `turning`: the pins turn in their grooves and every contact's area is spread
+/// over the whole circumference.
+fn pin_deposit(
+    contacts: impl Iterator<Item = ((f64, f64, f64), f64)>,
+    pin_radius: f64,
+    k_per_width: f64,
+    dphi: f64,
+    turning: bool,
+) -> Vec<f64> {
+    let n = PIN_MAP_POINTS;
+    let cell = TAU / n as f64;
+    let mut depth = vec![0.0; n];
+    let (mut band, mut total) = (0.0, 0.0);
+    for ((beta, dbeta, sliding), b) in contacts {
+        if sliding <= 0.0 {
+            continue;
+        }
+        let area = k_per_width * sliding;
+        band += area * b;
+        total += area;
+        if turning {
+            depth
+                .iter_mut()
+                .for_each(|d| *d += area / (TAU * pin_radius));
+            continue;
+        }
+        // The arc swept during the step, in cells; at least one cell wide (where the contact
+        // stands still on the pin the band spreads it).
+        let half = (dbeta.abs() * dphi / 2.0).max(cell / 2.0);
+        let (lo, hi) = ((beta - half) / cell, (beta + half) / cell);
+        let per_cell = area / (pin_radius * (hi - lo) * cell);
+        let mut x = lo;
+        while x < hi {
+            let k = x.floor();
+            let next = (k + 1.0).min(hi);
+            depth[(k as i64).rem_euclid(n as i64) as usize] += per_cell * (next - x);
+            x = next;
+        }
+    }
+    if turning || total <= 0.0 {
+        return depth;
+    }
+    // The Hertz band: semi-elliptic weights over +-b/r, periodic, normalised (area kept).
+    let b = band / total / pin_radius;
+    let reach = (b / cell).floor() as i64;
+    let weights: Vec<f64> = (-reach..=reach)
+        .map(|k| (1.0 - (k as f64 * cell / b).powi(2)).max(0.0).sqrt())
+        .collect();
+    let norm: f64 = weights.iter().sum();
+    (0..n as i64)
+        .map(|m| {
+            (-reach..=reach)
+                .zip(&weights)
+                .map(|(k, w)| w * depth[(m + k).rem_euclid(n as i64) as usize])
+                .sum::<f64>()
+                / norm
+        })
+        .collect()
 }
 
 /// Spreads the wear of each contact position over its Hertz band: a pass deposits the wear of
@@ -316,25 +433,53 @@ fn spread_over_band(profile: &Profile, depth: &[f64], half_width: &[f64]) -> Vec
     out
 }
 
-/// Wear rate (m/h) on the grid for the model's load spectrum on the actual profile.
+/// Wear rates of the disc and the pins, m/h ([`wear_rate`]).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct WearRate {
+    /// The disc's, on the wear-map grid.
+    pub disc: Vec<f64>,
+    /// The pins', on the pin map's grid (empty when the pins do not wear).
+    pub pin: Vec<f64>,
+}
+
+/// Wear rates (m/h) of the disc (on the grid) and the pins (around the pin) for the model's
+/// load spectrum on the actual profile. The pins are swept once per revolution of the
+/// eccentric, `Zc/Zp` times per mesh cycle of the disc (docs/model.md section 7.11).
 ///
 /// # Errors
 /// Propagates contact-solver failures.
-pub(crate) fn wear_rate(profile: &Profile, inputs: &WearInputs) -> Result<Vec<f64>> {
+pub(crate) fn wear_rate(profile: &Profile, inputs: &WearInputs) -> Result<WearRate> {
     let n = inputs.grid_points();
-    let mut rate = vec![0.0; n];
+    let geo = profile.geometry();
+    let sweeps_per_cycle = geo.disc_teeth() as f64 / geo.pins as f64;
+    let n_pin = if inputs.wear.pin_archard > 0.0 {
+        PIN_MAP_POINTS
+    } else {
+        0
+    };
+    let mut rate = WearRate {
+        disc: vec![0.0; n],
+        pin: vec![0.0; n_pin],
+    };
     for level in inputs.load {
         let per_cycle = match inputs.wear.model {
             WearModelKind::Flodin => wear_per_mesh_cycle(profile, inputs, level.torque)?,
-            WearModelKind::Paper => paper_wear_per_input_rev(profile, inputs, level.torque)?,
+            WearModelKind::Paper => MeshCycleWear {
+                disc: paper_wear_per_input_rev(profile, inputs, level.torque)?,
+                pin: Vec::new(),
+                sliding: 0.0,
+            },
         };
         let cycles = match inputs.wear.model {
             WearModelKind::Flodin => inputs.reducer.mesh_cycles_per_hour(level.speed_rpm),
             // X = S n1 t eps_a, n1 the input speed.
             WearModelKind::Paper => 60.0 * level.speed_rpm * inputs.wear.overlap_ratio,
         };
-        for (r, d) in rate.iter_mut().zip(&per_cycle) {
+        for (r, d) in rate.disc.iter_mut().zip(&per_cycle.disc) {
             *r += level.fraction * cycles * d;
+        }
+        for (r, d) in rate.pin.iter_mut().zip(&per_cycle.pin) {
+            *r += level.fraction * cycles * sweeps_per_cycle * d;
         }
     }
     Ok(rate)
@@ -452,6 +597,9 @@ pub struct WearHistory {
     /// Wear depth on the grid at each stage, m (`maps[s][m]` at mesh angle `2 pi m / n`),
     /// filtered at the Hertz band scale (the flank the pins meet).
     pub maps: Vec<Vec<f64>>,
+    /// Pin wear around the pin at each stage, m ([`crate::reducer::PinWear::depth`]; empty
+    /// maps when the pins do not wear).
+    pub pin_maps: Vec<Vec<f64>>,
     /// Working hours at which the wear rate was evaluated (the profile-update schedule), h;
     /// starts with 0. Pass it to `integrate_on_schedule` to repeat the same schedule.
     pub update_hours: Vec<f64>,
@@ -542,18 +690,26 @@ fn integrate_inner(
     let mut budget_checked = false;
     let smoother = BandSmoother::new(inputs)?;
     let mut h = vec![0.0; n];
+    let n_pin = if w.pin_archard > 0.0 {
+        PIN_MAP_POINTS
+    } else {
+        0
+    };
+    let mut hp = vec![0.0; n_pin];
     let mut t = 0.0;
     let mut maps = Vec::with_capacity(stages.len());
+    let mut pin_maps = Vec::with_capacity(stages.len());
     let mut si = 0;
     while si < stages.len() {
         if stages[si] <= t + eps {
             maps.push(smoother.apply(&h));
+            pin_maps.push(hp.clone());
             si += 1;
             continue;
         }
-        // Rate from the current worn profile (on the bearings worn to this hour), held until
-        // the next update.
-        let grown = inputs.bearing_rates.grown(inputs.reducer, t);
+        // Rate from the current worn profile (on the bearings and pins worn to this hour),
+        // held until the next update.
+        let grown = worn_parts(inputs, t, &hp);
         let at_hours = WearInputs {
             reducer: grown.as_ref().unwrap_or(inputs.reducer),
             ..*inputs
@@ -578,10 +734,15 @@ fn integrate_inner(
         } else {
             wear_rate(&inputs.disc.profile(None)?, &at_hours)?
         };
-        if rate.iter().any(|r| !r.is_finite()) {
+        if rate.disc.iter().chain(&rate.pin).any(|r| !r.is_finite()) {
             return Err(Error::numerical("wear integration", "non-finite wear rate"));
         }
-        let max_rate = rate.iter().copied().fold(0.0, f64::max);
+        let max_rate = rate
+            .disc
+            .iter()
+            .chain(&rate.pin)
+            .copied()
+            .fold(0.0, f64::max);
         if schedule.is_none() {
             // The estimate from the first rate, and again whenever the updates run past twice
             // the scheduled count (the rate grows as the flank wears).
@@ -614,22 +775,26 @@ fn integrate_inner(
         };
         // The rate is the steady coefficient's; running-in scales the hours.
         let run_in = w.running_in;
-        let advance = |h: &mut Vec<f64>, to: f64, t: &mut f64| {
+        let advance = |h: &mut Vec<f64>, hp: &mut Vec<f64>, to: f64, t: &mut f64| {
             let dh = run_in.equivalent_hours(to) - run_in.equivalent_hours(*t);
-            for (x, r) in h.iter_mut().zip(&rate) {
+            for (x, r) in h.iter_mut().zip(&rate.disc) {
+                *x += r * dh;
+            }
+            for (x, r) in hp.iter_mut().zip(&rate.pin) {
                 *x += r * dh;
             }
             *t = to;
         };
         while si < stages.len() && stages[si] <= seg_end + eps {
-            advance(&mut h, stages[si], &mut t);
+            advance(&mut h, &mut hp, stages[si], &mut t);
             maps.push(smoother.apply(&h));
+            pin_maps.push(hp.clone());
             si += 1;
         }
         if t < seg_end - eps {
-            advance(&mut h, seg_end, &mut t);
+            advance(&mut h, &mut hp, seg_end, &mut t);
         }
-        if h.iter().any(|x| !x.is_finite()) {
+        if h.iter().chain(&hp).any(|x| !x.is_finite()) {
             return Err(Error::numerical(
                 "wear integration",
                 "non-finite wear depth",
@@ -639,9 +804,22 @@ fn integrate_inner(
     Ok(WearHistory {
         hours: w.stage_hours[..maps.len()].to_vec(),
         maps,
+        pin_maps,
         update_hours,
         limit,
     })
+}
+
+/// The reducer of `inputs` with its crank bearings worn to `t` hours and its pins worn by the
+/// map `pin` (m, [`crate::reducer::PinWear`]); `None` when neither wears.
+fn worn_parts(inputs: &WearInputs, t: f64, pin: &[f64]) -> Option<Reducer> {
+    let grown = inputs.bearing_rates.grown(inputs.reducer, t);
+    if pin.iter().all(|&d| d == 0.0) {
+        return grown;
+    }
+    let mut red = grown.unwrap_or_else(|| inputs.reducer.clone());
+    red.pin_wear = crate::reducer::PinWear::new(pin.to_vec());
+    Some(red)
 }
 
 /// Checks, once the largest wear rate `max_rate` (m/h) of the unworn profile is known, the

@@ -472,13 +472,16 @@ pub(crate) fn write_all(study: &Study, dir: &Path) -> Result<()> {
     Ok(())
 }
 
+/// The pins' wear in the sources' plots (orange).
+const PIN_COLOUR: RGBColor = RGBColor(230, 120, 0);
+
 /// `lost_motion_sources`: each stage's lost motion stacked by its sources (elastic, assembly
-/// play, bearing wear, disc wear; docs/model.md section 6.5) against the hours, each part an
+/// play, bearing wear, pin wear, disc wear; docs/model.md section 6.5) against the hours, each part an
 /// area between the running sums, the total lost motion as a line on top.
 fn lost_motion_sources(study: &Study, dir: &Path) -> Result<()> {
     let sums: Vec<&crate::quantities::StageSummary> =
         study.stages.iter().map(|s| &s.summary).collect();
-    let parts: [(&str, RGBColor, StageValue); 4] = [
+    let parts: [(&str, RGBColor, StageValue); 5] = [
         ("elastic (lost motion beyond the backlash)", BLUE, |s| {
             s.lost_motion_elastic_arcmin
         }),
@@ -488,6 +491,7 @@ fn lost_motion_sources(study: &Study, dir: &Path) -> Result<()> {
         ("crank bearings' wear", MAGENTA, |s| {
             s.lost_motion_bearing_wear_arcmin
         }),
+        ("pins' wear", PIN_COLOUR, |s| s.lost_motion_pin_wear_arcmin),
         ("discs' wear", RED, |s| s.lost_motion_disc_wear_arcmin),
     ];
     let ymax = sums
@@ -549,15 +553,18 @@ fn lost_motion_sources(study: &Study, dir: &Path) -> Result<()> {
 }
 
 /// `angular_te_sources`: each stage's angular TE and its parts against the hours (the new
-/// reducer's, the change from the crank bearings' wear and from the discs' wear; docs/model.md
+/// reducer's, the change from the crank bearings', the pins' and the discs' wear; docs/model.md
 /// section 6.5). Lines, not stacked areas: a peak-to-peak value's parts can be negative.
 fn angular_te_sources(study: &Study, dir: &Path) -> Result<()> {
     let sums: Vec<_> = study.stages.iter().map(|s| s.summary.clone()).collect();
-    let lines: [(&str, RGBColor, StageValue); 4] = [
+    let lines: [(&str, RGBColor, StageValue); 5] = [
         ("angular TE", BLACK, |s| s.angular_te_arcmin),
         ("new reducer's", GREEN, |s| s.angular_te_assembly_arcmin),
         ("change from the crank bearings' wear", MAGENTA, |s| {
             s.angular_te_bearing_wear_arcmin
+        }),
+        ("change from the pins' wear", PIN_COLOUR, |s| {
+            s.angular_te_pin_wear_arcmin
         }),
         ("change from the discs' wear", RED, |s| {
             s.angular_te_disc_wear_arcmin
