@@ -191,6 +191,16 @@ pub struct BearingsConfig {
     /// Range: [1, 1e7] N/um.
     #[serde(default)]
     pub crank_bending_stiffness_n_per_um: Option<f64>,
+    /// Stiffness of the carrier at each crank's seat, in series with the crank-carrier bearing
+    /// pair, N/um (default from beam theory of the carrier's pillars:
+    /// [`carrier_seat_stiffness`]; RV with rollers only). Range: [1, 1e7] N/um.
+    #[serde(default)]
+    pub carrier_stiffness_n_per_um: Option<f64>,
+    /// Torsional stiffness of a crankshaft between its planet and its eccentrics, in series
+    /// with the sun-planet mesh, N m/rad (default from beam theory:
+    /// [`crank_torsion_stiffness`]; RV with rollers only). Range: [1, 1e7] N m/rad.
+    #[serde(default)]
+    pub crank_torsion_stiffness_nm_per_rad: Option<f64>,
     /// Damping ratio of the bearing modes (dynamics only). Range: [0, 10].
     #[serde(default = "d_zeta")]
     pub damping_ratio: f64,
@@ -230,6 +240,8 @@ impl Default for BearingsConfig {
             crank_disc_clearance_um: None,
             crank_carrier_clearance_um: None,
             crank_bending_stiffness_n_per_um: None,
+            carrier_stiffness_n_per_um: None,
+            crank_torsion_stiffness_nm_per_rad: None,
             damping_ratio: d_zeta(),
         }
     }
@@ -251,6 +263,45 @@ pub(crate) fn crank_bending_stiffness(width: f64, crank_circle_radius: f64) -> f
     let x = 0.5 * span - 0.6 * width;
     let inertia = std::f64::consts::PI * d.powi(4) / 64.0;
     3.0 * CRANK_YOUNGS_MODULUS * inertia * span / (x * x * (span - x) * (span - x))
+}
+
+/// Torsional stiffness (N m/rad) of a crankshaft between its planet and its eccentrics: a
+/// round shaft of diameter `d = 0.4` of the crank circle radius (as in
+/// [`crank_bending_stiffness`]) twisted over `3 B`, from the planet's mid-plane outside a
+/// crank-carrier bearing to the middle of the two eccentrics (**estimates** for the RV-E
+/// class): `k_t = G pi d^4 / (32 L)` (Roark, table 10.1, case 1), `G = E / (2 (1 + 0.3))`.
+pub(crate) fn crank_torsion_stiffness(width: f64, crank_circle_radius: f64) -> f64 {
+    let d = 0.4 * crank_circle_radius;
+    let g = CRANK_YOUNGS_MODULUS / (2.0 * (1.0 + 0.3));
+    g * std::f64::consts::PI * d.powi(4) / (32.0 * 3.0 * width)
+}
+
+/// Stiffness (N/m) of the carrier at a crank's seat, in series with the crank-carrier bearing
+/// pair: the carrier as two plates joined by pillars through the discs' holes. The output is
+/// taken at one plate; each crank rests on both, half its force on each, so the other plate's
+/// half reaches the output through the pillars, which it shears and bends as beams fixed in
+/// both plates (`k_p = 1/(L^3/(12 E I) + L/(kappa G A))`, Timoshenko's beam with the shear
+/// coefficient `kappa = 0.9` of a round section; Roark, table 8.1, case 1e and the shear
+/// deflection of section 8.10). With as many pillars as cranks on the crank circle, that plate
+/// turns by `(T/2)/(n k_p r^2)`, moving each crank's far seat by `r` times that and the crank
+/// (between its two seats) by half of it: a seat stiffness `4 k_p` per crank, whatever the
+/// number of cranks. **Estimates** (RV-E class, scaled with the stage): pillars as round bars
+/// filling the discs' pillar holes (22 mm diameter scaled, [`CycloidGeometry::scaled_from_root`])
+/// less twice the eccentricity and 0.5 mm of running clearance, as long as 2.5 disc widths
+/// (two discs and their spacers between the plates). The seat is taken as isotropic: at the
+/// rated torque a crank's force is mostly tangential (the two discs' radial forces nearly
+/// cancel), which is the direction the pillars give. The plates themselves, the output
+/// flange's bolts and the main bearings (which carry no load under a pure torque) are taken
+/// as rigid.
+pub(crate) fn carrier_seat_stiffness(geometry: &CycloidGeometry) -> f64 {
+    let e = CRANK_YOUNGS_MODULUS;
+    let g = e / (2.0 * (1.0 + 0.3));
+    let d = (geometry.scaled_from_root(22.0) - 0.5) * 1e-3 - 2.0 * geometry.eccentricity;
+    let length = 2.5 * geometry.width;
+    let area = std::f64::consts::PI * d * d / 4.0;
+    let inertia = std::f64::consts::PI * d.powi(4) / 64.0;
+    let pillar = 1.0 / (length.powi(3) / (12.0 * e * inertia) + length / (0.9 * g * area));
+    4.0 * pillar
 }
 
 /// The rating of `[reducer]`, SI.
@@ -359,7 +410,15 @@ impl ReducerConfig {
         } else {
             rv_mesh.sun_pitch_radius + rv_mesh.planet_pitch_radius
         };
-        let (bearings, bearing_zeta) = self.bearings.validate(geometry, crank_circle)?;
+        let (bearings, bearing_zeta, crank_torsion) =
+            self.bearings.validate(geometry, crank_circle)?;
+        // The crank's torsion between its planet and its eccentrics, in series with the mesh
+        // along the line of action: a twist `F r_bp / k_t` moves the planet's base circle by
+        // `F r_bp^2 / k_t` (docs/model.md section 5.9).
+        let mut rv_mesh = rv_mesh;
+        rv_mesh.stiffness = 1.0
+            / (1.0 / rv_mesh.stiffness
+                + rv_mesh.planet_base_radius * rv_mesh.planet_base_radius / crank_torsion);
         let (drive, cranks, crank_circle_radius, mesh) = match output_pins {
             Some(mut w) => {
                 if w.stiffness <= 0.0 {
@@ -572,12 +631,14 @@ impl GearsConfig {
 impl BearingsConfig {
     /// The crank bearings of `[reducer.bearings]` for the stage `geometry` and a crank circle
     /// of radius `crank_circle_radius` (m; 0 for a single-stage drive, whose eccentric has no
-    /// crank to bend), and their damping ratio (applied by the dynamic analysis).
+    /// crank to bend), their damping ratio (applied by the dynamic analysis) and the torsional
+    /// stiffness of a crank between its planet and its eccentrics, N m/rad (infinite when
+    /// left out of the model).
     fn validate(
         &self,
         geometry: &CycloidGeometry,
         crank_circle_radius: f64,
-    ) -> Result<(Bearings, f64)> {
+    ) -> Result<(Bearings, f64, f64)> {
         let key = |k: &str| format!("reducer.bearings.{k}");
         let clearance = |k: &str, own: Option<f64>| -> Result<f64> {
             let (name, v) = match (own, self.clearance_um) {
@@ -653,19 +714,37 @@ impl BearingsConfig {
                 ))
             }
         };
-        let bending = match self.crank_bending_stiffness_n_per_um {
-            Some(k) => {
-                check(
-                    &key("crank_bending_stiffness_n_per_um"),
-                    k,
-                    Range::closed(1.0, 1e7, "N/um"),
-                )? * 1e6
-            }
-            None if crank_circle_radius > 0.0 && self.model == "rollers" => {
-                crank_bending_stiffness(geometry.width, crank_circle_radius)
-            }
-            None => f64::INFINITY,
+        // A part in series with a bearing or a mesh, SI: the key's value (range [1, 1e7] in
+        // its unit, times `si`), or the beam-theory estimate where the crank bearings are
+        // roller sets in an RV reducer (the linear model keeps the earlier springs alone).
+        let series = |k: &str, v: Option<f64>, unit: &'static str, si: f64, estimate: f64| {
+            Ok::<f64, Error>(match v {
+                Some(v) => check(&key(k), v, Range::closed(1.0, 1e7, unit))? * si,
+                None if crank_circle_radius > 0.0 && self.model == "rollers" => estimate,
+                None => f64::INFINITY,
+            })
         };
+        let bending = series(
+            "crank_bending_stiffness_n_per_um",
+            self.crank_bending_stiffness_n_per_um,
+            "N/um",
+            1e6,
+            crank_bending_stiffness(geometry.width, crank_circle_radius),
+        )?;
+        let carrier = series(
+            "carrier_stiffness_n_per_um",
+            self.carrier_stiffness_n_per_um,
+            "N/um",
+            1e6,
+            carrier_seat_stiffness(geometry),
+        )?;
+        let torsion = series(
+            "crank_torsion_stiffness_nm_per_rad",
+            self.crank_torsion_stiffness_nm_per_rad,
+            "N m/rad",
+            1.0,
+            crank_torsion_stiffness(geometry.width, crank_circle_radius),
+        )?;
         let bearings = Bearings {
             carrier: RadialBearing {
                 law: carrier_law,
@@ -673,7 +752,7 @@ impl BearingsConfig {
                     "crank_carrier_clearance_um",
                     self.crank_carrier_clearance_um,
                 )?,
-                series_stiffness: f64::INFINITY,
+                series_stiffness: carrier,
                 damping: 0.0,
             },
             disc: RadialBearing {
@@ -688,6 +767,6 @@ impl BearingsConfig {
             self.damping_ratio,
             Range::non_negative(10.0, ""),
         )?;
-        Ok((bearings, zeta))
+        Ok((bearings, zeta, torsion))
     }
 }

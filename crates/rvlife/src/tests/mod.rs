@@ -4,6 +4,7 @@
 
 mod calibration;
 mod clearance;
+mod compliance;
 mod dynamics;
 mod errors;
 mod fem;
