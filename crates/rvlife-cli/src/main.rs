@@ -621,6 +621,18 @@ fn run(cli: Cli) -> Result<()> {
                     "at crank {crank_deg} deg: backlash {:.5} arcmin, lost motion {:.5} arcmin, torsional stiffness {:.1} N m/arcmin",
                     b.backlash_arcmin, b.lost_motion_arcmin, b.torsional_stiffness_nm_per_arcmin
                 );
+                if !r.twist_shares.is_empty() {
+                    let parts: Vec<String> = r
+                        .twist_shares
+                        .iter()
+                        .map(|s| format!("{} {:.1} %", s.part, 100.0 * s.share))
+                        .collect();
+                    println!(
+                        "share of the elastic twist at {} N m: {}",
+                        r.rated_torque_nm,
+                        parts.join(", ")
+                    );
+                }
                 println!("{:>12} {:>14}", "torque_N_m", "twist_arcmin");
                 for (t, x) in a.torque_nm.iter().zip(&a.twist_arcmin) {
                     println!("{t:>12.3} {x:>14.6}");

@@ -8,13 +8,13 @@ mod results;
 
 pub use results::{
     ContactDisc, ContactPin, ContactResult, HysteresisResult, LoadedTeResult, ProfilePoints,
-    TeResult, TwistCurve,
+    TeResult, TwistCurve, TwistShareResult,
 };
 
 use crate::config::Model;
 use crate::error::{Error, Result};
 use crate::geometry::{Profile, WearMap};
-use crate::statics::StaticAnalysis;
+use crate::statics::{twist_shares, StaticAnalysis};
 use crate::te::{
     hysteresis, hysteresis_with, loaded_te_with, mesh_cycle_angles, over_revolution, CurveStats,
     StaticTe, TwistTable,
@@ -402,6 +402,16 @@ pub fn hysteresis_curve(
     );
     let (mut tables, _) = curves?;
     let at_crank = tables.pop().expect("the crank angle's table");
+    phis.pop();
+    let rated = model.rating.rated_torque;
+    let twist_shares = twist_shares(red, &profile, &phis, rated)?
+        .into_iter()
+        .map(|s| TwistShareResult {
+            part: s.part,
+            share: s.share,
+            twist_arcmin: s.twist * ARCMIN_PER_RAD,
+        })
+        .collect();
     // The mean over the mesh cycle only (not the extra crank angle).
     let mean = describe_twist(&TwistTable::mean_of(&tables));
     Ok(HysteresisResult {
@@ -421,6 +431,7 @@ pub fn hysteresis_curve(
         hysteresis_loss_arcmin: mean.hysteresis_loss_arcmin,
         torsional_stiffness_nm_per_arcmin: mean.torsional_stiffness_nm_per_arcmin,
         mesh_cycle_mean: mean,
+        twist_shares,
     })
 }
 

@@ -183,6 +183,20 @@ pub struct HysteresisResult {
     pub torsional_stiffness_nm_per_arcmin: f64,
     /// The curve averaged over a mesh cycle.
     pub mesh_cycle_mean: TwistCurve,
+    /// Each part's share of the elastic twist at the rated torque, mean over the mesh cycle
+    /// (docs/model.md section 5.9; empty for the rigid support).
+    pub twist_shares: Vec<TwistShareResult>,
+}
+
+/// One part's share of the elastic twist ([`crate::statics::twist_shares`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct TwistShareResult {
+    /// The part ([`crate::statics::TwistShare::part`]).
+    pub part: &'static str,
+    /// Its share of the elastic twist beyond the no-load point, 0..1.
+    pub share: f64,
+    /// The elastic twist it takes, arcmin.
+    pub twist_arcmin: f64,
 }
 
 /// The points of a profile (`rvlife profile` writes them as CSV), one list per column, each

@@ -40,7 +40,10 @@ use serde::Serialize;
 mod first_contact;
 mod forces;
 mod newton;
+mod shares;
 mod solve;
+
+pub use shares::{twist_shares, TwistShare};
 
 use crate::contact::gap::GapField;
 use crate::contact::DiscPose;
