@@ -205,6 +205,7 @@ fn mass_times(mass: &SparseColMat<usize, f64>, x: &Mat<f64>) -> Mat<f64> {
         1.0,
         faer::get_global_parallelism(),
     );
+    super::plane::clear_upper_simd();
     y
 }
 

@@ -230,6 +230,25 @@ struct Assembly {
 /// Loads per block of `Factor::condense`'s products.
 pub(crate) const CONDENSE_BLOCK: usize = 32;
 
+/// Clears the upper halves of the vector registers (`vzeroupper`) on a CPU with AVX, after a
+/// call into faer. faer's matrix kernels (hand-written AVX-512) return without it; the thread's
+/// later SSE code (all of rvlife's, built for baseline x86-64) then pays the AVX-SSE transition
+/// penalty, and on CPUs whose glibc prefers no `vzeroupper` of its own every call of `pow`,
+/// `log`, `sin` or `cos` paid it for the rest of the run: the built-in study took 2 to 4 times
+/// as long with the flexible disc on. No effect on any result; a no-op elsewhere.
+#[inline]
+pub(crate) fn clear_upper_simd() {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx") {
+        // SAFETY: the CPU has AVX (checked above), so `vzeroupper` exists; it zeroes bits
+        // 128 and above of the vector registers, which no baseline x86-64 code holds values
+        // in across this call, and touches neither memory, the stack nor the flags.
+        unsafe {
+            std::arch::asm!("vzeroupper", options(nomem, nostack, preserves_flags));
+        }
+    }
+}
+
 /// Sparse Cholesky factor `P K P^T = L L^T` of a stiffness matrix (faer's symbolic analysis
 /// with its approximate-minimum-degree ordering `P`, simplicial so that the columns of `L` and
 /// its elimination tree can be read by `Factor::condense`).
@@ -479,6 +498,7 @@ impl Factor {
                     let bv = MatRef::from_row_major_slice(b.as_slice(), common, nh);
                     let mut out = Mat::<f64>::zeros(ng, nh);
                     matmul(&mut out, Accum::Replace, av.transpose(), bv, 1.0, Par::Seq);
+                    clear_upper_simd();
                     out
                 },
             )
