@@ -120,7 +120,7 @@ fn d_integrator() -> String {
     "esdirk34".into()
 }
 fn d_rtol() -> f64 {
-    7e-4
+    2e-4
 }
 fn d_gap_points() -> i64 {
     1024

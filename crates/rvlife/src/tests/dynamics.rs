@@ -293,7 +293,7 @@ fn energy_is_conserved_without_damping() {
     );
 }
 
-/// The fast settings (ESDIRK34 at the default relative tolerance 5e-4) keep the DTE within
+/// The fast settings (ESDIRK34 at the default relative tolerance 2e-4) keep the DTE within
 /// 0.5 % of a tight reference (Tsitouras 5(4) at 1e-7) at every stage of the built-in study
 /// (paper section 4.2 run: sinusoidal 412 N m, 0.8 s): peak-to-peak and RMS relative; the mean,
 /// which is near zero under the symmetric load of the unworn stages, within 0.5 % of the RMS.
