@@ -137,7 +137,7 @@ fn benches(c: &mut Criterion) {
     group.bench_function("builtin_study_without_dynamics", |b| {
         b.iter(|| rvlife::study::run(black_box(&no_dynamics), &|_, _| {}).unwrap())
     });
-    group.measurement_time(Duration::from_secs(200));
+    group.measurement_time(Duration::from_secs(60));
     group.bench_function("builtin_study_with_dte_and_fem", |b| {
         b.iter(|| rvlife::study::run(black_box(&model), &|_, _| {}).unwrap())
     });

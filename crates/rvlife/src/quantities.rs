@@ -427,8 +427,8 @@ pub const ANGULAR_TE_PIN_WEAR: Quantity = number(
     "arcmin",
     "angular TE: pin wear",
     "Change of the angular TE from the pins' wear: the angular TE of the unworn disc on the \
-     stage's bearings and pins minus that on the stage's bearings and unworn pins \
-     (docs/model.md section 6.5).",
+     stage's bearings and pins minus that on the stage's bearings and unworn pins; the same \
+     part of the backlash (docs/model.md section 6.5).",
     |s| Value::Number(s.angular_te_pin_wear_arcmin),
 );
 /// Angular TE's change from the discs' wear.
@@ -539,7 +539,8 @@ pub const LOST_MOTION_ASSEMBLY: Quantity = number(
     "arcmin",
     "lost motion: assembly play",
     "Part of the lost motion from the play of the new reducer (profile modifications, bearing \
-     clearances, mesh backlash): its backlash when new (docs/model.md section 6.5).",
+     clearances, mesh backlash): its backlash when new; the same part of the backlash, whose \
+     four play parts add up to it (docs/model.md section 6.5).",
     |s| Value::Number(s.lost_motion_assembly_arcmin),
 );
 /// Lost motion's part from the crank bearings' wear.
@@ -548,7 +549,8 @@ pub const LOST_MOTION_BEARING_WEAR: Quantity = number(
     "arcmin",
     "lost motion: bearing wear",
     "Part of the lost motion from the crank bearings' wear: the backlash of the unworn disc on \
-     the stage's bearings minus the new reducer's (docs/model.md section 6.5).",
+     the stage's bearings minus the new reducer's; the same part of the backlash \
+     (docs/model.md section 6.5).",
     |s| Value::Number(s.lost_motion_bearing_wear_arcmin),
 );
 /// Lost motion's part from the pins' wear.
@@ -557,8 +559,8 @@ pub const LOST_MOTION_PIN_WEAR: Quantity = number(
     "arcmin",
     "lost motion: pin wear",
     "Part of the lost motion from the pins' wear: the backlash of the unworn disc on the \
-     stage's bearings and pins minus that on the stage's bearings and unworn pins \
-     (docs/model.md section 6.5).",
+     stage's bearings and pins minus that on the stage's bearings and unworn pins; the same \
+     part of the backlash (docs/model.md section 6.5).",
     |s| Value::Number(s.lost_motion_pin_wear_arcmin),
 );
 /// Largest wear depth of the pins.
@@ -576,7 +578,8 @@ pub const LOST_MOTION_DISC_WEAR: Quantity = number(
     "arcmin",
     "lost motion: disc wear",
     "Part of the lost motion from the discs' wear: the stage's backlash minus that of the \
-     unworn disc on the stage's bearings and pins (docs/model.md section 6.5).",
+     unworn disc on the stage's bearings and pins; the same part of the backlash \
+     (docs/model.md section 6.5).",
     |s| Value::Number(s.lost_motion_disc_wear_arcmin),
 );
 /// Clearance of the crank-disc bearings.
