@@ -104,13 +104,14 @@ impl<'a> StaticAnalysis<'a> {
                     ev = trial;
                     break;
                 }
-                if alpha < 1e-4 && res > 1e-6 * scale && damping < 1e8 {
-                    // No descent along this step: damp it and try again from the same state.
+                if alpha < 1e-4 && res > 1e-6 * scale && res > 0.5 * ev.roundoff && damping < 1e8 {
+                    // No descent along this step, above the round-off floor of the contact
+                    // forces: damp it and try again from the same state.
                     damping = if damping == 0.0 { 1e-3 } else { 10.0 * damping };
                     z[..n].copy_from_slice(&base);
                     break;
                 }
-                if res <= 1e-6 * scale || alpha < 1e-4 {
+                if res <= 1e-6 * scale || res <= 0.5 * ev.roundoff || alpha < 1e-4 {
                     // At the round-off floor (or lost): keep the better of the two states.
                     stalled += 1;
                     if mt < m0 {
