@@ -117,8 +117,8 @@ impl<'a> StaticAnalysis<'a> {
     /// `psi = psi_0 + a T^0.9 + b T`: the rollers' approach goes as `F^0.9`, the contacts'
     /// nearly as `F`), `T_1` the torque at which a bearing force `10^3 k_0 c/2` balances it
     /// at the crank circle (`k_0` = [`crate::reducer::DEAD_BAND_STIFFNESS`], `c/2` the largest
-    /// half play): loads far above the dead-band springs and far below the rated ones
-    /// (docs/model.md section 5.10).
+    /// half play): loads far above the dead-band springs and far below the rated ones; `10 T_1`
+    /// where a solve at `T_1` does not converge (docs/model.md section 5.10).
     ///
     /// # Errors
     /// Those of [`StaticAnalysis::first_contact`] and [`StaticAnalysis::solve`].
@@ -136,13 +136,24 @@ impl<'a> StaticAnalysis<'a> {
             }
         };
         let t1 = 1e3 * crate::reducer::DEAD_BAND_STIFFNESS * play * arm;
-        let mut psi = [0.0; 3];
-        let mut below: Option<StaticSolution> = None;
-        for (i, f) in [1.0, 2.0, 4.0].iter().enumerate() {
-            let sol = self.solve_near(phi, s * f * t1, psi0, below.as_ref())?;
-            psi[i] = sol.twist;
-            below = Some(sol);
-        }
+        // The three light solves; should one fail to converge (a disc nearly unloaded between
+        // both flanks, its contacts switching within Newton's steps), all three again at ten
+        // times the torques.
+        let solves = |t1: f64| -> Result<[f64; 3]> {
+            let mut psi = [0.0; 3];
+            let mut below: Option<StaticSolution> = None;
+            for (i, f) in [1.0, 2.0, 4.0].iter().enumerate() {
+                let sol = self.solve_near(phi, s * f * t1, psi0, below.as_ref())?;
+                psi[i] = sol.twist;
+                below = Some(sol);
+            }
+            Ok(psi)
+        };
+        let psi = match solves(t1) {
+            Ok(psi) => psi,
+            Err(Error::Numerical { .. }) => solves(10.0 * t1)?,
+            Err(e) => return Err(e),
+        };
         // psi_i = psi_0 + a x_i^0.9 + b x_i at x = 1, 2, 4 (units of T_1).
         let m = nalgebra::Matrix3::from_fn(|r, c| {
             let x = [1.0_f64, 2.0, 4.0][r];

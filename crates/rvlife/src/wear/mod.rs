@@ -717,6 +717,24 @@ fn integrate_inner(
         let worn = h.iter().any(|&x| x > 0.0);
         let rate = if worn {
             let smoothed = smoother.apply(&h);
+            // Past half the teeth's height (the eccentricity: the profile spans `2a` from root
+            // to tip) the cycloid mesh the model describes is gone, whether or not its
+            // analyses still converge (docs/model.md section 7.8).
+            let deepest = smoothed.iter().copied().fold(0.0, f64::max);
+            let a = inputs.reducer.geometry.eccentricity;
+            if deepest >= a {
+                limit = Some(ValidityLimit {
+                    hours: t,
+                    max_wear_um: deepest * 1e6,
+                    reason: format!(
+                        "the wear depth {:.0} um reaches the eccentricity {:.0} um, half the \
+                         teeth's height",
+                        deepest * 1e6,
+                        a * 1e6
+                    ),
+                });
+                break;
+            }
             let evaluated = WearMap::new(smoothed.clone())
                 .and_then(|m| inputs.disc.profile(Some(m)))
                 .and_then(|p| wear_rate(&p, &at_hours));
