@@ -280,9 +280,9 @@ pub(crate) fn crank_torsion_stiffness(width: f64, crank_circle_radius: f64) -> f
 /// pair: the carrier as two plates joined by pillars through the discs' holes. The output is
 /// taken at one plate; each crank rests on both, half its force on each, so the other plate's
 /// half reaches the output through the pillars, which it shears and bends as beams fixed in
-/// both plates (`k_p = 1/(L^3/(12 E I) + L/(kappa G A))`, Timoshenko's beam with the shear
-/// coefficient `kappa = 0.9` of a round section; Roark, table 8.1, case 1e and the shear
-/// deflection of section 8.10). With as many pillars as cranks on the crank circle, that plate
+/// one plate and guided by the other (`k_p = 1/(L^3/(12 E I) + L/(kappa G A))`, Timoshenko's
+/// beam with the shear coefficient `kappa = 0.9` of a round section; Roark, table 8.1, and the
+/// shear deflection of section 8.10). With as many pillars as cranks on the crank circle, that plate
 /// turns by `(T/2)/(n k_p r^2)`, moving each crank's far seat by `r` times that and the crank
 /// (between its two seats) by half of it: a seat stiffness `4 k_p` per crank, whatever the
 /// number of cranks. **Estimates** (RV-E class, scaled with the stage): pillars as round bars
@@ -292,16 +292,20 @@ pub(crate) fn crank_torsion_stiffness(width: f64, crank_circle_radius: f64) -> f
 /// rated torque a crank's force is mostly tangential (the two discs' radial forces nearly
 /// cancel), which is the direction the pillars give. The plates themselves, the output
 /// flange's bolts and the main bearings (which carry no load under a pure torque) are taken
-/// as rigid.
-pub(crate) fn carrier_seat_stiffness(geometry: &CycloidGeometry) -> f64 {
+/// as rigid. `None` where the pillars would be under 1 mm thick (an eccentricity too large for
+/// the scaled holes).
+pub(crate) fn carrier_seat_stiffness(geometry: &CycloidGeometry) -> Option<f64> {
     let e = CRANK_YOUNGS_MODULUS;
     let g = e / (2.0 * (1.0 + 0.3));
     let d = (geometry.scaled_from_root(22.0) - 0.5) * 1e-3 - 2.0 * geometry.eccentricity;
+    if d < 1e-3 {
+        return None;
+    }
     let length = 2.5 * geometry.width;
     let area = std::f64::consts::PI * d * d / 4.0;
     let inertia = std::f64::consts::PI * d.powi(4) / 64.0;
     let pillar = 1.0 / (length.powi(3) / (12.0 * e * inertia) + length / (0.9 * g * area));
-    4.0 * pillar
+    Some(4.0 * pillar)
 }
 
 /// The rating of `[reducer]`, SI.
@@ -717,19 +721,30 @@ impl BearingsConfig {
         // A part in series with a bearing or a mesh, SI: the key's value (range [1, 1e7] in
         // its unit, times `si`), or the beam-theory estimate where the crank bearings are
         // roller sets in an RV reducer (the linear model keeps the earlier springs alone).
-        let series = |k: &str, v: Option<f64>, unit: &'static str, si: f64, estimate: f64| {
-            Ok::<f64, Error>(match v {
-                Some(v) => check(&key(k), v, Range::closed(1.0, 1e7, unit))? * si,
-                None if crank_circle_radius > 0.0 && self.model == "rollers" => estimate,
-                None => f64::INFINITY,
-            })
-        };
+        // `None`: the estimate does not apply to this stage (the key must be given).
+        let series =
+            |k: &str, v: Option<f64>, unit: &'static str, si: f64, estimate: Option<f64>| {
+                Ok::<f64, Error>(match v {
+                    Some(v) => check(&key(k), v, Range::closed(1.0, 1e7, unit))? * si,
+                    None if crank_circle_radius > 0.0 && self.model == "rollers" => estimate
+                        .ok_or_else(|| {
+                            Error::invalid(
+                            key(k),
+                            "left out",
+                            "must be given for this stage: its estimate needs pillars at least \
+                             1 mm thick, and the discs' pillar holes (22 mm scaled with the \
+                             stage) less twice the eccentricity leave less",
+                        )
+                        })?,
+                    None => f64::INFINITY,
+                })
+            };
         let bending = series(
             "crank_bending_stiffness_n_per_um",
             self.crank_bending_stiffness_n_per_um,
             "N/um",
             1e6,
-            crank_bending_stiffness(geometry.width, crank_circle_radius),
+            Some(crank_bending_stiffness(geometry.width, crank_circle_radius)),
         )?;
         let carrier = series(
             "carrier_stiffness_n_per_um",
@@ -743,7 +758,7 @@ impl BearingsConfig {
             self.crank_torsion_stiffness_nm_per_rad,
             "N m/rad",
             1.0,
-            crank_torsion_stiffness(geometry.width, crank_circle_radius),
+            Some(crank_torsion_stiffness(geometry.width, crank_circle_radius)),
         )?;
         let bearings = Bearings {
             carrier: RadialBearing {

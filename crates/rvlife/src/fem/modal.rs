@@ -212,6 +212,7 @@ fn mass_times(mass: &SparseColMat<usize, f64>, x: &Mat<f64>) -> Mat<f64> {
 /// `a^T b` (columns of two `n x q` matrices), symmetrised, as a dense nalgebra matrix.
 fn gram(a: &Mat<f64>, b: &Mat<f64>) -> DMatrix<f64> {
     let g = a.transpose() * b;
+    super::plane::clear_upper_simd();
     let q = a.ncols();
     DMatrix::from_fn(q, q, |i, j| 0.5 * (g[(i, j)] + g[(j, i)]))
 }
@@ -263,6 +264,7 @@ fn lowest_modes(
         let coef = linv.transpose() * &eig.eigenvectors;
         let coef = Mat::<f64>::from_fn(q, q, |k, c| coef[(k, order[c])]);
         x = &xb * &coef;
+        super::plane::clear_upper_simd();
         let check = (lambda.iter().take_while(|l| **l < cutoff2).count() + 1).min(wanted);
         let converged = lambda
             .iter()

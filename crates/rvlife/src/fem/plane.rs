@@ -238,14 +238,16 @@ pub(crate) const CONDENSE_BLOCK: usize = 32;
 /// as long with the flexible disc on. No effect on any result; a no-op elsewhere.
 #[inline]
 pub(crate) fn clear_upper_simd() {
-    #[cfg(target_arch = "x86_64")]
+    // A build for AVX gets `vzeroupper` from the compiler wherever it is due.
+    #[cfg(all(target_arch = "x86_64", not(target_feature = "avx")))]
     if std::arch::is_x86_feature_detected!("avx") {
-        // SAFETY: the CPU has AVX (checked above), so `vzeroupper` exists; it zeroes bits
-        // 128 and above of the vector registers, which no baseline x86-64 code holds values
-        // in across this call, and touches neither memory, the stack nor the flags.
-        unsafe {
-            std::arch::asm!("vzeroupper", options(nomem, nostack, preserves_flags));
+        /// `vzeroupper` through its intrinsic, so that the compiler knows what it clears.
+        #[target_feature(enable = "avx")]
+        unsafe fn zero_upper() {
+            std::arch::x86_64::_mm256_zeroupper();
         }
+        // SAFETY: the CPU has AVX, checked just above.
+        unsafe { zero_upper() }
     }
 }
 

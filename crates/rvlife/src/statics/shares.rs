@@ -12,15 +12,20 @@ use serde::Serialize;
 
 use super::StaticAnalysis;
 use crate::contact::ApproachLaw;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::geometry::Profile;
 use crate::reducer::{BearingLaw, Drive, Reducer};
 
-/// A stiffness that stands for a rigid part, N/m (1e13: 1e5 times the stiffest part of an
-/// RV-40E-class reducer, its carrier seats).
+/// A stiffness that stands for a rigid bearing or mesh, N/m (1e13: about 4e3 times the
+/// stiffest part of an RV-40E-class reducer, its carrier seats).
 const RIGID: f64 = 1e13;
 
-/// One part's share of the elastic twist.
+/// A stiffness that stands for a rigid disc-pin contact, N/m (1e12: about 1e3 times a loaded
+/// contact's; stiffer would raise the round-off floor of the contact forces, `4 eps Rp sum
+/// k_j`, to 10 N on 20 pins).
+const RIGID_CONTACT: f64 = 1e12;
+
+/// One part's share of the elastic twist (docs/model.md section 5.9).
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct TwistShare {
     /// The part: `"crank bearings"`, `"crank bending"`, `"carrier"`, `"first stage"` (the
@@ -68,7 +73,9 @@ fn rigid_variants(red: &Reducer) -> Vec<(&'static str, Reducer)> {
         with("first stage", &|r| r.mesh.stiffness = RIGID);
     }
     with("disc-pin contacts", &|r| {
-        r.contact.law = ApproachLaw::Linear { stiffness: RIGID };
+        r.contact.law = ApproachLaw::Linear {
+            stiffness: RIGID_CONTACT,
+        };
         r.contact.groove = None;
     });
     if let Drive::SingleStage(w) = red.drive {
@@ -100,11 +107,12 @@ fn elastic_twist(
 
 /// Each part's share of the elastic twist of `red` on `profile` under `torque` (N m, usually
 /// the rated torque), mean over `crank_angles` (rad): one entry per part that has a
-/// compliance, in the order of [`TwistShare::part`]'s list. Bearings-supported discs only
-/// (empty for the paper's rigid support).
+/// compliance, in the order of [`TwistShare::part`]'s list (docs/model.md section 5.9).
+/// Bearings-supported discs only (empty for the paper's rigid support).
 ///
 /// # Errors
-/// Failures of the static analysis of `red` or of a variant with a part made rigid.
+/// [`Error::Invalid`] for a torque that is not positive or a reducer that does not twist
+/// under it; failures of the static analysis of `red` or of a variant with a part made rigid.
 pub fn twist_shares(
     red: &Reducer,
     profile: &Profile,
@@ -114,7 +122,17 @@ pub fn twist_shares(
     if red.support != crate::reducer::Support::Bearings {
         return Ok(Vec::new());
     }
+    if torque.is_nan() || torque <= 0.0 {
+        return Err(Error::invalid("torque", torque, "must be positive"));
+    }
     let whole = elastic_twist(red, profile, crank_angles, torque)?;
+    if whole.is_nan() || whole <= 0.0 {
+        return Err(Error::invalid(
+            "torque",
+            torque,
+            "twists the reducer by no elastic angle: no shares to give",
+        ));
+    }
     rigid_variants(red)
         .into_iter()
         .map(|(part, r)| {

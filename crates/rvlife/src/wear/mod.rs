@@ -717,22 +717,8 @@ fn integrate_inner(
         let worn = h.iter().any(|&x| x > 0.0);
         let rate = if worn {
             let smoothed = smoother.apply(&h);
-            // Past half the teeth's height (the eccentricity: the profile spans `2a` from root
-            // to tip) the cycloid mesh the model describes is gone, whether or not its
-            // analyses still converge (docs/model.md section 7.8).
-            let deepest = smoothed.iter().copied().fold(0.0, f64::max);
-            let a = inputs.reducer.geometry.eccentricity;
-            if deepest >= a {
-                limit = Some(ValidityLimit {
-                    hours: t,
-                    max_wear_um: deepest * 1e6,
-                    reason: format!(
-                        "the wear depth {:.0} um reaches the eccentricity {:.0} um, half the \
-                         teeth's height",
-                        deepest * 1e6,
-                        a * 1e6
-                    ),
-                });
+            if let Some(l) = depth_limit(inputs, t, &smoothed) {
+                limit = Some(l);
                 break;
             }
             let evaluated = WearMap::new(smoothed.clone())
@@ -805,9 +791,17 @@ fn integrate_inner(
         };
         while si < stages.len() && stages[si] <= seg_end + eps {
             advance(&mut h, &mut hp, stages[si], &mut t);
-            maps.push(smoother.apply(&h));
+            let map = smoother.apply(&h);
+            if let Some(l) = depth_limit(inputs, t, &map) {
+                limit = Some(l);
+                break;
+            }
+            maps.push(map);
             pin_maps.push(hp.clone());
             si += 1;
+        }
+        if limit.is_some() {
+            break;
         }
         if t < seg_end - eps {
             advance(&mut h, &mut hp, seg_end, &mut t);
@@ -825,6 +819,24 @@ fn integrate_inner(
         pin_maps,
         update_hours,
         limit,
+    })
+}
+
+/// The validity limit at `hours` where the wear map `map` (m) reaches the eccentricity, half
+/// the teeth's height (the profile spans `2a` from root to tip): past it the cycloid mesh the
+/// model describes is gone, whether or not its analyses still converge (docs/model.md section
+/// 7.8). `None` below it.
+fn depth_limit(inputs: &WearInputs, hours: f64, map: &[f64]) -> Option<ValidityLimit> {
+    let deepest = map.iter().copied().fold(0.0, f64::max);
+    let a = inputs.reducer.geometry.eccentricity;
+    (deepest >= a).then(|| ValidityLimit {
+        hours,
+        max_wear_um: deepest * 1e6,
+        reason: format!(
+            "the wear depth {:.0} um reaches the eccentricity {:.0} um, half the teeth's height",
+            deepest * 1e6,
+            a * 1e6
+        ),
     })
 }
 
