@@ -427,8 +427,8 @@ pub const ANGULAR_TE_PIN_WEAR: Quantity = number(
     "arcmin",
     "angular TE: pin wear",
     "Change of the angular TE from the pins' wear: the angular TE of the unworn disc on the \
-     stage's bearings and pins minus that on the stage's bearings and unworn pins; the same \
-     part of the backlash (docs/model.md section 6.5).",
+     stage's bearings and pins minus that on the stage's bearings and unworn pins \
+     (docs/model.md section 6.5).",
     |s| Value::Number(s.angular_te_pin_wear_arcmin),
 );
 /// Angular TE's change from the discs' wear.

@@ -305,7 +305,7 @@ fn bearing_wear_follows_archard_on_the_most_loaded_roller() {
 /// the lost motion adds up to it exactly, gives the bearings' wear a part only when they wear
 /// (the unworn disc's play on the worn bearings beyond the new reducer's), and the disc's wear
 /// at least its part on unworn bearings: the sequential split puts the interaction in the
-/// disc's part (measured at 1250 h: 0.158 arcmin on bearings worn by 2.5 um, 0.067 on unworn
+/// disc's part (measured at 1250 h: 0.157 arcmin on bearings worn by 2.5 um, 0.067 on unworn
 /// ones; a worn flank lets a disc that moves in its bearings turn further). The angular TE's
 /// split adds up to it exactly, and the bearings' wear gives it no part (below 1e-6 arcmin).
 #[test]
