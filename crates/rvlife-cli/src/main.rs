@@ -34,10 +34,10 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Print a built-in config, fully commented: the paper's RV-40E-class reducer by default.
+    /// Print a built-in config, fully commented: the built-in RV-40E-class reducer by default.
     Example {
         /// Which built-in reducer (`--list` shows them).
-        #[arg(long, default_value = "paper")]
+        #[arg(long, default_value = "rv-40e")]
         preset: String,
         /// List the built-in reducers with their sources.
         #[arg(long)]
@@ -461,6 +461,18 @@ fn run(cli: Cli) -> Result<()> {
                 s.wear_rate_evaluations,
                 start.elapsed().as_secs_f64(),
                 out.display()
+            );
+            println!(
+                "{}",
+                rvlife::life::verdict(
+                    &model.life,
+                    s.accuracy_life.as_ref(),
+                    s.stages
+                        .last()
+                        .map(rvlife::quantities::AccuracyPoint::of)
+                        .as_ref(),
+                    &model.load.levels,
+                )
             );
             print_stage_table(&s.stages);
             if all {

@@ -7,21 +7,21 @@ use common::*;
 
 #[test]
 fn bad_fem_bore_cuts_the_teeth() {
-    let t = format!("{}\ncrank_bore_diameter_mm = 40.0\n", example_text());
+    let t = format!("{}\ncrank_bore_diameter_mm = 40.0\n", paper_text());
     check_bad_config(&t, &["fem.crank_bore_diameter_mm", "cuts the teeth"]);
 }
 
 #[test]
 fn bad_fem_holes_cut_each_other() {
     check_bad_config(
-        &add_line(&example_text(), "fem", "centre_hole_diameter_mm = 60.0"),
+        &add_line(&paper_text(), "fem", "centre_hole_diameter_mm = 60.0"),
         &["fem.", "cut each other"],
     );
 }
 
 #[test]
 fn bad_fem_mesh_beyond_memory() {
-    let t = set_key(&example_text(), "fem", "flank_element_size_mm", "0.01");
+    let t = set_key(&paper_text(), "fem", "flank_element_size_mm", "0.01");
     let t = set_key(&t, "fem", "load_patch_half_width_mm", "0.02");
     check_bad_config(&t, &["fem.flank_element_size_mm", "GB"]);
 }
@@ -68,16 +68,13 @@ fn bad_infinite_eccentricity() {
 
 #[test]
 fn bad_unknown_key() {
-    check_bad_config(
-        &add_line(&example_text(), "cycloid", "bogus = 1"),
-        &["bogus"],
-    );
+    check_bad_config(&add_line(&paper_text(), "cycloid", "bogus = 1"), &["bogus"]);
 }
 
 #[test]
 fn bad_negative_sinusoidal_amplitude() {
     let text = replace_table(
-        &example_text(),
+        &paper_text(),
         "load",
         "kind = \"sinusoidal\"\namplitude_nm = -5.0",
     );
@@ -96,7 +93,7 @@ fn bad_stage_hours_not_increasing() {
 
 #[test]
 fn bad_load_share_above_one() {
-    let text = set_key(&example_text(), "contact", "support", "\"rigid\"");
+    let text = set_key(&paper_text(), "contact", "support", "\"rigid\"");
     check_bad_config(
         &add_line(&text, "contact", "load_share = 1.5"),
         &["contact.load_share"],
@@ -107,7 +104,7 @@ fn bad_load_share_above_one() {
 fn bad_contact_band_force() {
     for v in ["0.0", "-5.0", "1e300"] {
         check_bad_config(
-            &add_line(&example_text(), "contact", &format!("band_force_n = {v}")),
+            &add_line(&paper_text(), "contact", &format!("band_force_n = {v}")),
             &["contact.band_force_n"],
         );
     }
@@ -116,7 +113,7 @@ fn bad_contact_band_force() {
 #[test]
 fn bad_contact_band() {
     check_bad_config(
-        &set_key(&example_text(), "contact", "band", "\"widest\""),
+        &set_key(&paper_text(), "contact", "band", "\"widest\""),
         &["contact.band"],
     );
 }
@@ -191,7 +188,7 @@ fn bad_profile_extension() {
 
 #[test]
 fn bad_dynamics_stiffness_damping_and_times() {
-    let ex = example_text();
+    let ex = paper_text();
     check_bad_dynamics(
         &ex.replace(
             "# crank_disc_stiffness_n_per_um = 500.0",

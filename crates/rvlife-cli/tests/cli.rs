@@ -12,7 +12,7 @@ use common::*;
 #[test]
 fn example_parses_back_and_contact_json_has_the_documented_keys() {
     let dir = tempfile::tempdir().unwrap();
-    let cfg = write_config(dir.path(), "example.toml", &example_text());
+    let cfg = write_config(dir.path(), "example.toml", &paper_text());
     let v = contact_json(&cfg, "0", "412");
     for key in [
         "twist_arcmin",
@@ -57,6 +57,9 @@ fn example_parses_back_and_contact_json_has_the_documented_keys() {
     assert!(num(&v, "residual") <= 1e-9);
     assert!(num(&v, "max_pressure_mpa") > 0.0);
     // The built-in config (no CONFIG argument) is the same as the printed example.
+    let printed = ok(&rvlife(["example"]), "rvlife example");
+    let printed = write_config(dir.path(), "printed.toml", &printed);
+    let v = contact_json(&printed, "0", "412");
     let builtin = json_ok(
         &rvlife([
             "contact",
@@ -77,7 +80,7 @@ fn example_parses_back_and_contact_json_has_the_documented_keys() {
 #[test]
 fn contact_pin_moments_balance_the_output_torque() {
     let dir = tempfile::tempdir().unwrap();
-    let cfg = write_config(dir.path(), "example.toml", &example_text());
+    let cfg = write_config(dir.path(), "example.toml", &paper_text());
     let factor = DISC_TEETH / (PINS as f64 + 0.5);
     for (crank, torque) in [
         ("0", RATED_TORQUE_NM),
@@ -115,7 +118,7 @@ fn contact_pin_moments_balance_the_output_torque() {
 #[test]
 fn contact_negative_torque_mirrors_the_forces() {
     let dir = tempfile::tempdir().unwrap();
-    let cfg = write_config(dir.path(), "example.toml", &example_text());
+    let cfg = write_config(dir.path(), "example.toml", &paper_text());
     let pos = contact_json(&cfg, "0", "412");
     let neg = contact_json(&cfg, "0", "-412");
     let rp = num(&pos, "twist_arcmin");
@@ -154,7 +157,12 @@ fn contact_negative_torque_mirrors_the_forces() {
 
 #[test]
 fn te_json_unworn_is_zero() {
-    let v = json_ok(&rvlife(["te", "--json"]), "rvlife te --json");
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "paper.toml", &paper_text());
+    let v = json_ok(
+        &rvlife(["te".as_ref(), cfg.as_os_str(), "--json".as_ref()]),
+        "rvlife te --json (paper)",
+    );
     let te = num(&v, "te_mean_arcmin");
     let b = num(&v, "backlash_arcmin");
     let lm = num(&v, "lost_motion_arcmin");
@@ -171,9 +179,17 @@ fn te_json_unworn_is_zero() {
 
 #[test]
 fn te_json_uniform_wear_offsets_by_w_over_a_zc() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "paper.toml", &paper_text());
     let v = json_ok(
-        &rvlife(["te", "--json", "--wear-um", "10"]),
-        "rvlife te --json --wear-um 10",
+        &rvlife([
+            "te".as_ref(),
+            cfg.as_os_str(),
+            "--json".as_ref(),
+            "--wear-um".as_ref(),
+            "10".as_ref(),
+        ]),
+        "rvlife te --json --wear-um 10 (paper)",
     );
     let expected = uniform_offset_arcmin(10e-6);
     assert!((expected - 0.6529).abs() < 1e-3, "{expected}");
@@ -215,7 +231,7 @@ fn te_json_with_torque_reports_loaded_te() {
 fn te_equidistant_modification_gives_lost_motion() {
     let dir = tempfile::tempdir().unwrap();
     let text = set_key(
-        &example_text(),
+        &paper_text(),
         "cycloid.modification",
         "equidistant_mm",
         "0.01",
@@ -436,7 +452,7 @@ fn profile_svg() {
 #[test]
 fn dynamics_json_and_results_directory() {
     let dir = tempfile::tempdir().unwrap();
-    let cfg = write_config(dir.path(), "dyn.toml", &short_dynamics(&example_text()));
+    let cfg = write_config(dir.path(), "dyn.toml", &short_dynamics(&paper_text()));
     let out = dir.path().join("dyn");
     let v = json_ok(
         &rvlife([
@@ -508,7 +524,7 @@ fn dynamics_json_and_results_directory() {
 #[test]
 fn dynamics_no_load_on_a_perfect_reducer_has_no_te() {
     let dir = tempfile::tempdir().unwrap();
-    let cfg = write_config(dir.path(), "dyn.toml", &short_dynamics(&example_text()));
+    let cfg = write_config(dir.path(), "dyn.toml", &short_dynamics(&paper_text()));
     let v = json_ok(
         &rvlife([
             "dynamics".as_ref(),

@@ -249,11 +249,12 @@ fn same_columns(was: &str, now: &str) -> Result<(), String> {
     Ok(())
 }
 
-/// The example with `from -> to` replaced (each must be found).
-fn example_with(edits: &[(&str, &str)]) -> String {
-    let mut t = rvlife::config::EXAMPLE_TOML.to_string();
+/// The paper's reducer (`rvlife example --preset paper`) with `from -> to` replaced (each must
+/// be found).
+fn paper_with(edits: &[(&str, &str)]) -> String {
+    let mut t = rvlife::config::preset_text("paper").expect("the paper preset");
     for (from, to) in edits {
-        assert!(t.contains(from), "the example has no `{from}`");
+        assert!(t.contains(from), "the paper preset has no `{from}`");
         t = t.replacen(from, to, 1);
     }
     t
@@ -270,7 +271,7 @@ fn run_outputs_are_unchanged() {
 #[test]
 fn montecarlo_outputs_are_unchanged() {
     let mut c = Case::new("montecarlo");
-    let mut cfg = example_with(&[
+    let mut cfg = paper_with(&[
         ("equidistant_mm = 0.0 ", "equidistant_mm = 0.008 "),
         ("offset_mm = 0.0 ", "offset_mm = -0.005 "),
         ("enabled = true ", "enabled = false "),
@@ -396,7 +397,7 @@ fn command_outputs_are_unchanged() {
             "{}\n[errors]\npin_radial_um = [{}]\npin_circle_runout_um = 3.0\n\
              pin_circle_runout_deg = 40.0\ncrank_eccentricity_um = [1.0, -0.5]\n\
              crank_phase_arcmin = [0.3, -0.2]\n",
-            example_with(&[
+            paper_with(&[
                 ("equidistant_mm = 0.0 ", "equidistant_mm = 0.008 "),
                 ("offset_mm = 0.0 ", "offset_mm = -0.005 "),
             ]),
@@ -410,7 +411,7 @@ fn command_outputs_are_unchanged() {
     );
     c.input(
         "rigid.toml",
-        &example_with(&[
+        &paper_with(&[
             ("support = \"bearings\"", "support = \"rigid\""),
             ("# load_share = 0.55", "load_share = 0.55"),
         ]),
@@ -496,7 +497,7 @@ fn command_outputs_are_unchanged() {
     ];
     for (label, edits) in bad {
         let name = format!("bad_{label}.toml");
-        c.input(&name, &example_with(edits));
+        c.input(&name, &paper_with(edits));
         c.run(&format!("bad_{label}"), &["te", &name], 2);
     }
     c.run("bad_flag", &["te", "--wear-um", "-1"], 2);

@@ -6,10 +6,11 @@ use std::path::{Path, PathBuf};
 
 use common::{assert_all_finite, rvlife_within};
 
-/// The example with a clearance (8 um equidistant, -5 um offset), no dynamics or flexible disc,
-/// `stages` as its working-hour stages, tolerances of every kind and a life spec.
+/// The paper's reducer with a clearance (8 um equidistant, -5 um offset), no dynamics or
+/// flexible disc, `stages` as its working-hour stages, tolerances of every kind and a life spec.
 fn config(dir: &Path, stages: &str) -> PathBuf {
-    let text = rvlife::config::EXAMPLE_TOML
+    let text = rvlife::config::preset_text("paper")
+        .expect("the paper preset")
         .replace("equidistant_mm = 0.0 ", "equidistant_mm = 0.008 ")
         .replace("offset_mm = 0.0 ", "offset_mm = -0.005 ")
         .replace("enabled = true ", "enabled = false ");

@@ -423,11 +423,7 @@ fn calibrate_measured_bad_inputs_exit_2_before_work() {
             &["2 measured value(s)", "running-in factor r", "at least 3"][..],
         ),
     ] {
-        let cfg = write_config(
-            dir.path(),
-            "c.toml",
-            &add_line(&example_text(), "wear", line),
-        );
+        let cfg = write_config(dir.path(), "c.toml", &add_line(&paper_text(), "wear", line));
         let o = rvlife([
             "calibrate".as_ref(),
             cfg.as_os_str(),

@@ -178,7 +178,7 @@ fn errors_blame_the_key_the_user_wrote() {
     assert_input_error(&o, "stage_hours", &["wear.stage_hours", "0 h"]);
     // The bore default (2 x dynamics.inertia.crank_bore_radius_mm) cuts the teeth.
     let t = add_line(
-        &example_text(),
+        &paper_text(),
         "dynamics.inertia",
         "crank_bore_radius_mm = 19.0",
     );
@@ -336,9 +336,10 @@ fn commands_check_only_the_sections_they_use() {
 
 /// Every built-in reducer (`rvlife example --list`) prints a config that runs `te` and
 /// `hysteresis`; the classes rank by stiffness as by size (RV-20E < RV-40E < RV-80E); the RV-E
-/// classes, with their assembly clearances, have a catalogue-class lost motion new (0.3 to 1
-/// arcmin; Nabtesco: up to 1), the paper's reducer without clearance about the same stiffness
-/// as the RV-40E (within 3 %: the clearance's take-up shifts the secant).
+/// classes, with their assembly play and modifications, have a catalogue-class lost motion new
+/// (0.3 to 1 arcmin; Nabtesco: up to 1), the paper's reducer without them nearly the stiffness
+/// of the RV-40E (within 6 %, 5 % measured: the modifications relieve the flanks' ends, so
+/// fewer pins share the load).
 #[test]
 fn every_preset_runs_te_and_hysteresis() {
     let list = ok(&rvlife(["example", "--list"]), "example --list");
@@ -348,7 +349,7 @@ fn every_preset_runs_te_and_hysteresis() {
         .collect();
     assert_eq!(
         names,
-        ["paper", "rv-20e", "rv-40e", "rv-80e", "single-stage"],
+        ["rv-40e", "paper", "rv-20e", "rv-80e", "single-stage"],
         "{list}"
     );
     let mut stiffness = BTreeMap::new();
@@ -368,7 +369,7 @@ fn every_preset_runs_te_and_hysteresis() {
         lost_motion.insert(name.to_string(), num(&v, "lost_motion_arcmin"));
     }
     assert!(stiffness["rv-20e"] < stiffness["rv-40e"] && stiffness["rv-40e"] < stiffness["rv-80e"]);
-    assert!((stiffness["paper"] / stiffness["rv-40e"] - 1.0).abs() < 0.03);
+    assert!((stiffness["paper"] / stiffness["rv-40e"] - 1.0).abs() < 0.06);
     for name in ["rv-20e", "rv-40e", "rv-80e"] {
         let lm = lost_motion[name];
         assert!((0.3..=1.0).contains(&lm), "{name}: lost motion {lm} arcmin");

@@ -82,7 +82,7 @@ fn progress_fn(cb: Option<Py<PyAny>>) -> impl Fn(usize, usize) + Sync {
 
 /// The text of a built-in config (`rvlife example --preset NAME`).
 #[pyfunction]
-#[pyo3(signature = (preset = "paper"))]
+#[pyo3(signature = (preset = "rv-40e"))]
 fn example_toml(preset: &str) -> PyResult<String> {
     rvlife::config::preset_text(preset).map_err(|e| match e {
         rvlife::Error::Invalid { value, allowed, .. } => {

@@ -132,7 +132,7 @@ def test_the_same_message_as_the_command_line(tmp):
 def test_dict_config_equals_its_toml():
     import tomllib
 
-    d = tomllib.loads(rvlife._rvlife.example_toml("paper"))
+    d = tomllib.loads(rvlife._rvlife.example_toml())
     same(rvlife.te(rvlife.Config.from_dict(d), wear_um=5.0).to_dict(), rvlife.te(wear_um=5.0).to_dict())
     d["cycloid"]["pin_radius_mm"] = -3.0
     with pytest.raises(ValueError, match="pin_radius_mm = -3"):

@@ -29,7 +29,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .ok_or("usage: paper_dynamics OUT_DIR")?,
     );
     std::fs::create_dir_all(&out)?;
-    let mut c = Config::example();
+    let mut c = Config::paper();
     c.dynamics.disc = "flexible".into();
     let m = c.validate()?;
     let sinusoidal = m.dynamics.params.load.clone();

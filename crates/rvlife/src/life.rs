@@ -157,3 +157,81 @@ pub(crate) fn crossing(
     };
     (lo.hours + f.clamp(0.0, 1.0) * (hi.hours - lo.hours), key)
 }
+
+/// The verdict of a study in one line, for the console and the report: the accuracy life and
+/// the threshold that sets it with its spec ("accuracy life 1858 h, limited by lost motion
+/// (spec 1 arcmin)"), or the hours within spec with the smallest margin at the last point
+/// studied, or what is missing; followed by the duty it assumes (`levels`, the `[load]`
+/// spectrum: one level's torque and input speed, or the number of levels and the largest
+/// torque).
+///
+/// `th`: the `[life]` thresholds; `life`: the study's accuracy life (`None` without
+/// thresholds); `last`: the quantities at the last stage. Source: docs/model.md section 11.
+pub fn verdict(
+    th: &LifeThresholds,
+    life: Option<&AccuracyLife>,
+    last: Option<&AccuracyPoint>,
+    levels: &[crate::wear::LoadLevel],
+) -> String {
+    let label = |key: &'static str| -> (&'static str, &'static str) {
+        LIFE.iter()
+            .find(|l| l.key == key)
+            .map_or((key, ""), |l| (l.quantity.label, l.quantity.unit))
+    };
+    let spec = |key: &'static str| {
+        let (name, unit) = label(key);
+        format!(
+            "{name} (spec {} {unit})",
+            th.threshold(key).unwrap_or(f64::NAN)
+        )
+    };
+    let duty = match levels {
+        [one] => format!(
+            "duty: {:.0} N m at {:.0} rpm input",
+            one.torque.abs(),
+            one.speed_rpm
+        ),
+        many => format!(
+            "duty: {} load levels up to {:.0} N m",
+            many.len(),
+            many.iter().map(|l| l.torque.abs()).fold(0.0, f64::max)
+        ),
+    };
+    let head = match life {
+        None => "no accuracy spec: set [life] (lost_motion_arcmin, backlash_arcmin, \
+                 angular_te_arcmin or torsional_stiffness_min_nm_per_arcmin) for an accuracy \
+                 life"
+            .to_string(),
+        Some(AccuracyLife {
+            accuracy_life_h: Some(h),
+            limited_by: Some(key),
+            ..
+        }) if *h <= 0.0 => format!("out of spec when new: {}", spec(key)),
+        Some(AccuracyLife {
+            accuracy_life_h: Some(h),
+            limited_by: Some(key),
+            ..
+        }) => format!("accuracy life {h:.0} h, limited by {}", spec(key)),
+        Some(l) => {
+            let margin = last.and_then(|p| {
+                let (key, m) = worst(th, p)?;
+                let value = LIFE.iter().find(|x| x.key == key)?.quantity.accuracy?(p);
+                Some((key, value, p.hours, m))
+            });
+            match margin {
+                Some((key, value, hours, m)) => {
+                    let (name, unit) = label(key);
+                    format!(
+                        "within spec up to {:.0} h (smallest margin: {name} {value:.3} {unit} \
+                         at {hours:.0} h against {} {unit}, {:.0} % to go)",
+                        l.horizon_h,
+                        th.threshold(key).unwrap_or(f64::NAN),
+                        100.0 * m
+                    )
+                }
+                None => format!("within spec up to {:.0} h", l.horizon_h),
+            }
+        }
+    };
+    format!("{head}; {duty}")
+}

@@ -157,8 +157,11 @@ pub fn assert_input_error(o: &Output, what: &str, needles: &[&str]) {
     }
 }
 
-pub fn example_text() -> String {
-    let out = ok(&rvlife(["example"]), "rvlife example");
+pub fn paper_text() -> String {
+    let out = ok(
+        &rvlife(["example", "--preset", "paper"]),
+        "rvlife example --preset paper",
+    );
     assert!(
         out.contains("[cycloid]"),
         "example has no [cycloid] table:\n{out}"
@@ -246,12 +249,7 @@ pub fn add_line(text: &str, table: &str, line: &str) -> String {
 /// The example with a short wear study: 500 h in two stages, and dynamics over 0.15 s (a few
 /// seconds in all).
 pub fn short_study_text() -> String {
-    let t = set_key(
-        &example_text(),
-        "wear",
-        "stage_hours",
-        "[0.0, 250.0, 500.0]",
-    );
+    let t = set_key(&paper_text(), "wear", "stage_hours", "[0.0, 250.0, 500.0]");
     let t = set_key(&t, "wear", "profile_update_hours", "250.0");
     short_dynamics(&t)
 }
@@ -393,7 +391,7 @@ pub fn check_bad_config(text: &str, needles: &[&str]) {
 }
 
 pub fn bad_key(table: &str, key: &str, value: &str, needles: &[&str]) {
-    check_bad_config(&set_key(&example_text(), table, key, value), needles);
+    check_bad_config(&set_key(&paper_text(), table, key, value), needles);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -471,7 +469,7 @@ pub fn check_bad_dynamics(text: &str, needles: &[&str]) {
 
 pub fn table_config(dir: &Path, table: &str) -> PathBuf {
     std::fs::write(dir.join("load.csv"), table).unwrap();
-    let t = set_key(&example_text(), "dynamics.load", "kind", "\"table\"");
+    let t = set_key(&paper_text(), "dynamics.load", "kind", "\"table\"");
     let t = replace_table(&t, "dynamics.load", "kind = \"table\"\nfile = \"load.csv\"");
     write_config(dir, "table.toml", &short_dynamics(&t))
 }
@@ -481,7 +479,7 @@ pub fn table_config(dir: &Path, table: &str) -> PathBuf {
 
 /// The example without the dynamics and the flexible disc (a study of about a second).
 pub fn fast_text() -> String {
-    let t = set_key(&example_text(), "dynamics", "enabled", "false");
+    let t = set_key(&paper_text(), "dynamics", "enabled", "false");
     set_key(&t, "fem", "enabled", "false")
 }
 
@@ -528,7 +526,7 @@ pub fn spawn_run(cfg: &Path, out: &Path) -> std::process::Child {
 
 /// The example with only `[cycloid]` changed to another stage.
 pub fn stage_text(pins: u32, e_mm: f64, rp_mm: f64, rrp_mm: f64, width_mm: f64) -> String {
-    let t = set_key(&example_text(), "cycloid", "pins", &pins.to_string());
+    let t = set_key(&paper_text(), "cycloid", "pins", &pins.to_string());
     let t = set_key(&t, "cycloid", "eccentricity_mm", &format!("{e_mm:?}"));
     let t = set_key(&t, "cycloid", "pin_circle_radius_mm", &format!("{rp_mm:?}"));
     let t = set_key(&t, "cycloid", "pin_radius_mm", &format!("{rrp_mm:?}"));

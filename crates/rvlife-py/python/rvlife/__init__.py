@@ -117,9 +117,10 @@ class Config:
 
 
 @functools.lru_cache(maxsize=None)
-def example(preset: str = "paper") -> Config:
-    """A built-in config (``rvlife example --preset``): ``paper`` (the default), ``rv-20e``,
-    ``rv-40e``, ``rv-80e``, ``single-stage``; :func:`presets` lists them."""
+def example(preset: str = "rv-40e") -> Config:
+    """A built-in config (``rvlife example --preset``): ``rv-40e`` (the default, the built-in
+    example), ``paper`` (the paper's reducer as printed), ``rv-20e``, ``rv-80e``,
+    ``single-stage``; :func:`presets` lists them."""
     return Config(_rvlife.example_toml(preset), f"<built-in {preset}>")
 
 

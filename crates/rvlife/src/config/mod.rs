@@ -169,7 +169,8 @@ impl Config {
         Ok(c)
     }
 
-    /// The built-in example (the paper's reducer).
+    /// The built-in example: the paper's RV-40E-class reducer with the play and modifications
+    /// of its class and the catalogue's accuracy spec (`rvlife example`).
     pub fn example() -> Config {
         Config::from_toml_str(EXAMPLE_TOML, "<built-in>").expect("the built-in example parses")
     }

@@ -309,7 +309,7 @@ mod tests {
     /// pressure).
     #[test]
     fn capacity_is_where_the_pressure_reaches_the_limit() {
-        let m = Config::example().validate().unwrap();
+        let m = Config::paper().validate().unwrap();
         let p = m.profile().unwrap();
         let sa = StaticAnalysis::new(&m.reducer, &p).unwrap();
         for sign in [1.0, -1.0] {

@@ -594,7 +594,7 @@ mod tests {
     /// differences of its values within 1e-6.
     #[test]
     fn path_angle_table_matches_newton() {
-        let geo = crate::config::Config::example()
+        let geo = crate::config::Config::paper()
             .validate()
             .unwrap()
             .reducer
@@ -656,7 +656,7 @@ mod tests {
             equidistant: 5e-6,
             ..Default::default()
         };
-        let geo = crate::config::Config::example()
+        let geo = crate::config::Config::paper()
             .validate()
             .unwrap()
             .cycloid
@@ -712,7 +712,7 @@ mod banded_tests {
     /// pins from touching to 20 um of approach; on the unworn flank it is the exact one.
     #[test]
     fn banded_field_is_the_envelope_with_consistent_derivatives() {
-        let model = crate::config::Config::example().validate().unwrap();
+        let model = crate::config::Config::paper().validate().unwrap();
         let red = &model.reducer;
         let n = 720;
         let depth: Vec<f64> = (0..n)

@@ -236,7 +236,7 @@ mod tests {
     use super::*;
 
     fn example_profile() -> Profile {
-        let model = crate::config::Config::example().validate().unwrap();
+        let model = crate::config::Config::paper().validate().unwrap();
         model.profile().unwrap()
     }
 

@@ -118,7 +118,8 @@ impl<'a> StaticAnalysis<'a> {
     /// nearly as `F`), `T_1` the torque at which a bearing force `10^3 k_0 c/2` balances it
     /// at the crank circle (`k_0` = [`crate::reducer::DEAD_BAND_STIFFNESS`], `c/2` the largest
     /// half play): loads far above the dead-band springs and far below the rated ones; `10 T_1`
-    /// where a solve at `T_1` does not converge (docs/model.md section 5.10).
+    /// where a solve at `T_1` does not converge, `100 T_1` where neither does (docs/model.md
+    /// section 5.10).
     ///
     /// # Errors
     /// Those of [`StaticAnalysis::first_contact`] and [`StaticAnalysis::solve`].
@@ -137,8 +138,9 @@ impl<'a> StaticAnalysis<'a> {
         };
         let t1 = 1e3 * crate::reducer::DEAD_BAND_STIFFNESS * play * arm;
         // The three light solves; should one fail to converge (a disc nearly unloaded between
-        // both flanks, its contacts switching within Newton's steps), all three again at ten
-        // times the torques.
+        // both flanks, its contacts switching within Newton's steps; a disc on one pin of a
+        // modified profile with its bearing at the edge of its clearance), all three again at
+        // ten, then a hundred times the torques.
         let solves = |t1: f64| -> Result<[f64; 3]> {
             let mut psi = [0.0; 3];
             let mut below: Option<StaticSolution> = None;
@@ -151,7 +153,10 @@ impl<'a> StaticAnalysis<'a> {
         };
         let psi = match solves(t1) {
             Ok(psi) => psi,
-            Err(Error::Numerical { .. }) => solves(10.0 * t1)?,
+            Err(Error::Numerical { .. }) => match solves(10.0 * t1) {
+                Err(Error::Numerical { .. }) => solves(100.0 * t1)?,
+                other => other?,
+            },
             Err(e) => return Err(e),
         };
         // psi_i = psi_0 + a x_i^0.9 + b x_i at x = 1, 2, 4 (units of T_1).

@@ -424,7 +424,7 @@ mod tests {
     /// otherwise blur the kink of its law).
     #[test]
     fn tangent_equals_difference_of_forces() {
-        let model = Config::example().validate().unwrap();
+        let model = Config::paper().validate().unwrap();
         let n_map = 720;
         // A wear scar like the late stage's: 40 um deep, centred on the flank.
         let depth: Vec<f64> = (0..n_map)

@@ -73,13 +73,18 @@ impl<'a> StaticAnalysis<'a> {
         }
         match self.solve_direct(phi, torque, psi0, near, offsets) {
             Err(Error::Numerical { .. }) if torque != 0.0 => {
-                self.solve_in_load_steps(phi, torque, psi0, near, offsets)
+                match self.solve_in_load_steps(phi, torque, psi0, near, offsets) {
+                    Err(e @ Error::Numerical { .. }) => self
+                        .solve_from_above(phi, torque, psi0, offsets)
+                        .map_err(|_| e),
+                    result => result,
+                }
             }
             result => result,
         }
     }
 
-    /// The last resort of [`StaticAnalysis::solve_with_offsets`]: the torque applied in steps
+    /// The fallback of [`StaticAnalysis::solve_with_offsets`]: the torque applied in steps
     /// from `near` (when it lies on the way, else from zero), each solve started from the one
     /// before, a step halved where it fails and doubled again (up to an eighth of the way)
     /// where it succeeds (a disc that moves onto other pins part of the way up, as on a ridge of
@@ -132,6 +137,44 @@ impl<'a> StaticAnalysis<'a> {
                 Err(_) => step *= 0.5,
             }
         }
+    }
+
+    /// The last resort of [`StaticAnalysis::solve_with_offsets`] when the load steps from zero
+    /// fail (light loads on a reducer with both play in its bearings and modified teeth, where
+    /// a disc rests on one pin with its bearing at the edge of its clearance and Newton's steps
+    /// overshoot across that edge): a cold solve at 4, 16 or 64 times `torque`, where the
+    /// bearings that carry the load are well engaged, then the torque halved step by step down
+    /// to `torque`, each solve started from the one above. The error of the step that failed.
+    fn solve_from_above(
+        &self,
+        phi: f64,
+        torque: f64,
+        psi0: f64,
+        offsets: &[f64],
+    ) -> Result<StaticSolution> {
+        let mut last = Err(self.fail(phi, "no solve above the torque converged"));
+        for f in [4.0, 16.0, 64.0] {
+            let Ok(mut above) = self.solve_direct(phi, f * torque, psi0, None, offsets) else {
+                continue;
+            };
+            let mut t = f * torque;
+            loop {
+                t = if (0.5 * t).abs() <= 1.000001 * torque.abs() {
+                    torque
+                } else {
+                    0.5 * t
+                };
+                match self.solve_direct(phi, t, psi0, Some(&above), offsets) {
+                    Ok(sol) if t == torque => return Ok(sol),
+                    Ok(sol) => above = sol,
+                    Err(e) => {
+                        last = Err(e);
+                        break;
+                    }
+                }
+            }
+        }
+        last
     }
 
     /// One attempt of [`StaticAnalysis::solve_with_offsets`]: from `near`, or cold.

@@ -9,7 +9,7 @@ type StageValue = fn(&StageSummary) -> f64;
 
 /// The example without dynamics and the flexible disc, stages at `hours`.
 fn fast_model(hours: &[f64]) -> Model {
-    let mut cfg = Config::example();
+    let mut cfg = Config::paper();
     cfg.dynamics.enabled = false;
     cfg.fem.enabled = false;
     let mut m = cfg.validate().expect("example validates");

@@ -185,7 +185,7 @@ fn eccentric_bearing_clearance_adds_its_pitch_point_play() {
 /// the crank, 2 um (0.01 % measured).
 #[test]
 fn crank_disc_clearance_adds_the_pitch_point_play() {
-    let base = Config::example().validate().unwrap();
+    let base = Config::paper().validate().unwrap();
     let red = &base.reducer;
     assert_eq!(red.cranks, 2);
     let geo = &red.geometry;
@@ -310,7 +310,7 @@ fn bearing_wear_follows_archard_on_the_most_loaded_roller() {
 /// split adds up to it exactly, and the bearings' wear gives it no part (below 1e-6 arcmin).
 #[test]
 fn worn_bearings_open_the_play_over_the_hours() {
-    let mut cfg = Config::example();
+    let mut cfg = Config::paper();
     cfg.dynamics.enabled = false;
     cfg.fem.enabled = false;
     cfg.wear.stage_hours = vec![0.0, 1250.0, 2500.0];
@@ -386,7 +386,7 @@ fn worn_bearings_open_the_play_over_the_hours() {
 /// against twice that within 1 % at 6 crank angles, 2 and 5 um.
 #[test]
 fn crank_carrier_clearance_adds_its_closed_form_play() {
-    let base = Config::example().validate().unwrap();
+    let base = Config::paper().validate().unwrap();
     let red = &base.reducer;
     let geo = &red.geometry;
     let (zp, zc) = (geo.pins as f64, geo.disc_teeth() as f64);

@@ -21,7 +21,7 @@ fn twist(m: &Model, phi: f64, torque: f64) -> f64 {
 /// The example on linear crank bearings without clearance (carrier-seat bearings `kc`,
 /// crank-disc bearings `kd`, N/m), nothing in series.
 fn linear(kc: f64, kd: f64) -> Model {
-    let mut m = Config::example().validate().unwrap();
+    let mut m = Config::paper().validate().unwrap();
     let b = &mut m.reducer.bearings;
     b.carrier.law = BearingLaw::Linear { stiffness: kc };
     b.disc.law = BearingLaw::Linear { stiffness: kd };
@@ -112,7 +112,7 @@ fn crank_torsion_adds_its_closed_form_twist() {
 /// `T/(n kappa^2 r_bp^2 k)` within 0.5 % (0.03 % measured).
 #[test]
 fn twist_shares_add_up_and_the_first_stage_follows_its_closed_form() {
-    let m = Config::example().validate().unwrap();
+    let m = Config::paper().validate().unwrap();
     let red = &m.reducer;
     let p = m.profile().unwrap();
     let phis = crate::te::mesh_cycle_angles(red.geometry.pins, 12);

@@ -11,7 +11,7 @@ use crate::units::ARCMIN_PER_RAD;
 use crate::wear::WearModelKind;
 
 fn example() -> Config {
-    Config::example()
+    Config::paper()
 }
 
 fn model_with(edit: impl FnOnce(&mut Config)) -> Model {

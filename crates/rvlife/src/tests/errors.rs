@@ -10,10 +10,11 @@ use crate::te::{
 };
 use crate::units::ARCMIN_PER_RAD;
 
-/// The example with a clearance: `equidistant_um` of equidistant and `offset_um` of offset
+/// The paper's reducer with a clearance: `equidistant_um` of equidistant and `offset_um` of offset
 /// modification.
 fn model(equidistant_um: f64, offset_um: f64) -> Model {
-    let text = crate::config::EXAMPLE_TOML
+    let text = crate::config::preset_text("paper")
+        .unwrap()
         .replace(
             "equidistant_mm = 0.0 ",
             &format!("equidistant_mm = {} ", equidistant_um * 1e-3),

@@ -15,7 +15,7 @@ use crate::geometry::{Vec2, WearMap};
 use crate::units::ARCMIN_PER_RAD;
 
 fn model_with(edit: impl FnOnce(&mut Config)) -> Model {
-    let mut c = Config::example();
+    let mut c = Config::paper();
     edit(&mut c);
     c.validate().unwrap()
 }
@@ -384,7 +384,7 @@ fn flexible_contact_is_complementary() {
 #[test]
 fn bad_fem_input_is_refused() {
     let err = |edit: &dyn Fn(&mut Config)| {
-        let mut c = Config::example();
+        let mut c = Config::paper();
         edit(&mut c);
         c.validate().unwrap_err().to_string()
     };

@@ -13,7 +13,7 @@ use crate::statics::StaticAnalysis;
 use crate::units::ARCMIN_PER_RAD;
 
 fn model_with(edit: impl FnOnce(&mut Config)) -> Model {
-    let mut c = Config::example();
+    let mut c = Config::paper();
     edit(&mut c);
     c.validate().unwrap()
 }
@@ -62,7 +62,7 @@ fn settings(density_scale: f64, cutoff_hz: f64) -> ModalSettings {
         cutoff_hz,
         damping_ratio: 0.5,
         max_modes: 200,
-        density: Config::example().dynamics.inertia.disc_density_kg_m3 * density_scale,
+        density: Config::paper().dynamics.inertia.disc_density_kg_m3 * density_scale,
     }
 }
 

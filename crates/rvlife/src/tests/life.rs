@@ -5,7 +5,8 @@ use crate::geometry::WearMap;
 use crate::study::study_life;
 
 fn model() -> Model {
-    let text = crate::config::EXAMPLE_TOML
+    let text = crate::config::preset_text("paper")
+        .unwrap()
         .replace("equidistant_mm = 0.0 ", "equidistant_mm = 0.008 ")
         .replace("offset_mm = 0.0 ", "offset_mm = -0.005 ")
         .replace("enabled = true ", "enabled = false ");
@@ -103,4 +104,55 @@ fn accuracy_life_is_where_the_worn_reducer_reaches_the_threshold() {
         .unwrap()
         .unwrap();
     assert_eq!(zero.accuracy_life_h, Some(0.0));
+}
+
+/// The verdict line names the life with the threshold and its spec, or the hours within spec
+/// with the smallest margin at the last stage (the quantity, its value, the spec and the
+/// share left), or the missing spec; and the duty.
+#[test]
+fn the_verdict_names_the_life_its_limit_and_the_duty() {
+    use crate::life::{verdict, AccuracyLife};
+    use crate::quantities::AccuracyPoint;
+    let m = model();
+    let mut th = m.life.clone();
+    th.lost_motion_arcmin = Some(1.0);
+    th.backlash_arcmin = Some(2.0);
+    let last = AccuracyPoint {
+        hours: 7500.0,
+        max_wear_um: 60.0,
+        backlash_arcmin: 0.5,
+        lost_motion_arcmin: 0.8,
+        angular_te_arcmin: 0.1,
+        torsional_stiffness_nm_per_arcmin: 150.0,
+    };
+    let levels = &m.load.levels;
+    let life = AccuracyLife {
+        accuracy_life_h: Some(1857.6),
+        limited_by: Some("lost_motion_arcmin"),
+        horizon_h: 7500.0,
+    };
+    assert_eq!(
+        verdict(&th, Some(&life), Some(&last), levels),
+        "accuracy life 1858 h, limited by lost motion (spec 1 arcmin); duty: 412 N m at 1500 \
+         rpm input"
+    );
+    let within = AccuracyLife {
+        accuracy_life_h: None,
+        limited_by: None,
+        horizon_h: 75000.0,
+    };
+    // Lost motion 0.8 of 1.0 (20 % to go) is closer than backlash 0.5 of 2.0 (75 %).
+    assert_eq!(
+        verdict(&th, Some(&within), Some(&last), levels),
+        "within spec up to 75000 h (smallest margin: lost motion 0.800 arcmin at 7500 h against \
+         1 arcmin, 20 % to go); duty: 412 N m at 1500 rpm input"
+    );
+    let new = AccuracyLife {
+        accuracy_life_h: Some(0.0),
+        limited_by: Some("backlash_arcmin"),
+        horizon_h: 7500.0,
+    };
+    assert!(verdict(&th, Some(&new), Some(&last), levels)
+        .starts_with("out of spec when new: backlash (spec 2 arcmin)"));
+    assert!(verdict(&th, None, Some(&last), levels).starts_with("no accuracy spec: set [life]"));
 }

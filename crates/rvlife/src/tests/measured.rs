@@ -9,7 +9,8 @@ use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
 
 fn text(measured: Option<&Path>) -> String {
-    let t = crate::config::EXAMPLE_TOML
+    let t = crate::config::preset_text("paper")
+        .unwrap()
         .replace("equidistant_mm = 0.0 ", "equidistant_mm = 0.008 ")
         .replace("offset_mm = 0.0 ", "offset_mm = -0.005 ");
     match measured {

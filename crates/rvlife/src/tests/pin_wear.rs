@@ -11,7 +11,7 @@ use crate::wear::wear_per_mesh_cycle;
 
 /// The example with pins that wear (`k_p` in mm^3/(N m)) and without dynamics or FE.
 fn model_with_pins(kp: f64) -> Model {
-    let mut cfg = Config::example();
+    let mut cfg = Config::paper();
     cfg.dynamics.enabled = false;
     cfg.fem.enabled = false;
     cfg.wear.pin_archard_coefficient_mm3_per_n_m = kp;
@@ -55,7 +55,7 @@ fn removed_areas(
 fn two_body_wear_conserves_archard() {
     let kd = 6.844807e-9;
     let worn_map = {
-        let mut cfg = Config::example();
+        let mut cfg = Config::paper();
         cfg.dynamics.enabled = false;
         cfg.fem.enabled = false;
         cfg.wear.stage_hours = vec![2500.0];
@@ -163,7 +163,7 @@ fn contact_point_check(torque: f64, direction_tol: f64, rate_tol: f64) {
 /// parts add up exactly, and the lost motion exceeds the study's with unworn pins.
 #[test]
 fn worn_pins_open_the_play() {
-    let mut cfg = Config::example();
+    let mut cfg = Config::paper();
     cfg.dynamics.enabled = false;
     cfg.fem.enabled = false;
     cfg.wear.stage_hours = vec![0.0, 1250.0, 2500.0];

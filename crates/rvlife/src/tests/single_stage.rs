@@ -149,6 +149,8 @@ fn single_stage_input_errors_name_their_key() {
         assert!(err(t).contains("dynamics.enabled"));
     }
     // RV keys of the single stage are refused for an RV reducer.
-    let rv = crate::config::EXAMPLE_TOML.replace("planets = 2 ", "planets = 2\ndiscs = 3\n");
+    let rv = crate::config::preset_text("paper")
+        .unwrap()
+        .replace("planets = 2 ", "planets = 2\ndiscs = 3\n");
     assert!(err(rv).contains("reducer.discs"));
 }

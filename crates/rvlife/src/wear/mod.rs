@@ -1012,7 +1012,7 @@ mod tests {
 
     #[test]
     fn band_spreading_conserves_area_and_spreads() {
-        let model = crate::config::Config::example().validate().unwrap();
+        let model = crate::config::Config::paper().validate().unwrap();
         let profile = model.profile().unwrap();
         let n = model.wear_inputs().grid_points();
         let mut depth = vec![0.0; n];
