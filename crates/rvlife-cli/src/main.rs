@@ -462,18 +462,7 @@ fn run(cli: Cli) -> Result<()> {
                 start.elapsed().as_secs_f64(),
                 out.display()
             );
-            println!(
-                "{}",
-                rvlife::life::verdict(
-                    &model.life,
-                    s.accuracy_life.as_ref(),
-                    s.stages
-                        .last()
-                        .map(rvlife::quantities::AccuracyPoint::of)
-                        .as_ref(),
-                    &model.load.levels,
-                )
-            );
+            println!("{}", study.verdict());
             print_stage_table(&s.stages);
             if all {
                 print_all_quantities(&s.stages);

@@ -268,6 +268,12 @@ fn run_writes_the_results_directory() {
 
     let text = ok(&run(&[]), "rvlife run (short study)");
     assert!(text.contains("3 stages"), "stdout:\n{text}");
+    // The verdict is the first line after the header, and the report's first section.
+    let verdict = text.lines().nth(1).unwrap_or_default();
+    assert!(
+        verdict.starts_with("no accuracy spec: set [life]") && verdict.contains("duty: 412 N m"),
+        "stdout:\n{text}"
+    );
     assert_eq!(leftover_tmp_dirs(dir.path()), Vec::<String>::new());
 
     // summary.json

@@ -781,6 +781,21 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
 }
 
 impl Study {
+    /// The study's verdict in one line ([`crate::life::verdict`]: the accuracy life and what
+    /// limits it against its spec, or the hours within spec, with the duty), as the console and
+    /// the report give it first.
+    pub fn verdict(&self) -> String {
+        crate::life::verdict(
+            &self.model.life,
+            self.life.as_ref(),
+            self.stages
+                .last()
+                .map(|s| AccuracyPoint::of(&s.summary))
+                .as_ref(),
+            &self.model.load.levels,
+        )
+    }
+
     /// The `summary.json` content.
     pub fn summary(&self) -> Summary {
         let m = &self.model;

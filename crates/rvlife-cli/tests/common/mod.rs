@@ -665,6 +665,12 @@ pub fn assert_report(out: &Path) {
     ] {
         assert!(!html.contains(needle), "report.html contains {needle:?}");
     }
+    // The answer first: the verdict is the report's first section.
+    let first = html.find("<h2>").expect("report.html has sections");
+    assert!(
+        html[first..].starts_with("<h2>Verdict</h2>\n<p class=\"verdict\"><strong>"),
+        "report.html's first section is not the verdict"
+    );
     for needle in [
         "Reducer",
         "Model options",

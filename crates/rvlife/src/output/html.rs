@@ -112,6 +112,12 @@ pub(crate) fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Resu
         study.stages.len(),
         study.stages.last().map_or(0.0, |s| s.hours)
     );
+    // The answer first: the accuracy life against the spec, with the duty it assumes.
+    let _ = writeln!(
+        h,
+        "<h2>Verdict</h2>\n<p class=\"verdict\"><strong>{}</strong></p>",
+        esc(&study.verdict())
+    );
 
     h.push_str("<h2>Reducer</h2>\n");
     let mm = |v: f64| num(v * 1e3);
