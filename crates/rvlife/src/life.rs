@@ -178,12 +178,14 @@ pub fn verdict(
             .find(|l| l.key == key)
             .map_or((key, ""), |l| (l.quantity.label, l.quantity.unit))
     };
+    // The threshold as written (every key reaching here has one).
+    let limit = |key: &str| {
+        th.threshold(key)
+            .map_or(String::from("?"), |v| v.to_string())
+    };
     let spec = |key: &'static str| {
         let (name, unit) = label(key);
-        format!(
-            "{name} (spec {} {unit})",
-            th.threshold(key).unwrap_or(f64::NAN)
-        )
+        format!("{name} (spec {} {unit})", limit(key))
     };
     let duty = match levels {
         [one] => format!(
@@ -225,7 +227,7 @@ pub fn verdict(
                         "within spec up to {:.0} h (smallest margin: {name} {value:.3} {unit} \
                          at {hours:.0} h against {} {unit}, {:.0} % to go)",
                         l.horizon_h,
-                        th.threshold(key).unwrap_or(f64::NAN),
+                        limit(key),
                         100.0 * m
                     )
                 }

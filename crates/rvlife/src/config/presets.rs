@@ -89,7 +89,6 @@ pub const PRESETS: &[Preset] = &[
         name: "rv-20e",
         summary: "RV-20E class: catalogue rated torque 167 N m, ratio 81; internal dimensions \
                   estimated (the paper's stage x 0.740); the example's play and modifications",
-
         edits: RV20E,
     },
     Preset {
