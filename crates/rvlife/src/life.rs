@@ -3,10 +3,10 @@
 //! threshold).
 //!
 //! The quantities are found at the study's stages; where a threshold is crossed between two
-//! stages the crossing is located by bisection on the working hours, each trial a wear
-//! integration to those hours and an analysis of the worn reducer (not an interpolation
-//! between the stages: lost motion and backlash grow unevenly as the worn band spreads over
-//! the flank), down to `LIFE_TOLERANCE`; the last bracket is interpolated linearly.
+//! stages the crossing is located by Brent's root finder on the working hours, each trial the
+//! wear at those hours and an analysis of the worn reducer (not an interpolation between the
+//! stages: lost motion and backlash grow unevenly as the worn band spreads over the flank),
+//! down to `LIFE_TOLERANCE`; the last bracket is interpolated linearly.
 
 use serde::Serialize;
 
@@ -14,7 +14,7 @@ use crate::config::LifeThresholds;
 use crate::error::Result;
 use crate::quantities::{AccuracyPoint, Sense, LIFE};
 
-/// Relative width of the last bisection bracket (of the hours at its upper end): 0.5 %.
+/// Relative width of the last bracket of the crossing's search (of the hours at its upper end): 0.5 %.
 pub(crate) const LIFE_TOLERANCE: f64 = 0.005;
 
 /// The accuracy life found.
@@ -57,7 +57,7 @@ fn worst(th: &LifeThresholds, p: &AccuracyPoint) -> Option<(&'static str, f64)> 
 
 /// The accuracy life from the quantities at increasing working hours `points`, refining a
 /// crossing between two of them with `at(hours)` (the quantities after that many hours of
-/// wear), by bisection down to [`LIFE_TOLERANCE`] and linear interpolation of the crossing
+/// wear), by Brent's root finder down to [`LIFE_TOLERANCE`] and linear interpolation of the crossing
 /// margin in the last bracket. Without a crossing among `points`, `at` steps on beyond the last
 /// one (x 1.5 in hours) up to `th.max_hours` (default 10 x the last point's hours). `None`
 /// without thresholds.
@@ -88,7 +88,7 @@ pub(crate) fn accuracy_life(
             };
             horizon_h = next;
             if out(&p) {
-                let (h, key) = bisect(th, lo, p, &mut at)?;
+                let (h, key) = locate_crossing(th, lo, p, &mut at)?;
                 return Ok(Some(AccuracyLife {
                     accuracy_life_h: Some(h),
                     limited_by: Some(key),
@@ -110,7 +110,7 @@ pub(crate) fn accuracy_life(
             horizon_h,
         }));
     }
-    let (h, key) = bisect(th, points[i - 1], points[i], &mut at)?;
+    let (h, key) = locate_crossing(th, points[i - 1], points[i], &mut at)?;
     Ok(Some(AccuracyLife {
         accuracy_life_h: Some(h),
         limited_by: Some(key),
@@ -118,23 +118,102 @@ pub(crate) fn accuracy_life(
     }))
 }
 
-/// Bisection of the bracket `lo` (inside the spec) .. `hi` (outside) on the hours down to
-/// [`LIFE_TOLERANCE`], then [`crossing`].
-fn bisect(
+/// The crossing in the bracket `lo` (inside the spec) .. `hi` (outside): Brent's root
+/// finder (argmin's `BrentRoot`: inverse quadratic interpolation safeguarded by bisection) on
+/// the smallest margin against the hours, down to a bracket of [`LIFE_TOLERANCE`] of `hi`'s
+/// hours, then [`crossing`] in the tightest bracket evaluated. `lo` and `hi` are not
+/// evaluated again.
+///
+/// # Errors
+/// Those of `at`; a root finder that has not converged in 100 steps (it cannot happen with a
+/// valid bracket: the bisection safeguard halves it at least every other step).
+fn locate_crossing(
     th: &LifeThresholds,
-    mut lo: AccuracyPoint,
-    mut hi: AccuracyPoint,
+    lo: AccuracyPoint,
+    hi: AccuracyPoint,
     at: &mut dyn FnMut(f64) -> Result<AccuracyPoint>,
 ) -> Result<(f64, &'static str)> {
-    while hi.hours - lo.hours > LIFE_TOLERANCE * hi.hours {
-        let mid = at(0.5 * (lo.hours + hi.hours))?;
-        if worst(th, &mid).is_some_and(|w| w.1 < 0.0) {
-            hi = mid;
-        } else {
-            lo = mid;
+    use argmin::core::{CostFunction, Executor, State, TerminationReason, TerminationStatus};
+    use argmin::solver::brent::BrentRoot;
+    use std::cell::RefCell;
+
+    /// The smallest margin at the trial hours; every point evaluated is kept.
+    struct Margin<'a> {
+        th: &'a LifeThresholds,
+        at: RefCell<&'a mut dyn FnMut(f64) -> Result<AccuracyPoint>>,
+        seen: &'a RefCell<Vec<AccuracyPoint>>,
+        failure: &'a RefCell<Option<crate::error::Error>>,
+    }
+    impl CostFunction for Margin<'_> {
+        type Param = f64;
+        type Output = f64;
+        fn cost(&self, h: &f64) -> std::result::Result<f64, argmin::core::Error> {
+            let known = self.seen.borrow().iter().find(|p| p.hours == *h).copied();
+            let p = match known {
+                Some(p) => p,
+                None => match (self.at.borrow_mut())(*h) {
+                    Ok(p) => {
+                        self.seen.borrow_mut().push(p);
+                        p
+                    }
+                    Err(e) => {
+                        *self.failure.borrow_mut() = Some(e);
+                        return Err(argmin::core::Error::msg("trial failed"));
+                    }
+                },
+            };
+            Ok(worst(self.th, &p).map_or(0.0, |w| w.1))
         }
     }
-    Ok(crossing(th, &lo, &hi))
+    let seen = RefCell::new(vec![lo, hi]);
+    let failure = RefCell::new(None);
+    let margin = Margin {
+        th,
+        at: RefCell::new(at),
+        seen: &seen,
+        failure: &failure,
+    };
+    let tol = LIFE_TOLERANCE * hi.hours;
+    let run = Executor::new(margin, BrentRoot::new(lo.hours, hi.hours, tol))
+        .configure(|s| s.max_iters(100))
+        .run();
+    if let Some(e) = failure.borrow_mut().take() {
+        return Err(e);
+    }
+    let converged = match &run {
+        Ok(r) => matches!(
+            r.state().get_termination_status(),
+            TerminationStatus::Terminated(TerminationReason::SolverConverged)
+        ),
+        Err(_) => false,
+    };
+    if !converged {
+        return Err(crate::error::Error::numerical(
+            "accuracy life",
+            format!(
+                "the crossing between {:.0} h and {:.0} h was not located to {tol:.1} h in 100 \
+                 steps",
+                lo.hours, hi.hours
+            ),
+        ));
+    }
+    // The tightest bracket evaluated: the last point inside the spec before the first one
+    // outside.
+    let out = |p: &AccuracyPoint| worst(th, p).is_some_and(|w| w.1 < 0.0);
+    let seen = seen.into_inner();
+    let first_out = seen
+        .iter()
+        .filter(|p| out(p))
+        .min_by(|a, b| a.hours.total_cmp(&b.hours))
+        .copied()
+        .unwrap_or(hi);
+    let last_in = seen
+        .iter()
+        .filter(|p| !out(p) && p.hours < first_out.hours)
+        .max_by(|a, b| a.hours.total_cmp(&b.hours))
+        .copied()
+        .unwrap_or(lo);
+    Ok(crossing(th, &last_in, &first_out))
 }
 
 /// The crossing between `lo` (inside the spec) and `hi` (outside): the threshold crossed at

@@ -25,14 +25,12 @@ use crate::geometry::{Profile, WearMap};
 use crate::quantities::{AccuracyPoint, StageSummary, STAGE};
 use crate::statics::StaticAnalysis;
 use crate::te::{
-    hysteresis_with, loaded_te_with, mesh_cycle_angles, revolution, static_te, CurveStats,
-    LoadedTe, StaticTe, TwistTable, HYSTERESIS_LEVELS,
+    hysteresis_and_rated, hysteresis_with, loaded_te_with, mesh_cycle_angles, revolution,
+    static_te, CurveStats, LoadedTe, StaticTe, TwistTable, HYSTERESIS_LEVELS,
 };
 use crate::units::ARCMIN_PER_RAD;
 use crate::wear::BearingWearRates;
-use crate::wear::{
-    integrate, integrate_on_schedule, ValidityLimit, WearHistory, WearInputs, WearModelKind,
-};
+use crate::wear::{integrate, ValidityLimit, WearHistory, WearInputs, WearModelKind};
 
 /// Full results of one stage.
 #[derive(Debug, Clone)]
@@ -249,7 +247,7 @@ pub(crate) fn analyse_profile(
     let red = &model.reducer;
     let phis = mesh_cycle_angles(red.geometry.pins, model.te.samples);
     let sa = StaticAnalysis::new(red, profile)?;
-    let (tables, mean) = hysteresis_with(
+    let (tables, mean, rated) = hysteresis_and_rated(
         &sa,
         &phis,
         model.rating.rated_torque,
@@ -257,7 +255,7 @@ pub(crate) fn analyse_profile(
         HYSTERESIS_LEVELS,
     )?;
     let ste = StaticTe {
-        crank_angle: phis,
+        crank_angle: phis.clone(),
         forward: tables.iter().map(|t| t.positive[0]).collect(),
         reverse: tables.iter().map(|t| -t.negative[0]).collect(),
     };
@@ -273,7 +271,12 @@ pub(crate) fn analyse_profile(
              thin the teeth (equidistant > 0 or offset < 0)",
         ));
     }
-    let loaded = loaded_te_with(&sa, model.te.loaded_torque, model.te.samples)?;
+    // At the rated torque (the default) the loaded TE is the hysteresis' top level.
+    let loaded = if model.te.loaded_torque == model.rating.rated_torque {
+        LoadedTe::from_solutions(model.te.loaded_torque, phis, rated)
+    } else {
+        loaded_te_with(&sa, model.te.loaded_torque, model.te.samples)?
+    };
     let acc = mean.accuracy();
     let s = ste.stats();
     let play = ste.backlash_stats();
@@ -342,6 +345,55 @@ pub(crate) fn analyse_profile(
         hysteresis: mean,
         summary,
     })
+}
+
+/// The accuracy-spec quantities of one profile only ([`AccuracyPoint`]: backlash, lost motion
+/// and stiffness from the hysteresis curve averaged over a mesh cycle, the angular TE from its
+/// zero-torque row or, with part errors, over an output revolution), as
+/// [`analyse_profile`] finds them, without the loaded TE: the accuracy life's trials.
+///
+/// # Errors
+/// Solver failures; a quantity that is not finite.
+fn accuracy_point(model: &Model, profile: &Profile, hours: f64) -> Result<AccuracyPoint> {
+    let red = &model.reducer;
+    let phis = mesh_cycle_angles(red.geometry.pins, model.te.samples);
+    let sa = StaticAnalysis::new(red, profile)?;
+    let (tables, mean) = hysteresis_with(
+        &sa,
+        &phis,
+        model.rating.rated_torque,
+        model.te.measuring_torque_fraction,
+        HYSTERESIS_LEVELS,
+    )?;
+    let acc = mean.accuracy();
+    let angular_te = if red.errors.is_zero() {
+        let forward: Vec<f64> = tables.iter().map(|t| t.positive[0]).collect();
+        CurveStats::of(&forward).peak_to_peak
+    } else {
+        revolution(&sa, model.te.samples)?.angular_te()
+    };
+    let p = AccuracyPoint {
+        hours,
+        max_wear_um: model.cycloid.wear_depth(profile) * 1e6,
+        backlash_arcmin: arcmin(acc.backlash),
+        lost_motion_arcmin: arcmin(acc.lost_motion),
+        angular_te_arcmin: arcmin(angular_te),
+        torsional_stiffness_nm_per_arcmin: acc.torsional_stiffness / ARCMIN_PER_RAD,
+    };
+    let values = [
+        p.max_wear_um,
+        p.backlash_arcmin,
+        p.lost_motion_arcmin,
+        p.angular_te_arcmin,
+        p.torsional_stiffness_nm_per_arcmin,
+    ];
+    if values.iter().any(|v| !v.is_finite()) {
+        return Err(Error::numerical(
+            "accuracy life",
+            format!("an accuracy quantity is not a finite number at {hours} h"),
+        ));
+    }
+    Ok(p)
 }
 
 /// A stage's dynamics and flexible analysis: the DTE summary and the flexible results.
@@ -771,7 +823,7 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
         }
     }
     let summaries: Vec<StageSummary> = stages.iter().map(|s| s.summary.clone()).collect();
-    let life = study_life(model, &summaries, &wear.update_hours)?;
+    let life = study_life(model, &summaries, &wear)?;
     Ok(Study {
         model: model.clone(),
         wear,
@@ -844,41 +896,42 @@ impl Study {
     }
 }
 
-/// [`crate::life::accuracy_life`] of a study of `model`: the stages' summaries, each bisection trial a wear
-/// integration on the study's own profile-update schedule (`update_hours`) to the trial hours
-/// and [`analyse_profile`] of the worn profile.
+/// [`crate::life::accuracy_life`] of a study of `model`: the stages' summaries, each trial
+/// the study's own wear integration `wear` replayed to the trial hours
+/// ([`WearHistory::replay`]: no wear rate is evaluated again) and the worn profile's accuracy
+/// quantities ([`accuracy_point`]); beyond the last stage a wear
+/// integration by the model's rule.
 ///
 /// # Errors
 /// Wear integration and analysis failures.
 pub(crate) fn study_life(
     model: &Model,
     stages: &[StageSummary],
-    update_hours: &[f64],
+    wear: &WearHistory,
 ) -> Result<Option<crate::life::AccuracyLife>> {
     let points: Vec<AccuracyPoint> = stages.iter().map(AccuracyPoint::of).collect();
-    let last = stages.last().map_or(0.0, |s| s.hours);
     let rates = crate::config::bearing_rates(model)?;
+    let base = WearInputs {
+        bearing_rates: rates,
+        ..model.wear_inputs()
+    };
     crate::life::accuracy_life(&model.life, &points, |h| {
-        let mut w = model.wear.clone();
-        w.stage_hours = vec![h];
-        let inputs = WearInputs {
-            wear: &w,
-            bearing_rates: rates,
-            ..model.wear_inputs()
+        let (map, pins) = match wear.replay(&base, h)? {
+            Some(state) => state,
+            None => {
+                let mut w = model.wear.clone();
+                w.stage_hours = vec![h];
+                let hist = integrate(&WearInputs { wear: &w, ..base }, &|_, _| {})?;
+                if let Some(l) = &hist.limit {
+                    return Err(crate::error::Error::numerical(
+                        "accuracy life",
+                        l.reason.clone(),
+                    ));
+                }
+                let pins = hist.pin_maps.first().cloned().unwrap_or_default();
+                (hist.maps[0].clone(), pins)
+            }
         };
-        // Within the stages on the study's own update schedule; beyond, by the model's rule.
-        let hist = if h <= last {
-            integrate_on_schedule(&inputs, update_hours, &|_, _| {})?
-        } else {
-            integrate(&inputs, &|_, _| {})?
-        };
-        if let Some(l) = &hist.limit {
-            return Err(crate::error::Error::numerical(
-                "accuracy life",
-                l.reason.clone(),
-            ));
-        }
-        let map = &hist.maps[0];
         let max = map.iter().copied().fold(0.0, f64::max);
         let wear = match model.wear.model {
             _ if max <= 0.0 => None,
@@ -886,12 +939,10 @@ pub(crate) fn study_life(
             WearModelKind::Flodin => Some(WearMap::new(map.clone())?),
         };
         let profile = model.cycloid.profile(wear)?;
-        let pins = hist.pin_maps.first().map_or(&[][..], |p| &p[..]);
-        let a = analyse_profile(
-            &crate::config::worn_parts(model, rates, h, pins),
+        accuracy_point(
+            &crate::config::worn_parts(model, rates, h, &pins),
             &profile,
             h,
-        )?;
-        Ok(AccuracyPoint::of(&a.summary))
+        )
     })
 }

@@ -165,6 +165,21 @@ pub struct LoadedTe {
 }
 
 impl LoadedTe {
+    /// The loaded TE of the equilibria `solutions` under `torque` (N m) at the crank angles
+    /// `crank_angle` (rad), one each.
+    pub(crate) fn from_solutions(
+        torque: f64,
+        crank_angle: Vec<f64>,
+        solutions: Vec<StaticSolution>,
+    ) -> LoadedTe {
+        let s = if torque < 0.0 { -1.0 } else { 1.0 };
+        LoadedTe {
+            torque,
+            crank_angle,
+            te: solutions.iter().map(|x| s * x.twist).collect(),
+            solutions,
+        }
+    }
     /// Statistics of the loaded TE.
     pub(crate) fn stats(&self) -> CurveStats {
         CurveStats::of(&self.te)
@@ -222,13 +237,7 @@ pub(crate) fn loaded_te(
 pub(crate) fn loaded_te_with(sa: &StaticAnalysis, torque: f64, samples: usize) -> Result<LoadedTe> {
     let phis = mesh_cycle_angles(sa.reducer().geometry.pins, samples);
     let solutions = sa.solve_sequence(&phis, torque)?;
-    let s = if torque < 0.0 { -1.0 } else { 1.0 };
-    Ok(LoadedTe {
-        torque,
-        crank_angle: phis,
-        te: solutions.iter().map(|x| s * x.twist).collect(),
-        solutions,
-    })
+    Ok(LoadedTe::from_solutions(torque, phis, solutions))
 }
 
 /// The catalogue accuracy quantities of one hysteresis curve (rad, N m/rad).
@@ -283,14 +292,16 @@ impl TwistTable {
         fractions: &[f64],
         rated: f64,
         measuring_fraction: f64,
-    ) -> Result<TwistTable> {
+    ) -> Result<(TwistTable, StaticSolution)> {
         let mut positive = Vec::with_capacity(fractions.len());
         let mut negative = Vec::with_capacity(fractions.len());
+        let mut heaviest = None;
         for (side, out) in [(1.0, &mut positive), (-1.0, &mut negative)] {
             let psi0 = sa.first_contact(phi, side)?;
-            let zero = sa.no_load_twist(phi, side)?;
-            // Up the torque grid, each solve started from the one below.
-            let mut below: Option<StaticSolution> = None;
+            let (zero, light) = sa.no_load_from(phi, side, psi0)?;
+            // Up the torque grid, each solve started from the one below (the first from the
+            // heaviest light solve of the no-load limit, with play).
+            let mut below: Option<StaticSolution> = light;
             for &f in fractions {
                 out.push(if f == 0.0 {
                     zero
@@ -301,14 +312,21 @@ impl TwistTable {
                     twist
                 });
             }
+            if side > 0.0 {
+                heaviest = below;
+            }
         }
-        Ok(TwistTable {
+        let table = TwistTable {
             fractions: fractions.to_vec(),
             rated_torque: rated,
             measuring_fraction,
             positive,
             negative,
-        })
+        };
+        let rated_solution = heaviest.ok_or_else(|| {
+            Error::numerical("hysteresis", "the torque grid holds no loaded level")
+        })?;
+        Ok((table, rated_solution))
     }
 
     /// The mean of several tables of the same grid (non-empty).
@@ -435,13 +453,32 @@ pub(crate) fn hysteresis_with(
     measuring_fraction: f64,
     levels: usize,
 ) -> Result<(Vec<TwistTable>, TwistTable)> {
+    let (tables, mean, _) =
+        hysteresis_and_rated(sa, crank_angles, rated, measuring_fraction, levels)?;
+    Ok((tables, mean))
+}
+
+/// [`hysteresis_with`] and the equilibria at `+rated` at each crank angle on the way (the
+/// loaded TE at the rated torque, [`LoadedTe::from_solutions`]).
+///
+/// # Errors
+/// As [`hysteresis`].
+pub(crate) fn hysteresis_and_rated(
+    sa: &StaticAnalysis,
+    crank_angles: &[f64],
+    rated: f64,
+    measuring_fraction: f64,
+    levels: usize,
+) -> Result<(Vec<TwistTable>, TwistTable, Vec<StaticSolution>)> {
     let fractions = torque_fractions(measuring_fraction, levels);
-    let tables: Vec<TwistTable> = crank_angles
+    let (tables, solutions): (Vec<TwistTable>, Vec<StaticSolution>) = crank_angles
         .par_iter()
         .map(|&phi| TwistTable::at_crank(sa, phi, &fractions, rated, measuring_fraction))
-        .collect::<Result<_>>()?;
+        .collect::<Result<Vec<_>>>()?
+        .into_iter()
+        .unzip();
     let mean = TwistTable::mean_of(&tables);
-    Ok((tables, mean))
+    Ok((tables, mean, solutions))
 }
 
 /// Repeats a mesh-cycle curve over one output revolution (`Zc Zp` mesh cycles) and returns

@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::range::{check, Range};
-use crate::contact::{ApproachLaw, ContactModel, Groove, Materials};
+use crate::contact::{ApproachLaw, ContactModel, Groove, Materials, PinBending};
 use crate::error::{Error, Result};
 use crate::geometry::CycloidGeometry;
 use crate::reducer::Support;
@@ -46,10 +46,18 @@ pub struct ContactConfig {
     /// `"single"` (averaged over the band of `band_force_n`).
     #[serde(default = "default_band")]
     pub band: String,
-    /// How the pins are held: `"rigid"` (default, the earlier model) or `"groove"` (each pin
-    /// seated in a housing groove, the pin-groove contact in series with the flank contact).
+    /// How the pins are held: `"rigid"` (default, the earlier model), `"groove"` (each pin
+    /// seated in a housing groove, the pin-groove contact in series with the flank contact) or
+    /// `"ends"` (each pin held at its two ends only and bent by the disc's load, a beam in
+    /// series with the flank contact; docs/model.md section 3.5).
     #[serde(default = "default_pin_support")]
     pub pin_support: String,
+    /// Distance between the supports of a pin held at its ends, mm (`pin_support = "ends"`
+    /// only; default three disc widths: the two discs side by side and half a disc width at
+    /// each end for the running clearances and the support, an **estimate**). Range: [2 B,
+    /// 2000] mm, `B` the disc width (the two discs must fit between the supports).
+    #[serde(default)]
+    pub pin_span_mm: Option<f64>,
     /// Groove radius minus pin radius, um (default 10 um: an **estimate** of a running fit of
     /// a hardened pin in a ground groove). Range: [1, 1000] um.
     #[serde(default)]
@@ -88,6 +96,7 @@ impl Default for ContactConfig {
             band_force_n: None,
             band: default_band(),
             pin_support: default_pin_support(),
+            pin_span_mm: None,
             groove_clearance_um: None,
         }
     }
@@ -184,22 +193,54 @@ impl ContactConfig {
             }
             None => 10e-6,
         };
-        let groove = match one_of(
+        let pin_support = one_of(
             "contact.pin_support",
             &self.pin_support,
-            &["groove", "rigid"],
-            "must be \"groove\" or \"rigid\"",
-        )? {
+            &["groove", "rigid", "ends"],
+            "must be \"groove\", \"rigid\" or \"ends\"",
+        )?;
+        let log_law = !matches!(law, ApproachLaw::Linear { .. });
+        let groove = match pin_support {
             // Loaded over the disc width, into a housing wall of about 0.15 Rp (estimate).
-            "groove" if !matches!(law, ApproachLaw::Linear { .. }) => Some(Groove {
+            "groove" if log_law => Some(Groove {
                 clearance: groove_clearance,
                 length: geometry.width,
                 housing_depth: 0.15 * geometry.pin_circle_radius,
             }),
             _ => None,
         };
+        let b = geometry.width;
+        let span = match self.pin_span_mm {
+            Some(v) if pin_support == "ends" => {
+                check(
+                    "contact.pin_span_mm",
+                    v,
+                    Range::closed(2.0 * b * 1e3, 2000.0, "mm"),
+                )? * 1e-3
+            }
+            Some(_) => {
+                return Err(Error::invalid(
+                    "contact.pin_span_mm",
+                    "given",
+                    "applies only to pin_support = \"ends\"",
+                ))
+            }
+            None => 3.0 * b,
+        };
+        // Two discs side by side about the span's middle: each disc's mid-plane half a disc
+        // width from it.
+        let pin_compliance = if pin_support == "ends" && log_law {
+            PinBending {
+                span,
+                load_at: 0.5 * span - 0.5 * b,
+            }
+            .compliance(geometry.pin_radius, &materials)
+        } else {
+            0.0
+        };
         let law = ContactModel {
             groove,
+            pin_compliance,
             law,
             materials,
             width: geometry.width,

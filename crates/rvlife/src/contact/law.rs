@@ -66,12 +66,47 @@ pub struct Groove {
     pub housing_depth: f64,
 }
 
+/// A pin held only at its two ends in the housing (no groove along it), bent by a disc's load
+/// as a Timoshenko beam simply supported over `span` and loaded at `load_at` from one support
+/// (docs/model.md section 3.5): the deflection under the load is `F c`,
+///
+/// `c = x^2 (L - x)^2 / (3 E I L) + x (L - x) / (kappa G A L)`,
+///
+/// bending (Roark's Formulas for Stress and Strain, 7th ed., table 8.1, case 1e) plus shear
+/// (section 8.10, `kappa = 0.9` for a round section), `I = pi d^4/64`, `A = pi d^2/4`, `d` the
+/// pin's diameter, `E`, `G = E/(2 (1 + nu))` the pin's.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PinBending {
+    /// Distance between the pin's supports `L`, m.
+    pub span: f64,
+    /// Distance of the disc's mid-plane from the nearer support `x`, m (`0 < x <= L/2`).
+    pub load_at: f64,
+}
+
+impl PinBending {
+    /// The compliance `c` (m/N) under the load of a pin of radius `pin_radius` (m) of the pin
+    /// material of `materials`.
+    pub fn compliance(&self, pin_radius: f64, materials: &Materials) -> f64 {
+        let (l, x) = (self.span, self.load_at);
+        let d = 2.0 * pin_radius;
+        let i = std::f64::consts::PI * d.powi(4) / 64.0;
+        let a = std::f64::consts::PI * d * d / 4.0;
+        let e = materials.pin_youngs_modulus;
+        let g = e / (2.0 * (1.0 + materials.pin_poisson_ratio));
+        let kappa = 0.9;
+        x * x * (l - x) * (l - x) / (3.0 * e * i * l) + x * (l - x) / (kappa * g * a * l)
+    }
+}
+
 /// Hertz line-contact model of a pin on the disc flank.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactModel {
     /// The housing groove of the pins in series with the flank contact (`None`: pins held
     /// rigidly, the earlier model).
     pub groove: Option<Groove>,
+    /// Bending compliance of a pin held at its ends only, at the disc's load, m/N (0: pins
+    /// held rigidly or bedded in grooves; [`PinBending`]), in series with the flank contact.
+    pub pin_compliance: f64,
     /// The approach law.
     pub law: ApproachLaw,
     /// The materials.
@@ -177,6 +212,8 @@ impl ContactModel {
             * (c1 * (c0 + (4.0 * rho).ln() - 0.5 * cb.ln())
                 + c2 * (c0 + (4.0 * rp).ln() - 0.5 * cb.ln()));
         let g1 = 0.5 * k * (c1 + c2);
+        // A pin bent between its ends adds F c: g0 + c.
+        let g0 = g0 + self.pin_compliance;
         match self.groove {
             None => Some((g0, g1)),
             Some(gr) => {
@@ -266,6 +303,7 @@ impl ContactModel {
         2.0 * force / (std::f64::consts::PI * self.width)
             * (c1 * (c0 + (4.0 * rho / b).ln()) + c2 * (c0 + (4.0 * rp / b).ln()))
             + groove
+            + force * self.pin_compliance
     }
 
     /// Force (N) and contact stiffness `dF/ddelta` (N/m) at approach `delta` (m): the inverse of

@@ -24,7 +24,7 @@ pub mod law;
 pub mod li;
 pub mod pin;
 
-pub use law::{ApproachLaw, ContactModel, Groove, HertzState, Materials};
+pub use law::{ApproachLaw, ContactModel, Groove, HertzState, Materials, PinBending};
 pub(crate) use li::li_load_distribution;
 pub(crate) use pin::pin_geometry;
 pub use pin::{DiscPose, PinGeometry};

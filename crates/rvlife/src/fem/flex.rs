@@ -66,8 +66,9 @@ impl FlexibleLaw {
             (0.0, 0.0)
         };
         let pin = c2 * (c0 + (4.0 * m.pin_radius / b).ln());
-        let w_at = |ff: f64| k * ff * (disc + pin);
-        let slope = k * (disc + pin) - 0.5 * k * (disc_slope + c2);
+        // A pin bent between its ends (section 3.5) adds F c.
+        let w_at = |ff: f64| k * ff * (disc + pin) + ff * m.pin_compliance;
+        let slope = k * (disc + pin) - 0.5 * k * (disc_slope + c2) + m.pin_compliance;
         (w_at(force.max(0.0)), slope.max(1e-3 * k * c2))
     }
 }

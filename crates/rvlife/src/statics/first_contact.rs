@@ -124,11 +124,27 @@ impl<'a> StaticAnalysis<'a> {
     /// # Errors
     /// Those of [`StaticAnalysis::first_contact`] and [`StaticAnalysis::solve`].
     pub(crate) fn no_load_twist(&self, phi: f64, direction: f64) -> Result<f64> {
+        let psi0 = self.first_contact(phi, direction)?;
+        Ok(self.no_load_from(phi, direction, psi0)?.0)
+    }
+
+    /// [`StaticAnalysis::no_load_twist`] from the first contact `psi0` already found
+    /// ([`StaticAnalysis::first_contact`] in the same direction), with the heaviest of the
+    /// light solves it was extrapolated from (`None` without play), from which solves at
+    /// higher torques can start.
+    ///
+    /// # Errors
+    /// As [`StaticAnalysis::no_load_twist`].
+    pub(crate) fn no_load_from(
+        &self,
+        phi: f64,
+        direction: f64,
+        psi0: f64,
+    ) -> Result<(f64, Option<StaticSolution>)> {
         let s = if direction < 0.0 { -1.0 } else { 1.0 };
         let play = self.red.max_half_play();
-        let psi0 = self.first_contact(phi, s)?;
         if play <= 0.0 || self.red.support != Support::Bearings {
-            return Ok(psi0);
+            return Ok((psi0, None));
         }
         let arm = match self.red.drive {
             Drive::Rv => self.red.crank_circle_radius,
@@ -141,7 +157,7 @@ impl<'a> StaticAnalysis<'a> {
         // both flanks, its contacts switching within Newton's steps; a disc on one pin of a
         // modified profile with its bearing at the edge of its clearance), all three again at
         // ten, then a hundred times the torques.
-        let solves = |t1: f64| -> Result<[f64; 3]> {
+        let solves = |t1: f64| -> Result<([f64; 3], Option<StaticSolution>)> {
             let mut psi = [0.0; 3];
             let mut below: Option<StaticSolution> = None;
             for (i, f) in [1.0, 2.0, 4.0].iter().enumerate() {
@@ -149,9 +165,9 @@ impl<'a> StaticAnalysis<'a> {
                 psi[i] = sol.twist;
                 below = Some(sol);
             }
-            Ok(psi)
+            Ok((psi, below))
         };
-        let psi = match solves(t1) {
+        let (psi, heaviest) = match solves(t1) {
             Ok(psi) => psi,
             Err(Error::Numerical { .. }) => match solves(10.0 * t1) {
                 Err(Error::Numerical { .. }) => solves(100.0 * t1)?,
@@ -171,7 +187,7 @@ impl<'a> StaticAnalysis<'a> {
         // The limit lies between the rigid first contact and the lightest loaded solution.
         let lo = psi0.min(psi[0]);
         let hi = psi0.max(psi[0]);
-        Ok(sol[0].clamp(lo, hi))
+        Ok((sol[0].clamp(lo, hi), heaviest))
     }
 
     /// Every pin that can stop the unloaded mechanism turned in direction `direction` at crank

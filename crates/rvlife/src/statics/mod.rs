@@ -78,9 +78,18 @@ pub(crate) const MAX_TWIST: f64 = 0.01;
 /// Most solves of one loading path in `StaticAnalysis::solve_in_load_steps`.
 pub(crate) const MAX_LOAD_STEPS: usize = 96;
 
-/// Consecutive crank angles solved in one run of `StaticAnalysis::solve_sequence`, each
-/// started from the previous one.
+/// Longest run of consecutive crank angles solved in `StaticAnalysis::solve_sequence`, each
+/// started from the previous one; a sequence is cut into equal runs no longer than this.
 pub(crate) const SEQUENCE_RUN: usize = 16;
+
+/// Runs of `n` crank angles in `StaticAnalysis::solve_sequence`: the fewest of at most
+/// [`SEQUENCE_RUN`] angles, but at least two for `n >= 4` so that two cores share every
+/// sequence, of equal length (the last one shorter by the remainder). Fixed by `n` alone: the
+/// results do not depend on the number of threads.
+pub(crate) fn sequence_run(n: usize) -> usize {
+    let runs = n.div_ceil(SEQUENCE_RUN).max(if n >= 4 { 2 } else { 1 });
+    n.div_ceil(runs).max(1)
+}
 
 /// One pin's share of a static solution.
 #[derive(Debug, Clone, Copy, Serialize)]

@@ -217,7 +217,7 @@ impl<'a> StaticAnalysis<'a> {
 
     /// Static equilibria at the crank angles `phis` (rad, in order, neighbours close) under one
     /// output torque `torque` (N m): [`StaticAnalysis::solve`] at each, in parallel over runs
-    /// of [`SEQUENCE_RUN`] consecutive angles, each solve of a run started from its
+    /// of consecutive angles ([`sequence_run`]), each solve of a run started from its
     /// predecessor's solution. The runs do not depend on the number of threads, so neither do
     /// the results.
     ///
@@ -226,7 +226,7 @@ impl<'a> StaticAnalysis<'a> {
     pub(crate) fn solve_sequence(&self, phis: &[f64], torque: f64) -> Result<Vec<StaticSolution>> {
         let s = if torque < 0.0 { -1.0 } else { 1.0 };
         let runs: Vec<Vec<StaticSolution>> = phis
-            .par_chunks(SEQUENCE_RUN)
+            .par_chunks(sequence_run(phis.len()))
             .map(|run| -> Result<Vec<StaticSolution>> {
                 let mut out: Vec<StaticSolution> = Vec::with_capacity(run.len());
                 for &phi in run {

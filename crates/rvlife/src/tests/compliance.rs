@@ -145,3 +145,88 @@ fn twist_shares_add_up_and_the_first_stage_follows_its_closed_form() {
     );
     assert!((first.twist / closed - 1.0).abs() < 0.005);
 }
+
+/// A pin held at its ends (`[contact] pin_support = "ends"`, docs/model.md section 3.5) bends
+/// as a Timoshenko beam simply supported over its span. Its compliance under a disc's load
+/// against the unit-load (virtual work) integral `int M^2/(E I) + V^2/(kappa G A) dx / F^2`
+/// along the span, evaluated by Simpson's rule (4000 intervals: an independent route to the
+/// closed form, within 1e-9); and the contact law with it is the rigid pin's plus exactly
+/// `F c` at forces from 1 to 10^4 N on convex, flat and concave flanks (1e-12), its inverse
+/// returning the force (1e-10). The key is refused with other supports and below two disc
+/// widths.
+#[test]
+fn pins_held_at_their_ends_bend_as_a_beam_in_series_with_the_contact() {
+    let with = |extra: &str| {
+        Config::from_toml_str(
+            &EXAMPLE_TOML.replace("[contact]\n", &format!("[contact]\n{extra}")),
+            "test",
+        )
+        .and_then(|c| c.validate())
+    };
+    let rigid = with("").unwrap();
+    let ends = with("pin_support = \"ends\"\n").unwrap();
+    let (law_r, law_e) = (rigid.reducer.contact, ends.reducer.contact);
+    let c = law_e.pin_compliance;
+    // The beam: span 3 B, load half a disc width off the middle, pin of radius rrp, GCr15.
+    let g = &ends.cycloid.geometry;
+    let (l, x) = (3.0 * g.width, 1.5 * g.width - 0.5 * g.width);
+    let d = 2.0 * g.pin_radius;
+    let e = law_e.materials.pin_youngs_modulus;
+    let gm = e / (2.0 * (1.0 + law_e.materials.pin_poisson_ratio));
+    let (i, a) = (
+        std::f64::consts::PI * d.powi(4) / 64.0,
+        std::f64::consts::PI * d * d / 4.0,
+    );
+    // Unit load at x: reactions (L - x)/L and x/L; M(s), V(s) along the span.
+    let n = 4000;
+    let h = l / n as f64;
+    let density = |s: f64, left: bool| {
+        let (m, v) = if left {
+            ((l - x) / l * s, (l - x) / l)
+        } else {
+            (x / l * (l - s), x / l)
+        };
+        m * m / (e * i) + v * v / (0.9 * gm * a)
+    };
+    // Simpson on each side of the load (the shear force jumps there).
+    let simpson = |lo: f64, hi: f64, k: usize, left: bool| {
+        let h = (hi - lo) / k as f64;
+        (0..=k)
+            .map(|j| {
+                let w = if j == 0 || j == k {
+                    1.0
+                } else if j % 2 == 1 {
+                    4.0
+                } else {
+                    2.0
+                };
+                w * density(lo + j as f64 * h, left)
+            })
+            .sum::<f64>()
+            * h
+            / 3.0
+    };
+    let k1 = ((x / h).round() as usize).max(2) & !1;
+    let integral = simpson(0.0, x, k1, true) + simpson(x, l, (n - k1).max(2) & !1, false);
+    assert!((c / integral - 1.0).abs() < 1e-9, "{c:e} {integral:e}");
+    // About 47 N/um for the example's 6 mm pins over 26 mm: far softer than the flank contact.
+    assert!(1.0 / c > 30e6 && 1.0 / c < 70e6, "{:e}", 1.0 / c);
+    for kappa in [1.0 / 5e-3, 0.0, -1.0 / 20e-3] {
+        for f in [1.0, 10.0, 100.0, 1e3, 1e4] {
+            let extra = law_e.approach(f, kappa) - law_r.approach(f, kappa);
+            assert!((extra / (f * c) - 1.0).abs() < 1e-12, "{f} {kappa}");
+            let (back, _) = law_e.force(law_e.approach(f, kappa), kappa).unwrap();
+            assert!((back / f - 1.0).abs() < 1e-10, "{f} {kappa} {back}");
+        }
+    }
+    let refused = |extra: &str| match with(extra) {
+        Err(crate::error::Error::Invalid { field, .. }) => field,
+        other => panic!("{extra}: {other:?}"),
+    };
+    assert_eq!(refused("pin_span_mm = 30.0\n"), "contact.pin_span_mm");
+    assert_eq!(
+        refused("pin_support = \"ends\"\npin_span_mm = 10.0\n"),
+        "contact.pin_span_mm"
+    );
+    assert!(with("pin_support = \"ends\"\npin_span_mm = 40.0\n").is_ok());
+}

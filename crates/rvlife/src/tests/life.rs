@@ -19,8 +19,9 @@ fn model() -> Model {
 /// A lost-motion threshold halfway between two stages' values: the life lies between those
 /// stages, is limited by lost motion, and the lost motion of the reducer worn for exactly
 /// that many hours (its own wear integration and analysis) equals the threshold to 1 % of the
-/// rise between the stages (the bisection stops at 0.5 % of the hours, the last bracket is
-/// interpolated linearly). A threshold above the last stage's value is found beyond it, the
+/// rise between the stages (the root finder stops at 0.5 % of the hours, the last bracket is
+/// interpolated linearly); the study's wear replayed to those hours (no wear rate evaluated
+/// again) is that integration's, within 1e-12 of the deepest wear. A threshold above the last stage's value is found beyond it, the
 /// integration stepped on (to 2 % of the last rise: the wear there is integrated on the
 /// model's own update rule); one never reached gives no life within the horizon
 /// (`life.max_hours`); one below the unworn value a life of zero.
@@ -33,9 +34,7 @@ fn accuracy_life_is_where_the_worn_reducer_reaches_the_threshold() {
     assert!(b.lost_motion_arcmin > a.lost_motion_arcmin);
     let limit = 0.5 * (a.lost_motion_arcmin + b.lost_motion_arcmin);
     m.life.lost_motion_arcmin = Some(limit);
-    let life = study_life(&m, &s, &study.wear.update_hours)
-        .unwrap()
-        .unwrap();
+    let life = study_life(&m, &s, &study.wear).unwrap().unwrap();
     let h = life.accuracy_life_h.unwrap();
     assert_eq!(life.limited_by, Some("lost_motion_arcmin"));
     assert!(
@@ -49,6 +48,15 @@ fn accuracy_life_is_where_the_worn_reducer_reaches_the_threshold() {
     let hist =
         crate::wear::integrate_on_schedule(&at.wear_inputs(), &study.wear.update_hours, &|_, _| {})
             .unwrap();
+    let inputs = crate::wear::WearInputs {
+        bearing_rates: crate::config::bearing_rates(&m).unwrap(),
+        ..m.wear_inputs()
+    };
+    let (replayed, _) = study.wear.replay(&inputs, h).unwrap().unwrap();
+    let deepest = hist.maps[0].iter().copied().fold(0.0, f64::max);
+    for (r, x) in replayed.iter().zip(&hist.maps[0]) {
+        assert!((r - x).abs() < 1e-12 * deepest, "{r:e} {x:e}");
+    }
     let p = m
         .cycloid
         .profile(Some(WearMap::new(hist.maps[0].clone()).unwrap()))
@@ -68,9 +76,7 @@ fn accuracy_life_is_where_the_worn_reducer_reaches_the_threshold() {
     let beyond = q.lost_motion_arcmin + 0.5 * (q.lost_motion_arcmin - p.lost_motion_arcmin);
     m.life.lost_motion_arcmin = Some(beyond);
     m.life.max_hours = Some(2.0 * q.hours);
-    let later = study_life(&m, &s, &study.wear.update_hours)
-        .unwrap()
-        .unwrap();
+    let later = study_life(&m, &s, &study.wear).unwrap().unwrap();
     let h = later
         .accuracy_life_h
         .expect("crossed beyond the last stage");
@@ -94,15 +100,11 @@ fn accuracy_life_is_where_the_worn_reducer_reaches_the_threshold() {
     // Not crossed within the horizon.
     m.life.lost_motion_arcmin = Some(q.lost_motion_arcmin * 1.1);
     m.life.max_hours = Some(1.2 * q.hours);
-    let none = study_life(&m, &s, &study.wear.update_hours)
-        .unwrap()
-        .unwrap();
+    let none = study_life(&m, &s, &study.wear).unwrap().unwrap();
     assert_eq!(none.accuracy_life_h, None);
     assert_eq!(none.horizon_h, 1.2 * q.hours);
     m.life.lost_motion_arcmin = Some(s[0].lost_motion_arcmin * 0.9);
-    let zero = study_life(&m, &s, &study.wear.update_hours)
-        .unwrap()
-        .unwrap();
+    let zero = study_life(&m, &s, &study.wear).unwrap().unwrap();
     assert_eq!(zero.accuracy_life_h, Some(0.0));
 }
 

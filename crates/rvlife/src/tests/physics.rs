@@ -115,6 +115,7 @@ fn linear_law_reproduces_li_distribution() {
     let mut red = rigid(0.55);
     red.contact = ContactModel {
         groove: None,
+        pin_compliance: 0.0,
         law: ApproachLaw::Linear { stiffness: 5e9 },
         materials: steel(),
         width: geo.width,
@@ -271,6 +272,7 @@ fn uniform_wear_map_equals_equidistant() {
 fn hertz_against_hand_calculation() {
     let mut m = ContactModel {
         groove: None,
+        pin_compliance: 0.0,
         law: ApproachLaw::Paper,
         materials: steel(),
         width: 8.75e-3,
@@ -310,6 +312,7 @@ fn hertz_against_hand_calculation() {
     m.law = ApproachLaw::Paper;
     let body = ContactModel {
         groove: None,
+        pin_compliance: 0.0,
         disc_depth: Some(64e-3),
         ..m
     };

@@ -606,6 +606,26 @@ pub struct WearHistory {
     /// Set when the integration stopped before the last stage because the worn profile left
     /// the model's validity; `hours` and `maps` then hold the stages before it.
     pub limit: Option<ValidityLimit>,
+    /// The unfiltered wear state at each profile update and the rates held until the next
+    /// ([`WearHistory::replay`]).
+    #[serde(skip)]
+    pub(crate) segments: Vec<WearSegment>,
+}
+
+/// One profile update of a wear integration: the unfiltered wear depths at its start and the
+/// rates (m per steady-equivalent hour) held until the next update.
+#[derive(Debug, Clone)]
+pub(crate) struct WearSegment {
+    /// Working hours of the update, h.
+    start_h: f64,
+    /// Disc wear on the grid, m, unfiltered.
+    disc: Vec<f64>,
+    /// Pin wear round the pin, m.
+    pin: Vec<f64>,
+    /// Disc wear rate, m per hour (steady coefficient).
+    disc_rate: Vec<f64>,
+    /// Pin wear rate, m per hour (steady coefficient).
+    pin_rate: Vec<f64>,
 }
 
 impl WearHistory {
@@ -617,6 +637,40 @@ impl WearHistory {
     pub fn angles(&self) -> Vec<f64> {
         let n = self.maps.first().map_or(0, Vec::len);
         (0..n).map(|m| TAU * m as f64 / n as f64).collect()
+    }
+    /// The wear after `hours` of the same integration, without evaluating a wear rate: the
+    /// state at the last profile update at or before `hours` advanced with the rate held from
+    /// it, as the integration itself advances it (exact for an integration on the same
+    /// schedule to those hours, up to round-off). Returns the filtered disc map and the pin
+    /// map (m), or `None` beyond the last stage integrated (or before 0).
+    ///
+    /// `inputs` must be those of the integration.
+    ///
+    /// # Errors
+    /// The wear depth reaching the eccentricity (section 7.8 of docs/model.md) is a numerical
+    /// error naming the hours.
+    pub(crate) fn replay(
+        &self,
+        inputs: &WearInputs,
+        hours: f64,
+    ) -> Result<Option<(Vec<f64>, Vec<f64>)>> {
+        let end = self.hours.last().copied().unwrap_or(0.0);
+        if self.limit.is_some() || !(0.0..=end).contains(&hours) {
+            return Ok(None);
+        }
+        let Some(seg) = self.segments.iter().rev().find(|s| s.start_h <= hours) else {
+            return Ok(None);
+        };
+        let run_in = inputs.wear.running_in;
+        let dh = run_in.equivalent_hours(hours) - run_in.equivalent_hours(seg.start_h);
+        let advance = |x: &[f64], r: &[f64]| -> Vec<f64> {
+            x.iter().zip(r).map(|(x, r)| x + r * dh).collect()
+        };
+        let map = BandSmoother::new(inputs)?.apply(&advance(&seg.disc, &seg.disc_rate));
+        if let Some(l) = depth_limit(inputs, hours, &map) {
+            return Err(Error::numerical("wear integration", l.reason));
+        }
+        Ok(Some((map, advance(&seg.pin, &seg.pin_rate))))
     }
     /// Maximum wear depth at each stage, m.
     pub(crate) fn max_depths(&self) -> Vec<f64> {
@@ -682,6 +736,7 @@ fn integrate_inner(
         None => 1,
     };
     let mut update_hours = Vec::new();
+    let mut segments = Vec::new();
     let stages = &w.stage_hours;
     // Round-off tolerance of the hour arithmetic, relative to the horizon: an update step is
     // never shorter than horizon / budget (checked below), far above it.
@@ -757,6 +812,13 @@ fn integrate_inner(
             }
         }
         update_hours.push(t);
+        segments.push(WearSegment {
+            start_h: t,
+            disc: h.clone(),
+            pin: hp.clone(),
+            disc_rate: rate.disc.clone(),
+            pin_rate: rate.pin.clone(),
+        });
         progress(update_hours.len().min(total), total);
         let seg_end = if let Some(sch) = schedule {
             sch.iter()
@@ -819,6 +881,7 @@ fn integrate_inner(
         pin_maps,
         update_hours,
         limit,
+        segments,
     })
 }
 
