@@ -25,8 +25,8 @@ use crate::geometry::{Profile, WearMap};
 use crate::quantities::{AccuracyPoint, StageSummary, STAGE};
 use crate::statics::StaticAnalysis;
 use crate::te::{
-    hysteresis_and_rated, hysteresis_with, loaded_te_with, mesh_cycle_angles, revolution,
-    static_te, CurveStats, LoadedTe, StaticTe, TwistTable, HYSTERESIS_LEVELS,
+    hysteresis_and_rated, loaded_te_with, mesh_cycle_angles, revolution, static_te, CurveStats,
+    LoadedTe, StaticTe, TwistTable, HYSTERESIS_LEVELS,
 };
 use crate::units::ARCMIN_PER_RAD;
 use crate::wear::BearingWearRates;
@@ -233,6 +233,38 @@ pub(crate) fn check_work(model: &Model) -> Result<()> {
     ))
 }
 
+/// The static analysis of `model`'s reducer with `profile`, the mesh cycle's crank angles
+/// (`te.samples`) and the hysteresis over them at the rated torque with the equilibria at
+/// `+rated` ([`hysteresis_and_rated`]): what [`analyse_profile`] and the accuracy life's
+/// trials share.
+///
+/// # Errors
+/// Solver failures.
+#[allow(clippy::type_complexity)]
+fn stage_hysteresis<'a>(
+    model: &'a Model,
+    profile: &'a Profile,
+) -> Result<(
+    StaticAnalysis<'a>,
+    Vec<f64>,
+    (
+        Vec<TwistTable>,
+        TwistTable,
+        Vec<crate::statics::StaticSolution>,
+    ),
+)> {
+    let phis = mesh_cycle_angles(model.reducer.geometry.pins, model.te.samples);
+    let sa = StaticAnalysis::new(&model.reducer, profile)?;
+    let h = hysteresis_and_rated(
+        &sa,
+        &phis,
+        model.rating.rated_torque,
+        model.te.measuring_torque_fraction,
+        HYSTERESIS_LEVELS,
+    )?;
+    Ok((sa, phis, h))
+}
+
 /// Analyses one profile: static TE, the hysteresis curve averaged over a mesh cycle (backlash,
 /// lost motion, hysteresis loss, torsional stiffness) and the loaded TE at the model's
 /// loaded-TE torque, all from the static analysis of the reducer model.
@@ -245,15 +277,7 @@ pub(crate) fn analyse_profile(
     hours: f64,
 ) -> Result<ProfileAnalysis> {
     let red = &model.reducer;
-    let phis = mesh_cycle_angles(red.geometry.pins, model.te.samples);
-    let sa = StaticAnalysis::new(red, profile)?;
-    let (tables, mean, rated) = hysteresis_and_rated(
-        &sa,
-        &phis,
-        model.rating.rated_torque,
-        model.te.measuring_torque_fraction,
-        HYSTERESIS_LEVELS,
-    )?;
+    let (sa, phis, (tables, mean, rated)) = stage_hysteresis(model, profile)?;
     let ste = StaticTe {
         crank_angle: phis.clone(),
         forward: tables.iter().map(|t| t.positive[0]).collect(),
@@ -356,15 +380,7 @@ pub(crate) fn analyse_profile(
 /// Solver failures; a quantity that is not finite.
 fn accuracy_point(model: &Model, profile: &Profile, hours: f64) -> Result<AccuracyPoint> {
     let red = &model.reducer;
-    let phis = mesh_cycle_angles(red.geometry.pins, model.te.samples);
-    let sa = StaticAnalysis::new(red, profile)?;
-    let (tables, mean) = hysteresis_with(
-        &sa,
-        &phis,
-        model.rating.rated_torque,
-        model.te.measuring_torque_fraction,
-        HYSTERESIS_LEVELS,
-    )?;
+    let (sa, _, (tables, mean, _)) = stage_hysteresis(model, profile)?;
     let acc = mean.accuracy();
     let angular_te = if red.errors.is_zero() {
         let forward: Vec<f64> = tables.iter().map(|t| t.positive[0]).collect();
