@@ -22,7 +22,7 @@ use crate::fem::flex::{analyse_stage, FlexibleStage};
 use crate::fem::mesh::Mesh;
 use crate::fem::DiscSet;
 use crate::geometry::{Profile, WearMap};
-use crate::quantities::{AccuracyPoint, StageSummary, STAGE};
+use crate::quantities::{AccuracyPoint, StageSummary, ACCURACY, STAGE};
 use crate::statics::StaticAnalysis;
 use crate::te::{
     hysteresis_and_rated, loaded_te_with, mesh_cycle_angles, revolution, static_te, CurveStats,
@@ -396,20 +396,16 @@ fn accuracy_point(model: &Model, profile: &Profile, hours: f64) -> Result<Accura
         angular_te_arcmin: arcmin(angular_te),
         torsional_stiffness_nm_per_arcmin: acc.torsional_stiffness / ARCMIN_PER_RAD,
     };
-    let values = [
-        p.max_wear_um,
-        p.backlash_arcmin,
-        p.lost_motion_arcmin,
-        p.angular_te_arcmin,
-        p.torsional_stiffness_nm_per_arcmin,
-    ];
-    if values.iter().any(|v| !v.is_finite()) {
-        return Err(Error::numerical(
+    match ACCURACY
+        .iter()
+        .find(|q| q.accuracy.is_some_and(|value| !value(&p).is_finite()))
+    {
+        Some(q) => Err(Error::numerical(
             "accuracy life",
-            format!("an accuracy quantity is not a finite number at {hours} h"),
-        ));
+            format!("{} is not a finite number at {hours} h", q.name),
+        )),
+        None => Ok(p),
     }
-    Ok(p)
 }
 
 /// A stage's dynamics and flexible analysis: the DTE summary and the flexible results.

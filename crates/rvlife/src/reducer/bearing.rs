@@ -77,10 +77,6 @@ pub enum BearingLaw {
         contact_angle: f64,
         /// Roller length, m.
         length: f64,
-        /// `cos(contact_angle)`, kept beside it for the roller sums.
-        cos_contact_angle: f64,
-        /// `(sin, cos)` of the roller pitch `2 pi / count`, for the roller sums.
-        pitch_sin_cos: (f64, f64),
     },
 }
 
@@ -97,8 +93,6 @@ impl BearingLaw {
             contact_constant: k_mm * 1e3_f64.powf(10.0 / 9.0),
             contact_angle: angle,
             length,
-            cos_contact_angle: angle.cos(),
-            pitch_sin_cos: (std::f64::consts::TAU / count as f64).sin_cos(),
         }
     }
 }
@@ -145,12 +139,13 @@ impl RadialBearing {
                 count,
                 rows,
                 contact_constant,
-                cos_contact_angle: ca,
-                pitch_sin_cos: (s1, c1),
+                contact_angle,
                 ..
             } => {
                 // Roller 0 under the load and the pairs +-i beside it, while they face it
                 // (their cosines by rotation steps).
+                let ca = contact_angle.cos();
+                let (s1, c1) = (std::f64::consts::TAU / count as f64).sin_cos();
                 let (mut f, mut k) = (0.0, 0.0);
                 let (mut c, mut sn) = (1.0_f64, 0.0_f64);
                 let mut weight = 1.0;

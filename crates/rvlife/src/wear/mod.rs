@@ -662,15 +662,14 @@ impl WearHistory {
             return Ok(None);
         };
         let run_in = inputs.wear.running_in;
-        let dh = run_in.equivalent_hours(hours) - run_in.equivalent_hours(seg.start_h);
-        let advance = |x: &[f64], r: &[f64]| -> Vec<f64> {
-            x.iter().zip(r).map(|(x, r)| x + r * dh).collect()
-        };
-        let map = BandSmoother::new(inputs)?.apply(&advance(&seg.disc, &seg.disc_rate));
+        let (mut disc, mut pin) = (seg.disc.clone(), seg.pin.clone());
+        advance_depths(&mut disc, &seg.disc_rate, run_in, seg.start_h, hours);
+        advance_depths(&mut pin, &seg.pin_rate, run_in, seg.start_h, hours);
+        let map = BandSmoother::new(inputs)?.apply(&disc);
         if let Some(l) = depth_limit(inputs, hours, &map) {
             return Err(Error::numerical("wear integration", l.reason));
         }
-        Ok(Some((map, advance(&seg.pin, &seg.pin_rate))))
+        Ok(Some((map, pin)))
     }
     /// Maximum wear depth at each stage, m.
     pub(crate) fn max_depths(&self) -> Vec<f64> {
@@ -842,13 +841,8 @@ fn integrate_inner(
         // The rate is the steady coefficient's; running-in scales the hours.
         let run_in = w.running_in;
         let advance = |h: &mut Vec<f64>, hp: &mut Vec<f64>, to: f64, t: &mut f64| {
-            let dh = run_in.equivalent_hours(to) - run_in.equivalent_hours(*t);
-            for (x, r) in h.iter_mut().zip(&rate.disc) {
-                *x += r * dh;
-            }
-            for (x, r) in hp.iter_mut().zip(&rate.pin) {
-                *x += r * dh;
-            }
+            advance_depths(h, &rate.disc, run_in, *t, to);
+            advance_depths(hp, &rate.pin, run_in, *t, to);
             *t = to;
         };
         while si < stages.len() && stages[si] <= seg_end + eps {
@@ -883,6 +877,17 @@ fn integrate_inner(
         limit,
         segments,
     })
+}
+
+/// Advances the wear depths `depth` (m) at the held rates `rate` (m per hour of the steady
+/// coefficient) from `from` to `to` working hours, running-in scaling the hours
+/// ([`RunningIn::equivalent_hours`]): the explicit Euler step of the integration between
+/// profile updates, and its replay.
+fn advance_depths(depth: &mut [f64], rate: &[f64], run_in: RunningIn, from: f64, to: f64) {
+    let dh = run_in.equivalent_hours(to) - run_in.equivalent_hours(from);
+    for (x, r) in depth.iter_mut().zip(rate) {
+        *x += r * dh;
+    }
 }
 
 /// The validity limit at `hours` where the wear map `map` (m) reaches the eccentricity, half
