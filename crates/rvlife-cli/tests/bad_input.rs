@@ -200,6 +200,38 @@ fn bad_dynamics_stiffness_damping_and_times() {
         &set_key(&ex, "reducer.bearings", "crank_disc_rollers", "-5"),
         &["reducer.bearings.crank_disc_rollers", "-5"],
     );
+    // Roller sets: a diameter out of range, rollers that do not fit round their pitch circle,
+    // a pitch circle inside the rollers.
+    let angle = "crank_carrier_contact_angle_deg = 15.0";
+    assert!(ex.contains(angle));
+    for (extra, needles) in [
+        (
+            "crank_disc_roller_diameter_mm = 0.1",
+            &[
+                "reducer.bearings.crank_disc_roller_diameter_mm",
+                "0.1",
+                "[0.5, 100]",
+            ][..],
+        ),
+        (
+            "crank_disc_roller_diameter_mm = 9.0",
+            &[
+                "reducer.bearings.crank_disc_roller_diameter_mm",
+                "9.000",
+                "no room",
+            ][..],
+        ),
+        (
+            "crank_carrier_pitch_diameter_mm = 2.5",
+            &[
+                "reducer.bearings.crank_carrier_pitch_diameter_mm",
+                "2.500",
+                "must exceed",
+            ][..],
+        ),
+    ] {
+        check_bad_dynamics(&ex.replace(angle, &format!("{angle}\n{extra}")), needles);
+    }
     check_bad_dynamics(
         &set_key(&ex, "reducer.gears", "mesh_stiffness_n_per_um", "1e12"),
         &["reducer.gears.mesh_stiffness_n_per_um"],

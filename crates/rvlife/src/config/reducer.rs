@@ -173,6 +173,25 @@ pub struct BearingsConfig {
     /// [0.5, 500] mm.
     #[serde(default)]
     pub crank_carrier_roller_length_mm: Option<f64>,
+    /// Rollers: needle diameter, mm (default: the needles filling 0.75 of their pitch circle
+    /// round the eccentric's journal, [`roller_set_estimate`]). Range: [0.5, 100] mm, the
+    /// needles fitting round their pitch circle.
+    #[serde(default)]
+    pub crank_disc_roller_diameter_mm: Option<f64>,
+    /// Rollers: pitch diameter of the needle set, mm (default: the eccentric's journal plus one
+    /// needle diameter, [`roller_set_estimate`]). Range: [2, 1000] mm, more than the needle
+    /// diameter.
+    #[serde(default)]
+    pub crank_disc_pitch_diameter_mm: Option<f64>,
+    /// Rollers: mean diameter of the crank-carrier rollers, mm (default as for the needles,
+    /// round the crank's journal). Range: [0.5, 100] mm, the rollers fitting round their pitch
+    /// circle.
+    #[serde(default)]
+    pub crank_carrier_roller_diameter_mm: Option<f64>,
+    /// Rollers: pitch diameter of the crank-carrier roller set, mm (default: the crank's
+    /// journal plus one roller diameter). Range: [2, 1000] mm, more than the roller diameter.
+    #[serde(default)]
+    pub crank_carrier_pitch_diameter_mm: Option<f64>,
     /// Rollers: contact angle of the tapered crank-carrier rollers, deg. Range: [0, 45] deg.
     #[serde(default = "d_cc_angle")]
     pub crank_carrier_contact_angle_deg: f64,
@@ -235,6 +254,10 @@ impl Default for BearingsConfig {
             crank_disc_roller_length_mm: None,
             crank_carrier_rollers: d_cc_rollers(),
             crank_carrier_roller_length_mm: None,
+            crank_disc_roller_diameter_mm: None,
+            crank_disc_pitch_diameter_mm: None,
+            crank_carrier_roller_diameter_mm: None,
+            crank_carrier_pitch_diameter_mm: None,
             crank_carrier_contact_angle_deg: d_cc_angle(),
             clearance_um: None,
             crank_disc_clearance_um: None,
@@ -263,6 +286,37 @@ pub(crate) fn crank_bending_stiffness(width: f64, crank_circle_radius: f64) -> f
     let x = 0.5 * span - 0.6 * width;
     let inertia = std::f64::consts::PI * d.powi(4) / 64.0;
     3.0 * CRANK_YOUNGS_MODULUS * inertia * span / (x * x * (span - x) * (span - x))
+}
+
+/// Fill of a roller set's pitch circle by its rollers, `Z D / (pi d_m)`, for the default roller
+/// diameter: 0.75, a caged set (**estimate**; a full complement fills about 0.95, Harris and
+/// Kotzalas, vol. 1, ch. 2).
+pub(crate) const ROLLER_FILL: f64 = 0.75;
+
+/// Diameter and pitch diameter (m) of `count` rollers round a journal of diameter `journal`
+/// (m) filling [`ROLLER_FILL`] of their pitch circle `d_m = journal + D`:
+/// `D = f pi journal / (Z - f pi)` (**estimate**).
+pub(crate) fn roller_set_estimate(count: usize, journal: f64) -> (f64, f64) {
+    let f = ROLLER_FILL * std::f64::consts::PI;
+    let d = f * journal / (count as f64 - f);
+    (d, journal + d)
+}
+
+/// Journal diameters (m) of the crank-carrier and crank-disc roller sets: the crank's diameter
+/// `0.4` of the crank circle radius (as in [`crank_bending_stiffness`]) and the eccentric's,
+/// that plus twice the eccentricity (the eccentric carries the crank's section off its axis;
+/// **estimates**). A stage without cranks (single-stage) takes its eccentric journal as a fifth
+/// of the pin circle radius.
+pub(crate) fn journal_estimates(
+    geometry: &CycloidGeometry,
+    crank_circle_radius: f64,
+) -> (f64, f64) {
+    let crank = if crank_circle_radius > 0.0 {
+        0.4 * crank_circle_radius
+    } else {
+        0.2 * geometry.pin_circle_radius
+    };
+    (crank, crank + 2.0 * geometry.eccentricity)
 }
 
 /// Torsional stiffness (N m/rad) of a crankshaft between its planet and its eccentrics: a
@@ -658,6 +712,57 @@ impl BearingsConfig {
                 None => Ok(0.9 * geometry.width),
             }
         };
+        // Diameter and pitch diameter of a roller set of `count` rollers round a journal of
+        // diameter `journal` (m): the keys' values or the estimate, the rollers fitting round
+        // their pitch circle.
+        let set = |dk: &str,
+                   dv: Option<f64>,
+                   pk: &str,
+                   pv: Option<f64>,
+                   count: usize,
+                   journal: f64|
+         -> Result<(f64, f64)> {
+            let (d_est, _) = roller_set_estimate(count, journal);
+            let d = match dv {
+                Some(v) => check(&key(dk), v, Range::closed(0.5, 100.0, "mm"))? * 1e-3,
+                None => d_est,
+            };
+            let pitch = match pv {
+                Some(v) => check(&key(pk), v, Range::closed(2.0, 1000.0, "mm"))? * 1e-3,
+                None => journal + d,
+            };
+            if pitch <= d {
+                return Err(Error::invalid(
+                    key(pk),
+                    format!("{:.3} mm", pitch * 1e3),
+                    format!(
+                        "must exceed the roller diameter {:.3} mm (a roller set's pitch circle \
+                         runs through the rollers' centres)",
+                        d * 1e3
+                    ),
+                ));
+            }
+            if count as f64 * d > std::f64::consts::PI * pitch {
+                let (name, v) = if dv.is_some() || pv.is_none() {
+                    (key(dk), d * 1e3)
+                } else {
+                    (key(pk), pitch * 1e3)
+                };
+                return Err(Error::invalid(
+                    name,
+                    format!("{v:.3} mm"),
+                    format!(
+                        "leaves {count} rollers of {:.3} mm no room on a pitch circle of {:.3} \
+                         mm: at most {:.3} mm of roller diameter there (count x diameter <= pi \
+                         x pitch diameter)",
+                        d * 1e3,
+                        pitch * 1e3,
+                        std::f64::consts::PI * pitch / count as f64 * 1e3
+                    ),
+                ));
+            }
+            Ok((d, pitch))
+        };
         // Checked whatever the model, so that a wrong value is never silently kept.
         let linear = (
             BearingLaw::Linear {
@@ -683,28 +788,52 @@ impl BearingsConfig {
                     Range::closed(0.0, 45.0, "deg"),
                 )?
                 .to_radians();
+                let zc = whole(
+                    &key("crank_carrier_rollers"),
+                    self.crank_carrier_rollers,
+                    6,
+                    200,
+                )?;
+                let zd = whole(&key("crank_disc_rollers"), self.crank_disc_rollers, 6, 200)?;
+                let (crank_journal, eccentric_journal) =
+                    journal_estimates(geometry, crank_circle_radius);
+                let (dc, pc) = set(
+                    "crank_carrier_roller_diameter_mm",
+                    self.crank_carrier_roller_diameter_mm,
+                    "crank_carrier_pitch_diameter_mm",
+                    self.crank_carrier_pitch_diameter_mm,
+                    zc,
+                    crank_journal,
+                )?;
+                let (dd, pd) = set(
+                    "crank_disc_roller_diameter_mm",
+                    self.crank_disc_roller_diameter_mm,
+                    "crank_disc_pitch_diameter_mm",
+                    self.crank_disc_pitch_diameter_mm,
+                    zd,
+                    eccentric_journal,
+                )?;
                 (
                     BearingLaw::rollers(
-                        whole(
-                            &key("crank_carrier_rollers"),
-                            self.crank_carrier_rollers,
-                            6,
-                            200,
-                        )?,
+                        zc,
                         2,
                         length(
                             "crank_carrier_roller_length_mm",
                             self.crank_carrier_roller_length_mm,
                         )?,
+                        dc,
+                        pc,
                         angle,
                     ),
                     BearingLaw::rollers(
-                        whole(&key("crank_disc_rollers"), self.crank_disc_rollers, 6, 200)?,
+                        zd,
                         1,
                         length(
                             "crank_disc_roller_length_mm",
                             self.crank_disc_roller_length_mm,
                         )?,
+                        dd,
+                        pd,
                         0.0,
                     ),
                 )

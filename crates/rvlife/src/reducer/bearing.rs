@@ -77,14 +77,27 @@ pub enum BearingLaw {
         contact_angle: f64,
         /// Roller length, m.
         length: f64,
+        /// Roller (mean) diameter, m: sets the rollers' spin and the cage speed, not the
+        /// contact stiffness (Palmgren's line contact does not depend on it).
+        diameter: f64,
+        /// Pitch diameter of the roller set, m.
+        pitch_diameter: f64,
     },
 }
 
 impl BearingLaw {
-    /// Rollers of length `length` (m), `count` per row, `rows` rows at contact angle `angle`
-    /// (rad), with Palmgren's line contact (`K_n = (l_mm^0.8 / (2 x 3.84e-5))^(10/9)` in
-    /// N/mm^(10/9), converted to SI).
-    pub fn rollers(count: usize, rows: usize, length: f64, angle: f64) -> Self {
+    /// Rollers of length `length` (m) and diameter `diameter` (m) on the pitch diameter
+    /// `pitch_diameter` (m), `count` per row, `rows` rows at contact angle `angle` (rad), with
+    /// Palmgren's line contact (`K_n = (l_mm^0.8 / (2 x 3.84e-5))^(10/9)` in N/mm^(10/9),
+    /// converted to SI).
+    pub fn rollers(
+        count: usize,
+        rows: usize,
+        length: f64,
+        diameter: f64,
+        pitch_diameter: f64,
+        angle: f64,
+    ) -> Self {
         let l_mm = length * 1e3;
         let k_mm = (l_mm.powf(0.8) / (2.0 * PALMGREN_MM)).powf(10.0 / 9.0);
         BearingLaw::Rollers {
@@ -93,6 +106,8 @@ impl BearingLaw {
             contact_constant: k_mm * 1e3_f64.powf(10.0 / 9.0),
             contact_angle: angle,
             length,
+            diameter,
+            pitch_diameter,
         }
     }
 }
@@ -128,13 +143,26 @@ impl RadialBearing {
     /// Radial force (N) of the bearing itself at a centre displacement `d >= 0` (m), and its
     /// derivative `dF/dd` (N/m); without the series parts and the dead-band spring.
     pub fn own_force(&self, d: f64) -> (f64, f64) {
+        let (f, k, _) = self.own_law(d, false);
+        (f, k)
+    }
+
+    /// [`RadialBearing::own_force`] with the curvature `d2F/dd2` (N/m^2) when `curvature` is
+    /// set (zero otherwise, and for a linear bearing beyond its take-up width).
+    fn own_law(&self, d: f64, curvature: bool) -> (f64, f64, f64) {
         let half = 0.5 * self.clearance;
         match self.law {
             BearingLaw::Linear { stiffness } if half > 0.0 => {
-                let (f, k, _) = take_up(d - half, stiffness);
-                (f, k)
+                let x = d - half;
+                let (f, k, _) = take_up(x, stiffness);
+                let c = if x > 0.0 && x < TAKE_UP_WIDTH {
+                    stiffness / TAKE_UP_WIDTH
+                } else {
+                    0.0
+                };
+                (f, k, c)
             }
-            BearingLaw::Linear { stiffness } => (stiffness * d, stiffness),
+            BearingLaw::Linear { stiffness } => (stiffness * d, stiffness, 0.0),
             BearingLaw::Rollers {
                 count,
                 rows,
@@ -146,7 +174,7 @@ impl RadialBearing {
                 // (their cosines by rotation steps).
                 let ca = contact_angle.cos();
                 let (s1, c1) = (std::f64::consts::TAU / count as f64).sin_cos();
-                let (mut f, mut k) = (0.0, 0.0);
+                let (mut f, mut k, mut kc) = (0.0, 0.0, 0.0);
                 let (mut c, mut sn) = (1.0_f64, 0.0_f64);
                 let mut weight = 1.0;
                 for _ in 0..count {
@@ -158,11 +186,14 @@ impl RadialBearing {
                     let (p, ninth) = pow_10_9(delta);
                     f += weight * p * cc;
                     k += weight * ninth * cc * cc;
+                    if curvature {
+                        kc += weight * ninth / delta * cc * cc * cc;
+                    }
                     (c, sn) = (c * c1 - sn * s1, sn * c1 + c * s1);
                     weight = 2.0;
                 }
                 let r = rows as f64 * contact_constant;
-                (r * f, r * k * 10.0 / 9.0)
+                (r * f, r * k * 10.0 / 9.0, r * kc * 10.0 / 81.0)
             }
         }
     }
@@ -192,15 +223,22 @@ impl RadialBearing {
     }
 
     /// Load (N) of the most loaded roller of one row when the bearing carries the radial load
-    /// `f` (N): the displacement that carries `f` found by bisection on
-    /// [`RadialBearing::own_force`] (monotone), then the roller under the load. `None` for a
-    /// linear bearing, which has no rollers.
+    /// `f` (N) ([`RadialBearing::roller_loads_for`], roller 0). `None` for a linear bearing,
+    /// which has no rollers.
     pub fn most_loaded_roller(&self, f: f64) -> Option<f64> {
-        let BearingLaw::Rollers { .. } = self.law else {
+        self.roller_loads_for(f).map(|q| q[0])
+    }
+
+    /// Load of each roller of one row (N, roller 0 under the load) when the bearing carries
+    /// the radial load `f` (N): the displacement that carries `f` found by bisection on
+    /// [`RadialBearing::own_force`] (monotone), then [`RadialBearing::roller_loads`]. `None`
+    /// for a linear bearing, which has no rollers.
+    pub fn roller_loads_for(&self, f: f64) -> Option<Vec<f64>> {
+        let BearingLaw::Rollers { count, .. } = self.law else {
             return None;
         };
         if f <= 0.0 {
-            return Some(0.0);
+            return Some(vec![0.0; count]);
         }
         let half = 0.5 * self.clearance;
         let (mut lo, mut hi) = (half, half + 1e-6);
@@ -218,12 +256,16 @@ impl RadialBearing {
                 break;
             }
         }
-        Some(self.roller_loads(0.5 * (lo + hi))[0])
+        Some(self.roller_loads(0.5 * (lo + hi)))
     }
 
     /// Radial force (N) at a total displacement `x >= 0` (m) of the bearing and its series
-    /// parts, and `dF/dx` (N/m): the bearing's share `d` solves `d + F(d)/k_s = x` (Newton on a
-    /// monotone function, from the stiff side); plus the dead-band spring.
+    /// parts, and `dF/dx` (N/m): the bearing's share `d` solves `g(d) = d + F(d)/k_s - x = 0`;
+    /// plus the dead-band spring. `g` is increasing and convex above the clearance (`F`
+    /// convex). The root is started from the local power law `F(x) ((d - c/2)/(x - c/2))^q`
+    /// through the value and slope of `F` at `x` (exact for rollers without clearance, whose
+    /// loaded set does not change with `d`), then refined by Halley's method (third order:
+    /// two roller sums from that start reach round-off) to about `1e-15` of the share.
     pub fn radial_force(&self, x: f64) -> (f64, f64) {
         let reg = if self.has_dead_band() {
             DEAD_BAND_STIFFNESS
@@ -236,27 +278,70 @@ impl RadialBearing {
             if x <= half {
                 (0.0, 0.0)
             } else {
-                // g(d) = d + F(d)/ks - x is increasing and concave above the clearance
-                // (F convex), so Newton from d = x (g >= 0) descends monotonically.
-                let mut d = x;
-                let mut out = self.own_force(d);
-                for _ in 0..60 {
-                    let g = d + out.0 / ks - x;
-                    let gp = 1.0 + out.1 / ks;
-                    let step = g / gp;
-                    d = (d - step).max(half);
-                    out = self.own_force(d);
-                    if step.abs() <= 1e-15 * x.max(1e-9) {
-                        break;
-                    }
-                }
-                let (f, kb) = out;
+                let (f, kb) = self.series_share(x, half, ks);
                 (f, if kb > 0.0 { kb * ks / (kb + ks) } else { 0.0 })
             }
         } else {
             self.own_force(x)
         };
         (f + reg * x, k + reg)
+    }
+
+    /// The bearing's force and stiffness `(F(d), F'(d))` at its share `d` of a total
+    /// displacement `x > half` with series stiffness `ks` ([`RadialBearing::radial_force`]).
+    fn series_share(&self, x: f64, half: f64, ks: f64) -> (f64, f64) {
+        let (fx, kx, _) = self.own_law(x, false);
+        if fx <= 0.0 || kx <= 0.0 {
+            return (fx, kx);
+        }
+        // The power-law model: y + (fx/ks) (y/u)^q = u for y = d - half, by Newton from y = u
+        // (the model's g is increasing and convex in y, so the iterates descend to the root).
+        let u = x - half;
+        let q = (kx * u / fx).max(1.0);
+        let a = fx / ks;
+        let mut y = u;
+        for _ in 0..50 {
+            let r = (y / u).powf(q);
+            let g = y + a * r - u;
+            let gp = 1.0 + a * q * r / y;
+            let step = g / gp;
+            y = (y - step).max(0.0);
+            if step.abs() <= 1e-13 * u || y <= 0.0 {
+                break;
+            }
+        }
+        let mut d = (half + y).clamp(half, x);
+        // The share's own scale beyond the clearance (small where the series part is soft).
+        let scale = y.max(1e-6 * u);
+        let mut out = self.own_law(d, true);
+        for _ in 0..60 {
+            let (fd, kd, cd) = out;
+            let g = d + fd / ks - x;
+            let gp = 1.0 + kd / ks;
+            let gpp = cd / ks;
+            let denom = 2.0 * gp * gp - g * gpp;
+            // Halley's step; Newton's where the curvature term would more than double it.
+            let halley = denom > gp * gp;
+            let step = if halley { 2.0 * g * gp / denom } else { g / gp };
+            if step.abs() <= 1e-13 * scale {
+                // Converged at this share (the start, where the power law is exact).
+                break;
+            }
+            if halley && step.abs() <= 1e-7 * scale {
+                // The last step taken by Taylor's expansion of the law at this share (to
+                // second order in a step of 1e-7: 1e-14 of the force).
+                return (fd - kd * step, kd - cd * step);
+            }
+            d = (d - step).clamp(half, x);
+            // A step below 1e-5 of the share (Halley's, third order) or 1e-8 (Newton's, second)
+            // leaves an error of order 1e-15 of it.
+            let last = step.abs() <= if halley { 1e-5 } else { 1e-8 } * scale;
+            out = self.own_law(d, !last);
+            if last {
+                break;
+            }
+        }
+        (out.0, out.1)
     }
 
     /// Force (N) on the first end for the relative position `r` (m) and relative velocity
@@ -289,14 +374,7 @@ impl RadialBearing {
     /// Static stiffness matrix `dF/dr` (N/m) at the relative position `r` (m):
     /// `F'(|r|) n n^T + F(|r|)/|r| (I - n n^T)` with `n = r/|r|` ([`RadialBearing::radial_force`]).
     pub fn stiffness_matrix(&self, r: Vec2) -> Matrix2<f64> {
-        let len = r.norm();
-        let (f, k) = self.radial_force(len);
-        if len == 0.0 {
-            return Matrix2::identity() * k;
-        }
-        let n = r / len;
-        let nn = n * n.transpose();
-        nn * k + (Matrix2::identity() - nn) * (f / len)
+        self.force_and_stiffness(r, false).1
     }
 
     /// [`RadialBearing::stiffness_matrix`] with each principal stiffness raised to at least
@@ -306,18 +384,39 @@ impl RadialBearing {
     /// stiffness: within its dead band a floored stiffness would pull the step toward a contact
     /// that is not there.
     pub fn stiffness_matrix_floored(&self, r: Vec2) -> Matrix2<f64> {
-        if self.clearance > 0.0 {
-            return self.stiffness_matrix(r);
-        }
-        let floor = 0.5 * self.reference_stiffness();
+        self.force_and_stiffness(r, true).1
+    }
+
+    /// The static force (N, [`RadialBearing::force`] at rest) and the stiffness matrix (N/m,
+    /// [`RadialBearing::stiffness_matrix`], or with `floored`
+    /// [`RadialBearing::stiffness_matrix_floored`]) at the relative position `r` (m), from one
+    /// evaluation of the law.
+    pub(crate) fn force_and_stiffness(&self, r: Vec2, floored: bool) -> (Vec2, Matrix2<f64>) {
         let len = r.norm();
         let (f, k) = self.radial_force(len);
+        let floor = if floored && self.clearance <= 0.0 {
+            0.5 * self.reference_stiffness()
+        } else {
+            0.0
+        };
         if len == 0.0 {
-            return Matrix2::identity() * k.max(floor);
+            return (Vec2::zeros(), Matrix2::identity() * k.max(floor));
         }
         let n = r / len;
         let nn = n * n.transpose();
-        nn * k.max(floor) + (Matrix2::identity() - nn) * (f / len).max(floor)
+        let force = if let (BearingLaw::Linear { .. }, true, true) = (
+            self.law,
+            self.clearance <= 0.0,
+            self.series_stiffness.is_infinite(),
+        ) {
+            r * k
+        } else {
+            n * f.max(0.0)
+        };
+        (
+            force,
+            nn * k.max(floor) + (Matrix2::identity() - nn) * (f / len).max(floor),
+        )
     }
 
     /// Elastic energy (J) at the relative position `r` (m), whose gradient is
@@ -415,16 +514,8 @@ impl BearingEval<'_> {
         match self {
             BearingEval::Exact => bearing.force(r, rd),
             BearingEval::Record(list, floored) => {
-                let f = bearing.force(r, Vec2::zeros());
-                list.push(Frozen {
-                    r,
-                    f,
-                    k: if *floored {
-                        bearing.stiffness_matrix_floored(r)
-                    } else {
-                        bearing.stiffness_matrix(r)
-                    },
-                });
+                let (f, k) = bearing.force_and_stiffness(r, *floored);
+                list.push(Frozen { r, f, k });
                 f
             }
             BearingEval::Frozen(list, next) => {

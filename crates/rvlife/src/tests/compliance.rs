@@ -230,3 +230,73 @@ fn pins_held_at_their_ends_bend_as_a_beam_in_series_with_the_contact() {
     );
     assert!(with("pin_support = \"ends\"\npin_span_mm = 40.0\n").is_ok());
 }
+
+/// The bearing's share of a displacement taken with a part in series (power-law start, then
+/// Halley's method) against bisection on `d + F(d)/k_s = x` to 1e-16, for needles and a
+/// tapered pair with and without clearance and a linear bearing with clearance, from the
+/// clearance's edge to 40 um beyond it: force within 1e-11 of the reference and stiffness
+/// within 1e-9 (the same `F(d)`, `F'(d)` at a share equal to round-off), the stiffness
+/// against a central difference of the force within 1e-3 (a difference over 0.1 nm across a
+/// roller's entry into the load zone, where `F''` is unbounded, is good to no better).
+#[test]
+fn the_series_share_matches_bisection() {
+    use crate::reducer::RadialBearing;
+    let laws = [
+        BearingLaw::rollers(18, 1, 7.9e-3, 3e-3, 30e-3, 0.0),
+        BearingLaw::rollers(16, 2, 7.9e-3, 4e-3, 28e-3, 15f64.to_radians()),
+        BearingLaw::Linear { stiffness: 8e8 },
+    ];
+    for law in laws {
+        for clearance in [0.0, 2e-6, 10e-6] {
+            for ks in [9.6e8, 2.3e9, 5e7] {
+                let b = RadialBearing {
+                    law,
+                    clearance,
+                    series_stiffness: ks,
+                    damping: 0.0,
+                };
+                let half = 0.5 * clearance;
+                for i in 1..=400 {
+                    let x = half + 40e-6 * (i as f64 / 400.0).powi(2);
+                    let (f, k) = b.radial_force(x);
+                    let reg = if b.has_dead_band() { 1e3 } else { 0.0 };
+                    let (lo0, hi0) = (half, x);
+                    let (mut lo, mut hi) = (lo0, hi0);
+                    for _ in 0..200 {
+                        let mid = 0.5 * (lo + hi);
+                        if mid + b.own_force(mid).0 / ks < x {
+                            lo = mid;
+                        } else {
+                            hi = mid;
+                        }
+                    }
+                    let d = 0.5 * (lo + hi);
+                    let (fr, kr) = b.own_force(d);
+                    let kr = kr * ks / (kr + ks);
+                    let fe = f - reg * x;
+                    assert!(
+                        (fe - fr).abs() <= 1e-11 * fr.abs().max(1e-3),
+                        "{law:?} c {clearance} ks {ks} x {x}: {fe} vs {fr}"
+                    );
+                    assert!(
+                        (k - reg - kr).abs() <= 1e-9 * kr.max(1.0),
+                        "{law:?} c {clearance} ks {ks} x {x}: k {} vs {kr}",
+                        k - reg
+                    );
+                    let h = 1e-10;
+                    if x - h > half + TAKE_UP {
+                        let fd = (b.radial_force(x + h).0 - b.radial_force(x - h).0) / (2.0 * h);
+                        assert!(
+                            (fd - k).abs() <= 1e-3 * k,
+                            "{law:?} c {clearance} x {x}: {fd} vs {k}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Beyond the take-up width of a linear spring with play (10 nm), where its stiffness is
+/// constant.
+const TAKE_UP: f64 = 2e-8;

@@ -1,15 +1,27 @@
 //! Wear of the crank bearings as growth of their radial clearance (docs/model.md section 7.9).
 //!
 //! **Model.** Archard on the roller-raceway contacts of the load distribution (the approach of
-//! Lubricants 2025, 13(8), 362, section 3.2): a raceway point on the load line is overrolled
-//! `Z |omega| / (4 pi)` times per second (`Z` rollers per row, the cage at half the relative
-//! speed `omega` of the rings), and each roller passing it slides `xi 2 b` over it (`xi`: the
-//! slip ratio of the rolling contact, `2 b` the Hertz contact width) under the mean pressure
-//! `Q/(2 b l)`, so it loses `k xi Q / l` per passage, whatever the width. Both raceways wear
-//! so, and the clearance along the load grows at
+//! Lubricants 2025, 13(8), 362, section 3.2). Each roller passing a point of a raceway slides
+//! `xi 2 b` over it (`xi`: the slip ratio of the rolling contact, `2 b` the Hertz contact
+//! width) under the mean pressure `Q/(2 b l)`, so the point loses `k xi Q / l` per passage,
+//! whatever the width; a point of a roller's surface loses the same per passage through a
+//! contact. With the rings turning at `omega` relative to each other and `gamma = D cos(alpha)
+//! / d_m` (roller diameter `D`, pitch diameter `d_m`; Harris and Kotzalas, *Rolling Bearing
+//! Analysis*, 5th ed., vol. 1, ch. 8):
+//!
+//! - a point of the outer and of the inner raceway on the load line is overrolled
+//!   `Z |omega| (1 -+ gamma) / (4 pi)` times per second (the cage at `(1 - gamma)/2` of
+//!   `omega` from the outer ring): together `Z |omega| / (2 pi)` passages of the most loaded
+//!   roller `Q_max`, whatever the diameter;
+//! - each roller spins at `(d_m / 2 D) (1 - gamma^2) |omega|` relative to the cage and meets
+//!   both raceways once a turn, so its diameter shrinks by `4 k xi Q_mean / l` per turn, evenly
+//!   round it (`Q_mean = sum Q_i / Z`, the rollers' time-mean load as they orbit). Small
+//!   rollers spin faster and shrink faster.
+//!
+//! The clearance along the load grows by both raceways' depth and the rollers' diameter loss:
 //!
 //! ```text
-//! dc/dt = k xi Q_max Z |omega| / (2 pi l)
+//! dc/dt = k xi |omega| / (2 pi l) [Z Q_max + 2 (d_m/D) (1 - gamma^2) sum Q_i / Z]
 //! ```
 //!
 //! with `Q_max` the most loaded roller (the roller under the load, [`RadialBearing::most_loaded_roller`]),
@@ -59,7 +71,9 @@ impl BearingWearRates {
 
 /// Clearance growth (m/s) of `bearing` carrying the radial load `force` (N) per row at the
 /// relative ring speed `omega` (rad/s), Archard coefficient `archard` (m^2/N) and slip
-/// `slip`: `k xi Q_max Z |omega| / (2 pi l)` (module docs). Zero for a linear bearing.
+/// `slip`: the raceways' `k xi Q_max Z |omega| / (2 pi l)` plus the rollers'
+/// `k xi |omega| / (2 pi l) 2 (d_m/D) (1 - gamma^2) sum Q_i / Z` (module docs). Zero for a
+/// linear bearing.
 pub fn clearance_growth(
     bearing: &RadialBearing,
     force: f64,
@@ -67,11 +81,23 @@ pub fn clearance_growth(
     archard: f64,
     slip: f64,
 ) -> f64 {
-    let BearingLaw::Rollers { count, length, .. } = bearing.law else {
+    let BearingLaw::Rollers {
+        count,
+        length,
+        diameter,
+        pitch_diameter,
+        contact_angle,
+        ..
+    } = bearing.law
+    else {
         return 0.0;
     };
-    let q = bearing.most_loaded_roller(force).unwrap_or(0.0);
-    archard * slip * q * count as f64 * omega.abs() / (std::f64::consts::TAU * length)
+    let q = bearing.roller_loads_for(force).unwrap_or_default();
+    let (q_max, q_sum) = (q.first().copied().unwrap_or(0.0), q.iter().sum::<f64>());
+    let z = count as f64;
+    let gamma = diameter * contact_angle.cos() / pitch_diameter;
+    let rollers = 2.0 * pitch_diameter / diameter * (1.0 - gamma * gamma) * q_sum / z;
+    archard * slip * (z * q_max + rollers) * omega.abs() / (std::f64::consts::TAU * length)
 }
 
 /// Clearance growth rates (m/h) of the crank bearings of `inputs.reducer` with the unworn disc
