@@ -265,7 +265,7 @@ impl RadialBearing {
     /// convex). The root is started from the local power law `F(x) ((d - c/2)/(x - c/2))^q`
     /// through the value and slope of `F` at `x` (exact for rollers without clearance, whose
     /// loaded set does not change with `d`), then refined by Halley's method (third order:
-    /// two roller sums from that start reach round-off) to about `1e-15` of the share.
+    /// two or three roller sums from that start reach round-off) to about `1e-15` of the share.
     pub fn radial_force(&self, x: f64) -> (f64, f64) {
         let reg = if self.has_dead_band() {
             DEAD_BAND_STIFFNESS
@@ -326,11 +326,6 @@ impl RadialBearing {
             if step.abs() <= 1e-13 * scale {
                 // Converged at this share (the start, where the power law is exact).
                 break;
-            }
-            if halley && step.abs() <= 1e-7 * scale {
-                // The last step taken by Taylor's expansion of the law at this share (to
-                // second order in a step of 1e-7: 1e-14 of the force).
-                return (fd - kd * step, kd - cd * step);
             }
             d = (d - step).clamp(half, x);
             // A step below 1e-5 of the share (Halley's, third order) or 1e-8 (Newton's, second)
