@@ -285,6 +285,23 @@ impl ContactModel {
         Ok(0.5 * f * f * (g0 - 0.5 * g1 - g1 * f.ln()))
     }
 
+    /// Elastic energy (J) stored in a contact carrying `force` (N) on a flank of curvature
+    /// `disc_curvature` (1/m): `int F d(delta)` from zero, for the logarithmic laws
+    /// `F^2 (g0/2 - g1/4 - (g1/2) ln F)` (the integral of `delta'(F) F`), for the linear law
+    /// `F^2 / (2 k)`. Zero for `force <= 0`.
+    pub(crate) fn energy_at_force(&self, force: f64, disc_curvature: f64) -> f64 {
+        if force <= 0.0 {
+            return 0.0;
+        }
+        match self.log_coefficients(disc_curvature) {
+            Some((g0, g1)) => 0.5 * force * force * (g0 - 0.5 * g1 - g1 * force.ln()),
+            None => match self.law {
+                ApproachLaw::Linear { stiffness } => 0.5 * force * force / stiffness,
+                _ => 0.0,
+            },
+        }
+    }
+
     /// Approach `delta` (m) of the force `force` (N) on a flank of curvature `disc_curvature`.
     pub(crate) fn approach(&self, force: f64, disc_curvature: f64) -> f64 {
         if force <= 0.0 {

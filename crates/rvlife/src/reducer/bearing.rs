@@ -418,7 +418,6 @@ impl RadialBearing {
     /// [`RadialBearing::force`] at rest: the rollers' `rows K_n sum (9/19) delta_i^(19/9)`
     /// (or the linear spring's) at the bearing's own share `d`, plus `F^2 / (2 k_s)` in the
     /// series parts and the dead-band spring's.
-    #[cfg(test)]
     pub(crate) fn energy(&self, r: Vec2) -> f64 {
         let x = r.norm();
         let reg = if self.has_dead_band() {

@@ -384,7 +384,6 @@ impl Reducer {
     }
 
     /// Line of action of crank `k`'s mesh at `theta_o = 0` (unit vector).
-    #[cfg(test)]
     pub(crate) fn line_of_action(&self, k: usize) -> Vec2 {
         let (sin, cos) = self.mesh.pressure_angle.sin_cos();
         line_of_action(self.seat(k), sin, cos)
@@ -646,7 +645,6 @@ impl Reducer {
 
     /// Elastic energy (J) of a single-stage drive's eccentric bearings and pins in holes at
     /// positions `q0 + dq`.
-    #[cfg(test)]
     fn single_stage_energy(&self, w: &OutputPins, q0: &[f64], dq: &[f64]) -> f64 {
         let lay = self.layout();
         let a = self.geometry.eccentricity;
@@ -669,8 +667,7 @@ impl Reducer {
     }
 
     /// Elastic energy of the meshes and the crank bearings (J) at positions `q0 + dq` (see
-    /// [`Reducer::structural_forces`]).
-    #[cfg(test)]
+    /// [`Reducer::structural_forces`], whose static forces are minus its gradient).
     pub(crate) fn structural_energy(&self, q0: &[f64], dq: &[f64]) -> f64 {
         let lay = self.layout();
         let th_o = q0[Layout::OUT] + dq[Layout::OUT];
