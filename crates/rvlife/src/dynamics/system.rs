@@ -35,9 +35,9 @@ use crate::geometry::{cross, rotate, Vec2};
 
 use super::params::{Drive, DynamicsParams, LoadProfile};
 use crate::contact::gap::{GapEval, GapField};
-use crate::reducer::perp;
 pub use crate::reducer::Layout;
 pub(crate) use crate::reducer::MAX_DOFS;
+use crate::reducer::{perp, BearingEval};
 
 /// A disc's pose for its pin contacts: centre `c` (m) and its speed
 /// `cd` (m/s), angular speed `wpsi` (rad/s), the base of the pins' contact-parameter guesses
@@ -168,6 +168,10 @@ pub struct System<'a> {
     /// Last contact force of every pin (disc-major), N: the warm start of the contact law's
     /// inversion.
     f_cache: RefCell<Vec<f64>>,
+    /// Share of each crank bearing's displacement that the bearing itself took at the last
+    /// evaluation (beside its series part; in the order the structural forces visit them):
+    /// the warm start of its series solve.
+    b_cache: RefCell<Vec<f64>>,
     /// Gap (m) of every pin at its last evaluation and the pin centre in the disc's profile
     /// frame then (disc-major), to skip pins that cannot have closed since (rigid discs).
     open_cache: RefCell<Vec<(f64, Vec2)>>,
@@ -245,6 +249,7 @@ impl<'a> System<'a> {
             zp: geo.pins,
             t_cache: RefCell::new(vec![f64::NAN; 2 * geo.pins]),
             f_cache: RefCell::new(vec![0.0; 2 * geo.pins]),
+            b_cache: RefCell::new(vec![f64::NAN; red.cranks.max(1) * (1 + red.discs())]),
             open_cache: RefCell::new(vec![(f64::NAN, Vec2::zeros()); 2 * geo.pins]),
             max_gradient: Cell::new(1.0),
             flex: None,
@@ -532,8 +537,13 @@ impl<'a> System<'a> {
         if let Drive::Torque { .. } = p.drive {
             g[Layout::SUN] += p.drive.torque(t);
         }
-        p.reducer
-            .structural_forces(&k.q0[..n], &k.dq[..n], &k.qd[..n], g);
+        p.reducer.structural_forces_with(
+            &k.q0[..n],
+            &k.dq[..n],
+            &k.qd[..n],
+            g,
+            &mut BearingEval::Warm(&mut self.b_cache.borrow_mut(), 0),
+        );
         let mut kept = match contacts {
             Contacts::Compute => None,
             _ => Some(self.kept.borrow_mut()),
@@ -876,9 +886,11 @@ impl<'a> System<'a> {
     }
 
     /// Forgets the warm starts of the contact solves (closest-point parameters, last pin
-    /// forces), so that a new integration starts as from [`System::new`].
+    /// forces) and of the crank bearings' series solves, so that a new integration starts as
+    /// from [`System::new`].
     pub(crate) fn reset_caches(&self) {
         self.t_cache.borrow_mut().fill(f64::NAN);
+        self.b_cache.borrow_mut().fill(f64::NAN);
         self.f_cache.borrow_mut().fill(0.0);
         self.open_cache.borrow_mut().fill((f64::NAN, Vec2::zeros()));
         self.max_gradient.set(1.0);
