@@ -49,6 +49,9 @@ impl<'a> StaticAnalysis<'a> {
         // disc on a ridge of a worn flank, where the tangent is indefinite), reset after a
         // descent.
         let mut damping = 0.0;
+        // Whether the line search also takes the elastic energy as its merit: from the first
+        // step that the residual norm cut below a sixteenth (the search on it crawls there).
+        let mut energy_merit = false;
         for _ in 0..100 {
             let res = self.inner_residual(&ev.g);
             let scale = ev.scale.max(force_floor).max(1e-300);
@@ -108,20 +111,23 @@ impl<'a> StaticAnalysis<'a> {
                 // minimum, and a line search on it alone crawls.
                 // (Above the round-off floor of the forces only, and for a decrease the energy's
                 // own round-off cannot fake.)
-                let energy_falls = mt > m0 * (1.0 - 1e-4 * alpha) && res > ev.roundoff && {
-                    let (e0, slope) = *energy0.get_or_insert_with(|| {
-                        let slope = -(0..m).map(|i| ev.g[2 + i] * step[i]).sum::<f64>();
-                        (self.inner_energy(fr, &base, &ev), slope)
-                    });
-                    let fall = -1e-4 * alpha * slope;
-                    fall > 1e-12 * e0.abs() && self.inner_energy(fr, z, &trial) <= e0 - fall
-                };
+                let energy_falls =
+                    energy_merit && mt > m0 * (1.0 - 1e-4 * alpha) && res > ev.roundoff && {
+                        let (e0, slope) = *energy0.get_or_insert_with(|| {
+                            let slope = -(0..m).map(|i| ev.g[2 + i] * step[i]).sum::<f64>();
+                            (self.inner_energy(fr, &base, &ev), slope)
+                        });
+                        let fall = -1e-4 * alpha * slope;
+                        fall > 1e-12 * e0.abs() && self.inner_energy(fr, z, &trial) <= e0 - fall
+                    };
                 if mt <= m0 * (1.0 - 1e-4 * alpha) || energy_falls {
                     stalled = 0;
                     damping = 0.0;
                     ev = trial;
+                    energy_merit |= alpha < 0.0625;
                     break;
                 }
+                energy_merit |= alpha < 0.0625;
                 if alpha < 1e-4 && res > 1e-6 * scale && res > 0.5 * ev.roundoff && damping < 1e8 {
                     // No descent along this step, above the round-off floor of the contact
                     // forces: damp it and try again from the same state.
