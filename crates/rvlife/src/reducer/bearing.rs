@@ -301,7 +301,8 @@ impl RadialBearing {
     /// displacement `x > half` with series stiffness `ks` ([`RadialBearing::radial_force`]).
     fn series_share(&self, x: f64, half: f64, ks: f64, share: &mut f64) -> (f64, f64) {
         let u = x - half;
-        let y = if share.is_finite() && *share > 0.0 && *share <= 1.0 {
+        let warm = share.is_finite() && *share > 0.0 && *share <= 1.0;
+        let y = if warm {
             *share * u
         } else {
             let (fx, kx, _) = self.own_law(x, false);
@@ -342,6 +343,14 @@ impl RadialBearing {
             if step.abs() <= 1e-13 * scale {
                 // Converged at this share (the start, where the power law is exact).
                 break;
+            }
+            if warm && halley && step.abs() <= 1e-7 * scale {
+                // Warm (the multibody model's next evaluation): the last step by Taylor's
+                // expansion of the law at this share, to second order in a step below 1e-7 of
+                // it (1e-14 of the force). The static analysis, whose light solves through the
+                // dead bands need the law to round-off, evaluates it exactly.
+                *share = (d - step - half) / u;
+                return (fd - kd * step, kd - cd * step);
             }
             d = (d - step).clamp(half, x);
             // A step below 1e-5 of the share (Halley's, third order) or 1e-8 (Newton's, second)
