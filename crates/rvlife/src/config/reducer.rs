@@ -174,12 +174,12 @@ pub struct BearingsConfig {
     #[serde(default)]
     pub crank_carrier_roller_length_mm: Option<f64>,
     /// Rollers: needle diameter, mm (default: the needles filling 0.75 of their pitch circle
-    /// round the eccentric's journal, [`roller_set_estimate`]). Range: [0.5, 100] mm, the
+    /// round the eccentric's journal, [`roller_diameter_estimate`]). Range: [0.5, 100] mm, the
     /// needles fitting round their pitch circle.
     #[serde(default)]
     pub crank_disc_roller_diameter_mm: Option<f64>,
     /// Rollers: pitch diameter of the needle set, mm (default: the eccentric's journal plus one
-    /// needle diameter, [`roller_set_estimate`]). Range: [2, 1000] mm, more than the needle
+    /// needle diameter). Range: [2, 1000] mm, more than the needle
     /// diameter.
     #[serde(default)]
     pub crank_disc_pitch_diameter_mm: Option<f64>,
@@ -293,13 +293,12 @@ pub(crate) fn crank_bending_stiffness(width: f64, crank_circle_radius: f64) -> f
 /// Kotzalas, vol. 1, ch. 2).
 pub(crate) const ROLLER_FILL: f64 = 0.75;
 
-/// Diameter and pitch diameter (m) of `count` rollers round a journal of diameter `journal`
-/// (m) filling [`ROLLER_FILL`] of their pitch circle `d_m = journal + D`:
-/// `D = f pi journal / (Z - f pi)` (**estimate**).
-pub(crate) fn roller_set_estimate(count: usize, journal: f64) -> (f64, f64) {
+/// Diameter `D` (m) of `count` rollers round a journal of diameter `journal` (m) filling
+/// [`ROLLER_FILL`] of their pitch circle `d_m = journal + D`: `D = f pi journal / (Z - f pi)`
+/// (**estimate**).
+pub(crate) fn roller_diameter_estimate(count: usize, journal: f64) -> f64 {
     let f = ROLLER_FILL * std::f64::consts::PI;
-    let d = f * journal / (count as f64 - f);
-    (d, journal + d)
+    f * journal / (count as f64 - f)
 }
 
 /// Journal diameters (m) of the crank-carrier and crank-disc roller sets: the crank's diameter
@@ -722,10 +721,9 @@ impl BearingsConfig {
                    count: usize,
                    journal: f64|
          -> Result<(f64, f64)> {
-            let (d_est, _) = roller_set_estimate(count, journal);
             let d = match dv {
                 Some(v) => check(&key(dk), v, Range::closed(0.5, 100.0, "mm"))? * 1e-3,
-                None => d_est,
+                None => roller_diameter_estimate(count, journal),
             };
             let pitch = match pv {
                 Some(v) => check(&key(pk), v, Range::closed(2.0, 1000.0, "mm"))? * 1e-3,

@@ -279,10 +279,7 @@ impl ContactModel {
             return Ok(0.5 * stiffness * delta * delta);
         }
         let (f, _) = self.force(delta, disc_curvature)?;
-        let (g0, g1) = self
-            .log_coefficients(disc_curvature)
-            .expect("logarithmic law");
-        Ok(0.5 * f * f * (g0 - 0.5 * g1 - g1 * f.ln()))
+        Ok(self.energy_at_force(f, disc_curvature))
     }
 
     /// Elastic energy (J) stored in a contact carrying `force` (N) on a flank of curvature

@@ -374,15 +374,24 @@ impl RadialBearing {
         self.force_from(r, rd, &mut fresh)
     }
 
+    /// The stiffness (N/m) of a linear bearing without clearance or series parts, whose force
+    /// is `k r` along any direction; `None` for any other bearing.
+    fn plain_linear(&self) -> Option<f64> {
+        match self.law {
+            BearingLaw::Linear { stiffness }
+                if self.clearance <= 0.0 && self.series_stiffness.is_infinite() =>
+            {
+                Some(stiffness)
+            }
+            _ => None,
+        }
+    }
+
     /// [`RadialBearing::force`] with the series solve started from `share` (see
     /// [`RadialBearing::radial_force_from`]).
     #[inline]
     pub(crate) fn force_from(&self, r: Vec2, rd: Vec2, share: &mut f64) -> Vec2 {
-        if let (BearingLaw::Linear { stiffness }, true, true) = (
-            self.law,
-            self.clearance <= 0.0,
-            self.series_stiffness.is_infinite(),
-        ) {
+        if let Some(stiffness) = self.plain_linear() {
             return r * stiffness + rd * self.damping;
         }
         let len = r.norm();
@@ -433,14 +442,9 @@ impl RadialBearing {
         }
         let n = r / len;
         let nn = n * n.transpose();
-        let force = if let (BearingLaw::Linear { .. }, true, true) = (
-            self.law,
-            self.clearance <= 0.0,
-            self.series_stiffness.is_infinite(),
-        ) {
-            r * k
-        } else {
-            n * f.max(0.0)
+        let force = match self.plain_linear() {
+            Some(stiffness) => r * stiffness,
+            None => n * f.max(0.0),
         };
         (
             force,

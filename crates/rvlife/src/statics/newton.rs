@@ -111,8 +111,9 @@ impl<'a> StaticAnalysis<'a> {
                 // minimum, and a line search on it alone crawls.
                 // (Above the round-off floor of the forces only, and for a decrease the energy's
                 // own round-off cannot fake.)
-                let energy_falls =
-                    energy_merit && mt > m0 * (1.0 - 1e-4 * alpha) && res > ev.roundoff && {
+                let residual_falls = mt <= m0 * (1.0 - 1e-4 * alpha);
+                let accepted = residual_falls
+                    || energy_merit && res > ev.roundoff && {
                         let (e0, slope) = *energy0.get_or_insert_with(|| {
                             let slope = -(0..m).map(|i| ev.g[2 + i] * step[i]).sum::<f64>();
                             (self.inner_energy(fr, &base, &ev), slope)
@@ -120,14 +121,13 @@ impl<'a> StaticAnalysis<'a> {
                         let fall = -1e-4 * alpha * slope;
                         fall > 1e-12 * e0.abs() && self.inner_energy(fr, z, &trial) <= e0 - fall
                     };
-                if mt <= m0 * (1.0 - 1e-4 * alpha) || energy_falls {
+                energy_merit |= alpha < 0.0625;
+                if accepted {
                     stalled = 0;
                     damping = 0.0;
                     ev = trial;
-                    energy_merit |= alpha < 0.0625;
                     break;
                 }
-                energy_merit |= alpha < 0.0625;
                 if alpha < 1e-4 && res > 1e-6 * scale && res > 0.5 * ev.roundoff && damping < 1e8 {
                     // No descent along this step, above the round-off floor of the contact
                     // forces: damp it and try again from the same state.
