@@ -380,10 +380,13 @@ fn every_preset_runs_te_and_hysteresis() {
 
 /// The example's play (2 um in the crank-disc needles, 10 / 10 um of modification) carried on
 /// other stages and with more play: 30 pins with `a` 1.2 mm on a 50 mm pin circle, 60 pins with
-/// `a` 0.6 mm, 5 um in the crank-carrier pair as well, 10 um in both bearings. `hysteresis`
-/// solves every light and loaded solve of its mesh cycle (these stopped the static analysis
-/// before its inner solve's line search also took the elastic energy as a merit, docs/model.md
-/// section 5.3), with a finite curve, a backlash and a lost motion no smaller than it.
+/// `a` 0.6 mm, 5 um in the crank-carrier pair as well, 10 um in both bearings, and 0.1, 1,
+/// 2.07 and 5 um of backlash in the sun-planet meshes. `hysteresis` solves every light and
+/// loaded solve of its mesh cycle (these stopped the static analysis before its inner solve's
+/// line search also took the elastic energy as a merit, docs/model.md section 5.3, and before it
+/// took the meshes' play up exactly, section 5.11), with a finite curve, a backlash and a lost
+/// motion no smaller than it; the meshes' play adds its closed form `b/(r_bs i_H)` (0.00363
+/// arcmin per um on the example) to the backlash within 1 %.
 #[test]
 fn play_is_carried_on_other_stages() {
     let ex = ok(&rvlife(["example"]), "example");
@@ -392,7 +395,12 @@ fn play_is_carried_on_other_stages() {
         let t = set_key(&t, "cycloid", "eccentricity_mm", a);
         set_key(&t, "cycloid", "pin_circle_radius_mm", rp)
     };
+    let mesh = |b: &str| set_key(&ex, "reducer.gears", "backlash_um", b);
     let cases = [
+        ("mesh backlash 0.1 um", mesh("0.1")),
+        ("mesh backlash 1 um", mesh("1.0")),
+        ("mesh backlash 2.07 um", mesh("2.07")),
+        ("mesh backlash 5 um", mesh("5.0")),
         ("30 pins", stage("30", "1.2", "50.0")),
         ("60 pins", stage("60", "0.6", "64.0")),
         (
@@ -414,6 +422,9 @@ fn play_is_carried_on_other_stages() {
             ),
         ),
     ];
+    let (_d, o) = run_config(&ex, &["hysteresis", "--json"]);
+    let v: Value = serde_json::from_str(&ok(&o, "example hysteresis")).unwrap();
+    let example_backlash = num(&v, "backlash_arcmin");
     for (name, text) in cases {
         assert_ne!(text, ex, "{name}: the keys were not set");
         let (_d, o) = run_config(&text, &["hysteresis", "--json"]);
@@ -424,5 +435,16 @@ fn play_is_carried_on_other_stages() {
             backlash > 0.0 && lm >= backlash,
             "{name}: backlash {backlash}, lost motion {lm}"
         );
+        if let Some(b) = name.strip_prefix("mesh backlash ") {
+            // r_bs = 13.5 mm cos 30 deg, i_H = 81.
+            let um: f64 = b.trim_end_matches(" um").parse().unwrap();
+            let closed = um * 1e-6 / (13.5e-3 * 30f64.to_radians().cos() * 81.0) * 60.0 * 180.0
+                / std::f64::consts::PI;
+            let added = backlash - example_backlash;
+            assert!(
+                (added / closed - 1.0).abs() < 0.01,
+                "{name}: adds {added} arcmin, closed form {closed}"
+            );
+        }
     }
 }

@@ -27,7 +27,7 @@ pub mod errors;
 mod pin_wear;
 
 pub(crate) use bearing::{BearingEval, Frozen};
-pub use bearing::{BearingLaw, RadialBearing, DEAD_BAND_STIFFNESS};
+pub use bearing::{BearingLaw, RadialBearing, DEAD_BAND_STIFFNESS, TAKE_UP_WIDTH};
 pub use pin_wear::{angle_on_pin, contact_direction, PinWear, PIN_MAP_POINTS};
 
 use std::f64::consts::PI;
@@ -666,11 +666,26 @@ impl Reducer {
         e
     }
 
+    /// Deflection (m) of crank `k`'s sun-planet mesh along its line of action at positions
+    /// `q0 + dq` (see [`Reducer::structural_forces`]): `r_bs (d theta_s - d theta_o) + r_bp
+    /// (d theta_k - d theta_o) - u . (crank centre - seat)`, zero in the nominal kinematics;
+    /// the mesh pushes the crank when it is positive (docs/model.md section 5.1).
+    pub(crate) fn mesh_deflection(&self, k: usize, q0: &[f64], dq: &[f64]) -> f64 {
+        let ic = self.layout().crank(k);
+        let m = &self.mesh;
+        let d_o = dq[Layout::OUT];
+        let th_o = q0[Layout::OUT] + d_o;
+        let dx = Vec2::new(dq[ic], dq[ic + 1]);
+        let rel = dx - rotation_difference(&self.seat(k), q0[Layout::OUT], d_o);
+        let u = rotate(&self.line_of_action(k), th_o);
+        m.sun_base_radius * (dq[Layout::SUN] - d_o) + m.planet_base_radius * (dq[ic + 2] - d_o)
+            - u.dot(&rel)
+    }
+
     /// Elastic energy of the meshes and the crank bearings (J) at positions `q0 + dq` (see
     /// [`Reducer::structural_forces`], whose static forces are minus its gradient).
     pub(crate) fn structural_energy(&self, q0: &[f64], dq: &[f64]) -> f64 {
         let lay = self.layout();
-        let th_o = q0[Layout::OUT] + dq[Layout::OUT];
         let d_o = dq[Layout::OUT];
         let a = self.geometry.eccentricity;
         let b = &self.bearings;
@@ -681,10 +696,7 @@ impl Reducer {
             let dx = Vec2::new(dq[ic], dq[ic + 1]);
             let seat0 = self.seat(k);
             let rel = dx - rotation_difference(&seat0, q0[Layout::OUT], d_o);
-            let u = rotate(&self.line_of_action(k), th_o);
-            let delta = m.sun_base_radius * (dq[Layout::SUN] - d_o)
-                + m.planet_base_radius * (dq[ic + 2] - d_o)
-                - u.dot(&rel);
+            let delta = self.mesh_deflection(k, q0, dq);
             if m.backlash > 0.0 {
                 e += bearing::take_up(delta.abs() - 0.5 * m.backlash, m.stiffness).2;
                 e += 0.5 * DEAD_BAND_STIFFNESS * delta * delta;

@@ -62,6 +62,13 @@ impl<'a> StaticAnalysis<'a> {
     /// [`Error::Numerical`] if no pin can stop the mechanism.
     pub(crate) fn first_contact(&self, phi: f64, direction: f64) -> Result<f64> {
         let s = if direction < 0.0 { -1.0 } else { 1.0 };
+        let (phi_free, shift) = self.play_taken_up(phi, s);
+        Ok(self.first_contact_free(phi_free, s)? + shift)
+    }
+
+    /// [`StaticAnalysis::first_contact`] of the analysed reducer (the backlash-free copy of a
+    /// reducer with backlash in its meshes) at its crank angle `phi`, direction `s` (+-1).
+    fn first_contact_free(&self, phi: f64, s: f64) -> Result<f64> {
         let zp = self.red.geometry.pins;
         let est = self.stopping_pins(phi, s)?;
         let lin_min = est.iter().map(|e| s * e.2).fold(f64::INFINITY, f64::min);
@@ -209,6 +216,7 @@ impl<'a> StaticAnalysis<'a> {
         gap_reach: f64,
     ) -> Result<Vec<TouchingPin>> {
         let s = if direction < 0.0 { -1.0 } else { 1.0 };
+        let (phi, shift) = self.play_taken_up(phi, s);
         let est = self.stopping_pins(phi, s)?;
         let Some(&(_, _, e_best, _, m_best)) =
             est.iter().min_by(|a, b| (s * a.2).total_cmp(&(s * b.2)))
@@ -238,7 +246,7 @@ impl<'a> StaticAnalysis<'a> {
             out.push(TouchingPin {
                 disc: d,
                 pin: j,
-                twist: b,
+                twist: b + shift,
                 lever: m,
                 gradient: w,
                 position: rel,
@@ -269,7 +277,10 @@ impl<'a> StaticAnalysis<'a> {
         direction: f64,
     ) -> Result<Option<f64>> {
         let s = if direction < 0.0 { -1.0 } else { 1.0 };
-        self.touching_twist(phi, disc, pin, estimate, s, f64::NAN)
+        let (phi, shift) = self.play_taken_up(phi, s);
+        Ok(self
+            .touching_twist(phi, disc, pin, estimate - shift, s, f64::NAN)?
+            .map(|b| b + shift))
     }
 
     /// The same analysis for the reducer `red` (same profile and contact geometry, e.g. the
@@ -293,14 +304,11 @@ impl<'a> StaticAnalysis<'a> {
                 "must share the stage and the contact geometry of the analysis",
             ));
         }
-        let (pin_centres, pin_gap) = pins_of(red);
-        Ok(StaticAnalysis {
+        Ok(StaticAnalysis::with_field(
             red,
-            profile: self.profile,
-            field: self.field.clone(),
-            pin_centres,
-            pin_gap,
-        })
+            self.profile,
+            self.field.clone(),
+        ))
     }
 
     /// The pins of every disc that can stop the unloaded mechanism turned in direction `s`

@@ -6,7 +6,7 @@ use super::*;
 impl<'a> StaticAnalysis<'a> {
     /// Nominal positions at crank angle `phi` (input locked there).
     pub(super) fn frame(&self, phi: f64) -> Frame {
-        let red = self.red;
+        let red = &*self.red;
         let n = red.layout().dofs();
         let (mut q0, mut qd, mut qdd) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS], [0.0; MAX_DOFS]);
         red.nominal(
@@ -33,7 +33,8 @@ impl<'a> StaticAnalysis<'a> {
         if sol.deviations.len() != n {
             return Vec::new();
         }
-        let fr = self.frame(sol.crank_angle);
+        let s = if sol.output_torque < 0.0 { -1.0 } else { 1.0 };
+        let fr = self.frame(self.play_taken_up(sol.crank_angle, s).0);
         let mut recorded: Vec<Frozen> = Vec::with_capacity(12);
         let (zero, mut g) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
         self.red.structural_forces_with(
@@ -51,7 +52,7 @@ impl<'a> StaticAnalysis<'a> {
     /// turned with it, cranks `+(1 + Z1/Z2) psi` about their axes, disc centres on the
     /// eccentrics, discs `+psi`.
     pub(super) fn mode_deviation(&self, fr: &Frame, psi: f64, z: &mut [f64]) {
-        let red = self.red;
+        let red = &*self.red;
         let lay = red.layout();
         let dk = red.crank_mode_ratio() * psi;
         let q0 = &fr.q0;
@@ -228,7 +229,7 @@ impl<'a> StaticAnalysis<'a> {
         memory: &mut [Vec<PinMemory>],
         lazy: bool,
     ) -> Result<Eval> {
-        let red = self.red;
+        let red = &*self.red;
         let lay = red.layout();
         let n = lay.dofs();
         let mut g = [0.0; MAX_DOFS];
@@ -306,7 +307,7 @@ impl<'a> StaticAnalysis<'a> {
         z: &[f64],
         floored: bool,
     ) -> DMatrix<f64> {
-        let red = self.red;
+        let red = &*self.red;
         let n = red.layout().dofs();
         let rp = red.geometry.pin_circle_radius;
         let mut k = DMatrix::zeros(n, n);

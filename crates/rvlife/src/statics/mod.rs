@@ -33,6 +33,8 @@
 //! and `load_share T = sum F_j m_j` with the mode lever `m_j = -d gap_j / d psi`
 //! (about `l_j (Zp + Z1/Z2)/Zc`, docs/model.md section 6).
 
+use std::borrow::Cow;
+
 use nalgebra::{DMatrix, DVector, Matrix2x3, Rotation2, Vector3};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -330,7 +332,19 @@ struct Start<'s> {
 
 /// Static analysis of one reducer with one disc profile (both discs alike).
 pub struct StaticAnalysis<'a> {
-    red: &'a Reducer,
+    /// The reducer as given.
+    given: &'a Reducer,
+    /// The reducer analysed: the one given, or, when its sun-planet meshes have backlash, its
+    /// copy with backlash-free meshes whose sun is turned by the play (see `mesh_play`).
+    red: Cow<'a, Reducer>,
+    /// Half the meshes' backlash along the line of action `h` (m) when the analysis carries
+    /// it, else 0. Under a static torque of sense `s` every mesh carries load in one sense
+    /// (the locked sun reacts `-T/i_H`), so a mesh whose play is taken up is a backlash-free
+    /// mesh with the sun turned by `s sgn(i_H) h / r_bs`: the analysis solves the
+    /// backlash-free copy at the crank angle the turned sun gives and adds the output's
+    /// kinematic share of the turn, `s h / (r_bs |i_H|)`, to every twist it returns
+    /// (docs/model.md section 5.11). The solver then never crosses the meshes' dead band.
+    mesh_play: f64,
     profile: &'a Profile,
     field: GapField,
     /// Pin centres, ground frame, m (with the reducer's part errors).
@@ -348,19 +362,57 @@ impl<'a> StaticAnalysis<'a> {
     /// [`Error::Numerical`] if a projection of the gap field fails.
     pub fn new(red: &'a Reducer, profile: &'a Profile) -> Result<Self> {
         let field = GapField::new(profile, red.gap_points, Some(red.contact_band()))?;
+        Ok(Self::with_field(red, profile, field))
+    }
+
+    /// [`StaticAnalysis::new`] that solves `red` as it is, its meshes' backlash as the dead
+    /// band of their force law (the dynamics' model), without taking up the play exactly:
+    /// converges only where every mesh is well engaged (tests).
+    #[cfg(test)]
+    pub(crate) fn with_mesh_dead_band(red: &'a Reducer, profile: &'a Profile) -> Result<Self> {
+        let mut sa = Self::new(red, profile)?;
+        sa.red = Cow::Borrowed(red);
+        sa.mesh_play = 0.0;
+        Ok(sa)
+    }
+
+    /// The analysis of `red` on the contact geometry `field` of `profile`.
+    fn with_field(red: &'a Reducer, profile: &'a Profile, field: GapField) -> Self {
         let (pin_centres, pin_gap) = pins_of(red);
-        Ok(StaticAnalysis {
-            red,
+        let carried = red.mesh.backlash > 0.0 && red.cranks > 0 && red.support == Support::Bearings;
+        let (analysed, mesh_play) = if carried {
+            let mut free = red.clone();
+            free.mesh.backlash = 0.0;
+            (Cow::Owned(free), 0.5 * red.mesh.backlash)
+        } else {
+            (Cow::Borrowed(red), 0.0)
+        };
+        StaticAnalysis {
+            given: red,
+            red: analysed,
+            mesh_play,
             profile,
             field,
             pin_centres,
             pin_gap,
-        })
+        }
     }
 
-    /// The reducer analysed.
+    /// The reducer analysed (as given).
     pub fn reducer(&self) -> &'a Reducer {
-        self.red
+        self.given
+    }
+
+    /// The meshes' play taken up in direction `s` (+-1) at crank angle `phi` (rad, the locked
+    /// input's position): the crank angle of the backlash-free copy (rad) and the twist to
+    /// add to its solutions (rad); `(phi, 0)` without backlash (see `mesh_play`).
+    fn play_taken_up(&self, phi: f64, s: f64) -> (f64, f64) {
+        if self.mesh_play <= 0.0 {
+            return (phi, 0.0);
+        }
+        let red = &*self.red;
+        let sun_turn = s * red.ratio.signum() * self.mesh_play / red.mesh.sun_base_radius;
+        (phi + red.kappa() * sun_turn, sun_turn / red.ratio)
     }
 
     /// The disc profile analysed.

@@ -71,6 +71,76 @@ impl<'a> StaticAnalysis<'a> {
                 format!("must be empty or {} finite values", 2 * zp),
             ));
         }
+        let s = if torque < 0.0 { -1.0 } else { 1.0 };
+        let (phi_free, shift) = self.play_taken_up(phi, s);
+        if shift == 0.0 {
+            return self.solve_free(phi, torque, psi0, near, offsets);
+        }
+        // The backlash-free copy at its crank angle, from `near` taken there too.
+        let near = near.map(|x| {
+            let sx = if x.output_torque < 0.0 { -1.0 } else { 1.0 };
+            let (phi_x, shift_x) = self.play_taken_up(x.crank_angle, sx);
+            StaticSolution {
+                crank_angle: phi_x,
+                twist: x.twist - shift_x,
+                first_contact_twist: x.first_contact_twist - shift_x,
+                ..x.clone()
+            }
+        });
+        let mut sol = self.solve_free(phi_free, torque, psi0 - shift, near.as_ref(), offsets)?;
+        if torque != 0.0 {
+            self.check_meshes_engaged(&sol, s)?;
+        }
+        sol.crank_angle = phi;
+        sol.twist += shift;
+        sol.first_contact_twist += shift;
+        Ok(sol)
+    }
+
+    /// Every sun-planet mesh of the backlash-free copy at the solution `sol` (its crank angle)
+    /// deflected in the sense that a torque of sense `s` loads it, `-s sgn(i_H)` (the locked
+    /// sun reacts `-T/i_H`, so the meshes' forces sum to `-T/(i_H r_bs)`): the condition under
+    /// which the play of every mesh is taken up (see `StaticAnalysis::mesh_play`).
+    ///
+    /// # Errors
+    /// [`Error::Numerical`] naming the crank angle if a mesh is unloaded or loaded the other
+    /// way (its play is not taken up: the reducer would rest inside it).
+    fn check_meshes_engaged(&self, sol: &StaticSolution, s: f64) -> Result<()> {
+        let red = &*self.red;
+        let n = red.layout().dofs();
+        if sol.deviations.len() != n {
+            return Ok(());
+        }
+        let fr = self.frame(sol.crank_angle);
+        let sense = -s * red.ratio.signum();
+        for k in 0..red.cranks {
+            let delta = red.mesh_deflection(k, &fr.q0[..n], &sol.deviations);
+            if !(sense * delta > 0.0) {
+                return Err(self.fail(
+                    sol.crank_angle,
+                    &format!(
+                        "the sun-planet mesh of crank {} is not loaded in the sense of the \
+                         output torque {:.6e} N m (deflection {delta:.3e} m): the meshes' \
+                         backlash cannot be taken up",
+                        k + 1,
+                        sol.output_torque
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// [`StaticAnalysis::solve_with_offsets`] of the analysed reducer at its crank angle
+    /// `phi` (no play to take up).
+    fn solve_free(
+        &self,
+        phi: f64,
+        torque: f64,
+        psi0: f64,
+        near: Option<&StaticSolution>,
+        offsets: &[f64],
+    ) -> Result<StaticSolution> {
         match self.solve_direct(phi, torque, psi0, near, offsets) {
             Err(Error::Numerical { .. }) if torque != 0.0 => {
                 match self.solve_in_load_steps(phi, torque, psi0, near, offsets) {
@@ -369,7 +439,7 @@ impl<'a> StaticAnalysis<'a> {
         start: &Start,
     ) -> Result<StaticSolution> {
         let psi0 = start.psi0;
-        let red = self.red;
+        let red = &*self.red;
         let n = red.layout().dofs();
         let zp = red.geometry.pins;
         let rp = red.geometry.pin_circle_radius;
