@@ -115,7 +115,7 @@ impl<'a> StaticAnalysis<'a> {
         let sense = -s * red.ratio.signum();
         for k in 0..red.cranks {
             let delta = red.mesh_deflection(k, &fr.q0[..n], &sol.deviations);
-            if !(sense * delta > 0.0) {
+            if sense * delta <= 0.0 || delta.is_nan() {
                 return Err(self.fail(
                     sol.crank_angle,
                     &format!(
