@@ -300,3 +300,34 @@ fn bad_load_tables_unsorted_gaps_nan() {
     );
     assert!(num(&v, "te_mean_arcmin") > 0.0, "{v}");
 }
+
+/// Pins turning by their friction balance: an unknown mode, a friction coefficient out of
+/// (0, 1], the balance beside a given rolling fraction.
+#[test]
+fn bad_pin_turning() {
+    let ex = paper_text();
+    for (extra, needles) in [
+        (
+            "pin_turning = \"sometimes\"",
+            &["wear.pin_turning", "sometimes", "\"balance\""][..],
+        ),
+        (
+            "pin_turning = \"balance\"\npin_friction_coefficient = 0.0",
+            &["wear.pin_friction_coefficient", "0", "(0, 1]"][..],
+        ),
+        (
+            "pin_turning = \"balance\"\ngroove_friction_coefficient = 1.5",
+            &["wear.groove_friction_coefficient", "1.5"][..],
+        ),
+    ] {
+        check_bad_config(&add_line(&ex, "wear", extra), needles);
+    }
+    check_bad_config(
+        &add_line(
+            &set_key(&ex, "wear", "pin_rolling_fraction", "0.3"),
+            "wear",
+            "pin_turning = \"balance\"",
+        ),
+        &["wear.pin_rolling_fraction", "0.3", "pin_turning"],
+    );
+}

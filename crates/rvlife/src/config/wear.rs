@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use super::range::{check, whole, Range};
 use crate::error::{Error, Result};
-use crate::wear::{BearingWearParams, RunningIn, WearModelKind, WearParams};
+use crate::wear::{BearingWearParams, PinTurning, RunningIn, WearModelKind, WearParams};
 
 /// `[wear]`.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -42,6 +42,21 @@ pub struct WearConfig {
     /// (0: pins do not turn, the conservative default). Range: [0, 1].
     #[serde(default)]
     pub pin_rolling_fraction: f64,
+    /// How the pins turn in their grooves: `"fixed"` (default: held, or turning by
+    /// `pin_rolling_fraction`) or `"balance"` (the rotation from the balance of the disc's and
+    /// the groove's friction moments, with Carter's micro-slip where a pin rolls;
+    /// docs/model.md section 7.12; `flodin` model only).
+    #[serde(default = "default_pin_turning")]
+    pub pin_turning: String,
+    /// Friction coefficient of the disc-pin contacts, read with `pin_turning = "balance"`
+    /// (default 0.1: an **estimate** for boundary-lubricated hardened steel). Range: (0, 1].
+    #[serde(default = "default_pin_friction")]
+    pub pin_friction_coefficient: f64,
+    /// Friction coefficient of a pin in its housing groove, read with `pin_turning =
+    /// "balance"` (default 0.05: an **estimate** for a greased conformal contact). Range:
+    /// (0, 1].
+    #[serde(default = "default_groove_friction")]
+    pub groove_friction_coefficient: f64,
     /// Overlap ratio `eps_a` of the paper's sliding distance (`paper` model only). Range:
     /// (0, 100].
     #[serde(default = "default_overlap")]
@@ -68,6 +83,16 @@ pub struct WearConfig {
     /// (read when `running_in_factor` > 1). Range: (0, 1e6] h.
     #[serde(default = "default_running_in_hours")]
     pub running_in_hours: f64,
+}
+
+fn default_pin_turning() -> String {
+    "fixed".into()
+}
+fn default_pin_friction() -> f64 {
+    0.1
+}
+fn default_groove_friction() -> f64 {
+    0.05
 }
 
 fn default_running_in_factor() -> f64 {
@@ -186,6 +211,46 @@ impl WearConfig {
             w.pin_rolling_fraction,
             Range::closed(0.0, 1.0, ""),
         )?;
+        let pin_turning = match w.pin_turning.as_str() {
+            "fixed" => PinTurning::Fixed,
+            "balance" => PinTurning::Balance {
+                pin_friction: check(
+                    "wear.pin_friction_coefficient",
+                    w.pin_friction_coefficient,
+                    Range::positive(1.0, ""),
+                )?,
+                groove_friction: check(
+                    "wear.groove_friction_coefficient",
+                    w.groove_friction_coefficient,
+                    Range::positive(1.0, ""),
+                )?,
+            },
+            other => {
+                return Err(Error::invalid(
+                    "wear.pin_turning",
+                    format!("\"{other}\""),
+                    "must be \"fixed\" or \"balance\"",
+                ))
+            }
+        };
+        if pin_turning != PinTurning::Fixed {
+            if pin_rolling_fraction > 0.0 {
+                return Err(Error::invalid(
+                    "wear.pin_rolling_fraction",
+                    pin_rolling_fraction,
+                    "must be 0 with wear.pin_turning = \"balance\" (the balance sets how the \
+                     pins turn)",
+                ));
+            }
+            if wear_model == WearModelKind::Paper {
+                return Err(Error::invalid(
+                    "wear.pin_turning",
+                    "\"balance\"",
+                    "must be \"fixed\" with wear.model = \"paper\" (the paper's sliding is \
+                     that of fixed pins)",
+                ));
+            }
+        }
         let overlap_ratio = check(
             "wear.overlap_ratio",
             w.overlap_ratio,
@@ -238,6 +303,7 @@ impl WearConfig {
             max_wear_step,
             crank_steps: wear_steps,
             pin_rolling_fraction,
+            pin_turning,
             pin_archard,
             overlap_ratio,
         })

@@ -213,3 +213,66 @@ fn worn_pins_open_the_play() {
         }
     }
 }
+
+/// Pins turning as their friction balance says (docs/model.md section 7.12), on the paper's
+/// reducer new at a third of, at and at twice the rated torque, with the pins' coefficient
+/// equal to the disc's:
+/// - a groove that holds harder than the disc drags (`mu_g` 0.1 > `mu_d` 0.05) keeps every pin
+///   still: the wear is the fixed pins' exactly;
+/// - a disc that drags harder (`mu_d` 0.1 > `mu_g` 0.05) rolls every loaded pin (each pin
+///   meets one disc at a time): the disc wears by Carter's micro-slip, its area within 1 % of
+///   Archard's on that sliding integral, which is `(mu_g/mu_d) xi V` per unit of rolling
+///   (under 1e-3 of the fixed pins' sliding); the pin slides in its groove at the disc's
+///   surface speed, so the pin and the groove each lose the fixed pins' sliding integral times
+///   their coefficient on top of the disc contact's micro-slip: the pin map's area is
+///   `k_p/B (s_micro + 2 s_fixed)` to 1e-9.
+#[test]
+fn turning_pins_follow_their_friction_balance() {
+    use crate::wear::PinTurning;
+    let kd = 6.844807e-9;
+    let fixed = model_with_pins(kd);
+    let b = fixed.cycloid.geometry.width;
+    let profile = fixed.cycloid.profile(None).unwrap();
+    let with = |mu_d: f64, mu_g: f64| {
+        let mut m = fixed.clone();
+        m.wear.pin_turning = PinTurning::Balance {
+            pin_friction: mu_d,
+            groove_friction: mu_g,
+        };
+        m
+    };
+    for torque in [137.0, 412.0, 824.0] {
+        let inputs = fixed.wear_inputs();
+        let still = wear_per_mesh_cycle(&profile, &inputs, torque).unwrap();
+        let held = with(0.05, 0.1);
+        let held_wear = wear_per_mesh_cycle(&profile, &held.wear_inputs(), torque).unwrap();
+        assert_eq!(
+            held_wear, still,
+            "{torque} N m: a held pin wears as a fixed one"
+        );
+        let (_, _, s_fixed) = removed_areas(&fixed, &profile, torque);
+        let rolling = with(0.1, 0.05);
+        let (disc, pin, s_micro) = removed_areas(&rolling, &profile, torque);
+        let archard_disc = rolling.wear.archard * s_micro / b;
+        let archard_pin = rolling.wear.pin_archard * (s_micro + 2.0 * s_fixed) / b;
+        println!(
+            "{torque} N m: micro-slip sliding {:.3e} of the fixed pins'; disc {:.5}, pin {:.9} \
+             of Archard",
+            s_micro / s_fixed,
+            disc / archard_disc,
+            pin / archard_pin
+        );
+        assert!(
+            s_micro > 0.0 && s_micro < 1e-3 * s_fixed,
+            "{s_micro} vs {s_fixed}"
+        );
+        assert!(
+            (disc / archard_disc - 1.0).abs() < 0.01,
+            "{disc} {archard_disc}"
+        );
+        assert!(
+            (pin / archard_pin - 1.0).abs() < 1e-9,
+            "{pin} {archard_pin}"
+        );
+    }
+}

@@ -5,7 +5,8 @@
 //! `dh = k p s` with mean pressure `p = F/(2 b B)` (paper eq 19) and sliding distance
 //! `s = 2 b |v_s| / v_d` (Flodin and Andersson, Wear 207, 1997): `v_s` the sliding speed at the
 //! contact (disc material against a pin that does not turn in its groove, scaled by
-//! `1 - pin_rolling_fraction`), `v_d` the speed of the contact point along the disc flank. The
+//! `1 - pin_rolling_fraction`; for pins that turn by their friction balance, [`PinTurning`],
+//! the sliding the balance leaves), `v_d` the speed of the contact point along the disc flank. The
 //! half-width cancels: `dh = k F |v_s| / (B v_d)`. Forces come from the loaded-contact solution
 //! on the actual (worn) profile at `crank_steps_per_mesh_cycle` crank angles; each pin of each
 //! solve samples `dh` at its actual contact mesh angle, and the samples are interpolated onto the
@@ -24,8 +25,10 @@
 //! The crank bearings' wear, as growth of their radial clearance: [`bearings`].
 
 mod bearings;
+mod pin_turning;
 
 pub use bearings::{bearing_wear_rates, clearance_growth, BearingWearParams, BearingWearRates};
+pub use pin_turning::PinTurning;
 
 use std::f64::consts::TAU;
 
@@ -80,6 +83,8 @@ pub struct WearParams {
     pub crank_steps: usize,
     /// Fraction of the sliding taken up by pins turning in their grooves, 0..1.
     pub pin_rolling_fraction: f64,
+    /// How the pins turn in their grooves (docs/model.md section 7.12).
+    pub pin_turning: PinTurning,
     /// Archard coefficient of the pins, m^2/N (0: the pins do not wear; docs/model.md section
     /// 7.11).
     pub pin_archard: f64,
@@ -265,41 +270,148 @@ pub(crate) fn wear_per_mesh_cycle(
     }
     let discs = if errors { solutions[0].discs.len() } else { 1 };
     let weight = 1.0 / (positions * discs) as f64;
-    // Per loaded contact: (mesh angle, disc depth, half-width) and, for the pins, (angle
-    // around the pin, its sweep per unit crank angle, sliding integral F |v_s| dphi).
-    type Sample = ((f64, f64, f64), (f64, f64, f64));
-    let per_step: Vec<Vec<Sample>> = solutions
+    let balance = match inputs.wear.pin_turning {
+        PinTurning::Fixed => None,
+        PinTurning::Balance {
+            pin_friction,
+            groove_friction,
+        } => Some((pin_friction, groove_friction)),
+    };
+    let contact_modulus = inputs.reducer.contact.materials.contact_modulus();
+    // Per solution and disc: the disc's samples (mesh angle, depth, half-width, sliding
+    // integral F |v_s| dphi) and the pins' (section 7.11; with turning pins, 7.12).
+    let per_step: Vec<Vec<(Vec<DiscSample>, Vec<PinSample>)>> = solutions
         .par_iter()
-        .flat_map(|sol| sol.discs[..discs].par_iter())
-        .map(|disc| -> Result<Vec<Sample>> {
-            let (centre, psi) = (disc.pose.centre, disc.pose.angle);
-            let mut out = Vec::with_capacity(disc.pins.len());
-            for p in &disc.pins {
-                if p.force <= 0.0 {
-                    out.push(((p.mesh_angle, 0.0, 0.0), (0.0, 0.0, 0.0)));
-                    continue;
-                }
-                let pt = profile.point(p.profile_parameter);
-                // Disc material velocity at the contact per unit crank angle (ground frame):
-                // v = dO/dphi + dpsi/dphi x (x - O), dpsi/dphi = -1/Zc; pins at rest.
-                let r = rotate(&pt.p, psi);
-                let v_centre = Vec2::new(-centre.y, centre.x);
-                let v = v_centre + Vec2::new(-r.y, r.x) * (-1.0 / zc);
-                let tangent = rotate(&(pt.dp / pt.dp.norm()), psi);
-                let v_slide = (v.dot(&tangent) * slide_scale).abs();
-                let v_disc = pt.dp.norm();
-                let dh = weight * inputs.wear.archard * p.force * v_slide / (geo.width * v_disc);
-                // Where on the pin and how fast the contact moves round it: the pitch point's
-                // kinematics (the coordinate the static analysis reads the map at).
-                let (beta, dbeta) = contact_direction(geo, p.pin, disc.pose.crank_angle);
-                out.push((
-                    (p.mesh_angle, dh, p.half_width),
-                    (beta, dbeta, weight * p.force * v_slide * dphi),
-                ));
-            }
-            Ok(out)
+        .map(|sol| -> Result<Vec<(Vec<DiscSample>, Vec<PinSample>)>> {
+            // Every loaded contact of every disc: the disc material's speed along the pin's
+            // counter-clockwise tangent per unit crank angle (ground frame, pins at rest),
+            // `w = v . t`, with `v = dO/dphi + dpsi/dphi x (x - O)`, `dpsi/dphi = -1/Zc`.
+            let speeds: Vec<Vec<f64>> = sol
+                .discs
+                .iter()
+                .map(|disc| {
+                    let (centre, psi) = (disc.pose.centre, disc.pose.angle);
+                    disc.pins
+                        .iter()
+                        .map(|p| {
+                            if p.force <= 0.0 {
+                                return 0.0;
+                            }
+                            let pt = profile.point(p.profile_parameter);
+                            let r = rotate(&pt.p, psi);
+                            let v =
+                                Vec2::new(-centre.y, centre.x) + Vec2::new(-r.y, r.x) * (-1.0 / zc);
+                            let tangent = rotate(&(pt.dp / pt.dp.norm()), psi);
+                            // The pin's outward direction at the contact is minus the flank's
+                            // outward normal; its counter-clockwise tangent is that turned a
+                            // quarter turn, along the flank's tangent one way or the other.
+                            let n = -rotate(&p.normal, psi);
+                            let sense = tangent.dot(&Vec2::new(-n.y, n.x)).signum();
+                            v.dot(&tangent) * sense
+                        })
+                        .collect()
+                })
+                .collect();
+            // Each pin's balance over the contacts of every disc (a pin is one body).
+            let turning: Vec<Option<pin_turning::PinBalance>> = (0..geo.pins)
+                .map(|j| {
+                    let (mu_d, mu_g) = balance?;
+                    let contacts: Vec<pin_turning::PinContact> = sol
+                        .discs
+                        .iter()
+                        .zip(&speeds)
+                        .filter(|(d, _)| d.pins[j].force > 0.0)
+                        .map(|(d, w)| pin_turning::PinContact {
+                            force: d.pins[j].force,
+                            surface_speed: w[j],
+                        })
+                        .collect();
+                    Some(pin_turning::balance(&contacts, mu_d, mu_g))
+                })
+                .collect();
+            (0..discs)
+                .map(|d| {
+                    let disc = &sol.discs[d];
+                    let mut disc_out = Vec::with_capacity(disc.pins.len());
+                    let mut pin_out = Vec::new();
+                    for p in &disc.pins {
+                        if p.force <= 0.0 {
+                            disc_out.push((p.mesh_angle, 0.0, 0.0, 0.0));
+                            continue;
+                        }
+                        let pt = profile.point(p.profile_parameter);
+                        let v_disc = pt.dp.norm();
+                        let w = speeds[d][p.pin];
+                        // The sliding speed that wears the contact, per unit crank angle, and
+                        // the pin's surface speed (0: it stands still).
+                        let (v_slide, u) = match &turning[p.pin] {
+                            None => ((w * slide_scale).abs(), 0.0),
+                            Some(b) => {
+                                // This contact's place among the pin's contacts (discs in
+                                // order, loaded ones only).
+                                let k = sol.discs[..d]
+                                    .iter()
+                                    .filter(|x| x.pins[p.pin].force > 0.0)
+                                    .count();
+                                let u = b.surface_speed;
+                                let slide = match (balance, b.rolling_traction[k]) {
+                                    (Some((mu_d, _)), Some(f)) => pin_turning::micro_slip_speed(
+                                        f,
+                                        p.force,
+                                        mu_d,
+                                        p.max_pressure,
+                                        contact_modulus,
+                                        v_disc,
+                                    ),
+                                    _ => (w - u).abs(),
+                                };
+                                (slide, u)
+                            }
+                        };
+                        let dh =
+                            weight * inputs.wear.archard * p.force * v_slide / (geo.width * v_disc);
+                        let sliding = weight * p.force * v_slide * dphi;
+                        disc_out.push((p.mesh_angle, dh, p.half_width, sliding));
+                        if !pins_wear {
+                            continue;
+                        }
+                        // Where on the pin and how fast the contact moves round it: the pitch
+                        // point's kinematics (the coordinate the static analysis reads the map
+                        // at).
+                        let (beta, dbeta) = contact_direction(geo, p.pin, disc.pose.crank_angle);
+                        let turns = u != 0.0 || slide_scale < 1.0;
+                        pin_out.push(PinSample {
+                            beta,
+                            dbeta,
+                            sliding,
+                            half_width: p.half_width,
+                            even: turns,
+                        });
+                        if u != 0.0 {
+                            // The turning pin slides in its groove under this disc's load: the
+                            // groove wears where the load presses (opposite the contact, so
+                            // its depth opens this contact's gap as the pin's own wear would,
+                            // read at the same angle) and the pin all round.
+                            let groove = weight * p.force * u.abs() * dphi;
+                            for even in [false, true] {
+                                pin_out.push(PinSample {
+                                    beta,
+                                    dbeta,
+                                    sliding: groove,
+                                    half_width: p.half_width,
+                                    even,
+                                });
+                            }
+                        }
+                    }
+                    (disc_out, pin_out)
+                })
+                .map(Ok)
+                .collect()
         })
         .collect::<Result<_>>()?;
+    // Flattened position-major, then disc, as the solutions.
+    let per_step: Vec<(Vec<DiscSample>, Vec<PinSample>)> = per_step.into_iter().flatten().collect();
     // Each (position, disc) is resampled on the grid on its own and the grids summed (their
     // weights make the mean).
     let group = steps;
@@ -308,10 +420,10 @@ pub(crate) fn wear_per_mesh_cycle(
     let groups = positions * discs;
     for g in 0..groups {
         // Rows of one position and disc: steps solutions (position-major), disc `g % discs`.
-        let rows: Vec<&Vec<Sample>> = (0..group)
-            .map(|k| &per_step[((g / discs) * group + k) * discs + g % discs])
+        let rows: Vec<&Vec<DiscSample>> = (0..group)
+            .map(|k| &per_step[((g / discs) * group + k) * discs + g % discs].0)
             .collect();
-        let samples: Vec<(f64, f64, f64)> = rows.into_iter().flatten().map(|s| s.0).collect();
+        let samples: Vec<&DiscSample> = rows.into_iter().flatten().collect();
         let d = resample_periodic(samples.iter().map(|s| (s.0, s.1)).collect(), n);
         let h = resample_periodic(samples.iter().map(|s| (s.0, s.2)).collect(), n);
         for m in 0..n {
@@ -319,15 +431,13 @@ pub(crate) fn wear_per_mesh_cycle(
             half_width[m] += h[m] / groups as f64;
         }
     }
-    let samples = per_step.iter().flatten();
-    let sliding: f64 = samples.clone().map(|s| s.1 .2).sum();
+    let sliding: f64 = per_step.iter().flat_map(|s| &s.0).map(|s| s.3).sum();
     let pin = if pins_wear {
         pin_deposit(
-            samples.map(|s| (s.1, s.0 .2)),
+            per_step.iter().flat_map(|s| &s.1),
             geo.pin_radius,
             inputs.wear.pin_archard / geo.width,
             dphi,
-            inputs.wear.pin_rolling_fraction > 0.0,
         )
     } else {
         Vec::new()
@@ -339,39 +449,63 @@ pub(crate) fn wear_per_mesh_cycle(
     })
 }
 
-/// The pins' wear of one sweep (docs/model.md section 7.11), m on [`PIN_MAP_POINTS`] around
-/// the pin, from the contacts of one mesh cycle (every pin's, together the whole path of one
-/// pin over a revolution of the eccentric): `((beta, d beta/d phi, F |v_s| dphi), b)` with `b`
-/// the Hertz half-width, m. Each contact removes the area `k/B F |v_s| dphi` (`k_per_width`
-/// = `k/B`, 1/Pa/m) from the arc `r dbeta` its contact point sweeps during its crank step
-/// `dphi` (uniformly: Archard's depth `k F |v_s|/(B v_p)` with `v_p = r |d beta/d phi|`), and
-/// the result is spread over the Hertz band (`+-b/r` around the pin, semi-elliptic, area
-/// conserving). `turning`: the pins turn in their grooves and every contact's area is spread
-/// over the whole circumference.
-fn pin_deposit(
-    contacts: impl Iterator<Item = ((f64, f64, f64), f64)>,
+/// One pass of a contact over the pin (or, for a turning pin, of the pin in its groove) for
+/// [`pin_deposit`].
+#[derive(Debug, Clone, Copy)]
+struct PinSample {
+    /// Angle of the contact round the pin from its inward radial direction, rad.
+    beta: f64,
+    /// `d beta / d phi` (per unit crank angle).
+    dbeta: f64,
+    /// Archard's sliding integral `F |v_s| dphi` of the step, N m.
+    sliding: f64,
+    /// Hertz half-width, m.
+    half_width: f64,
+    /// The area goes all round the pin (a pin that turns) rather than where the contact is.
+    even: bool,
+}
+
+/// A disc sample of one contact: mesh angle (rad), depth (m), Hertz half-width (m), Archard's
+/// sliding integral `F |v_s| dphi` (N m).
+type DiscSample = (f64, f64, f64, f64);
+
+/// The pins' wear of one sweep (docs/model.md sections 7.11 and 7.12), m on
+/// [`PIN_MAP_POINTS`] around the pin, from the contacts of one mesh cycle (every pin's,
+/// together the whole path of one pin over a revolution of the eccentric). Each contact
+/// removes the area `k/B F |v_s| dphi` (`k_per_width` = `k/B`, 1/Pa/m) from the arc `r dbeta`
+/// its contact point sweeps during its crank step `dphi` (uniformly: Archard's depth
+/// `k F |v_s|/(B v_p)` with `v_p = r |d beta/d phi|`), and the result is spread over the Hertz
+/// band (`+-b/r` around the pin, semi-elliptic, area conserving); the area of a sample marked
+/// `even` (a pin that turns) is spread over the whole circumference.
+fn pin_deposit<'s>(
+    contacts: impl Iterator<Item = &'s PinSample>,
     pin_radius: f64,
     k_per_width: f64,
     dphi: f64,
-    turning: bool,
 ) -> Vec<f64> {
     let n = PIN_MAP_POINTS;
     let cell = TAU / n as f64;
     let mut depth = vec![0.0; n];
+    let mut even = 0.0;
     let (mut band, mut total) = (0.0, 0.0);
-    for ((beta, dbeta, sliding), b) in contacts {
+    for s in contacts {
+        let PinSample {
+            beta,
+            dbeta,
+            sliding,
+            half_width: b,
+            even: spread,
+        } = *s;
         if sliding <= 0.0 {
             continue;
         }
         let area = k_per_width * sliding;
-        band += area * b;
-        total += area;
-        if turning {
-            depth
-                .iter_mut()
-                .for_each(|d| *d += area / (TAU * pin_radius));
+        if spread {
+            even += area / (TAU * pin_radius);
             continue;
         }
+        band += area * b;
+        total += area;
         // The arc swept during the step, in cells; at least one cell wide (where the contact
         // stands still on the pin the band spreads it).
         let half = (dbeta.abs() * dphi / 2.0).max(cell / 2.0);
@@ -385,8 +519,8 @@ fn pin_deposit(
             x = next;
         }
     }
-    if turning || total <= 0.0 {
-        return depth;
+    if total <= 0.0 {
+        return depth.into_iter().map(|d| d + even).collect();
     }
     // The Hertz band: semi-elliptic weights over +-b/r, periodic, normalised (area kept).
     let b = band / total / pin_radius;
@@ -402,6 +536,7 @@ fn pin_deposit(
                 .map(|(k, w)| w * depth[(m + k).rem_euclid(n as i64) as usize])
                 .sum::<f64>()
                 / norm
+                + even
         })
         .collect()
 }
