@@ -1,0 +1,437 @@
+//! Wear of one mesh cycle of the default model (docs/model.md sections 7.2, 7.11 and 7.12):
+//! the disc's depth per pass from the static solutions over the cycle, the pins' (and, for pins
+//! that turn, their grooves') wear map, and the Hertz band spreading of both.
+
+use std::f64::consts::TAU;
+
+use rayon::prelude::*;
+
+use super::pin_turning::{self, PinTurning};
+use super::WearInputs;
+use crate::error::Result;
+use crate::geometry::{band_shape, rotate, Profile, Vec2};
+use crate::reducer::{contact_direction, PIN_MAP_POINTS};
+use crate::statics::StaticAnalysis;
+
+/// Periodic linear interpolation of samples `(angle, value)` (angles in rad, any order) onto
+/// `n` uniform grid points over `[0, 2 pi)`.
+pub(super) fn resample_periodic(mut samples: Vec<(f64, f64)>, n: usize) -> Vec<f64> {
+    samples.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let m = samples.len();
+    let mut out = vec![0.0; n];
+    let mut i = 0; // samples[i] is the last sample with angle <= grid angle
+    for (g, o) in out.iter_mut().enumerate() {
+        let t = TAU * g as f64 / n as f64;
+        while i + 1 < m && samples[i + 1].0 <= t {
+            i += 1;
+        }
+        let (lo, hi) = if samples[0].0 > t {
+            // before the first sample: wrap from the last
+            let (a, va) = samples[m - 1];
+            ((a - TAU, va), samples[0])
+        } else if i + 1 < m {
+            (samples[i], samples[i + 1])
+        } else {
+            let (b, vb) = samples[0];
+            (samples[m - 1], (b + TAU, vb))
+        };
+        let w = if hi.0 > lo.0 {
+            (t - lo.0) / (hi.0 - lo.0)
+        } else {
+            0.0
+        };
+        *o = lo.1 + w * (hi.1 - lo.1);
+    }
+    out
+}
+
+/// Mesh cycles of the output revolution whose wear is averaged for a reducer with part errors
+/// or a single-stage drive (spread evenly over the revolution; the nominal RV reducer needs
+/// one).
+pub(crate) const REVOLUTION_POSITIONS: usize = 8;
+
+/// Wear of one mesh cycle ([`wear_per_mesh_cycle`]).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct MeshCycleWear {
+    /// Disc: depth per mesh cycle (one sweep of every tooth point), m, on the wear-map grid.
+    pub disc: Vec<f64>,
+    /// Pins: depth per sweep of the pin (one revolution of the eccentric), m, on the pin map's
+    /// grid ([`PIN_MAP_POINTS`] around the pin); empty when the pins do not wear.
+    pub pin: Vec<f64>,
+    /// Archard's sliding integral of the cycle, `sum F |v_s| dphi` over the contacts, N m
+    /// (the mean over the positions and discs averaged, like the depths).
+    pub sliding: f64,
+}
+
+/// Wear of one mesh cycle for the output torque `torque` (N m), on the actual profile
+/// `profile` (default model, see the module docs), for the disc and, when they wear, the pins
+/// (docs/model.md section 7.11).
+///
+/// # Errors
+/// Propagates contact-solver failures.
+pub(crate) fn wear_per_mesh_cycle(
+    profile: &Profile,
+    inputs: &WearInputs,
+    torque: f64,
+) -> Result<MeshCycleWear> {
+    let n = inputs.grid_points();
+    let pins_wear = inputs.wear.pin_archard > 0.0;
+    let n_pin = if pins_wear { PIN_MAP_POINTS } else { 0 };
+    if torque == 0.0 {
+        return Ok(MeshCycleWear {
+            disc: vec![0.0; n],
+            pin: vec![0.0; n_pin],
+            sliding: 0.0,
+        });
+    }
+    let geo = profile.geometry();
+    let zp = geo.pins as f64;
+    let zc = geo.disc_teeth() as f64;
+    let steps = inputs.wear.crank_steps;
+    let dphi = TAU / (zp * steps as f64);
+    let slide_scale = 1.0 - inputs.wear.pin_rolling_fraction;
+    let sa = StaticAnalysis::new(inputs.reducer, profile)?;
+    let phis: Vec<f64> = (0..steps)
+        .map(|k| TAU * k as f64 / (zp * steps as f64))
+        .collect();
+    // The nominal reducer repeats every mesh cycle and its discs wear alike (disc 2 meets the
+    // same crank angles half a crank revolution later): disc 1 over one mesh cycle. With part
+    // errors every mesh cycle differs while every tooth meets every pin: the mean over
+    // `REVOLUTION_POSITIONS` mesh cycles spread over the output revolution, and over the discs.
+    // A single-stage drive repeats only where the output pins' pattern does (and its discs
+    // may be unevenly phased): it is averaged like a reducer with errors.
+    let errors = !inputs.reducer.errors.is_zero()
+        || matches!(inputs.reducer.drive, crate::reducer::Drive::SingleStage(_));
+    let positions = if errors { REVOLUTION_POSITIONS } else { 1 };
+    let cycles = (zp * zc) as usize;
+    let mut solutions = Vec::with_capacity(positions * steps);
+    for r in 0..positions {
+        let c = (r * cycles / positions) as f64;
+        let at: Vec<f64> = phis.iter().map(|p| p + c * TAU / zp).collect();
+        solutions.extend(sa.solve_sequence(&at, torque)?);
+    }
+    let discs = if errors { solutions[0].discs.len() } else { 1 };
+    let weight = 1.0 / (positions * discs) as f64;
+    let balance = match inputs.wear.pin_turning {
+        PinTurning::Fixed => None,
+        PinTurning::Balance {
+            pin_friction,
+            groove_friction,
+        } => Some((pin_friction, groove_friction)),
+    };
+    let contact_modulus = inputs.reducer.contact.materials.contact_modulus();
+    // Per solution and disc: the disc's samples (mesh angle, depth, half-width, sliding
+    // integral F |v_s| dphi) and the pins' (section 7.11; with turning pins, 7.12).
+    let per_step: Vec<Vec<(Vec<DiscSample>, Vec<PinSample>)>> = solutions
+        .par_iter()
+        .map(|sol| -> Result<Vec<(Vec<DiscSample>, Vec<PinSample>)>> {
+            // Every loaded contact of every disc: the disc material's speed along the pin's
+            // counter-clockwise tangent per unit crank angle (ground frame, pins at rest),
+            // `w = v . t`, with `v = dO/dphi + dpsi/dphi x (x - O)`, `dpsi/dphi = -1/Zc`.
+            let speeds: Vec<Vec<f64>> = sol
+                .discs
+                .iter()
+                .map(|disc| {
+                    let (centre, psi) = (disc.pose.centre, disc.pose.angle);
+                    disc.pins
+                        .iter()
+                        .map(|p| {
+                            if p.force <= 0.0 {
+                                return 0.0;
+                            }
+                            let pt = profile.point(p.profile_parameter);
+                            let r = rotate(&pt.p, psi);
+                            let v =
+                                Vec2::new(-centre.y, centre.x) + Vec2::new(-r.y, r.x) * (-1.0 / zc);
+                            let tangent = rotate(&(pt.dp / pt.dp.norm()), psi);
+                            // The pin's outward direction at the contact is minus the flank's
+                            // outward normal; its counter-clockwise tangent is that turned a
+                            // quarter turn, along the flank's tangent one way or the other.
+                            let n = -rotate(&p.normal, psi);
+                            let sense = tangent.dot(&Vec2::new(-n.y, n.x)).signum();
+                            v.dot(&tangent) * sense
+                        })
+                        .collect()
+                })
+                .collect();
+            // Each pin's balance over the contacts of every disc (a pin is one body).
+            let turning: Vec<Option<pin_turning::PinBalance>> = (0..geo.pins)
+                .map(|j| {
+                    let (mu_d, mu_g) = balance?;
+                    let contacts: Vec<pin_turning::PinContact> = sol
+                        .discs
+                        .iter()
+                        .zip(&speeds)
+                        .filter(|(d, _)| d.pins[j].force > 0.0)
+                        .map(|(d, w)| pin_turning::PinContact {
+                            force: d.pins[j].force,
+                            surface_speed: w[j],
+                        })
+                        .collect();
+                    Some(pin_turning::balance(&contacts, mu_d, mu_g))
+                })
+                .collect();
+            (0..discs)
+                .map(|d| {
+                    let disc = &sol.discs[d];
+                    let mut disc_out = Vec::with_capacity(disc.pins.len());
+                    let mut pin_out = Vec::new();
+                    for p in &disc.pins {
+                        if p.force <= 0.0 {
+                            disc_out.push((p.mesh_angle, 0.0, 0.0, 0.0));
+                            continue;
+                        }
+                        let pt = profile.point(p.profile_parameter);
+                        let v_disc = pt.dp.norm();
+                        let w = speeds[d][p.pin];
+                        // The sliding speed that wears the contact, per unit crank angle, and
+                        // the pin's surface speed (0: it stands still).
+                        let (v_slide, u) = match &turning[p.pin] {
+                            None => ((w * slide_scale).abs(), 0.0),
+                            Some(b) => {
+                                // This contact's place among the pin's contacts (discs in
+                                // order, loaded ones only).
+                                let k = sol.discs[..d]
+                                    .iter()
+                                    .filter(|x| x.pins[p.pin].force > 0.0)
+                                    .count();
+                                let u = b.surface_speed;
+                                let slide = match (balance, b.rolling_traction[k]) {
+                                    (Some((mu_d, _)), Some(f)) => pin_turning::micro_slip_speed(
+                                        f,
+                                        p.force,
+                                        mu_d,
+                                        p.max_pressure,
+                                        contact_modulus,
+                                        v_disc,
+                                    ),
+                                    _ => (w - u).abs(),
+                                };
+                                (slide, u)
+                            }
+                        };
+                        let dh =
+                            weight * inputs.wear.archard * p.force * v_slide / (geo.width * v_disc);
+                        let sliding = weight * p.force * v_slide * dphi;
+                        disc_out.push((p.mesh_angle, dh, p.half_width, sliding));
+                        if !pins_wear {
+                            continue;
+                        }
+                        // Where on the pin and how fast the contact moves round it: the pitch
+                        // point's kinematics (the coordinate the static analysis reads the map
+                        // at).
+                        let (beta, dbeta) = contact_direction(geo, p.pin, disc.pose.crank_angle);
+                        let turns = u != 0.0 || slide_scale < 1.0;
+                        pin_out.push(PinSample {
+                            beta,
+                            dbeta,
+                            sliding,
+                            half_width: p.half_width,
+                            even: turns,
+                        });
+                        if u != 0.0 {
+                            // The turning pin slides in its groove under this disc's load: the
+                            // groove wears where the load presses (opposite the contact, so
+                            // its depth opens this contact's gap as the pin's own wear would,
+                            // read at the same angle) and the pin all round.
+                            let groove = weight * p.force * u.abs() * dphi;
+                            for even in [false, true] {
+                                pin_out.push(PinSample {
+                                    beta,
+                                    dbeta,
+                                    sliding: groove,
+                                    half_width: p.half_width,
+                                    even,
+                                });
+                            }
+                        }
+                    }
+                    (disc_out, pin_out)
+                })
+                .map(Ok)
+                .collect()
+        })
+        .collect::<Result<_>>()?;
+    // Flattened position-major, then disc, as the solutions.
+    let per_step: Vec<(Vec<DiscSample>, Vec<PinSample>)> = per_step.into_iter().flatten().collect();
+    // Each (position, disc) is resampled on the grid on its own and the grids summed (their
+    // weights make the mean).
+    let group = steps;
+    let mut depth = vec![0.0; n];
+    let mut half_width = vec![0.0; n];
+    let groups = positions * discs;
+    for g in 0..groups {
+        // Rows of one position and disc: steps solutions (position-major), disc `g % discs`.
+        let rows: Vec<&Vec<DiscSample>> = (0..group)
+            .map(|k| &per_step[((g / discs) * group + k) * discs + g % discs].0)
+            .collect();
+        let samples: Vec<&DiscSample> = rows.into_iter().flatten().collect();
+        let d = resample_periodic(samples.iter().map(|s| (s.0, s.1)).collect(), n);
+        let h = resample_periodic(samples.iter().map(|s| (s.0, s.2)).collect(), n);
+        for m in 0..n {
+            depth[m] += d[m];
+            half_width[m] += h[m] / groups as f64;
+        }
+    }
+    let sliding: f64 = per_step.iter().flat_map(|s| &s.0).map(|s| s.3).sum();
+    let pin = if pins_wear {
+        pin_deposit(
+            per_step.iter().flat_map(|s| &s.1),
+            geo.pin_radius,
+            inputs.wear.pin_archard / geo.width,
+            dphi,
+        )
+    } else {
+        Vec::new()
+    };
+    Ok(MeshCycleWear {
+        disc: spread_over_band(profile, &depth, &half_width),
+        pin,
+        sliding,
+    })
+}
+
+/// One pass of a contact over the pin (or, for a turning pin, of the pin in its groove) for
+/// [`pin_deposit`].
+#[derive(Debug, Clone, Copy)]
+struct PinSample {
+    /// Angle of the contact round the pin from its inward radial direction, rad.
+    beta: f64,
+    /// `d beta / d phi` (per unit crank angle).
+    dbeta: f64,
+    /// Archard's sliding integral `F |v_s| dphi` of the step, N m.
+    sliding: f64,
+    /// Hertz half-width, m.
+    half_width: f64,
+    /// The area goes all round the pin (a pin that turns) rather than where the contact is.
+    even: bool,
+}
+
+/// A disc sample of one contact: mesh angle (rad), depth (m), Hertz half-width (m), Archard's
+/// sliding integral `F |v_s| dphi` (N m).
+type DiscSample = (f64, f64, f64, f64);
+
+/// The pins' wear of one sweep (docs/model.md sections 7.11 and 7.12), m on
+/// [`PIN_MAP_POINTS`] around the pin, from the contacts of one mesh cycle (every pin's,
+/// together the whole path of one pin over a revolution of the eccentric). Each contact
+/// removes the area `k/B F |v_s| dphi` (`k_per_width` = `k/B`, 1/Pa/m) from the arc `r dbeta`
+/// its contact point sweeps during its crank step `dphi` (uniformly: Archard's depth
+/// `k F |v_s|/(B v_p)` with `v_p = r |d beta/d phi|`), and the result is spread over the Hertz
+/// band (`+-b/r` around the pin, semi-elliptic, area conserving); the area of a sample marked
+/// `even` (a pin that turns) is spread over the whole circumference.
+fn pin_deposit<'s>(
+    contacts: impl Iterator<Item = &'s PinSample>,
+    pin_radius: f64,
+    k_per_width: f64,
+    dphi: f64,
+) -> Vec<f64> {
+    let n = PIN_MAP_POINTS;
+    let cell = TAU / n as f64;
+    let mut depth = vec![0.0; n];
+    let mut even = 0.0;
+    let (mut band, mut total) = (0.0, 0.0);
+    for s in contacts {
+        let PinSample {
+            beta,
+            dbeta,
+            sliding,
+            half_width: b,
+            even: spread,
+        } = *s;
+        if sliding <= 0.0 {
+            continue;
+        }
+        let area = k_per_width * sliding;
+        if spread {
+            even += area / (TAU * pin_radius);
+            continue;
+        }
+        band += area * b;
+        total += area;
+        // The arc swept during the step, in cells; at least one cell wide (where the contact
+        // stands still on the pin the band spreads it).
+        let half = (dbeta.abs() * dphi / 2.0).max(cell / 2.0);
+        let (lo, hi) = ((beta - half) / cell, (beta + half) / cell);
+        let per_cell = area / (pin_radius * (hi - lo) * cell);
+        let mut x = lo;
+        while x < hi {
+            let k = x.floor();
+            let next = (k + 1.0).min(hi);
+            depth[(k as i64).rem_euclid(n as i64) as usize] += per_cell * (next - x);
+            x = next;
+        }
+    }
+    if total <= 0.0 {
+        return depth.into_iter().map(|d| d + even).collect();
+    }
+    // The Hertz band: semi-elliptic weights over +-b/r, periodic, normalised (area kept).
+    let b = band / total / pin_radius;
+    let reach = (b / cell).floor() as i64;
+    let weights: Vec<f64> = (-reach..=reach)
+        .map(|k| (1.0 - (k as f64 * cell / b).powi(2)).max(0.0).sqrt())
+        .collect();
+    let norm: f64 = weights.iter().sum();
+    (0..n as i64)
+        .map(|m| {
+            (-reach..=reach)
+                .zip(&weights)
+                .map(|(k, w)| w * depth[(m + k).rem_euclid(n as i64) as usize])
+                .sum::<f64>()
+                / norm
+                + even
+        })
+        .collect()
+}
+
+/// Spreads the wear of each contact position over its Hertz band: a pass deposits the wear of
+/// its centre position over `+-b` of arc length with the semi-elliptic weight of the Hertz
+/// pressure, conserving the worn area. Features narrower than the contact band cannot be worn
+/// into the flank (Flodin and Andersson's point model integrated over the band).
+fn spread_over_band(profile: &Profile, depth: &[f64], half_width: &[f64]) -> Vec<f64> {
+    let n = depth.len();
+    let dt = TAU / n as f64;
+    // Arc length per grid step at every node.
+    let ds: Vec<f64> = (0..n)
+        .map(|m| profile.point(m as f64 * dt).dp.norm() * dt)
+        .collect();
+    let mut out = vec![0.0; n];
+    for src in 0..n {
+        if depth[src] == 0.0 {
+            continue;
+        }
+        let weights = band_shape(&ds, src, half_width[src]);
+        // Conserve the worn area: sum_m h_m ds_m = depth_src ds_src.
+        let norm: f64 = weights.iter().map(|(m, w)| w * ds[*m]).sum();
+        let scale = depth[src] * ds[src] / norm;
+        for (m, w) in &weights {
+            out[*m] += scale * w;
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn band_spreading_conserves_area_and_spreads() {
+        let model = crate::config::Config::paper().validate().unwrap();
+        let profile = model.profile().unwrap();
+        let n = model.wear_inputs().grid_points();
+        let mut depth = vec![0.0; n];
+        depth[90] = 1e-6;
+        let b = vec![30e-6; n];
+        let out = spread_over_band(&profile, &depth, &b);
+        let dt = TAU / n as f64;
+        let ds: Vec<f64> = (0..n)
+            .map(|m| profile.point(m as f64 * dt).dp.norm() * dt)
+            .collect();
+        let before = depth[90] * ds[90];
+        let after: f64 = out.iter().zip(&ds).map(|(h, s)| h * s).sum();
+        assert!((before - after).abs() < 1e-12 * before, "{before} {after}");
+        let spread = out.iter().filter(|h| **h > 0.0).count();
+        eprintln!("spread over {spread} nodes: {:?}", &out[80..100]);
+        assert!(spread >= 5, "{spread}");
+    }
+}
