@@ -7,43 +7,11 @@ use std::f64::consts::TAU;
 use rayon::prelude::*;
 
 use super::pin_turning::{self, PinTurning};
-use super::WearInputs;
+use super::{resample_periodic, WearInputs};
 use crate::error::Result;
 use crate::geometry::{band_shape, rotate, Profile, Vec2};
 use crate::reducer::{contact_direction, PIN_MAP_POINTS};
 use crate::statics::StaticAnalysis;
-
-/// Periodic linear interpolation of samples `(angle, value)` (angles in rad, any order) onto
-/// `n` uniform grid points over `[0, 2 pi)`.
-pub(super) fn resample_periodic(mut samples: Vec<(f64, f64)>, n: usize) -> Vec<f64> {
-    samples.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let m = samples.len();
-    let mut out = vec![0.0; n];
-    let mut i = 0; // samples[i] is the last sample with angle <= grid angle
-    for (g, o) in out.iter_mut().enumerate() {
-        let t = TAU * g as f64 / n as f64;
-        while i + 1 < m && samples[i + 1].0 <= t {
-            i += 1;
-        }
-        let (lo, hi) = if samples[0].0 > t {
-            // before the first sample: wrap from the last
-            let (a, va) = samples[m - 1];
-            ((a - TAU, va), samples[0])
-        } else if i + 1 < m {
-            (samples[i], samples[i + 1])
-        } else {
-            let (b, vb) = samples[0];
-            (samples[m - 1], (b + TAU, vb))
-        };
-        let w = if hi.0 > lo.0 {
-            (t - lo.0) / (hi.0 - lo.0)
-        } else {
-            0.0
-        };
-        *o = lo.1 + w * (hi.1 - lo.1);
-    }
-    out
-}
 
 /// Mesh cycles of the output revolution whose wear is averaged for a reducer with part errors
 /// or a single-stage drive (spread evenly over the revolution; the nominal RV reducer needs

@@ -29,7 +29,6 @@ mod mesh_cycle;
 mod pin_turning;
 
 pub use bearings::{bearing_wear_rates, clearance_growth, BearingWearParams, BearingWearRates};
-use mesh_cycle::resample_periodic;
 pub(crate) use mesh_cycle::{wear_per_mesh_cycle, MeshCycleWear};
 pub use pin_turning::PinTurning;
 
@@ -170,6 +169,38 @@ impl WearInputs<'_> {
     pub(crate) fn grid_points(&self) -> usize {
         self.disc.geometry.pins * self.wear.crank_steps
     }
+}
+
+/// Periodic linear interpolation of samples `(angle, value)` (angles in rad, any order) onto
+/// `n` uniform grid points over `[0, 2 pi)`.
+fn resample_periodic(mut samples: Vec<(f64, f64)>, n: usize) -> Vec<f64> {
+    samples.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let m = samples.len();
+    let mut out = vec![0.0; n];
+    let mut i = 0; // samples[i] is the last sample with angle <= grid angle
+    for (g, o) in out.iter_mut().enumerate() {
+        let t = TAU * g as f64 / n as f64;
+        while i + 1 < m && samples[i + 1].0 <= t {
+            i += 1;
+        }
+        let (lo, hi) = if samples[0].0 > t {
+            // before the first sample: wrap from the last
+            let (a, va) = samples[m - 1];
+            ((a - TAU, va), samples[0])
+        } else if i + 1 < m {
+            (samples[i], samples[i + 1])
+        } else {
+            let (b, vb) = samples[0];
+            (samples[m - 1], (b + TAU, vb))
+        };
+        let w = if hi.0 > lo.0 {
+            (t - lo.0) / (hi.0 - lo.0)
+        } else {
+            0.0
+        };
+        *o = lo.1 + w * (hi.1 - lo.1);
+    }
+    out
 }
 
 /// Wear rates of the disc and the pins, m/h ([`wear_rate`]).
