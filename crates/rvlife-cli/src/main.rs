@@ -181,6 +181,11 @@ enum Command {
         /// Replace an existing results directory.
         #[arg(long)]
         force: bool,
+        /// Accept a run in which most samples cannot be assembled, fail, or start out of spec
+        /// (by default such a run writes its results and exits with code 2, naming
+        /// `[tolerances]`).
+        #[arg(long)]
+        keep_going: bool,
     },
     /// Combine the shards of a Monte Carlo run into exactly the files the unsharded run writes.
     Merge {
@@ -244,6 +249,13 @@ impl WearArgs {
 
 /// The percentiles at the last stage and the life distribution, to stdout.
 fn print_montecarlo(model: &Model, records: &[rvlife::montecarlo::SampleRecord]) {
+    println!(
+        "{}",
+        rvlife::output::montecarlo::verdict(records, &model.wear.stage_hours, &model.life)
+    );
+    if !records.iter().any(|r| r.status == "ok") {
+        return;
+    }
     let pct = rvlife::montecarlo::percentiles(records, &model.wear.stage_hours);
     let last = model.wear.stage_hours.last().copied().unwrap_or(0.0);
     println!("at {last:.0} h: quantity, p5, p50, p95");
@@ -374,6 +386,7 @@ fn run(cli: Cli) -> Result<()> {
             samples_per_mesh_cycle,
             out,
             force,
+            keep_going,
         } => {
             let text = match &config {
                 Some(p) => std::fs::read_to_string(p).unwrap_or_default(),
@@ -420,6 +433,22 @@ fn run(cli: Cli) -> Result<()> {
             );
             if whole {
                 print_montecarlo(&model, &records);
+            }
+            if let Some(why) = rvlife::montecarlo::unusable(&records) {
+                if !keep_going {
+                    return Err(rvlife::Error::invalid(
+                        "tolerances",
+                        why,
+                        format!(
+                            "the sampled reducers must mostly assemble and start within spec: \
+                             the tolerances are wider than the stage's clearances, or the spec \
+                             tighter than the new reducer (results written to {}; \
+                             --keep-going accepts the run)",
+                            out.display()
+                        ),
+                    ));
+                }
+                eprintln!("warning: {why} (kept: --keep-going)");
             }
         }
         Command::Merge { shards, out, force } => {

@@ -257,3 +257,74 @@ fn bad_montecarlo_input_is_refused_with_its_key() {
         assert!(err.contains(key), "{to}: {err}");
     }
 }
+
+/// A whole run writes `report.html` whose first section is the verdict (B10 and B50 against
+/// the spec), with the reliability curve (survivors included) and each quantity's fan chart
+/// with its spec line, and prints the verdict first. A design whose samples cannot be
+/// assembled (the paper's reducer without modification: no clearance for the tolerances)
+/// writes its results, then exits 2 naming `[tolerances]`; `--keep-going` accepts it.
+#[test]
+fn montecarlo_report_gives_the_verdict_first() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = config(dir.path(), "[0.0, 2500.0, 5000.0, 7500.0]");
+    let out = dir.path().join("mc");
+    let o = montecarlo(&cfg, &out, &["--samples", "12"], "2");
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    let second = stdout.lines().nth(1).unwrap_or("");
+    assert!(
+        second.starts_with("B10 accuracy life") && second.contains("spec: lost motion 2.3 arcmin"),
+        "{stdout}"
+    );
+    let report = std::fs::read_to_string(out.join("report.html")).unwrap();
+    let first = report.find("<h2>").unwrap();
+    assert!(
+        report[first..].starts_with("<h2>Verdict</h2>\n<p class=\"verdict\"><strong>B10"),
+        "{}",
+        &report[first..first + 200]
+    );
+    // Self-contained, rendered by headless Chromium (not blank, no console message).
+    common::assert_page(
+        &out,
+        &[
+            "id=\"reliability\"",
+            "within spec at 75000 h are counted throughout",
+            "id=\"fan_lost_motion_arcmin\"",
+            "dashed: the spec, 2.3 arcmin",
+            "dashed: the spec, 1.5 arcmin",
+            "id=\"life_histogram\"",
+        ],
+    );
+    // No histogram of a quantity every sample shares (the shared wear's depth).
+    assert!(!out.join("plots/hist_max_wear_um.svg").exists());
+    // Unassemblable samples: results written, exit 2 naming the tolerances.
+    let text = std::fs::read_to_string(&cfg).unwrap();
+    let tight = text
+        .replace("equidistant_mm = 0.008 ", "equidistant_mm = 0.0 ")
+        .replace("offset_mm = -0.005 ", "offset_mm = 0.0 ");
+    assert_ne!(tight, text);
+    std::fs::write(&cfg, tight).unwrap();
+    let bad = dir.path().join("bad");
+    let args = |extra: &[&str]| {
+        let mut a: Vec<std::ffi::OsString> = vec![
+            "montecarlo".into(),
+            cfg.clone().into(),
+            "--out".into(),
+            bad.clone().into(),
+            "--samples".into(),
+            "4".into(),
+            "--force".into(),
+        ];
+        a.extend(extra.iter().map(std::ffi::OsString::from));
+        a
+    };
+    let o = rvlife_within(300, args(&[]));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("invalid tolerances") && err.contains("cannot be assembled"),
+        "{err}"
+    );
+    assert!(bad.join("report.html").exists() && bad.join("samples.csv").exists());
+    let o = rvlife_within(300, args(&["--keep-going"]));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}

@@ -622,3 +622,132 @@ pub fn life_distribution(records: &[SampleRecord]) -> LifeDistribution {
         limited_by,
     }
 }
+
+/// The reliability curve of the records with status `ok`: `(hours, fraction within spec)` at
+/// 0 h and at every observed accuracy life (a step down there, both ends of each step given),
+/// ending at `horizon` (h), with the samples that never left the spec (no accuracy life up to
+/// the horizon) counted within spec throughout: `R(t) = 1 - #{life <= t}/n` (the empirical
+/// survival function of censored lives; docs/model.md section 12). Empty without `ok`
+/// records.
+pub fn reliability(records: &[SampleRecord], horizon: f64) -> Vec<(f64, f64)> {
+    let ok: Vec<&SampleRecord> = records.iter().filter(|r| r.status == "ok").collect();
+    let n = ok.len();
+    if n == 0 {
+        return Vec::new();
+    }
+    let mut lives: Vec<f64> = ok.iter().filter_map(|r| r.accuracy_life_h).collect();
+    lives.sort_by(f64::total_cmp);
+    let mut out = vec![(0.0, 1.0)];
+    let mut gone = 0;
+    for (i, &t) in lives.iter().enumerate() {
+        gone += 1;
+        if lives.get(i + 1) == Some(&t) {
+            continue;
+        }
+        let before = out.last().map_or(1.0, |p| p.1);
+        out.push((t, before));
+        out.push((t, 1.0 - gone as f64 / n as f64));
+    }
+    let last = out.last().map_or(1.0, |p| p.1);
+    out.push((horizon.max(lives.last().copied().unwrap_or(0.0)), last));
+    out
+}
+
+/// Why a Monte Carlo run cannot stand for the design, if it cannot: fewer than half of the
+/// samples analysed (the others cannot be assembled without preload, or failed), or half or
+/// more of the analysed ones out of spec when new (an accuracy life of 0 h). `None` for a
+/// usable run.
+pub fn unusable(records: &[SampleRecord]) -> Option<String> {
+    let total = records.len();
+    let ok = records.iter().filter(|r| r.status == "ok").count();
+    let interfering = records
+        .iter()
+        .filter(|r| r.status == "interference")
+        .count();
+    if total > 0 && 2 * ok < total {
+        return Some(format!(
+            "{ok} of {total} samples analysed ({interfering} cannot be assembled without \
+             preload, {} failed)",
+            total - ok - interfering
+        ));
+    }
+    let dead = records
+        .iter()
+        .filter(|r| r.status == "ok" && r.accuracy_life_h == Some(0.0))
+        .count();
+    if ok > 0 && 2 * dead >= ok {
+        return Some(format!(
+            "{dead} of {ok} analysed samples are out of spec when new (accuracy life 0 h)"
+        ));
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn record(status: &str, life: Option<f64>) -> SampleRecord {
+        SampleRecord {
+            sample: 0,
+            status: status.into(),
+            points: Vec::new(),
+            accuracy_life_h: life,
+            limited_by: None,
+        }
+    }
+
+    /// The reliability curve counts the samples still within spec at the horizon throughout
+    /// (the empirical survival function of censored lives) and leaves out the ones that could
+    /// not be analysed: of 4 analysed reducers, lives 100 and 200 h and two survivors, it
+    /// steps from 1 to 0.75 at 100 h and to 0.5 at 200 h and stays at 0.5 to the horizon; the
+    /// B10 and B50 of the life distribution lie on it.
+    #[test]
+    fn reliability_counts_the_survivors() {
+        let records = [
+            record("ok", Some(200.0)),
+            record("interference", None),
+            record("ok", None),
+            record("ok", Some(100.0)),
+            record("ok", None),
+        ];
+        let curve = reliability(&records, 1000.0);
+        assert_eq!(
+            curve,
+            vec![
+                (0.0, 1.0),
+                (100.0, 1.0),
+                (100.0, 0.75),
+                (200.0, 0.75),
+                (200.0, 0.5),
+                (1000.0, 0.5)
+            ]
+        );
+        let l = life_distribution(&records);
+        assert_eq!(l.n, 4);
+        assert_eq!(l.censored_fraction, 0.5);
+        assert!(l.b10_h.is_some_and(|b| b <= 200.0), "{:?}", l.b10_h);
+        assert_eq!(unusable(&records), None);
+        // Tied lives step once.
+        let tied = [record("ok", Some(50.0)), record("ok", Some(50.0))];
+        assert_eq!(
+            reliability(&tied, 60.0),
+            vec![(0.0, 1.0), (50.0, 1.0), (50.0, 0.0), (60.0, 0.0)]
+        );
+    }
+
+    /// A run is unusable when fewer than half of its samples could be analysed, or when half
+    /// or more of the analysed ones are out of spec new.
+    #[test]
+    fn unusable_runs_are_named() {
+        let most_interfere = [
+            record("interference", None),
+            record("interference", None),
+            record("ok", Some(10.0)),
+        ];
+        assert!(unusable(&most_interfere).is_some_and(|w| w.contains("1 of 3")));
+        let dead = [record("ok", Some(0.0)), record("ok", Some(5.0))];
+        assert!(unusable(&dead).is_some_and(|w| w.contains("out of spec when new")));
+        assert_eq!(unusable(&[record("ok", Some(5.0))]), None);
+    }
+}

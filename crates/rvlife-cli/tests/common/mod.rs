@@ -650,6 +650,22 @@ pub fn k_interval(v: &Value) -> (f64, f64, f64) {
 /// `RVLIFE_REQUIRE_BROWSER` is set (CI sets it); otherwise a machine without it skips the
 /// rendering with a note on stderr.
 pub fn assert_report(out: &Path) {
+    assert_page(
+        out,
+        &[
+            "Reducer",
+            "Model options",
+            "Stages",
+            "Comparison with the paper",
+            "lost_motion_arcmin",
+            env!("CARGO_PKG_VERSION"),
+        ],
+    );
+}
+
+/// [`assert_report`] for any of rvlife's report pages (a study's or a Monte Carlo run's): the
+/// page checks, the verdict first, every needle present, and the rendering.
+pub fn assert_page(out: &Path, needles: &[&str]) {
     let path = out.join("report.html");
     let html = std::fs::read_to_string(&path).expect("report.html");
     assert!(html.len() < 5 << 20, "report.html is {} bytes", html.len());
@@ -671,14 +687,7 @@ pub fn assert_report(out: &Path) {
         html[first..].starts_with("<h2>Verdict</h2>\n<p class=\"verdict\"><strong>"),
         "report.html's first section is not the verdict"
     );
-    for needle in [
-        "Reducer",
-        "Model options",
-        "Stages",
-        "Comparison with the paper",
-        "lost_motion_arcmin",
-        env!("CARGO_PKG_VERSION"),
-    ] {
+    for needle in needles {
         assert!(html.contains(needle), "report.html lacks {needle:?}");
     }
     let browser = ["chromium", "chromium-browser", "google-chrome"]

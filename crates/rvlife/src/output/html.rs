@@ -11,7 +11,7 @@ use crate::quantities::{Quantity, Value, STAGE};
 use crate::study::{Study, Summary};
 
 /// Escapes `&`, `<`, `>` and `"` for HTML text and attribute values.
-fn esc(s: &str) -> String {
+pub(super) fn esc(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
         match c {
@@ -26,7 +26,7 @@ fn esc(s: &str) -> String {
 }
 
 /// A number as the report prints it: up to 6 significant digits, no trailing noise.
-fn num(v: f64) -> String {
+pub(super) fn num(v: f64) -> String {
     if v == 0.0 {
         return "0".into();
     }
@@ -55,7 +55,7 @@ fn json_text(v: &serde_json::Value) -> String {
 }
 
 /// A two-column table of `(name, value)` rows.
-fn key_value_table(out: &mut String, rows: &[(String, String)]) {
+pub(super) fn key_value_table(out: &mut String, rows: &[(String, String)]) {
     out.push_str("<table class=\"kv\">\n");
     for (k, v) in rows {
         let _ = writeln!(out, "<tr><th>{}</th><td>{}</td></tr>", esc(k), esc(v));
@@ -81,6 +81,51 @@ fn fields(value: &serde_json::Value, prefix: &str, out: &mut Vec<(String, String
     }
 }
 
+/// Starts a report page titled `title`: the document head with its inline style and the
+/// heading.
+pub(super) fn page_head(h: &mut String, title: &str) {
+    let _ = write!(
+        h,
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <title>{0}</title>\n<style>\n\
+         body {{ font-family: sans-serif; margin: 2em auto; max-width: 1100px; color: #222; }}\n\
+         h1 {{ font-size: 1.6em; }} h2 {{ font-size: 1.25em; margin-top: 1.6em; \
+         border-bottom: 1px solid #ccc; }}\n\
+         table {{ border-collapse: collapse; font-size: 0.85em; margin: 0.5em 0; }}\n\
+         th, td {{ border: 1px solid #ccc; padding: 2px 6px; text-align: right; }}\n\
+         th {{ background: #f2f2f2; }} table.kv th {{ text-align: left; }}\n\
+         figure {{ margin: 1em 0; }} figure svg {{ max-width: 100%; height: auto; }}\n\
+         figcaption {{ font-size: 0.9em; color: #555; }}\n\
+         </style>\n</head>\n<body>\n<h1>{0}</h1>\n",
+        esc(title)
+    );
+}
+
+/// Appends the SVG file `path` inline as a figure, captioned with its file name under `plots/`
+/// and `caption`. A file without an `<svg` element is skipped.
+///
+/// # Errors
+/// [`Error::Io`] if the file cannot be read.
+pub(super) fn inline_svg(h: &mut String, path: &Path, caption: &str) -> Result<()> {
+    let svg = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let Some(i) = svg.find("<svg") else {
+        return Ok(());
+    };
+    // Inline SVG in HTML needs no namespace declaration: the page then names no address.
+    let body = svg[i..].replacen(" xmlns=\"http://www.w3.org/2000/svg\"", "", 1);
+    let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("");
+    let sep = if caption.is_empty() { "" } else { ": " };
+    let _ = write!(
+        h,
+        "<figure id=\"{0}\">\n{1}\n<figcaption>plots/{0}.svg{2}{3}</figcaption>\n</figure>\n",
+        esc(stem),
+        body.trim_end(),
+        sep,
+        esc(caption)
+    );
+    Ok(())
+}
+
 /// Writes `report.html` into the results directory `dir`, whose `plots/` already holds the
 /// study's SVG plots.
 ///
@@ -90,21 +135,11 @@ pub(crate) fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Resu
     let m = &study.model;
     let g = &m.cycloid.geometry;
     let mut h = String::with_capacity(2 << 20);
-    let _ = write!(
+    page_head(&mut h, "rvlife report");
+    let _ = writeln!(
         h,
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
-         <title>rvlife report</title>\n<style>\n\
-         body {{ font-family: sans-serif; margin: 2em auto; max-width: 1100px; color: #222; }}\n\
-         h1 {{ font-size: 1.6em; }} h2 {{ font-size: 1.25em; margin-top: 1.6em; \
-         border-bottom: 1px solid #ccc; }}\n\
-         table {{ border-collapse: collapse; font-size: 0.85em; margin: 0.5em 0; }}\n\
-         th, td {{ border: 1px solid #ccc; padding: 2px 6px; text-align: right; }}\n\
-         th {{ background: #f2f2f2; }} table.kv th {{ text-align: left; }}\n\
-         figure {{ margin: 1em 0; }} figure svg {{ max-width: 100%; height: auto; }}\n\
-         figcaption {{ font-size: 0.9em; color: #555; }}\n\
-         </style>\n</head>\n<body>\n<h1>rvlife report</h1>\n\
-         <p>rvlife {} &middot; cycloid drive of {} pins, {} disc teeth, ratio i<sub>H</sub> = \
-         {:.2} &middot; {} stages up to {:.0} h.</p>\n",
+        "<p>rvlife {} &middot; cycloid drive of {} pins, {} disc teeth, ratio i<sub>H</sub> = \
+         {:.2} &middot; {} stages up to {:.0} h.</p>",
         summary.rvlife_version,
         g.pins,
         g.disc_teeth(),
@@ -310,20 +345,7 @@ pub(crate) fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Resu
     };
     svgs.sort_by_key(rank);
     for p in &svgs {
-        let svg = std::fs::read_to_string(p).map_err(|e| Error::io(p, e))?;
-        let body = match svg.find("<svg") {
-            Some(i) => &svg[i..],
-            None => continue,
-        };
-        // Inline SVG in HTML needs no namespace declaration: the page then names no address.
-        let body = body.replacen(" xmlns=\"http://www.w3.org/2000/svg\"", "", 1);
-        let stem = p.file_stem().and_then(|s| s.to_str()).unwrap_or("");
-        let _ = write!(
-            h,
-            "<figure id=\"{0}\">\n{1}\n<figcaption>plots/{0}.svg</figcaption>\n</figure>\n",
-            esc(stem),
-            body.trim_end()
-        );
+        inline_svg(&mut h, p, "")?;
     }
     h.push_str("</body>\n</html>\n");
     let path = dir.join("report.html");

@@ -13,6 +13,7 @@
 pub mod calibration;
 pub mod export;
 pub mod html;
+mod mc_report;
 pub mod montecarlo;
 pub mod plot;
 pub mod staging;

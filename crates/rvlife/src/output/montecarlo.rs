@@ -1,5 +1,6 @@
 //! Monte Carlo's files: `samples.csv` and `stages.csv` (the records), `percentiles.csv`,
-//! `summary.json`, `config.toml` and `plots/` of a whole run; a shard's records and
+//! `summary.json`, `config.toml`, `plots/` and `report.html` of a whole run
+//! ([`super::mc_report`]); a shard's records and
 //! meta-data (`shard.json`); and the merge of shards into exactly the unsharded run's files.
 
 use std::path::Path;
@@ -183,12 +184,7 @@ pub fn write_results(dir: &Path, meta: &ShardMeta, records: &[SampleRecord]) -> 
     write(dir, "percentiles.csv", &p)?;
     let mut status_counts = std::collections::BTreeMap::new();
     for r in records {
-        let key = if r.status.starts_with("failed") {
-            "failed".to_string()
-        } else {
-            r.status.clone()
-        };
-        *status_counts.entry(key).or_insert(0) += 1;
+        *status_counts.entry(status_key(&r.status)).or_insert(0) += 1;
     }
     let summary = McSummary {
         rvlife_version: env!("CARGO_PKG_VERSION"),
@@ -203,57 +199,31 @@ pub fn write_results(dir: &Path, meta: &ShardMeta, records: &[SampleRecord]) -> 
     let json = serde_json::to_string_pretty(&summary)
         .map_err(|e| Error::numerical("summary", e.to_string()))?;
     write(dir, "summary.json", &(json + "\n"))?;
-    let plots = dir.join("plots");
-    std::fs::create_dir_all(&plots).map_err(|e| Error::io(&plots, e))?;
-    let lives: Vec<f64> = records
-        .iter()
-        .filter(|r| r.status == "ok")
-        .filter_map(|r| r.accuracy_life_h)
-        .collect();
-    if !lives.is_empty() {
-        crate::output::plot::histogram(
-            &plots,
-            "life_histogram",
-            "Accuracy life of the sampled reducers",
-            "accuracy life (h)",
-            &lives,
-            30,
-        )?;
+    super::mc_report::write(dir, meta, records, &summary)
+}
+
+/// The verdict line of a whole Monte Carlo run of `records` over the stages `stage_hours`
+/// (h) against the spec `spec` (the report's first section).
+pub fn verdict(
+    records: &[SampleRecord],
+    stage_hours: &[f64],
+    spec: &crate::config::LifeThresholds,
+) -> String {
+    let mut status_counts = std::collections::BTreeMap::new();
+    for r in records {
+        *status_counts.entry(status_key(&r.status)).or_insert(0) += 1;
     }
-    for (name, f) in quantities() {
-        let rows: Vec<&Percentiles> = pct.iter().filter(|x| x.quantity == name).collect();
-        let col = |g: fn(&Percentiles) -> f64| rows.iter().map(|x| g(x)).collect::<Vec<f64>>();
-        if rows.iter().all(|x| x.n > 0) && !rows.is_empty() {
-            crate::output::plot::fan_chart(
-                &plots,
-                &format!("fan_{name}"),
-                &format!("{name}: median and 5-95 % of the sampled reducers"),
-                name,
-                &col(|x| x.hours),
-                [&col(|x| x.p5), &col(|x| x.p50), &col(|x| x.p95)],
-            )?;
-        }
-        let last: Vec<f64> = records
-            .iter()
-            .filter(|r| r.status == "ok")
-            .filter_map(|r| {
-                r.points
-                    .get(meta.stage_hours.len().saturating_sub(1))
-                    .map(f)
-            })
-            .collect();
-        if !last.is_empty() {
-            crate::output::plot::histogram(
-                &plots,
-                &format!("hist_{name}"),
-                &format!("{name} at the last stage"),
-                name,
-                &last,
-                30,
-            )?;
-        }
+    let horizon = super::mc_report::horizon(spec, stage_hours);
+    super::mc_report::verdict_of(&life_distribution(records), &status_counts, spec, horizon)
+}
+
+/// A record's status as counted: `ok`, `interference` or `failed`.
+fn status_key(status: &str) -> String {
+    if status.starts_with("failed") {
+        "failed".to_string()
+    } else {
+        status.to_string()
     }
-    Ok(())
 }
 
 /// Writes a shard's results: its records and `shard.json` ([`ShardMeta`]).

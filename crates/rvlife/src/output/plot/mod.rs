@@ -292,15 +292,26 @@ pub(crate) fn fan_chart(
     y_desc: &str,
     hours: &[f64],
     [p5, p50, p95]: [&[f64]; 3],
+    spec: Option<f64>,
 ) -> Result<()> {
     let h_max = hours.iter().copied().fold(1.0, f64::max);
-    let (lo, hi) = series_range(p5.iter().chain(p95).copied());
+    let (lo, hi) = series_range(p5.iter().chain(p95).chain(spec.iter()).copied());
     figure!(
         dir,
         stem,
         |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
             let (plot, strip) = with_legend_strip(root);
             let mut chart = hours_axes(&plot, title, y_desc, h_max, (lo.min(0.0), hi))?;
+            let mut legend = Vec::new();
+            if let Some(limit) = spec {
+                chart.draw_series(DashedLineSeries::new(
+                    [(0.0, limit), (h_max, limit)],
+                    8,
+                    5,
+                    RED.stroke_width(2),
+                ))?;
+                legend.push((format!("spec {}", short(limit)), Key::Dashed(RED)));
+            }
             let band: Vec<(f64, f64)> = hours
                 .iter()
                 .zip(p95)
@@ -312,17 +323,76 @@ pub(crate) fn fan_chart(
                 hours.iter().zip(p50).map(|(h, v)| (*h, *v)),
                 BLUE.stroke_width(2),
             ))?;
-            let legend = vec![
-                ("5-95 % of the samples".to_string(), Key::Band(BLUE)),
-                ("median".to_string(), Key::Line(BLUE)),
-            ];
+            legend.push(("5-95 % of the samples".to_string(), Key::Band(BLUE)));
+            legend.push(("median".to_string(), Key::Line(BLUE)));
             draw_legend(&strip, 60, &legend)?;
             Ok(())
         }
     )
 }
 
-/// A histogram of `values` in `bins` equal bins, written to `<stem>.{svg,png}` in `dir`.
+/// A number for a legend: up to 4 significant digits.
+fn short(v: f64) -> String {
+    let s = format!("{v:.4}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// The reliability curve of a Monte Carlo run: the fraction of the sampled reducers within
+/// spec against working hours (`curve` from [`crate::montecarlo::reliability`]), with the B10
+/// and B50 lives marked where they were reached (h), written to `<stem>.{svg,png}` in `dir`.
+///
+/// # Errors
+/// [`Error::Io`] if a file cannot be written.
+pub(crate) fn reliability_curve(
+    dir: &Path,
+    stem: &str,
+    curve: &[(f64, f64)],
+    marks: &[(&str, Option<f64>)],
+) -> Result<()> {
+    let h_max = curve.iter().map(|p| p.0).fold(1.0, f64::max);
+    figure!(
+        dir,
+        stem,
+        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+            let (plot, strip) = with_legend_strip(root);
+            let mut chart = hours_axes(
+                &plot,
+                "Reliability: reducers within the accuracy spec",
+                "fraction within spec",
+                h_max,
+                (0.0, 1.0),
+            )?;
+            chart.draw_series(LineSeries::new(curve.iter().copied(), BLUE.stroke_width(3)))?;
+            let mut legend = vec![(
+                "within spec (survivors to the horizon included)".to_string(),
+                Key::Line(BLUE),
+            )];
+            for (k, (name, at)) in marks.iter().enumerate() {
+                let Some(h) = at else {
+                    continue;
+                };
+                let c = [RED, MAGENTA][k % 2];
+                chart.draw_series(DashedLineSeries::new(
+                    [(*h, 0.0), (*h, 1.0)],
+                    8,
+                    5,
+                    c.stroke_width(2),
+                ))?;
+                legend.push((format!("{name} {h:.0} h"), Key::Dashed(c)));
+            }
+            draw_legend(&strip, 60, &legend)?;
+            Ok(())
+        }
+    )
+}
+
+/// A histogram of `values` in `bins` equal bins, with `marks` (name, value) drawn as dashed
+/// verticals (red, then magenta; the caller names them in `title`), written to
+/// `<stem>.{svg,png}` in `dir`.
 ///
 /// # Errors
 /// [`Error::Io`] if a file cannot be written.
@@ -333,8 +403,9 @@ pub(crate) fn histogram(
     x_desc: &str,
     values: &[f64],
     bins: usize,
+    marks: &[(String, f64)],
 ) -> Result<()> {
-    let (lo, hi) = series_range(values.iter().copied());
+    let (lo, hi) = series_range(values.iter().chain(marks.iter().map(|m| &m.1)).copied());
     let bins = bins.max(1);
     let width = (hi - lo) / bins as f64;
     let mut counts = vec![0usize; bins];
@@ -362,6 +433,16 @@ pub(crate) fn histogram(
                 let x0 = lo + i as f64 * width;
                 Rectangle::new([(x0, 0.0), (x0 + width, c as f64)], BLUE.mix(0.5).filled())
             }))?;
+            // The marks (named in the caller's title, red then magenta): dashed verticals.
+            for (k, (_, x)) in marks.iter().enumerate() {
+                let c = [RED, MAGENTA][k % 2];
+                chart.draw_series(DashedLineSeries::new(
+                    [(*x, 0.0), (*x, top)],
+                    8,
+                    5,
+                    c.stroke_width(2),
+                ))?;
+            }
             Ok(())
         }
     )
