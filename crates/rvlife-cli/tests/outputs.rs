@@ -436,3 +436,58 @@ fn calibrate_measured_bad_inputs_exit_2_before_work() {
     let o = rvlife(["calibrate", "--fit-running-in"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
 }
+
+/// Every plot against hours of a quantity with a `[life]` threshold draws the threshold and
+/// marks the accuracy life when there is one: `te_hours` (lost motion, backlash, angular TE),
+/// `lost_motion_sources` and `angular_te_sources`; without `[life]` none draws a spec. The DTE
+/// has its own plot (`dte_hours`), so its range does not set the TE plot's scale.
+#[test]
+fn plots_against_hours_draw_the_spec_and_the_life() {
+    let base = set_key(&fast_text(), "wear", "stage_hours", "[0.0, 1250.0, 2500.0]");
+    let with_spec = format!(
+        "{base}\n[life]\nlost_motion_arcmin = 0.2\nbacklash_arcmin = 0.9\nangular_te_arcmin = 0.5\n"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let study = |text: &str, name: &str| {
+        let d = dir.path().join(name);
+        std::fs::create_dir_all(&d).unwrap();
+        let (out, o) = run_study(&d, &write_config(&d, "c.toml", text));
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        out.join("plots")
+    };
+    let plots = study(&with_spec, "spec");
+    let plot = |name: &str| std::fs::read_to_string(plots.join(format!("{name}.svg"))).unwrap();
+    for (name, needles) in [
+        (
+            "te_hours",
+            &[
+                "spec: lost motion 0.2",
+                "spec: backlash 0.9",
+                "spec: angular TE 0.5",
+                "accuracy life",
+            ][..],
+        ),
+        (
+            "lost_motion_sources",
+            &["spec: lost motion 0.2", "accuracy life"][..],
+        ),
+        (
+            "angular_te_sources",
+            &["spec: angular TE 0.5", "accuracy life"][..],
+        ),
+    ] {
+        let svg = plot(name);
+        for n in needles {
+            assert!(svg.contains(n), "{name}.svg lacks {n:?}");
+        }
+    }
+    let plain = study(&base, "plain");
+    for name in ["te_hours", "lost_motion_sources", "angular_te_sources"] {
+        let svg = std::fs::read_to_string(plain.join(format!("{name}.svg"))).unwrap();
+        assert!(
+            !svg.contains("spec:"),
+            "{name}.svg draws a spec without [life]"
+        );
+    }
+    assert!(!plain.join("dte_hours.svg").exists());
+}

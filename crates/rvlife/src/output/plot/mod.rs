@@ -229,17 +229,23 @@ where
     let mut chart = ChartBuilder::on(root)
         .caption(title, ("sans-serif", 22))
         .margin(15)
-        .x_label_area_size(45)
-        .y_label_area_size(65)
+        .x_label_area_size(50)
+        .y_label_area_size(75)
         .build_cartesian_2d(0.0..h_max * 1.04, y.0..y.1)?;
     chart
         .configure_mesh()
         .x_desc("working hours (h)")
         .y_desc(y_desc)
+        .label_style(("sans-serif", AXIS_LABEL_PX))
+        .axis_desc_style(("sans-serif", AXIS_LABEL_PX))
         .x_label_formatter(&|v| format!("{v:.0}"))
         .draw()?;
     Ok(chart)
 }
+
+/// Size of the tick labels and axis titles of the plots against hours, px (readable at the
+/// default 1000 px width).
+const AXIS_LABEL_PX: u32 = 16;
 
 /// Named curves `(label, points (hours, value))` against working hours, written to
 /// `<stem>.{svg,png}` in `dir` with the caption `title` and the y-axis label `y_desc` (the
@@ -332,7 +338,7 @@ pub(crate) fn fan_chart(
 }
 
 /// A number for a legend: up to 4 significant digits.
-fn short(v: f64) -> String {
+pub(super) fn short(v: f64) -> String {
     let s = format!("{v:.4}");
     if s.contains('.') {
         s.trim_end_matches('0').trim_end_matches('.').to_string()

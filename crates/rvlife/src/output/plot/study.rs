@@ -360,25 +360,24 @@ pub(crate) fn write_all(study: &Study, dir: &Path) -> Result<()> {
         }
     )?;
 
-    // 5. TE and lost motion against working hours, with the DTE's range over its run.
+    // 5. TE and lost motion against working hours, with the spec and the accuracy life; the
+    // DTE on its own plot (its range would set the scale).
     let sums: Vec<_> = study.stages.iter().map(|s| s.summary.clone()).collect();
     let (ymin, ymax) = sums
         .iter()
         .flat_map(|s| {
-            let [lo, hi] = s.dte_range_arcmin.unwrap_or([0.0, 0.0]);
             [
                 s.ste_mean_arcmin,
                 s.lost_motion_arcmin,
                 s.backlash_arcmin,
                 s.loaded_te_mean_arcmin,
-                s.ste_mean_arcmin + s.ste_peak_to_peak_arcmin,
-                lo,
-                hi,
+                s.angular_te_arcmin,
             ]
         })
+        .chain(spec_values(study, &TE_HOURS_SPEC))
         .fold((0.0f64, 0.1f64), |(a, b), v| (a.min(v), b.max(v)));
     let pad = 0.06 * (ymax - ymin);
-    let hmax = hours.last().copied().unwrap_or(1.0).max(1.0);
+    let hmax = hours_with_life(study);
     figure!(
         dir,
         "te_hours",
@@ -390,8 +389,8 @@ pub(crate) fn write_all(study: &Study, dir: &Path) -> Result<()> {
                     ("sans-serif", 24),
                 )
                 .margin(15)
-                .x_label_area_size(45)
-                .y_label_area_size(65)
+                .x_label_area_size(50)
+                .y_label_area_size(70)
                 .build_cartesian_2d(
                     -0.02 * hmax..hmax * 1.04,
                     (ymin - if ymin < 0.0 { pad } else { 0.0 })..ymax + pad,
@@ -400,46 +399,40 @@ pub(crate) fn write_all(study: &Study, dir: &Path) -> Result<()> {
                 .configure_mesh()
                 .x_desc("working hours (h)")
                 .y_desc("arcmin")
+                .label_style(("sans-serif", AXIS_LABEL_PX))
+                .axis_desc_style(("sans-serif", AXIS_LABEL_PX))
                 .x_label_formatter(&|v| format!("{v:.0}"))
                 .draw()?;
+            // The STE solid and wide, the backlash dashed over it: where they coincide (no
+            // elastic play at zero load) both stay visible.
             let lines: [(&str, RGBColor, StageValue); 4] = [
                 ("STE mean (no load)", BLUE, |s| s.ste_mean_arcmin),
-                ("backlash", CYAN, |s| s.backlash_arcmin),
                 ("lost motion (+-3 % of rated torque)", RED, |s| {
                     s.lost_motion_arcmin
                 }),
                 ("loaded TE mean (rated torque)", GREEN, |s| {
                     s.loaded_te_mean_arcmin
                 }),
+                ("angular TE (over an output revolution)", BLACK, |s| {
+                    s.angular_te_arcmin
+                }),
             ];
             let mut legend = stage_lines(&mut chart, &sums, &lines)?;
-            if sums.iter().all(|s| s.dte_mean_arcmin.is_some()) {
-                let c = MAGENTA;
-                chart.draw_series(LineSeries::new(
-                    sums.iter()
-                        .map(|s| (s.hours, s.dte_mean_arcmin.unwrap_or(0.0))),
-                    c.stroke_width(2),
-                ))?;
-                legend.push(("DTE mean (dynamic model)".to_string(), Key::Line(c)));
-                let cap = 0.008 * hmax;
-                chart.draw_series(sums.iter().flat_map(|s| {
-                    let [lo, hi] = s.dte_range_arcmin.unwrap_or([0.0, 0.0]);
-                    [
-                        vec![(s.hours, lo), (s.hours, hi)],
-                        vec![(s.hours - cap, lo), (s.hours + cap, lo)],
-                        vec![(s.hours - cap, hi), (s.hours + cap, hi)],
-                    ]
-                    .map(|v| PathElement::new(v, c.stroke_width(1)))
-                }))?;
-                legend.push((
-                    "DTE range (min to max over the dynamic run)".to_string(),
-                    Key::Range(c),
-                ));
-            }
+            chart.draw_series(DashedLineSeries::new(
+                sums.iter().map(|s| (s.hours, s.backlash_arcmin)),
+                7,
+                5,
+                CYAN.stroke_width(3),
+            ))?;
+            legend.push(("backlash (dashed)".to_string(), Key::Dashed(CYAN)));
+            spec_and_life(&mut chart, study, &TE_HOURS_SPEC, hmax, &mut legend)?;
             draw_legend(&strip, 60, &legend)?;
             Ok(())
         }
     )?;
+    if sums.iter().all(|s| s.dte_mean_arcmin.is_some()) {
+        dte_hours(&sums, dir)?;
+    }
     lost_motion_sources(study, dir)?;
     angular_te_sources(study, dir)?;
     hysteresis(study, dir)?;
@@ -494,11 +487,13 @@ fn lost_motion_sources(study: &Study, dir: &Path) -> Result<()> {
         ("pins' wear", PIN_COLOUR, |s| s.lost_motion_pin_wear_arcmin),
         ("discs' wear", RED, |s| s.lost_motion_disc_wear_arcmin),
     ];
+    const SPEC: [(&str, RGBColor); 1] = [("lost_motion_arcmin", BLACK)];
     let ymax = sums
         .iter()
         .map(|s| s.lost_motion_arcmin)
+        .chain(spec_values(study, &SPEC))
         .fold(0.05f64, f64::max);
-    let hmax = sums.last().map_or(1.0, |s| s.hours).max(1.0);
+    let hmax = hours_with_life(study);
     figure!(dir, "lost_motion_sources", |root: &DrawingArea<
         _,
         Shift,
@@ -511,13 +506,15 @@ fn lost_motion_sources(study: &Study, dir: &Path) -> Result<()> {
         let mut chart = ChartBuilder::on(&plot)
             .caption("Where the lost motion comes from", ("sans-serif", 24))
             .margin(15)
-            .x_label_area_size(45)
-            .y_label_area_size(65)
+            .x_label_area_size(50)
+            .y_label_area_size(75)
             .build_cartesian_2d(0.0..hmax * 1.02, 0.0..ymax * 1.1)?;
         chart
             .configure_mesh()
             .x_desc("working hours (h)")
             .y_desc("lost motion (arcmin), stacked by source")
+            .label_style(("sans-serif", AXIS_LABEL_PX))
+            .axis_desc_style(("sans-serif", AXIS_LABEL_PX))
             .x_label_formatter(&|v| format!("{v:.0}"))
             .draw()?;
         let mut legend = Legend::new();
@@ -547,6 +544,7 @@ fn lost_motion_sources(study: &Study, dir: &Path) -> Result<()> {
             "lost motion (+-3 % of rated torque)".to_string(),
             Key::Line(BLACK),
         ));
+        spec_and_life(&mut chart, study, &SPEC, hmax, &mut legend)?;
         draw_legend(&strip, 60, &legend)?;
         Ok(())
     })
@@ -570,10 +568,12 @@ fn angular_te_sources(study: &Study, dir: &Path) -> Result<()> {
             s.angular_te_disc_wear_arcmin
         }),
     ];
-    let h_max = sums.iter().map(|s| s.hours).fold(1.0, f64::max);
+    const SPEC: [(&str, RGBColor); 1] = [("angular_te_arcmin", BLACK)];
+    let h_max = hours_with_life(study);
     let (lo, hi) = series_range(
         sums.iter()
-            .flat_map(|s| lines.iter().map(move |l| (l.2)(s))),
+            .flat_map(|s| lines.iter().map(move |l| (l.2)(s)))
+            .chain(spec_values(study, &SPEC)),
     );
     figure!(
         dir,
@@ -587,7 +587,166 @@ fn angular_te_sources(study: &Study, dir: &Path) -> Result<()> {
                 h_max,
                 (lo.min(0.0), hi.max(1e-3)),
             )?;
-            let legend = stage_lines(&mut chart, &sums, &lines)?;
+            let mut legend = stage_lines(&mut chart, &sums, &lines)?;
+            spec_and_life(&mut chart, study, &SPEC, h_max, &mut legend)?;
+            draw_legend(&strip, 60, &legend)?;
+            Ok(())
+        }
+    )
+}
+
+/// The accuracy quantities of `te_hours` whose `[life]` thresholds it draws, with their lines'
+/// colours.
+const TE_HOURS_SPEC: [(&str, RGBColor); 3] = [
+    ("lost_motion_arcmin", RED),
+    ("backlash_arcmin", CYAN),
+    ("angular_te_arcmin", BLACK),
+];
+
+/// The `[life]` thresholds of the study on the quantities `drawn` (name, colour).
+fn spec_values<'a>(
+    study: &'a Study,
+    drawn: &'a [(&str, RGBColor)],
+) -> impl Iterator<Item = f64> + 'a {
+    crate::quantities::LIFE.iter().filter_map(move |l| {
+        drawn
+            .iter()
+            .any(|(name, _)| *name == l.quantity.name)
+            .then(|| study.model.life.threshold(l.key))
+            .flatten()
+    })
+}
+
+/// The hours axis' end of a plot against hours: the last stage, or the accuracy life where it
+/// lies beyond (found by stepping the wear on), h.
+fn hours_with_life(study: &Study) -> f64 {
+    let last = study.stages.last().map_or(1.0, |s| s.hours).max(1.0);
+    study
+        .life
+        .as_ref()
+        .and_then(|l| l.accuracy_life_h)
+        .map_or(last, |h| last.max(h))
+}
+
+/// Draws the `[life]` thresholds on the quantities `drawn` (name, the colour of its line) as
+/// dashed horizontals, and the accuracy life as a dotted black vertical with what limits it
+/// (or, within spec to the horizon, a note), adding them to `legend`; `hmax` is the hours
+/// axis' end (h).
+fn spec_and_life<DB: DrawingBackend>(
+    chart: &mut ChartContext<
+        '_,
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    study: &Study,
+    drawn: &[(&str, RGBColor)],
+    hmax: f64,
+    legend: &mut Legend,
+) -> std::result::Result<(), Box<dyn std::error::Error>>
+where
+    DB::ErrorType: 'static,
+{
+    // Thresholds of one value and unit share a line (lost motion and backlash at 1 arcmin):
+    // the first one's colour, every label.
+    let mut specs: Vec<(f64, &str, RGBColor, Vec<&str>)> = Vec::new();
+    for l in &crate::quantities::LIFE {
+        let Some((_, c)) = drawn.iter().find(|(name, _)| *name == l.quantity.name) else {
+            continue;
+        };
+        let Some(v) = study.model.life.threshold(l.key) else {
+            continue;
+        };
+        match specs
+            .iter_mut()
+            .find(|s| s.0 == v && s.1 == l.quantity.unit)
+        {
+            Some(s) => s.3.push(l.quantity.label),
+            None => specs.push((v, l.quantity.unit, *c, vec![l.quantity.label])),
+        }
+    }
+    if specs.is_empty() {
+        return Ok(());
+    }
+    for (v, unit, c, labels) in &specs {
+        chart.draw_series(DashedLineSeries::new(
+            [(0.0, *v), (hmax, *v)],
+            14,
+            8,
+            c.stroke_width(2),
+        ))?;
+        legend.push((
+            format!("spec: {} {} {unit}", labels.join(" and "), short(*v)),
+            Key::Dashed(*c),
+        ));
+    }
+    let (y0, y1) = {
+        let r = chart.plotting_area().get_y_range();
+        (r.start, r.end)
+    };
+    if let Some(life) = &study.life {
+        match life.accuracy_life_h {
+            Some(h) => {
+                chart.draw_series(DashedLineSeries::new(
+                    [(h, y0), (h, y1)],
+                    3,
+                    4,
+                    BLACK.stroke_width(2),
+                ))?;
+                let by = life
+                    .limited_by
+                    .and_then(|k| crate::quantities::LIFE.iter().find(|l| l.key == k))
+                    .map_or(String::new(), |l| format!(" ({})", l.quantity.label));
+                legend.push((format!("accuracy life {h:.0} h{by}"), Key::Dashed(BLACK)));
+            }
+            None => legend.push((format!("within spec to {:.0} h", life.horizon_h), Key::Note)),
+        }
+    }
+    Ok(())
+}
+
+/// `dte_hours`: the dynamic TE's mean against working hours with its range (min to max over
+/// the dynamic run) as bars, on its own scale.
+fn dte_hours(sums: &[crate::quantities::StageSummary], dir: &Path) -> Result<()> {
+    let h_max = sums.iter().map(|s| s.hours).fold(1.0, f64::max);
+    let (lo, hi) = series_range(sums.iter().flat_map(|s| {
+        let [a, b] = s.dte_range_arcmin.unwrap_or([0.0, 0.0]);
+        [a, b, s.dte_mean_arcmin.unwrap_or(0.0)]
+    }));
+    figure!(
+        dir,
+        "dte_hours",
+        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+            let (plot, strip) = with_legend_strip(root);
+            let mut chart = hours_axes(
+                &plot,
+                "Dynamic TE against working hours",
+                "DTE (arcmin)",
+                h_max,
+                (lo.min(0.0), hi),
+            )?;
+            let c = MAGENTA;
+            chart.draw_series(LineSeries::new(
+                sums.iter()
+                    .map(|s| (s.hours, s.dte_mean_arcmin.unwrap_or(0.0))),
+                c.stroke_width(2),
+            ))?;
+            let cap = 0.008 * h_max;
+            chart.draw_series(sums.iter().flat_map(|s| {
+                let [lo, hi] = s.dte_range_arcmin.unwrap_or([0.0, 0.0]);
+                [
+                    vec![(s.hours, lo), (s.hours, hi)],
+                    vec![(s.hours - cap, lo), (s.hours + cap, lo)],
+                    vec![(s.hours - cap, hi), (s.hours + cap, hi)],
+                ]
+                .map(|v| PathElement::new(v, c.stroke_width(1)))
+            }))?;
+            let legend = vec![
+                ("DTE mean (dynamic model)".to_string(), Key::Line(c)),
+                (
+                    "DTE range (min to max over the dynamic run)".to_string(),
+                    Key::Range(c),
+                ),
+            ];
             draw_legend(&strip, 60, &legend)?;
             Ok(())
         }
