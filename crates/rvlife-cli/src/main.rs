@@ -496,10 +496,16 @@ fn run(cli: Cli) -> Result<()> {
             if all {
                 print_all_quantities(&s.stages);
             }
-            println!(
-                "STE {:.4} arcmin per 10 um of wear (paper, rigid Adams model: 0.5351 at 10 um)",
-                s.paper_comparison.ste_per_10um_arcmin
-            );
+            if let Some(p) = &s.paper_comparison {
+                println!(
+                    "against the paper: STE {:.4} arcmin per 10 um of the worn profile's largest \
+                     depth; a uniform 10 um offset (the paper's assumption) {:.4}; the paper's \
+                     rigid Adams model {:.4} at 10 um",
+                    p.ste_per_10um_arcmin,
+                    p.uniform_offset_per_10um_arcmin,
+                    p.paper_ste_at_10um_arcmin
+                );
+            }
             if let Some(l) = &s.validity_limit {
                 println!(
                     "the model leaves its validity at {:.0} h ({:.2} um of wear): {}; the stages \

@@ -138,8 +138,23 @@ pub struct Summary {
     /// and largest residual, um.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub measured_profile_fit: Option<serde_json::Value>,
-    /// Against the paper.
-    pub paper_comparison: PaperComparison,
+    /// Against the paper: only for the paper's reducer as printed (its stage, unmodified, no
+    /// measured profile), like for like.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub paper_comparison: Option<PaperComparison>,
+}
+
+/// Whether `m`'s disc is the paper's as printed (its stage, no modification, no measured
+/// profile; docs/model.md section 16): the only reducer compared with the paper's numbers.
+pub(crate) fn is_papers_reducer(m: &crate::config::Model) -> bool {
+    crate::config::Config::paper()
+        .cycloid
+        .validate()
+        .is_ok_and(|(geometry, modification)| {
+            m.cycloid.geometry == geometry
+                && m.cycloid.modification == modification
+                && m.cycloid.measured.is_none()
+        })
 }
 
 /// Radians to arcminutes, with round-off below 1e-9 arcmin (1e-11 m at the pitch radius)
@@ -890,7 +905,7 @@ impl Study {
                     "fit_max_um": x.fit_max * 1e6,
                 })
             }),
-            paper_comparison: PaperComparison {
+            paper_comparison: is_papers_reducer(m).then(|| PaperComparison {
                 ste_per_10um_arcmin: slope * 10.0,
                 ste_last_stage_arcmin: stages.last().map_or(0.0, |s| s.ste_mean_arcmin),
                 paper_ste_at_10um_arcmin: 0.5351,
@@ -902,7 +917,7 @@ impl Study {
                 paper_dte_max_arcmin: 3.51,
                 paper_flexible_ste_at_10um_arcmin: 1.7342,
                 paper_flexible_ste_max_arcmin: 6.77,
-            },
+            }),
             stages,
         }
     }

@@ -307,14 +307,12 @@ pub(crate) fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Resu
         key_value_table(&mut h, &rows);
     }
 
-    h.push_str("<h2>Comparison with the paper</h2>\n");
-    let mut rows = Vec::new();
-    fields(
-        &serde_json::to_value(&summary.paper_comparison).unwrap_or_default(),
-        "",
-        &mut rows,
-    );
-    key_value_table(&mut h, &rows);
+    if let Some(p) = &summary.paper_comparison {
+        h.push_str("<h2>Comparison with the paper</h2>\n");
+        let mut rows = Vec::new();
+        fields(&serde_json::to_value(p).unwrap_or_default(), "", &mut rows);
+        key_value_table(&mut h, &rows);
+    }
 
     h.push_str("<h2>Plots</h2>\n");
     let plots = dir.join("plots");

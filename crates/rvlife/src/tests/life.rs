@@ -158,3 +158,24 @@ fn the_verdict_names_the_life_its_limit_and_the_duty() {
         .starts_with("out of spec when new: backlash (spec 2 arcmin)"));
     assert!(verdict(&th, None, Some(&last), levels).starts_with("no accuracy spec: set [life]"));
 }
+
+/// The paper's numbers are compared only with the paper's reducer as printed: the `paper`
+/// preset is, the built-in example (the paper's stage with 10 / 10 um of modification) and
+/// the other presets are not.
+#[test]
+fn only_the_papers_reducer_is_compared_with_the_paper() {
+    use crate::config::{preset_text, Config};
+    let model = |name: &str| {
+        Config::from_toml_in(&preset_text(name).unwrap(), name, None)
+            .unwrap()
+            .validate()
+            .unwrap()
+    };
+    assert!(crate::study::is_papers_reducer(&model("paper")));
+    for name in ["rv-40e", "rv-20e", "rv-80e"] {
+        assert!(!crate::study::is_papers_reducer(&model(name)), "{name}");
+    }
+    assert!(!crate::study::is_papers_reducer(
+        &Config::example().validate().unwrap()
+    ));
+}
