@@ -157,11 +157,13 @@ pub(crate) fn is_papers_reducer(m: &crate::config::Model) -> bool {
         })
 }
 
-/// Radians to arcminutes, with round-off below 1e-9 arcmin (1e-11 m at the pitch radius)
-/// shown as zero rather than as a signed `-0.0000`.
+/// Radians to arcminutes, with values below 1e-6 arcmin reported as zero rather than as a
+/// signed `-0.0000` or a `3.87e-8`: 1.5e-11 m at the example's pitch radius, the resolution of
+/// the contact geometry (its gap field is interpolated to about 1e-11 m; the first contact is
+/// solved to 1e-14 m of gap), and a thousandth of the twist a 0.01 um modification gives.
 fn arcmin(rad: f64) -> f64 {
     let v = rad * ARCMIN_PER_RAD;
-    if v.abs() < 1e-9 {
+    if v.abs() < 1e-6 {
         0.0
     } else {
         v
@@ -472,12 +474,21 @@ fn split_play(s: &mut StageSummary, new: NoLoad, bearings: NoLoad, parts: NoLoad
     s.lost_motion_assembly_arcmin = arcmin(new.play);
     s.lost_motion_bearing_wear_arcmin = arcmin(bearings.play - new.play);
     s.lost_motion_pin_wear_arcmin = arcmin(parts.play - bearings.play);
-    s.lost_motion_disc_wear_arcmin = s.backlash_arcmin - arcmin(parts.play);
     s.lost_motion_elastic_arcmin = s.lost_motion_arcmin - s.backlash_arcmin;
+    // The disc's parts are the rest of the totals as reported, so the parts add up to them
+    // exactly whatever [`arcmin`] rounds to zero.
+    s.lost_motion_disc_wear_arcmin = s.lost_motion_arcmin
+        - (s.lost_motion_elastic_arcmin
+            + s.lost_motion_assembly_arcmin
+            + s.lost_motion_bearing_wear_arcmin
+            + s.lost_motion_pin_wear_arcmin);
     s.angular_te_assembly_arcmin = arcmin(new.angular_te);
     s.angular_te_bearing_wear_arcmin = arcmin(bearings.angular_te - new.angular_te);
     s.angular_te_pin_wear_arcmin = arcmin(parts.angular_te - bearings.angular_te);
-    s.angular_te_disc_wear_arcmin = s.angular_te_arcmin - arcmin(parts.angular_te);
+    s.angular_te_disc_wear_arcmin = s.angular_te_arcmin
+        - (s.angular_te_assembly_arcmin
+            + s.angular_te_bearing_wear_arcmin
+            + s.angular_te_pin_wear_arcmin);
 }
 
 /// Stage `i` of a study at `hours` with the wear depth `map` (m per grid point; empty or zero:
