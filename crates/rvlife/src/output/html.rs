@@ -1,13 +1,15 @@
 //! `report.html`: one self-contained page of a study (inline SVG plots, inline CSS, no script
-//! and no network reference) with the reducer's parameters, the model options, the stage table
-//! (every quantity of `stages.csv`, one column per stage), the accuracy life, the paper
-//! comparison and every plot of `plots/`.
+//! and no network reference), as an engineer reads it: the verdict (the accuracy life against
+//! the spec, with the duty), each accuracy quantity against hours with its threshold and the
+//! life, the reducer and the model options, the stage table (every quantity of `stages.csv` in
+//! its declared order, labels with units, sensible rounding), the accuracy life, the paper
+//! comparison (the paper's reducer only) and the detailed plots.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::quantities::{Quantity, Value, STAGE};
+use crate::quantities::{Quantity, Value, LIFE, STAGE};
 use crate::study::{Study, Summary};
 
 /// Escapes `&`, `<`, `>` and `"` for HTML text and attribute values.
@@ -78,6 +80,37 @@ fn fields(value: &serde_json::Value, prefix: &str, out: &mut Vec<(String, String
                 _ => out.push((key, json_text(v))),
             }
         }
+    }
+}
+
+/// The plots of the accuracy quantities against hours, shown right after the verdict.
+const HOURS_PLOTS: [&str; 4] = [
+    "te_hours",
+    "lost_motion_sources",
+    "angular_te_sources",
+    "dte_hours",
+];
+
+/// A value of a quantity in `unit` as the stage table shows it: arcmin to 4 decimals (1e-4
+/// arcmin, 0.4 um at the pitch radius), um to 2, N and MPa whole, N m/arcmin to 1; others by
+/// [`num`]. Zero as `0`.
+fn rounded(unit: &str, v: f64) -> String {
+    let decimals = match unit {
+        "arcmin" => 4,
+        "um" => 2,
+        "N" | "MPa" => 0,
+        "N m/arcmin" => 1,
+        _ => return num(v),
+    };
+    let s = format!("{v:.decimals$}");
+    let zero = s
+        .trim_start_matches('-')
+        .chars()
+        .all(|c| c == '0' || c == '.');
+    if zero {
+        "0".into()
+    } else {
+        s
     }
 }
 
@@ -153,6 +186,17 @@ pub(crate) fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Resu
         "<h2>Verdict</h2>\n<p class=\"verdict\"><strong>{}</strong></p>",
         esc(&study.verdict())
     );
+    let plots = dir.join("plots");
+    h.push_str(
+        "<h2>Accuracy against hours</h2>\n<p>Each quantity of the spec against the working hours, \
+         its threshold dashed and the accuracy life dotted.</p>\n",
+    );
+    for stem in HOURS_PLOTS {
+        let p = plots.join(format!("{stem}.svg"));
+        if p.exists() {
+            inline_svg(&mut h, &p, "")?;
+        }
+    }
 
     h.push_str("<h2>Reducer</h2>\n");
     let mm = |v: f64| num(v * 1e3);
@@ -260,50 +304,77 @@ pub(crate) fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Resu
     key_value_table(&mut h, &opts);
 
     h.push_str(
-        "<h2>Stages</h2>\n<p>One column per stage; every quantity of <code>stages.csv</code> \
-         (units in the names).</p>\n<table>\n<tr><th>quantity</th>",
+        "<h2>Stages</h2>\n<p>One column per stage; every quantity of <code>stages.csv</code>, in \
+         its order (the column names there in the last column).</p>\n<table>\n\
+         <tr><th>quantity</th>",
     );
     for s in &summary.stages {
         let _ = write!(h, "<th>{} h</th>", num(s.hours));
     }
-    h.push_str("</tr>\n");
-    // Every quantity of the table but the hours, by name.
-    let mut quantities: Vec<&Quantity> = STAGE
+    h.push_str("<th>column</th></tr>\n");
+    // Every quantity of the table but the hours, in the declaration's order.
+    let quantities: Vec<&Quantity> = STAGE
         .iter()
         .copied()
         .filter(|q| q.name != "hours")
         .collect();
-    quantities.sort_by_key(|q| q.name);
     for q in quantities {
         let cells: Vec<String> = summary
             .stages
             .iter()
             .map(|s| match s.value(q) {
-                Value::Number(v) => num(v),
-                Value::Count(n) => num(n as f64),
-                Value::Pair(p) => p.map(num).join(", "),
+                Value::Number(v) => rounded(q.unit, v),
+                Value::Count(n) => n.to_string(),
+                Value::Pair(p) => p.map(|v| rounded(q.unit, v)).join(" to "),
                 Value::Absent => "-".to_string(),
             })
             .collect();
         if cells.iter().all(|c| c == "-") {
             continue;
         }
-        let _ = write!(h, "<tr><th>{}</th>", esc(q.name));
+        let label = if q.unit.is_empty() {
+            q.label.to_string()
+        } else {
+            format!("{} ({})", q.label, q.unit)
+        };
+        let _ = write!(h, "<tr><th>{}</th>", esc(&label));
         for c in cells {
             let _ = write!(h, "<td>{}</td>", esc(&c));
         }
-        h.push_str("</tr>\n");
+        let _ = writeln!(h, "<td><code>{}</code></td></tr>", esc(q.name));
     }
     h.push_str("</table>\n");
 
     if let Some(life) = &summary.accuracy_life {
         h.push_str("<h2>Accuracy life</h2>\n");
-        let mut rows = Vec::new();
-        fields(
-            &serde_json::to_value(life).unwrap_or_default(),
-            "",
-            &mut rows,
-        );
+        let mut rows = vec![(
+            "accuracy life".to_string(),
+            life.accuracy_life_h.map_or(
+                format!("beyond {} h (within spec throughout)", num(life.horizon_h)),
+                |v| format!("{} h", num(v.round())),
+            ),
+        )];
+        if let Some(k) = life.limited_by {
+            let label = LIFE
+                .iter()
+                .find(|l| l.key == k)
+                .map_or(k, |l| l.quantity.label);
+            rows.push(("limited by".into(), label.to_string()));
+        }
+        for l in &LIFE {
+            if let Some(v) = m.life.threshold(l.key) {
+                let bound = if l.key.contains("_min_") {
+                    "at least"
+                } else {
+                    "at most"
+                };
+                rows.push((
+                    format!("spec: {}", l.quantity.label),
+                    format!("{bound} {} {}", num(v), l.quantity.unit),
+                ));
+            }
+        }
+        rows.push(("hours studied".into(), format!("{} h", num(life.horizon_h))));
         key_value_table(&mut h, &rows);
     }
 
@@ -314,12 +385,16 @@ pub(crate) fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Resu
         key_value_table(&mut h, &rows);
     }
 
-    h.push_str("<h2>Plots</h2>\n");
-    let plots = dir.join("plots");
+    h.push_str("<h2>Detailed plots</h2>\n");
     let mut svgs: Vec<_> = std::fs::read_dir(&plots)
         .map_err(|e| Error::io(&plots, e))?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "svg"))
+        .filter(|p| {
+            !HOURS_PLOTS
+                .iter()
+                .any(|s| p.file_stem().is_some_and(|f| f == *s))
+        })
         .collect();
     // The order of the study's narrative, then any other plot by name.
     let order = [
