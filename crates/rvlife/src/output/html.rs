@@ -1,6 +1,6 @@
 //! `report.html`: one self-contained page of a study (inline SVG plots, inline CSS, no script
 //! and no network reference), as an engineer reads it: the verdict (the accuracy life against
-//! the spec, with the duty), each accuracy quantity against hours with its threshold and the
+//! the spec, with the duty), a drawing of the stage, each accuracy quantity against hours with its threshold and the
 //! life, the reducer and the model options, the stage table (every quantity of `stages.csv` in
 //! its declared order, labels with units, sensible rounding), the accuracy life, the paper
 //! comparison (the paper's reducer only) and the detailed plots.
@@ -187,6 +187,16 @@ pub(crate) fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Resu
         esc(&study.verdict())
     );
     let plots = dir.join("plots");
+    let stage = plots.join("stage.svg");
+    if stage.exists() {
+        h.push_str("<h2>The stage</h2>\n");
+        inline_svg(
+            &mut h,
+            &stage,
+            "the disc over its pins at crank angle 0, with its crank bores and holes; in red the \
+             flank worn most by the last stage",
+        )?;
+    }
     h.push_str(
         "<h2>Accuracy against hours</h2>\n<p>Each quantity of the spec against the working hours, \
          its threshold dashed and the accuracy life dotted.</p>\n",
@@ -393,6 +403,7 @@ pub(crate) fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Resu
         .filter(|p| {
             !HOURS_PLOTS
                 .iter()
+                .chain(&["stage"])
                 .any(|s| p.file_stem().is_some_and(|f| f == *s))
         })
         .collect();

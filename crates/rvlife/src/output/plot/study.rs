@@ -435,6 +435,7 @@ pub(crate) fn write_all(study: &Study, dir: &Path) -> Result<()> {
     }
     lost_motion_sources(study, dir)?;
     angular_te_sources(study, dir)?;
+    stage_drawing(study, dir)?;
     hysteresis(study, dir)?;
     if study.stages.iter().all(|s| s.flexible.is_some()) {
         flexible_te_hours(study, dir)?;
@@ -702,6 +703,121 @@ where
         }
     }
     Ok(())
+}
+
+/// `stage`: the disc over its pins at crank angle 0 (disc frame turned with the eccentric,
+/// equal scales, mm), with its crank bores and holes (those of `[fem]`), the flank worn more
+/// than a fifth of the last stage's largest depth drawn thick in red; the dimensions in the
+/// title.
+fn stage_drawing(study: &Study, dir: &Path) -> Result<()> {
+    let Some(last) = study.stages.last() else {
+        return Ok(());
+    };
+    let m = &study.model;
+    let g = &m.cycloid.geometry;
+    let a = g.eccentricity * 1e3;
+    let profile = &last.profile;
+    let zc = g.disc_teeth();
+    let n = 240 * zc;
+    let dt = std::f64::consts::TAU * zc as f64 / n as f64;
+    let max_wear = profile.wear().map_or(0.0, |w| w.max_depth());
+    let pts: Vec<((f64, f64), bool)> = (0..=n)
+        .map(|k| {
+            let t = (k % n) as f64 * dt;
+            let p = profile.point(t).p;
+            let worn =
+                max_wear > 0.0 && profile.wear().is_some_and(|w| w.eval(t).0 > 0.2 * max_wear);
+            ((p.x * 1e3 + a, p.y * 1e3), worn)
+        })
+        .collect();
+    let r = (g.pin_circle_radius + 2.0 * g.pin_radius) * 1e3;
+    let title = format!(
+        "{} pins of {} mm on a {} mm circle, {} teeth, a = {} mm, disc {} mm wide",
+        g.pins,
+        short(2e3 * g.pin_radius),
+        short(2e3 * g.pin_circle_radius),
+        zc,
+        short(a),
+        short(g.width * 1e3)
+    );
+    figure!(
+        dir,
+        "stage",
+        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
+            let (plot, strip) = with_legend_strip(root);
+            let (w, h) = plot.dim_in_pixel();
+            let side = w.min(h);
+            let (square, _) = plot.split_horizontally(side);
+            let mut chart = ChartBuilder::on(&square)
+                .caption(&title, ("sans-serif", 17))
+                .margin(10)
+                .x_label_area_size(40)
+                .y_label_area_size(50)
+                .build_cartesian_2d(-r..r, -r..r)?;
+            chart
+                .configure_mesh()
+                .disable_mesh()
+                .x_desc("x (mm)")
+                .y_desc("y (mm)")
+                .label_style(("sans-serif", 14))
+                .draw()?;
+            let circle = |c: (f64, f64), radius: f64| -> Vec<(f64, f64)> {
+                (0..=72)
+                    .map(|k| {
+                        let t = std::f64::consts::TAU * k as f64 / 72.0;
+                        (c.0 + radius * t.cos(), c.1 + radius * t.sin())
+                    })
+                    .collect()
+            };
+            let grey = RGBColor(120, 120, 120);
+            for j in 0..g.pins {
+                let c = g.pin_centre(j);
+                chart.draw_series(std::iter::once(Polygon::new(
+                    circle((c.x * 1e3, c.y * 1e3), g.pin_radius * 1e3),
+                    grey.mix(0.5).filled(),
+                )))?;
+            }
+            let fem = &m.fem.params;
+            for hole in fem.bores.iter().chain(&fem.holes) {
+                chart.draw_series(LineSeries::new(
+                    circle(
+                        (hole.centre.x * 1e3 + a, hole.centre.y * 1e3),
+                        hole.radius * 1e3,
+                    ),
+                    BLACK.stroke_width(1),
+                ))?;
+            }
+            chart.draw_series(LineSeries::new(
+                pts.iter().map(|p| p.0),
+                BLUE.stroke_width(1),
+            ))?;
+            for pair in pts.windows(2) {
+                if pair[0].1 && pair[1].1 {
+                    chart.draw_series(LineSeries::new(
+                        [pair[0].0, pair[1].0],
+                        RED.stroke_width(4),
+                    ))?;
+                }
+            }
+            let mut legend = vec![
+                ("disc (crank angle 0)".to_string(), Key::Line(BLUE)),
+                ("pins".to_string(), Key::Band(grey)),
+                ("crank bores and holes".to_string(), Key::Line(BLACK)),
+            ];
+            if max_wear > 0.0 {
+                legend.push((
+                    format!(
+                        "worn beyond a fifth of {:.1} um at {:.0} h",
+                        max_wear * 1e6,
+                        last.hours
+                    ),
+                    Key::Line(RED),
+                ));
+            }
+            draw_legend(&strip, 60, &legend)?;
+            Ok(())
+        }
+    )
 }
 
 /// `dte_hours`: the dynamic TE's mean against working hours with its range (min to max over
