@@ -5,45 +5,11 @@
 
 use std::path::Path;
 
-use serde::{Deserialize, Serialize};
-
+use super::mc_report::status_key;
+pub use super::mc_report::{verdict, McSummary, ShardMeta};
 use crate::error::{Error, Result};
-use crate::montecarlo::{
-    life_distribution, percentiles, quantities, LifeDistribution, Percentiles, Plan, SampleRecord,
-};
+use crate::montecarlo::{life_distribution, percentiles, quantities, SampleRecord};
 use crate::quantities::{AccuracyPoint, ACCURACY};
-
-/// `summary.json` of a Monte Carlo run.
-#[derive(Debug, Clone, Serialize)]
-pub struct McSummary {
-    /// rvlife version.
-    pub rvlife_version: &'static str,
-    /// Samples, seed and options.
-    pub plan: Plan,
-    /// Samples by status: ok, interference, failed.
-    pub status_counts: std::collections::BTreeMap<String, usize>,
-    /// The accuracy life's distribution (with `[life]` thresholds).
-    pub life: LifeDistribution,
-    /// Percentiles of every quantity at every stage.
-    pub percentiles: Vec<Percentiles>,
-    /// Standard error of a percentile `p` estimated from `n` samples, relative to the
-    /// quantity's spread: `sqrt(p (1-p) / n) / f(x_p)`; for a normal quantity this is
-    /// `1.25 sigma / sqrt(n)` at the median and `2.11 sigma / sqrt(n)` at 5 and 95 %.
-    pub percentile_standard_error_note: &'static str,
-}
-
-/// The meta-data a shard carries so that merging can check the shards belong together.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ShardMeta {
-    /// rvlife version.
-    pub rvlife_version: String,
-    /// The plan (with this shard's `(I, N)`).
-    pub plan: Plan,
-    /// The stages, h.
-    pub stage_hours: Vec<f64>,
-    /// The config text the run read (`<built-in>` example: its text).
-    pub config_toml: String,
-}
 
 fn fmt_opt(v: Option<f64>) -> String {
     v.map_or(String::new(), |x| format!("{x}"))
@@ -200,30 +166,6 @@ pub fn write_results(dir: &Path, meta: &ShardMeta, records: &[SampleRecord]) -> 
         .map_err(|e| Error::numerical("summary", e.to_string()))?;
     write(dir, "summary.json", &(json + "\n"))?;
     super::mc_report::write(dir, meta, records, &summary)
-}
-
-/// The verdict line of a whole Monte Carlo run of `records` over the stages `stage_hours`
-/// (h) against the spec `spec` (the report's first section).
-pub fn verdict(
-    records: &[SampleRecord],
-    stage_hours: &[f64],
-    spec: &crate::config::LifeThresholds,
-) -> String {
-    let mut status_counts = std::collections::BTreeMap::new();
-    for r in records {
-        *status_counts.entry(status_key(&r.status)).or_insert(0) += 1;
-    }
-    let horizon = super::mc_report::horizon(spec, stage_hours);
-    super::mc_report::verdict_of(&life_distribution(records), &status_counts, spec, horizon)
-}
-
-/// A record's status as counted: `ok`, `interference` or `failed`.
-fn status_key(status: &str) -> String {
-    if status.starts_with("failed") {
-        "failed".to_string()
-    } else {
-        status.to_string()
-    }
 }
 
 /// Writes a shard's results: its records and `shard.json` ([`ShardMeta`]).
