@@ -51,7 +51,7 @@ fn every_quantity_appears_in_every_full_output() {
     for q in STAGE {
         if q.name != "hours" {
             assert!(
-                report.contains(&format!("<tr><th>{}</th>", q.name)),
+                report.contains(&format!("<td><code>{}</code></td></tr>", q.name)),
                 "report.html lacks {}",
                 q.name
             );
