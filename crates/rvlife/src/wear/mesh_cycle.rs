@@ -92,12 +92,18 @@ pub(crate) fn wear_per_mesh_cycle(
     // integral F |v_s| dphi) and the pins' (section 7.11; with turning pins, 7.12).
     let per_step: Vec<Vec<(Vec<DiscSample>, Vec<PinSample>)>> = solutions
         .par_iter()
-        .map(|sol| -> Result<Vec<(Vec<DiscSample>, Vec<PinSample>)>> {
-            // Every loaded contact of every disc: the disc material's speed along the pin's
-            // counter-clockwise tangent per unit crank angle (ground frame, pins at rest),
-            // `w = v . t`, with `v = dO/dphi + dpsi/dphi x (x - O)`, `dpsi/dphi = -1/Zc`.
-            let speeds: Vec<Vec<f64>> = sol
-                .discs
+        .map(|sol| {
+            // Every loaded contact's kinematics per unit crank angle, once: the disc
+            // material's speed along the pin's counter-clockwise tangent (ground frame, pins at
+            // rest), `w = v . t` with `v = dO/dphi + dpsi/dphi x (x - O)`, `dpsi/dphi = -1/Zc`,
+            // and the contact's speed along the flank `v_d`; for the discs whose wear is
+            // sampled, and with turning pins for every disc (a pin's balance takes them all).
+            let kinematic_discs = if balance.is_some() {
+                sol.discs.len()
+            } else {
+                discs
+            };
+            let kinematics: Vec<Vec<(f64, f64)>> = sol.discs[..kinematic_discs]
                 .iter()
                 .map(|disc| {
                     let (centre, psi) = (disc.pose.centre, disc.pose.angle);
@@ -105,7 +111,7 @@ pub(crate) fn wear_per_mesh_cycle(
                         .iter()
                         .map(|p| {
                             if p.force <= 0.0 {
-                                return 0.0;
+                                return (0.0, 0.0);
                             }
                             let pt = profile.point(p.profile_parameter);
                             let r = rotate(&pt.p, psi);
@@ -117,28 +123,30 @@ pub(crate) fn wear_per_mesh_cycle(
                             // quarter turn, along the flank's tangent one way or the other.
                             let n = -rotate(&p.normal, psi);
                             let sense = tangent.dot(&Vec2::new(-n.y, n.x)).signum();
-                            v.dot(&tangent) * sense
+                            (v.dot(&tangent) * sense, pt.dp.norm())
                         })
                         .collect()
                 })
                 .collect();
             // Each pin's balance over the contacts of every disc (a pin is one body).
-            let turning: Vec<Option<pin_turning::PinBalance>> = (0..geo.pins)
-                .map(|j| {
-                    let (mu_d, mu_g) = balance?;
-                    let contacts: Vec<pin_turning::PinContact> = sol
-                        .discs
-                        .iter()
-                        .zip(&speeds)
-                        .filter(|(d, _)| d.pins[j].force > 0.0)
-                        .map(|(d, w)| pin_turning::PinContact {
-                            force: d.pins[j].force,
-                            surface_speed: w[j],
-                        })
-                        .collect();
-                    Some(pin_turning::balance(&contacts, mu_d, mu_g))
-                })
-                .collect();
+            let turning: Vec<Option<pin_turning::PinBalance>> = match balance {
+                None => vec![None; geo.pins],
+                Some((mu_d, mu_g)) => (0..geo.pins)
+                    .map(|j| {
+                        let contacts: Vec<pin_turning::PinContact> = sol
+                            .discs
+                            .iter()
+                            .zip(&kinematics)
+                            .filter(|(d, _)| d.pins[j].force > 0.0)
+                            .map(|(d, k)| pin_turning::PinContact {
+                                force: d.pins[j].force,
+                                surface_speed: k[j].0,
+                            })
+                            .collect();
+                        Some(pin_turning::balance(&contacts, mu_d, mu_g))
+                    })
+                    .collect(),
+            };
             (0..discs)
                 .map(|d| {
                     let disc = &sol.discs[d];
@@ -149,9 +157,7 @@ pub(crate) fn wear_per_mesh_cycle(
                             disc_out.push((p.mesh_angle, 0.0, 0.0, 0.0));
                             continue;
                         }
-                        let pt = profile.point(p.profile_parameter);
-                        let v_disc = pt.dp.norm();
-                        let w = speeds[d][p.pin];
+                        let (w, v_disc) = kinematics[d][p.pin];
                         // The sliding speed that wears the contact, per unit crank angle, and
                         // the pin's surface speed (0: it stands still).
                         let (v_slide, u) = match &turning[p.pin] {
@@ -216,10 +222,9 @@ pub(crate) fn wear_per_mesh_cycle(
                     }
                     (disc_out, pin_out)
                 })
-                .map(Ok)
                 .collect()
         })
-        .collect::<Result<_>>()?;
+        .collect();
     // Flattened position-major, then disc, as the solutions.
     let per_step: Vec<(Vec<DiscSample>, Vec<PinSample>)> = per_step.into_iter().flatten().collect();
     // Each (position, disc) is resampled on the grid on its own and the grids summed (their
