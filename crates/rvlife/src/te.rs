@@ -172,7 +172,7 @@ impl LoadedTe {
         crank_angle: Vec<f64>,
         solutions: Vec<StaticSolution>,
     ) -> LoadedTe {
-        let s = if torque < 0.0 { -1.0 } else { 1.0 };
+        let s = crate::statics::sense(torque);
         LoadedTe {
             torque,
             crank_angle,

@@ -61,7 +61,7 @@ impl<'a> StaticAnalysis<'a> {
     /// # Errors
     /// [`Error::Numerical`] if no pin can stop the mechanism.
     pub(crate) fn first_contact(&self, phi: f64, direction: f64) -> Result<f64> {
-        let s = if direction < 0.0 { -1.0 } else { 1.0 };
+        let s = sense(direction);
         let (phi_free, shift) = self.play_taken_up(phi, s);
         Ok(self.first_contact_free(phi_free, s)? + shift)
     }
@@ -148,7 +148,7 @@ impl<'a> StaticAnalysis<'a> {
         direction: f64,
         psi0: f64,
     ) -> Result<(f64, Option<StaticSolution>)> {
-        let s = if direction < 0.0 { -1.0 } else { 1.0 };
+        let s = sense(direction);
         let play = self.red.max_half_play();
         if play <= 0.0 || self.red.support != Support::Bearings {
             return Ok((psi0, None));
@@ -215,7 +215,7 @@ impl<'a> StaticAnalysis<'a> {
         direction: f64,
         gap_reach: f64,
     ) -> Result<Vec<TouchingPin>> {
-        let s = if direction < 0.0 { -1.0 } else { 1.0 };
+        let s = sense(direction);
         let (phi, shift) = self.play_taken_up(phi, s);
         let est = self.stopping_pins(phi, s)?;
         let Some(&(_, _, e_best, _, m_best)) =
@@ -276,7 +276,7 @@ impl<'a> StaticAnalysis<'a> {
         estimate: f64,
         direction: f64,
     ) -> Result<Option<f64>> {
-        let s = if direction < 0.0 { -1.0 } else { 1.0 };
+        let s = sense(direction);
         let (phi, shift) = self.play_taken_up(phi, s);
         Ok(self
             .touching_twist(phi, disc, pin, estimate - shift, s, f64::NAN)?

@@ -33,7 +33,7 @@ impl<'a> StaticAnalysis<'a> {
         if sol.deviations.len() != n {
             return Vec::new();
         }
-        let s = if sol.output_torque < 0.0 { -1.0 } else { 1.0 };
+        let s = sense(sol.output_torque);
         let fr = self.frame(self.play_taken_up(sol.crank_angle, s).0);
         let mut recorded: Vec<Frozen> = Vec::with_capacity(12);
         let (zero, mut g) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);

@@ -457,6 +457,15 @@ fn pins_of(red: &Reducer) -> (Vec<Vec2>, Vec<f64>) {
     )
 }
 
+/// The sense of a torque or direction `x`: -1 below zero, +1 otherwise (zero loads forward).
+pub(crate) fn sense(x: f64) -> f64 {
+    if x < 0.0 {
+        -1.0
+    } else {
+        1.0
+    }
+}
+
 fn check_input(phi: f64, torque: f64) -> Result<()> {
     if phi.is_finite() && torque.is_finite() {
         Ok(())

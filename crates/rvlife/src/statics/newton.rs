@@ -188,7 +188,7 @@ impl<'a> StaticAnalysis<'a> {
         let m = n - 1;
         let rp = self.red.geometry.pin_circle_radius;
         let force_floor = torque.abs() / rp;
-        let s = if torque < 0.0 { -1.0 } else { 1.0 };
+        let s = sense(torque);
         match start.near {
             // The neighbour's deviations, moved along the mode by the change of first contact.
             Some((near, near_psi0)) => {

@@ -13,7 +13,7 @@ impl<'a> StaticAnalysis<'a> {
     /// contact law leaves its range.
     pub fn solve(&self, phi: f64, torque: f64) -> Result<StaticSolution> {
         check_input(phi, torque)?;
-        let s = if torque < 0.0 { -1.0 } else { 1.0 };
+        let s = sense(torque);
         let psi0 = self.first_contact(phi, s)?;
         self.solve_from(phi, torque, psi0)
     }
@@ -71,14 +71,14 @@ impl<'a> StaticAnalysis<'a> {
                 format!("must be empty or {} finite values", 2 * zp),
             ));
         }
-        let s = if torque < 0.0 { -1.0 } else { 1.0 };
+        let s = sense(torque);
         let (phi_free, shift) = self.play_taken_up(phi, s);
         if shift == 0.0 {
             return self.solve_free(phi, torque, psi0, near, offsets);
         }
         // The backlash-free copy at its crank angle, from `near` taken there too.
         let near = near.map(|x| {
-            let sx = if x.output_torque < 0.0 { -1.0 } else { 1.0 };
+            let sx = sense(x.output_torque);
             let (phi_x, shift_x) = self.play_taken_up(x.crank_angle, sx);
             StaticSolution {
                 crank_angle: phi_x,
@@ -256,7 +256,7 @@ impl<'a> StaticAnalysis<'a> {
         near: Option<&StaticSolution>,
         offsets: &[f64],
     ) -> Result<StaticSolution> {
-        let s = if torque < 0.0 { -1.0 } else { 1.0 };
+        let s = sense(torque);
         let n = self.red.layout().dofs();
         let near = near.filter(|x| {
             let beyond = s * (x.twist - x.first_contact_twist);
@@ -294,7 +294,7 @@ impl<'a> StaticAnalysis<'a> {
     /// # Errors
     /// As [`StaticAnalysis::solve`], for the first crank angle that fails.
     pub(crate) fn solve_sequence(&self, phis: &[f64], torque: f64) -> Result<Vec<StaticSolution>> {
-        let s = if torque < 0.0 { -1.0 } else { 1.0 };
+        let s = sense(torque);
         let runs: Vec<Vec<StaticSolution>> = phis
             .par_chunks(sequence_run(phis.len()))
             .map(|run| -> Result<Vec<StaticSolution>> {
@@ -318,7 +318,7 @@ impl<'a> StaticAnalysis<'a> {
         F: FnMut(f64) -> Result<(f64, f64)>,
     {
         let psi0 = start.psi0;
-        let s = if torque < 0.0 { -1.0 } else { 1.0 };
+        let s = sense(torque);
         let target = torque.abs();
         let tol = 1e-11 * target;
         let (mut lo, mut hi) = (0.0_f64, f64::INFINITY);
