@@ -9,7 +9,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::quantities::{Quantity, Value, LIFE, STAGE};
+use crate::quantities::{Quantity, Sense, Value, LIFE, STAGE};
 use crate::study::{Study, Summary};
 
 /// Escapes `&`, `<`, `>` and `"` for HTML text and attribute values.
@@ -373,7 +373,7 @@ pub(crate) fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Resu
         }
         for l in &LIFE {
             if let Some(v) = m.life.threshold(l.key) {
-                let bound = if l.key.contains("_min_") {
+                let bound = if l.sense == Sense::AtLeast {
                     "at least"
                 } else {
                     "at most"

@@ -14,7 +14,7 @@ use crate::error::{Error, Result};
 use crate::montecarlo::{
     life_distribution, reliability, LifeDistribution, Percentiles, Plan, SampleRecord,
 };
-use crate::quantities::{Quantity, ACCURACY, LIFE};
+use crate::quantities::{Quantity, Sense, ACCURACY, LIFE};
 use serde::{Deserialize, Serialize};
 
 /// `summary.json` of a Monte Carlo run.
@@ -100,7 +100,7 @@ fn spec_text(spec: &LifeThresholds) -> String {
     LIFE.iter()
         .filter_map(|l| {
             spec.threshold(l.key).map(|v| {
-                let bound = if l.key.contains("_min_") {
+                let bound = if l.sense == Sense::AtLeast {
                     "at least "
                 } else {
                     ""
