@@ -33,12 +33,17 @@ use crate::geometry::WearMap;
 use crate::life::accuracy_life;
 use crate::quantities::{AccuracyPoint, ACCURACY};
 use crate::statics::StaticAnalysis;
-use crate::te::{hysteresis_with, mesh_cycle_angles, revolution_perturbed};
+use crate::te::{angular_te_carried, hysteresis_with, mesh_cycle_angles, revolution_perturbed};
 use crate::units::ARCMIN_PER_RAD;
 
 /// Wear maps between two stages of the shared wear history (the accuracy life is located to
 /// an eighth of a stage interval by bisection, then interpolated).
 pub(crate) const SUBDIVISIONS: usize = 8;
+
+/// Crank angles spread over the output revolution at which the angular TE of a sample whose
+/// rigid kinematics interfere is taken from its zero-torque twists (docs/model.md section
+/// 5.12).
+const ANGULAR_TE_SPREAD: usize = 24;
 
 /// What to run: `samples` reducers of seed `seed`, the part `shard = (I, N)` (1-based) of them.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -112,9 +117,9 @@ pub(crate) fn check_work(
 pub struct SampleRecord {
     /// Sample index.
     pub sample: usize,
-    /// `ok`, `interference` (the sampled parts cannot be assembled without preload: negative
-    /// play somewhere on the revolution), or `failed: <reason>` (the analysis failed at some
-    /// working hours; the points before are kept).
+    /// `ok` or `failed: <reason>` (the analysis failed at some working hours; the points
+    /// before are kept); parts that interfere are assembled with preload (docs/model.md
+    /// section 5.12). Shards of earlier versions may hold `interference`.
     pub status: String,
     /// The accuracy quantities at each stage.
     pub points: Vec<AccuracyPoint>,
@@ -251,54 +256,49 @@ pub(crate) fn sample_model(model: &Model, seed: u64, index: usize) -> Model {
     m
 }
 
-/// Why a sample is not analysed further.
-enum Stop {
-    Interference,
-    Failed(String),
-}
-
 /// The accuracy quantities of `model` (a sampled reducer) with wear `wear` at `hours`.
 fn accuracy_at(
     model: &Model,
     wear: Option<WearMap>,
     hours: f64,
     per_cycle: usize,
-) -> std::result::Result<AccuracyPoint, Stop> {
-    let fail = |e: Error| Stop::Failed(e.to_string());
-    let profile = model.cycloid.profile(wear).map_err(fail)?;
-    let sa = StaticAnalysis::new(&model.reducer, &profile).map_err(fail)?;
-    let rev = revolution_perturbed(&sa, per_cycle).map_err(fail)?;
-    if rev.play_stats().min < -1e-9 {
-        return Err(Stop::Interference);
-    }
+) -> Result<AccuracyPoint> {
+    let profile = model.cycloid.profile(wear)?;
+    let sa = StaticAnalysis::new(&model.reducer, &profile)?;
+    let rated = model.rating.rated_torque;
+    let rev = revolution_perturbed(&sa, per_cycle)?;
+    // Parts whose rigid kinematics interfere assemble through the bearings' play or with
+    // preload (docs/model.md section 5.12): the rigid revolution has no first contact to
+    // perturb there, and the angular TE comes from the zero-torque twists.
+    let angular_te = if rev.play_stats().min >= -1e-9 {
+        rev.angular_te()
+    } else {
+        angular_te_carried(&sa, per_cycle, ANGULAR_TE_SPREAD, rated)?
+    };
     let phis = mesh_cycle_angles(model.cycloid.geometry.pins, per_cycle);
-    let (_, mean) = hysteresis_with(
-        &sa,
-        &phis,
-        model.rating.rated_torque,
-        model.te.measuring_torque_fraction,
-        1,
-    )
-    .map_err(fail)?;
+    let (_, mean) = hysteresis_with(&sa, &phis, rated, model.te.measuring_torque_fraction, 1)?;
     let acc = mean.accuracy();
     let values = [
         acc.backlash,
         acc.lost_motion,
         acc.torsional_stiffness,
-        rev.angular_te(),
+        angular_te,
     ];
     if values.iter().any(|v| !v.is_finite()) {
-        return Err(Stop::Failed(format!(
-            "a non-finite accuracy quantity at {hours} h (backlash, lost motion, stiffness, \
-             angular TE: {values:?})"
-        )));
+        return Err(Error::numerical(
+            "accuracy",
+            format!(
+                "a non-finite accuracy quantity at {hours} h (backlash, lost motion, stiffness, \
+                 angular TE: {values:?})"
+            ),
+        ));
     }
     Ok(AccuracyPoint {
         hours,
         max_wear_um: model.cycloid.wear_depth(&profile) * 1e6,
         backlash_arcmin: acc.backlash * ARCMIN_PER_RAD,
         lost_motion_arcmin: acc.lost_motion * ARCMIN_PER_RAD,
-        angular_te_arcmin: rev.angular_te() * ARCMIN_PER_RAD,
+        angular_te_arcmin: angular_te * ARCMIN_PER_RAD,
         torsional_stiffness_nm_per_arcmin: acc.torsional_stiffness / ARCMIN_PER_RAD,
     })
 }
@@ -342,15 +342,7 @@ pub(crate) fn run_sample(
     for &i in &wear.stage_index {
         match at(i) {
             Ok(p) => points.push(p),
-            Err(Stop::Interference) if points.is_empty() => {
-                status = "interference".into();
-                break;
-            }
-            Err(Stop::Interference) => {
-                status = format!("failed: negative play at {} h", wear.hours[i]);
-                break;
-            }
-            Err(Stop::Failed(e)) => {
+            Err(e) => {
                 status = format!("failed: {e}");
                 break;
             }
@@ -367,10 +359,7 @@ pub(crate) fn run_sample(
                 .iter()
                 .position(|&x| (x - h).abs() <= 1e-9 * h.max(1.0))
                 .ok_or_else(|| Error::numerical("accuracy life", "no wear map at those hours"))?;
-            at(i).map_err(|s| match s {
-                Stop::Interference => Error::numerical("accuracy life", "negative play"),
-                Stop::Failed(e) => Error::numerical("accuracy life", e),
-            })
+            at(i)
         };
         let ext: Vec<f64> = wear
             .extension_index
@@ -665,11 +654,15 @@ pub fn unusable(records: &[SampleRecord]) -> Option<String> {
         .filter(|r| r.status == "interference")
         .count();
     if total > 0 && 2 * ok < total {
-        return Some(format!(
-            "{ok} of {total} samples analysed ({interfering} cannot be assembled without \
-             preload, {} failed)",
-            total - ok - interfering
-        ));
+        let failed = total - ok - interfering;
+        return Some(if interfering > 0 {
+            format!(
+                "{ok} of {total} samples analysed ({interfering} marked interference by an \
+                 earlier version, {failed} failed)"
+            )
+        } else {
+            format!("{ok} of {total} samples analysed ({failed} failed)")
+        });
     }
     let dead = records
         .iter()

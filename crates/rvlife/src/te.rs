@@ -280,12 +280,97 @@ pub struct TwistTable {
     pub negative: Vec<f64>,
 }
 
+/// Torque fraction of the rated torque at which a preloaded stage is solved each way to find
+/// its zero-torque twist (docs/model.md section 5.12): the curve through zero torque is smooth
+/// there, so the mean of the two twists is the zero-torque one to the curve's second order.
+const PRELOAD_PROBE_FRACTION: f64 = 1e-4;
+
+/// Negative play (rad) below which the two ways' zero-torque twists cross: the first contacts'
+/// round-off (an unmodified, unworn disc touches both ways at zero twist).
+const PLAY_ROUND_OFF: f64 = 1e-9;
+
+/// Largest twist (rad) behind zero from which a preloaded stage's solves start each way
+/// (docs/model.md section 5.12), about 17 arcmin: a start farther back can reach the next
+/// pins' flanks.
+const PRELOAD_START_RANGE: f64 = 5e-3;
+
+/// The zero-torque state of one crank angle (docs/model.md section 5.12), index 0 forward
+/// (counter-clockwise), 1 reverse.
+pub(crate) struct ZeroTorque {
+    /// `[psi(0+), psi(0-)]`, rad.
+    pub twist: [f64; 2],
+    /// The twist each way from which loaded solves start (the rigid first contact, or the
+    /// preloaded twist), rad.
+    pub start: [f64; 2],
+    /// The light solves each way from which the loaded levels start (`None` without play).
+    pub light: [Option<StaticSolution>; 2],
+    /// Whether one equilibrium carries zero torque (no play at this crank angle).
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub preloaded: bool,
+}
+
+/// The zero-torque state of crank angle `phi`.
+///
+/// With play the two limits come from [`StaticAnalysis::no_load_from`]. Where the disc cannot be
+/// turned without loading a pin either way (the rigid first contacts cross: part errors or
+/// modifications that interfere) or where the two limits cross, the stage is preloaded: one
+/// equilibrium carries zero torque, and both limits are its twist, the mean of solves at
+/// `+-PRELOAD_PROBE_FRACTION` of `rated` (N m).
+///
+/// # Errors
+/// Those of the solver.
+pub(crate) fn zero_torque(sa: &StaticAnalysis, phi: f64, rated: f64) -> Result<ZeroTorque> {
+    let forward = sa.first_contact(phi, 1.0)?;
+    let reverse = sa.first_contact(phi, -1.0)?;
+    let crossed = forward < reverse - PLAY_ROUND_OFF;
+    // Each way from behind the rest position: the rigid first contact, which for an
+    // interfering disc can lie far beyond it (a pin near the line of centres), so no farther
+    // than `PRELOAD_START_RANGE`.
+    let start = if crossed {
+        [
+            forward.max(-PRELOAD_START_RANGE),
+            reverse.min(PRELOAD_START_RANGE),
+        ]
+    } else {
+        [forward, reverse]
+    };
+    let (up, light_up) = sa.no_load_from(phi, 1.0, start[0])?;
+    let (down, light_down) = sa.no_load_from(phi, -1.0, start[1])?;
+    if crossed || up < down - PLAY_ROUND_OFF {
+        // Preloaded: the light solves each way bracket the one zero-torque equilibrium; their
+        // mean is its twist to the curve's second order. Without play there are none: solve
+        // at `+-PRELOAD_PROBE_FRACTION` of the rated torque.
+        let mut light = [light_up, light_down];
+        for (k, sol) in light.iter_mut().enumerate() {
+            if sol.is_none() {
+                let s = [1.0, -1.0][k];
+                *sol =
+                    Some(sa.solve_near(phi, s * PRELOAD_PROBE_FRACTION * rated, start[k], None)?);
+            }
+        }
+        let zero = light.iter().flatten().map(|l| l.twist).sum::<f64>() / 2.0;
+        return Ok(ZeroTorque {
+            twist: [zero, zero],
+            start,
+            light,
+            preloaded: true,
+        });
+    }
+    Ok(ZeroTorque {
+        twist: [up, down],
+        start,
+        light: [light_up, light_down],
+        preloaded: false,
+    })
+}
+
 impl TwistTable {
     /// The twists of the static solutions of one crank angle, `solve(torque)` for every torque
-    /// of the grid (both signs) and `first_contact(direction)` at zero.
+    /// of the grid (both signs) and the zero-torque limits ([`zero_torque`]) at zero.
     ///
     /// # Errors
-    /// Those of the solver.
+    /// Those of the solver; [`Error::Numerical`] if the twists do not rise with the torque
+    /// (a solve that settled on another branch).
     fn at_crank(
         sa: &StaticAnalysis,
         phi: f64,
@@ -296,17 +381,25 @@ impl TwistTable {
         let mut positive = Vec::with_capacity(fractions.len());
         let mut negative = Vec::with_capacity(fractions.len());
         let mut heaviest = None;
-        for (side, out) in [(1.0, &mut positive), (-1.0, &mut negative)] {
-            let psi0 = sa.first_contact(phi, side)?;
-            let (zero, light) = sa.no_load_from(phi, side, psi0)?;
+        let ZeroTorque {
+            twist,
+            start,
+            light,
+            ..
+        } = zero_torque(sa, phi, rated)?;
+        let sides = [(1.0, &mut positive), (-1.0, &mut negative)];
+        for ((side, out), (light, (&twist, &start))) in sides
+            .into_iter()
+            .zip(light.into_iter().zip(twist.iter().zip(&start)))
+        {
             // Up the torque grid, each solve started from the one below (the first from the
-            // heaviest light solve of the no-load limit, with play).
+            // heaviest light solve of the no-load limit, with play or preload).
             let mut below: Option<StaticSolution> = light;
             for &f in fractions {
                 out.push(if f == 0.0 {
-                    zero
+                    twist
                 } else {
-                    let sol = sa.solve_near(phi, side * f * rated, psi0, below.as_ref())?;
+                    let sol = sa.solve_near(phi, side * f * rated, start, below.as_ref())?;
                     let twist = sol.twist;
                     below = Some(sol);
                     twist
@@ -315,6 +408,31 @@ impl TwistTable {
             if side > 0.0 {
                 heaviest = below;
             }
+        }
+        // The twist rises with the torque through the whole grid, both sides.
+        let tol = PLAY_ROUND_OFF;
+        let rising = positive.windows(2).all(|w| w[1] >= w[0] - tol)
+            && negative.windows(2).all(|w| w[1] <= w[0] + tol)
+            && positive[0] >= negative[0] - tol;
+        if !rising {
+            return Err(Error::numerical(
+                "hysteresis",
+                format!(
+                    "the twist does not rise with the torque at crank angle {:.3} deg \
+                     (a solve settled on another branch): {:?} arcmin at +{:?} of the rated \
+                     torque, {:?} at -",
+                    phi.to_degrees(),
+                    positive
+                        .iter()
+                        .map(|p| p * ARCMIN_PER_RAD)
+                        .collect::<Vec<_>>(),
+                    fractions,
+                    negative
+                        .iter()
+                        .map(|p| p * ARCMIN_PER_RAD)
+                        .collect::<Vec<_>>(),
+                ),
+            ));
         }
         let table = TwistTable {
             fractions: fractions.to_vec(),
@@ -545,6 +663,32 @@ impl RevolutionTe {
     pub(crate) fn play_stats(&self) -> CurveStats {
         CurveStats::of(&self.play())
     }
+}
+
+/// Angular TE (rad) from the zero-torque forward twists ([`zero_torque`]) at `spread` crank
+/// angles spread over one output revolution (every `len/spread + 1`-th of
+/// [`revolution_angles`] at `samples` per mesh cycle, so that successive ones fall at different
+/// points of the mesh cycle): the peak-to-peak of those twists, with the bearings' play and any
+/// preload carried (docs/model.md section 5.12). A sampled estimate, below the exact one by the
+/// peaks it misses; for reducers whose rigid kinematics interfere, where [`revolution`] has no
+/// first contact to perturb.
+///
+/// # Errors
+/// Those of the solver.
+pub(crate) fn angular_te_carried(
+    sa: &StaticAnalysis,
+    samples: usize,
+    spread: usize,
+    rated: f64,
+) -> Result<f64> {
+    let all = revolution_angles(sa.reducer().geometry.pins, samples);
+    let stride = all.len() / spread.max(1) + 1;
+    let picked: Vec<f64> = all.into_iter().step_by(stride).collect();
+    let forward = picked
+        .par_iter()
+        .map(|&phi| zero_torque(sa, phi, rated).map(|z| z.twist[0]))
+        .collect::<Result<Vec<f64>>>()?;
+    Ok(CurveStats::of(&forward).peak_to_peak)
 }
 
 /// Static TE over one output revolution, each crank angle solved on its own
