@@ -33,7 +33,9 @@ use crate::geometry::WearMap;
 use crate::life::accuracy_life;
 use crate::quantities::{AccuracyPoint, ACCURACY};
 use crate::statics::StaticAnalysis;
-use crate::te::{angular_te_carried, hysteresis_with, mesh_cycle_angles, revolution_perturbed};
+use crate::te::{
+    angular_te_carried, hysteresis_with, mesh_cycle_angles, revolution_perturbed, PLAY_ROUND_OFF,
+};
 use crate::units::ARCMIN_PER_RAD;
 
 /// Wear maps between two stages of the shared wear history (the accuracy life is located to
@@ -270,7 +272,7 @@ fn accuracy_at(
     // Parts whose rigid kinematics interfere assemble through the bearings' play or with
     // preload (docs/model.md section 5.12): the rigid revolution has no first contact to
     // perturb there, and the angular TE comes from the zero-torque twists.
-    let angular_te = if rev.play_stats().min >= -1e-9 {
+    let angular_te = if rev.play_stats().min >= -PLAY_ROUND_OFF {
         rev.angular_te()
     } else {
         angular_te_carried(&sa, per_cycle, ANGULAR_TE_SPREAD, rated)?

@@ -26,7 +26,7 @@ use crate::quantities::{AccuracyPoint, StageSummary, ACCURACY, STAGE};
 use crate::statics::StaticAnalysis;
 use crate::te::{
     hysteresis_and_rated, loaded_te_with, mesh_cycle_angles, revolution, static_te, CurveStats,
-    LoadedTe, StaticTe, TwistTable, HYSTERESIS_LEVELS,
+    LoadedTe, StaticTe, TwistTable, HYSTERESIS_LEVELS, PLAY_ROUND_OFF,
 };
 use crate::units::ARCMIN_PER_RAD;
 use crate::wear::BearingWearRates;
@@ -300,7 +300,7 @@ pub(crate) fn analyse_profile(
         forward: tables.iter().map(|t| t.positive[0]).collect(),
         reverse: tables.iter().map(|t| -t.negative[0]).collect(),
     };
-    if let Some(k) = ste.backlash().iter().position(|&b| b < -1e-9) {
+    if let Some(k) = ste.backlash().iter().position(|&b| b < -PLAY_ROUND_OFF) {
         return Err(Error::invalid(
             "cycloid.modification",
             format!(

@@ -132,7 +132,7 @@ pub fn static_te(red: &Reducer, profile: &Profile, samples: usize) -> Result<Sta
     let StaticTe {
         forward, reverse, ..
     } = static_te_with(&sa, &phis)?;
-    if let Some(k) = (0..samples).find(|&k| forward[k] + reverse[k] < -1e-9) {
+    if let Some(k) = (0..samples).find(|&k| forward[k] + reverse[k] < -PLAY_ROUND_OFF) {
         return Err(Error::invalid(
             "cycloid.modification",
             format!(
@@ -285,9 +285,9 @@ pub struct TwistTable {
 /// there, so the mean of the two twists is the zero-torque one to the curve's second order.
 const PRELOAD_PROBE_FRACTION: f64 = 1e-4;
 
-/// Negative play (rad) below which the two ways' zero-torque twists cross: the first contacts'
-/// round-off (an unmodified, unworn disc touches both ways at zero twist).
-const PLAY_ROUND_OFF: f64 = 1e-9;
+/// Negative play (rad) below which the two ways' twists cross (interference, or preload):
+/// the first contacts' round-off (an unmodified, unworn disc touches both ways at zero twist).
+pub(crate) const PLAY_ROUND_OFF: f64 = 1e-9;
 
 /// Largest twist (rad) behind zero from which a preloaded stage's solves start each way
 /// (docs/model.md section 5.12), about 17 arcmin: a start farther back can reach the next
@@ -388,18 +388,15 @@ impl TwistTable {
             ..
         } = zero_torque(sa, phi, rated)?;
         let sides = [(1.0, &mut positive), (-1.0, &mut negative)];
-        for ((side, out), (light, (&twist, &start))) in sides
-            .into_iter()
-            .zip(light.into_iter().zip(twist.iter().zip(&start)))
-        {
+        for ((k, (side, out)), light) in sides.into_iter().enumerate().zip(light) {
             // Up the torque grid, each solve started from the one below (the first from the
             // heaviest light solve of the no-load limit, with play or preload).
             let mut below: Option<StaticSolution> = light;
             for &f in fractions {
                 out.push(if f == 0.0 {
-                    twist
+                    twist[k]
                 } else {
-                    let sol = sa.solve_near(phi, side * f * rated, start, below.as_ref())?;
+                    let sol = sa.solve_near(phi, side * f * rated, start[k], below.as_ref())?;
                     let twist = sol.twist;
                     below = Some(sol);
                     twist
