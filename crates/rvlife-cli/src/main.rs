@@ -475,10 +475,17 @@ fn run(cli: Cli) -> Result<()> {
             let staging = rvlife::output::Staging::prepare(&out, force)?;
             let pb = progress_bar(1);
             let start = std::time::Instant::now();
-            let study = rvlife::study::run(&model, &|done, total| {
-                pb.set_length(total as u64);
-                pb.set_position(done as u64);
-            })?;
+            let study = rvlife::study::run_with_notices(
+                &model,
+                &|done, total| {
+                    pb.set_length(total as u64);
+                    pb.set_position(done as u64);
+                },
+                &|line| {
+                    pb.set_message("life search");
+                    pb.suspend(|| eprintln!("{line}"));
+                },
+            )?;
             pb.set_message("writing");
             staging.commit(|dir| rvlife::output::write_files(&study, dir))?;
             pb.finish_and_clear();

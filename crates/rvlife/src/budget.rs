@@ -12,7 +12,7 @@
 //! errs long. The default budget is [`DEFAULT_MINUTES`] minutes; `--work-budget-min` changes
 //! it.
 
-use crate::te::HYSTERESIS_LEVELS;
+use crate::te::{torque_fractions, HYSTERESIS_LEVELS};
 
 /// Seconds of one static contact solve of the example on the reference machine.
 pub(crate) const SOLVE_SECONDS: f64 = 0.22e-3;
@@ -51,10 +51,11 @@ pub fn minutes(solves: f64) -> f64 {
 }
 
 /// Static solves of the analyses of one stage: the set-up and, at each of `te_samples` crank
-/// angles, the hysteresis curve (both senses, [`HYSTERESIS_LEVELS`] levels beyond the
-/// measuring torque) and the loaded TE.
+/// angles, the hysteresis curve (both senses, the study's grid [`torque_fractions`]) and the
+/// loaded TE.
 pub(crate) fn stage_solves(te_samples: usize) -> f64 {
-    let per_angle = 4.0 * (HYSTERESIS_LEVELS as f64 + 1.0) + 1.0;
+    let solved = torque_fractions(0.03, HYSTERESIS_LEVELS, true).len() - 1;
+    let per_angle = 4.0 * solved as f64 + 1.0;
     SETUP_SOLVES + te_samples as f64 * per_angle
 }
 

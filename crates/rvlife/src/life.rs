@@ -59,7 +59,8 @@ fn worst(th: &LifeThresholds, p: &AccuracyPoint) -> Option<(&'static str, f64)> 
 /// crossing between two of them with `at(hours)` (the quantities after that many hours of
 /// wear), by Brent's root finder down to [`LIFE_TOLERANCE`] and linear interpolation of the crossing
 /// margin in the last bracket. Without a crossing among `points`, `at` steps on beyond the last
-/// one (x 1.5 in hours) up to `th.max_hours` (default 10 x the last point's hours). `None`
+/// one (x 1.5 in hours) up to `th.max_hours` (default 10 x the last point's hours), calling
+/// `beyond(hours, max_hours)` before each such step (the search's notice to the user). `None`
 /// without thresholds.
 ///
 /// # Errors
@@ -68,6 +69,7 @@ pub(crate) fn accuracy_life(
     th: &LifeThresholds,
     points: &[AccuracyPoint],
     mut at: impl FnMut(f64) -> Result<AccuracyPoint>,
+    beyond: &dyn Fn(f64, f64),
 ) -> Result<Option<AccuracyLife>> {
     if !th.any() || points.is_empty() {
         return Ok(None);
@@ -83,6 +85,7 @@ pub(crate) fn accuracy_life(
         let mut lo = last;
         while lo.hours < max_h && lo.hours > 0.0 {
             let next = (1.5 * lo.hours).min(max_h);
+            beyond(next, max_h);
             let Ok(p) = at(next) else {
                 break;
             };

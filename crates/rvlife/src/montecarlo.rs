@@ -397,7 +397,12 @@ fn bracket_life(
     let mut horizon_h = points.last().map_or(0.0, |p| p.hours);
     let (pa, pb) = match points.iter().position(|p| !inside(p)) {
         Some(0) => {
-            return accuracy_life(th, &points[..1], |_| unreachable!("crossed at the start"));
+            return accuracy_life(
+                th,
+                &points[..1],
+                |_| unreachable!("crossed at the start"),
+                &|_, _| {},
+            );
         }
         Some(i) => (points[i - 1], points[i]),
         None => {

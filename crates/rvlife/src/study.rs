@@ -25,8 +25,9 @@ use crate::geometry::{Profile, WearMap};
 use crate::quantities::{AccuracyPoint, StageSummary, ACCURACY, STAGE};
 use crate::statics::StaticAnalysis;
 use crate::te::{
-    hysteresis_and_rated, loaded_te_with, mesh_cycle_angles, revolution, static_te, CurveStats,
-    LoadedTe, StaticTe, TwistTable, HYSTERESIS_LEVELS, PLAY_ROUND_OFF,
+    hysteresis_and_rated, loaded_te_with, mesh_cycle_angles, revolution, static_te,
+    torque_fractions, CurveStats, LoadedTe, RevolutionTe, StaticTe, TwistTable, HYSTERESIS_LEVELS,
+    PLAY_ROUND_OFF,
 };
 use crate::units::ARCMIN_PER_RAD;
 use crate::wear::BearingWearRates;
@@ -47,6 +48,9 @@ pub struct Stage {
     pub loaded: LoadedTe,
     /// Hysteresis twist table averaged over a mesh cycle.
     pub hysteresis: TwistTable,
+    /// Static TE over an output revolution (with part errors; without, every mesh cycle of
+    /// the revolution is [`Stage::ste`]).
+    pub revolution: Option<RevolutionTe>,
     /// Summary numbers.
     pub summary: StageSummary,
     /// Summary of the multibody simulation with this stage's profile (when dynamics are on).
@@ -64,6 +68,8 @@ pub struct ProfileAnalysis {
     pub loaded: LoadedTe,
     /// Hysteresis twist table averaged over a mesh cycle.
     pub hysteresis: TwistTable,
+    /// Static TE over an output revolution (with part errors only).
+    pub revolution: Option<RevolutionTe>,
     /// Summary numbers.
     pub summary: StageSummary,
 }
@@ -277,7 +283,7 @@ fn stage_hysteresis<'a>(
         &phis,
         model.rating.rated_torque,
         model.te.measuring_torque_fraction,
-        HYSTERESIS_LEVELS,
+        &torque_fractions(model.te.measuring_torque_fraction, HYSTERESIS_LEVELS, true),
     )?;
     Ok((sa, phis, h))
 }
@@ -342,11 +348,14 @@ pub(crate) fn analyse_profile(
         }
     };
     let max_wear_um = model.cycloid.wear_depth(profile) * 1e6;
-    let (angular_te, play_max) = if red.errors.is_zero() {
-        (s.peak_to_peak, play.max)
+    let rev = if red.errors.is_zero() {
+        None
     } else {
-        let rev = revolution(&sa, model.te.samples)?;
-        (rev.angular_te(), rev.play_stats().max)
+        Some(revolution(&sa, model.te.samples)?)
+    };
+    let (angular_te, play_max) = match &rev {
+        None => (s.peak_to_peak, play.max),
+        Some(rev) => (rev.angular_te(), rev.play_stats().max),
     };
     let summary = StageSummary {
         hours,
@@ -384,6 +393,7 @@ pub(crate) fn analyse_profile(
         ste,
         loaded,
         hysteresis: mean,
+        revolution: rev,
         summary,
     })
 }
@@ -585,6 +595,7 @@ fn run_stage(
         ste: a.ste,
         loaded: a.loaded,
         hysteresis: a.hysteresis,
+        revolution: a.revolution,
         summary: a.summary,
         dynamics: None,
         flexible: None,
@@ -660,6 +671,19 @@ fn dynamics_and_flexible(
 /// Solver failures on the unworn profile; interfering modifications; [`Error::Invalid`] naming
 /// `wear.stage_hours` when no stage lies within the validity; the work budget.
 pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Study> {
+    run_with_notices(model, progress, &|_| {})
+}
+
+/// [`run`], telling `notice` (one line of text each) when the accuracy life's search goes on
+/// beyond the last stage (a wear integration per step: it can take as long as the study).
+///
+/// # Errors
+/// As [`run`].
+pub fn run_with_notices(
+    model: &Model,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    notice: &dyn Fn(&str),
+) -> Result<Study> {
     let w = &model.wear;
     let n_stages = w.stage_hours.len();
     let wear_total = if w.model == WearModelKind::Paper || w.update_hours <= 0.0 {
@@ -861,7 +885,7 @@ pub fn run(model: &Model, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<St
         }
     }
     let summaries: Vec<StageSummary> = stages.iter().map(|s| s.summary.clone()).collect();
-    let life = study_life(model, &summaries, &wear)?;
+    let life = study_life(model, &summaries, &wear, notice)?;
     Ok(Study {
         model: model.clone(),
         wear,
@@ -938,7 +962,8 @@ impl Study {
 /// the study's own wear integration `wear` replayed to the trial hours
 /// ([`WearHistory::replay`]: no wear rate is evaluated again) and the worn profile's accuracy
 /// quantities ([`accuracy_point`]); beyond the last stage a wear
-/// integration by the model's rule.
+/// integration by the model's rule, each step announced by `notice` (one line of text: the
+/// search can take as long as the study).
 ///
 /// # Errors
 /// Wear integration and analysis failures.
@@ -946,41 +971,54 @@ pub(crate) fn study_life(
     model: &Model,
     stages: &[StageSummary],
     wear: &WearHistory,
+    notice: &dyn Fn(&str),
 ) -> Result<Option<crate::life::AccuracyLife>> {
     let points: Vec<AccuracyPoint> = stages.iter().map(AccuracyPoint::of).collect();
+    let last = points.last().map_or(0.0, |p| p.hours);
+    let beyond = |h: f64, max_h: f64| {
+        notice(&format!(
+            "within spec at the last stage ({last:.0} h): wear integrated on to {h:.0} h to find \
+             the accuracy life (search horizon {max_h:.0} h, life.max_hours)"
+        ))
+    };
     let rates = crate::config::bearing_rates(model)?;
     let base = WearInputs {
         bearing_rates: rates,
         ..model.wear_inputs()
     };
-    crate::life::accuracy_life(&model.life, &points, |h| {
-        let (map, pins) = match wear.replay(&base, h)? {
-            Some(state) => state,
-            None => {
-                let mut w = model.wear.clone();
-                w.stage_hours = vec![h];
-                let hist = integrate(&WearInputs { wear: &w, ..base }, &|_, _| {})?;
-                if let Some(l) = &hist.limit {
-                    return Err(crate::error::Error::numerical(
-                        "accuracy life",
-                        l.reason.clone(),
-                    ));
+    crate::life::accuracy_life(
+        &model.life,
+        &points,
+        |h| {
+            let (map, pins) = match wear.replay(&base, h)? {
+                Some(state) => state,
+                None => {
+                    let mut w = model.wear.clone();
+                    w.stage_hours = vec![h];
+                    let hist = integrate(&WearInputs { wear: &w, ..base }, &|_, _| {})?;
+                    if let Some(l) = &hist.limit {
+                        return Err(crate::error::Error::numerical(
+                            "accuracy life",
+                            l.reason.clone(),
+                        ));
+                    }
+                    let pins = hist.pin_maps.first().cloned().unwrap_or_default();
+                    (hist.maps[0].clone(), pins)
                 }
-                let pins = hist.pin_maps.first().cloned().unwrap_or_default();
-                (hist.maps[0].clone(), pins)
-            }
-        };
-        let max = map.iter().copied().fold(0.0, f64::max);
-        let wear = match model.wear.model {
-            _ if max <= 0.0 => None,
-            WearModelKind::Paper => Some(WearMap::uniform(map.len(), max)?),
-            WearModelKind::Flodin => Some(WearMap::new(map.clone())?),
-        };
-        let profile = model.cycloid.profile(wear)?;
-        accuracy_point(
-            &crate::config::worn_parts(model, rates, h, &pins),
-            &profile,
-            h,
-        )
-    })
+            };
+            let max = map.iter().copied().fold(0.0, f64::max);
+            let wear = match model.wear.model {
+                _ if max <= 0.0 => None,
+                WearModelKind::Paper => Some(WearMap::uniform(map.len(), max)?),
+                WearModelKind::Flodin => Some(WearMap::new(map.clone())?),
+            };
+            let profile = model.cycloid.profile(wear)?;
+            accuracy_point(
+                &crate::config::worn_parts(model, rates, h, &pins),
+                &profile,
+                h,
+            )
+        },
+        &beyond,
+    )
 }

@@ -41,8 +41,9 @@ use crate::reducer::{Reducer, Support};
 use crate::statics::{StaticAnalysis, StaticSolution, TouchingPin};
 use crate::units::ARCMIN_PER_RAD;
 
-/// Torque levels per side of the study's hysteresis curves beyond the measuring torque.
-pub(crate) const HYSTERESIS_LEVELS: usize = 4;
+/// Torque levels per side of the study's hysteresis curves beyond the measuring torque (every
+/// 12.5 % of the rated torque; with the knee's torques, [`KNEE`]).
+pub(crate) const HYSTERESIS_LEVELS: usize = 8;
 
 /// `[te]` checked (docs/model.md section 6).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -521,20 +522,30 @@ impl TwistTable {
 }
 
 /// Torque fractions of a hysteresis grid: 0, the measuring fraction, then `levels` equal steps
-/// up to 1.
-pub(crate) fn torque_fractions(measuring_fraction: f64, levels: usize) -> Vec<f64> {
+/// up to 1; with `knee`, also [`KNEE`] times the measuring fraction (where the play closes and
+/// the stiffness sets in: the curve's knee, which the hysteresis plot zooms on).
+pub(crate) fn torque_fractions(measuring_fraction: f64, levels: usize, knee: bool) -> Vec<f64> {
     let mut f = vec![0.0, measuring_fraction];
+    if knee {
+        f.extend(KNEE.iter().map(|k| k * measuring_fraction));
+    }
     for i in 1..=levels.max(1) {
         let x = i as f64 / levels.max(1) as f64;
-        if x > measuring_fraction + 1e-12 {
+        if x > measuring_fraction * KNEE[2] + 1e-12 {
             f.push(x);
         }
     }
+    f.sort_by(f64::total_cmp);
     f
 }
 
+/// Extra torques of a study's hysteresis grid near the measuring torque, as multiples of it:
+/// a third, two thirds and five thirds (1 %, 2 % and 5 % of the rated torque at the
+/// catalogue's 3 %).
+pub(crate) const KNEE: [f64; 3] = [1.0 / 3.0, 2.0 / 3.0, 5.0 / 3.0];
+
 /// Hysteresis of `red` with `profile`: the twist table at each crank angle of `crank_angles`
-/// (rad) on the grid `torque_fractions``(measuring_fraction, levels)` of `rated` (N m),
+/// (rad) on the grid `torque_fractions``(measuring_fraction, levels, false)` of `rated` (N m),
 /// in parallel, and their mean (the curve averaged over the crank angles, as a measurement over
 /// a mesh cycle averages it).
 ///
@@ -568,13 +579,15 @@ pub(crate) fn hysteresis_with(
     measuring_fraction: f64,
     levels: usize,
 ) -> Result<(Vec<TwistTable>, TwistTable)> {
+    let fractions = torque_fractions(measuring_fraction, levels, false);
     let (tables, mean, _) =
-        hysteresis_and_rated(sa, crank_angles, rated, measuring_fraction, levels)?;
+        hysteresis_and_rated(sa, crank_angles, rated, measuring_fraction, &fractions)?;
     Ok((tables, mean))
 }
 
-/// [`hysteresis_with`] and the equilibria at `+rated` at each crank angle on the way (the
-/// loaded TE at the rated torque, [`LoadedTe::from_solutions`]).
+/// [`hysteresis_with`] on the grid `fractions` ([`torque_fractions`]) and the equilibria at
+/// `+rated` at each crank angle on the way (the loaded TE at the rated torque,
+/// [`LoadedTe::from_solutions`]).
 ///
 /// # Errors
 /// As [`hysteresis`].
@@ -583,12 +596,11 @@ pub(crate) fn hysteresis_and_rated(
     crank_angles: &[f64],
     rated: f64,
     measuring_fraction: f64,
-    levels: usize,
+    fractions: &[f64],
 ) -> Result<(Vec<TwistTable>, TwistTable, Vec<StaticSolution>)> {
-    let fractions = torque_fractions(measuring_fraction, levels);
     let (tables, solutions): (Vec<TwistTable>, Vec<StaticSolution>) = crank_angles
         .par_iter()
-        .map(|&phi| TwistTable::at_crank(sa, phi, &fractions, rated, measuring_fraction))
+        .map(|&phi| TwistTable::at_crank(sa, phi, fractions, rated, measuring_fraction))
         .collect::<Result<Vec<_>>>()?
         .into_iter()
         .unzip();
@@ -789,7 +801,9 @@ fn revolution_with(sa: &StaticAnalysis, samples: usize, polish: bool) -> Result<
             let corr: Vec<(Vec2, f64)> = (0..discs)
                 .map(|d| red.disc_correction(phi + red.phase(d), carrier))
                 .collect();
-            let twist = |t: &TouchingPin| {
+            // The touching twist of `t` with the errors in place, `None` when its gap does not
+            // close within the expansion (no real root).
+            let twist = |t: &TouchingPin| -> Option<f64> {
                 let j = (t.pin + c) % zp;
                 let w = rot * t.gradient;
                 let r = rot * t.position;
@@ -799,23 +813,32 @@ fn revolution_with(sa: &StaticAnalysis, samples: usize, polish: bool) -> Result<
                 let a = w.dot(&shift) - dr[j] - dpsi * cross(&r, &w);
                 let b = (rot * t.gradient_rate).dot(&shift) - dpsi * t.arm_rate;
                 // Solve a + b x - m x - m' x^2 / 2 = 0 for the twist change x (the nominal
-                // gap closes as m x + m' x^2 / 2 beyond its touching twist).
-                let mut x = a / (t.lever - b);
-                for _ in 0..2 {
-                    x = a / (t.lever - b + 0.5 * t.lever_rate * x);
+                // gap closes as m x + m' x^2 / 2 beyond its touching twist): the root nearest
+                // zero, in the form that stays accurate as m' -> 0.
+                let (q2, q1) = (0.5 * t.lever_rate, t.lever - b);
+                let disc = q1 * q1 + 4.0 * q2 * a;
+                if disc < 0.0 {
+                    return None;
                 }
-                t.twist + x
+                let den = q1 + q1.signum() * disc.sqrt();
+                (den != 0.0).then(|| t.twist + 2.0 * a / den)
             };
             // The pins the perturbation puts first (within a tenth of the error's effect, or
-            // 0.1 arcsec), each solved exactly with the errors in place.
+            // 0.1 arcsec), each solved exactly with the errors in place; the exact first
+            // contact when none of them touches.
             let first = |s: f64, table: &[TouchingPin]| -> Result<f64> {
-                let est: Vec<(f64, &TouchingPin)> =
-                    table.iter().map(|t| (s * twist(t), t)).collect();
+                let est: Vec<(f64, &TouchingPin)> = table
+                    .iter()
+                    .map(|t| (twist(t).map_or(f64::INFINITY, |x| s * x), t))
+                    .collect();
                 let (best, best_pin) = est
                     .iter()
                     .min_by(|a, b| a.0.total_cmp(&b.0))
                     .map(|&(x, t)| (x, t))
                     .expect("touching_pins returns at least one pin");
+                if !best.is_finite() {
+                    return sa.first_contact(phi, s);
+                }
                 if !polish {
                     return Ok(s * best);
                 }
@@ -827,7 +850,11 @@ fn revolution_with(sa: &StaticAnalysis, samples: usize, polish: bool) -> Result<
                         exact = exact.min(s * b);
                     }
                 }
-                Ok(s * if exact.is_finite() { exact } else { best })
+                if exact.is_finite() {
+                    Ok(s * exact)
+                } else {
+                    sa.first_contact(phi, s)
+                }
             };
             Ok((first(1.0, &tables[k][0])?, -first(-1.0, &tables[k][1])?))
         })

@@ -92,7 +92,17 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
     let curves: Vec<(Vec<f64>, Vec<f64>)> = study
         .stages
         .iter()
-        .map(|s| over_revolution(&s.ste.crank_angle, &s.ste.forward, pins, ratio))
+        .map(|s| match &s.revolution {
+            // With part errors, the revolution solved; without, the mesh cycle repeated.
+            Some(rev) => (
+                rev.crank_angle
+                    .iter()
+                    .map(|phi| (ratio * phi / (pins - 1) as f64).to_degrees())
+                    .collect(),
+                rev.forward.clone(),
+            ),
+            None => over_revolution(&s.ste.crank_angle, &s.ste.forward, pins, ratio),
+        })
         .collect();
     let mut header = vec!["input_deg".to_string()];
     header.extend(tags.iter().map(|t| format!("ste_arcmin_{t}")));

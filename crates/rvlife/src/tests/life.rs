@@ -34,7 +34,7 @@ fn accuracy_life_is_where_the_worn_reducer_reaches_the_threshold() {
     assert!(b.lost_motion_arcmin > a.lost_motion_arcmin);
     let limit = 0.5 * (a.lost_motion_arcmin + b.lost_motion_arcmin);
     m.life.lost_motion_arcmin = Some(limit);
-    let life = study_life(&m, &s, &study.wear).unwrap().unwrap();
+    let life = study_life(&m, &s, &study.wear, &|_| {}).unwrap().unwrap();
     let h = life.accuracy_life_h.unwrap();
     assert_eq!(life.limited_by, Some("lost_motion_arcmin"));
     assert!(
@@ -76,7 +76,7 @@ fn accuracy_life_is_where_the_worn_reducer_reaches_the_threshold() {
     let beyond = q.lost_motion_arcmin + 0.5 * (q.lost_motion_arcmin - p.lost_motion_arcmin);
     m.life.lost_motion_arcmin = Some(beyond);
     m.life.max_hours = Some(2.0 * q.hours);
-    let later = study_life(&m, &s, &study.wear).unwrap().unwrap();
+    let later = study_life(&m, &s, &study.wear, &|_| {}).unwrap().unwrap();
     let h = later
         .accuracy_life_h
         .expect("crossed beyond the last stage");
@@ -100,11 +100,11 @@ fn accuracy_life_is_where_the_worn_reducer_reaches_the_threshold() {
     // Not crossed within the horizon.
     m.life.lost_motion_arcmin = Some(q.lost_motion_arcmin * 1.1);
     m.life.max_hours = Some(1.2 * q.hours);
-    let none = study_life(&m, &s, &study.wear).unwrap().unwrap();
+    let none = study_life(&m, &s, &study.wear, &|_| {}).unwrap().unwrap();
     assert_eq!(none.accuracy_life_h, None);
     assert_eq!(none.horizon_h, 1.2 * q.hours);
     m.life.lost_motion_arcmin = Some(s[0].lost_motion_arcmin * 0.9);
-    let zero = study_life(&m, &s, &study.wear).unwrap().unwrap();
+    let zero = study_life(&m, &s, &study.wear, &|_| {}).unwrap().unwrap();
     assert_eq!(zero.accuracy_life_h, Some(0.0));
 }
 

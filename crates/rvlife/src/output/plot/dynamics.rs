@@ -42,6 +42,8 @@ where
             .configure_mesh()
             .x_desc("time (s)")
             .y_desc(*ylabel)
+            .label_style(("sans-serif", TICK_PX))
+            .axis_desc_style(("sans-serif", TICK_PX))
             .draw()?;
         let mut legend = Legend::new();
         for (label, pts, c) in curves {

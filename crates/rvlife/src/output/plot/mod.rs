@@ -9,7 +9,6 @@ use plotters::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::geometry::{rotate, Vec2};
-use crate::te::over_revolution;
 use crate::units::ARCMIN_PER_RAD;
 
 const SIZE: (u32, u32) = (1000, 640);
@@ -77,10 +76,13 @@ macro_rules! figure {
 
 // After the macro, so that the figures of the submodules see it.
 mod dynamics;
+mod hysteresis;
+mod mesh_cycle;
+mod stress;
 mod study;
 
 pub use dynamics::dynamics;
-pub use study::hysteresis;
+pub use hysteresis::hysteresis;
 pub(crate) use study::write_all;
 
 /// Width of the legend strip at the right of every figure, px: legends never cover data.
@@ -247,6 +249,10 @@ where
 /// default 1000 px width).
 const AXIS_LABEL_PX: u32 = 16;
 
+/// Size of the tick labels and axis titles of the detailed plots, px (at least 12 px at the
+/// default 1000 px width).
+const TICK_PX: u32 = 14;
+
 /// Named curves `(label, points (hours, value))` against working hours, written to
 /// `<stem>.{svg,png}` in `dir` with the caption `title` and the y-axis label `y_desc` (the
 /// paper's Fig. 19b style: one line with markers per model).
@@ -335,6 +341,16 @@ pub(crate) fn fan_chart(
             Ok(())
         }
     )
+}
+
+/// A tick label: up to 4 decimals, trailing zeros dropped, never `-0`.
+fn tick_label(v: &f64) -> String {
+    let s = short(*v);
+    if s == "-0" {
+        "0".to_string()
+    } else {
+        s
+    }
 }
 
 /// A number for a legend: up to 4 significant digits.
@@ -434,6 +450,8 @@ pub(crate) fn histogram(
                 .configure_mesh()
                 .x_desc(x_desc)
                 .y_desc("samples")
+                .label_style(("sans-serif", TICK_PX))
+                .axis_desc_style(("sans-serif", TICK_PX))
                 .draw()?;
             chart.draw_series(counts.iter().enumerate().map(|(i, &c)| {
                 let x0 = lo + i as f64 * width;
@@ -512,6 +530,8 @@ pub fn calibration(cal: &crate::calibration::Calibration, dir: &Path) -> Result<
                     .configure_mesh()
                     .x_desc("working hours (h)")
                     .y_desc(format!("{} ({})", curve.column, curve.unit))
+                    .label_style(("sans-serif", TICK_PX))
+                    .axis_desc_style(("sans-serif", TICK_PX))
                     .draw()?;
                 chart.draw_series(LineSeries::new(
                     curve

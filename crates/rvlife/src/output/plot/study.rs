@@ -17,57 +17,12 @@ use crate::study::Study;
 /// [`Error::Io`] if a file cannot be written.
 pub(crate) fn write_all(study: &Study, dir: &Path) -> Result<()> {
     let n = study.stages.len();
-    let hours: Vec<f64> = study.stages.iter().map(|s| s.hours).collect();
 
-    // 1. Wear depth along the profile.
-    let angles: Vec<f64> = study.wear.angles().iter().map(|a| a.to_degrees()).collect();
-    let wear_max = study
-        .wear
-        .max_depths()
-        .into_iter()
-        .fold(0.0, f64::max)
-        .max(1e-9)
-        * 1e6;
-    figure!(
-        dir,
-        "wear",
-        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-            let (plot, strip) = with_legend_strip(root);
-            let mut chart = ChartBuilder::on(&plot)
-                .caption("Wear depth along the tooth profile", ("sans-serif", 26))
-                .margin(15)
-                .x_label_area_size(45)
-                .y_label_area_size(65)
-                .build_cartesian_2d(0.0..360.0, 0.0..wear_max * 1.08)?;
-            chart
-                .configure_mesh()
-                .x_desc("mesh angle (deg): 0 root, 180 tip; 0-180 loaded by positive torque")
-                .y_desc("wear depth (um)")
-                .draw()?;
-            let mut legend = Legend::new();
-            for (i, map) in study.wear.maps.iter().enumerate() {
-                let c = stage_color(i, n);
-                chart.draw_series(LineSeries::new(
-                    angles.iter().zip(map).map(|(a, h)| (*a, h * 1e6)),
-                    c.stroke_width(2),
-                ))?;
-                legend.push((format!("{:.0} h", hours[i]), Key::Line(c)));
-            }
-            draw_legend(&strip, 60, &legend)?;
-            Ok(())
-        }
-    )?;
+    super::mesh_cycle::wear(study, dir)?;
 
     // 2. Profile with magnified wear: the loaded flank (root to tip) of the tooth at the top of
     //    the disc, at equal scales on both axes.
     let max_wear = study.wear.max_depths().into_iter().fold(0.0, f64::max);
-    let geo = study
-        .stages
-        .last()
-        .expect("at least one stage")
-        .profile
-        .geometry()
-        .clone();
     let nominal = study.model.profile()?;
     let flank = |wear: Option<&crate::geometry::WearMap>, magnify: f64| -> Vec<(f64, f64)> {
         let k = 400;
@@ -135,6 +90,8 @@ pub(crate) fn write_all(study: &Study, dir: &Path) -> Result<()> {
                 .configure_mesh()
                 .x_desc("x (mm)")
                 .y_desc("y (mm), disc frame")
+                .label_style(("sans-serif", TICK_PX))
+                .axis_desc_style(("sans-serif", TICK_PX))
                 .draw()?;
             let mut legend = Legend::new();
             for (label, pts, c) in &tooth_profiles {
@@ -150,215 +107,8 @@ pub(crate) fn write_all(study: &Study, dir: &Path) -> Result<()> {
         }
     )?;
 
-    // 3. Load distribution at the crank angle of the largest force.
-    let fmax = study
-        .stages
-        .iter()
-        .map(|s| s.summary.max_force_n)
-        .fold(0.0, f64::max)
-        .max(1.0);
-    let zp = geo.pins;
-    figure!(
-        dir,
-        "load",
-        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-            let (plot, strip) = with_legend_strip(root);
-            let mut chart = ChartBuilder::on(&plot)
-                .caption(
-                    format!(
-                        "Pin forces on disc 1 at {:.0} N m, crank angle of the largest force",
-                        study.model.te.loaded_torque
-                    ),
-                    ("sans-serif", 22),
-                )
-                .margin(15)
-                .x_label_area_size(45)
-                .y_label_area_size(65)
-                .build_cartesian_2d(-0.5..zp as f64 - 0.5, 0.0..fmax * 1.1)?;
-            chart
-                .configure_mesh()
-                .x_desc("pin number j (counter-clockwise from the +x axis)")
-                .y_desc("pin force (N)")
-                .x_label_formatter(&|v| format!("{v:.0}"))
-                .y_label_formatter(&|v| format!("{v:.0}"))
-                .draw()?;
-            let mut legend = Legend::new();
-            for (i, s) in study.stages.iter().enumerate() {
-                let c = stage_color(i, n);
-                let w = s.loaded.worst();
-                let pins = &w.discs[0].pins;
-                chart.draw_series(LineSeries::new(
-                    pins.iter().map(|p| (p.pin as f64, p.force)),
-                    c.stroke_width(2),
-                ))?;
-                chart.draw_series(
-                    pins.iter()
-                        .map(|p| Circle::new((p.pin as f64, p.force), 3, c.filled())),
-                )?;
-                legend.push((
-                    format!(
-                        "{:.0} h, crank {:.2} deg",
-                        s.hours,
-                        w.crank_angle.to_degrees()
-                    ),
-                    Key::Marker(c),
-                ));
-            }
-            draw_legend(&strip, 60, &legend)?;
-            Ok(())
-        }
-    )?;
-
-    // 4. STE over one output revolution (top: per stage the mean over each bin of whole mesh
-    //    cycles, as a line, and for the last stage the ripple's range in each bin, as a band;
-    //    bottom: three mesh cycles in input degrees, the reverse direction dashed).
-    let ratio = study.model.reducer.ratio;
-    let zc = (zp - 1) as f64;
-    let mesh_cycles = zp * (zp - 1);
-    // The most bins (at most 360) holding a whole number of mesh cycles each.
-    let bins = (1..=mesh_cycles.min(360))
-        .rev()
-        .find(|b| mesh_cycles % b == 0)
-        .unwrap_or(1);
-    // Per stage: (bin centre deg, min, mean, max) in arcmin.
-    let envelopes: Vec<Vec<[f64; 4]>> = study
-        .stages
-        .iter()
-        .map(|s| {
-            let (_, y) = over_revolution(&s.ste.crank_angle, &s.ste.forward, zp, ratio);
-            let mut acc = vec![(f64::INFINITY, 0.0, f64::NEG_INFINITY, 0usize); bins];
-            let per_cycle = s.ste.crank_angle.len().max(1);
-            for (k, yi) in y.iter().enumerate() {
-                // Samples run mesh cycle by mesh cycle (te::over_revolution).
-                let b = (k / per_cycle * bins / mesh_cycles).min(bins - 1);
-                let v = yi * ARCMIN_PER_RAD;
-                let a = &mut acc[b];
-                *a = (a.0.min(v), a.1 + v, a.2.max(v), a.3 + 1);
-            }
-            acc.iter()
-                .enumerate()
-                .filter(|(_, a)| a.3 > 0)
-                .map(|(b, a)| {
-                    [
-                        (b as f64 + 0.5) * 360.0 / bins as f64,
-                        a.0,
-                        a.1 / a.3 as f64,
-                        a.2,
-                    ]
-                })
-                .collect()
-        })
-        .collect();
-    let (t0, t1) = series_range(envelopes.iter().flatten().flat_map(|e| [e[1], e[3]]));
-    // Three mesh cycles: input angle of crank angle phi is i_H phi / Zc.
-    let cycles = 3usize;
-    let zoom: Vec<(Polyline, Polyline)> = study
-        .stages
-        .iter()
-        .map(|s| {
-            let period = std::f64::consts::TAU / zp as f64;
-            let pts = |v: &[f64]| -> Vec<(f64, f64)> {
-                (0..cycles)
-                    .flat_map(|c| {
-                        s.ste.crank_angle.iter().zip(v).map(move |(phi, y)| {
-                            (
-                                (ratio * (phi + c as f64 * period) / zc).to_degrees(),
-                                y * ARCMIN_PER_RAD,
-                            )
-                        })
-                    })
-                    .collect()
-            };
-            (pts(&s.ste.forward), pts(&s.ste.reverse))
-        })
-        .collect();
-    let zoom_end = (ratio * cycles as f64 * std::f64::consts::TAU / (zp as f64 * zc)).to_degrees();
-    let (z0, z1) = series_range(
-        zoom.iter()
-            .flat_map(|(f, r)| f.iter().chain(r.iter()).map(|p| p.1)),
-    );
-    figure!(
-        dir,
-        "te",
-        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-            let (plots, strip) = with_legend_strip(root);
-            let (top, bottom) = plots.split_vertically(SIZE.1 / 2);
-            let mut chart = ChartBuilder::on(&top)
-                .caption(
-                    format!("STE over one output revolution ({mesh_cycles} mesh cycles)"),
-                    ("sans-serif", 20),
-                )
-                .margin(10)
-                .x_label_area_size(35)
-                .y_label_area_size(65)
-                .build_cartesian_2d(0.0..360.0, t0.min(0.0)..t1)?;
-            chart
-                .configure_mesh()
-                .x_desc(format!("output angle (deg) = input angle / {ratio:.0}"))
-                .y_desc("STE (arcmin)")
-                .draw()?;
-            let mut legend = Legend::new();
-            for (i, env) in envelopes.iter().enumerate() {
-                let c = stage_color(i, n);
-                if i + 1 == envelopes.len() {
-                    let band: Vec<(f64, f64)> = env
-                        .iter()
-                        .map(|e| (e[0], e[3]))
-                        .chain(env.iter().rev().map(|e| (e[0], e[1])))
-                        .collect();
-                    chart.draw_series(std::iter::once(Polygon::new(band, c.mix(0.25).filled())))?;
-                }
-                chart.draw_series(LineSeries::new(
-                    env.iter().map(|e| (e[0], e[2])),
-                    c.stroke_width(2),
-                ))?;
-                legend.push((format!("{:.0} h", hours[i]), Key::Line(c)));
-            }
-            let mut chart = ChartBuilder::on(&bottom)
-                .caption(format!("{cycles} mesh cycles"), ("sans-serif", 20))
-                .margin(10)
-                .x_label_area_size(40)
-                .y_label_area_size(65)
-                .build_cartesian_2d(0.0..zoom_end, z0.min(0.0)..z1)?;
-            chart
-                .configure_mesh()
-                .x_desc("input angle (deg)")
-                .y_desc("STE (arcmin)")
-                .draw()?;
-            for (i, (fwd, rev)) in zoom.iter().enumerate() {
-                let c = stage_color(i, n);
-                chart.draw_series(LineSeries::new(fwd.iter().copied(), c.stroke_width(2)))?;
-                chart.draw_series(DashedLineSeries::new(
-                    rev.iter().copied(),
-                    6,
-                    4,
-                    c.stroke_width(1),
-                ))?;
-            }
-            let grey = RGBColor(90, 90, 90);
-            legend.push((
-                format!(
-                    "top: mean over each {:.2} deg bin of whole mesh cycles",
-                    360.0 / bins as f64
-                ),
-                Key::Line(grey),
-            ));
-            legend.push((
-                format!(
-                    "top: range of the ripple in each bin, {:.0} h",
-                    hours.last().copied().unwrap_or(0.0)
-                ),
-                Key::Band(stage_color(n - 1, n)),
-            ));
-            legend.push(("bottom: forward (solid)".to_string(), Key::Line(grey)));
-            legend.push((
-                "bottom: reverse direction (dashed)".to_string(),
-                Key::Dashed(grey),
-            ));
-            draw_legend(&strip, 40, &legend)?;
-            Ok(())
-        }
-    )?;
+    super::mesh_cycle::load(study, dir)?;
+    super::mesh_cycle::te(study, dir)?;
 
     // 5. TE and lost motion against working hours, with the spec and the accuracy life; the
     // DTE on its own plot (its range would set the scale).
@@ -443,9 +193,9 @@ pub(crate) fn write_all(study: &Study, dir: &Path) -> Result<()> {
             let hours = study.stages.last().map_or(0.0, |s| s.hours);
             // The crank angle within the mesh cycle, as in the load plot (the mesh repeats every
             // 360 / Zp degrees of crank angle).
-            let cycle_deg = 360.0 / zp as f64;
+            let cycle_deg = 360.0 / study.model.reducer.geometry.pins as f64;
             let crank_deg = fl.stress.crank_angle.to_degrees();
-            von_mises(
+            super::stress::von_mises(
                 mesh,
                 &fl.stress.nodal,
                 &format!(
@@ -898,58 +648,6 @@ where
     Ok(legend)
 }
 
-/// `hysteresis.{svg,png}`: the hysteresis loop of every stage (twist against output torque,
-/// input locked, averaged over a mesh cycle), coloured by working hours.
-pub fn hysteresis(study: &Study, dir: &Path) -> Result<()> {
-    let n = study.stages.len();
-    let curves: Vec<(f64, Polyline)> = study
-        .stages
-        .iter()
-        .map(|s| {
-            let c = s.hysteresis.curve();
-            (
-                s.hours,
-                c.torque
-                    .iter()
-                    .zip(&c.twist)
-                    .map(|(t, x)| (*t, x * ARCMIN_PER_RAD))
-                    .collect(),
-            )
-        })
-        .collect();
-    let (y0, y1) = series_range(curves.iter().flat_map(|c| c.1.iter().map(|p| p.1)));
-    let t = study.model.rating.rated_torque;
-    figure!(
-        dir,
-        "hysteresis",
-        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-            let (plot, strip) = with_legend_strip(root);
-            let mut chart = ChartBuilder::on(&plot)
-                .caption(
-                    "Hysteresis curves (input locked, mean over a mesh cycle)",
-                    ("sans-serif", 22),
-                )
-                .margin(15)
-                .x_label_area_size(45)
-                .y_label_area_size(65)
-                .build_cartesian_2d(-1.05 * t..1.05 * t, y0..y1)?;
-            chart
-                .configure_mesh()
-                .x_desc("output torque (N m)")
-                .y_desc("output twist (arcmin)")
-                .draw()?;
-            let mut legend = Legend::new();
-            for (i, (h, pts)) in curves.iter().enumerate() {
-                let c = stage_color(i, n);
-                chart.draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?;
-                legend.push((format!("{h:.0} h"), Key::Line(c)));
-            }
-            draw_legend(&strip, 60, &legend)?;
-            Ok(())
-        }
-    )
-}
-
 /// Rigid against flexible TE over working hours (the paper's Fig. 19b): rigid STE, flexible
 /// STE at the measuring torque, rigid and flexible loaded TE at the rated torque, written to
 /// `flexible_te_hours.{svg,png}`.
@@ -989,99 +687,6 @@ pub(crate) fn flexible_te_hours(study: &Study, dir: &Path) -> Result<()> {
             )?;
             let legend = stage_lines(&mut chart, &sums, &lines)?;
             draw_legend(&strip, 60, &legend)?;
-            Ok(())
-        }
-    )
-}
-
-/// The von Mises field `nodal` (Pa, one per mesh node) on the disc mesh, each triangle filled
-/// with the colour of its corners' mean stress (viridis from 0 to `scale`, Pa; higher values
-/// saturate), written to `<stem>.{svg,png}` in `dir`.
-///
-/// # Errors
-/// [`Error::Io`] if a file cannot be written.
-pub(crate) fn von_mises(
-    mesh: &crate::fem::mesh::Mesh,
-    nodal: &[f64],
-    title: &str,
-    scale: f64,
-    dir: &Path,
-    stem: &str,
-) -> Result<()> {
-    let r = mesh
-        .nodes
-        .iter()
-        .map(|p| p.x.abs().max(p.y.abs()))
-        .fold(0.0, f64::max)
-        * 1e3
-        * 1.02;
-    let scale = scale.max(1.0);
-    figure!(
-        dir,
-        stem,
-        |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
-            let (plot, bar) = root.split_horizontally(SIZE.0 - 150);
-            let mut chart = ChartBuilder::on(&plot)
-                .caption(title, ("sans-serif", 17))
-                .margin(10)
-                .x_label_area_size(35)
-                .y_label_area_size(45)
-                .build_cartesian_2d(-r * 1.4..r * 1.4, -r..r)?;
-            chart
-                .configure_mesh()
-                .disable_mesh()
-                .x_desc("x (mm)")
-                .y_desc("y (mm)")
-                .draw()?;
-            chart.draw_series(mesh.triangles.iter().map(|t| {
-                let v = (nodal[t[0]] + nodal[t[1]] + nodal[t[2]]) / 3.0;
-                let c = ViridisRGB::get_color_normalized(v.min(scale), 0.0, scale);
-                Polygon::new(
-                    (0..3)
-                        .map(|k| (mesh.nodes[t[k]].x * 1e3, mesh.nodes[t[k]].y * 1e3))
-                        .collect::<Vec<_>>(),
-                    RGBColor(c.0, c.1, c.2).filled(),
-                )
-            }))?;
-            // Colour bar with its ticks to the right.
-            let (_, h) = bar.dim_in_pixel();
-            let (top, bottom) = (60i32, h as i32 - 45);
-            let (x0, x1) = (12i32, 42i32);
-            let steps = 64;
-            for k in 0..steps {
-                let ya = bottom - (bottom - top) * k / steps;
-                let yb = bottom - (bottom - top) * (k + 1) / steps;
-                let c = ViridisRGB::get_color_normalized(k as f64 + 0.5, 0.0, steps as f64);
-                bar.draw(&Rectangle::new(
-                    [(x0, yb), (x1, ya)],
-                    RGBColor(c.0, c.1, c.2).filled(),
-                ))?;
-            }
-            bar.draw(&Rectangle::new(
-                [(x0, top), (x1, bottom)],
-                BLACK.stroke_width(1),
-            ))?;
-            let font = ("sans-serif", 15).into_font().color(&BLACK);
-            bar.draw(&Text::new("von Mises", (4, top - 40), font.clone()))?;
-            bar.draw(&Text::new("stress (MPa)", (4, top - 22), font.clone()))?;
-            let max_mpa = scale * 1e-6;
-            let raw = max_mpa / 5.0;
-            let mag = 10f64.powf(raw.log10().floor());
-            let step = [1.0, 2.0, 5.0, 10.0]
-                .into_iter()
-                .map(|m| m * mag)
-                .find(|m| *m >= raw)
-                .unwrap_or(raw);
-            let mut v = 0.0;
-            while v <= max_mpa * (1.0 + 1e-9) {
-                let y = bottom - ((bottom - top) as f64 * v / max_mpa).round() as i32;
-                bar.draw(&PathElement::new(
-                    vec![(x1, y), (x1 + 5, y)],
-                    BLACK.stroke_width(1),
-                ))?;
-                bar.draw(&Text::new(format!("{v:.0}"), (x1 + 8, y - 8), font.clone()))?;
-                v += step;
-            }
             Ok(())
         }
     )
