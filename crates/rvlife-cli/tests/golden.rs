@@ -249,10 +249,11 @@ fn same_columns(was: &str, now: &str) -> Result<(), String> {
     Ok(())
 }
 
-/// The paper's reducer (`rvlife example --preset paper`) with `from -> to` replaced (each must
-/// be found).
+/// The paper's reducer (`rvlife example --preset paper`, without its spec and tolerances) with
+/// `from -> to` replaced (each must be found).
 fn paper_with(edits: &[(&str, &str)]) -> String {
-    let mut t = rvlife::config::preset_text("paper").expect("the paper preset");
+    let mut t =
+        common::without_spec(&rvlife::config::preset_text("paper").expect("the paper preset"));
     for (from, to) in edits {
         assert!(t.contains(from), "the paper preset has no `{from}`");
         t = t.replacen(from, to, 1);

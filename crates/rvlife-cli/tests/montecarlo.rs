@@ -9,11 +9,11 @@ use common::{assert_all_finite, rvlife_within};
 /// The paper's reducer with a clearance (8 um equidistant, -5 um offset), no dynamics or
 /// flexible disc, `stages` as its working-hour stages, tolerances of every kind and a life spec.
 fn config(dir: &Path, stages: &str) -> PathBuf {
-    let text = rvlife::config::preset_text("paper")
-        .expect("the paper preset")
-        .replace("equidistant_mm = 0.0 ", "equidistant_mm = 0.008 ")
-        .replace("offset_mm = 0.0 ", "offset_mm = -0.005 ")
-        .replace("enabled = true ", "enabled = false ");
+    let text =
+        common::without_spec(&rvlife::config::preset_text("paper").expect("the paper preset"))
+            .replace("equidistant_mm = 0.0 ", "equidistant_mm = 0.008 ")
+            .replace("offset_mm = 0.0 ", "offset_mm = -0.005 ")
+            .replace("enabled = true ", "enabled = false ");
     let mut text: String = text
         .lines()
         .map(|l| {
@@ -327,4 +327,37 @@ fn montecarlo_report_gives_the_verdict_first() {
     assert!(bad.join("report.html").exists() && bad.join("samples.csv").exists());
     let o = rvlife_within(300, args(&["--keep-going"]));
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// `rvlife montecarlo` on the built-in example as shipped (its own `[tolerances]` and `[life]`,
+/// no config): every one of 10 samples is analysed (parts that interfere with preload), the
+/// verdict is the first result line, the report opens with it, and the run exits 0.
+#[test]
+fn montecarlo_on_the_example_as_shipped_analyses_every_sample() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("mc");
+    std::env::set_var("RAYON_NUM_THREADS", "2");
+    let o = rvlife_within(
+        600,
+        [
+            std::ffi::OsString::from("montecarlo"),
+            "--samples".into(),
+            "10".into(),
+            "--out".into(),
+            out.clone().into(),
+        ],
+    );
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(stdout.contains("10 samples (10 ok)"), "{stdout}");
+    let second = stdout.lines().nth(1).unwrap_or("");
+    assert!(
+        second.starts_with("B10 accuracy life")
+            && second.contains("spec: lost motion 1 arcmin, backlash 1 arcmin")
+            && second.contains("10 of 10 samples analysed"),
+        "{stdout}"
+    );
+    let report = std::fs::read_to_string(out.join("report.html")).unwrap();
+    let first = report.find("<h2>").unwrap();
+    assert!(report[first..].starts_with("<h2>Verdict</h2>"));
 }

@@ -166,7 +166,26 @@ pub fn paper_text() -> String {
         out.contains("[cycloid]"),
         "example has no [cycloid] table:\n{out}"
     );
-    out
+    without_spec(&out)
+}
+
+/// `text` with its `[tolerances]` and `[life]` tables commented out: the tests' base, to which
+/// each test adds the spec and tolerances it needs (the presets ship both).
+pub fn without_spec(text: &str) -> String {
+    let mut skipping = false;
+    text.lines()
+        .map(|l| {
+            let t = l.trim();
+            if t.starts_with('[') {
+                skipping = t.starts_with("[tolerances]") || t.starts_with("[life]");
+            }
+            if skipping && !t.is_empty() && !t.starts_with('#') {
+                format!("# {l}\n")
+            } else {
+                format!("{l}\n")
+            }
+        })
+        .collect()
 }
 
 pub fn write_config(dir: &Path, name: &str, text: &str) -> PathBuf {

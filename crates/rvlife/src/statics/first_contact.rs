@@ -174,10 +174,43 @@ impl<'a> StaticAnalysis<'a> {
             }
             Ok((psi, below))
         };
+        // Last resort: down from a loaded state, where the contacts are settled, halving the
+        // torque from `10^3 T_1` (then `10^4 T_1`) with each solve started from the one above,
+        // until a solve fails or `T_1` is reached: the three lightest converged, `L, 2 L, 4 L`,
+        // then take the place of `T_1, 2 T_1, 4 T_1`.
+        let descending = |top: f64| -> Result<([f64; 3], Option<StaticSolution>)> {
+            let mut done: Vec<StaticSolution> = Vec::new();
+            let mut t = top;
+            let mut last_error = None;
+            while t >= 0.99 * t1 {
+                match self.solve_near(phi, s * t, psi0, done.last()) {
+                    Ok(sol) => done.push(sol),
+                    Err(e) => {
+                        last_error = Some(e);
+                        break;
+                    }
+                }
+                t *= 0.5;
+            }
+            let n = done.len();
+            if n < 3 {
+                return Err(last_error.unwrap_or_else(|| {
+                    self.fail(phi, "no light solve converged on the way down")
+                }));
+            }
+            let psi = [done[n - 1].twist, done[n - 2].twist, done[n - 3].twist];
+            Ok((psi, Some(done.swap_remove(n - 3))))
+        };
         let (psi, heaviest) = match solves(t1) {
             Ok(psi) => psi,
             Err(Error::Numerical { .. }) => match solves(10.0 * t1) {
-                Err(Error::Numerical { .. }) => solves(100.0 * t1)?,
+                Err(Error::Numerical { .. }) => match solves(100.0 * t1) {
+                    Err(Error::Numerical { .. }) => match descending(1e3 * t1) {
+                        Err(Error::Numerical { .. }) => descending(1e4 * t1)?,
+                        other => other?,
+                    },
+                    other => other?,
+                },
                 other => other?,
             },
             Err(e) => return Err(e),

@@ -4,16 +4,20 @@ use crate::config::{Config, Model};
 use crate::geometry::WearMap;
 use crate::study::study_life;
 
+/// The paper's reducer with 8 / -5 um of modification, without dynamics or the FE disc, and
+/// without the preset's spec (each test sets its own).
 fn model() -> Model {
     let text = crate::config::preset_text("paper")
         .unwrap()
         .replace("equidistant_mm = 0.0 ", "equidistant_mm = 0.008 ")
         .replace("offset_mm = 0.0 ", "offset_mm = -0.005 ")
         .replace("enabled = true ", "enabled = false ");
-    Config::from_toml_str(&text, "test")
+    let mut m = Config::from_toml_str(&text, "test")
         .unwrap()
         .validate()
-        .unwrap()
+        .unwrap();
+    m.life = Default::default();
+    m
 }
 
 /// A lost-motion threshold halfway between two stages' values: the life lies between those
