@@ -361,3 +361,56 @@ fn montecarlo_on_the_example_as_shipped_analyses_every_sample() {
     let first = report.find("<h2>").unwrap();
     assert!(report[first..].starts_with("<h2>Verdict</h2>"));
 }
+
+/// Every built-in reducer as shipped (`rvlife example --preset NAME`: its own `[tolerances]`
+/// and `[life]`) gives a verdict from `run` and from `montecarlo` (2 samples: the verdict's
+/// form, not its statistics), each the first result line and the first section of its report,
+/// exit 0.
+#[test]
+fn every_preset_gives_a_verdict_from_run_and_montecarlo() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["rv-40e", "paper", "rv-20e", "rv-80e", "single-stage"] {
+        let text = common::ok(&common::rvlife(["example", "--preset", name]), name);
+        let cfg = common::write_config(dir.path(), &format!("{name}.toml"), &text);
+        std::env::set_var("RAYON_NUM_THREADS", "2");
+        for (command, extra, starts) in [
+            (
+                "run",
+                &[][..],
+                &["accuracy life ", "within spec up to "][..],
+            ),
+            (
+                "montecarlo",
+                &["--samples", "2"][..],
+                &["B10 accuracy life"][..],
+            ),
+        ] {
+            let out = dir.path().join(format!("{name}-{command}"));
+            let mut args: Vec<std::ffi::OsString> = vec![
+                command.into(),
+                cfg.clone().into(),
+                "--out".into(),
+                out.clone().into(),
+            ];
+            args.extend(extra.iter().map(std::ffi::OsString::from));
+            let o = rvlife_within(600, args);
+            let stdout = String::from_utf8_lossy(&o.stdout);
+            assert!(
+                o.status.success(),
+                "{name} {command}: {}",
+                String::from_utf8_lossy(&o.stderr)
+            );
+            let second = stdout.lines().nth(1).unwrap_or("");
+            assert!(
+                starts.iter().any(|s| second.starts_with(s)) && second.contains("arcmin"),
+                "{name} {command}:\n{stdout}"
+            );
+            let report = std::fs::read_to_string(out.join("report.html")).unwrap();
+            let first = report.find("<h2>").unwrap();
+            assert!(
+                report[first..].starts_with("<h2>Verdict</h2>"),
+                "{name} {command}"
+            );
+        }
+    }
+}
