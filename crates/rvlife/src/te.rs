@@ -555,12 +555,15 @@ impl TwistTable {
 /// the stiffness sets in: the curve's knee, which the hysteresis plot zooms on).
 pub(crate) fn torque_fractions(measuring_fraction: f64, levels: usize, knee: bool) -> Vec<f64> {
     let mut f = vec![0.0, measuring_fraction];
+    // The levels start above the grid's largest torque near the measuring one.
+    let mut above = measuring_fraction;
     if knee {
         f.extend(KNEE.iter().map(|k| k * measuring_fraction));
+        above *= KNEE[2];
     }
     for i in 1..=levels.max(1) {
         let x = i as f64 / levels.max(1) as f64;
-        if x > measuring_fraction * KNEE[2] + 1e-12 {
+        if x > above + 1e-12 {
             f.push(x);
         }
     }

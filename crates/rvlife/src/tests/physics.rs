@@ -932,3 +932,25 @@ pub(crate) fn linear_bearings() -> crate::reducer::Bearings {
         disc: linear(5e8),
     }
 }
+
+/// The hysteresis grid: 0, the measuring torque, then the levels above it; the study's grid
+/// (with the knee) adds a third, two thirds and five thirds of the measuring torque and starts
+/// its levels above the last of those. Exact fractions, ascending, no repeats.
+#[test]
+fn hysteresis_grids_hold_the_measuring_torque_and_the_levels_above_it() {
+    use crate::te::torque_fractions;
+    let close = |a: &[f64], b: &[f64]| {
+        a.len() == b.len() && a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-15)
+    };
+    // Without the knee, every level above the measuring torque (4 % of 25 levels included).
+    let plain = torque_fractions(0.03, 25, false);
+    let mut want = vec![0.0, 0.03];
+    want.extend((1..=25).map(|i| i as f64 / 25.0));
+    assert!(close(&plain, &want), "{plain:?}");
+    assert!(close(&torque_fractions(0.03, 1, false), &[0.0, 0.03, 1.0]));
+    // With the knee: 1, 2, 3, 5 %, then the levels above 5 %.
+    let knee = torque_fractions(0.03, 8, true);
+    let mut want = vec![0.0, 0.01, 0.02, 0.03, 0.05];
+    want.extend((1..=8).map(|i| i as f64 / 8.0));
+    assert!(close(&knee, &want), "{knee:?}");
+}
