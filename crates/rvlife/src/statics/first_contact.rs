@@ -125,8 +125,8 @@ impl<'a> StaticAnalysis<'a> {
     /// nearly as `F`), `T_1` the torque at which a bearing force `10^3 k_0 c/2` balances it
     /// at the crank circle (`k_0` = [`crate::reducer::DEAD_BAND_STIFFNESS`], `c/2` the largest
     /// half play): loads far above the dead-band springs and far below the rated ones; `10 T_1`
-    /// where a solve at `T_1` does not converge, `100 T_1` where neither does (docs/model.md
-    /// section 5.10).
+    /// where a solve at `T_1` does not converge, `100 T_1` where neither does, then halving down
+    /// from `10^3 T_1` or `10^4 T_1` (docs/model.md section 5.10).
     ///
     /// # Errors
     /// Those of [`StaticAnalysis::first_contact`] and [`StaticAnalysis::solve`].
@@ -201,20 +201,22 @@ impl<'a> StaticAnalysis<'a> {
             let psi = [done[n - 1].twist, done[n - 2].twist, done[n - 3].twist];
             Ok((psi, Some(done.swap_remove(n - 3))))
         };
-        let (psi, heaviest) = match solves(t1) {
-            Ok(psi) => psi,
-            Err(Error::Numerical { .. }) => match solves(10.0 * t1) {
-                Err(Error::Numerical { .. }) => match solves(100.0 * t1) {
-                    Err(Error::Numerical { .. }) => match descending(1e3 * t1) {
-                        Err(Error::Numerical { .. }) => descending(1e4 * t1)?,
-                        other => other?,
-                    },
-                    other => other?,
-                },
-                other => other?,
-            },
-            Err(e) => return Err(e),
-        };
+        // Each attempt in turn while the one before fails to converge; the last one's error.
+        type Light = Result<([f64; 3], Option<StaticSolution>)>;
+        let later: [&dyn Fn() -> Light; 4] = [
+            &|| solves(10.0 * t1),
+            &|| solves(100.0 * t1),
+            &|| descending(1e3 * t1),
+            &|| descending(1e4 * t1),
+        ];
+        let mut light = solves(t1);
+        for attempt in later {
+            match light {
+                Err(Error::Numerical { .. }) => light = attempt(),
+                _ => break,
+            }
+        }
+        let (psi, heaviest) = light?;
         // psi_i = psi_0 + a x_i^0.9 + b x_i at x = 1, 2, 4 (units of T_1).
         let m = nalgebra::Matrix3::from_fn(|r, c| {
             let x = [1.0_f64, 2.0, 4.0][r];
