@@ -640,22 +640,27 @@ pub(crate) fn hysteresis_and_rated(
     Ok((tables, mean, solutions))
 }
 
+/// The input angle (deg) of crank angle `phi` (rad) as the outputs give it, `i_H phi / Zc`
+/// (`ratio` = `i_H`, `Zc` = `pins - 1`).
+pub(crate) fn input_deg(phi: f64, pins: usize, ratio: f64) -> f64 {
+    (ratio * phi / (pins - 1) as f64).to_degrees()
+}
+
 /// Repeats a mesh-cycle curve over one output revolution (`Zc Zp` mesh cycles) and returns
-/// `(input angle in degrees, value)` pairs, the input angle being `i_H phi / Zc`.
+/// `(input angle in degrees, value)` pairs, the input angle being [`input_deg`].
 pub(crate) fn over_revolution(
     crank_angle: &[f64],
     values: &[f64],
     pins: usize,
     ratio: f64,
 ) -> (Vec<f64>, Vec<f64>) {
-    let zc = (pins - 1) as f64;
     let period = TAU / pins as f64;
     let cycles = (pins - 1) * pins;
     let mut x = Vec::with_capacity(cycles * values.len());
     let mut y = Vec::with_capacity(cycles * values.len());
     for c in 0..cycles {
         for (phi, v) in crank_angle.iter().zip(values) {
-            x.push((ratio * (phi + c as f64 * period) / zc).to_degrees());
+            x.push(input_deg(phi + c as f64 * period, pins, ratio));
             y.push(*v);
         }
     }

@@ -313,11 +313,10 @@ pub fn te(
     // Over the output revolution: the mesh cycle tiled, or with part errors every mesh
     // cycle of the revolution.
     let rev = crate::te::revolution(&sa, model.te.samples)?;
-    let zc = (model.cycloid.geometry.pins - 1) as f64;
     let input_deg: Vec<f64> = rev
         .crank_angle
         .iter()
-        .map(|p| (model.reducer.ratio * p / zc).to_degrees())
+        .map(|p| crate::te::input_deg(*p, model.cycloid.geometry.pins, model.reducer.ratio))
         .collect();
     let te_arcmin: Vec<f64> = rev.forward.iter().map(|v| v * ARCMIN_PER_RAD).collect();
     let play_max = if red.errors.is_zero() {

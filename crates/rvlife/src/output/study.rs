@@ -23,7 +23,7 @@ use super::export::{write_profile_sampled, ProfileFormat, EXPORT_POINTS_PER_TOOT
 use super::{f, hours_tag, write_json, write_rows};
 use crate::error::{Error, Result};
 use crate::study::Study;
-use crate::te::over_revolution;
+use crate::te::{input_deg, over_revolution};
 use crate::units::ARCMIN_PER_RAD;
 
 /// Writes all result files of `study` into the existing, empty directory `dir`, ending with
@@ -69,7 +69,7 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
     .map(|s| s.to_string())
     .collect();
     let ratio = study.model.reducer.ratio;
-    let zc = study.model.cycloid.geometry.disc_teeth() as f64;
+    let pins = study.model.cycloid.geometry.pins;
     let mut rows = Vec::new();
     for s in &study.stages {
         for k in 0..s.ste.crank_angle.len() {
@@ -77,7 +77,7 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
             rows.push(vec![
                 f(s.hours),
                 f(phi.to_degrees()),
-                f((ratio * phi / zc).to_degrees()),
+                f(input_deg(phi, pins, ratio)),
                 f(s.ste.forward[k] * ARCMIN_PER_RAD),
                 f(s.ste.reverse[k] * ARCMIN_PER_RAD),
                 f((s.ste.forward[k] + s.ste.reverse[k]) * ARCMIN_PER_RAD),
@@ -88,7 +88,6 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
     write_rows(&dir.join("te_mesh_cycle.csv"), &header, &rows)?;
 
     // te_revolution.csv
-    let pins = study.model.cycloid.geometry.pins;
     let curves: Vec<(Vec<f64>, Vec<f64>)> = study
         .stages
         .iter()
@@ -97,7 +96,7 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
             Some(rev) => (
                 rev.crank_angle
                     .iter()
-                    .map(|phi| (ratio * phi / (pins - 1) as f64).to_degrees())
+                    .map(|phi| input_deg(*phi, pins, ratio))
                     .collect(),
                 rev.forward.clone(),
             ),

@@ -122,22 +122,15 @@ pub fn hysteresis(study: &Study, dir: &Path) -> Result<()> {
             let (plots, strip) = with_legend_strip(root);
             let w = plots.dim_in_pixel().0;
             let (left, right) = plots.split_horizontally(w * 11 / 20);
-            let mut chart = ChartBuilder::on(&left)
-                .caption("Hysteresis curves (input locked)", ("sans-serif", 20))
-                .margin(12)
-                .x_label_area_size(45)
-                .y_label_area_size(60)
-                .build_cartesian_2d(-1.05 * t..1.05 * t, y0..y1)?;
-            chart
-                .configure_mesh()
-                .x_desc("output torque (N m)")
-                .y_desc("output twist (arcmin)")
-                .y_label_formatter(&tick_label)
-                .label_style(("sans-serif", TICK_PX))
-                .axis_desc_style(("sans-serif", TICK_PX))
-                .x_labels(5)
-                .x_label_formatter(&|v| format!("{v:.0}"))
-                .draw()?;
+            let axes = ("output torque (N m)", "output twist (arcmin)");
+            let mut chart = panel(
+                &left,
+                "Hysteresis curves (input locked)",
+                axes,
+                -1.05 * t..1.05 * t,
+                y0..y1,
+                true,
+            )?;
             let mut legend = Legend::new();
             for (i, (h, pts)) in curves.iter().enumerate() {
                 let c = stage_color(i, n);
@@ -145,24 +138,14 @@ pub fn hysteresis(study: &Study, dir: &Path) -> Result<()> {
                 chart.draw_series(pts.iter().map(|p| Circle::new(*p, 2, c.filled())))?;
                 legend.push((format!("{h:.0} h"), Key::Marker(c)));
             }
-            let mut zoom = ChartBuilder::on(&right)
-                .caption(
-                    format!("Near zero: +-{:.0} % of rated torque", 100.0 * ZOOM * m),
-                    ("sans-serif", 20),
-                )
-                .margin(12)
-                .x_label_area_size(45)
-                .y_label_area_size(60)
-                .build_cartesian_2d(-half..half, z0..z1)?;
-            zoom.configure_mesh()
-                .x_desc("output torque (N m)")
-                .y_desc("output twist (arcmin)")
-                .y_label_formatter(&tick_label)
-                .label_style(("sans-serif", TICK_PX))
-                .axis_desc_style(("sans-serif", TICK_PX))
-                .x_labels(5)
-                .x_label_formatter(&|v| format!("{v:.0}"))
-                .draw()?;
+            let mut zoom = panel(
+                &right,
+                &format!("Near zero: +-{:.0} % of rated torque", 100.0 * ZOOM * m),
+                axes,
+                -half..half,
+                z0..z1,
+                true,
+            )?;
             let grey = RGBColor(120, 120, 120);
             zoom.draw_series(std::iter::once(Rectangle::new(
                 [(-m * t, z0), (m * t, z1)],

@@ -9,6 +9,7 @@ use plotters::prelude::*;
 
 use super::*;
 use crate::study::Study;
+use crate::te::{input_deg, over_revolution};
 
 /// `wear.{svg,png}`: the wear depth along the tooth profile (mesh angle) of every stage. The
 /// axis spans the worn part of the profile (to the nearest 10 deg); a note names the part left
@@ -230,25 +231,16 @@ pub(super) fn te(study: &Study, dir: &Path) -> Result<()> {
     let hours: Vec<f64> = study.stages.iter().map(|s| s.hours).collect();
     let zp = study.model.reducer.geometry.pins;
     let ratio = study.model.reducer.ratio;
-    let zc = (zp - 1) as f64;
     let period = std::f64::consts::TAU / zp as f64;
     let with_errors = study.stages.iter().all(|s| s.revolution.is_some());
     // Mesh cycles drawn: in input degrees (the input angle of crank angle phi is i_H phi / Zc).
     let cycles = if with_errors { 3usize } else { 2 };
     let mesh_cycles = |s: &crate::study::Stage, v: &[f64]| -> Polyline {
-        (0..cycles)
-            .flat_map(|c| {
-                s.ste
-                    .crank_angle
-                    .iter()
-                    .zip(v.to_vec())
-                    .map(move |(phi, y)| {
-                        (
-                            (ratio * (phi + c as f64 * period) / zc).to_degrees(),
-                            y * ARCMIN_PER_RAD,
-                        )
-                    })
-            })
+        let (x, y) = over_revolution(&s.ste.crank_angle, v, zp, ratio);
+        x.into_iter()
+            .zip(y)
+            .take(cycles * v.len())
+            .map(|(x, y)| (x, y * ARCMIN_PER_RAD))
             .collect()
     };
     // With part errors, the revolution's own first mesh cycles (the same definition as the
@@ -261,7 +253,7 @@ pub(super) fn te(study: &Study, dir: &Path) -> Result<()> {
                 .iter()
                 .zip(pick(rev))
                 .take(n)
-                .map(|(phi, y)| ((ratio * phi / zc).to_degrees(), y * ARCMIN_PER_RAD))
+                .map(|(phi, y)| (input_deg(*phi, zp, ratio), y * ARCMIN_PER_RAD))
                 .collect()
         })
     };
@@ -275,7 +267,7 @@ pub(super) fn te(study: &Study, dir: &Path) -> Result<()> {
         .iter()
         .map(|s| first_cycles(s, |r| &r.reverse).unwrap_or_else(|| mesh_cycles(s, &s.ste.reverse)))
         .collect();
-    let zoom_end = (ratio * cycles as f64 * period / zc).to_degrees();
+    let zoom_end = input_deg(cycles as f64 * period, zp, ratio);
     let range = |c: &[Polyline]| series_range(c.iter().flatten().map(|p| p.1));
     // With part errors: per stage, (bin centre deg, min, mean, max) in arcmin over the output
     // revolution, in the most bins (at most 360) holding a whole number of mesh cycles each.
@@ -317,25 +309,17 @@ pub(super) fn te(study: &Study, dir: &Path) -> Result<()> {
             let grey = RGBColor(90, 90, 90);
             if with_errors {
                 let (t0, t1) = series_range(envelopes.iter().flatten().flat_map(|e| [e[1], e[3]]));
-                let mut chart = ChartBuilder::on(&top)
-                    .caption(
-                        format!(
-                            "Forward STE over one output revolution ({all_cycles} mesh cycles)"
-                        ),
-                        ("sans-serif", 20),
-                    )
-                    .margin(10)
-                    .x_label_area_size(40)
-                    .y_label_area_size(65)
-                    .build_cartesian_2d(0.0..360.0, t0..t1)?;
-                chart
-                    .configure_mesh()
-                    .x_desc(format!("output angle (deg) = input angle / {ratio:.0}"))
-                    .y_desc("STE (arcmin)")
-                    .y_label_formatter(&tick_label)
-                    .label_style(("sans-serif", TICK_PX))
-                    .axis_desc_style(("sans-serif", TICK_PX))
-                    .draw()?;
+                let mut chart = panel(
+                    &top,
+                    &format!("Forward STE over one output revolution ({all_cycles} mesh cycles)"),
+                    (
+                        &format!("output angle (deg) = input angle / {ratio:.0}"),
+                        "STE (arcmin)",
+                    ),
+                    0.0..360.0,
+                    t0..t1,
+                    false,
+                )?;
                 for (i, env) in envelopes.iter().enumerate() {
                     let c = stage_color(i, n);
                     if i + 1 == envelopes.len() {
@@ -356,23 +340,14 @@ pub(super) fn te(study: &Study, dir: &Path) -> Result<()> {
                 }
             } else {
                 let (f0, f1) = range(&forward);
-                let mut chart = ChartBuilder::on(&top)
-                    .caption(
-                        format!("Forward STE (the flank that wears), {cycles} mesh cycles"),
-                        ("sans-serif", 20),
-                    )
-                    .margin(10)
-                    .x_label_area_size(40)
-                    .y_label_area_size(65)
-                    .build_cartesian_2d(0.0..zoom_end, f0..f1)?;
-                chart
-                    .configure_mesh()
-                    .x_desc("input angle (deg)")
-                    .y_desc("STE (arcmin)")
-                    .y_label_formatter(&tick_label)
-                    .label_style(("sans-serif", TICK_PX))
-                    .axis_desc_style(("sans-serif", TICK_PX))
-                    .draw()?;
+                let mut chart = panel(
+                    &top,
+                    &format!("Forward STE (the flank that wears), {cycles} mesh cycles"),
+                    ("input angle (deg)", "STE (arcmin)"),
+                    0.0..zoom_end,
+                    f0..f1,
+                    false,
+                )?;
                 for (i, f) in forward.iter().enumerate() {
                     let c = stage_color(i, n);
                     chart.draw_series(LineSeries::new(f.iter().copied(), c.stroke_width(2)))?;
@@ -385,27 +360,19 @@ pub(super) fn te(study: &Study, dir: &Path) -> Result<()> {
             } else {
                 range(&reverse)
             };
-            let mut chart = ChartBuilder::on(&bottom)
-                .caption(
-                    if with_errors {
-                        format!("{cycles} mesh cycles, forward and reverse")
-                    } else {
-                        format!("Reverse STE (the flank loaded by negative torque), {cycles} mesh cycles")
-                    },
-                    ("sans-serif", 20),
-                )
-                .margin(10)
-                .x_label_area_size(45)
-                .y_label_area_size(65)
-                .build_cartesian_2d(0.0..zoom_end, r0..r1)?;
-            chart
-                .configure_mesh()
-                .x_desc("input angle (deg)")
-                .y_desc("STE (arcmin)")
-                .y_label_formatter(&tick_label)
-                .label_style(("sans-serif", TICK_PX))
-                .axis_desc_style(("sans-serif", TICK_PX))
-                .draw()?;
+            let caption = if with_errors {
+                format!("{cycles} mesh cycles, forward and reverse")
+            } else {
+                format!("Reverse STE (the flank loaded by negative torque), {cycles} mesh cycles")
+            };
+            let mut chart = panel(
+                &bottom,
+                &caption,
+                ("input angle (deg)", "STE (arcmin)"),
+                0.0..zoom_end,
+                r0..r1,
+                false,
+            )?;
             for (i, (f, r)) in forward.iter().zip(&reverse).enumerate() {
                 let c = stage_color(i, n);
                 if with_errors {

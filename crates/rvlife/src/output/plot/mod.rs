@@ -245,6 +245,47 @@ where
     Ok(chart)
 }
 
+/// Axes of one panel of a detailed plot on `area`: `caption` above, the axis titles
+/// `(x_desc, y_desc)`, tick labels and titles at [`TICK_PX`], the y ticks by [`tick_label`]; with
+/// `whole_x`, five x ticks as whole numbers.
+fn panel<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    caption: &str,
+    (x_desc, y_desc): (&str, &str),
+    x: std::ops::Range<f64>,
+    y: std::ops::Range<f64>,
+    whole_x: bool,
+) -> std::result::Result<
+    ChartContext<
+        'a,
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    Box<dyn std::error::Error>,
+>
+where
+    DB::ErrorType: 'static,
+{
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", 20))
+        .margin(10)
+        .x_label_area_size(45)
+        .y_label_area_size(65)
+        .build_cartesian_2d(x, y)?;
+    let whole = |v: &f64| format!("{v:.0}");
+    let mut mesh = chart.configure_mesh();
+    mesh.x_desc(x_desc)
+        .y_desc(y_desc)
+        .y_label_formatter(&tick_label)
+        .label_style(("sans-serif", TICK_PX))
+        .axis_desc_style(("sans-serif", TICK_PX));
+    if whole_x {
+        mesh.x_labels(5).x_label_formatter(&whole);
+    }
+    mesh.draw()?;
+    Ok(chart)
+}
+
 /// Size of the tick labels and axis titles of the plots against hours, px (readable at the
 /// default 1000 px width).
 const AXIS_LABEL_PX: u32 = 16;
