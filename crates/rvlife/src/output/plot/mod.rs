@@ -17,6 +17,12 @@ const SIZE: (u32, u32) = (1000, 640);
 type Polyline = Vec<(f64, f64)>;
 /// A labelled, coloured polyline in plot coordinates.
 type Curve = (String, Vec<(f64, f64)>, RGBColor);
+/// A chart with `f64` axes both ways, as every plot here draws.
+type Chart<'a, DB> = ChartContext<
+    'a,
+    DB,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
 /// One number of a stage summary, for the against-hours plot.
 type StageValue = fn(&crate::quantities::StageSummary) -> f64;
 
@@ -217,14 +223,7 @@ fn hours_axes<'a, DB: DrawingBackend>(
     y_desc: &str,
     h_max: f64,
     y: (f64, f64),
-) -> std::result::Result<
-    ChartContext<
-        'a,
-        DB,
-        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
-    >,
-    Box<dyn std::error::Error>,
->
+) -> std::result::Result<Chart<'a, DB>, Box<dyn std::error::Error>>
 where
     DB::ErrorType: 'static,
 {
@@ -255,14 +254,7 @@ fn panel<'a, DB: DrawingBackend>(
     x: std::ops::Range<f64>,
     y: std::ops::Range<f64>,
     whole_x: bool,
-) -> std::result::Result<
-    ChartContext<
-        'a,
-        DB,
-        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
-    >,
-    Box<dyn std::error::Error>,
->
+) -> std::result::Result<Chart<'a, DB>, Box<dyn std::error::Error>>
 where
     DB::ErrorType: 'static,
 {

@@ -384,11 +384,7 @@ fn hours_with_life(study: &Study) -> f64 {
 /// (or, within spec to the horizon, a note), adding them to `legend`; `hmax` is the hours
 /// axis' end (h).
 fn spec_and_life<DB: DrawingBackend>(
-    chart: &mut ChartContext<
-        '_,
-        DB,
-        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
-    >,
+    chart: &mut Chart<'_, DB>,
     study: &Study,
     drawn: &[(&str, RGBColor)],
     hmax: f64,
@@ -621,11 +617,7 @@ fn dte_hours(sums: &[crate::quantities::StageSummary], dir: &Path) -> Result<()>
 
 /// Draws one labelled line with markers per `(label, colour, value)` against the stages' hours.
 fn stage_lines<DB: DrawingBackend>(
-    chart: &mut ChartContext<
-        '_,
-        DB,
-        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
-    >,
+    chart: &mut Chart<'_, DB>,
     sums: &[crate::quantities::StageSummary],
     lines: &[(&str, RGBColor, StageValue)],
 ) -> std::result::Result<Legend, Box<dyn std::error::Error>>
