@@ -16,6 +16,41 @@ use rvlife::quantities::{self, ConsoleColumn, StageSummary, CONSOLE, STAGE};
 use rvlife::Result;
 use serde_json::{json, Value};
 
+/// `println!` for the console's result lines: a number that rounds to zero is printed without
+/// a sign (`0.00000`, not the round-off's `-0.00000`).
+macro_rules! say {
+    ($($t:tt)*) => {
+        println!("{}", unsigned_zeros(&format!($($t)*)))
+    };
+}
+
+/// `text` with the minus sign of every number that is all zeros (`-0`, `-0.000`) removed (a
+/// space in its place where padding precedes it, so that columns stay aligned).
+fn unsigned_zeros(text: &str) -> String {
+    let b = text.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    for (i, &c) in b.iter().enumerate() {
+        if c == b'-' && (i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'.')) {
+            let rest = &b[i + 1..];
+            let n = rest.iter().take_while(|&&d| d == b'0' || d == b'.').count();
+            let next = rest.get(n);
+            let zero = n > 0
+                && rest[0] == b'0'
+                && !matches!(next, Some(d) if d.is_ascii_digit() || *d == b'e' || *d == b'E');
+            if zero {
+                // In a right-aligned column (padding before it) a space keeps the width.
+                if i >= 2 && b[i - 1] == b' ' && b[i - 2] == b' ' {
+                    out.push(b' ');
+                }
+                continue;
+            }
+        }
+        out.push(c);
+    }
+    // Only ASCII minus signs were removed: still UTF-8.
+    String::from_utf8(out).unwrap_or_else(|_| text.to_string())
+}
+
 #[derive(Parser)]
 #[command(
     name = "rvlife",
@@ -26,7 +61,12 @@ struct Cli {
     /// Work budget, minutes of estimated computing on a 2-core machine: a config or command
     /// whose estimated work exceeds it is refused before it starts, naming the key that drives
     /// it.
-    #[arg(long, global = true, default_value_t = rvlife::budget::DEFAULT_MINUTES)]
+    #[arg(
+        long,
+        global = true,
+        default_value_t = rvlife::budget::DEFAULT_MINUTES,
+        allow_negative_numbers = true
+    )]
     work_budget_min: f64,
     #[command(subcommand)]
     command: Command,
@@ -114,7 +154,7 @@ enum Command {
         #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
         crank_deg: f64,
         /// Torque levels per side beyond the measuring torque.
-        #[arg(long, default_value_t = 10)]
+        #[arg(long, default_value_t = 10, allow_negative_numbers = true, value_parser = whole::<u32>)]
         levels: u32,
         /// Print one JSON object.
         #[arg(long)]
@@ -159,21 +199,21 @@ enum Command {
         /// Config file (default: the built-in example).
         config: Option<PathBuf>,
         /// Number of sampled reducers of the whole run.
-        #[arg(long, default_value_t = 100)]
+        #[arg(long, default_value_t = 100, allow_negative_numbers = true, value_parser = whole::<usize>)]
         samples: usize,
         /// Seed: same seed, same bytes.
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = whole::<u64>)]
         seed: u64,
         /// `I/N`: run only the I-th (1-based) of N disjoint parts of the samples; `/N` takes I
         /// from SLURM_ARRAY_TASK_ID (cluster job arrays with `--array=1-N`); `rvlife merge`
         /// combines the parts.
-        #[arg(long)]
+        #[arg(long, allow_hyphen_values = true)]
         shard: Option<String>,
         /// Integrate every sample's own wear instead of sharing the nominal reducer's.
         #[arg(long)]
         full_wear: bool,
         /// Crank angles per mesh cycle of the hysteresis curves and the revolution TE.
-        #[arg(long, default_value_t = 4)]
+        #[arg(long, default_value_t = 4, allow_negative_numbers = true, value_parser = whole::<usize>)]
         samples_per_mesh_cycle: usize,
         /// Results directory.
         #[arg(long, default_value = "rvlife-montecarlo")]
@@ -249,7 +289,7 @@ impl WearArgs {
 
 /// The percentiles at the last stage and the life distribution, to stdout.
 fn print_montecarlo(model: &Model, records: &[rvlife::montecarlo::SampleRecord]) {
-    println!(
+    say!(
         "{}",
         rvlife::output::montecarlo::verdict(records, &model.wear.stage_hours, &model.life)
     );
@@ -258,18 +298,21 @@ fn print_montecarlo(model: &Model, records: &[rvlife::montecarlo::SampleRecord])
     }
     let pct = rvlife::montecarlo::percentiles(records, &model.wear.stage_hours);
     let last = model.wear.stage_hours.last().copied().unwrap_or(0.0);
-    println!("at {last:.0} h: quantity, p5, p50, p95");
+    say!("at {last:.0} h: quantity, p5, p50, p95");
     for p in pct.iter().filter(|p| p.hours == last) {
-        println!(
+        say!(
             "  {:36} {:10.4} {:10.4} {:10.4}",
-            p.quantity, p.p5, p.p50, p.p95
+            p.quantity,
+            p.p5,
+            p.p50,
+            p.p95
         );
     }
     if model.life.any() {
         let l = rvlife::montecarlo::life_distribution(records);
         let horizon = model.life.max_hours.unwrap_or(10.0 * last);
         let h = |v: Option<f64>| v.map_or(format!("> {horizon:.0} h"), |x| format!("{x:.0} h"));
-        println!(
+        say!(
             "accuracy life: 5 % {}, B10 {}, B50 {}, 95 % {}; {:.1} % beyond {horizon:.0} h; limited by {:?}",
             h(l.p5_h),
             h(l.b10_h),
@@ -282,6 +325,14 @@ fn print_montecarlo(model: &Model, records: &[rvlife::montecarlo::SampleRecord])
 }
 
 /// The JSON value of a result (an object's keys sorted, as `--json` prints it).
+/// A whole-number option (`--samples`, `--seed`): a negative or fractional value is refused
+/// by clap (exit 2) naming the option and the value, instead of being read as an option.
+fn whole<T: std::str::FromStr>(s: &str) -> std::result::Result<T, String> {
+    s.trim()
+        .parse::<T>()
+        .map_err(|_| "must be a whole number, 0 or more (in range of the option)".to_string())
+}
+
 fn to_json<T: serde::Serialize>(v: &T) -> Result<Value> {
     serde_json::to_value(v).map_err(|e| rvlife::Error::numerical("json", e.to_string()))
 }
@@ -371,7 +422,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Example { preset, list } => {
             if list {
                 for p in rvlife::config::PRESETS {
-                    println!("{:8} {}", p.name, p.summary);
+                    say!("{:8} {}", p.name, p.summary);
                 }
             } else {
                 print!("{}", rvlife::config::preset_text(&preset)?);
@@ -388,11 +439,12 @@ fn run(cli: Cli) -> Result<()> {
             force,
             keep_going,
         } => {
+            // Read after the checks of `load_config` (a regular file within the size cap).
+            let cfg = load_config(config.as_deref(), budget)?;
             let text = match &config {
-                Some(p) => std::fs::read_to_string(p).unwrap_or_default(),
+                Some(p) => rvlife::input::read_text(p).unwrap_or_default(),
                 None => rvlife::config::EXAMPLE_TOML.to_string(),
             };
-            let cfg = load_config(config.as_deref(), budget)?;
             let model = validated(&cfg)?;
             let plan = rvlife::api::montecarlo_plan(
                 &model,
@@ -424,7 +476,7 @@ fn run(cli: Cli) -> Result<()> {
                 }
             })?;
             let ok = records.iter().filter(|r| r.status == "ok").count();
-            println!(
+            say!(
                 "rvlife montecarlo: {} samples ({} ok), {:.2} s; results in {}",
                 records.len(),
                 ok,
@@ -456,7 +508,7 @@ fn run(cli: Cli) -> Result<()> {
             let staging = rvlife::output::Staging::prepare(&out, force)?;
             staging
                 .commit(|dir| rvlife::output::montecarlo::write_results(dir, &meta, &records))?;
-            println!(
+            say!(
                 "rvlife merge: {} shards, {} samples; results in {}",
                 shards.len(),
                 records.len(),
@@ -490,7 +542,7 @@ fn run(cli: Cli) -> Result<()> {
             staging.commit(|dir| rvlife::output::write_files(&study, dir))?;
             pb.finish_and_clear();
             let s = study.summary();
-            println!(
+            say!(
                 "rvlife study: i_H = {:.2}, {} stages, {} wear-rate evaluations, {:.2} s; results in {}",
                 s.ratio,
                 s.stages.len(),
@@ -498,13 +550,13 @@ fn run(cli: Cli) -> Result<()> {
                 start.elapsed().as_secs_f64(),
                 out.display()
             );
-            println!("{}", study.verdict());
+            say!("{}", study.verdict());
             print_stage_table(&s.stages);
             if all {
                 print_all_quantities(&s.stages);
             }
             if let Some(p) = &s.paper_comparison {
-                println!(
+                say!(
                     "against the paper: STE {:.4} arcmin per 10 um of the worn profile's largest \
                      depth; a uniform 10 um offset (the paper's assumption) {:.4}; the paper's \
                      rigid Adams model {:.4} at 10 um",
@@ -514,10 +566,12 @@ fn run(cli: Cli) -> Result<()> {
                 );
             }
             if let Some(l) = &s.validity_limit {
-                println!(
+                say!(
                     "the model leaves its validity at {:.0} h ({:.2} um of wear): {}; the stages \
                      from there on are not reported",
-                    l.hours, l.max_wear_um, l.reason
+                    l.hours,
+                    l.max_wear_um,
+                    l.reason
                 );
             }
         }
@@ -560,7 +614,7 @@ fn run(cli: Cli) -> Result<()> {
             if json {
                 print_json(&r)?;
             } else {
-                println!(
+                say!(
                     "crank {crank_deg} deg, output torque {torque_nm} N m ({} support): twist {:.5} arcmin (first contact {:.5}), max force {:.1} N, max pressure {:.1} MPa, residual {:.1e}",
                     r.support,
                     r.twist_arcmin,
@@ -570,7 +624,7 @@ fn run(cli: Cli) -> Result<()> {
                     r.residual
                 );
                 for (i, d) in r.discs.iter().enumerate() {
-                    println!(
+                    say!(
                         "disc {}: pin moment {:.2} N m, translation ({:.3}, {:.3}) um, {} pins in contact",
                         i + 1,
                         d.pin_moment_nm,
@@ -578,13 +632,18 @@ fn run(cli: Cli) -> Result<()> {
                         d.translation_um[1],
                         d.pins_in_contact
                     );
-                    println!(
+                    say!(
                         "{:>4} {:>10} {:>10} {:>10} {:>10} {:>10}",
-                        "pin", "mesh_deg", "gap_um", "force_N", "b_um", "p0_MPa"
+                        "pin",
+                        "mesh_deg",
+                        "gap_um",
+                        "force_N",
+                        "b_um",
+                        "p0_MPa"
                     );
                     for p in d.pins.iter().filter(|p| p.force_n > 0.0) {
                         // The pin number unpadded, as the JSON value it once was printed from.
-                        println!(
+                        say!(
                             "{} {:>10.3} {:>10.4} {:>10.2} {:>10.3} {:>10.1}",
                             p.pin,
                             p.mesh_angle_deg,
@@ -611,7 +670,7 @@ fn run(cli: Cli) -> Result<()> {
             if json {
                 print_json(&r)?;
             } else {
-                println!(
+                say!(
                     "STE mean {:.5} arcmin, peak-to-peak {:.5} arcmin; angular TE {:.5} arcmin over an output revolution; backlash {:.5} arcmin (largest {:.5}); lost motion {:.5} arcmin (+-{:.1} N m)",
                     r.te_mean_arcmin,
                     r.te_peak_to_peak_arcmin,
@@ -622,9 +681,10 @@ fn run(cli: Cli) -> Result<()> {
                     r.measuring_torque_nm
                 );
                 if let (Some(t), Some(l)) = (torque_nm, &r.loaded) {
-                    println!(
+                    say!(
                         "loaded TE at {t} N m: mean {:.5} arcmin, peak-to-peak {:.5} arcmin",
-                        l.loaded_te_mean_arcmin, l.loaded_te_peak_to_peak_arcmin
+                        l.loaded_te_mean_arcmin,
+                        l.loaded_te_peak_to_peak_arcmin
                     );
                 }
             }
@@ -652,7 +712,7 @@ fn run(cli: Cli) -> Result<()> {
                 print_json(&r)?;
             } else {
                 let (a, b) = (&r.mesh_cycle_mean, &r.at_crank_angle);
-                println!(
+                say!(
                     "mean over a mesh cycle: backlash {:.5} arcmin, lost motion {:.5} arcmin (+-{:.1} N m), hysteresis loss {:.5} arcmin, torsional stiffness {:.1} N m/arcmin (b/a)",
                     a.backlash_arcmin,
                     a.lost_motion_arcmin,
@@ -660,7 +720,7 @@ fn run(cli: Cli) -> Result<()> {
                     a.hysteresis_loss_arcmin,
                     a.torsional_stiffness_nm_per_arcmin
                 );
-                println!(
+                say!(
                     "at crank {crank_deg} deg: backlash {:.5} arcmin, lost motion {:.5} arcmin, torsional stiffness {:.1} N m/arcmin",
                     b.backlash_arcmin, b.lost_motion_arcmin, b.torsional_stiffness_nm_per_arcmin
                 );
@@ -670,15 +730,15 @@ fn run(cli: Cli) -> Result<()> {
                         .iter()
                         .map(|s| format!("{} {:.1} %", s.part, 100.0 * s.share))
                         .collect();
-                    println!(
+                    say!(
                         "share of the elastic twist at {} N m: {}",
                         r.rated_torque_nm,
                         parts.join(", ")
                     );
                 }
-                println!("{:>12} {:>14}", "torque_N_m", "twist_arcmin");
+                say!("{:>12} {:>14}", "torque_N_m", "twist_arcmin");
                 for (t, x) in a.torque_nm.iter().zip(&a.twist_arcmin) {
-                    println!("{t:>12.3} {x:>14.6}");
+                    say!("{t:>12.3} {x:>14.6}");
                 }
             }
         }
@@ -718,13 +778,13 @@ fn run(cli: Cli) -> Result<()> {
             let s = &res.summary;
             v["wall_time_s"] = json!(wall);
             if json {
-                println!("{v}");
+                say!("{v}");
             } else {
-                println!(
+                say!(
                     "DTE over {:.3}-{:.3} s: mean {:.4} arcmin, peak-to-peak {:.4} arcmin, RMS {:.4} arcmin",
                     s.window_start_s, s.window_end_s, s.te_mean_arcmin, s.te_peak_to_peak_arcmin, s.te_rms_arcmin
                 );
-                println!(
+                say!(
                     "output speed {:.4} deg/s (input / i_H: {:.4}); max pin force {:.1} N; {} steps of {}, {} evaluations and {} Jacobian columns, {:.2} s",
                     s.output_speed_deg_s,
                     s.nominal_output_speed_deg_s,
@@ -739,10 +799,10 @@ fn run(cli: Cli) -> Result<()> {
                     eprintln!("warning: esdirk34 failed ({why}); the run was repeated with tsit45");
                 }
                 if s.disc_modes > 0 {
-                    println!("flexible discs: {} elastic modes each", s.disc_modes);
+                    say!("flexible discs: {} elastic modes each", s.disc_modes);
                 }
                 if let Some(dir) = &out {
-                    println!("results in {}", dir.display());
+                    say!("results in {}", dir.display());
                 }
             }
         }
@@ -775,7 +835,7 @@ fn run(cli: Cli) -> Result<()> {
             let calibrated = rvlife::wear::calibrate(&model.wear_inputs(), target_wear_um * 1e-6);
             pb.finish_and_clear();
             let (k, achieved) = calibrated?;
-            println!(
+            say!(
                 "archard_coefficient_mm3_per_n_m = {:.6e}   # max wear {:.4} um at {} h",
                 k * 1e9,
                 achieved * 1e6,
@@ -825,7 +885,7 @@ fn calibrate_measured(
     } else {
         (&cal.archard_coefficient_mm3_per_n_m, "mm^3/(N m)")
     };
-    println!(
+    say!(
         "{} = {:.6e}   # {unit}; {pct:.0} % CI [{:.6e}, {:.6e}]; {:.4} x the config's",
         model.wear.archard_key.trim_start_matches("wear."),
         k.value,
@@ -833,7 +893,7 @@ fn calibrate_measured(
         k.upper,
         cal.archard_coefficient_m2_per_n.value / cal.config_archard_coefficient_m2_per_n
     );
-    println!(
+    say!(
         "k = {:.6e} m^2/N, {pct:.0} % CI [{:.6e}, {:.6e}] (Gauss-Newton covariance, Student-t \
          with {} degrees of freedom, {} values, residual variance from the data)",
         cal.archard_coefficient_m2_per_n.value,
@@ -843,25 +903,32 @@ fn calibrate_measured(
         cal.points
     );
     if let Some(b) = &cal.running_in_backlash_arcmin {
-        println!(
+        say!(
             "running-in play b0 = {:.5} arcmin, {pct:.0} % CI [{:.5}, {:.5}]",
-            b.value, b.lower, b.upper
+            b.value,
+            b.lower,
+            b.upper
         );
     }
     if let (Some(r), Some(tau)) = (&cal.running_in_factor, cal.running_in_hours) {
-        println!(
+        say!(
             "running_in_factor = {:.5}   # {pct:.0} % CI [{:.5}, {:.5}]; running_in_hours = {tau} \
              (the config's, not fitted)",
-            r.value, r.lower, r.upper
+            r.value,
+            r.lower,
+            r.upper
         );
     }
     for q in &cal.quantities {
-        println!(
+        say!(
             "{}: RMS residual {:.5} {} over {} values",
-            q.column, q.rms_residual, q.unit, q.points
+            q.column,
+            q.rms_residual,
+            q.unit,
+            q.points
         );
     }
-    println!(
+    say!(
         "{} reference studies ({} stages), {:.2} s{}",
         cal.reference_runs,
         cal.reference_stages,
@@ -927,10 +994,8 @@ fn print_stage_table(stages: &[StageSummary]) {
         .collect();
     let flexible = shown.iter().any(|c| c.header.starts_with("flex"));
     let dynamic = shown.iter().any(|c| c.header.starts_with("DTE"));
-    println!(
-        "units: hours h, wear um (largest depth), Fmax N, pmax MPa, every other column arcmin"
-    );
-    println!(
+    say!("units: hours h, wear um (largest depth), Fmax N, pmax MPa, every other column arcmin");
+    say!(
         "STE, STE_pp: no-load mean and peak-to-peak; LM: lost motion (+-3 % of rated torque); \
          loadTE: loaded TE{}{}",
         if dynamic { "; DTE: dynamic run" } else { "" },
@@ -940,13 +1005,13 @@ fn print_stage_table(stages: &[StageSummary]) {
         .iter()
         .map(|c| format!("{:>w$}", c.header, w = c.width))
         .collect();
-    println!("{}", header.join(" "));
+    say!("{}", header.join(" "));
     for st in stages {
         let row: Vec<String> = shown
             .iter()
             .map(|c| format!("{:>w$}", c.cell(st).unwrap_or_default(), w = c.width))
             .collect();
-        println!("{}", row.join(" "));
+        say!("{}", row.join(" "));
     }
 }
 
@@ -954,7 +1019,7 @@ fn print_stage_table(stages: &[StageSummary]) {
 /// quantity (its name with its unit) and one column per stage (`-` where it is absent).
 fn print_all_quantities(stages: &[StageSummary]) {
     let width = STAGE.iter().map(|q| q.name.len()).max().unwrap_or(0);
-    println!("every quantity of the stages (stages.csv, summary.json):");
+    say!("every quantity of the stages (stages.csv, summary.json):");
     for q in STAGE {
         let cells: Vec<String> = stages
             .iter()
@@ -965,6 +1030,21 @@ fn print_all_quantities(stages: &[StageSummary]) {
                 quantities::Value::Absent => format!("{:>12}", "-"),
             })
             .collect();
-        println!("  {:w$} {}", q.name, cells.join(" "), w = width);
+        say!("  {:w$} {}", q.name, cells.join(" "), w = width);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::unsigned_zeros;
+
+    #[test]
+    fn zeros_lose_their_round_off_sign_and_nothing_else_does() {
+        assert_eq!(
+            unsigned_zeros("mean -0.00000 arcmin, -0 N m, [-0.000, -0.001], 1e-0, x-0.0"),
+            "mean 0.00000 arcmin, 0 N m, [0.000, -0.001], 1e-0, x-0.0"
+        );
+        assert_eq!(unsigned_zeros("-0.0e0 -10 -0.5 -00"), "-0.0e0 -10 -0.5 00");
+        assert_eq!(unsigned_zeros("     -0.000  -1.6"), "      0.000  -1.6");
     }
 }

@@ -357,11 +357,15 @@ fn run_writes_the_results_directory() {
     );
     assert_eq!(leftover_tmp_dirs(dir.path()), Vec::<String>::new());
 
-    // With --force: replaced (a stray file disappears).
-    std::fs::write(out.join("stray.txt"), "x").unwrap();
+    // With --force: replaced; but not once it holds a file the run did not write (the user's
+    // file is kept, with the results).
     ok(&run(&["--force"]), "rvlife run --force");
     assert!(out.join("summary.json").is_file());
-    assert!(!out.join("stray.txt").exists(), "--force kept an old file");
+    std::fs::write(out.join("stray.txt"), "x").unwrap();
+    let before = snapshot(&out);
+    let o = run(&["--force"]);
+    assert_input_error(&o, "--force over a user's file", &["stray.txt"]);
+    assert_eq!(snapshot(&out), before);
     assert_eq!(leftover_tmp_dirs(dir.path()), Vec::<String>::new());
 }
 

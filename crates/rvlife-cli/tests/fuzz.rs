@@ -9,11 +9,20 @@
 //! infinity in any output; an exit 2 must print one `error: invalid ...`/`error: config ...`
 //! line naming a key.
 //!
+//! The base config carries part errors of a precision reducer's size (`[errors]`), so that the
+//! gear, bearing and part-error keys are mutated with the rest. A second test fuzzes the
+//! newer commands: `montecarlo` on a mutated config (its `[tolerances]` and `[life]` keys
+//! among the rest), `merge` of shards with one mutated cell, and `calibrate --measured` with a
+//! generated measurements file. Each prints its cases, outcomes and slowest refusal.
+//!
 //! `RVLIFE_FUZZ_CASES` sets the number of cases (default 60, the CI run; the seed is fixed, so
-//! CI runs the same cases every time, and `RVLIFE_FUZZ_SEED` picks others).
+//! CI runs the same cases every time, and `RVLIFE_FUZZ_SEED` picks others);
+//! `RVLIFE_FUZZ_COMMAND_CASES` those of the newer commands (default 12).
 
 use std::process::Command;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::Instant;
 
 use proptest::prelude::*;
 use proptest::test_runner::{Config as RunnerConfig, RngAlgorithm, TestRng, TestRunner};
@@ -21,6 +30,35 @@ use serde_json::Value;
 
 mod common;
 use common::{assert_all_finite, rvlife_within};
+
+/// Part errors of a precision reducer's size (a few micrometres and arcminutes).
+const ERRORS: &str =
+    "\n[errors]\npin_radial_um = [1.0, -1.0, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, \
+0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, \
+0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -0.5]\npin_circle_runout_um = 0.5\n\
+pin_circle_runout_deg = 30.0\ncrank_eccentricity_um = [1.0, -1.0]\n\
+crank_phase_arcmin = [0.5, 0.0]\n";
+
+/// The slowest refusal (exit 2) so far of each test: seconds and the case.
+static SLOWEST_RUN: Mutex<(f64, String)> = Mutex::new((0.0, String::new()));
+static SLOWEST_COMMAND: Mutex<(f64, String)> = Mutex::new((0.0, String::new()));
+
+fn note_refusal(slowest: &Mutex<(f64, String)>, secs: f64, case: &str) {
+    let mut s = slowest.lock().unwrap_or_else(|e| e.into_inner());
+    if secs > s.0 {
+        *s = (secs, case.to_string());
+    }
+}
+
+fn slowest_refusal(slowest: &Mutex<(f64, String)>) -> String {
+    let s = slowest.lock().unwrap_or_else(|e| e.into_inner());
+    let first =
+        s.1.lines()
+            .rev()
+            .find(|l| l.starts_with("error"))
+            .unwrap_or("");
+    format!("{:.2} s ({first})", s.0)
+}
 
 /// The example, fast: no dynamics, no flexible disc, stages at 0, 500 and 1000 h.
 fn base_config() -> String {
@@ -41,6 +79,7 @@ fn base_config() -> String {
         .collect::<Vec<_>>()
         .join("\n")
         + "\n"
+        + ERRORS
 }
 
 /// Indices of the `key = value` lines of `text`.
@@ -78,6 +117,10 @@ const VALUES: &[&str] = &[
     "[0.0]",
     "[1e308]",
     "-0.0",
+    "{ normal = -1.0 }",
+    "{ uniform = 1e300 }",
+    "{ iso_grade = 99 }",
+    "{ }",
 ];
 
 #[derive(Debug, Clone)]
@@ -201,6 +244,7 @@ fn check_case(text: &str, duty: Option<&str>) {
     }
     std::fs::write(&cfg, &text).unwrap();
     let out = dir.path().join("results");
+    let start = Instant::now();
     let o = rvlife_within(
         240,
         [
@@ -225,6 +269,7 @@ fn check_case(text: &str, duty: Option<&str>) {
         }
         Some(2) => {
             EXIT_2.fetch_add(1, Ordering::Relaxed);
+            note_refusal(&SLOWEST_RUN, start.elapsed().as_secs_f64(), &case);
             assert!(
                 err.lines().any(|l| l.starts_with("error: ")),
                 "exit 2 without an error line\n{case}"
@@ -274,9 +319,287 @@ fn fuzzed_configs_end_with_exit_0_or_2_and_finite_outputs() {
         Ok(())
     });
     eprintln!(
-        "fuzz: {cases} cases (seed {seed}): {} exit 0, {} exit 2",
+        "fuzz: {cases} cases (seed {seed}): {} exit 0, {} exit 2; slowest refusal {}",
         EXIT_0.load(Ordering::Relaxed),
-        EXIT_2.load(Ordering::Relaxed)
+        EXIT_2.load(Ordering::Relaxed),
+        slowest_refusal(&SLOWEST_RUN)
+    );
+    if let Err(e) = result {
+        panic!("{e}");
+    }
+}
+
+/// A case of the newer commands.
+#[derive(Debug, Clone)]
+enum CommandCase {
+    /// `montecarlo --samples 2` on the base config with these mutations.
+    MonteCarlo(Vec<Mutation>),
+    /// `merge` of two shards with one cell changed: file (samples.csv, stages.csv,
+    /// shard.json), row, column, value index in [`CELLS`].
+    Merge(usize, usize, usize, usize),
+    /// `calibrate --measured`: column index in [`COLUMNS`], rows of (hours, value) indices in
+    /// [`HOURS`] and [`CELLS`].
+    Calibrate(usize, Vec<(usize, usize)>),
+}
+
+const CELLS: &[&str] = &[
+    "nan", "inf", "-1", "1e300", "", "abc", "0", "-0", "1e-300", "0.9", "0.7",
+];
+const HOURS: &[&str] = &[
+    "0", "100", "600", "1550", "-5", "nan", "1e300", "1e-300", "",
+];
+const COLUMNS: &[&str] = &[
+    "lost_motion_arcmin",
+    "backlash_arcmin",
+    "max_wear_um",
+    "angular_te_arcmin",
+    "bogus",
+];
+
+fn command_case() -> impl Strategy<Value = CommandCase> {
+    prop_oneof![
+        2 => prop::collection::vec(mutation(), 1..=2).prop_map(CommandCase::MonteCarlo),
+        2 => (0..3usize, any::<usize>(), any::<usize>(), 0..CELLS.len())
+            .prop_map(|(f, r, c, v)| CommandCase::Merge(f, r, c, v)),
+        1 => (
+            0..COLUMNS.len(),
+            prop::collection::vec(
+                (
+                    prop_oneof![4 => 0..4usize, 1 => 0..HOURS.len()],
+                    prop_oneof![4 => 9..11usize, 1 => 0..CELLS.len()],
+                ),
+                0..6
+            )
+        )
+            .prop_map(|(c, rows)| CommandCase::Calibrate(c, rows)),
+    ]
+}
+
+/// Two shards of a two-sample Monte Carlo run of the base config, computed once.
+fn shards() -> &'static (tempfile::TempDir, [std::path::PathBuf; 2]) {
+    static SHARDS: std::sync::OnceLock<(tempfile::TempDir, [std::path::PathBuf; 2])> =
+        std::sync::OnceLock::new();
+    SHARDS.get_or_init(|| {
+        let dir = tempfile::tempdir().unwrap();
+        let cfg = dir.path().join("c.toml");
+        std::fs::write(&cfg, base_config()).unwrap();
+        let out = |i: usize| {
+            let o = dir.path().join(format!("s{i}"));
+            let r = rvlife_within(
+                300,
+                [
+                    "montecarlo".as_ref(),
+                    cfg.as_os_str(),
+                    "--samples".as_ref(),
+                    "2".as_ref(),
+                    "--samples-per-mesh-cycle".as_ref(),
+                    "2".as_ref(),
+                    "--keep-going".as_ref(),
+                    "--shard".as_ref(),
+                    format!("{i}/2").as_ref(),
+                    "--out".as_ref(),
+                    o.as_os_str(),
+                ],
+            );
+            assert_eq!(
+                r.status.code(),
+                Some(0),
+                "{}",
+                String::from_utf8_lossy(&r.stderr)
+            );
+            o
+        };
+        let s = [out(1), out(2)];
+        (dir, s)
+    })
+}
+
+fn copy_dir(from: &std::path::Path, to: &std::path::Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap().flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            copy_dir(&p, &to.join(e.file_name()));
+        } else {
+            std::fs::copy(&p, to.join(e.file_name())).unwrap();
+        }
+    }
+}
+
+/// Replaces one cell of a CSV text (row 1.. after the header, column modulo the row's).
+fn set_cell(text: &str, row: usize, col: usize, value: &str) -> String {
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    if lines.len() > 1 {
+        let r = 1 + row % (lines.len() - 1);
+        let mut cells: Vec<String> = lines[r].split(',').map(str::to_string).collect();
+        let c = col % cells.len();
+        cells[c] = value.to_string();
+        lines[r] = cells.join(",");
+    }
+    lines.join("\n") + "\n"
+}
+
+/// Replaces the `n`-th number of a JSON text by `value` (as written, quoted if not a number).
+fn set_json_number(text: &str, n: usize, value: &str) -> String {
+    let b = text.as_bytes();
+    let mut starts = Vec::new();
+    let mut i = 0;
+    while i < b.len() {
+        let number_start = (b[i].is_ascii_digit() || b[i] == b'-')
+            && (i == 0 || matches!(b[i - 1], b':' | b'[' | b',' | b' '));
+        if number_start {
+            let j = i + text[i..]
+                .find(|c: char| !(c.is_ascii_digit() || "+-.eE".contains(c)))
+                .unwrap_or(text.len() - i);
+            starts.push((i, j));
+            i = j;
+        } else {
+            i += 1;
+        }
+    }
+    if starts.is_empty() {
+        return text.to_string();
+    }
+    let (a, z) = starts[n % starts.len()];
+    let v = if value.parse::<f64>().is_ok_and(f64::is_finite) {
+        value.to_string()
+    } else {
+        format!("\"{value}\"")
+    };
+    format!("{}{v}{}", &text[..a], &text[z..])
+}
+
+static CMD_EXIT_0: AtomicUsize = AtomicUsize::new(0);
+static CMD_EXIT_2: AtomicUsize = AtomicUsize::new(0);
+
+fn check_command_case(case: &CommandCase) {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let out = d.join("out");
+    let budget = ["--work-budget-min", "1"];
+    let (args, shown): (Vec<std::ffi::OsString>, String) = match case {
+        CommandCase::MonteCarlo(ms) => {
+            let text = ms.iter().fold(base_config(), |t, m| apply(&t, m));
+            let cfg = d.join("c.toml");
+            std::fs::write(&cfg, &text).unwrap();
+            let a = [
+                "montecarlo",
+                cfg.to_str().unwrap(),
+                "--samples",
+                "2",
+                "--samples-per-mesh-cycle",
+                "2",
+                "--keep-going",
+            ];
+            (
+                budget.iter().chain(a.iter()).map(Into::into).collect(),
+                format!("montecarlo, config:\n{text}"),
+            )
+        }
+        CommandCase::Merge(f, r, c, v) => {
+            let (_, src) = shards();
+            let s1 = d.join("s1");
+            let s2 = d.join("s2");
+            copy_dir(&src[0], &s1);
+            copy_dir(&src[1], &s2);
+            let name = ["samples.csv", "stages.csv", "shard.json"][*f];
+            let p = s1.join(name);
+            let text = std::fs::read_to_string(&p).unwrap();
+            let changed = if *f == 2 {
+                set_json_number(&text, *r, CELLS[*v])
+            } else {
+                set_cell(&text, *r, *c, CELLS[*v])
+            };
+            std::fs::write(&p, &changed).unwrap();
+            (
+                vec!["merge".into(), s1.into_os_string(), s2.into_os_string()],
+                format!("merge, {name}:\n{changed}"),
+            )
+        }
+        CommandCase::Calibrate(c, rows) => {
+            let mut csv = format!("hours,{}\n", COLUMNS[*c]);
+            for (h, v) in rows {
+                csv.push_str(&format!("{},{}\n", HOURS[*h], CELLS[*v]));
+            }
+            let m = d.join("m.csv");
+            std::fs::write(&m, &csv).unwrap();
+            let cfg = d.join("c.toml");
+            std::fs::write(&cfg, base_config()).unwrap();
+            let a = [
+                "calibrate",
+                cfg.to_str().unwrap(),
+                "--measured",
+                m.to_str().unwrap(),
+            ];
+            (
+                budget.iter().chain(a.iter()).map(Into::into).collect(),
+                format!("calibrate --measured:\n{csv}"),
+            )
+        }
+    };
+    let mut args = args;
+    args.extend(["--out".into(), out.clone().into_os_string()]);
+    let start = Instant::now();
+    let o = rvlife_within(240, &args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    let shown = format!("{shown}\nstderr:\n{err}");
+    assert!(!err.contains("panicked"), "panic\n{shown}");
+    match o.status.code() {
+        Some(0) => {
+            CMD_EXIT_0.fetch_add(1, Ordering::Relaxed);
+            if out.exists() {
+                assert_outputs_finite(&out, &shown);
+            }
+            let text = String::from_utf8_lossy(&o.stdout).to_ascii_lowercase();
+            assert!(
+                !text.contains("nan") && !text.contains(" inf"),
+                "non-finite number printed\n{shown}"
+            );
+        }
+        Some(2) => {
+            CMD_EXIT_2.fetch_add(1, Ordering::Relaxed);
+            note_refusal(&SLOWEST_COMMAND, start.elapsed().as_secs_f64(), &shown);
+            assert!(
+                err.lines().any(|l| l.starts_with("error: ")),
+                "exit 2 without an error line\n{shown}"
+            );
+        }
+        other => panic!("exit {other:?}\n{shown}"),
+    }
+}
+
+#[test]
+fn fuzzed_newer_commands_end_with_exit_0_or_2_and_finite_outputs() {
+    let cases: u32 = std::env::var("RVLIFE_FUZZ_COMMAND_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(12);
+    let seed: u64 = std::env::var("RVLIFE_FUZZ_SEED")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(20261125);
+    let mut seed_bytes = [0u8; 32];
+    seed_bytes[..8].copy_from_slice(&seed.to_le_bytes());
+    let config = RunnerConfig {
+        cases,
+        max_shrink_iters: 8,
+        failure_persistence: None,
+        ..RunnerConfig::default()
+    };
+    let mut runner = TestRunner::new_with_rng(
+        config,
+        TestRng::from_seed(RngAlgorithm::ChaCha, &seed_bytes),
+    );
+    let result = runner.run(&command_case(), |case| {
+        check_command_case(&case);
+        Ok(())
+    });
+    eprintln!(
+        "fuzz of the newer commands: {cases} cases (seed {seed}): {} exit 0, {} exit 2; \
+         slowest refusal {}",
+        CMD_EXIT_0.load(Ordering::Relaxed),
+        CMD_EXIT_2.load(Ordering::Relaxed),
+        slowest_refusal(&SLOWEST_COMMAND)
     );
     if let Err(e) = result {
         panic!("{e}");

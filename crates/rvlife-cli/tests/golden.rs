@@ -303,8 +303,8 @@ fn calibrate_outputs_are_unchanged() {
     c.input(
         "measured.csv",
         "# bench data of one reducer (test input)\n\
-         hours,lost_motion_arcmin,backlash_arcmin,max_wear_um\n\
-         0,0.08,,\n600,0.36,0.09,\n1200,0.45,0.12,15\n2400,0.55,0.14,\n3600,0.62,0.16,33\n",
+         hours,lost_motion_arcmin,max_wear_um\n\
+         0,0.08,\n600,0.36,\n1200,0.45,15\n2400,0.55,\n3600,0.62,33\n",
     );
     c.run(
         "measured",

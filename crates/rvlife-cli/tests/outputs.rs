@@ -287,12 +287,20 @@ fn calibrate_measured_fits_the_running_in_play() {
         assert_rel(k, k_true, 0.15, "fitted k with b0");
         covered += usize::from(hit);
         if seed == 11 {
-            let (v0, _) = calibrate_json(&cfg, &m, &dir.path().join("fit0"), &[]);
-            let (k0, lo0, hi0) = k_interval(&v0);
-            eprintln!("without b0: {k0:.5e} [{lo0:.5e}, {hi0:.5e}]");
-            assert!(
-                !(lo0 <= k_true && k_true <= hi0),
-                "without b0 the play should bias k: {k0} [{lo0}, {hi0}]"
+            // Without b0 the model cannot follow the play: the fit is refused, not reported.
+            let o = rvlife_within(
+                300,
+                [
+                    "calibrate".as_ref(),
+                    cfg.as_os_str(),
+                    "--measured".as_ref(),
+                    m.as_os_str(),
+                ],
+            );
+            assert_input_error(
+                &o,
+                "fit without b0",
+                &["--measured", "worse than the measurements' own mean"],
             );
         }
     }

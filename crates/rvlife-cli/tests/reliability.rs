@@ -76,8 +76,11 @@ fn work_beyond_the_budget_is_refused_by_its_key() {
 /// so small (0.014-0.033 mm) that the rated torque is beyond the stage.
 #[test]
 fn torques_beyond_the_stage_are_refused_by_their_key() {
+    let t = set_key(&fast_text(), "load", "torque_nm", "1e12");
+    let (_d, o) = run_config(&t, &["te", "--hours", "100"]);
+    assert_input_error(&o, "1e12", &["load.torque_nm", "[-1e7, 1e7]"]);
     for (torque, why) in [
-        ("1e12", "static analysis"),
+        ("1e6", "static analysis"),
         ("12700", "twist beyond first contact"),
     ] {
         let t = set_key(&fast_text(), "load", "torque_nm", torque);

@@ -29,6 +29,10 @@ pub(crate) const RATE_SOLVES: f64 = 28.0;
 /// Default work budget, minutes.
 pub const DEFAULT_MINUTES: f64 = 10.0;
 
+/// Smallest work budget, minutes (6 s): below it no analysis of a reducer fits, and a refusal
+/// would blame the config's keys for the budget's value.
+pub const MIN_MINUTES: f64 = 0.1;
+
 /// Static solves of one Monte Carlo sample at one working-hour point: the revolution TE's
 /// touching pins and the hysteresis at the measuring and rated torque, both directions, at
 /// each crank angle (1 000 samples of the example, 7 stages, 4 crank angles: estimated

@@ -50,8 +50,23 @@ pub enum Error {
     },
 }
 
+/// A value for a message: a plain number of more than 16 characters (`1e300` printed by
+/// `f64`'s `Display` as 301 digits, `1e-300` as 302) in exponent notation, anything else as
+/// it is.
+fn readable(v: String) -> String {
+    let plain = v
+        .trim_start_matches('-')
+        .chars()
+        .all(|c| c.is_ascii_digit() || c == '.');
+    match v.parse::<f64>() {
+        Ok(x) if plain && v.len() > 16 && x.is_finite() => format!("{x:e}"),
+        _ => v,
+    }
+}
+
 impl Error {
-    /// Shorthand for [`Error::Invalid`].
+    /// Shorthand for [`Error::Invalid`]; a long plain number in `value` is written in exponent
+    /// notation.
     pub fn invalid(
         field: impl Into<String>,
         value: impl std::fmt::Display,
@@ -59,7 +74,7 @@ impl Error {
     ) -> Self {
         Error::Invalid {
             field: field.into(),
-            value: value.to_string(),
+            value: readable(value.to_string()),
             allowed: allowed.into(),
         }
     }

@@ -27,6 +27,7 @@ pub mod dynamics;
 pub mod error;
 pub mod fem;
 pub mod geometry;
+pub mod input;
 pub mod life;
 pub mod montecarlo;
 pub mod output;

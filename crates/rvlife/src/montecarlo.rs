@@ -33,19 +33,12 @@ use crate::geometry::WearMap;
 use crate::life::accuracy_life;
 use crate::quantities::{AccuracyPoint, ACCURACY};
 use crate::statics::StaticAnalysis;
-use crate::te::{
-    angular_te_carried, hysteresis_with, mesh_cycle_angles, revolution_perturbed, PLAY_ROUND_OFF,
-};
+use crate::te::{angular_te_of, hysteresis_with, mesh_cycle_angles, revolution_perturbed};
 use crate::units::ARCMIN_PER_RAD;
 
 /// Wear maps between two stages of the shared wear history (the accuracy life is located to
 /// an eighth of a stage interval by bisection, then interpolated).
 pub(crate) const SUBDIVISIONS: usize = 8;
-
-/// Crank angles spread over the output revolution at which the angular TE of a sample whose
-/// rigid kinematics interfere is taken from its zero-torque twists (docs/model.md section
-/// 5.12).
-const ANGULAR_TE_SPREAD: usize = 24;
 
 /// What to run: `samples` reducers of seed `seed`, the part `shard = (I, N)` (1-based) of them.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -270,13 +263,8 @@ fn accuracy_at(
     let rated = model.rating.rated_torque;
     let rev = revolution_perturbed(&sa, per_cycle)?;
     // Parts whose rigid kinematics interfere assemble through the bearings' play or with
-    // preload (docs/model.md section 5.12): the rigid revolution has no first contact to
-    // perturb there, and the angular TE comes from the zero-torque twists.
-    let angular_te = if rev.play_stats().min >= -PLAY_ROUND_OFF {
-        rev.angular_te()
-    } else {
-        angular_te_carried(&sa, per_cycle, ANGULAR_TE_SPREAD, rated)?
-    };
+    // preload (docs/model.md section 5.12).
+    let angular_te = angular_te_of(&sa, &rev, per_cycle, rated)?;
     let phis = mesh_cycle_angles(model.cycloid.geometry.pins, per_cycle);
     let (_, mean) = hysteresis_with(&sa, &phis, rated, model.te.measuring_torque_fraction, 1)?;
     let acc = mean.accuracy();

@@ -25,9 +25,9 @@ use crate::geometry::{Profile, WearMap};
 use crate::quantities::{AccuracyPoint, StageSummary, ACCURACY, STAGE};
 use crate::statics::StaticAnalysis;
 use crate::te::{
-    hysteresis_and_rated, loaded_te_with, mesh_cycle_angles, revolution, static_te,
-    torque_fractions, CurveStats, LoadedTe, RevolutionTe, StaticTe, TwistTable, HYSTERESIS_LEVELS,
-    PLAY_ROUND_OFF,
+    angular_te_of, hysteresis_and_rated, loaded_te_with, mesh_cycle_angles, revolution,
+    static_te_with, torque_fractions, CurveStats, LoadedTe, RevolutionTe, StaticTe, TwistTable,
+    HYSTERESIS_LEVELS, PLAY_ROUND_OFF,
 };
 use crate::units::ARCMIN_PER_RAD;
 use crate::wear::BearingWearRates;
@@ -244,9 +244,9 @@ pub(crate) fn check_work(model: &Model) -> Result<()> {
         key.as_str(),
         value,
         format!(
-            "the study would need about {total:.2e} contact solves (~{:.0} min: {updates} \
+            "the study would need about {total:.2e} contact solves (~{:.1} min: {updates} \
              wear-rate evaluations x {levels} load levels x {} crank steps, {} stages x {} TE \
-             samples), more than the work budget of {:.0} min (--work-budget-min); lower it",
+             samples), more than the work budget of {:.1} min (--work-budget-min); lower it",
             budget::minutes(total),
             w.crank_steps,
             w.stage_hours.len(),
@@ -355,7 +355,10 @@ pub(crate) fn analyse_profile(
     };
     let (angular_te, play_max) = match &rev {
         None => (s.peak_to_peak, play.max),
-        Some(rev) => (rev.angular_te(), rev.play_stats().max),
+        Some(rev) => (
+            angular_te_of(&sa, rev, model.te.samples, model.rating.rated_torque)?,
+            rev.play_stats().max.max(0.0),
+        ),
     };
     let summary = StageSummary {
         hours,
@@ -461,18 +464,21 @@ struct NoLoad {
 }
 
 /// [`NoLoad`] of `model`'s reducer with the disc `profile`.
+/// Rigid first contacts: where part errors make them cross (preload, docs/model.md section
+/// 5.12) the play is zero, and the angular TE is [`angular_te_of`]'s.
 fn no_load(model: &Model, profile: &Profile) -> Result<NoLoad> {
     let red = &model.reducer;
-    let ste = static_te(red, profile, model.te.samples)?;
+    let samples = model.te.samples;
+    let sa = StaticAnalysis::new(red, profile)?;
+    let ste = static_te_with(&sa, &mesh_cycle_angles(red.geometry.pins, samples))?;
+    let play = ste.backlash().iter().map(|b| b.max(0.0)).sum::<f64>() / samples as f64;
     let angular_te = if red.errors.is_zero() {
         ste.stats().peak_to_peak
     } else {
-        revolution(&StaticAnalysis::new(red, profile)?, model.te.samples)?.angular_te()
+        let rev = revolution(&sa, samples)?;
+        angular_te_of(&sa, &rev, samples, model.rating.rated_torque)?
     };
-    Ok(NoLoad {
-        play: ste.backlash_stats().mean,
-        angular_te,
-    })
+    Ok(NoLoad { play, angular_te })
 }
 
 /// Splits the play of `s` (its backlash) into the new reducer's (`new`), the bearings' wear

@@ -737,6 +737,33 @@ pub(crate) fn angular_te_carried(
     Ok(CurveStats::of(&forward).peak_to_peak)
 }
 
+/// Crank angles spread over the output revolution at which the angular TE of a reducer whose
+/// rigid kinematics interfere is taken from its zero-torque twists (docs/model.md section
+/// 5.12).
+pub(crate) const ANGULAR_TE_SPREAD: usize = 24;
+
+/// Angular TE (rad) of the reducer of `sa` from its revolution STE `rev` (at `samples` crank
+/// angles per mesh cycle): the peak-to-peak of the rigid forward twists
+/// ([`RevolutionTe::angular_te`]) where the rigid play stays open, and where the part errors
+/// close it (the rigid first contacts cross: preload, docs/model.md section 5.12) the
+/// zero-torque twists with the play and preload carried ([`angular_te_carried`] at
+/// [`ANGULAR_TE_SPREAD`] crank angles; `rated`: the rated torque, N m).
+///
+/// # Errors
+/// Those of the solver.
+pub(crate) fn angular_te_of(
+    sa: &StaticAnalysis,
+    rev: &RevolutionTe,
+    samples: usize,
+    rated: f64,
+) -> Result<f64> {
+    if rev.play_stats().min >= -PLAY_ROUND_OFF {
+        Ok(rev.angular_te())
+    } else {
+        angular_te_carried(sa, samples, ANGULAR_TE_SPREAD, rated)
+    }
+}
+
 /// Static TE over one output revolution, each crank angle solved on its own
 /// ([`StaticAnalysis::first_contact`] in both directions at every one of the `Zc Zp samples`
 /// crank angles of [`revolution_angles`]): the reference that [`revolution`] is checked
@@ -904,7 +931,7 @@ fn revolution_with(sa: &StaticAnalysis, samples: usize, polish: bool) -> Result<
 }
 
 /// [`static_te`] at the crank angles `phis` with the analysis built.
-fn static_te_with(sa: &StaticAnalysis, phis: &[f64]) -> Result<StaticTe> {
+pub(crate) fn static_te_with(sa: &StaticAnalysis, phis: &[f64]) -> Result<StaticTe> {
     let pairs: Vec<(f64, f64)> = phis
         .par_iter()
         .map(|&phi| Ok((sa.no_load_twist(phi, 1.0)?, -sa.no_load_twist(phi, -1.0)?)))

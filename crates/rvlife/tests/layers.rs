@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 /// The library's modules from the bottom layer up: a module may refer only to modules of
 /// lower layers (`crate::Result` and `crate::Error`, re-exported at the root, are `error`'s).
 const LAYERS: &[&[&str]] = &[
-    &["error", "units", "quantities"],
+    &["error", "units", "quantities", "input"],
     &["geometry"],
     &["contact"],
     &["reducer"],

@@ -313,6 +313,8 @@ pub fn te(
     // Over the output revolution: the mesh cycle tiled, or with part errors every mesh
     // cycle of the revolution.
     let rev = crate::te::revolution(&sa, model.te.samples)?;
+    let angular_te =
+        crate::te::angular_te_of(&sa, &rev, model.te.samples, model.rating.rated_torque)?;
     let input_deg: Vec<f64> = rev
         .crank_angle
         .iter()
@@ -322,7 +324,7 @@ pub fn te(
     let play_max = if red.errors.is_zero() {
         play.max
     } else {
-        rev.play_stats().max
+        rev.play_stats().max.max(0.0)
     };
     let loaded = match torque_nm {
         Some(t) => {
@@ -347,7 +349,7 @@ pub fn te(
     };
     Ok(TeResult {
         max_wear_um: model.cycloid.wear_depth(&profile) * 1e6,
-        angular_te_arcmin: rev.angular_te() * ARCMIN_PER_RAD,
+        angular_te_arcmin: angular_te * ARCMIN_PER_RAD,
         support: support_name(model),
         te_mean_arcmin: st.mean * ARCMIN_PER_RAD,
         te_peak_to_peak_arcmin: st.peak_to_peak * ARCMIN_PER_RAD,

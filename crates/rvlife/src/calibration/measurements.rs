@@ -105,7 +105,7 @@ impl Measurements {
     /// row and column); no quantity column or no value at all.
     pub fn read(path: &Path) -> Result<Measurements> {
         let text =
-            std::fs::read_to_string(path).map_err(|e| bad(path, format!("cannot be read: {e}")))?;
+            crate::input::read_text(path).map_err(|e| bad(path, format!("cannot be read: {e}")))?;
         Self::parse(path, &text)
     }
 

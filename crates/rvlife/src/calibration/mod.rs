@@ -675,8 +675,11 @@ fn run_reference(
 ///
 /// # Errors
 /// [`Error::Invalid`] naming `--measured` for too few values, no hours above 0, work beyond the
-/// budget, wear the model cannot follow, data that do not determine `k` (flat model), or a
-/// coefficient beyond `1e6` times the config's either way; solver failures of the studies.
+/// budget, wear the model cannot follow, data that do not determine `k` (flat model), a
+/// coefficient beyond `1e6` times the config's either way, a fit that stops at a bound of its
+/// search range, an interval the data cannot bound, or a model that follows a measured series
+/// worse than the series' mean ([`Calibration::check_standing`]); solver failures of the
+/// studies.
 pub fn calibrate(
     model: &Model,
     data: &Measurements,
@@ -695,6 +698,8 @@ pub fn calibrate(
     let mut runs = 0;
     let mut stages_total = 0;
     let mut last_fit: Option<(Reference, Fit)> = None;
+    // Where the last pass' optimum lay in its bracket: -1 at the bottom, +1 at the top.
+    let mut at_bound = 0;
     for pass in 0..MAX_PASSES {
         let (factor, stages) = if pass == 0 {
             (FIRST_HORIZON, FIRST_STAGES)
@@ -745,6 +750,13 @@ pub fn calibrate(
         let hi = hi_at(fit.run_in.factor);
         let k = fit.ln_k.exp();
         let at_top = hi - fit.ln_k < 1e-3;
+        at_bound = if at_top {
+            1
+        } else if fit.ln_k - lo < 1e-3 {
+            -1
+        } else {
+            0
+        };
         let settled = pass > 0 && (fit.ln_k - archard.ln()).abs() < 1.25f64.ln() && !at_top;
         if at_top && reference.last_hours < 0.999 * horizon {
             return Err(bad(
@@ -774,7 +786,97 @@ pub fn calibrate(
         }
     }
     let (reference, fit) = last_fit.expect("at least one pass");
-    summarise(model, data, &reference, &fit, fitted, runs, stages_total)
+    if at_bound != 0 {
+        return Err(bad(
+            &data.path,
+            format!(
+                "the fit stopped at the {} of the Archard coefficient's search range after \
+                 {runs} reference studies (k {} {:.4e} m^2/N, {:.4} x the config's): no \
+                 coefficient in the range follows the measurements, which change {} than the \
+                 model does (if the config's wear.archard is far off, start nearer the data)",
+                if at_bound > 0 { "top" } else { "bottom" },
+                if at_bound > 0 { ">=" } else { "<=" },
+                fit.ln_k.exp(),
+                fit.ln_k.exp() / k_cfg,
+                if at_bound > 0 { "faster" } else { "slower" },
+            ),
+        ));
+    }
+    let c = summarise(model, data, &reference, &fit, fitted, runs, stages_total)?;
+    c.check_standing(data)?;
+    Ok(c)
+}
+
+impl Calibration {
+    /// Refuses a fit nobody can stand behind: an interval the data cannot bound (an end that
+    /// is not finite, or a coefficient's lower end at zero), or a model that follows a
+    /// measured series (3 values or more) worse than the series' own mean does.
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] naming `--measured`.
+    fn check_standing(&self, data: &Measurements) -> Result<()> {
+        let positive = |e: &Estimate| e.lower > 0.0 && e.upper.is_finite();
+        let finite = |e: &Estimate| e.lower.is_finite() && e.upper.is_finite();
+        let unbounded = |what: &str, e: &Estimate| {
+            bad(
+                &data.path,
+                format!(
+                    "the data cannot bound the {:.0} % interval of {what} (best fit {:.4e}, \
+                     interval [{:.4e}, {:.4e}]): more measurements, or measurements over more \
+                     hours, are needed",
+                    100.0 * CONFIDENCE,
+                    e.value,
+                    e.lower,
+                    e.upper
+                ),
+            )
+        };
+        if !positive(&self.archard_coefficient_m2_per_n) {
+            return Err(unbounded(
+                "the Archard coefficient (m^2/N)",
+                &self.archard_coefficient_m2_per_n,
+            ));
+        }
+        if let Some(e) = self.running_in_factor.as_ref().filter(|e| !positive(e)) {
+            return Err(unbounded("the running-in factor", e));
+        }
+        if let Some(e) = self
+            .running_in_backlash_arcmin
+            .as_ref()
+            .filter(|e| !finite(e))
+        {
+            return Err(unbounded("the running-in play (arcmin)", e));
+        }
+        for s in &data.series {
+            let n = s.values.len();
+            if n < 3 {
+                continue;
+            }
+            let mean = s.values.iter().sum::<f64>() / n as f64;
+            let spread = s.values.iter().map(|v| (v - mean).powi(2)).sum::<f64>();
+            let rss: f64 = self
+                .residuals
+                .iter()
+                .filter(|r| r.column == s.column)
+                .map(|r| r.residual.powi(2))
+                .sum();
+            if spread > 0.0 && rss > spread {
+                let unit = QUANTITIES[s.quantity].unit();
+                return Err(bad(
+                    &data.path,
+                    format!(
+                        "the fitted model follows {} worse than the measurements' own mean \
+                         does (RMS residual {:.4} {unit}, spread about the mean {:.4} {unit}): \
+                         the data do not follow the model",
+                        s.column,
+                        (rss / n as f64).sqrt(),
+                        (spread / n as f64).sqrt()
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Interval, residuals and curves of the final fit.

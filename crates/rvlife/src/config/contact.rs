@@ -16,11 +16,11 @@ pub struct ContactConfig {
     /// `"paper"` (default), `"johnson"` or `"linear"`.
     #[serde(default = "default_law")]
     pub law: String,
-    /// Stiffness of the `"linear"` law, N/um. Range: (0, 1e7] N/um.
+    /// Stiffness of the `"linear"` law, N/um. Range: [1, 1e7] N/um (physical pin contacts).
     #[serde(default)]
     pub linear_stiffness_n_per_um: Option<f64>,
     /// Cap on the flank radius of curvature in the contact law, mm (default: pin circle
-    /// radius). Range: (0, 1e5] mm.
+    /// radius). Range: [0.1, 1e5] mm.
     #[serde(default)]
     pub max_curvature_radius_mm: Option<f64>,
     /// Reference depth of the disc term of the approach law: `"body"` (default: the pin circle
@@ -152,7 +152,7 @@ impl ContactConfig {
                     stiffness: check(
                         "contact.linear_stiffness_n_per_um",
                         k,
-                        Range::positive(1e7, "N/um"),
+                        Range::closed(1.0, 1e7, "N/um"),
                     )? * 1e6,
                 }
             }
@@ -169,7 +169,7 @@ impl ContactConfig {
                 check(
                     "contact.max_curvature_radius_mm",
                     v,
-                    Range::positive(1e5, "mm"),
+                    Range::closed(0.1, 1e5, "mm"),
                 )? * 1e-3
             }
             None => geometry.pin_circle_radius,

@@ -955,10 +955,9 @@ pub(crate) fn read_load_table(path: &Path, end_time: f64) -> Result<LoadProfile>
         path: origin.clone(),
         message,
     };
-    let mut rdr = csv::ReaderBuilder::new()
-        .flexible(true)
-        .from_path(path)
+    let file = crate::input::open(path)
         .map_err(|e| cfg_err(format!("cannot read the load table: {e}")))?;
+    let mut rdr = csv::ReaderBuilder::new().flexible(true).from_reader(file);
     let headers = rdr.headers().map_err(|e| cfg_err(e.to_string()))?.clone();
     if headers.iter().map(str::trim).collect::<Vec<_>>() != ["time_s", "torque_nm"] {
         return Err(cfg_err(format!(

@@ -9,6 +9,11 @@ use super::range::{check, whole, Range};
 use crate::error::{Error, Result};
 use crate::wear::LoadLevel;
 
+/// Largest output torque a config or a command may name, N m: the top of
+/// `reducer.rated_torque_nm`'s range (beyond any reducer; the physical check bounds a torque
+/// by what the stage carries).
+pub(crate) const MAX_TORQUE_NM: f64 = 1e7;
+
 /// `[load]` checked: the load spectrum.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LoadParams {
@@ -25,14 +30,14 @@ pub struct LoadParams {
 pub struct LoadConfig {
     /// `"constant"`, `"sinusoidal"` or `"duty_cycle"`.
     pub kind: String,
-    /// Constant output torque, N m (`constant`; default: the rated torque). Range: any finite
-    /// number (the physical check bounds it).
+    /// Constant output torque, N m (`constant`; default: the rated torque). Range: [-1e7, 1e7]
+    /// N m (the largest rated torque; the physical check bounds it by the stage).
     #[serde(default)]
     pub torque_nm: Option<f64>,
-    /// Amplitude, N m (`sinusoidal`; default: the rated torque). Range: >= 0, finite.
+    /// Amplitude, N m (`sinusoidal`; default: the rated torque). Range: [0, 1e7] N m.
     #[serde(default)]
     pub amplitude_nm: Option<f64>,
-    /// Mean, N m (`sinusoidal`). Range: any finite number.
+    /// Mean, N m (`sinusoidal`). Range: [-1e7, 1e7] N m.
     #[serde(default)]
     pub offset_nm: Option<f64>,
     /// Period, s (`sinusoidal`; the wear average does not depend on it). Range: (0, 1e9] s.
@@ -97,7 +102,7 @@ impl LoadConfig {
                 let t = check(
                     "load.torque_nm",
                     l.torque_nm.unwrap_or(rated),
-                    Range::finite("N m"),
+                    Range::closed(-MAX_TORQUE_NM, MAX_TORQUE_NM, "N m"),
                 )?;
                 Ok((
                     vec![LoadLevel {
@@ -114,12 +119,12 @@ impl LoadConfig {
                 let amp = check(
                     "load.amplitude_nm",
                     l.amplitude_nm.unwrap_or(rated),
-                    Range::non_negative(f64::MAX, "N m"),
+                    Range::non_negative(MAX_TORQUE_NM, "N m"),
                 )?;
                 let off = check(
                     "load.offset_nm",
                     l.offset_nm.unwrap_or(0.0),
-                    Range::finite("N m"),
+                    Range::closed(-MAX_TORQUE_NM, MAX_TORQUE_NM, "N m"),
                 )?;
                 if let Some(p) = l.period_s {
                     check("load.period_s", p, Range::positive(1e9, "s"))?;
@@ -182,10 +187,11 @@ pub(crate) const MAX_ROW_DURATION_S: f64 = 1e12;
 /// duration must lie in `(0, MAX_ROW_DURATION_S]`).
 fn read_duty_cycle_rows(path: &Path) -> Result<(Vec<LoadLevel>, Vec<usize>)> {
     let origin = path.display().to_string();
-    let mut rdr = csv::Reader::from_path(path).map_err(|e| Error::Config {
+    let file = crate::input::open(path).map_err(|e| Error::Config {
         path: origin.clone(),
         message: format!("cannot read the duty cycle: {e}"),
     })?;
+    let mut rdr = csv::Reader::from_reader(file);
     let headers = rdr
         .headers()
         .map_err(|e| Error::Config {

@@ -31,7 +31,8 @@ fn default_max_pressure() -> f64 {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialConfig {
-    /// Young's modulus, GPa. Range: (0, 1e7] GPa.
+    /// Young's modulus, GPa. Range: [0.1, 1e7] GPa (soft polymers up; beyond diamond's 1200 GPa
+    /// a rigid limit, as the tests of the rigid limit use).
     pub youngs_modulus_gpa: f64,
     /// Poisson's ratio. Range: [0, 0.499].
     pub poisson_ratio: f64,
@@ -53,7 +54,7 @@ impl MaterialConfig {
             check(
                 &format!("materials.{name}.youngs_modulus_gpa"),
                 self.youngs_modulus_gpa,
-                Range::positive(1e7, "GPa"),
+                Range::closed(0.1, 1e7, "GPa"),
             )? * 1e9,
             check(
                 &format!("materials.{name}.poisson_ratio"),

@@ -148,9 +148,9 @@ impl Config {
     /// # Errors
     /// [`Error::Config`] if the file cannot be read or parsed.
     pub fn from_file(path: &Path) -> Result<Config> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::Config {
+        let text = crate::input::read_text(path).map_err(|message| Error::Config {
             path: path.display().to_string(),
-            message: format!("cannot read the file: {e}"),
+            message,
         })?;
         Config::from_toml_in(&text, &path.display().to_string(), path.parent())
     }
@@ -233,11 +233,11 @@ fn written_keys(text: &str) -> Option<BTreeSet<String>> {
             } else {
                 format!("{prefix}.{k}")
             };
+            // A table is written too (`pin_radial_um = { }` is the user's, empty or not).
             if let toml::Value::Table(sub) = v {
                 walk(&key, sub, out);
-            } else {
-                out.insert(key);
             }
+            out.insert(key);
         }
     }
     let table: toml::Table = text.parse().ok()?;

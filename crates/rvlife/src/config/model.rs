@@ -163,7 +163,11 @@ impl Config {
         let work_budget = crate::budget::solves_in_minutes(check(
             "--work-budget-min",
             self.work_budget_minutes,
-            Range::positive(1e6, "min"),
+            Range::closed(
+                crate::budget::MIN_MINUTES,
+                1e6,
+                "min (6 s to about two years)",
+            ),
         )?);
         let tolerances = self.tolerances.validate(&geometry)?;
         let life = self.life.validate()?;

@@ -107,7 +107,13 @@ fn check_mesh(model: &Model, profile: &Profile, mods: &ModificationConfig, rp: f
             )
         }
     };
-    let sa = StaticAnalysis::new(&model.reducer, profile).map_err(|e| {
+    // The nominal stage: part errors that close the play are assembled with preload
+    // (docs/model.md section 5.12) and checked on their own ([`check_errors`]).
+    let nominal = crate::reducer::Reducer {
+        errors: Default::default(),
+        ..model.reducer.clone()
+    };
+    let sa = StaticAnalysis::new(&nominal, profile).map_err(|e| {
         blame(format!(
             "the contact geometry of the modified disc cannot be built ({e})"
         ))
@@ -198,6 +204,73 @@ fn capacity(sa: &StaticAnalysis, model: &Model, sign: f64, above: f64) -> f64 {
     lo
 }
 
+/// A torque of the config that the unworn stage does not carry: its key, the torque (N m),
+/// why, and the largest torque (magnitude, N m) the stage carries that way.
+struct NotCarried {
+    key: String,
+    torque: f64,
+    reason: String,
+    capacity: f64,
+}
+
+impl NotCarried {
+    /// "it carries at most 206 N m counter-clockwise (probed at the 36 crank angles ...)".
+    fn at_most(&self, model: &Model) -> String {
+        format!(
+            "it carries at most {} N m {} (probed at the {} crank angles of a mesh cycle the \
+             study solves)",
+            show(self.capacity),
+            if self.torque > 0.0 {
+                "counter-clockwise"
+            } else {
+                "clockwise"
+            },
+            probe_angles(model).len()
+        )
+    }
+}
+
+/// The first of the torques `uses` (key as the user wrote it, output torque in N m) that the
+/// unworn stage of `profile` does not carry (see the module docs), if any.
+///
+/// # Errors
+/// Those of building the static analysis.
+fn not_carried(
+    model: &Model,
+    profile: &Profile,
+    uses: &[(String, f64)],
+) -> Result<Option<NotCarried>> {
+    let sa = StaticAnalysis::new(&model.reducer, profile)?;
+    let mut checked: Vec<f64> = Vec::new();
+    for (key, torque) in uses {
+        let t = *torque;
+        if t == 0.0 || checked.contains(&t) {
+            continue;
+        }
+        if t.is_nan() || t.abs() > super::load::MAX_TORQUE_NM {
+            return Ok(Some(NotCarried {
+                key: key.clone(),
+                torque: t,
+                reason: format!(
+                    "it is beyond {:e} N m, the largest torque rvlife takes",
+                    super::load::MAX_TORQUE_NM
+                ),
+                capacity: capacity(&sa, model, t.signum(), super::load::MAX_TORQUE_NM),
+            }));
+        }
+        if let Err(reason) = carried(&sa, model, t) {
+            return Ok(Some(NotCarried {
+                key: key.clone(),
+                torque: t,
+                reason,
+                capacity: capacity(&sa, model, t.signum(), t.abs()),
+            }));
+        }
+        checked.push(t);
+    }
+    Ok(None)
+}
+
 /// Checks the torques `uses` (key as the user wrote it, output torque in N m) against what the
 /// unworn stage of `profile` carries (see the module docs).
 ///
@@ -206,36 +279,19 @@ fn capacity(sa: &StaticAnalysis, model: &Model, sign: f64, above: f64) -> f64 {
 /// pressure above the limit, or the static analysis failing) and the largest torque the stage
 /// carries in that direction.
 fn check_torques(model: &Model, profile: &Profile, uses: &[(String, f64)]) -> Result<()> {
-    let sa = StaticAnalysis::new(&model.reducer, profile)?;
-    let mut checked: Vec<f64> = Vec::new();
-    for (key, torque) in uses {
-        let t = *torque;
-        if t == 0.0 || checked.contains(&t) {
-            continue;
-        }
-        if let Err(reason) = carried(&sa, model, t) {
-            let sign = t.signum();
-            let cap = capacity(&sa, model, sign, t.abs());
-            return Err(Error::invalid(
-                key.as_str(),
-                show(t),
-                format!(
-                    "is more than the unworn stage carries: {reason}; it carries at most {} N m \
-                     {} (probed at the {} crank angles of a mesh cycle the study solves); check \
-                     the torque, or the stage dimensions in [cycloid] and [materials]",
-                    show(cap),
-                    if sign > 0.0 {
-                        "counter-clockwise"
-                    } else {
-                        "clockwise"
-                    },
-                    probe_angles(model).len()
-                ),
-            ));
-        }
-        checked.push(t);
+    match not_carried(model, profile, uses)? {
+        None => Ok(()),
+        Some(n) => Err(Error::invalid(
+            n.key.as_str(),
+            show(n.torque),
+            format!(
+                "is more than the unworn stage carries: {}; {}; check the torque, or the stage \
+                 dimensions in [cycloid] and [materials]",
+                n.reason,
+                n.at_most(model)
+            ),
+        )),
     }
-    Ok(())
 }
 
 /// The physical checks of the unworn stage of `model` (its `profile`): the modifications
@@ -279,7 +335,68 @@ pub(super) fn check_stage(
     if model.dynamics.enabled {
         uses.extend(load_peaks(&model.dynamics.params.load));
     }
-    check_torques(model, profile, &uses)
+    if model.reducer.errors.is_zero() {
+        return check_torques(model, profile, &uses);
+    }
+    // With part errors: the nominal stage first, so that a torque it does not carry is blamed
+    // on the torque (or the stage), and one that only the errors make too much on the errors.
+    let mut nominal = model.clone();
+    nominal.reducer.errors = Default::default();
+    check_torques(&nominal, profile, &uses)?;
+    match not_carried(model, profile, &uses)? {
+        None => Ok(()),
+        Some(n) => Err(blame_errors(model, &n)),
+    }
+}
+
+/// The error to report when the stage with its part errors does not carry a torque that the
+/// nominal stage carries: the `[errors]` entry that moves a flank most (lengths as they are,
+/// a crank's phase error times the eccentricity, the run-out as its total indicator reading),
+/// with what is not carried and why.
+fn blame_errors(model: &Model, n: &NotCarried) -> Error {
+    let err = &model.reducer.errors;
+    let a = model.cycloid.geometry.eccentricity;
+    let um = 1e6;
+    let arcmin = 60.0 * 180.0 / std::f64::consts::PI;
+    // (key, index, value as written, flank effect in m)
+    let mut parts: Vec<(&str, Option<usize>, f64, f64)> = Vec::new();
+    for (key, list) in [
+        ("pin_radial_um", &err.pin_radial),
+        ("pin_tangential_um", &err.pin_tangential),
+        ("pin_radius_um", &err.pin_radius),
+        ("crank_eccentricity_um", &err.crank_eccentricity),
+    ] {
+        for (i, &x) in list.iter().enumerate() {
+            parts.push((key, Some(i), x * um, x.abs()));
+        }
+    }
+    for (i, &x) in err.crank_phase.iter().enumerate() {
+        parts.push(("crank_phase_arcmin", Some(i), x * arcmin, x.abs() * a));
+    }
+    let runout = 2.0 * err.pin_circle_offset.norm();
+    parts.push(("pin_circle_runout_um", None, runout * um, runout));
+    let (key, index, value, _) =
+        parts
+            .iter()
+            .copied()
+            .fold(parts[0], |m, p| if p.3 > m.3 { p } else { m });
+    let key = match index {
+        Some(i) => format!("errors.{key}[{i}]"),
+        None => format!("errors.{key}"),
+    };
+    Error::invalid(
+        key,
+        show(value),
+        format!(
+            "with the part errors of [errors] (this one moves a flank most) the unworn stage \
+             does not carry {} = {} N m, which the nominal stage carries: {}; {}; real part \
+             errors of a precision reducer are a few micrometres and arcminutes",
+            n.key,
+            show(n.torque),
+            n.reason,
+            n.at_most(model)
+        ),
+    )
 }
 
 impl Model {

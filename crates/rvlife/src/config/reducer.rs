@@ -78,7 +78,7 @@ pub struct OutputPinsConfig {
     #[serde(default)]
     pub hole_clearance_um: f64,
     /// Contact stiffness of one pin on one disc, N/um (default: the crank-disc bearing's).
-    /// Range: (0, 1e7] N/um.
+    /// Range: [1, 1e7] N/um.
     #[serde(default)]
     pub stiffness_n_per_um: Option<f64>,
 }
@@ -89,17 +89,18 @@ pub struct OutputPinsConfig {
 pub struct GearsConfig {
     /// Planet pitch radius, mm (paper Table 1: 27). Default: the planet's share `Z2/(Z1 + Z2)`
     /// of the crank circle, which scales the paper's 40.5 mm with the disc's root radius
-    /// (`crate::geometry::CycloidGeometry::scaled_from_root`). Range: (0, 1e4] mm.
+    /// (`crate::geometry::CycloidGeometry::scaled_from_root`). Range: [1, 1e4] mm.
     #[serde(default)]
     pub planet_pitch_radius_mm: Option<f64>,
     /// Pressure angle, degrees (paper Table 1: 30). Range: [10, 45] deg.
     #[serde(default = "d_pressure")]
     pub pressure_angle_deg: f64,
-    /// Face width of sun and planets, mm. Range: (0, 1e3] mm.
+    /// Face width of sun and planets, mm. Range: [0.5, 1e3] mm.
     #[serde(default = "d_face")]
     pub face_width_mm: f64,
     /// Mesh stiffness along the line of action, N/um (ISO 6336-1: c_gamma about 20 N/(mm um)
-    /// times the face width). Range: (0, 1e7] N/um.
+    /// times the face width). Range: [1, 1e7] N/um (a 1 mm plastic gear to the stiffest steel
+    /// meshes; below it the stage cannot carry its load).
     #[serde(default = "d_mesh_k")]
     pub mesh_stiffness_n_per_um: f64,
     /// Damping ratio of the mesh mode (dynamics only). Range: [0, 10].
@@ -591,7 +592,13 @@ impl OutputPinsConfig {
             Range::non_negative(1e3, "um"),
         )? * 1e-6;
         let stiffness = match self.stiffness_n_per_um {
-            Some(k) => check(&key("stiffness_n_per_um"), k, Range::positive(1e7, "N/um"))? * 1e6,
+            Some(k) => {
+                check(
+                    &key("stiffness_n_per_um"),
+                    k,
+                    Range::closed(1.0, 1e7, "N/um"),
+                )? * 1e6
+            }
             None => 0.0,
         };
         // The holes (pin radius + eccentricity + clearance) must lie inside the tooth roots,
@@ -642,7 +649,7 @@ impl GearsConfig {
             &key("planet_pitch_radius_mm"),
             self.planet_pitch_radius_mm
                 .unwrap_or_else(|| geometry.scaled_from_root(40.5) * z2 as f64 / (z1 + z2) as f64),
-            Range::positive(1e4, "mm"),
+            Range::closed(1.0, 1e4, "mm"),
         )? * 1e-3;
         let alpha = check(
             &key("pressure_angle_deg"),
@@ -653,7 +660,7 @@ impl GearsConfig {
         let face = check(
             &key("face_width_mm"),
             self.face_width_mm,
-            Range::positive(1e3, "mm"),
+            Range::closed(0.5, 1e3, "mm"),
         )? * 1e-3;
         let r_s = r_p * z1 as f64 / z2 as f64;
         let mesh = Mesh {
@@ -667,7 +674,7 @@ impl GearsConfig {
             stiffness: check(
                 &key("mesh_stiffness_n_per_um"),
                 self.mesh_stiffness_n_per_um,
-                Range::positive(1e7, "N/um"),
+                Range::closed(1.0, 1e7, "N/um"),
             )? * 1e6,
             damping: 0.0,
             backlash: check(

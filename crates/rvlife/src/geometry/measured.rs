@@ -65,7 +65,9 @@ pub(crate) fn read_points(path: &Path) -> Result<Vec<Vec2>> {
         .unwrap_or("")
         .to_ascii_lowercase();
     let pts = if ext == "dxf" {
-        let drawing = dxf::Drawing::load_file(path)
+        let mut file = crate::input::open(path)
+            .map_err(|e| bad(path, format!("must be a readable DXF file ({e})")))?;
+        let drawing = dxf::Drawing::load(&mut file)
             .map_err(|e| bad(path, format!("must be a readable DXF file ({e})")))?;
         let mut pts = Vec::new();
         for ent in drawing.entities() {
@@ -84,12 +86,13 @@ pub(crate) fn read_points(path: &Path) -> Result<Vec<Vec2>> {
         }
         pts
     } else {
-        let mut rd = csv::Reader::from_path(path).map_err(|e| {
+        let file = crate::input::open(path).map_err(|e| {
             bad(
                 path,
                 format!("must be a readable CSV file with columns x_mm, y_mm ({e})"),
             )
         })?;
+        let mut rd = csv::Reader::from_reader(file);
         let headers = rd
             .headers()
             .map_err(|e| bad(path, format!("must start with a header line ({e})")))?

@@ -80,8 +80,16 @@ pub(crate) fn read_records(dir: &Path) -> Result<Vec<SampleRecord>> {
             "must be a samples.csv / stages.csv written by rvlife montecarlo",
         )
     };
+    // Checked like computed values: a number that is not finite (`nan`, `inf`) is refused.
+    let finite = |p: &Path, f: &str| -> Result<f64> {
+        match f.trim().parse::<f64>() {
+            Ok(x) if x.is_finite() => Ok(x),
+            Ok(_) => Err(bad(p, format!("{f}: not a finite number"))),
+            Err(e) => Err(bad(p, format!("{f}: {e}"))),
+        }
+    };
     let sp = dir.join("samples.csv");
-    let mut rd = csv::Reader::from_path(&sp).map_err(|e| bad(&sp, e.to_string()))?;
+    let mut rd = csv::Reader::from_reader(crate::input::open(&sp).map_err(|e| bad(&sp, e))?);
     let mut records = Vec::new();
     for row in rd.records() {
         let row = row.map_err(|e| bad(&sp, e.to_string()))?;
@@ -90,9 +98,7 @@ pub(crate) fn read_records(dir: &Path) -> Result<Vec<SampleRecord>> {
             if f.is_empty() {
                 Ok(None)
             } else {
-                f.parse::<f64>()
-                    .map(Some)
-                    .map_err(|e| bad(&sp, format!("{f}: {e}")))
+                finite(&sp, f).map(Some)
             }
         };
         records.push(SampleRecord {
@@ -108,15 +114,15 @@ pub(crate) fn read_records(dir: &Path) -> Result<Vec<SampleRecord>> {
         });
     }
     let tp = dir.join("stages.csv");
-    let mut rd = csv::Reader::from_path(&tp).map_err(|e| bad(&tp, e.to_string()))?;
+    let mut rd = csv::Reader::from_reader(crate::input::open(&tp).map_err(|e| bad(&tp, e))?);
     for row in rd.records() {
         let row = row.map_err(|e| bad(&tp, e.to_string()))?;
-        let v: Vec<f64> = row
-            .iter()
-            .map(|f| f.parse::<f64>().map_err(|e| bad(&tp, format!("{f}: {e}"))))
-            .collect::<Result<_>>()?;
+        let v: Vec<f64> = row.iter().map(|f| finite(&tp, f)).collect::<Result<_>>()?;
         if v.len() != 2 + ACCURACY.len() {
             return Err(bad(&tp, format!("{} columns", v.len())));
+        }
+        if v[0] < 0.0 || v[0].fract() != 0.0 {
+            return Err(bad(&tp, format!("sample {}: not a sample index", v[0])));
         }
         let sample = v[0] as usize;
         let r = records
@@ -190,7 +196,7 @@ pub fn merge(dirs: &[std::path::PathBuf]) -> Result<(ShardMeta, Vec<SampleRecord
     let mut records = Vec::new();
     for d in dirs {
         let p = d.join("shard.json");
-        let text = std::fs::read_to_string(&p).map_err(|e| {
+        let text = crate::input::read_text(&p).map_err(|e| {
             Error::invalid(
                 d.display().to_string(),
                 format!("no shard.json ({e})"),

@@ -11,6 +11,10 @@ use crate::error::{Error, Result};
 /// directory that has it.
 pub(crate) const MARKER: &str = ".rvlife-results";
 
+/// First words of the [`MARKER`] file; the lines after its first list the files of the
+/// results directory, relative to it, `/`-separated.
+const MARKER_HEADER: &str = "rvlife results directory, written by rvlife";
+
 /// Prefix of the temporary directories and files beside an output, followed by the process id
 /// of the run that owns them.
 const TMP_PREFIX: &str = ".rvlife-tmp-";
@@ -220,14 +224,15 @@ impl Staging {
             .expect("a staging directory until committed");
         write(&dir)?;
         let marker = dir.join(MARKER);
-        std::fs::write(
-            &marker,
-            format!(
-                "rvlife {} results directory; `rvlife run --force` may replace it\n",
-                env!("CARGO_PKG_VERSION")
-            ),
-        )
-        .map_err(|e| Error::io(&marker, e))?;
+        let mut text = format!(
+            "{MARKER_HEADER} {}; `--force` may replace it. Its files:\n",
+            env!("CARGO_PKG_VERSION")
+        );
+        for f in files_under(&dir).map_err(|e| Error::io(&dir, e))? {
+            text.push_str(&f);
+            text.push('\n');
+        }
+        std::fs::write(&marker, text).map_err(|e| Error::io(&marker, e))?;
         let out = self.out.clone();
         let taken = || {
             Error::invalid(
@@ -263,9 +268,20 @@ impl Staging {
                     return Err(taken());
                 }
                 self.finish();
-                let _ = std::fs::remove_dir_all(&old);
+                let removed = std::fs::remove_dir_all(&old);
                 unregister(&old);
-                return Ok(out);
+                return match removed {
+                    Ok(()) => Ok(out),
+                    Err(e) => Err(Error::invalid(
+                        "--out",
+                        out.display(),
+                        format!(
+                            "now holds the new results, but the old ones, moved aside to {}, \
+                             could not be removed ({e}); remove that folder by hand",
+                            old.display()
+                        ),
+                    )),
+                };
             }
         }
         if !rename_no_replace(&dir, &out)? {
@@ -347,12 +363,89 @@ pub fn write_file_atomically(
     result
 }
 
-/// Checks that the file `out` can be written: not a directory, in a folder that exists, and
-/// absent unless `replace`.
+/// The files under `dir` (recursively; the marker itself excluded), relative to it,
+/// `/`-separated, sorted; symbolic links count as files and are not followed.
+fn files_under(dir: &Path) -> std::io::Result<Vec<String>> {
+    fn walk(root: &Path, dir: &Path, out: &mut Vec<String>) -> std::io::Result<()> {
+        for e in std::fs::read_dir(dir)? {
+            let e = e?;
+            let p = e.path();
+            if e.file_type()?.is_dir() {
+                walk(root, &p, out)?;
+            } else {
+                let rel = p.strip_prefix(root).unwrap_or(&p);
+                let name: Vec<String> = rel
+                    .components()
+                    .map(|c| c.as_os_str().to_string_lossy().into_owned())
+                    .collect();
+                out.push(name.join("/"));
+            }
+        }
+        Ok(())
+    }
+    let mut out = Vec::new();
+    walk(dir, dir, &mut out)?;
+    out.retain(|f| f != MARKER);
+    out.sort();
+    Ok(out)
+}
+
+/// `ELOOP`: too many levels of symbolic links.
+#[cfg(unix)]
+const ELOOP: i32 = libc::ELOOP;
+#[cfg(not(unix))]
+const ELOOP: i32 = -1;
+
+/// Refuses an output path whose last component is a symbolic link, saying what it is: a loop,
+/// a link to nothing, or a link (rvlife renames the finished output onto the name, which would
+/// replace the link, not what it points to).
+fn check_not_a_link(out: &Path) -> Result<()> {
+    let Ok(meta) = std::fs::symlink_metadata(out) else {
+        return Ok(());
+    };
+    if !meta.file_type().is_symlink() {
+        return Ok(());
+    }
+    let to = std::fs::read_link(out).map_or_else(|_| "?".to_string(), |t| t.display().to_string());
+    let what = match std::fs::metadata(out) {
+        Ok(_) => format!(
+            "is a symbolic link (to {to}); rvlife renames its finished output onto this name, \
+             which would replace the link and not write where it points: name the target itself"
+        ),
+        Err(e) if e.raw_os_error() == Some(ELOOP) => format!(
+            "is a symbolic link that loops (to {to}, which leads back to it); name a real path"
+        ),
+        Err(_) => format!("is a symbolic link to {to}, which does not exist; name a real path"),
+    };
+    Err(Error::invalid("--out", out.display(), what))
+}
+
+/// Whether this process may create and remove entries in `dir` (`access(W_OK | X_OK)`; a
+/// read-only file system or an unwritable folder fails it; elsewhere assumed).
+fn writable(dir: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::ffi::OsStrExt;
+        let Ok(c) = std::ffi::CString::new(dir.as_os_str().as_bytes()) else {
+            return false;
+        };
+        // SAFETY: `c` is a valid NUL-terminated string for the duration of the call.
+        unsafe { libc::access(c.as_ptr(), libc::W_OK | libc::X_OK) == 0 }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = dir;
+        true
+    }
+}
+
+/// Checks that the file `out` can be written: not a directory or a symbolic link, in a folder
+/// that exists and can be written, and absent unless `replace`.
 ///
 /// # Errors
 /// [`Error::Invalid`] naming `--out`.
 pub fn check_output_file(out: &Path, replace: bool) -> Result<()> {
+    check_not_a_link(out)?;
     if out.is_dir() {
         return Err(Error::invalid(
             "--out",
@@ -377,6 +470,81 @@ pub fn check_output_file(out: &Path, replace: bool) -> Result<()> {
             out.display(),
             "exists; pass --force to replace it",
         ));
+    }
+    if !writable(parent) {
+        return Err(Error::invalid(
+            "--out",
+            out.display(),
+            format!("its folder {} cannot be written", parent.display()),
+        ));
+    }
+    Ok(())
+}
+
+/// Checks that the non-empty directory `out` holds results of rvlife and nothing else, and
+/// that this process can remove them: its [`MARKER`] file (a regular file with rvlife's
+/// header) lists every file in it, and it and every folder in it can be written.
+///
+/// # Errors
+/// [`Error::Invalid`] naming `--out`.
+fn check_own_results(out: &Path) -> Result<()> {
+    let refuse = |why: String| {
+        Error::invalid(
+            "--out",
+            out.display(),
+            format!(
+                "{why}; --force replaces only results directories of rvlife that hold nothing \
+                 else, so this directory is left as it is: choose another"
+            ),
+        )
+    };
+    let marker = out.join(MARKER);
+    let listed: Vec<String> = match crate::input::read_text(&marker) {
+        Ok(text) if text.starts_with(MARKER_HEADER) => {
+            text.lines().skip(1).map(str::to_string).collect()
+        }
+        Ok(_) => {
+            return Err(refuse(format!(
+                "is not a results directory of rvlife (its {MARKER} file was not written by \
+                 rvlife, or by a version that did not list its files)"
+            )))
+        }
+        Err(_) => {
+            return Err(refuse(format!(
+                "is not a results directory of rvlife (it has no {MARKER} file)"
+            )))
+        }
+    };
+    let present = files_under(out).map_err(|e| Error::io(out, e))?;
+    if let Some(extra) = present.iter().find(|f| !listed.contains(f)) {
+        return Err(refuse(format!(
+            "holds {extra}, which the run that wrote it did not write"
+        )));
+    }
+    let mut folders = vec![out.to_path_buf()];
+    let mut i = 0;
+    while i < folders.len() {
+        let d = folders[i].clone();
+        if !writable(&d) {
+            return Err(Error::invalid(
+                "--out",
+                out.display(),
+                format!(
+                    "holds results this user cannot remove ({} cannot be written); nothing \
+                     was replaced",
+                    d.display()
+                ),
+            ));
+        }
+        for e in std::fs::read_dir(&d)
+            .map_err(|e| Error::io(&d, e))?
+            .flatten()
+        {
+            if e.file_type().is_ok_and(|t| t.is_dir()) {
+                folders.push(e.path());
+            }
+        }
+        i += 1;
     }
     Ok(())
 }
@@ -403,6 +571,7 @@ pub(crate) fn check_output_dir(out: &Path, replace: bool) -> Result<()> {
             "names the current, a parent or the root folder; name a results directory",
         ));
     }
+    check_not_a_link(out)?;
     if out.exists() {
         if !out.is_dir() {
             return Err(Error::invalid(
@@ -432,17 +601,7 @@ pub(crate) fn check_output_dir(out: &Path, replace: bool) -> Result<()> {
                     "exists and is not empty; pass --force to replace results of rvlife",
                 ));
             }
-            if !out.join(MARKER).is_file() {
-                return Err(Error::invalid(
-                    "--out",
-                    out.display(),
-                    format!(
-                        "is not a results directory of rvlife (it has no {MARKER} file); \
-                         --force replaces only those, so this directory is left as it is: \
-                         choose another"
-                    ),
-                ));
-            }
+            check_own_results(out)?;
         }
     }
     Ok(())

@@ -327,7 +327,9 @@ impl RadialBearing {
             }
             y
         };
-        let mut d = (half + y).clamp(half, x);
+        // `max`/`min`, not `clamp`: a non-finite `x` from a diverging solve must not panic here
+        // (the solver reports it).
+        let mut d = (half + y).max(half).min(x);
         // The share's own scale beyond the clearance (small where the series part is soft).
         let scale = y.max(1e-6 * u);
         let mut out = self.own_law(d, true);
@@ -352,7 +354,7 @@ impl RadialBearing {
                 *share = (d - step - half) / u;
                 return (fd - kd * step, kd - cd * step);
             }
-            d = (d - step).clamp(half, x);
+            d = (d - step).max(half).min(x);
             // A step below 1e-5 of the share (Halley's, third order) or 1e-8 (Newton's, second)
             // leaves an error of order 1e-15 of it.
             let last = step.abs() <= if halley { 1e-5 } else { 1e-8 } * scale;

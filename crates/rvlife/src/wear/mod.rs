@@ -729,7 +729,7 @@ pub(crate) fn check_updates(inputs: &WearInputs, horizon: f64, max_rate: f64) ->
         format!(
             "the largest wear rate, {:.3e} um/h on the unworn disc, needs about {updates:.2e} \
              profile updates of at most wear.max_wear_step_um = {} um over {horizon} h: about \
-             {total:.2e} contact solves (~{:.0} min), more than the work budget of {:.0} min \
+             {total:.2e} contact solves (~{:.1} min), more than the work budget of {:.1} min \
              (--work-budget-min)",
             max_rate * 1e6,
             w.max_wear_step * 1e6,
