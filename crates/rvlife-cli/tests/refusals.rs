@@ -401,3 +401,31 @@ fn the_console_prints_no_negative_zeros() {
     assert!(!out.contains("-0.00000"), "{out}");
     assert!(out.contains("STE mean"), "{out}");
 }
+
+/// Backlash in the sun-planet meshes (`[reducer.gears] backlash_um`) is carried, not refused:
+/// `te` and `contact` run with 0.1 to 5 um (they used to end after 19-32 s naming
+/// `reducer.rated_torque_nm`).
+#[test]
+fn sun_planet_backlash_is_carried() {
+    let ex = example();
+    for b in ["0.1", "1.0", "2.07", "5.0"] {
+        let t = set_key(&ex, "reducer.gears", "backlash_um", b);
+        let (_d, o) = run_config(&t, &["te", "--torque-nm", "412", "--json"]);
+        assert_all_finite(&json_ok(&o, &format!("te, backlash {b} um")), "te");
+        let (_d, o) = run_config(
+            &t,
+            &[
+                "contact",
+                "--crank-deg",
+                "3",
+                "--torque-nm",
+                "412",
+                "--json",
+            ],
+        );
+        assert_all_finite(
+            &json_ok(&o, &format!("contact, backlash {b} um")),
+            "contact",
+        );
+    }
+}

@@ -808,75 +808,90 @@ pub fn calibrate(
 }
 
 impl Calibration {
-    /// Refuses a fit nobody can stand behind: an interval the data cannot bound (an end that
-    /// is not finite, or a coefficient's lower end at zero), or a model that follows a
-    /// measured series (3 values or more) worse than the series' own mean does.
+    /// [`standing`] of this fit.
     ///
     /// # Errors
-    /// [`Error::Invalid`] naming `--measured`.
+    /// As [`standing`].
     fn check_standing(&self, data: &Measurements) -> Result<()> {
-        let positive = |e: &Estimate| e.lower > 0.0 && e.upper.is_finite();
-        let finite = |e: &Estimate| e.lower.is_finite() && e.upper.is_finite();
-        let unbounded = |what: &str, e: &Estimate| {
-            bad(
+        standing(
+            &self.archard_coefficient_m2_per_n,
+            self.running_in_factor.as_ref(),
+            self.running_in_backlash_arcmin.as_ref(),
+            &self.residuals,
+            data,
+        )
+    }
+}
+
+/// Refuses a fit nobody can stand behind: an interval the data cannot bound (an end that is
+/// not finite, or a positive parameter's lower end at zero: the coefficient `k` (m^2/N), the
+/// running-in factor; the running-in play `b0` (arcmin) needs finite ends), or a model that
+/// follows a measured series of 3 values or more worse than the series' own mean does (its
+/// residuals' sum of squares above the values' about their mean).
+///
+/// # Errors
+/// [`Error::Invalid`] naming `--measured`, with the estimate and its interval, or the series
+/// with its RMS residual and spread.
+fn standing(
+    k: &Estimate,
+    factor: Option<&Estimate>,
+    b0: Option<&Estimate>,
+    residuals: &[Residual],
+    data: &Measurements,
+) -> Result<()> {
+    let positive = |e: &Estimate| e.lower > 0.0 && e.upper.is_finite();
+    let finite = |e: &Estimate| e.lower.is_finite() && e.upper.is_finite();
+    let unbounded = |what: &str, e: &Estimate| {
+        bad(
+            &data.path,
+            format!(
+                "the data cannot bound the {:.0} % interval of {what} (best fit {:.4e}, \
+                 interval [{:.4e}, {:.4e}]): more measurements, or measurements over more \
+                 hours, are needed",
+                100.0 * CONFIDENCE,
+                e.value,
+                e.lower,
+                e.upper
+            ),
+        )
+    };
+    if !positive(k) {
+        return Err(unbounded("the Archard coefficient (m^2/N)", k));
+    }
+    if let Some(e) = factor.filter(|e| !positive(e)) {
+        return Err(unbounded("the running-in factor", e));
+    }
+    if let Some(e) = b0.filter(|e| !finite(e)) {
+        return Err(unbounded("the running-in play (arcmin)", e));
+    }
+    for s in &data.series {
+        let n = s.values.len();
+        if n < 3 {
+            continue;
+        }
+        let mean = s.values.iter().sum::<f64>() / n as f64;
+        let spread = s.values.iter().map(|v| (v - mean).powi(2)).sum::<f64>();
+        let rss: f64 = residuals
+            .iter()
+            .filter(|r| r.column == s.column)
+            .map(|r| r.residual.powi(2))
+            .sum();
+        if spread > 0.0 && rss > spread {
+            let unit = QUANTITIES[s.quantity].unit();
+            return Err(bad(
                 &data.path,
                 format!(
-                    "the data cannot bound the {:.0} % interval of {what} (best fit {:.4e}, \
-                     interval [{:.4e}, {:.4e}]): more measurements, or measurements over more \
-                     hours, are needed",
-                    100.0 * CONFIDENCE,
-                    e.value,
-                    e.lower,
-                    e.upper
+                    "the fitted model follows {} worse than the measurements' own mean does \
+                     (RMS residual {:.4} {unit}, spread about the mean {:.4} {unit}): the data \
+                     do not follow the model",
+                    s.column,
+                    (rss / n as f64).sqrt(),
+                    (spread / n as f64).sqrt()
                 ),
-            )
-        };
-        if !positive(&self.archard_coefficient_m2_per_n) {
-            return Err(unbounded(
-                "the Archard coefficient (m^2/N)",
-                &self.archard_coefficient_m2_per_n,
             ));
         }
-        if let Some(e) = self.running_in_factor.as_ref().filter(|e| !positive(e)) {
-            return Err(unbounded("the running-in factor", e));
-        }
-        if let Some(e) = self
-            .running_in_backlash_arcmin
-            .as_ref()
-            .filter(|e| !finite(e))
-        {
-            return Err(unbounded("the running-in play (arcmin)", e));
-        }
-        for s in &data.series {
-            let n = s.values.len();
-            if n < 3 {
-                continue;
-            }
-            let mean = s.values.iter().sum::<f64>() / n as f64;
-            let spread = s.values.iter().map(|v| (v - mean).powi(2)).sum::<f64>();
-            let rss: f64 = self
-                .residuals
-                .iter()
-                .filter(|r| r.column == s.column)
-                .map(|r| r.residual.powi(2))
-                .sum();
-            if spread > 0.0 && rss > spread {
-                let unit = QUANTITIES[s.quantity].unit();
-                return Err(bad(
-                    &data.path,
-                    format!(
-                        "the fitted model follows {} worse than the measurements' own mean \
-                         does (RMS residual {:.4} {unit}, spread about the mean {:.4} {unit}): \
-                         the data do not follow the model",
-                        s.column,
-                        (rss / n as f64).sqrt(),
-                        (spread / n as f64).sqrt()
-                    ),
-                ));
-            }
-        }
-        Ok(())
     }
+    Ok(())
 }
 
 /// Interval, residuals and curves of the final fit.
@@ -1094,5 +1109,62 @@ mod tests {
         let m = Measurements::parse(p, "hours,backlash_arcmin\n1,2\n").unwrap();
         let e = m.check_for_fit(false, false).unwrap_err();
         assert!(e.to_string().contains("at least 2"), "{e}");
+    }
+
+    #[test]
+    fn fits_nobody_can_stand_behind_are_refused() {
+        let p = Path::new("m.csv");
+        let m =
+            Measurements::parse(p, "hours,lost_motion_arcmin\n0,0.1\n100,0.2\n200,0.3\n").unwrap();
+        let est = |value: f64, lower: f64, upper: f64| Estimate {
+            value,
+            lower,
+            upper,
+        };
+        let res = |r: [f64; 3]| -> Vec<Residual> {
+            r.iter()
+                .zip([0.0, 100.0, 200.0])
+                .map(|(&residual, hours)| Residual {
+                    hours,
+                    column: "lost_motion_arcmin",
+                    measured: 0.0,
+                    model: 0.0,
+                    residual,
+                })
+                .collect()
+        };
+        let good = est(1e-17, 0.9e-17, 1.1e-17);
+        let small = res([0.01, -0.01, 0.01]);
+        assert!(standing(&good, None, None, &small, &m).is_ok());
+        for k in [
+            est(1e-17, 0.0, f64::INFINITY),
+            est(1e-17, 1e-18, f64::INFINITY),
+        ] {
+            let e = standing(&k, None, None, &small, &m)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("cannot bound") && e.contains("--measured"),
+                "{e}"
+            );
+        }
+        let e = standing(&good, Some(&est(2.0, 0.0, 5.0)), None, &small, &m).unwrap_err();
+        assert!(e.to_string().contains("running-in factor"), "{e}");
+        let e = standing(
+            &good,
+            None,
+            Some(&est(0.1, f64::NEG_INFINITY, 1.0)),
+            &small,
+            &m,
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("running-in play"), "{e}");
+        // Spread about the mean: 0.02 arcmin^2; residuals of 0.1: 0.03.
+        let e = standing(&good, None, None, &res([0.1, -0.1, 0.1]), &m).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("worse than the measurements' own mean"),
+            "{e}"
+        );
     }
 }
