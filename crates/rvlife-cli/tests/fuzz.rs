@@ -244,6 +244,7 @@ fn check_case(text: &str, duty: Option<&str>) {
     }
     std::fs::write(&cfg, &text).unwrap();
     let out = dir.path().join("results");
+    eprintln!("case:\n{text}\nduty cycle:\n{}", duty.unwrap_or("-"));
     let start = Instant::now();
     let o = rvlife_within(
         240,
@@ -539,6 +540,8 @@ fn check_command_case(case: &CommandCase) {
     };
     let mut args = args;
     args.extend(["--out".into(), out.clone().into_os_string()]);
+    // Shown with a failure (the test's output is captured), also one inside rvlife_within.
+    eprintln!("case: {shown}");
     let start = Instant::now();
     let o = rvlife_within(240, &args);
     let err = String::from_utf8_lossy(&o.stderr);
@@ -582,7 +585,7 @@ fn fuzzed_newer_commands_end_with_exit_0_or_2_and_finite_outputs() {
     seed_bytes[..8].copy_from_slice(&seed.to_le_bytes());
     let config = RunnerConfig {
         cases,
-        max_shrink_iters: 8,
+        max_shrink_iters: 0,
         failure_persistence: None,
         ..RunnerConfig::default()
     };

@@ -86,7 +86,7 @@ pub(crate) fn check_work(
         per_sample += 8.0
             * horizon.max(1.0)
             * w.scheduled_updates()
-            * w.rate_evaluation_solves(model.load.levels.len());
+            * w.rate_evaluation_solves(model.load.levels.len(), 1);
     }
     let total = samples as f64 * per_sample;
     if total <= model.work_budget {

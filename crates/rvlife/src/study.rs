@@ -202,8 +202,9 @@ fn check_finite(summary: &StageSummary) -> Result<()> {
 pub(crate) fn check_work(model: &Model) -> Result<()> {
     let w = &model.wear;
     let updates = w.scheduled_updates();
-    let wear = updates * w.rate_evaluation_solves(model.load.levels.len());
-    let stages = w.stage_hours.len() as f64 * budget::stage_solves(model.te.samples);
+    let positions = crate::wear::revolution_positions(&model.reducer);
+    let wear = updates * w.rate_evaluation_solves(model.load.levels.len(), positions);
+    let stages = w.stage_hours.len() as f64 * model.budget().per_stage;
     let total = wear + stages;
     if total <= model.work_budget {
         return Ok(());

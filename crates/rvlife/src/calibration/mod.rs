@@ -121,9 +121,11 @@ impl Reference {
 }
 
 /// The model of one reference pass: stages over `[0, horizon]` equivalent hours at `archard`,
-/// dynamics and the flexible disc off.
+/// dynamics and the flexible disc off, within a `MAX_PASSES`-th of the work budget (so that
+/// the whole calibration stays within it).
 fn reference_model(model: &Model, archard: f64, horizon: f64, stages: usize) -> Model {
     let mut m = model.clone();
+    m.work_budget = model.work_budget / MAX_PASSES as f64;
     m.wear.archard = archard;
     // Steady: the fit applies the running-in as a warp of the hours.
     m.wear.running_in.factor = 1.0;
@@ -144,8 +146,9 @@ fn budget_error(path: &Path, h_max: f64, horizon: f64, e: Error) -> Error {
             path,
             format!(
                 "the largest measured hours, {h_max} h, need a reference study over {horizon:.4e} \
-                 equivalent hours that exceeds the work budget ({allowed}); give fewer hours \
-                 or raise --work-budget-min"
+                 equivalent hours that exceeds its share of the work budget (a calibration \
+                 runs up to {MAX_PASSES} reference studies, each within 1/{MAX_PASSES} of \
+                 --work-budget-min: {allowed}); give fewer hours or raise --work-budget-min"
             ),
         ),
         other => other,
@@ -671,7 +674,7 @@ fn run_reference(
 ///
 /// Cost: 2 to `MAX_PASSES` reference studies without dynamics and FE (24 + 32 stages each
 /// time, about a second each for the example); the least squares on the interpolants is
-/// negligible.
+/// negligible. Each study must fit a `MAX_PASSES`-th of the work budget.
 ///
 /// # Errors
 /// [`Error::Invalid`] naming `--measured` for too few values, no hours above 0, work beyond the

@@ -80,7 +80,7 @@ impl Model {
     pub fn budget(&self) -> Budget {
         Budget {
             solves: self.work_budget,
-            per_stage: crate::budget::stage_solves(self.te.samples),
+            per_stage: crate::budget::stage_solves(self.te.samples, !self.reducer.errors.is_zero()),
         }
     }
 

@@ -18,6 +18,18 @@ use crate::statics::StaticAnalysis;
 /// one).
 pub(crate) const REVOLUTION_POSITIONS: usize = 8;
 
+/// The mesh cycles a wear rate of `reducer` is averaged over: [`REVOLUTION_POSITIONS`] with
+/// part errors or for a single-stage drive (every mesh cycle differs), 1 otherwise.
+pub(crate) fn revolution_positions(reducer: &crate::reducer::Reducer) -> usize {
+    let differs =
+        !reducer.errors.is_zero() || matches!(reducer.drive, crate::reducer::Drive::SingleStage(_));
+    if differs {
+        REVOLUTION_POSITIONS
+    } else {
+        1
+    }
+}
+
 /// Wear of one mesh cycle ([`wear_per_mesh_cycle`]).
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct MeshCycleWear {
@@ -68,9 +80,8 @@ pub(crate) fn wear_per_mesh_cycle(
     // `REVOLUTION_POSITIONS` mesh cycles spread over the output revolution, and over the discs.
     // A single-stage drive repeats only where the output pins' pattern does (and its discs
     // may be unevenly phased): it is averaged like a reducer with errors.
-    let errors = !inputs.reducer.errors.is_zero()
-        || matches!(inputs.reducer.drive, crate::reducer::Drive::SingleStage(_));
-    let positions = if errors { REVOLUTION_POSITIONS } else { 1 };
+    let positions = revolution_positions(inputs.reducer);
+    let errors = positions > 1;
     let cycles = (zp * zc) as usize;
     let mut solutions = Vec::with_capacity(positions * steps);
     for r in 0..positions {

@@ -29,7 +29,7 @@ mod mesh_cycle;
 mod pin_turning;
 
 pub use bearings::{bearing_wear_rates, clearance_growth, BearingWearParams, BearingWearRates};
-pub(crate) use mesh_cycle::{wear_per_mesh_cycle, MeshCycleWear};
+pub(crate) use mesh_cycle::{revolution_positions, wear_per_mesh_cycle, MeshCycleWear};
 pub use pin_turning::PinTurning;
 
 use std::f64::consts::TAU;
@@ -135,8 +135,12 @@ impl WearParams {
 
     /// Static solves of one wear-rate evaluation over `levels` load levels
     /// ([`budget::per_rate_evaluation`]).
-    pub(crate) fn rate_evaluation_solves(&self, levels: usize) -> f64 {
-        budget::per_rate_evaluation(self.model == WearModelKind::Paper, levels, self.crank_steps)
+    pub(crate) fn rate_evaluation_solves(&self, levels: usize, positions: usize) -> f64 {
+        budget::per_rate_evaluation(
+            self.model == WearModelKind::Paper,
+            levels,
+            self.crank_steps * positions,
+        )
     }
 }
 
@@ -705,7 +709,8 @@ pub(crate) fn check_updates(inputs: &WearInputs, horizon: f64, max_rate: f64) ->
     let updates = (w.running_in.equivalent_hours(horizon) * max_rate / w.max_wear_step)
         .ceil()
         .max(w.scheduled_updates());
-    let total = updates * w.rate_evaluation_solves(inputs.load.len())
+    let positions = revolution_positions(inputs.reducer);
+    let total = updates * w.rate_evaluation_solves(inputs.load.len(), positions)
         + w.stage_hours.len() as f64 * inputs.budget.per_stage;
     if total <= inputs.budget.solves {
         return Ok(());
