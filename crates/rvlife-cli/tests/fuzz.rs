@@ -287,28 +287,36 @@ fn check_case(text: &str, duty: Option<&str>) {
     assert!(left.is_empty(), "temporary directory left\n{case}");
 }
 
-#[test]
-fn fuzzed_configs_end_with_exit_0_or_2_and_finite_outputs() {
-    let cases: u32 = std::env::var("RVLIFE_FUZZ_CASES")
+/// A proptest runner of `RVLIFE_FUZZ_SEED` (default `seed`) for the number of cases in the
+/// environment variable `cases_var` (default `cases`), shrinking up to `shrink` times; with the
+/// cases and the seed.
+fn runner(cases_var: &str, cases: u32, seed: u64, shrink: u32) -> (TestRunner, u32, u64) {
+    let cases: u32 = std::env::var(cases_var)
         .ok()
         .and_then(|v| v.parse().ok())
-        .unwrap_or(60);
+        .unwrap_or(cases);
     let seed: u64 = std::env::var("RVLIFE_FUZZ_SEED")
         .ok()
         .and_then(|v| v.parse().ok())
-        .unwrap_or(20261122);
+        .unwrap_or(seed);
     let mut seed_bytes = [0u8; 32];
     seed_bytes[..8].copy_from_slice(&seed.to_le_bytes());
     let config = RunnerConfig {
         cases,
-        max_shrink_iters: 32,
+        max_shrink_iters: shrink,
         failure_persistence: None,
         ..RunnerConfig::default()
     };
-    let mut runner = TestRunner::new_with_rng(
+    let runner = TestRunner::new_with_rng(
         config,
         TestRng::from_seed(RngAlgorithm::ChaCha, &seed_bytes),
     );
+    (runner, cases, seed)
+}
+
+#[test]
+fn fuzzed_configs_end_with_exit_0_or_2_and_finite_outputs() {
+    let (mut runner, cases, seed) = runner("RVLIFE_FUZZ_CASES", 60, 20261122, 32);
     let base = base_config();
     let strategy = (
         prop::collection::vec(mutation(), 1..=2),
@@ -386,28 +394,7 @@ fn shards() -> &'static (tempfile::TempDir, [std::path::PathBuf; 2]) {
         std::fs::write(&cfg, base_config()).unwrap();
         let out = |i: usize| {
             let o = dir.path().join(format!("s{i}"));
-            let r = rvlife_within(
-                300,
-                [
-                    "montecarlo".as_ref(),
-                    cfg.as_os_str(),
-                    "--samples".as_ref(),
-                    "2".as_ref(),
-                    "--samples-per-mesh-cycle".as_ref(),
-                    "2".as_ref(),
-                    "--keep-going".as_ref(),
-                    "--shard".as_ref(),
-                    format!("{i}/2").as_ref(),
-                    "--out".as_ref(),
-                    o.as_os_str(),
-                ],
-            );
-            assert_eq!(
-                r.status.code(),
-                Some(0),
-                "{}",
-                String::from_utf8_lossy(&r.stderr)
-            );
+            common::montecarlo_shard(&cfg, i, &o);
             o
         };
         let s = [out(1), out(2)];
@@ -573,26 +560,8 @@ fn check_command_case(case: &CommandCase) {
 
 #[test]
 fn fuzzed_newer_commands_end_with_exit_0_or_2_and_finite_outputs() {
-    let cases: u32 = std::env::var("RVLIFE_FUZZ_COMMAND_CASES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(12);
-    let seed: u64 = std::env::var("RVLIFE_FUZZ_SEED")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(20261125);
-    let mut seed_bytes = [0u8; 32];
-    seed_bytes[..8].copy_from_slice(&seed.to_le_bytes());
-    let config = RunnerConfig {
-        cases,
-        max_shrink_iters: 0,
-        failure_persistence: None,
-        ..RunnerConfig::default()
-    };
-    let mut runner = TestRunner::new_with_rng(
-        config,
-        TestRng::from_seed(RngAlgorithm::ChaCha, &seed_bytes),
-    );
+    // No shrinking: a case can take minutes, and each prints itself.
+    let (mut runner, cases, seed) = runner("RVLIFE_FUZZ_COMMAND_CASES", 12, 20261125, 0);
     let result = runner.run(&command_case(), |case| {
         check_command_case(&case);
         Ok(())

@@ -288,15 +288,7 @@ fn calibrate_measured_fits_the_running_in_play() {
         covered += usize::from(hit);
         if seed == 11 {
             // Without b0 the model cannot follow the play: the fit is refused, not reported.
-            let o = rvlife_within(
-                300,
-                [
-                    "calibrate".as_ref(),
-                    cfg.as_os_str(),
-                    "--measured".as_ref(),
-                    m.as_os_str(),
-                ],
-            );
+            let o = calibrate_measured(&cfg, &m);
             assert_input_error(
                 &o,
                 "fit without b0",

@@ -121,15 +121,7 @@ fn a_fit_at_its_bound_is_refused() {
     )
     .unwrap();
     let cfg = write_config(dir.path(), "c.toml", &fast_text());
-    let o = rvlife_within(
-        300,
-        [
-            "calibrate".as_ref(),
-            cfg.as_os_str(),
-            "--measured".as_ref(),
-            m.as_os_str(),
-        ],
-    );
+    let o = calibrate_measured(&cfg, &m);
     assert_input_error(&o, "fit at its bound", &["--measured", "search range"]);
     assert!(!stdout(&o).contains("inf"), "{}", stdout(&o));
 }
@@ -149,23 +141,7 @@ fn merge_refuses_non_finite_numbers() {
     let cfg = write_config(dir.path(), "c.toml", &example());
     let shard = |i: usize| {
         let out = dir.path().join(format!("s{i}"));
-        let o = rvlife_within(
-            300,
-            [
-                "montecarlo".as_ref(),
-                cfg.as_os_str(),
-                "--samples".as_ref(),
-                "2".as_ref(),
-                "--samples-per-mesh-cycle".as_ref(),
-                "2".as_ref(),
-                "--shard".as_ref(),
-                format!("{i}/2").as_ref(),
-                "--keep-going".as_ref(),
-                "--out".as_ref(),
-                out.as_os_str(),
-            ],
-        );
-        ok(&o, "montecarlo shard");
+        montecarlo_shard(&cfg, i, &out);
         out
     };
     let (s1, s2) = (shard(1), shard(2));

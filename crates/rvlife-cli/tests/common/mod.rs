@@ -782,3 +782,38 @@ pub const MONTE_CARLO_SPEC: &str = "\n[tolerances]\n\
          equidistant_um = { normal = 0.5 }\n\
          offset_um = { normal = 0.5 }\n\
          \n[life]\nlost_motion_arcmin = 2.3\nangular_te_arcmin = 1.5\n";
+
+/// `rvlife calibrate CFG --measured M` (no `--out`) with a time limit of 300 s.
+pub fn calibrate_measured(cfg: &Path, measured: &Path) -> Output {
+    rvlife_within(
+        300,
+        [
+            "calibrate".as_ref(),
+            cfg.as_os_str(),
+            "--measured".as_ref(),
+            measured.as_os_str(),
+        ],
+    )
+}
+
+/// Shard `i` of 2 of a two-sample Monte Carlo run of `cfg` (2 crank angles per mesh cycle,
+/// `--keep-going`) into `out`, which must succeed.
+pub fn montecarlo_shard(cfg: &Path, i: usize, out: &Path) {
+    let o = rvlife_within(
+        300,
+        [
+            "montecarlo".as_ref(),
+            cfg.as_os_str(),
+            "--samples".as_ref(),
+            "2".as_ref(),
+            "--samples-per-mesh-cycle".as_ref(),
+            "2".as_ref(),
+            "--keep-going".as_ref(),
+            "--shard".as_ref(),
+            format!("{i}/2").as_ref(),
+            "--out".as_ref(),
+            out.as_os_str(),
+        ],
+    );
+    ok(&o, &format!("montecarlo shard {i}/2"));
+}
