@@ -464,9 +464,9 @@ struct NoLoad {
     angular_te: f64,
 }
 
-/// [`NoLoad`] of `model`'s reducer with the disc `profile`.
-/// Rigid first contacts: where part errors make them cross (preload, docs/model.md section
-/// 5.12) the play is zero, and the angular TE is [`angular_te_of`]'s.
+/// [`NoLoad`] of `model`'s reducer with the disc `profile`, from the rigid first contacts:
+/// where part errors make them cross (preload, docs/model.md section 5.12) the play is zero,
+/// and the angular TE is [`angular_te_of`]'s.
 fn no_load(model: &Model, profile: &Profile) -> Result<NoLoad> {
     let red = &model.reducer;
     let samples = model.te.samples;

@@ -721,7 +721,7 @@ impl RevolutionTe {
 ///
 /// # Errors
 /// Those of the solver.
-pub(crate) fn angular_te_carried(
+fn angular_te_carried(
     sa: &StaticAnalysis,
     samples: usize,
     spread: usize,
@@ -740,7 +740,7 @@ pub(crate) fn angular_te_carried(
 /// Crank angles spread over the output revolution at which the angular TE of a reducer whose
 /// rigid kinematics interfere is taken from its zero-torque twists (docs/model.md section
 /// 5.12).
-pub(crate) const ANGULAR_TE_SPREAD: usize = 24;
+const ANGULAR_TE_SPREAD: usize = 24;
 
 /// Angular TE (rad) of the reducer of `sa` from its revolution STE `rev` (at `samples` crank
 /// angles per mesh cycle): the peak-to-peak of the rigid forward twists

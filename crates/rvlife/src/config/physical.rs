@@ -20,6 +20,7 @@ use super::dynamics::load_peaks;
 use super::{Model, ModificationConfig};
 use crate::error::{Error, Result};
 use crate::geometry::Profile;
+use crate::reducer::Reducer;
 use crate::statics::{StaticAnalysis, MAX_TWIST};
 use crate::units::ARCMIN_PER_RAD;
 
@@ -61,13 +62,22 @@ fn show(v: f64) -> String {
     }
 }
 
-/// Checks that the modified, unworn disc of `profile` stays in mesh (see the module docs);
-/// `mods` and the pin circle radius `rp` (m) name the modification that is to blame.
+/// Checks that the modified, unworn disc of `profile` stays in mesh on the reducer `nominal`
+/// (the model's without part errors: parts that close the play are assembled with preload,
+/// docs/model.md section 5.12, and their errors are checked by the torques they carry, see
+/// [`check_stage`]); `mods` and the pin circle radius `rp` (m) name the modification that is
+/// to blame.
 ///
 /// # Errors
 /// [`Error::Invalid`] naming the modification key that contributes most (its effect on the
 /// flank in mm: `|equidistant|`, `|offset|`, `|rotation| Rp`), its value and the play found.
-fn check_mesh(model: &Model, profile: &Profile, mods: &ModificationConfig, rp: f64) -> Result<()> {
+fn check_mesh(
+    model: &Model,
+    nominal: &Reducer,
+    profile: &Profile,
+    mods: &ModificationConfig,
+    rp: f64,
+) -> Result<()> {
     let blame = |why: String| {
         let parts = [
             (
@@ -107,13 +117,7 @@ fn check_mesh(model: &Model, profile: &Profile, mods: &ModificationConfig, rp: f
             )
         }
     };
-    // The nominal stage: part errors that close the play are assembled with preload
-    // (docs/model.md section 5.12) and checked on their own ([`check_errors`]).
-    let nominal = crate::reducer::Reducer {
-        errors: Default::default(),
-        ..model.reducer.clone()
-    };
-    let sa = StaticAnalysis::new(&nominal, profile).map_err(|e| {
+    let sa = StaticAnalysis::new(nominal, profile).map_err(|e| {
         blame(format!(
             "the contact geometry of the modified disc cannot be built ({e})"
         ))
@@ -231,39 +235,38 @@ impl NotCarried {
 }
 
 /// The first of the torques `uses` (key as the user wrote it, output torque in N m) that the
-/// unworn stage of `profile` does not carry (see the module docs), if any.
+/// unworn stage of `profile` on the reducer `red` does not carry (see the module docs), if
+/// any; a torque beyond [`super::load::MAX_TORQUE_NM`] is not solved at all.
 ///
 /// # Errors
 /// Those of building the static analysis.
 fn not_carried(
     model: &Model,
+    red: &Reducer,
     profile: &Profile,
     uses: &[(String, f64)],
 ) -> Result<Option<NotCarried>> {
-    let sa = StaticAnalysis::new(&model.reducer, profile)?;
+    let sa = StaticAnalysis::new(red, profile)?;
+    let max = super::load::MAX_TORQUE_NM;
     let mut checked: Vec<f64> = Vec::new();
     for (key, torque) in uses {
         let t = *torque;
         if t == 0.0 || checked.contains(&t) {
             continue;
         }
-        if t.is_nan() || t.abs() > super::load::MAX_TORQUE_NM {
-            return Ok(Some(NotCarried {
-                key: key.clone(),
-                torque: t,
-                reason: format!(
-                    "it is beyond {:e} N m, the largest torque rvlife takes",
-                    super::load::MAX_TORQUE_NM
-                ),
-                capacity: capacity(&sa, model, t.signum(), super::load::MAX_TORQUE_NM),
-            }));
-        }
-        if let Err(reason) = carried(&sa, model, t) {
+        let refused = if t.is_nan() || t.abs() > max {
+            Err(format!(
+                "it is beyond {max:e} N m, the largest torque rvlife takes"
+            ))
+        } else {
+            carried(&sa, model, t)
+        };
+        if let Err(reason) = refused {
             return Ok(Some(NotCarried {
                 key: key.clone(),
                 torque: t,
                 reason,
-                capacity: capacity(&sa, model, t.signum(), t.abs()),
+                capacity: capacity(&sa, model, t.signum(), t.abs().min(max)),
             }));
         }
         checked.push(t);
@@ -272,14 +275,19 @@ fn not_carried(
 }
 
 /// Checks the torques `uses` (key as the user wrote it, output torque in N m) against what the
-/// unworn stage of `profile` carries (see the module docs).
+/// unworn stage of `profile` on the reducer `red` carries (see the module docs).
 ///
 /// # Errors
 /// [`Error::Invalid`] naming the first key whose torque is not carried, with the reason (the
 /// pressure above the limit, or the static analysis failing) and the largest torque the stage
 /// carries in that direction.
-fn check_torques(model: &Model, profile: &Profile, uses: &[(String, f64)]) -> Result<()> {
-    match not_carried(model, profile, uses)? {
+fn check_torques(
+    model: &Model,
+    red: &Reducer,
+    profile: &Profile,
+    uses: &[(String, f64)],
+) -> Result<()> {
+    match not_carried(model, red, profile, uses)? {
         None => Ok(()),
         Some(n) => Err(Error::invalid(
             n.key.as_str(),
@@ -298,7 +306,8 @@ fn check_torques(model: &Model, profile: &Profile, uses: &[(String, f64)]) -> Re
 /// `mods` (as written) keep the disc in mesh ([`check_mesh`]), and every torque the config
 /// applies is carried ([`check_torques`]): the rated torque both ways, the loaded-TE torque,
 /// the largest wear load each way (`level_keys`: the key of each load level) and, with
-/// `[dynamics]` enabled, the peaks of the dynamic load.
+/// `[dynamics]` enabled, the peaks of the dynamic load. Both on the nominal parts; with part
+/// errors the torques are then checked with the errors in place ([`blame_errors`]).
 ///
 /// # Errors
 /// [`Error::Invalid`] naming the key to blame.
@@ -308,8 +317,13 @@ pub(super) fn check_stage(
     mods: &ModificationConfig,
     level_keys: &[String],
 ) -> Result<()> {
+    let nominal = Reducer {
+        errors: Default::default(),
+        ..model.reducer.clone()
+    };
     check_mesh(
         model,
+        &nominal,
         profile,
         mods,
         model.cycloid.geometry.pin_circle_radius,
@@ -335,15 +349,13 @@ pub(super) fn check_stage(
     if model.dynamics.enabled {
         uses.extend(load_peaks(&model.dynamics.params.load));
     }
-    if model.reducer.errors.is_zero() {
-        return check_torques(model, profile, &uses);
-    }
     // With part errors: the nominal stage first, so that a torque it does not carry is blamed
     // on the torque (or the stage), and one that only the errors make too much on the errors.
-    let mut nominal = model.clone();
-    nominal.reducer.errors = Default::default();
-    check_torques(&nominal, profile, &uses)?;
-    match not_carried(model, profile, &uses)? {
+    check_torques(model, &nominal, profile, &uses)?;
+    if model.reducer.errors.is_zero() {
+        return Ok(());
+    }
+    match not_carried(model, &model.reducer, profile, &uses)? {
         None => Ok(()),
         Some(n) => Err(blame_errors(model, &n)),
     }
@@ -411,7 +423,7 @@ impl Model {
             return Err(Error::invalid(key, torque, "must be a finite number"));
         }
         let profile = self.profile()?;
-        check_torques(self, &profile, &[(key.to_string(), torque)])
+        check_torques(self, &self.reducer, &profile, &[(key.to_string(), torque)])
     }
 }
 

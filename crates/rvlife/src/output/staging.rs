@@ -228,7 +228,7 @@ impl Staging {
             "{MARKER_HEADER} {}; `--force` may replace it. Its files:\n",
             env!("CARGO_PKG_VERSION")
         );
-        for f in files_under(&dir).map_err(|e| Error::io(&dir, e))? {
+        for f in tree_under(&dir).map_err(|e| Error::io(&dir, e))?.0 {
             text.push_str(&f);
             text.push('\n');
         }
@@ -363,31 +363,38 @@ pub fn write_file_atomically(
     result
 }
 
-/// The files under `dir` (recursively; the marker itself excluded), relative to it,
-/// `/`-separated, sorted; symbolic links count as files and are not followed.
-fn files_under(dir: &Path) -> std::io::Result<Vec<String>> {
-    fn walk(root: &Path, dir: &Path, out: &mut Vec<String>) -> std::io::Result<()> {
+/// The tree under `dir`: its files (recursively; the marker itself excluded), relative to it,
+/// `/`-separated, sorted, symbolic links counted as files and not followed; and its folders,
+/// `dir` first.
+fn tree_under(dir: &Path) -> std::io::Result<(Vec<String>, Vec<PathBuf>)> {
+    fn walk(
+        root: &Path,
+        dir: &Path,
+        files: &mut Vec<String>,
+        folders: &mut Vec<PathBuf>,
+    ) -> std::io::Result<()> {
+        folders.push(dir.to_path_buf());
         for e in std::fs::read_dir(dir)? {
             let e = e?;
             let p = e.path();
             if e.file_type()?.is_dir() {
-                walk(root, &p, out)?;
+                walk(root, &p, files, folders)?;
             } else {
                 let rel = p.strip_prefix(root).unwrap_or(&p);
                 let name: Vec<String> = rel
                     .components()
                     .map(|c| c.as_os_str().to_string_lossy().into_owned())
                     .collect();
-                out.push(name.join("/"));
+                files.push(name.join("/"));
             }
         }
         Ok(())
     }
-    let mut out = Vec::new();
-    walk(dir, dir, &mut out)?;
-    out.retain(|f| f != MARKER);
-    out.sort();
-    Ok(out)
+    let (mut files, mut folders) = (Vec::new(), Vec::new());
+    walk(dir, dir, &mut files, &mut folders)?;
+    files.retain(|f| f != MARKER);
+    files.sort();
+    Ok((files, folders))
 }
 
 /// `ELOOP`: too many levels of symbolic links.
@@ -453,10 +460,7 @@ pub fn check_output_file(out: &Path, replace: bool) -> Result<()> {
             "is a directory; name a file",
         ));
     }
-    let parent = match out.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
+    let parent = parent_of(out);
     if !parent.is_dir() {
         return Err(Error::invalid(
             "--out",
@@ -471,7 +475,7 @@ pub fn check_output_file(out: &Path, replace: bool) -> Result<()> {
             "exists; pass --force to replace it",
         ));
     }
-    if !writable(parent) {
+    if !writable(&parent) {
         return Err(Error::invalid(
             "--out",
             out.display(),
@@ -515,38 +519,24 @@ fn check_own_results(out: &Path) -> Result<()> {
             )))
         }
     };
-    let present = files_under(out).map_err(|e| Error::io(out, e))?;
+    let (present, folders) = tree_under(out).map_err(|e| Error::io(out, e))?;
     if let Some(extra) = present.iter().find(|f| !listed.contains(f)) {
         return Err(refuse(format!(
             "holds {extra}, which the run that wrote it did not write"
         )));
     }
-    let mut folders = vec![out.to_path_buf()];
-    let mut i = 0;
-    while i < folders.len() {
-        let d = folders[i].clone();
-        if !writable(&d) {
-            return Err(Error::invalid(
-                "--out",
-                out.display(),
-                format!(
-                    "holds results this user cannot remove ({} cannot be written); nothing \
-                     was replaced",
-                    d.display()
-                ),
-            ));
-        }
-        for e in std::fs::read_dir(&d)
-            .map_err(|e| Error::io(&d, e))?
-            .flatten()
-        {
-            if e.file_type().is_ok_and(|t| t.is_dir()) {
-                folders.push(e.path());
-            }
-        }
-        i += 1;
+    match folders.iter().find(|d| !writable(d)) {
+        None => Ok(()),
+        Some(d) => Err(Error::invalid(
+            "--out",
+            out.display(),
+            format!(
+                "holds results this user cannot remove ({} cannot be written); nothing was \
+                 replaced",
+                d.display()
+            ),
+        )),
     }
-    Ok(())
 }
 
 /// Checks that `out` can receive results: absent, an empty directory, or (with `replace`) a
