@@ -239,6 +239,26 @@ enum Command {
         #[arg(long)]
         force: bool,
     },
+    /// Design sweep: the product of values of config keys (`--vary`), one accuracy-life
+    /// study per design; writes the tidy table of every design and stage (`sweep.csv`), each
+    /// design's verdict (`designs.csv`), its config, and a report.
+    Sweep {
+        /// Config file the designs start from (default: the built-in example).
+        config: Option<PathBuf>,
+        /// A varied key: `KEY=LO:HI:N` (N values from LO to HI) or `KEY=A,B,C`, the key dotted
+        /// as in the config (`cycloid.eccentricity_mm=1.2:1.4:3`); repeat for a product.
+        #[arg(long, required = true, allow_hyphen_values = true)]
+        vary: Vec<String>,
+        /// A key set in every design, `KEY=VALUE` (`dynamics.enabled=false`); repeatable.
+        #[arg(long, allow_hyphen_values = true)]
+        set: Vec<String>,
+        /// Results directory.
+        #[arg(long, default_value = "rvlife-sweep")]
+        out: PathBuf,
+        /// Replace an existing results directory.
+        #[arg(long)]
+        force: bool,
+    },
     /// Find the Archard coefficient that gives a target maximum wear at the last stage, or
     /// (with --measured) fit it to measured lost motion, backlash or wear against hours.
     Calibrate {
@@ -806,6 +826,13 @@ fn run(cli: Cli) -> Result<()> {
                 }
             }
         }
+        Command::Sweep {
+            config,
+            vary,
+            set,
+            out,
+            force,
+        } => sweep(config.as_deref(), budget, &vary, &set, &out, force)?,
         Command::Calibrate {
             config,
             target_wear_um,
@@ -844,6 +871,108 @@ fn run(cli: Cli) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// `rvlife sweep`: every design is built and validated, and the whole sweep's work checked,
+/// before the first study runs.
+fn sweep(
+    config: Option<&Path>,
+    budget: f64,
+    vary: &[String],
+    set: &[String],
+    out: &Path,
+    force: bool,
+) -> Result<()> {
+    use rvlife::sweep::{designs, parse_value, Vary};
+    let (text, origin, base_dir) = match config {
+        Some(p) => (
+            rvlife::input::read_text(p).map_err(|message| rvlife::Error::Config {
+                path: p.display().to_string(),
+                message,
+            })?,
+            p.display().to_string(),
+            p.parent().map(Path::to_path_buf),
+        ),
+        None => (
+            rvlife::config::EXAMPLE_TOML.to_string(),
+            "<built-in>".to_string(),
+            None,
+        ),
+    };
+    let varies = vary
+        .iter()
+        .map(|v| Vary::parse("--vary", v))
+        .collect::<Result<Vec<_>>>()?;
+    let sets = set
+        .iter()
+        .map(|s| match s.split_once('=') {
+            Some((k, v)) if !k.trim().is_empty() => Ok((k.trim().to_string(), parse_value(v))),
+            _ => Err(rvlife::Error::invalid(
+                "--set",
+                s,
+                "KEY=VALUE (dynamics.enabled=false)",
+            )),
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let designs = designs(&text, &origin, base_dir.as_deref(), &sets, &varies, budget)?;
+    let staging = rvlife::output::Staging::prepare(out, force)?;
+    let pb = progress_bar(designs.len() as u64);
+    pb.set_message("designs");
+    let start = std::time::Instant::now();
+    let outcomes = rvlife::sweep::run(designs, &progress_to(&pb));
+    pb.set_message("writing");
+    staging.commit(|dir| rvlife::output::sweep::write_files(dir, &varies, &outcomes))?;
+    pb.finish_and_clear();
+    let failed = outcomes.iter().filter(|o| o.study.is_err()).count();
+    say!(
+        "rvlife sweep: {} designs ({failed} failed), {:.2} s; results in {}",
+        outcomes.len(),
+        start.elapsed().as_secs_f64(),
+        out.display()
+    );
+    let keys: Vec<String> = varies
+        .iter()
+        .map(|v| format!("{:>14}", short_key(&v.key)))
+        .collect();
+    say!(
+        "{:>6} {} {:>12} {}",
+        "design",
+        keys.join(" "),
+        "life_h",
+        "limited by / status"
+    );
+    for o in &outcomes {
+        let vals: Vec<String> = o
+            .design
+            .values
+            .iter()
+            .map(|(_, v)| format!("{:>14}", v.to_string().trim_matches('"')))
+            .collect();
+        let (life, by) = match &o.study {
+            Ok(s) => match &s.life {
+                Some(l) => (
+                    l.accuracy_life_h
+                        .map_or(format!("> {:.0}", l.horizon_h), |h| format!("{h:.0}")),
+                    l.limited_by.unwrap_or("within spec").to_string(),
+                ),
+                None => ("-".to_string(), "no spec".to_string()),
+            },
+            Err(e) => ("-".to_string(), format!("failed: {e}")),
+        };
+        say!(
+            "{:>6} {} {:>12} {}",
+            o.design.index,
+            vals.join(" "),
+            life,
+            by
+        );
+    }
+    Ok(())
+}
+
+/// The last part of a dotted key (the column header of the sweep's console table).
+fn short_key(key: &str) -> &str {
+    key.rsplit('.').next().unwrap_or(key)
 }
 
 /// `rvlife calibrate --measured`: every input is checked (the file, the config, the work

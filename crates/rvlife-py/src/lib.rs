@@ -17,15 +17,55 @@ use rvlife::api::{Spelling, Wear};
 use rvlife::config::{Config, Model};
 use serde_json::Value;
 
-/// A Rust error as the Python exception of its kind.
+/// A Rust error as the Python exception of its kind, its message in Python's spelling
+/// ([`pythonic`]).
 fn py_err(e: rvlife::Error) -> PyErr {
+    let text = pythonic(&e.to_string());
     match e {
-        rvlife::Error::Invalid { .. } | rvlife::Error::Config { .. } => {
-            PyValueError::new_err(e.to_string())
-        }
-        rvlife::Error::Io { .. } => PyOSError::new_err(e.to_string()),
-        rvlife::Error::Numerical { .. } => PyRuntimeError::new_err(e.to_string()),
+        rvlife::Error::Invalid { .. } | rvlife::Error::Config { .. } => PyValueError::new_err(text),
+        rvlife::Error::Io { .. } => PyOSError::new_err(text),
+        rvlife::Error::Numerical { .. } => PyRuntimeError::new_err(text),
     }
+}
+
+/// The command line's switches, which Python passes as `name=True`.
+const SWITCHES: &[&str] = &[
+    "force",
+    "keep-going",
+    "full-wear",
+    "fit-running-in",
+    "nominal",
+    "pin-forces",
+];
+
+/// A message of the library as a Python user reads it: every command-line option
+/// (`--work-budget-min`) as its keyword argument (`work_budget_min`), a switch as
+/// `force=True`.
+fn pythonic(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(i) = rest.find("--") {
+        let before = &rest[..i];
+        let after = &rest[i + 2..];
+        let n = after
+            .find(|c: char| !(c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-'))
+            .unwrap_or(after.len());
+        let name = &after[..n];
+        let starts_word = before.chars().last().is_none_or(|c| !c.is_alphanumeric());
+        out.push_str(before);
+        if starts_word && name.chars().next().is_some_and(|c| c.is_ascii_lowercase()) {
+            out.push_str(&name.replace('-', "_"));
+            if SWITCHES.contains(&name) {
+                out.push_str("=True");
+            }
+        } else {
+            out.push_str("--");
+            out.push_str(name);
+        }
+        rest = &after[n..];
+    }
+    out.push_str(rest);
+    out
 }
 
 /// The JSON value `v` as Python objects: objects as dicts, arrays of numbers with a fraction
@@ -68,9 +108,17 @@ fn config(text: &str, origin: &str, base_dir: Option<PathBuf>) -> PyResult<Confi
 
 /// A progress callback `(done, total)` calling the Python callable `cb` (with the GIL) from
 /// any thread; an exception it raises is printed and ignored.
+///
+/// Calls are monotone: parallel work reports its counts out of order (30 after 31), and a
+/// count not above the last one reported is dropped.
 fn progress_fn(cb: Option<Py<PyAny>>) -> impl Fn(usize, usize) + Sync {
+    let last = std::sync::atomic::AtomicUsize::new(0);
     move |done, total| {
         if let Some(cb) = &cb {
+            let before = last.fetch_max(done, std::sync::atomic::Ordering::SeqCst);
+            if done <= before && done != 0 {
+                return;
+            }
             Python::attach(|py| {
                 if let Err(e) = cb.bind(py).call1((done, total)) {
                     e.print(py);
@@ -112,10 +160,17 @@ struct Loaded {
 
 /// Parses and validates a config (raises `ValueError` naming the key).
 #[pyfunction]
-#[pyo3(signature = (text, origin, base_dir = None))]
-fn load(py: Python<'_>, text: &str, origin: &str, base_dir: Option<PathBuf>) -> PyResult<Loaded> {
+#[pyo3(signature = (text, origin, base_dir = None, work_budget_min = rvlife::budget::DEFAULT_MINUTES))]
+fn load(
+    py: Python<'_>,
+    text: &str,
+    origin: &str,
+    base_dir: Option<PathBuf>,
+    work_budget_min: f64,
+) -> PyResult<Loaded> {
     py.detach(|| {
-        let config = config(text, origin, base_dir)?;
+        let mut config = config(text, origin, base_dir)?;
+        config.work_budget_minutes = work_budget_min;
         let model = rvlife::api::validated(&config).map_err(py_err)?;
         Ok(Loaded {
             text: text.to_string(),
@@ -150,6 +205,15 @@ where
         serde_json::to_value(&r).map_err(|e| PyRuntimeError::new_err(e.to_string()))
     })?;
     Ok(to_py(py, &v)?.unbind())
+}
+
+/// The results directory `out` prepared before the work (`None`: none written).
+fn staging(
+    out: Option<&std::path::Path>,
+    force: bool,
+) -> PyResult<Option<rvlife::output::Staging>> {
+    out.map(|dir| rvlife::output::Staging::prepare(dir, force).map_err(py_err))
+        .transpose()
 }
 
 /// `rvlife profile`: the profile's points (`x_mm`, `y_mm`, `mesh_angle_deg`, `wear_um`).
@@ -259,10 +323,7 @@ fn dynamics(
         };
         let m =
             rvlife::api::dynamics_model(&cfg.config, &opts, Spelling::Python).map_err(py_err)?;
-        let staging = match &out {
-            Some(dir) => Some(rvlife::output::Staging::prepare(dir, force).map_err(py_err)?),
-            None => None,
-        };
+        let staging = staging(out.as_deref(), force)?;
         let res = rvlife::api::dynamics(
             &m,
             Wear { wear_um, hours },
@@ -302,8 +363,9 @@ fn dynamics(
     Ok(to_py(py, &v)?.unbind())
 }
 
-/// The accuracy-life study (`rvlife run`): its `summary.json` object; `out` also writes the
-/// results directory (atomically; `force` replaces an existing one).
+/// The accuracy-life study (`rvlife run`): its `summary.json` object with the study's
+/// `verdict` added; `out` also writes the results directory (atomically; `force` replaces an
+/// existing one).
 #[pyfunction]
 #[pyo3(signature = (cfg, out, force, progress = None))]
 fn run_study(
@@ -316,17 +378,17 @@ fn run_study(
     let p = progress_fn(progress);
     let v = py.detach(|| -> PyResult<Value> {
         let m = &cfg.model;
-        let staging = match &out {
-            Some(dir) => Some(rvlife::output::Staging::prepare(dir, force).map_err(py_err)?),
-            None => None,
-        };
+        let staging = staging(out.as_deref(), force)?;
         let study = rvlife::study::run(m, &p).map_err(py_err)?;
         if let Some(staging) = staging {
             staging
                 .commit(|dir| rvlife::output::write_files(&study, dir))
                 .map_err(py_err)?;
         }
-        serde_json::to_value(study.summary()).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+        let mut v = serde_json::to_value(study.summary())
+            .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        v["verdict"] = Value::String(study.verdict());
+        Ok(v)
     })?;
     Ok(to_py(py, &v)?.unbind())
 }
@@ -336,7 +398,7 @@ fn run_study(
 /// Returns `{"samples_csv", "stages_csv", "shard_json"}`: the records in the files' form and
 /// the shard's meta-data (for [`merge`]).
 #[pyfunction]
-#[pyo3(signature = (cfg, samples, seed, shard, full_wear, samples_per_mesh_cycle, out, force, progress = None))]
+#[pyo3(signature = (cfg, samples, seed, shard, full_wear, samples_per_mesh_cycle, out, force, progress = None, shared_wear = None, threads = None))]
 #[allow(clippy::too_many_arguments)]
 fn montecarlo(
     py: Python<'_>,
@@ -349,6 +411,8 @@ fn montecarlo(
     out: Option<PathBuf>,
     force: bool,
     progress: Option<Py<PyAny>>,
+    shared_wear: Option<String>,
+    threads: Option<usize>,
 ) -> PyResult<Py<PyAny>> {
     let p = progress_fn(progress);
     let v = py.detach(|| -> PyResult<Value> {
@@ -363,11 +427,20 @@ fn montecarlo(
             Spelling::Python,
         )
         .map_err(py_err)?;
-        let staging = match &out {
-            Some(dir) => Some(rvlife::output::Staging::prepare(dir, force).map_err(py_err)?),
-            None => None,
+        let staging = staging(out.as_deref(), force)?;
+        let nominal = shared_wear
+            .as_deref()
+            .map(serde_json::from_str::<rvlife::montecarlo::NominalWear>)
+            .transpose()
+            .map_err(|e| PyValueError::new_err(format!("invalid shared_wear: {e}")))?;
+        let work = || -> PyResult<Vec<rvlife::montecarlo::SampleRecord>> {
+            match (&nominal, full_wear) {
+                (None, false) => rvlife::montecarlo::run(m, &plan, &p),
+                (n, _) => rvlife::montecarlo::run_on(m, &plan, n.as_ref(), &p),
+            }
+            .map_err(py_err)
         };
-        let records = rvlife::montecarlo::run(m, &plan, &p).map_err(py_err)?;
+        let records = in_threads(threads, work)?;
         let meta = rvlife::output::montecarlo::ShardMeta {
             rvlife_version: env!("CARGO_PKG_VERSION").into(),
             plan,
@@ -395,6 +468,186 @@ fn montecarlo(
         }))
     })?;
     Ok(to_py(py, &v)?.unbind())
+}
+
+/// Runs `f` on a pool of `threads` threads (`None`: rayon's global pool, one per core): a
+/// task of a distributed run takes the one core its worker gives it.
+fn in_threads<T: Send>(
+    threads: Option<usize>,
+    f: impl FnOnce() -> PyResult<T> + Send,
+) -> PyResult<T> {
+    match threads {
+        None => f(),
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n.max(1))
+            .build()
+            .map_err(|e| PyRuntimeError::new_err(e.to_string()))?
+            .install(f),
+    }
+}
+
+/// The nominal reducer's wear history of a Monte Carlo run as JSON
+/// ([`rvlife::montecarlo::nominal_wear`]): computed once and given to every shard
+/// (`montecarlo(..., shared_wear=...)`), the shards write the serial run's bytes.
+#[pyfunction]
+#[pyo3(signature = (cfg, threads = None))]
+fn nominal_wear(py: Python<'_>, cfg: &Loaded, threads: Option<usize>) -> PyResult<String> {
+    py.detach(|| {
+        in_threads(threads, || {
+            let w = rvlife::montecarlo::nominal_wear(&cfg.model).map_err(py_err)?;
+            serde_json::to_string(&w).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+        })
+    })
+}
+
+/// A JSON text from Python, for the config edits.
+fn json_arg(what: &str, text: &str) -> PyResult<Value> {
+    serde_json::from_str(text).map_err(|e| PyValueError::new_err(format!("invalid {what}: {e}")))
+}
+
+/// `text` with the dotted keys of the JSON object `edits` set (`null`: removed), comments kept
+/// ([`rvlife::config::edit::set`]).
+#[pyfunction]
+fn config_set(text: &str, origin: &str, edits: &str) -> PyResult<String> {
+    let Value::Object(m) = json_arg("replace", edits)? else {
+        return Err(PyValueError::new_err("replace takes a dict of dotted keys"));
+    };
+    let edits: Vec<(String, Option<Value>)> = m
+        .into_iter()
+        .map(|(k, v)| (k, (!v.is_null()).then_some(v)))
+        .collect();
+    rvlife::config::edit::set(text, origin, &edits).map_err(py_err)
+}
+
+/// `text` with the nested JSON object `patch` merged over it ([`rvlife::config::edit::merge`]).
+#[pyfunction]
+fn config_merge(text: &str, origin: &str, patch: &str) -> PyResult<String> {
+    rvlife::config::edit::merge(text, origin, &json_arg("config", patch)?).map_err(py_err)
+}
+
+/// The config text as a dict of sections.
+#[pyfunction]
+fn config_to_dict(py: Python<'_>, text: &str, origin: &str) -> PyResult<Py<PyAny>> {
+    let v = rvlife::config::edit::to_json(text, origin).map_err(py_err)?;
+    Ok(to_py(py, &v)?.unbind())
+}
+
+/// The accuracy life of the config (`accuracy_life` of `rvlife run`'s `summary.json`, the
+/// verdict, the last stage's accuracy quantities), from the study without the dynamic and FE
+/// analyses (they do not enter the life).
+#[pyfunction]
+#[pyo3(signature = (cfg, progress = None))]
+fn accuracy_life(py: Python<'_>, cfg: &Loaded, progress: Option<Py<PyAny>>) -> PyResult<Py<PyAny>> {
+    command(py, progress, |p| {
+        let mut m = cfg.model.clone();
+        m.dynamics.enabled = false;
+        m.fem.enabled = false;
+        let study = rvlife::study::run(&m, p)?;
+        let s = study.summary();
+        let last = s.stages.last();
+        Ok(serde_json::json!({
+            "accuracy_life_h": s.accuracy_life.as_ref().and_then(|l| l.accuracy_life_h),
+            "limited_by": s.accuracy_life.as_ref().and_then(|l| l.limited_by),
+            "horizon_h": s.accuracy_life.as_ref().map(|l| l.horizon_h),
+            "verdict": study.verdict(),
+            "hours": s.stages.iter().map(|x| x.hours).collect::<Vec<_>>(),
+            "lost_motion_arcmin": s.stages.iter().map(|x| x.lost_motion_arcmin).collect::<Vec<_>>(),
+            "backlash_arcmin": s.stages.iter().map(|x| x.backlash_arcmin).collect::<Vec<_>>(),
+            "angular_te_arcmin": s.stages.iter().map(|x| x.angular_te_arcmin).collect::<Vec<_>>(),
+            "torsional_stiffness_nm_per_arcmin": s.stages.iter().map(|x| x.torsional_stiffness_nm_per_arcmin).collect::<Vec<_>>(),
+            "max_wear_um": last.map(|x| x.max_wear_um),
+        }))
+    })
+}
+
+/// `rvlife calibrate`: the Archard coefficient giving `target_wear_um` of largest wear at the
+/// last stage; `{archard_coefficient_mm3_per_n_m, max_wear_um, hours}`.
+#[pyfunction]
+#[pyo3(signature = (cfg, target_wear_um))]
+fn calibrate_target(py: Python<'_>, cfg: &Loaded, target_wear_um: f64) -> PyResult<Py<PyAny>> {
+    command(py, None, |_| {
+        let (k, achieved) =
+            rvlife::wear::calibrate(&cfg.model.wear_inputs(), target_wear_um * 1e-6)?;
+        Ok(serde_json::json!({
+            "archard_coefficient_mm3_per_n_m": k * 1e9,
+            "archard_coefficient_m2_per_n": k,
+            "max_wear_um": achieved * 1e6,
+            "hours": cfg.model.wear.stage_hours.last().copied().unwrap_or(0.0),
+        }))
+    })
+}
+
+/// `rvlife calibrate --measured`: the fit of the Archard coefficient to the measurements CSV
+/// `csv` (its text; `name` in messages), `calibration.json` as a dict; `out` also writes the
+/// results directory.
+#[pyfunction]
+#[pyo3(signature = (cfg, csv, name, fit_running_in, out, force, progress = None))]
+#[allow(clippy::too_many_arguments)]
+fn calibrate_measured(
+    py: Python<'_>,
+    cfg: &Loaded,
+    csv: &str,
+    name: &str,
+    fit_running_in: bool,
+    out: Option<PathBuf>,
+    force: bool,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Py<PyAny>> {
+    use rvlife::calibration::{calibrate, check_budget, Measurements, Options};
+    let p = progress_fn(progress);
+    let v = py.detach(|| -> PyResult<Value> {
+        let data = Measurements::parse(std::path::Path::new(name), csv).map_err(py_err)?;
+        data.check_for_fit(fit_running_in, false).map_err(py_err)?;
+        let options = Options { fit_running_in };
+        options.check(&cfg.model, &data).map_err(py_err)?;
+        check_budget(&cfg.model, &data).map_err(py_err)?;
+        let staging = staging(out.as_deref(), force)?;
+        let cal = calibrate(&cfg.model, &data, options, &|pass| {
+            p(pass, rvlife::calibration::MAX_PASSES)
+        })
+        .map_err(py_err)?;
+        if let Some(staging) = staging {
+            staging
+                .commit(|dir| rvlife::output::calibration::write_files(&cal, dir))
+                .map_err(py_err)?;
+        }
+        serde_json::to_value(&cal).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+    })?;
+    Ok(to_py(py, &v)?.unbind())
+}
+
+/// The designs of a sweep as config texts (`rvlife sweep`'s `--vary`, validated with the
+/// sweep's work budget): `vary` a JSON list of `[key, [values]]`.
+#[pyfunction]
+fn sweep_designs(
+    text: &str,
+    origin: &str,
+    base_dir: Option<PathBuf>,
+    vary: &str,
+    work_budget_min: f64,
+) -> PyResult<Vec<String>> {
+    let v = json_arg("grid", vary)?;
+    let varies: Vec<rvlife::sweep::Vary> = v
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(|x| {
+            Some(rvlife::sweep::Vary {
+                key: x.get(0)?.as_str()?.to_string(),
+                values: x.get(1)?.as_array()?.clone(),
+            })
+        })
+        .collect();
+    let d = rvlife::sweep::designs(
+        text,
+        origin,
+        base_dir.as_deref(),
+        &[],
+        &varies,
+        work_budget_min,
+    )
+    .map_err(py_err)?;
+    Ok(d.into_iter().map(|d| d.text).collect())
 }
 
 /// Merges shard directories (`rvlife merge`) into the whole run's files in `out`.
@@ -460,6 +713,14 @@ fn _rvlife(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run_study, m)?)?;
     m.add_function(wrap_pyfunction!(montecarlo, m)?)?;
     m.add_function(wrap_pyfunction!(merge, m)?)?;
+    m.add_function(wrap_pyfunction!(nominal_wear, m)?)?;
+    m.add_function(wrap_pyfunction!(config_set, m)?)?;
+    m.add_function(wrap_pyfunction!(config_merge, m)?)?;
+    m.add_function(wrap_pyfunction!(config_to_dict, m)?)?;
+    m.add_function(wrap_pyfunction!(accuracy_life, m)?)?;
+    m.add_function(wrap_pyfunction!(calibrate_target, m)?)?;
+    m.add_function(wrap_pyfunction!(calibrate_measured, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep_designs, m)?)?;
     m.add_function(wrap_pyfunction!(quantities, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
     Ok(())

@@ -3,6 +3,7 @@ equal to the serial Monte Carlo run. The command line binary is `RVLIFE_BIN` or 
 `target/release/rvlife`."""
 
 import json
+import re
 import math
 import os
 import subprocess
@@ -266,7 +267,11 @@ def test_montecarlo_equals_cli(tmp):
     r = rvlife.montecarlo(rvlife.Config.from_file(cfg), samples=8, seed=7, out=out_py)
     for f in ("samples.csv", "stages.csv", "percentiles.csv", "summary.json"):
         assert (out_py / f).read_bytes() == (out_cli / f).read_bytes(), f
-    assert r.samples_csv == (out_cli / "samples.csv").read_text()
+    import pandas as pd
+
+    assert r.samples.equals(pd.read_csv(out_cli / "samples.csv"))
+    assert r.out == out_py and r.summary is not None and "life" in r.summary
+    assert len(repr(r)) < 200, repr(r)
     samples, stages = r.to_pandas()
     assert len(samples) == 8
     assert len(stages) == len((out_cli / "stages.csv").read_text().splitlines()) - 1
@@ -283,12 +288,249 @@ def test_dask_sweep_equals_the_serial_run(tmp):
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         with Client(cluster) as client:
             r = rvlife.sweep(rvlife.MonteCarlo(c, samples=8, seed=11), client, out=swept, tasks=4)
-            # Studies in order.
+            # Studies in order, the same rows as in this process.
             texts = [short_text().replace("stage_hours = [0.0, 250.0, 500.0]", f"stage_hours = [0.0, {h}]") for h in (100.0, 300.0)]
-            studies = rvlife.sweep([rvlife.Config.from_toml(t) for t in texts], client)
+            configs = [rvlife.Config.from_toml(t).replace({"wear.profile_update_hours": h / 2}) for t, h in zip(texts, (100.0, 300.0))]
+            studies = rvlife.sweep(configs, client)
     for f in ("samples.csv", "stages.csv", "percentiles.csv", "summary.json", "config.toml"):
         assert (swept / f).read_bytes() == (serial / f).read_bytes(), f
-    assert r.summary["plan"]["samples"] == 8
-    assert [s.stages[-1]["hours"] for s in studies] == [100.0, 300.0]
-    one = rvlife.run_study(rvlife.Config.from_toml(texts[1]))
-    same(studies[1].to_dict(), one.to_dict())
+    assert r.summary is not None and r.summary["plan"]["samples"] == 8
+    assert list(studies["hours"]) == [0.0, 100.0, 0.0, 300.0]
+    assert list(studies["wear.profile_update_hours"]) == [50.0, 50.0, 150.0, 150.0]
+    local = rvlife.sweep(configs)
+    assert studies.equals(local), (studies, local)
+
+
+# --- configs as values ----------------------------------------------------------------------
+
+
+def test_replace_and_partial_dicts_edit_one_key_and_keep_the_rest():
+    base = rvlife.example()
+    c = base.replace({"cycloid.eccentricity_mm": 1.25, "errors.crank_phase_arcmin": [0.5, -0.5]})
+    d0, d1 = base.to_dict(), c.to_dict()
+    assert d1["cycloid"]["eccentricity_mm"] == 1.25 and d1["errors"]["crank_phase_arcmin"] == [0.5, -0.5]
+    d1["cycloid"]["eccentricity_mm"] = d0["cycloid"]["eccentricity_mm"]
+    del d1["errors"]
+    assert d1 == d0
+    # Comments are kept: every line but the edited one is the example's.
+    import difflib
+
+    diff = [x for x in difflib.ndiff(base.to_toml().splitlines(), c.to_toml().splitlines()) if x[:1] in "+-"]
+    assert [x for x in diff if x.startswith("-")] == ["- eccentricity_mm = 1.3          # a"], diff
+    assert [x for x in diff if x.startswith("+")] == [
+        "+ eccentricity_mm = 1.25          # a", "+ ", "+ [errors]", "+ crank_phase_arcmin = [0.5, -0.5]"
+    ], diff
+    # A partial dict over the example is the same config; a keyword spelling too.
+    assert rvlife.Config.from_dict({"cycloid": {"eccentricity_mm": 1.25}, "errors": {"crank_phase_arcmin": [0.5, -0.5]}}) == c
+    assert base.replace(cycloid__eccentricity_mm=1.25) == base.replace({"cycloid.eccentricity_mm": 1.25})
+    # An integer key stays an integer; None removes a key (its default applies).
+    assert base.replace({"cycloid.pins": 40.0}) == base
+    assert base.replace({"tolerances.rotation_arcmin": None}).get("tolerances.rotation_arcmin") is None
+    assert c != base and len({c, base, base.replace({})}) == 2
+    assert len(repr(c)) < 160 and "eccentricity_mm=1.25" in repr(c), repr(c)
+
+
+def test_round_trips_through_dict_and_toml():
+    for preset, _ in rvlife.presets():
+        c = rvlife.example(preset)
+        assert rvlife.Config.from_toml(c.to_toml()) == c, preset
+        assert rvlife.Config.from_dict(c.to_dict(), base=c) == c, preset
+    import pickle
+
+    c = rvlife.example().replace({"cycloid.eccentricity_mm": 1.25})
+    c2 = pickle.loads(pickle.dumps(c))
+    assert c2 == c and c2.changes == c.changes
+
+
+def test_bad_dotted_keys_raise_value_error_naming_them():
+    base = rvlife.example()
+    for key, value in [
+        ("cycloid.eccentricty_mm", 1.2),
+        ("nosuch.section", 1.0),
+        ("cycloid.pins", "forty"),
+        ("cycloid.pins.count", 3),
+        ("Cycloid.Pins", 3),
+    ]:
+        with pytest.raises(ValueError, match=re.escape(key)):
+            base.replace({key: value})
+    with pytest.raises(ValueError, match=r"cycloid\.eccentricity_mm = -1\.2"):
+        base.replace({"cycloid.eccentricity_mm": -1.2})
+    with pytest.raises(ValueError, match=r"cycloid\.eccentricty_mm"):
+        rvlife.Config.from_dict({"cycloid": {"eccentricty_mm": 1.2}})
+
+
+def test_pairs_the_command_line_refuses_are_refused_naming_the_keywords(tmp):
+    with pytest.raises(ValueError, match=r"wear_um.*hours"):
+        rvlife.te(hours=100.0, wear_um=3.0)
+    with pytest.raises(ValueError, match=r"wear_um.*hours"):
+        rvlife.profile(hours=100.0, wear_um=3.0)
+    with pytest.raises(ValueError, match=r"target_wear_um.*measured"):
+        rvlife.calibrate(target_wear_um=30.0, measured=tmp / "m.csv")
+    with pytest.raises(ValueError, match=r"fit_running_in.*measured"):
+        rvlife.calibrate(fit_running_in=True)
+    with pytest.raises(ValueError, match=r"force.*out"):
+        rvlife.run_study(force=True)
+    with pytest.raises(ValueError, match=r"samples"):
+        rvlife.montecarlo(samples=-1)
+    # The library's messages in Python's spelling: `force=True`, not `--force`.
+    full = tmp / "full"
+    full.mkdir(exist_ok=True)
+    (full / "mine.txt").write_text("keep")
+    with pytest.raises(ValueError) as e:
+        rvlife.run_study(rvlife.Config.from_toml(short_text()), out=full)
+    assert "out" in str(e.value) and "--" not in str(e.value), str(e.value)
+    assert (full / "mine.txt").read_text() == "keep"
+
+
+# --- typed results --------------------------------------------------------------------------
+
+
+def declared(cls):
+    return set(rvlife._results._fields(cls))
+
+
+def test_result_attributes_are_declared_and_are_the_json_keys():
+    """Each result class declares exactly the keys of its command's JSON (the attributes type
+    checkers see), so neither can drift from the other."""
+    cases = [
+        (rvlife.ProfileResult, rvlife.profile(wear_um=5.0)),
+        (rvlife.ContactResult, rvlife.contact(crank_deg=3.0, torque_nm=200.0)),
+        (rvlife.TeResult, rvlife.te(wear_um=5.0, torque_nm=412.0)),
+        (rvlife.HysteresisResult, rvlife.hysteresis(levels=3)),
+        (rvlife.AccuracyLifeResult, rvlife.accuracy_life(rvlife.Config.from_toml(short_text() + MC_TOLERANCES))),
+        (rvlife.ArchardFit, rvlife.calibrate(rvlife.Config.from_toml(short_text()), target_wear_um=20.0)),
+    ]
+    for cls, r in cases:
+        assert isinstance(r, cls)
+        assert declared(cls) == set(r.keys()), (cls.__name__, declared(cls) ^ set(r.keys()))
+        for k in r.keys():
+            assert getattr(r, k) is r[k], k
+        assert len(repr(r)) < 300, repr(r)
+    # The TE without a torque has no loaded keys: declared, None.
+    r = rvlife.te(wear_um=5.0)
+    assert declared(rvlife.TeResult) >= set(r.keys()) and r.loaded_te_arcmin is None
+
+
+# --- every command against the command line -------------------------------------------------
+
+
+MEASURED = """hours,lost_motion_arcmin,max_wear_um
+0,,0
+250,,{w1}
+500,,{w2}
+"""
+
+
+def test_calibrate_equals_the_command_line(tmp):
+    import pandas as pd
+
+    cfg = write(tmp, "cal.toml", short_text())
+    line = cli("calibrate", cfg, "--target-wear-um", 20)
+    k_cli = float(line.split("=")[1].split()[0])
+    fit = rvlife.calibrate(rvlife.Config.from_file(cfg), target_wear_um=20.0)
+    assert abs(fit.archard_coefficient_mm3_per_n_m - k_cli) <= 5e-7 * k_cli, (fit, line)
+    assert abs(fit.max_wear_um - 20.0) < 0.05
+    # The fit to measurements: the same calibration.json, from a file or a DataFrame.
+    w = rvlife.profile(rvlife.Config.from_file(cfg), hours=250.0).max_wear_um
+    w2 = rvlife.profile(rvlife.Config.from_file(cfg), hours=500.0).max_wear_um
+    data = write(tmp, "measured.csv", MEASURED.format(w1=1.1 * w, w2=1.05 * w2))
+    out_cli = tmp / "cal_cli"
+    cli("calibrate", cfg, "--measured", data, "--out", out_cli)
+    out_py = tmp / "cal_py"
+    r = rvlife.calibrate(rvlife.Config.from_file(cfg), measured=data, out=out_py)
+    expected = json.loads((out_cli / "calibration.json").read_text())
+    same(r.to_dict(), expected)
+    assert (out_py / "calibration.json").read_bytes() == (out_cli / "calibration.json").read_bytes()
+    r2 = rvlife.calibrate(rvlife.Config.from_file(cfg), measured=pd.read_csv(data))
+    same(r2.to_dict(), expected)
+    assert r.archard_coefficient_mm3_per_n_m["lower"] < r.archard_coefficient_mm3_per_n_m["value"]
+    assert len(r.residuals_frame()) == r.points
+    assert declared(rvlife.Calibration) >= set(r.keys())
+
+
+def test_merge_equals_the_command_line(tmp):
+    cfg = write(tmp, "mc_merge.toml", mc_text())
+    c = rvlife.Config.from_file(cfg)
+    shards = []
+    for i in (1, 2, 3):
+        d = tmp / f"py_shard_{i}"
+        rvlife.montecarlo(c, samples=6, seed=3, shard=f"{i}/3", out=d)
+        shards.append(d)
+    out_cli = tmp / "merged_cli"
+    cli("merge", *shards, "--out", out_cli)
+    out_py = tmp / "merged_py"
+    r = rvlife.merge(shards, out_py)
+    for f in ("samples.csv", "stages.csv", "percentiles.csv", "summary.json", "config.toml"):
+        assert (out_py / f).read_bytes() == (out_cli / f).read_bytes(), f
+    assert len(r.samples) == 6 and r.summary is not None
+
+
+def test_accuracy_life_is_the_studys():
+    c = rvlife.Config.from_toml(short_text(dynamics=True) + MC_TOLERANCES.replace("2.3", "0.9"))
+    a = rvlife.accuracy_life(c)
+    s = rvlife.run_study(c)
+    assert s.accuracy_life is not None
+    assert a.accuracy_life_h == s.accuracy_life.get("accuracy_life_h")
+    assert a.limited_by == s.accuracy_life.get("limited_by") and a.verdict == s.verdict
+    assert np.array_equal(a.lost_motion_arcmin, s.lost_motion_arcmin)
+
+
+def test_progress_is_monotone_and_reaches_the_end(tmp):
+    calls = []
+    rvlife.montecarlo(rvlife.Config.from_toml(mc_text()), samples=12, seed=2, progress=lambda d, t: calls.append((d, t)))
+    done = [d for d, _ in calls]
+    assert done == sorted(done) and len(set(done)) == len(done) and done[-1] == 12, calls
+
+    class Bar:
+        def __init__(self):
+            self.n, self.total, self.updates = 0, None, []
+
+        def update(self, k):
+            self.n += k
+            self.updates.append(k)
+
+        def refresh(self):
+            pass
+
+    bar = Bar()
+    p = rvlife.tqdm_progress(bar)
+    for d in (1, 3, 2, 3, 5):
+        p(d, 5)
+    assert bar.n == 5 and bar.updates == [1, 2, 2] and bar.total == 5
+
+
+# --- design sweeps --------------------------------------------------------------------------
+
+
+SWEEP_SETS = ["dynamics.enabled=false", "fem.enabled=false"]
+
+
+def test_grid_and_sweep_equal_the_command_lines_sweep(tmp):
+    import pandas as pd
+
+    cfg = write(tmp, "sweep.toml", short_text() + "\n[life]\nlost_motion_arcmin = 0.8\n")
+    base = rvlife.Config.from_file(cfg)
+    axes = {"cycloid.eccentricity_mm": [1.25, 1.3], "cycloid.modification.equidistant_mm": [0.0, 0.004]}
+    configs = rvlife.grid(axes, base)
+    assert [c.changes["cycloid.eccentricity_mm"] for c in configs] == [1.25, 1.25, 1.3, 1.3]
+    assert [c.get("cycloid.modification.equidistant_mm") for c in configs] == [0.0, 0.004, 0.0, 0.004]
+    df = rvlife.sweep(configs)
+    out = tmp / "sweep_cli"
+    cli("sweep", cfg, "--vary", "cycloid.eccentricity_mm=1.25:1.3:2", "--vary",
+        "cycloid.modification.equidistant_mm=0.0,0.004", "--out", out)
+    ref = pd.read_csv(out / "sweep.csv")
+    assert list(df.columns) == list(ref.columns)
+    assert len(df) == len(ref) == 4 * 3
+    for col in ref.columns:
+        a, b = df[col], ref[col]
+        if b.dtype.kind in "fi":
+            assert np.allclose(a.to_numpy(float), b.to_numpy(float), rtol=0, atol=5e-6 * max(1.0, np.max(np.abs(np.nan_to_num(b.to_numpy(float))))), equal_nan=True), col
+        else:
+            assert [None if (isinstance(x, float) and math.isnan(x)) else x for x in a] == [None if (isinstance(x, float) and math.isnan(x)) else x for x in b], col
+    for f in ("designs.csv", "summary.json", "report.html", "plots/accuracy_life.svg", "designs/design_3.toml"):
+        assert (out / f).is_file(), f
+    # A design's config is the study the sweep ran.
+    one = rvlife.run_study(rvlife.Config.from_file(out / "designs" / "design_3.toml"))
+    assert one.lost_motion_arcmin[-1] == pytest.approx(df[df.design == 3].lost_motion_arcmin.iloc[-1], abs=5e-6)
+    with pytest.raises(ValueError, match=r"cycloid\.eccentricity_mm.*design 1"):
+        rvlife.grid({"cycloid.eccentricity_mm": [1.3, -1.0]}, base)

@@ -35,6 +35,7 @@ pub mod quantities;
 pub mod reducer;
 pub mod statics;
 pub mod study;
+pub mod sweep;
 pub mod te;
 pub mod units;
 pub mod wear;

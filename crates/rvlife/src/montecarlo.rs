@@ -175,6 +175,28 @@ fn dense_hours(model: &Model) -> (Vec<f64>, Vec<usize>, Vec<usize>) {
     (hours, idx, ext)
 }
 
+/// The nominal reducer's wear history as plain data ([`nominal_wear`]): what a Monte Carlo
+/// shard needs besides the config, computed once and sent to every shard (a distributed run
+/// sends it to its workers as JSON). Rebuilt into the maps by [`SharedWear::of`] exactly as
+/// the serial run builds them, so a shard given it writes the serial run's bytes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NominalWear {
+    /// Working hours of every map, h (stages and subdivisions).
+    pub hours: Vec<f64>,
+    /// The disc's wear depth at each of those hours on the wear model's mesh-angle grid, m.
+    pub maps: Vec<Vec<f64>>,
+    /// The pins' wear maps at the same hours, m (empty: unworn).
+    pub pin_maps: Vec<Vec<f64>>,
+    /// Clearance growth of each crank-disc bearing, m/h.
+    pub bearing_rate_disc: f64,
+    /// Clearance growth of each crank-carrier bearing, m/h.
+    pub bearing_rate_carrier: f64,
+    /// Index in `hours` of each stage.
+    pub stage_index: Vec<usize>,
+    /// Index in `hours` of each point beyond the last stage where the life is looked for.
+    pub extension_index: Vec<usize>,
+}
+
 /// The wear history of `model` at its stages and the points that split each interval between
 /// two into [`SUBDIVISIONS`] parts,
 /// and beyond the last stage where the accuracy life is looked for ([`dense_hours`]; up to
@@ -183,7 +205,7 @@ fn dense_hours(model: &Model) -> (Vec<f64>, Vec<usize>, Vec<usize>) {
 /// # Errors
 /// Wear integration failures; [`Error::Invalid`] naming `wear.stage_hours` if the wear
 /// model's validity ends before the last stage.
-pub(crate) fn shared_wear(model: &Model) -> Result<SharedWear> {
+pub fn nominal_wear(model: &Model) -> Result<NominalWear> {
     let (mut hours, stage_index, mut extension_index) = dense_hours(model);
     let mut m = model.clone();
     m.wear.stage_hours = hours.clone();
@@ -210,19 +232,61 @@ pub(crate) fn shared_wear(model: &Model) -> Result<SharedWear> {
     // Beyond the validity limit there is no extension.
     hours.truncate(hist.maps.len());
     extension_index.retain(|&i| i < hours.len());
-    let maps = hist
-        .maps
-        .iter()
-        .map(|map| wear_map(model, map))
-        .collect::<Result<_>>()?;
-    Ok(SharedWear {
+    Ok(NominalWear {
         hours,
-        maps,
+        maps: hist.maps.clone(),
         pin_maps: hist.pin_maps.clone(),
-        bearing_rates,
+        bearing_rate_disc: bearing_rates.disc,
+        bearing_rate_carrier: bearing_rates.carrier,
         stage_index,
         extension_index,
     })
+}
+
+impl SharedWear {
+    /// The maps of a nominal history of `model` ([`nominal_wear`]).
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] naming `shared_wear` if the history does not fit `model` (another
+    /// config's: other stages or another grid); a map that is not a wear map.
+    pub fn of(model: &Model, w: &NominalWear) -> Result<SharedWear> {
+        let (hours, stage_index, _) = dense_hours(model);
+        let fits = w.maps.len() == w.hours.len()
+            && w.hours.iter().zip(&hours).all(|(a, b)| a == b)
+            && w.stage_index == stage_index
+            && w.stage_index.iter().all(|&i| i < w.hours.len());
+        if !fits {
+            return Err(Error::invalid(
+                "shared_wear",
+                "(a nominal wear history)",
+                "the history of this config's nominal reducer (same stages and life search)",
+            ));
+        }
+        let maps = w
+            .maps
+            .iter()
+            .map(|map| wear_map(model, map))
+            .collect::<Result<_>>()?;
+        Ok(SharedWear {
+            hours: w.hours.clone(),
+            maps,
+            pin_maps: w.pin_maps.clone(),
+            bearing_rates: crate::wear::BearingWearRates {
+                disc: w.bearing_rate_disc,
+                carrier: w.bearing_rate_carrier,
+            },
+            stage_index: w.stage_index.clone(),
+            extension_index: w.extension_index.clone(),
+        })
+    }
+}
+
+/// [`nominal_wear`] as the maps every sample is analysed on.
+///
+/// # Errors
+/// As [`nominal_wear`].
+pub(crate) fn shared_wear(model: &Model) -> Result<SharedWear> {
+    SharedWear::of(model, &nominal_wear(model)?)
 }
 
 fn wear_map(model: &Model, map: &[f64]) -> Result<Option<WearMap>> {
@@ -458,8 +522,31 @@ pub fn run(
     let shared = if plan.full_wear {
         None
     } else {
-        Some(shared_wear(model)?)
+        Some(nominal_wear(model)?)
     };
+    run_on(model, plan, shared.as_ref(), progress)
+}
+
+/// [`run`] on a nominal wear history computed before ([`nominal_wear`], `None` with
+/// `plan.full_wear`): the shards of a distributed run share one.
+///
+/// # Errors
+/// [`SharedWear::of`]'s for a history of another config; [`Error::Invalid`] naming
+/// `shared_wear` if one is given with `plan.full_wear` or none without it.
+pub fn run_on(
+    model: &Model,
+    plan: &Plan,
+    nominal: Option<&NominalWear>,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Vec<SampleRecord>> {
+    if nominal.is_some() == plan.full_wear {
+        return Err(Error::invalid(
+            "shared_wear",
+            if plan.full_wear { "given" } else { "none" },
+            "the nominal wear history without full_wear, none with it",
+        ));
+    }
+    let shared = nominal.map(|w| SharedWear::of(model, w)).transpose()?;
     let idx: Vec<usize> = plan.indices().collect();
     let done = std::sync::atomic::AtomicUsize::new(0);
     let total = idx.len();

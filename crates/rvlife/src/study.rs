@@ -188,6 +188,16 @@ fn check_finite(summary: &StageSummary) -> Result<()> {
     }
 }
 
+/// The estimated work of a study of `model`, in static solves ([`crate::budget`]): `(wear
+/// integration, stages' analyses)` ([`check_work`]).
+pub(crate) fn study_work(model: &Model) -> (f64, f64) {
+    let w = &model.wear;
+    let positions = crate::wear::revolution_positions(&model.reducer);
+    let wear = w.scheduled_updates() * w.rate_evaluation_solves(model.load.levels.len(), positions);
+    let stages = w.stage_hours.len() as f64 * model.budget().per_stage;
+    (wear, stages)
+}
+
 /// Checks the work of a study of `model` against its budget before it starts
 /// ([`crate::budget`]): wear-rate evaluations (`last stage / wear.profile_update_hours`) x
 /// (load levels x (`wear.crank_steps_per_mesh_cycle` + set-up) + the rest of an evaluation),
@@ -202,9 +212,7 @@ fn check_finite(summary: &StageSummary) -> Result<()> {
 pub(crate) fn check_work(model: &Model) -> Result<()> {
     let w = &model.wear;
     let updates = w.scheduled_updates();
-    let positions = crate::wear::revolution_positions(&model.reducer);
-    let wear = updates * w.rate_evaluation_solves(model.load.levels.len(), positions);
-    let stages = w.stage_hours.len() as f64 * model.budget().per_stage;
+    let (wear, stages) = study_work(model);
     let total = wear + stages;
     if total <= model.work_budget {
         return Ok(());

@@ -90,7 +90,7 @@ pub(crate) fn support_name(model: &Model) -> &'static str {
 ///
 /// # Errors
 /// [`Error::Invalid`] naming the argument as `spelling` writes it (a negative or non-finite
-/// depth, a depth that folds the flank, hours out of `[0, 1e7]`, too many profile updates, or
+/// depth, both a depth and hours, a depth that folds the flank, hours out of `[0, 1e7]`, too many profile updates, or
 /// hours beyond the wear model's validity); the wear integration's failures.
 pub fn profile_for(
     model: &Model,
@@ -124,6 +124,17 @@ pub fn worn_for<'a>(
         model.cycloid = model.cycloid.nominal();
     }
     let n = model.wear_inputs().grid_points();
+    if let (Some(w), Some(_)) = (wear.wear_um, wear.hours) {
+        return Err(Error::invalid(
+            spelling.name("wear_um"),
+            w,
+            format!(
+                "give either {} or {}, not both",
+                spelling.name("wear_um"),
+                spelling.name("hours")
+            ),
+        ));
+    }
     let map = match (wear.wear_um, wear.hours) {
         (Some(w), _) => {
             if !w.is_finite() || w < 0.0 {

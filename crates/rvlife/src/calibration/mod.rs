@@ -84,8 +84,8 @@ const FIRST_STAGES: usize = 24;
 const REFINE_HORIZON: f64 = 2.0;
 /// Stages of the refining passes.
 const REFINE_STAGES: usize = 32;
-/// Most reference passes.
-const MAX_PASSES: usize = 5;
+/// Most reference studies of one calibration; each must fit this fraction of the work budget.
+pub const MAX_PASSES: usize = 5;
 /// Confidence level of the reported interval.
 pub(crate) const CONFIDENCE: f64 = 0.95;
 /// Largest running-in factor `r` the fit searches.

@@ -35,6 +35,7 @@ mod contact;
 pub mod cross_section;
 mod cycloid;
 mod dynamics;
+pub mod edit;
 mod errors;
 mod fem;
 mod life;

@@ -18,6 +18,7 @@ pub mod montecarlo;
 pub mod plot;
 pub mod staging;
 pub mod study;
+pub mod sweep;
 
 use std::path::Path;
 

@@ -1,0 +1,218 @@
+"""Design sweeps and distributed runs: :func:`grid` builds the product of configs,
+:func:`sweep` runs their studies (in this process, or on a ``dask.distributed`` client) into
+one tidy DataFrame, or runs a :class:`MonteCarlo` plan in shards that share one nominal wear
+history."""
+
+from __future__ import annotations
+
+import json
+import math
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Union, overload
+
+import pandas as pd
+
+from . import _rvlife
+from ._commands import Progress, _cfg, _mc_result, _out, run_study
+from ._config import Config, PathLike, _json, example
+from ._results import MonteCarloResult, StudyResult, stage_table
+
+
+def grid(axes: Mapping[str, Sequence[Any]], base: Optional[Config] = None) -> List[Config]:
+    """The product of the values of dotted keys over ``base`` (default: the built-in
+    example), the last key varying fastest (``rvlife sweep --vary``'s order):
+    ``grid({"cycloid.eccentricity_mm": [1.25, 1.3], "cycloid.modification.equidistant_mm":
+    [0.010, 0.012]})`` is four configs. Every design is validated and the whole sweep's
+    estimated work checked against ``base``'s work budget before any study runs;
+    ``ValueError`` names the key, the value and the design."""
+    b = base if base is not None else example()
+    keys = list(axes)
+    values = [list(axes[k]) for k in keys]
+    if any(len(v) == 0 for v in values):
+        raise ValueError(f"invalid grid: every key needs at least one value ({[k for k, v in zip(keys, values) if not v]})")
+    spec = _json([[k, v] for k, v in zip(keys, values)])
+    texts = _rvlife.sweep_designs(b.toml, b.origin, b.base_dir, spec, b.work_budget_min)
+    configs = []
+    for i, text in enumerate(texts):
+        rest = i
+        chosen: Dict[str, Any] = {}
+        for k, v in reversed(list(zip(keys, values))):
+            chosen[k] = v[rest % len(v)]
+            rest //= len(v)
+        changes = dict(b.changes)
+        changes.update({k: chosen[k] for k in keys})
+        configs.append(Config(text, b.origin, b.base_dir, work_budget_min=b.work_budget_min, changes=changes))
+    return configs
+
+
+@dataclass
+class MonteCarlo:
+    """A Monte Carlo plan for :func:`sweep`: ``samples`` reducers drawn from the config's
+    ``[tolerances]`` with ``seed`` (as ``rvlife montecarlo``)."""
+
+    config: Optional[Config]
+    samples: int
+    seed: int = 1
+    full_wear: bool = False
+    samples_per_mesh_cycle: int = 4
+
+
+def _study_task(config: tuple, out: Optional[str], force: bool) -> Dict[str, Any]:
+    """One study, on a worker (writing ``out`` when given: workers must see that folder)."""
+    text, origin, base_dir, budget = config
+    return _rvlife.run_study(_rvlife.load(text, origin, base_dir, budget), out, force, None)
+
+
+def _shard_task(config: tuple, mc: tuple, shard: str, wear: Optional[str]) -> Dict[str, str]:
+    """One shard of a Monte Carlo run, on a worker, on the shared nominal wear and one core."""
+    text, origin, base_dir, budget = config
+    samples, seed, full_wear, per_cycle = mc
+    loaded = _rvlife.load(text, origin, base_dir, budget)
+    return _rvlife.montecarlo(loaded, samples, seed, shard, full_wear, per_cycle, None, False, None, wear, 1)
+
+
+def _row_frame(k: int, config: Config, keys: List[str], study: Optional[StudyResult], status: str) -> pd.DataFrame:
+    """One design's rows of the tidy table (``sweep.csv``'s columns)."""
+    life = (study.accuracy_life or {}) if study is not None else {}
+    lead: Dict[str, Any] = {"design": k}
+    for key in keys:
+        lead[key] = config.changes.get(key)
+    lead["status"] = status
+    hours = life.get("accuracy_life_h")
+    lead["accuracy_life_h"] = math.nan if hours is None else hours
+    lead["limited_by"] = life.get("limited_by")
+    # A failed design: one row, its quantities NaN.
+    stages = stage_table(study.stages if study is not None else [{}])
+    front = pd.DataFrame([lead] * len(stages))
+    return pd.concat([front.reset_index(drop=True), stages.reset_index(drop=True)], axis=1)
+
+
+@overload
+def sweep(configs_or_samples: MonteCarlo, client: Any = ..., *, out: Optional[PathLike] = ..., force: bool = ..., tasks: Optional[int] = ..., progress: Optional[Progress] = ...) -> MonteCarloResult: ...
+
+
+@overload
+def sweep(configs_or_samples: Sequence[Config], client: Any = ..., *, out: Optional[PathLike] = ..., force: bool = ..., tasks: Optional[int] = ..., progress: Optional[Progress] = ...) -> pd.DataFrame: ...
+
+
+def sweep(
+    configs_or_samples: Union[MonteCarlo, Sequence[Config]],
+    client: Any = None,
+    *,
+    out: Optional[PathLike] = None,
+    force: bool = False,
+    tasks: Optional[int] = None,
+    progress: Optional[Progress] = None,
+) -> Union[MonteCarloResult, pd.DataFrame]:
+    """Runs a design sweep or a Monte Carlo plan, in this process (``client=None``) or on a
+    ``dask.distributed`` client (a ``LocalCluster``'s, or e.g. dask-jobqueue's
+    ``SLURMCluster``'s).
+
+    - A list of :class:`Config` (:func:`grid`) runs one accuracy-life study each and returns
+      one tidy DataFrame, one row per config and stage: ``design``, the keys the configs
+      change (``Config.changes``) as columns, ``status``, ``accuracy_life_h``, ``limited_by``
+      and the columns of ``stages.csv``: the table ``rvlife sweep`` writes as ``sweep.csv``. A
+      study that fails gives one row with its reason in ``status``. With ``out``, study ``k``
+      writes ``out/design_<k>`` (the files of ``rvlife run``).
+    - A :class:`MonteCarlo` plan computes the nominal reducer's wear history once, here, sends
+      it to the workers and runs ``tasks`` shards on it (default: four per worker thread, at
+      most one per sample), each on one core; the shards merge into exactly the serial run's
+      records and ``out`` gets the files of ``rvlife montecarlo``.
+    """
+    if isinstance(configs_or_samples, MonteCarlo):
+        return _montecarlo_sweep(configs_or_samples, client, out, force, tasks, progress)
+    configs = [_cfg(c) for c in configs_or_samples]
+    _out(out, force)
+    keys: List[str] = []
+    for c in configs:
+        keys.extend(k for k in c.changes if k not in keys)
+    outs: List[Optional[str]] = [None] * len(configs)
+    if out is not None:
+        root = Path(out)
+        root.mkdir(parents=True, exist_ok=True)
+        outs = [str(root / f"design_{k}") for k in range(len(configs))]
+    results: List[Union[StudyResult, str]] = []
+    if client is None:
+        for k, (c, o) in enumerate(zip(configs, outs)):
+            try:
+                results.append(run_study(c, out=o, force=force))
+            except RuntimeError as e:
+                results.append(f"failed: {e}")
+            if progress is not None:
+                progress(k + 1, len(configs))
+    else:
+        from dask.distributed import as_completed
+
+        futures = [client.submit(_study_task, c._text(), o, force, pure=False) for c, o in zip(configs, outs)]
+        index = {f.key: k for k, f in enumerate(futures)}
+        slots: List[Union[StudyResult, str]] = [""] * len(configs)
+        for n, f in enumerate(as_completed(futures), start=1):
+            k = index[f.key]
+            try:
+                data = f.result()
+                verdict = data.pop("verdict", "")
+                o = outs[k]
+                slots[k] = StudyResult(data, verdict, None if o is None else Path(o))
+            except RuntimeError as e:
+                slots[k] = f"failed: {e}"
+            if progress is not None:
+                progress(n, len(configs))
+        results = slots
+    frames = [
+        _row_frame(k, c, keys, r if isinstance(r, StudyResult) else None, "ok" if isinstance(r, StudyResult) else r)
+        for k, (c, r) in enumerate(zip(configs, results))
+    ]
+    return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+
+
+def _montecarlo_sweep(
+    mc: MonteCarlo,
+    client: Any,
+    out: Optional[PathLike],
+    force: bool,
+    tasks: Optional[int],
+    progress: Optional[Progress],
+) -> MonteCarloResult:
+    c = _cfg(mc.config)
+    o = _out(out, force)
+    if client is None:
+        data = _rvlife.montecarlo(c._loaded, mc.samples, mc.seed, None, mc.full_wear, mc.samples_per_mesh_cycle, o, force, progress)
+        return _mc_result(data, out)
+    from dask.distributed import as_completed
+
+    threads = sum(client.nthreads().values()) or 1
+    n = tasks if tasks is not None else 4 * threads
+    n = max(1, min(int(n), mc.samples))
+    # The nominal wear once, here (all cores), then to every worker.
+    wear = None if mc.full_wear else _rvlife.nominal_wear(c._loaded)
+    wear_f = None if wear is None else client.scatter(wear, broadcast=True)
+    plan = (mc.samples, mc.seed, mc.full_wear, mc.samples_per_mesh_cycle)
+    futures = [client.submit(_shard_task, c._text(), plan, f"{i}/{n}", wear_f, pure=False) for i in range(1, n + 1)]
+    done = 0
+    for f in as_completed(futures):
+        done += 1
+        if progress is not None:
+            progress(done, n)
+    parts = client.gather(futures)
+    with tempfile.TemporaryDirectory(prefix="rvlife-sweep-") as tmp:
+        dirs = []
+        for i, part in enumerate(parts, start=1):
+            d = Path(tmp) / f"shard_{i}"
+            d.mkdir()
+            (d / "samples.csv").write_text(part["samples_csv"])
+            (d / "stages.csv").write_text(part["stages_csv"])
+            (d / "shard.json").write_text(part["shard_json"])
+            dirs.append(str(d))
+        target = Path(o) if o is not None else Path(tmp) / "merged"
+        _rvlife.merge(dirs, str(target), force)
+        return MonteCarloResult(
+            (target / "samples.csv").read_text(),
+            (target / "stages.csv").read_text(),
+            json.loads((target / "summary.json").read_text()),
+            None if out is None else Path(out),
+        )
+
+
+__all__ = ["grid", "sweep", "MonteCarlo"]

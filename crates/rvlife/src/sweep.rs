@@ -1,0 +1,322 @@
+//! A design sweep: the product of values of config keys, one accuracy-life study per design
+//! (docs/config.md, "Design sweeps"; `rvlife sweep`, the Python package's `grid` and `sweep`).
+//!
+//! Each design is the base config with the varied keys set ([`crate::config::edit::set`],
+//! comments kept) and validated before any study starts, so a design out of range is refused
+//! naming its key and the other keys' values; the whole sweep's estimated work is checked
+//! against the work budget. Each study is the one `rvlife run` runs on that config; a study
+//! that fails is kept as a row with its reason, and the sweep goes on.
+
+use serde_json::Value as Json;
+
+use crate::config::{edit, Config, Model};
+use crate::error::{Error, Result};
+use crate::study::{Study, Summary};
+
+/// Largest number of designs of one sweep.
+pub const MAX_DESIGNS: usize = 10_000;
+
+/// One varied key and its values (`--vary KEY=LO:HI:N` or `KEY=A,B,C`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Vary {
+    /// The dotted key (`cycloid.eccentricity_mm`).
+    pub key: String,
+    /// Its values, in order.
+    pub values: Vec<Json>,
+}
+
+/// `v` rounded to 12 significant digits: the grid's `lo + k (hi - lo)/(n - 1)` written as
+/// the user would (1.3, not 1.2999999999999998).
+fn tidy(v: f64) -> f64 {
+    format!("{v:.11e}").parse().unwrap_or(v)
+}
+
+/// A value as written on the command line: a TOML value (`1.2`, `40`, `true`, `"rollers"`,
+/// `[1.0, 2.0]`), else the text as a string (`rollers`).
+pub fn parse_value(text: &str) -> Json {
+    let t = text.trim();
+    match format!("v = {t}").parse::<toml::Table>() {
+        Ok(mut table) => table
+            .remove("v")
+            .and_then(|v| serde_json::to_value(v).ok())
+            .unwrap_or_else(|| Json::String(t.to_string())),
+        Err(_) => Json::String(t.to_string()),
+    }
+}
+
+impl Vary {
+    /// Parses `KEY=LO:HI:N` (N values evenly spaced from LO to HI, N >= 1; N = 1 is LO) or
+    /// `KEY=A,B,...` (the values, each as [`parse_value`] reads it).
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] naming `option` (`--vary`) with the text and the allowed forms.
+    pub fn parse(option: &str, spec: &str) -> Result<Vary> {
+        let bad = |why: &str| {
+            Error::invalid(
+                option,
+                spec,
+                format!("{why}; write KEY=LO:HI:N (N values from LO to HI) or KEY=A,B,C"),
+            )
+        };
+        let (key, rest) = spec.split_once('=').ok_or_else(|| bad("no `=`"))?;
+        let key = key.trim().to_string();
+        if key.is_empty() || rest.trim().is_empty() {
+            return Err(bad("a key and its values are needed"));
+        }
+        let parts: Vec<&str> = rest.split(':').collect();
+        let values = if parts.len() == 3 {
+            let num = |s: &str| s.trim().parse::<f64>().ok().filter(|v| v.is_finite());
+            let (Some(lo), Some(hi)) = (num(parts[0]), num(parts[1])) else {
+                return Err(bad("LO and HI must be finite numbers"));
+            };
+            let n: usize = parts[2]
+                .trim()
+                .parse()
+                .ok()
+                .filter(|&n| (1..=MAX_DESIGNS).contains(&n))
+                .ok_or_else(|| bad(&format!("N must be a whole number in [1, {MAX_DESIGNS}]")))?;
+            (0..n)
+                .map(|k| {
+                    let v = if n == 1 {
+                        lo
+                    } else {
+                        tidy(lo + (hi - lo) * k as f64 / (n - 1) as f64)
+                    };
+                    serde_json::json!(v)
+                })
+                .collect()
+        } else if parts.len() == 1 {
+            rest.split(',').map(parse_value).collect()
+        } else {
+            return Err(bad("LO:HI:N takes three parts"));
+        };
+        Ok(Vary { key, values })
+    }
+}
+
+/// One design of a sweep.
+#[derive(Debug, Clone)]
+pub struct Design {
+    /// Its index in the sweep (0-based, the product's order: the last varied key fastest).
+    pub index: usize,
+    /// The varied keys' values.
+    pub values: Vec<(String, Json)>,
+    /// Its config text (the base with the keys set).
+    pub text: String,
+    /// Its validated model.
+    pub model: Model,
+}
+
+/// The designs of `varies` over the base config `text` (with the fixed `sets` applied
+/// first), each validated as `rvlife run` validates a file, with the work budget of the
+/// whole sweep (`budget_min`, minutes).
+///
+/// # Errors
+/// [`Error::Invalid`] naming a key that is not a config key or a value out of its range (with
+/// the design's other values), a key varied twice, more than [`MAX_DESIGNS`] designs, or the
+/// whole sweep's work beyond the budget (naming `--vary`).
+pub fn designs(
+    text: &str,
+    origin: &str,
+    base_dir: Option<&std::path::Path>,
+    sets: &[(String, Json)],
+    varies: &[Vary],
+    budget_min: f64,
+) -> Result<Vec<Design>> {
+    for (i, v) in varies.iter().enumerate() {
+        if varies[..i].iter().any(|w| w.key == v.key) || sets.iter().any(|s| s.0 == v.key) {
+            return Err(Error::invalid(
+                "--vary",
+                &v.key,
+                "each key varied once, and not also set",
+            ));
+        }
+    }
+    let count = varies
+        .iter()
+        .try_fold(1usize, |n, v| n.checked_mul(v.values.len()))
+        .filter(|&n| n <= MAX_DESIGNS)
+        .ok_or_else(|| {
+            Error::invalid(
+                "--vary",
+                varies
+                    .iter()
+                    .map(|v| v.values.len().to_string())
+                    .collect::<Vec<_>>()
+                    .join(" x "),
+                format!("at most {MAX_DESIGNS} designs in one sweep"),
+            )
+        })?;
+    let fixed: Vec<(String, Option<Json>)> = sets
+        .iter()
+        .map(|(k, v)| (k.clone(), Some(v.clone())))
+        .collect();
+    let base = edit::set(text, origin, &fixed)?;
+    let mut out = Vec::with_capacity(count);
+    for index in 0..count {
+        // Mixed radix, the last key fastest.
+        let mut rest = index;
+        let mut values = vec![(String::new(), Json::Null); varies.len()];
+        for (j, v) in varies.iter().enumerate().rev() {
+            values[j] = (v.key.clone(), v.values[rest % v.values.len()].clone());
+            rest /= v.values.len();
+        }
+        let edits: Vec<(String, Option<Json>)> = values
+            .iter()
+            .map(|(k, v)| (k.clone(), Some(v.clone())))
+            .collect();
+        let in_design = |e: Error| -> Error {
+            let others: Vec<String> = values.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+            match e {
+                Error::Invalid {
+                    field,
+                    value,
+                    allowed,
+                } => Error::Invalid {
+                    field,
+                    value,
+                    allowed: format!("{allowed} (design {index}: {})", others.join(", ")),
+                },
+                other => other,
+            }
+        };
+        let t = edit::set(&base, origin, &edits).map_err(in_design)?;
+        let mut cfg = Config::from_toml_in(&t, origin, base_dir)?;
+        cfg.work_budget_minutes = budget_min;
+        let model = cfg
+            .validate()
+            .and_then(|m| crate::study::check_work(&m).map(|()| m))
+            .map_err(|e| in_design(cfg.explain_default(e)))?;
+        out.push(Design {
+            index,
+            values,
+            text: t,
+            model,
+        });
+    }
+    let work: f64 = out
+        .iter()
+        .map(|d| {
+            let (w, s) = crate::study::study_work(&d.model);
+            w + s
+        })
+        .sum();
+    let budget = crate::budget::solves_in_minutes(budget_min);
+    if work > budget {
+        return Err(Error::invalid(
+            "--vary",
+            format!("{count} designs"),
+            format!(
+                "the sweep's estimated work, {:.1} min, exceeds the work budget of {:.1} min \
+                 (--work-budget-min): fewer designs, or a larger budget",
+                crate::budget::minutes(work),
+                budget_min
+            ),
+        ));
+    }
+    Ok(out)
+}
+
+/// One design's study.
+#[derive(Debug)]
+pub struct Outcome {
+    /// The design.
+    pub design: Design,
+    /// Its study (`Err`: why it failed; the sweep went on).
+    pub study: std::result::Result<Study, String>,
+}
+
+impl Outcome {
+    /// `ok` or `failed: <reason>`.
+    pub fn status(&self) -> String {
+        match &self.study {
+            Ok(_) => "ok".into(),
+            Err(e) => format!("failed: {e}"),
+        }
+    }
+
+    /// The study's `summary.json` (`None` if it failed).
+    pub fn summary(&self) -> Option<Summary> {
+        self.study.as_ref().ok().map(Study::summary)
+    }
+}
+
+/// Runs every design's study in turn (each study is parallel inside); `progress(done,
+/// total)` after each design.
+pub fn run(designs: Vec<Design>, progress: &(dyn Fn(usize, usize) + Sync)) -> Vec<Outcome> {
+    let total = designs.len();
+    designs
+        .into_iter()
+        .enumerate()
+        .map(|(k, design)| {
+            let study = crate::study::run(&design.model, &|_, _| {}).map_err(|e| e.to_string());
+            progress(k + 1, total);
+            Outcome { design, study }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn vary_specs_give_the_values_a_user_wrote() {
+        let v = Vary::parse("--vary", "cycloid.eccentricity_mm=1.2:1.4:3").unwrap();
+        assert_eq!(v.key, "cycloid.eccentricity_mm");
+        assert_eq!(
+            v.values,
+            vec![
+                serde_json::json!(1.2),
+                serde_json::json!(1.3),
+                serde_json::json!(1.4)
+            ]
+        );
+        let v = Vary::parse("--vary", "contact.law=paper,johnson").unwrap();
+        assert_eq!(v.values, vec![Json::from("paper"), Json::from("johnson")]);
+        let v = Vary::parse("--vary", "cycloid.pins=38,40").unwrap();
+        assert_eq!(v.values, vec![Json::from(38), Json::from(40)]);
+        for bad in [
+            "x",
+            "k=",
+            "k=1:2",
+            "k=1:2:0",
+            "k=a:2:3",
+            "k=1:inf:2",
+            "=1,2",
+        ] {
+            let e = Vary::parse("--vary", bad).unwrap_err().to_string();
+            assert!(e.contains("--vary") && e.contains(bad), "{bad}: {e}");
+        }
+    }
+
+    #[test]
+    fn designs_are_the_product_last_key_fastest_and_refused_by_key() {
+        let text = crate::config::EXAMPLE_TOML;
+        let varies = [
+            Vary::parse("--vary", "cycloid.eccentricity_mm=1.25:1.35:2").unwrap(),
+            Vary::parse("--vary", "cycloid.modification.equidistant_mm=0.01,0.012").unwrap(),
+        ];
+        let sets = [("dynamics.enabled".to_string(), Json::from(false))];
+        let d = designs(text, "<ex>", None, &sets, &varies, 1e6).unwrap();
+        assert_eq!(d.len(), 4);
+        assert_eq!(d[1].values[0].1, serde_json::json!(1.25));
+        assert_eq!(d[1].values[1].1, serde_json::json!(0.012));
+        assert!((d[2].model.cycloid.geometry.eccentricity - 1.35e-3).abs() < 1e-15);
+        assert!(!d[3].model.dynamics.enabled);
+        // A design out of range names its key and its design.
+        let bad = [Vary::parse("--vary", "cycloid.eccentricity_mm=1.3,-1").unwrap()];
+        let e = designs(text, "<ex>", None, &[], &bad, 1e6)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("cycloid.eccentricity_mm") && e.contains("design 1"),
+            "{e}"
+        );
+        // The budget counts every design.
+        let e = designs(text, "<ex>", None, &sets, &varies, 0.1)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("--vary") || e.contains("budget"), "{e}");
+    }
+}
