@@ -380,12 +380,21 @@ fn validated(cfg: &Config) -> Result<Model> {
 
 /// The config file (or the built-in example) with the command line's work budget.
 fn load_config(path: Option<&Path>, budget_min: f64) -> Result<Config> {
-    let mut cfg = match path {
-        Some(p) => Config::from_file(p)?,
-        None => Config::example(),
+    load_config_text(path, budget_min).map(|(cfg, _)| cfg)
+}
+
+/// [`load_config`] and the config's text, read once.
+fn load_config_text(path: Option<&Path>, budget_min: f64) -> Result<(Config, String)> {
+    let (mut cfg, text) = match path {
+        Some(p) => {
+            let text = Config::read_text(p)?;
+            let cfg = Config::from_toml_in(&text, &p.display().to_string(), p.parent())?;
+            (cfg, text)
+        }
+        None => (Config::example(), rvlife::config::EXAMPLE_TOML.to_string()),
     };
     cfg.work_budget_minutes = budget_min;
-    Ok(cfg)
+    Ok((cfg, text))
 }
 
 /// The profile for the wear arguments (a spinner while the wear model integrates).
@@ -459,12 +468,7 @@ fn run(cli: Cli) -> Result<()> {
             force,
             keep_going,
         } => {
-            // Read after the checks of `load_config` (a regular file within the size cap).
-            let cfg = load_config(config.as_deref(), budget)?;
-            let text = match &config {
-                Some(p) => rvlife::input::read_text(p).unwrap_or_default(),
-                None => rvlife::config::EXAMPLE_TOML.to_string(),
-            };
+            let (cfg, text) = load_config_text(config.as_deref(), budget)?;
             let model = validated(&cfg)?;
             let plan = rvlife::api::montecarlo_plan(
                 &model,
@@ -886,10 +890,7 @@ fn sweep(
     use rvlife::sweep::{designs, parse_value, Vary};
     let (text, origin, base_dir) = match config {
         Some(p) => (
-            rvlife::input::read_text(p).map_err(|message| rvlife::Error::Config {
-                path: p.display().to_string(),
-                message,
-            })?,
+            Config::read_text(p)?,
             p.display().to_string(),
             p.parent().map(Path::to_path_buf),
         ),
@@ -985,28 +986,22 @@ fn calibrate_measured(
     out: Option<&Path>,
     force: bool,
 ) -> Result<()> {
-    use rvlife::calibration::{calibrate, check_budget, Measurements, Options};
-    use rvlife::output::calibration::write_files;
+    use rvlife::calibration::{Measurements, Options};
     let data = Measurements::read(path)?;
     data.check_for_fit(fit_running_in, false)?;
     let model = rvlife::api::validated(&load_config(config, budget)?)?;
-    let options = Options { fit_running_in };
-    options.check(&model, &data)?;
-    check_budget(&model, &data)?;
-    let staging = match out {
-        Some(dir) => Some(rvlife::output::Staging::prepare(dir, force)?),
-        None => None,
-    };
     let start = std::time::Instant::now();
     let pb = busy("calibrating");
-    let cal = calibrate(&model, &data, options, &|pass| {
-        pb.set_message(format!("calibrating: reference study {pass}"));
-    });
+    let cal = rvlife::api::calibrate_measured(
+        &model,
+        &data,
+        Options { fit_running_in },
+        out,
+        force,
+        &|pass| pb.set_message(format!("calibrating: reference study {pass}")),
+    );
     pb.finish_and_clear();
     let cal = cal?;
-    if let Some(staging) = staging {
-        staging.commit(|dir| write_files(&cal, dir))?;
-    }
     let wall = start.elapsed().as_secs_f64();
     let pct = cal.confidence * 100.0;
     let (k, unit) = if model.wear.archard_key.ends_with("m2_per_n") {

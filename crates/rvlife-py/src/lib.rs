@@ -593,27 +593,19 @@ fn calibrate_measured(
     force: bool,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Py<PyAny>> {
-    use rvlife::calibration::{calibrate, check_budget, Measurements, Options};
-    let p = progress_fn(progress);
-    let v = py.detach(|| -> PyResult<Value> {
-        let data = Measurements::parse(std::path::Path::new(name), csv).map_err(py_err)?;
-        data.check_for_fit(fit_running_in, false).map_err(py_err)?;
-        let options = Options { fit_running_in };
-        options.check(&cfg.model, &data).map_err(py_err)?;
-        check_budget(&cfg.model, &data).map_err(py_err)?;
-        let staging = staging(out.as_deref(), force)?;
-        let cal = calibrate(&cfg.model, &data, options, &|pass| {
-            p(pass, rvlife::calibration::MAX_PASSES)
-        })
-        .map_err(py_err)?;
-        if let Some(staging) = staging {
-            staging
-                .commit(|dir| rvlife::output::calibration::write_files(&cal, dir))
-                .map_err(py_err)?;
-        }
-        serde_json::to_value(&cal).map_err(|e| PyRuntimeError::new_err(e.to_string()))
-    })?;
-    Ok(to_py(py, &v)?.unbind())
+    use rvlife::calibration::{Measurements, Options};
+    command(py, progress, |p| {
+        let data = Measurements::parse(std::path::Path::new(name), csv)?;
+        data.check_for_fit(fit_running_in, false)?;
+        rvlife::api::calibrate_measured(
+            &cfg.model,
+            &data,
+            Options { fit_running_in },
+            out.as_deref(),
+            force,
+            &|pass| p(pass, rvlife::calibration::MAX_PASSES),
+        )
+    })
 }
 
 /// The designs of a sweep as config texts (`rvlife sweep`'s `--vary`, validated with the

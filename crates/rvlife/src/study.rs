@@ -188,6 +188,18 @@ fn check_finite(summary: &StageSummary) -> Result<()> {
     }
 }
 
+/// The validated model of `cfg` ([`crate::config::Config::validate`]) whose study fits the
+/// work budget ([`check_work`]): what every command and every design of a sweep runs on.
+///
+/// # Errors
+/// [`Error::Invalid`] naming the key, the value and the allowed range, or the key that drives
+/// the work beyond the budget (a key the file does not set named as a default).
+pub(crate) fn validated(cfg: &crate::config::Config) -> Result<Model> {
+    let model = cfg.validate()?;
+    check_work(&model).map_err(|e| cfg.explain_default(e))?;
+    Ok(model)
+}
+
 /// The estimated work of a study of `model`, in static solves ([`crate::budget`]): `(wear
 /// integration, stages' analyses)` ([`check_work`]).
 pub(crate) fn study_work(model: &Model) -> (f64, f64) {

@@ -11,7 +11,7 @@ use serde_json::Value as Json;
 
 use crate::config::{edit, Config, Model};
 use crate::error::{Error, Result};
-use crate::study::{Study, Summary};
+use crate::study::Study;
 
 /// Largest number of designs of one sweep.
 pub const MAX_DESIGNS: usize = 10_000;
@@ -183,10 +183,7 @@ pub fn designs(
         let t = edit::set(&base, origin, &edits).map_err(in_design)?;
         let mut cfg = Config::from_toml_in(&t, origin, base_dir)?;
         cfg.work_budget_minutes = budget_min;
-        let model = cfg
-            .validate()
-            .and_then(|m| crate::study::check_work(&m).map(|()| m))
-            .map_err(|e| in_design(cfg.explain_default(e)))?;
+        let model = crate::study::validated(&cfg).map_err(in_design)?;
         out.push(Design {
             index,
             values,
@@ -233,11 +230,6 @@ impl Outcome {
             Ok(_) => "ok".into(),
             Err(e) => format!("failed: {e}"),
         }
-    }
-
-    /// The study's `summary.json` (`None` if it failed).
-    pub fn summary(&self) -> Option<Summary> {
-        self.study.as_ref().ok().map(Study::summary)
     }
 }
 

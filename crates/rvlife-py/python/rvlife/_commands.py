@@ -6,7 +6,7 @@ from __future__ import annotations
 import json
 import os
 from pathlib import Path
-from typing import Any, Callable, Dict, List, Optional, Sequence, Union, overload
+from typing import Any, Callable, Dict, Optional, Sequence, Union, overload
 
 import pandas as pd
 
@@ -35,6 +35,13 @@ def _cfg(config: Optional[Config]) -> Config:
     if not isinstance(config, Config):
         raise TypeError(f"config must be an rvlife.Config or None, not {type(config).__name__}")
     return config
+
+
+def _whole(name: str, v: Any, least: int = 0) -> None:
+    """Refuses ``v`` unless it is a whole number of at least ``least`` (as the command line
+    refuses ``--samples -1``), naming the keyword ``name``."""
+    if isinstance(v, bool) or not isinstance(v, int) or v < least:
+        raise ValueError(f"invalid {name} = {v!r}: must be a whole number, {least} or more")
 
 
 def _out(out: Optional[PathLike], force: bool) -> Optional[str]:
@@ -101,8 +108,7 @@ def hysteresis(
     """The hysteresis curve (output torque 0 -> +rated -> -rated -> +rated in ``levels`` steps
     per quarter, input locked), mean over a mesh cycle and at ``crank_deg``."""
     c = _cfg(config)
-    if isinstance(levels, bool) or not isinstance(levels, int) or levels < 0:
-        raise ValueError(f"invalid levels = {levels!r}: must be a whole number, 0 or more")
+    _whole("levels", levels)
     return HysteresisResult(_rvlife.hysteresis(c._loaded, crank_deg, levels, wear_um, hours, progress))
 
 
@@ -141,7 +147,11 @@ def run_study(
     (atomically; ``force`` replaces an existing one)."""
     c = _cfg(config)
     o = _out(out, force)
-    data = _rvlife.run_study(c._loaded, o, force, progress)
+    return _study_result(_rvlife.run_study(c._loaded, o, force, progress), o)
+
+
+def _study_result(data: Dict[str, Any], out: Optional[str]) -> StudyResult:
+    """A study's result from the native call's ``summary.json`` with its ``verdict``."""
     verdict = data.pop("verdict", "")
     return StudyResult(data, verdict, None if out is None else Path(out))
 
@@ -254,11 +264,10 @@ def montecarlo(
     the records do not depend on it)."""
     c = _cfg(config)
     for name, v in (("samples", samples), ("seed", seed), ("samples_per_mesh_cycle", samples_per_mesh_cycle)):
-        if isinstance(v, bool) or not isinstance(v, int) or v < 0:
-            raise ValueError(f"invalid {name} = {v!r}: must be a whole number, 0 or more")
+        _whole(name, v)
     o = _out(out, force)
-    if threads is not None and (isinstance(threads, bool) or not isinstance(threads, int) or threads < 1):
-        raise ValueError(f"invalid threads = {threads!r}: must be a whole number, 1 or more")
+    if threads is not None:
+        _whole("threads", threads, least=1)
     data = _rvlife.montecarlo(
         c._loaded, samples, seed, shard, full_wear, samples_per_mesh_cycle, o, force, progress, None, threads
     )
@@ -290,18 +299,3 @@ def tqdm_progress(bar: Any) -> Progress:
 
     return update
 
-
-__all__: List[str] = [
-    "Progress",
-    "profile",
-    "contact",
-    "te",
-    "hysteresis",
-    "dynamics",
-    "run_study",
-    "accuracy_life",
-    "calibrate",
-    "montecarlo",
-    "merge",
-    "tqdm_progress",
-]

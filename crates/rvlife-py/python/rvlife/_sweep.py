@@ -5,7 +5,6 @@ history."""
 
 from __future__ import annotations
 
-import json
 import math
 import tempfile
 from dataclasses import dataclass
@@ -15,7 +14,7 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Union, overload
 import pandas as pd
 
 from . import _rvlife
-from ._commands import Progress, _cfg, _mc_result, _out, run_study
+from ._commands import Progress, _cfg, _mc_result, _out, _study_result, merge, run_study
 from ._config import Config, PathLike, _json, example
 from ._results import MonteCarloResult, StudyResult, stage_table
 
@@ -151,10 +150,7 @@ def sweep(
         for n, f in enumerate(as_completed(futures), start=1):
             k = index[f.key]
             try:
-                data = f.result()
-                verdict = data.pop("verdict", "")
-                o = outs[k]
-                slots[k] = StudyResult(data, verdict, None if o is None else Path(o))
+                slots[k] = _study_result(f.result(), outs[k])
             except RuntimeError as e:
                 slots[k] = f"failed: {e}"
             if progress is not None:
@@ -205,14 +201,10 @@ def _montecarlo_sweep(
             (d / "stages.csv").write_text(part["stages_csv"])
             (d / "shard.json").write_text(part["shard_json"])
             dirs.append(str(d))
-        target = Path(o) if o is not None else Path(tmp) / "merged"
-        _rvlife.merge(dirs, str(target), force)
-        return MonteCarloResult(
-            (target / "samples.csv").read_text(),
-            (target / "stages.csv").read_text(),
-            json.loads((target / "summary.json").read_text()),
-            None if out is None else Path(out),
-        )
+        r = merge(dirs, o if o is not None else Path(tmp) / "merged", force=force)
+        if o is None:
+            r.out = None  # the merged files were in the temporary folder
+        return r
 
 
 __all__ = ["grid", "sweep", "MonteCarlo"]

@@ -70,9 +70,7 @@ fn finite(spelling: Spelling, key: &str, v: f64) -> Result<()> {
 /// [`Error::Invalid`] naming the key, the value and the allowed range, or the key that drives
 /// the work beyond the budget (a key the file does not set named as a default).
 pub fn validated(cfg: &crate::config::Config) -> Result<Model> {
-    let model = cfg.validate()?;
-    crate::study::check_work(&model).map_err(|e| cfg.explain_default(e))?;
-    Ok(model)
+    crate::study::validated(cfg)
 }
 
 /// `"bearings"` or `"rigid"`: how the model supports the discs.
@@ -701,4 +699,34 @@ pub fn montecarlo_plan(
         horizon,
     )?;
     Ok(plan)
+}
+
+/// `rvlife calibrate --measured` on the validated `model` and the measurements `data`: the
+/// options and the work are checked and the results directory `out` (when given; `force`
+/// replaces one rvlife wrote) prepared before the reference studies run
+/// ([`crate::calibration::calibrate`]; `progress(pass)` before each), then written with the
+/// fit.
+///
+/// # Errors
+/// [`Error::Invalid`] naming `--measured` or `--fit-running-in` (the options against the
+/// model and data), the work beyond the budget, or `--out`; the fit's own refusals and
+/// failures ([`crate::calibration::calibrate`]); [`Error::Io`] writing the results.
+pub fn calibrate_measured(
+    model: &Model,
+    data: &crate::calibration::Measurements,
+    options: crate::calibration::Options,
+    out: Option<&std::path::Path>,
+    force: bool,
+    progress: &dyn Fn(usize),
+) -> Result<crate::calibration::Calibration> {
+    options.check(model, data)?;
+    crate::calibration::check_budget(model, data)?;
+    let staging = out
+        .map(|dir| crate::output::Staging::prepare(dir, force))
+        .transpose()?;
+    let cal = crate::calibration::calibrate(model, data, options, progress)?;
+    if let Some(staging) = staging {
+        staging.commit(|dir| crate::output::calibration::write_files(&cal, dir))?;
+    }
+    Ok(cal)
 }

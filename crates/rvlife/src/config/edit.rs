@@ -157,12 +157,23 @@ fn shown(v: Option<&Json>) -> String {
 /// edit leaves a text that is not a config (an unknown key, a value of the wrong type, a
 /// key inside a value), with the value and the parser's reason.
 pub fn set(text: &str, origin: &str, edits: &[(String, Option<Json>)]) -> Result<String> {
-    let mut doc: DocumentMut = text
-        .parse()
+    apply(document(text, origin)?, origin, edits)
+}
+
+/// The TOML document of `text`, for editing.
+///
+/// # Errors
+/// [`Error::Config`] if `text` is not TOML.
+fn document(text: &str, origin: &str) -> Result<DocumentMut> {
+    text.parse()
         .map_err(|e: toml_edit::TomlError| Error::Config {
             path: origin.into(),
             message: e.to_string().trim().to_string(),
-        })?;
+        })
+}
+
+/// [`set`] on the parsed document `doc`.
+fn apply(mut doc: DocumentMut, origin: &str, edits: &[(String, Option<Json>)]) -> Result<String> {
     let sections: Vec<String> = doc.as_table().iter().map(|(k, _)| k.to_string()).collect();
     for (key, v) in edits {
         let path = parts(key)?;
@@ -231,15 +242,10 @@ pub fn merge(text: &str, origin: &str, patch: &Json) -> Result<String> {
             "a dict of sections ({\"cycloid\": {\"eccentricity_mm\": 1.2}})",
         ));
     };
-    let doc: DocumentMut = text
-        .parse()
-        .map_err(|e: toml_edit::TomlError| Error::Config {
-            path: origin.into(),
-            message: e.to_string().trim().to_string(),
-        })?;
+    let doc = document(text, origin)?;
     let mut edits = Vec::new();
     flatten(doc.as_table(), "", m, &mut edits);
-    set(text, origin, &edits)
+    apply(doc, origin, &edits)
 }
 
 /// The config text as a JSON object (its sections as objects; what `Config.to_dict` gives).
@@ -252,21 +258,6 @@ pub fn to_json(text: &str, origin: &str) -> Result<Json> {
         message: e.to_string().trim().to_string(),
     })?;
     serde_json::to_value(&t).map_err(|e| Error::numerical("config as JSON", e.to_string()))
-}
-
-/// The value of a dotted key in the config text (`None`: not written there).
-///
-/// # Errors
-/// As [`to_json`]; [`parts`]'s for a malformed key.
-pub fn get(text: &str, origin: &str, key: &str) -> Result<Option<Json>> {
-    let mut v = to_json(text, origin)?;
-    for p in parts(key)? {
-        match v.get(p) {
-            Some(x) => v = x.clone(),
-            None => return Ok(None),
-        }
-    }
-    Ok(Some(v))
 }
 
 #[cfg(test)]

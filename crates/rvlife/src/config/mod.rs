@@ -149,11 +149,24 @@ impl Config {
     /// # Errors
     /// [`Error::Config`] if the file cannot be read or parsed.
     pub fn from_file(path: &Path) -> Result<Config> {
-        let text = crate::input::read_text(path).map_err(|message| Error::Config {
+        Config::from_toml_in(
+            &Config::read_text(path)?,
+            &path.display().to_string(),
+            path.parent(),
+        )
+    }
+
+    /// The text of the config file at `path` (a regular file within the size cap,
+    /// [`crate::input::read_text`]), for callers that keep it beside the config (a Monte Carlo
+    /// run's `config.toml`, a design sweep's base).
+    ///
+    /// # Errors
+    /// [`Error::Config`] naming the path if the file cannot be read.
+    pub fn read_text(path: &Path) -> Result<String> {
+        crate::input::read_text(path).map_err(|message| Error::Config {
             path: path.display().to_string(),
             message,
-        })?;
-        Config::from_toml_in(&text, &path.display().to_string(), path.parent())
+        })
     }
 
     /// Parses TOML text as if read from a file in `base_dir` (relative paths in it, such as a

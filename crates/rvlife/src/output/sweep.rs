@@ -32,45 +32,53 @@ fn cell(v: &Json) -> String {
     }
 }
 
-/// `(accuracy_life_h, limited_by, horizon_h)` cells of an outcome (empty when absent).
-fn life_cells(o: &Outcome) -> [String; 3] {
-    let life = o.study.as_ref().ok().and_then(|s| s.life.clone());
-    [
-        life.as_ref()
-            .and_then(|l| l.accuracy_life_h)
+/// The leading columns of `sweep.csv` and `designs.csv`: `design`, the varied keys, `status`,
+/// `accuracy_life_h`, `limited_by`.
+fn lead_header(varies: &[Vary]) -> Vec<String> {
+    let mut header = vec!["design".to_string()];
+    header.extend(varies.iter().map(|v| v.key.clone()));
+    header.extend(["status", "accuracy_life_h", "limited_by"].map(String::from));
+    header
+}
+
+/// An outcome's cells of [`lead_header`] (empty where absent).
+fn lead_cells(o: &Outcome) -> Vec<String> {
+    let life = o.study.as_ref().ok().and_then(|s| s.life.as_ref());
+    let mut cells = vec![o.design.index.to_string()];
+    cells.extend(o.design.values.iter().map(|(_, v)| cell(v)));
+    cells.push(o.status());
+    cells.push(
+        life.and_then(|l| l.accuracy_life_h)
             .map(f)
             .unwrap_or_default(),
-        life.as_ref()
-            .and_then(|l| l.limited_by)
+    );
+    cells.push(
+        life.and_then(|l| l.limited_by)
             .unwrap_or_default()
             .to_string(),
-        life.as_ref().map(|l| f(l.horizon_h)).unwrap_or_default(),
-    ]
+    );
+    cells
 }
 
 /// The tidy table of `sweep.csv` (module documentation): header and rows.
 pub fn table(varies: &[Vary], outcomes: &[Outcome]) -> (Vec<String>, Vec<Vec<String>>) {
     let (stage_header, _) = crate::quantities::stages_csv(&[]);
-    let mut header = vec!["design".to_string()];
-    header.extend(varies.iter().map(|v| v.key.clone()));
-    header.extend(["status", "accuracy_life_h", "limited_by"].map(String::from));
+    let mut header = lead_header(varies);
     header.extend(stage_header.iter().cloned());
     let mut rows = Vec::new();
     for o in outcomes {
-        let mut lead = vec![o.design.index.to_string()];
-        lead.extend(o.design.values.iter().map(|(_, v)| cell(v)));
-        let [life, by, _] = life_cells(o);
-        lead.extend([o.status(), life, by]);
-        match o.summary() {
-            Some(s) => {
-                let (_, stage_rows) = crate::quantities::stages_csv(&s.stages);
+        let lead = lead_cells(o);
+        match &o.study {
+            Ok(study) => {
+                let stages: Vec<_> = study.stages.iter().map(|s| s.summary.clone()).collect();
+                let (_, stage_rows) = crate::quantities::stages_csv(&stages);
                 for r in stage_rows {
                     let mut row = lead.clone();
                     row.extend(r);
                     rows.push(row);
                 }
             }
-            None => {
+            Err(_) => {
                 let mut row = lead;
                 row.extend(stage_header.iter().map(|_| String::new()));
                 rows.push(row);
@@ -87,18 +95,8 @@ pub fn table(varies: &[Vary], outcomes: &[Outcome]) -> (Vec<String>, Vec<Vec<Str
 pub fn write_files(dir: &Path, varies: &[Vary], outcomes: &[Outcome]) -> Result<()> {
     let (header, rows) = table(varies, outcomes);
     write_rows(&dir.join("sweep.csv"), &header, &rows)?;
-    let mut header = vec!["design".to_string()];
-    header.extend(varies.iter().map(|v| v.key.clone()));
-    header.extend(
-        [
-            "status",
-            "accuracy_life_h",
-            "limited_by",
-            "horizon_h",
-            "verdict",
-        ]
-        .map(String::from),
-    );
+    let mut header = lead_header(varies);
+    header.extend(["horizon_h", "verdict"].map(String::from));
     let verdicts: Vec<String> = outcomes
         .iter()
         .map(|o| match &o.study {
@@ -110,10 +108,9 @@ pub fn write_files(dir: &Path, varies: &[Vary], outcomes: &[Outcome]) -> Result<
         .iter()
         .zip(&verdicts)
         .map(|(o, verdict)| {
-            let mut r = vec![o.design.index.to_string()];
-            r.extend(o.design.values.iter().map(|(_, v)| cell(v)));
-            r.push(o.status());
-            r.extend(life_cells(o));
+            let horizon = o.study.as_ref().ok().and_then(|s| s.life.as_ref());
+            let mut r = lead_cells(o);
+            r.push(horizon.map(|l| f(l.horizon_h)).unwrap_or_default());
             r.push(verdict.clone());
             r
         })
