@@ -758,6 +758,48 @@ pub fn unusable(records: &[SampleRecord]) -> Option<String> {
     None
 }
 
+fn fmt_opt(v: Option<f64>) -> String {
+    v.map_or(String::new(), |x| format!("{x}"))
+}
+
+/// The texts of Monte Carlo's `samples.csv` (one row per sample) and `stages.csv` (one row per
+/// sample and stage); floats in Rust's shortest round-trip form, so reading them back gives
+/// the same bits.
+pub fn records_csv(records: &[SampleRecord]) -> (String, String) {
+    let mut s = String::from("sample,status,accuracy_life_h,limited_by\n");
+    let mut t = String::from("sample,hours");
+    for (q, _) in quantities() {
+        t.push(',');
+        t.push_str(q);
+    }
+    t.push('\n');
+    for r in records {
+        s.push_str(&format!(
+            "{},{},{},{}\n",
+            r.sample,
+            csv_field(&r.status),
+            fmt_opt(r.accuracy_life_h),
+            r.limited_by.clone().unwrap_or_default()
+        ));
+        for p in &r.points {
+            t.push_str(&format!("{},{}", r.sample, p.hours));
+            for (_, f) in quantities() {
+                t.push_str(&format!(",{}", f(p)));
+            }
+            t.push('\n');
+        }
+    }
+    (s, t)
+}
+
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\"").replace('\n', " "))
+    } else {
+        s.to_string()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

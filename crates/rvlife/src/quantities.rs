@@ -266,6 +266,7 @@ impl AccuracyPoint {
     ///
     /// # Panics
     /// If `values` holds fewer than [`ACCURACY`]`.len()` numbers.
+    #[cfg_attr(not(feature = "files"), allow(dead_code))]
     pub(crate) fn from_accuracy(hours: f64, values: &[f64]) -> AccuracyPoint {
         let at = |q: &Quantity| {
             let i = ACCURACY.iter().position(|a| a.name == q.name);

@@ -711,6 +711,7 @@ pub fn montecarlo_plan(
 /// [`Error::Invalid`] naming `--measured` or `--fit-running-in` (the options against the
 /// model and data), the work beyond the budget, or `--out`; the fit's own refusals and
 /// failures ([`crate::calibration::calibrate`]); [`Error::Io`] writing the results.
+#[cfg(feature = "files")]
 pub fn calibrate_measured(
     model: &Model,
     data: &crate::calibration::Measurements,

@@ -46,6 +46,13 @@ pub struct LifeThresholds {
 }
 
 impl LifeThresholds {
+    /// The horizon of a Monte Carlo run's lives, h: `max_hours`, else ten times the last of
+    /// `stage_hours` (the lives beyond it are censored; docs/model.md section 12.3).
+    pub fn horizon_h(&self, stage_hours: &[f64]) -> f64 {
+        self.max_hours
+            .unwrap_or(10.0 * stage_hours.last().copied().unwrap_or(0.0))
+    }
+
     /// The threshold of the `[life]` key `key` (`lost_motion_arcmin`, ...), if set.
     pub fn threshold(&self, key: &str) -> Option<f64> {
         match key {

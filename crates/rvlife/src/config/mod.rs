@@ -46,6 +46,7 @@ pub mod physical;
 mod presets;
 pub(crate) mod range;
 mod reducer;
+pub mod schema;
 mod te;
 mod tolerances;
 mod wear;

@@ -2,7 +2,49 @@
 //! [`check`] (real numbers) or [`whole`] (counts), so that every message has the same form:
 //! the key as the user wrote it, the value, and the allowed range with its unit.
 
+use std::cell::RefCell;
+
 use crate::error::{Error, Result};
+
+/// A key's allowed values as the validator checked them, recorded by [`recording`].
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Checked {
+    /// Dotted key as the config writes it (`cycloid.eccentricity_mm`).
+    pub key: String,
+    /// The allowed range in the words of the validator's message (`must be a finite number in
+    /// (0, 100] mm`).
+    pub allowed: String,
+    /// The unit of the range (`mm`; empty for counts and pure numbers).
+    pub unit: String,
+}
+
+thread_local! {
+    /// The checks of the validation that [`recording`] runs on this thread.
+    static RECORD: RefCell<Option<Vec<Checked>>> = const { RefCell::new(None) };
+}
+
+/// Runs `f` (a config validation), returning its result and every key it checked with its
+/// allowed range, in order (a key checked twice once). Only this thread's checks are recorded.
+pub(crate) fn recording<T>(f: impl FnOnce() -> T) -> (T, Vec<Checked>) {
+    RECORD.with(|r| *r.borrow_mut() = Some(Vec::new()));
+    let out = f();
+    let checked = RECORD.with(|r| r.borrow_mut().take()).unwrap_or_default();
+    (out, checked)
+}
+
+fn record(key: &str, allowed: impl FnOnce() -> String, unit: &str) {
+    RECORD.with(|r| {
+        if let Some(list) = r.borrow_mut().as_mut() {
+            if !list.iter().any(|c| c.key == key) {
+                list.push(Checked {
+                    key: key.to_string(),
+                    allowed: allowed(),
+                    unit: unit.to_string(),
+                });
+            }
+        }
+    });
+}
 
 /// An allowed range of a real value, with the unit named in the message.
 #[derive(Debug, Clone, Copy)]
@@ -83,6 +125,7 @@ fn short(v: f64) -> String {
 
 /// `v` if it lies in `range`; otherwise [`Error::Invalid`] naming `key`, `v` and the range.
 pub(crate) fn check(key: &str, v: f64, range: Range) -> Result<f64> {
+    record(key, || range.words(), range.unit);
     if range.contains(v) {
         Ok(v)
     } else {
@@ -92,6 +135,11 @@ pub(crate) fn check(key: &str, v: f64, range: Range) -> Result<f64> {
 
 /// `v` as a count if it is a whole number in `[lo, hi]`; otherwise [`Error::Invalid`].
 pub(crate) fn whole(key: &str, v: i64, lo: i64, hi: i64) -> Result<usize> {
+    record(
+        key,
+        || format!("must be a whole number from {lo} to {hi}"),
+        "",
+    );
     if (lo..=hi).contains(&v) {
         Ok(v as usize)
     } else {

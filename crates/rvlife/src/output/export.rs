@@ -78,10 +78,25 @@ pub(crate) fn write_profile_sampled(
     format: ProfileFormat,
     per_tooth: usize,
 ) -> Result<()> {
+    let bytes = profile_bytes(profile, format, per_tooth)?;
+    let mut f = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
+    f.write_all(&bytes).map_err(|e| Error::io(path, e))
+}
+
+/// The bytes of [`write_profile`]'s file for `profile` in `format` with `per_tooth` points per
+/// tooth: what the file holds, for a caller that keeps results in memory (the web page).
+///
+/// # Errors
+/// [`Error::Numerical`] if the CSV or DXF writer fails.
+pub fn profile_bytes(
+    profile: &Profile,
+    format: ProfileFormat,
+    per_tooth: usize,
+) -> Result<Vec<u8>> {
     match format {
-        ProfileFormat::Csv => write_csv(profile, path, per_tooth),
-        ProfileFormat::Dxf => write_dxf(profile, path, per_tooth),
-        ProfileFormat::Svg => write_svg(profile, path, per_tooth),
+        ProfileFormat::Csv => csv_bytes(profile, per_tooth),
+        ProfileFormat::Dxf => dxf_bytes(profile, per_tooth),
+        ProfileFormat::Svg => Ok(svg_text(profile, per_tooth).into_bytes()),
     }
 }
 
@@ -102,25 +117,25 @@ pub fn profile_points(profile: &Profile, per_tooth: usize) -> Vec<(f64, f64, f64
         .collect()
 }
 
-fn write_csv(profile: &Profile, path: &Path, per_tooth: usize) -> Result<()> {
-    let mut w = csv::Writer::from_path(path)
-        .map_err(|e| Error::io(path, std::io::Error::other(e.to_string())))?;
-    let io = |e: csv::Error| Error::io(path, std::io::Error::other(e.to_string()));
-    w.write_record(["x_mm", "y_mm", "mesh_angle_deg", "wear_um"])
-        .map_err(io)?;
-    for (x, y, t, h) in profile_points(profile, per_tooth) {
-        w.write_record([
-            format!("{x:.9}"),
-            format!("{y:.9}"),
-            format!("{t:.6}"),
-            format!("{h:.6}"),
-        ])
-        .map_err(io)?;
-    }
-    w.flush().map_err(|e| Error::io(path, e))
+fn csv_bytes(profile: &Profile, per_tooth: usize) -> Result<Vec<u8>> {
+    let mut rows = vec![["x_mm", "y_mm", "mesh_angle_deg", "wear_um"].map(String::from)];
+    rows.extend(
+        profile_points(profile, per_tooth)
+            .into_iter()
+            .map(|(x, y, t, h)| {
+                [
+                    format!("{x:.9}"),
+                    format!("{y:.9}"),
+                    format!("{t:.6}"),
+                    format!("{h:.6}"),
+                ]
+            }),
+    );
+    let (header, rest) = rows.split_first().expect("a header row");
+    super::rows_bytes(header, rest)
 }
 
-fn write_dxf(profile: &Profile, path: &Path, per_tooth: usize) -> Result<()> {
+fn dxf_bytes(profile: &Profile, per_tooth: usize) -> Result<Vec<u8>> {
     use dxf::entities::{Entity, EntityType, LwPolyline};
     use dxf::enums::AcadVersion;
     use dxf::{Drawing, LwPolylineVertex};
@@ -139,9 +154,11 @@ fn write_dxf(profile: &Profile, path: &Path, per_tooth: usize) -> Result<()> {
     let guid = content_guid(poly.vertices.iter().flat_map(|v| [v.x, v.y]));
     fix_header(&mut drawing.header, guid);
     drawing.add_entity(Entity::new(EntityType::LwPolyline(poly)));
+    let mut bytes = Vec::new();
     drawing
-        .save_file(path)
-        .map_err(|e| Error::io(path, std::io::Error::other(e.to_string())))
+        .save(&mut bytes)
+        .map_err(|e| Error::numerical("DXF export", e.to_string()))?;
+    Ok(bytes)
 }
 
 /// Days from 1900-01-01 to 2000-01-01: the fixed header dates are this far from the `dxf`
@@ -198,7 +215,7 @@ fn content_guid(values: impl IntoIterator<Item = f64>) -> uuid::Uuid {
     uuid::Uuid::new_v5(&namespace, &bytes)
 }
 
-fn write_svg(profile: &Profile, path: &Path, per_tooth: usize) -> Result<()> {
+fn svg_text(profile: &Profile, per_tooth: usize) -> String {
     let g = profile.geometry();
     let r = (g.pin_circle_radius + g.pin_radius) * 1e3 * 1.05;
     let pts = profile_points(profile, per_tooth);
@@ -219,16 +236,14 @@ fn write_svg(profile: &Profile, path: &Path, per_tooth: usize) -> Result<()> {
             g.pin_radius * 1e3
         ));
     }
-    let text = format!(
+    format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}mm\" height=\"{w}mm\" viewBox=\"{x0} {x0} {w} {w}\">\n\
          <title>rvlife cycloid disc profile ({n} teeth), millimetres</title>\n\
          {pins}<path d=\"{d}\" fill=\"#cfe0f5\" stroke=\"#1f4e8c\" stroke-width=\"0.05\"/>\n</svg>\n",
         w = 2.0 * r,
         x0 = -r,
         n = g.disc_teeth(),
-    );
-    let mut f = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
-    f.write_all(text.as_bytes()).map_err(|e| Error::io(path, e))
+    )
 }
 
 #[cfg(test)]
@@ -253,13 +268,11 @@ mod tests {
     #[test]
     fn dxf_export_is_byte_deterministic() {
         let profile = example_profile();
-        let dir = tempfile::tempdir().unwrap();
-        let (a, b) = (dir.path().join("a.dxf"), dir.path().join("b.dxf"));
-        write_profile(&profile, &a, ProfileFormat::Dxf).unwrap();
+        let n = points_per_tooth(&profile);
+        let a = profile_bytes(&profile, ProfileFormat::Dxf, n).unwrap();
         // A later clock reading and fresh random GUIDs would show up in the second file.
         std::thread::sleep(std::time::Duration::from_millis(20));
-        write_profile(&profile, &b, ProfileFormat::Dxf).unwrap();
-        let (a, b) = (std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+        let b = profile_bytes(&profile, ProfileFormat::Dxf, n).unwrap();
         assert!(a == b, "two exports of the same profile differ");
 
         let text = String::from_utf8(a).unwrap();

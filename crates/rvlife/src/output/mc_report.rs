@@ -114,8 +114,7 @@ fn spec_text(spec: &LifeThresholds) -> String {
 
 /// The horizon of the life search, h: `[life] max_hours`, or 10 times the last stage.
 pub(crate) fn horizon(spec: &LifeThresholds, stage_hours: &[f64]) -> f64 {
-    spec.max_hours
-        .unwrap_or(10.0 * stage_hours.last().copied().unwrap_or(0.0))
+    spec.horizon_h(stage_hours)
 }
 
 /// The run's verdict in one sentence, from its life distribution `l`, its samples' status

@@ -8,12 +8,9 @@ use std::path::Path;
 use super::mc_report::status_key;
 pub use super::mc_report::{verdict, McSummary, ShardMeta};
 use crate::error::{Error, Result};
-use crate::montecarlo::{life_distribution, percentiles, quantities, SampleRecord};
+pub use crate::montecarlo::records_csv;
+use crate::montecarlo::{life_distribution, percentiles, SampleRecord};
 use crate::quantities::{AccuracyPoint, ACCURACY};
-
-fn fmt_opt(v: Option<f64>) -> String {
-    v.map_or(String::new(), |x| format!("{x}"))
-}
 
 /// Writes `samples.csv` (one row per sample) and `stages.csv` (one row per sample and stage)
 /// into `dir`; floats in Rust's shortest round-trip form, so reading them back gives the same
@@ -25,42 +22,6 @@ pub(crate) fn write_records(dir: &Path, records: &[SampleRecord]) -> Result<()> 
     let (s, t) = records_csv(records);
     write(dir, "samples.csv", &s)?;
     write(dir, "stages.csv", &t)
-}
-
-/// The texts of `samples.csv` and `stages.csv` of `write_records`.
-pub fn records_csv(records: &[SampleRecord]) -> (String, String) {
-    let mut s = String::from("sample,status,accuracy_life_h,limited_by\n");
-    let mut t = String::from("sample,hours");
-    for (q, _) in quantities() {
-        t.push(',');
-        t.push_str(q);
-    }
-    t.push('\n');
-    for r in records {
-        s.push_str(&format!(
-            "{},{},{},{}\n",
-            r.sample,
-            csv_field(&r.status),
-            fmt_opt(r.accuracy_life_h),
-            r.limited_by.clone().unwrap_or_default()
-        ));
-        for p in &r.points {
-            t.push_str(&format!("{},{}", r.sample, p.hours));
-            for (_, f) in quantities() {
-                t.push_str(&format!(",{}", f(p)));
-            }
-            t.push('\n');
-        }
-    }
-    (s, t)
-}
-
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\"").replace('\n', " "))
-    } else {
-        s.to_string()
-    }
 }
 
 fn write(dir: &Path, name: &str, text: &str) -> Result<()> {

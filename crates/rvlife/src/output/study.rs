@@ -15,29 +15,110 @@
 //! - `profiles/worn_<H>h.dxf` (and `.csv`): the profile used for TE at every stage;
 //! - `plots/*.svg`, `plots/*.png`: see [`crate::output::plot`].
 
+#[cfg(feature = "files")]
 use std::path::Path;
 
 use rayon::prelude::*;
 
-use super::export::{write_profile_sampled, ProfileFormat, EXPORT_POINTS_PER_TOOTH};
-use super::{f, hours_tag, write_json, write_rows};
-use crate::error::{Error, Result};
+use super::export::{profile_bytes, ProfileFormat, EXPORT_POINTS_PER_TOOTH};
+use super::{f, hours_tag, json_bytes, rows_bytes};
+#[cfg(feature = "files")]
+use super::{write_json, write_rows};
+#[cfg(feature = "files")]
+use crate::error::Error;
+use crate::error::Result;
 use crate::study::Study;
 use crate::te::{input_deg, over_revolution};
 use crate::units::ARCMIN_PER_RAD;
 
-/// Writes all result files of `study` into the existing, empty directory `dir`, ending with
-/// `report.html` (`crate::output::html::write_report`).
+/// Writes all result files of `study` into the existing, empty directory `dir`: its
+/// [`data_files`], the plots, and last `report.html` (`crate::output::html::write_report`).
 ///
 /// # Errors
 /// [`Error::Io`] on any write failure.
+#[cfg(feature = "files")]
 pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
     let summary = study.summary();
-    write_json(&dir.join("summary.json"), &summary)?;
+    let files = data_files(study)?;
+    for sub in ["profiles", "plots"] {
+        let d = dir.join(sub);
+        std::fs::create_dir(&d).map_err(|e| Error::io(&d, e))?;
+    }
+    // Data files and plots are independent: write them side by side.
+    let (written, figures) = rayon::join(
+        || {
+            files.par_iter().try_for_each(|(name, bytes)| {
+                let p = dir.join(name);
+                std::fs::write(&p, bytes).map_err(|e| Error::io(&p, e))
+            })
+        },
+        || crate::output::plot::write_all(study, &dir.join("plots")),
+    );
+    written?;
+    figures?;
+    crate::output::html::write_report(study, &summary, dir)
+}
+
+/// The data files of a study's results directory, in memory: `(path relative to the
+/// directory, bytes)` for `summary.json`, the CSV tables ([`tables`]) and
+/// `profiles/worn_<H>h.dxf` and `.csv` of every stage ([`profile_files`]), byte for byte what
+/// [`write_files`] writes; the plots and the report are not among them.
+///
+/// # Errors
+/// [`crate::Error::Numerical`] if a table or a profile cannot be serialised.
+pub fn data_files(study: &Study) -> Result<Vec<(String, Vec<u8>)>> {
+    let mut files = tables(study)?;
+    let profiles: Vec<(String, Vec<u8>)> = profile_files(study)
+        .par_iter()
+        .map(|name| Ok((name.clone(), profile_file(study, name)?.unwrap_or_default())))
+        .collect::<Result<_>>()?;
+    files.extend(profiles);
+    Ok(files)
+}
+
+/// The stage profiles' file names of the results directory, `profiles/worn_<H>h.dxf` and
+/// `.csv` for every stage, in the stages' order: what [`profile_file`] makes.
+pub fn profile_files(study: &Study) -> Vec<String> {
+    study
+        .stages
+        .iter()
+        .flat_map(|s| {
+            let tag = hours_tag(s.hours);
+            ["dxf", "csv"].map(|ext| format!("profiles/worn_{tag}.{ext}"))
+        })
+        .collect()
+}
+
+/// The bytes of the stage profile file `name` (one of [`profile_files`]; `None` for another
+/// name): the profile used for TE at that stage, with the export's points per tooth.
+///
+/// # Errors
+/// [`crate::Error::Numerical`] if the file cannot be serialised.
+pub fn profile_file(study: &Study, name: &str) -> Result<Option<Vec<u8>>> {
+    for s in &study.stages {
+        let tag = hours_tag(s.hours);
+        for (ext, format) in [("dxf", ProfileFormat::Dxf), ("csv", ProfileFormat::Csv)] {
+            if name == format!("profiles/worn_{tag}.{ext}") {
+                return profile_bytes(&s.profile, format, EXPORT_POINTS_PER_TOOTH).map(Some);
+            }
+        }
+    }
+    Ok(None)
+}
+
+/// The study's `summary.json` and CSV tables (the module's list), in memory: `(file name,
+/// bytes)`, byte for byte what [`write_files`] writes.
+///
+/// # Errors
+/// [`crate::Error::Numerical`] if a table cannot be serialised.
+pub fn tables(study: &Study) -> Result<Vec<(String, Vec<u8>)>> {
+    let summary = study.summary();
+    let mut files = Vec::new();
+    files.push(("summary.json".to_string(), json_bytes(&summary)?));
 
     // stages.csv: every quantity of the table.
     let (header, rows) = crate::quantities::stages_csv(&summary.stages);
-    write_rows(&dir.join("stages.csv"), &header, &rows)?;
+    files.push(("stages.csv".to_string(), rows_bytes(&header, &rows)?));
 
     // wear.csv
     let tags: Vec<String> = study.stages.iter().map(|s| hours_tag(s.hours)).collect();
@@ -53,7 +134,7 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
             r
         })
         .collect();
-    write_rows(&dir.join("wear.csv"), &header, &rows)?;
+    files.push(("wear.csv".to_string(), rows_bytes(&header, &rows)?));
 
     // te_mesh_cycle.csv
     let header: Vec<String> = [
@@ -85,7 +166,7 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
             ]);
         }
     }
-    write_rows(&dir.join("te_mesh_cycle.csv"), &header, &rows)?;
+    files.push(("te_mesh_cycle.csv".to_string(), rows_bytes(&header, &rows)?));
 
     // te_revolution.csv
     let curves: Vec<(Vec<f64>, Vec<f64>)> = study
@@ -116,7 +197,7 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
             r
         })
         .collect();
-    write_rows(&dir.join("te_revolution.csv"), &header, &rows)?;
+    files.push(("te_revolution.csv".to_string(), rows_bytes(&header, &rows)?));
 
     // hysteresis.csv: the curve of every stage, averaged over a mesh cycle.
     let header: Vec<String> = ["hours", "torque_nm", "twist_arcmin"]
@@ -130,7 +211,7 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
             rows.push(vec![f(s.hours), f(*t), f(x * ARCMIN_PER_RAD)]);
         }
     }
-    write_rows(&dir.join("hysteresis.csv"), &header, &rows)?;
+    files.push(("hysteresis.csv".to_string(), rows_bytes(&header, &rows)?));
 
     // load.csv
     let header: Vec<String> = [
@@ -171,7 +252,7 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
             ]);
         }
     }
-    write_rows(&dir.join("load.csv"), &header, &rows)?;
+    files.push(("load.csv".to_string(), rows_bytes(&header, &rows)?));
 
     // te_flexible.csv (flexible disc on)
     if study.stages.iter().any(|s| s.flexible.is_some()) {
@@ -209,7 +290,7 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
                 }
             }
         }
-        write_rows(&dir.join("te_flexible.csv"), &header, &rows)?;
+        files.push(("te_flexible.csv".to_string(), rows_bytes(&header, &rows)?));
         // hysteresis_flexible.csv: the flexible hysteresis curve of every stage.
         let header: Vec<String> = ["hours", "torque_nm", "twist_arcmin"]
             .iter()
@@ -223,38 +304,13 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
                 }
             }
         }
-        write_rows(&dir.join("hysteresis_flexible.csv"), &header, &rows)?;
+        files.push((
+            "hysteresis_flexible.csv".to_string(),
+            rows_bytes(&header, &rows)?,
+        ));
     }
 
-    // Profiles and plots are independent: write them side by side.
-    let pdir = dir.join("profiles");
-    std::fs::create_dir(&pdir).map_err(|e| Error::io(&pdir, e))?;
-    let plots = dir.join("plots");
-    std::fs::create_dir(&plots).map_err(|e| Error::io(&plots, e))?;
-    let (profiles, figures) = rayon::join(
-        || -> Result<()> {
-            study
-                .stages
-                .par_iter()
-                .zip(tags.par_iter())
-                .try_for_each(|(s, tag)| {
-                    for (ext, format) in [("dxf", ProfileFormat::Dxf), ("csv", ProfileFormat::Csv)]
-                    {
-                        write_profile_sampled(
-                            &s.profile,
-                            &pdir.join(format!("worn_{tag}.{ext}")),
-                            format,
-                            EXPORT_POINTS_PER_TOOTH,
-                        )?;
-                    }
-                    Ok(())
-                })
-        },
-        || crate::output::plot::write_all(study, &plots),
-    );
-    profiles?;
-    figures?;
-    crate::output::html::write_report(study, &summary, dir)
+    Ok(files)
 }
 
 /// Writes a dynamic simulation's results into the existing directory `dir` (written
@@ -264,6 +320,7 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
 ///
 /// # Errors
 /// [`Error::Io`] on write failures.
+#[cfg(feature = "files")]
 pub fn write_dynamics_files(res: &crate::dynamics::DynamicsResult, dir: &Path) -> Result<()> {
     {
         write_json(&dir.join("summary.json"), &res.summary)?;

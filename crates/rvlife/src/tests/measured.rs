@@ -46,6 +46,10 @@ fn max_gap(a: &Profile, b: &Profile) -> f64 {
 /// on 4 000 points per tooth (1e-6 um measured: the files' rounding); the STE of the measured
 /// worn profile equals that of the worn model to 1e-6 (3e-9 measured).
 #[test]
+#[cfg_attr(
+    target_family = "wasm",
+    ignore = "reads files the config names: the wasm build has no file system"
+)]
 fn exported_profiles_round_trip_through_measured_profile() {
     let dir = tempfile::tempdir().unwrap();
     let m = model(None);
@@ -105,6 +109,10 @@ fn exported_profiles_round_trip_through_measured_profile() {
 /// from about 78 points: a standard error near 0.04 um) and the reported RMS residual is the
 /// noise's normal component, 0.3 um, within 10 %.
 #[test]
+#[cfg_attr(
+    target_family = "wasm",
+    ignore = "reads files the config names: the wasm build has no file system"
+)]
 fn a_known_deviation_is_recovered_from_measured_points() {
     let dir = tempfile::tempdir().unwrap();
     let m = model(None);
@@ -153,6 +161,10 @@ fn a_known_deviation_is_recovered_from_measured_points() {
 
 /// Bad files exit 2 (`Error::Invalid`) naming `cycloid.measured_profile`, before any work.
 #[test]
+#[cfg_attr(
+    target_family = "wasm",
+    ignore = "reads files the config names: the wasm build has no file system"
+)]
 fn bad_measured_profiles_are_refused_with_the_key() {
     let dir = tempfile::tempdir().unwrap();
     let good = dir.path().join("good.csv");

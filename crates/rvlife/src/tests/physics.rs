@@ -450,6 +450,10 @@ fn worn_disc_contact_balances_over_a_mesh_cycle() {
 /// Load spectra: a duty cycle that runs at rated torque half of the time and idles the other
 /// half wears at half the constant-torque rate; a sinusoid about zero wears both flanks alike.
 #[test]
+#[cfg_attr(
+    target_family = "wasm",
+    ignore = "reads files the config names: the wasm build has no file system"
+)]
 fn load_spectra_scale_the_wear() {
     let dir = tempfile::tempdir().unwrap();
     let duty = dir.path().join("duty.csv");

@@ -1,0 +1,427 @@
+//! rvlife in the browser: the commands of [`rvlife::api`] for JavaScript, built for
+//! `wasm32-unknown-unknown` with wasm-bindgen and run in a Web Worker by the page of `web/`.
+//!
+//! Plain data in, plain data out: a config is its TOML text (validated on every call exactly
+//! as the command line validates a file, with the same messages); every result is a JSON
+//! string whose keys are those of the command line's `--json` output or results files
+//! (`summary.json` of `rvlife run`, the CSV tables as text); progress goes to an optional
+//! JavaScript callback `(done, total)`. An error is thrown as a JavaScript `Error` whose
+//! message is the command line's message (without its `error: ` prefix). Nothing touches a
+//! file system: the results' files come back as text, for the page to offer as downloads.
+//!
+//! Units are those of the command line: engineering units at this edge, in the names.
+
+#![warn(missing_docs)]
+
+use rvlife::api::{self, Spelling, Wear};
+use rvlife::config::{Config, Model};
+use serde::Serialize;
+use serde_json::{json, Value};
+use wasm_bindgen::prelude::*;
+
+/// Where errors say the config came from.
+const ORIGIN: &str = "config.toml";
+
+/// A progress callback usable where the library asks for `Fn(usize, usize) + Sync`.
+///
+/// `wasm32-unknown-unknown` has one thread (rayon runs its loops on the calling thread), so
+/// the JavaScript function is only ever called from the thread that made it.
+struct Progress(Option<js_sys::Function>);
+
+// SAFETY: the wasm32-unknown-unknown build this crate is for has no threads; the callback is
+// never shared with another thread.
+unsafe impl Sync for Progress {}
+
+impl Progress {
+    fn call(&self, done: usize, total: usize) {
+        if let Some(f) = &self.0 {
+            // A callback that throws does not stop the analysis.
+            let _ = f.call2(
+                &JsValue::NULL,
+                &JsValue::from_f64(done as f64),
+                &JsValue::from_f64(total as f64),
+            );
+        }
+    }
+}
+
+fn err(e: impl std::fmt::Display) -> JsError {
+    JsError::new(&e.to_string())
+}
+
+fn to_json(v: &impl Serialize) -> Result<String, JsError> {
+    serde_json::to_string(v).map_err(err)
+}
+
+/// The parsed config of `text` (not validated): syntax, types and unknown keys checked.
+fn parsed(text: &str) -> Result<Config, JsError> {
+    Config::from_toml_in(text, ORIGIN, None).map_err(err)
+}
+
+/// The validated model of `text`, as the command line's commands validate a file (ranges,
+/// cross-section rules, the physical checks, the work budget).
+fn model(text: &str) -> Result<Model, JsError> {
+    api::validated(&parsed(text)?).map_err(err)
+}
+
+/// The model of `text` for the static accuracy-life study: dynamics and the FE disc off.
+fn static_model(text: &str) -> Result<Model, JsError> {
+    let mut m = model(text)?;
+    m.dynamics.enabled = false;
+    m.fem.enabled = false;
+    Ok(m)
+}
+
+fn wear(hours: Option<f64>, wear_um: Option<f64>) -> Wear {
+    Wear { wear_um, hours }
+}
+
+/// Runs the command `f` on the validated model of `text` with the progress callback, and
+/// returns its result as JSON.
+fn command<T: Serialize>(
+    text: &str,
+    progress: Option<js_sys::Function>,
+    f: impl FnOnce(&Model, &(dyn Fn(usize, usize) + Sync)) -> rvlife::Result<T>,
+) -> Result<String, JsError> {
+    let m = model(text)?;
+    let p = Progress(progress);
+    to_json(&f(&m, &|d, t| p.call(d, t)).map_err(err)?)
+}
+
+/// The built-in reducers: JSON `[{name, summary}]` (`rvlife example --list`).
+#[wasm_bindgen]
+pub fn presets() -> Result<String, JsError> {
+    let list: Vec<Value> = rvlife::config::PRESETS
+        .iter()
+        .map(|p| json!({"name": p.name, "summary": p.summary}))
+        .collect();
+    to_json(&list)
+}
+
+/// The TOML text of the built-in reducer `name` (`rvlife example --preset NAME`).
+///
+/// # Errors
+/// An unknown name, naming the known ones.
+#[wasm_bindgen(js_name = presetText)]
+pub fn preset_text(name: &str) -> Result<String, JsError> {
+    rvlife::config::preset_text(name).map_err(err)
+}
+
+/// The keys of the config `text` for the editor: JSON `[{section, key, value, commented,
+/// comment, unit, allowed}]` ([`rvlife::config::schema::keys`]).
+///
+/// # Errors
+/// The config does not parse (syntax, types, unknown keys).
+#[wasm_bindgen]
+pub fn keys(text: &str) -> Result<String, JsError> {
+    to_json(&rvlife::config::schema::keys(text, ORIGIN).map_err(err)?)
+}
+
+/// `null` if `text` is a valid config, else the command line's message for it (the first
+/// bad key, its value and its allowed range).
+#[wasm_bindgen]
+pub fn check(text: &str) -> Option<String> {
+    model(text).err().map(|e| {
+        let v: JsValue = e.into();
+        js_sys::Error::from(v).message().into()
+    })
+}
+
+/// `text` with the dotted `key` set to the JSON `value_json` (`null` removes the key),
+/// comments and layout kept ([`rvlife::config::edit::set`]).
+///
+/// # Errors
+/// An unknown key or a value of the wrong type, naming the key.
+#[wasm_bindgen(js_name = setKey)]
+pub fn set_key(text: &str, key: &str, value_json: &str) -> Result<String, JsError> {
+    let v: Value = serde_json::from_str(value_json).map_err(err)?;
+    let v = (!v.is_null()).then_some(v);
+    rvlife::config::edit::set(text, ORIGIN, &[(key.to_string(), v)]).map_err(err)
+}
+
+/// The config `text` as JSON (`rvlife`'s Python `to_dict`).
+///
+/// # Errors
+/// The text does not parse.
+#[wasm_bindgen(js_name = configJson)]
+pub fn config_json(text: &str) -> Result<String, JsError> {
+    to_json(&rvlife::config::edit::to_json(text, ORIGIN).map_err(err)?)
+}
+
+/// The disc profile's points (`rvlife profile --json`): nominal (`nominal`: no modification),
+/// modified, or worn after `hours` (h) or uniformly by `wear_um` (um); `per_tooth` points per
+/// tooth (0: the export's). JSON [`rvlife::api::ProfilePoints`] (mm, deg, um).
+///
+/// # Errors
+/// The config's message, or the argument's (named as in Python: `hours`, `wear_um`).
+#[wasm_bindgen]
+pub fn profile(
+    text: &str,
+    hours: Option<f64>,
+    wear_um: Option<f64>,
+    nominal: bool,
+    per_tooth: usize,
+    progress: Option<js_sys::Function>,
+) -> Result<String, JsError> {
+    command(text, progress, |m, p| {
+        api::profile_points(
+            m,
+            wear(hours, wear_um),
+            nominal,
+            per_tooth,
+            Spelling::Python,
+            p,
+        )
+    })
+}
+
+/// The worn profile's file as text (`rvlife profile --out worn.dxf`): `format` `"dxf"`,
+/// `"csv"` or `"svg"`, at `hours` (h; none: the config's unworn profile), with the export's
+/// points per tooth.
+///
+/// # Errors
+/// The config's message; an unknown format.
+#[wasm_bindgen(js_name = profileFile)]
+pub fn profile_file(
+    text: &str,
+    hours: Option<f64>,
+    format: &str,
+    progress: Option<js_sys::Function>,
+) -> Result<String, JsError> {
+    use rvlife::output::export::{points_per_tooth, profile_bytes, ProfileFormat};
+    let format = match format {
+        "dxf" => ProfileFormat::Dxf,
+        "csv" => ProfileFormat::Csv,
+        "svg" => ProfileFormat::Svg,
+        other => return Err(JsError::new(&format!("unknown profile format {other:?}"))),
+    };
+    let m = model(text)?;
+    let p = Progress(progress);
+    let profile = api::profile_for(&m, wear(hours, None), false, Spelling::Python, &|d, t| {
+        p.call(d, t)
+    })
+    .map_err(err)?;
+    let bytes = profile_bytes(&profile, format, points_per_tooth(&profile)).map_err(err)?;
+    String::from_utf8(bytes).map_err(err)
+}
+
+/// The loaded contact at `crank_deg` under `torque_nm` (`rvlife contact --json`), worn after
+/// `hours` or by `wear_um`. JSON [`rvlife::api::ContactResult`].
+///
+/// # Errors
+/// The config's message, or the argument's.
+#[wasm_bindgen]
+pub fn contact(
+    text: &str,
+    crank_deg: f64,
+    torque_nm: f64,
+    hours: Option<f64>,
+    wear_um: Option<f64>,
+    progress: Option<js_sys::Function>,
+) -> Result<String, JsError> {
+    command(text, progress, |m, p| {
+        api::contact(
+            m,
+            wear(hours, wear_um),
+            crank_deg,
+            torque_nm,
+            Spelling::Python,
+            p,
+        )
+    })
+}
+
+/// The static transmission error over a mesh cycle (`rvlife te --json`), worn after `hours`
+/// or by `wear_um`, loaded by `torque_nm` if given. JSON [`rvlife::api::TeResult`].
+///
+/// # Errors
+/// The config's message, or the argument's.
+#[wasm_bindgen]
+pub fn te(
+    text: &str,
+    hours: Option<f64>,
+    wear_um: Option<f64>,
+    torque_nm: Option<f64>,
+    progress: Option<js_sys::Function>,
+) -> Result<String, JsError> {
+    command(text, progress, |m, p| {
+        api::te(m, wear(hours, wear_um), torque_nm, Spelling::Python, p)
+    })
+}
+
+/// The hysteresis curve at `crank_deg` with `levels` torque levels (`rvlife hysteresis
+/// --json`), worn after `hours` or by `wear_um`. JSON [`rvlife::api::HysteresisResult`].
+///
+/// # Errors
+/// The config's message, or the argument's.
+#[wasm_bindgen]
+pub fn hysteresis(
+    text: &str,
+    crank_deg: f64,
+    levels: usize,
+    hours: Option<f64>,
+    wear_um: Option<f64>,
+    progress: Option<js_sys::Function>,
+) -> Result<String, JsError> {
+    command(text, progress, |m, p| {
+        api::hysteresis_curve(
+            m,
+            wear(hours, wear_um),
+            crank_deg,
+            levels,
+            Spelling::Python,
+            p,
+        )
+    })
+}
+
+/// A study's results, kept in the module for the page to read: its summary and tables at
+/// once, each stage profile's file (DXF, CSV) made when asked for.
+#[wasm_bindgen]
+pub struct StudyResults {
+    study: rvlife::study::Study,
+    tables: Vec<(String, Vec<u8>)>,
+}
+
+#[wasm_bindgen]
+impl StudyResults {
+    /// JSON `{summary, verdict, files}`: `summary` is `summary.json`'s object, `verdict` the
+    /// one-line verdict against `[life]`, `files` the names of every data file of the results
+    /// directory (`summary.json`, `stages.csv`, ..., `profiles/worn_<H>h.dxf`), in order.
+    pub fn overview(&self) -> Result<String, JsError> {
+        let mut files: Vec<String> = self.tables.iter().map(|(n, _)| n.clone()).collect();
+        files.extend(rvlife::output::study::profile_files(&self.study));
+        to_json(&json!({
+            "summary": self.study.summary(),
+            "verdict": self.study.verdict(),
+            "files": files,
+        }))
+    }
+
+    /// The text of the data file `name` (one of `overview`'s `files`), byte for byte what
+    /// `rvlife run` writes.
+    ///
+    /// # Errors
+    /// An unknown name.
+    pub fn file(&self, name: &str) -> Result<String, JsError> {
+        let bytes = match self.tables.iter().find(|(n, _)| n == name) {
+            Some((_, b)) => b.clone(),
+            None => rvlife::output::study::profile_file(&self.study, name)
+                .map_err(err)?
+                .ok_or_else(|| JsError::new(&format!("no results file {name:?}")))?,
+        };
+        String::from_utf8(bytes).map_err(err)
+    }
+}
+
+/// The accuracy-life study without dynamics and the FE disc (`rvlife run` with both off),
+/// its results kept as [`StudyResults`].
+///
+/// # Errors
+/// The config's message; the study's failures.
+#[wasm_bindgen]
+pub fn study(text: &str, progress: Option<js_sys::Function>) -> Result<StudyResults, JsError> {
+    let m = static_model(text)?;
+    let p = Progress(progress);
+    let study = rvlife::study::run(&m, &|d, t| p.call(d, t)).map_err(err)?;
+    let tables = rvlife::output::study::tables(&study).map_err(err)?;
+    Ok(StudyResults { study, tables })
+}
+
+/// The multibody simulation with rigid discs (`rvlife dynamics --disc rigid --json`), worn
+/// after `hours` or by `wear_um`, under a constant output torque `torque_nm` if given (else the
+/// config's `[dynamics.load]`): JSON `{summary, time_s, te_arcmin, output_speed_deg_s}` with
+/// the command line's summary and the time series at the output interval. The flexible disc
+/// is left to the command line (its modal FE model takes minutes to build in a page).
+///
+/// # Errors
+/// The config's message (`[dynamics]` checked as if enabled), or the argument's; the
+/// simulation's failures.
+#[wasm_bindgen]
+pub fn dynamics(
+    text: &str,
+    hours: Option<f64>,
+    wear_um: Option<f64>,
+    torque_nm: Option<f64>,
+    progress: Option<js_sys::Function>,
+) -> Result<String, JsError> {
+    let opts = api::DynamicsOptions {
+        load: torque_nm.map(|_| "constant".to_string()),
+        torque_nm,
+        disc: Some("rigid".to_string()),
+    };
+    let m = api::dynamics_model(&parsed(text)?, &opts, Spelling::Python).map_err(err)?;
+    let p = Progress(progress);
+    let r = api::dynamics(
+        &m,
+        wear(hours, wear_um),
+        false,
+        Spelling::Python,
+        &|d, t| p.call(d, t),
+    )
+    .map_err(err)?;
+    let series =
+        |f: fn(&rvlife::dynamics::Sample) -> f64| -> Vec<f64> { r.samples.iter().map(f).collect() };
+    to_json(&json!({
+        "summary": r.summary,
+        "time_s": series(|s| s.time_s),
+        "te_arcmin": series(|s| s.te_arcmin),
+        "output_speed_deg_s": series(|s| s.output_speed_deg_s),
+    }))
+}
+
+/// Crank angles per mesh cycle of Monte Carlo's hysteresis curves: the command line's default.
+const MC_SAMPLES_PER_MESH_CYCLE: usize = 4;
+
+/// The Monte Carlo accuracy life of `samples` reducers drawn from `[tolerances]` with `seed`
+/// (`rvlife montecarlo --samples N --seed S`; dynamics and the FE disc off): JSON `{samples_csv,
+/// stages_csv, life, percentiles, records, horizon_h}` with the command line's `samples.csv`
+/// and `stages.csv` texts, the life distribution and percentiles of its `summary.json`, every
+/// sample's `{sample, status, accuracy_life_h, limited_by}`, and the horizon beyond which a
+/// life is censored (h).
+///
+/// # Errors
+/// The config's message; `samples` out of range (named `samples`).
+#[wasm_bindgen]
+pub fn montecarlo(
+    text: &str,
+    samples: usize,
+    seed: u64,
+    progress: Option<js_sys::Function>,
+) -> Result<String, JsError> {
+    let m = static_model(text)?;
+    let plan = api::montecarlo_plan(
+        &m,
+        samples,
+        seed,
+        None,
+        false,
+        MC_SAMPLES_PER_MESH_CYCLE,
+        Spelling::Python,
+    )
+    .map_err(err)?;
+    let p = Progress(progress);
+    let records = rvlife::montecarlo::run(&m, &plan, &|d, t| p.call(d, t)).map_err(err)?;
+    let (samples_csv, stages_csv) = rvlife::montecarlo::records_csv(&records);
+    let life = rvlife::montecarlo::life_distribution(&records);
+    let percentiles = rvlife::montecarlo::percentiles(&records, &m.wear.stage_hours);
+    let list: Vec<Value> = records
+        .iter()
+        .map(|r| {
+            json!({
+                "sample": r.sample,
+                "status": r.status,
+                "accuracy_life_h": r.accuracy_life_h,
+                "limited_by": r.limited_by,
+            })
+        })
+        .collect();
+    to_json(&json!({
+        "samples_csv": samples_csv,
+        "stages_csv": stages_csv,
+        "life": life,
+        "percentiles": percentiles,
+        "records": list,
+        "horizon_h": m.life.horizon_h(&m.wear.stage_hours),
+    }))
+}

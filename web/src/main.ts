@@ -1,0 +1,625 @@
+// rvlife's web page: the config editor, the analysis views and the downloads. Every number
+// comes from rvlife's WebAssembly module in a Web Worker (rvlife.ts, worker.ts); the page only
+// lays out, plots (Chart.js) and saves.
+import './style.css';
+import { Cancelled, Engine } from './rvlife';
+import { lineChart, Series, destroyCharts } from './charts';
+import { decodeConfig, encodeConfig } from './share';
+
+type KeyDoc = {
+  section: string; key: string; value: unknown; commented: string | null;
+  comment: string; unit: string; allowed: string | null;
+};
+type Preset = { name: string; summary: string };
+
+const $ = <T extends HTMLElement>(id: string) => document.getElementById(id) as T;
+
+/** Config work (quick) and analyses (long, cancellable) run in separate workers, so that
+ *  editing stays live while a study runs. */
+const quick = new Engine();
+const jobs = new Engine();
+
+const state = {
+  text: '',
+  valid: false,
+  keys: [] as KeyDoc[],
+  tab: 'profile',
+  study: null as null | { summary: any; verdict: string; files: string[] },
+  montecarlo: null as null | any,
+};
+
+// ---------------------------------------------------------------- status and progress
+
+function status(text: string) { $('status').textContent = text; }
+
+let jobGeneration = 0;
+
+async function job<T>(label: string, run: (p: (d: number, t: number) => void) => Promise<T>): Promise<T | undefined> {
+  const bar = $<HTMLProgressElement>('progress');
+  const cancel = $('cancel');
+  // One analysis at a time: a new one replaces the one running.
+  if (jobs.busy) jobs.cancel();
+  const mine = ++jobGeneration;
+  const current = () => mine === jobGeneration;
+  bar.hidden = false; cancel.hidden = false; bar.removeAttribute('value');
+  status(`${label}...`);
+  const t0 = performance.now();
+  try {
+    const v = await run((d, t) => { if (current()) { bar.max = t; bar.value = d; status(`${label}: ${d} / ${t}`); } });
+    if (current()) {
+      status(`${label}: done in ${((performance.now() - t0) / 1000).toFixed(2)} s`);
+      document.body.dataset.lastJobMs = String(performance.now() - t0);
+    }
+    return v;
+  } catch (e) {
+    if (!current()) return undefined;
+    if (e instanceof Cancelled) status(`${label}: cancelled`);
+    else { status(`${label}: failed`); showError((e as Error).message); }
+    return undefined;
+  } finally {
+    if (current()) { bar.hidden = true; cancel.hidden = true; }
+  }
+}
+
+function showError(message: string | null) {
+  const box = $('config-error');
+  box.hidden = !message;
+  box.textContent = message ?? '';
+}
+
+// ---------------------------------------------------------------- the config
+
+/** The dotted key an error message names (`invalid cycloid.pins = ...`, "at `a.b`"). */
+function keyOf(message: string): string | null {
+  const m = /invalid ([a-z0-9_.]+)/.exec(message) ?? /at `([a-z0-9_.\[\]]+)`/.exec(message);
+  return m ? m[1].replace(/\[\d+\]$/, '') : null;
+}
+
+async function setText(text: string, rebuild: boolean) {
+  state.text = text;
+  const message = await quick.call<string | null>('check', [text]);
+  state.valid = message === null;
+  showError(message);
+  document.querySelectorAll('.key .msg').forEach((e) => { e.textContent = ''; });
+  document.querySelectorAll('.key.bad').forEach((e) => e.classList.remove('bad'));
+  if (message) {
+    const k = keyOf(message);
+    const row = k ? document.querySelector<HTMLElement>(`.key[data-key="${CSS.escape(k)}"]`) : null;
+    if (row) { row.classList.add('bad'); row.querySelector('.msg')!.textContent = message; }
+  }
+  if (rebuild || (state.valid && state.keys.length === 0)) {
+    try { state.keys = JSON.parse(await quick.call('keys', [text])); buildEditor(); } catch (e) { showError((e as Error).message); }
+  } else if (state.valid) {
+    // Ranges of keys the last validation did not reach.
+    const fresh: KeyDoc[] = JSON.parse(await quick.call('keys', [text]));
+    for (const k of fresh) {
+      const row = document.querySelector<HTMLElement>(`.key[data-key="${CSS.escape(k.key)}"] .range`);
+      if (row && k.allowed) row.textContent = k.allowed;
+    }
+  }
+  history.replaceState(null, '', `#config=${await encodeConfig(text)}`);
+  state.study = null; state.montecarlo = null;
+  document.body.dataset.configValid = String(state.valid);
+  if (state.tab === 'profile') renderTab();
+  else if (state.tab === 'life' || state.tab === 'montecarlo') renderTab();
+}
+
+function valueText(v: unknown): string {
+  if (v === null || v === undefined) return '';
+  return typeof v === 'string' ? v : JSON.stringify(v);
+}
+
+/** What the user typed as the JSON value of a key: a number, true/false, JSON, or a string. */
+function typed(raw: string, like: unknown): string {
+  const t = raw.trim();
+  if (t === '') return 'null';
+  if (typeof like === 'string') return JSON.stringify(raw);
+  try { return JSON.stringify(JSON.parse(t)); } catch { return JSON.stringify(raw); }
+}
+
+function buildEditor() {
+  const root = $('editor');
+  root.replaceChildren();
+  const sections = new Map<string, KeyDoc[]>();
+  for (const k of state.keys) {
+    const s = k.section || '(top)';
+    if (!sections.has(s)) sections.set(s, []);
+    sections.get(s)!.push(k);
+  }
+  for (const [name, keys] of sections) {
+    const det = document.createElement('details');
+    det.dataset.section = name;
+    det.open = ['reducer', 'cycloid', 'cycloid.modification', 'life'].includes(name);
+    const sum = document.createElement('summary');
+    sum.textContent = `[${name}]`;
+    det.append(sum);
+    for (const k of keys) {
+      const row = document.createElement('div');
+      row.className = 'key';
+      row.dataset.key = k.key;
+      const label = document.createElement('label');
+      const short = k.key.slice(k.section ? k.section.length + 1 : 0);
+      label.textContent = short;
+      label.title = k.comment;
+      let input: HTMLInputElement;
+      if (typeof k.value === 'boolean') {
+        input = document.createElement('input');
+        input.type = 'checkbox';
+        input.checked = k.value;
+        input.onchange = () => edit(k, JSON.stringify(input.checked));
+      } else {
+        input = document.createElement('input');
+        input.type = 'text';
+        input.value = valueText(k.value);
+        input.placeholder = k.commented ? `default ${k.commented}` : '';
+        input.onchange = () => edit(k, typed(input.value, k.value));
+      }
+      input.name = k.key;
+      input.setAttribute('aria-label', k.key);
+      label.htmlFor = input.id = `key-${k.key}`;
+      const unit = document.createElement('span');
+      unit.className = 'unit';
+      unit.textContent = k.unit;
+      const range = document.createElement('div');
+      range.className = 'range';
+      range.textContent = k.allowed ?? '';
+      const note = document.createElement('div');
+      note.className = 'note';
+      note.textContent = k.commented !== null ? `default / example: ${k.commented}${k.comment ? '. ' + k.comment : ''}` : k.comment;
+      const msg = document.createElement('div');
+      msg.className = 'msg';
+      row.append(label, input, unit, range, note, msg);
+      det.append(row);
+    }
+    root.append(det);
+  }
+}
+
+async function edit(k: KeyDoc, json: string) {
+  try {
+    const text = await quick.call('setKey', [state.text, k.key, json]);
+    k.value = JSON.parse(json);
+    await setText(text, false);
+  } catch (e) {
+    const message = (e as Error).message;
+    showError(message);
+    const row = document.querySelector<HTMLElement>(`.key[data-key="${CSS.escape(k.key)}"]`);
+    if (row) { row.classList.add('bad'); row.querySelector('.msg')!.textContent = message; }
+  }
+}
+
+// ---------------------------------------------------------------- downloads
+
+function download(name: string, text: string, type = 'text/plain') {
+  const a = document.createElement('a');
+  a.href = URL.createObjectURL(new Blob([text], { type }));
+  a.download = name.replace(/\//g, '_');
+  document.body.append(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(a.href), 10_000);
+}
+
+/** Download buttons: each file's text, or a function that fetches it when clicked. */
+function downloadList(files: Record<string, string | (() => Promise<string>)>): HTMLElement {
+  const ul = document.createElement('ul');
+  ul.className = 'downloads';
+  for (const [name, text] of Object.entries(files)) {
+    const li = document.createElement('li');
+    const b = document.createElement('button');
+    b.textContent = name;
+    b.dataset.file = name;
+    b.onclick = async () => {
+      try {
+        const t = typeof text === 'string' ? text : await text();
+        download(name, t, name.endsWith('.json') ? 'application/json' : 'text/plain');
+      } catch (e) { showError((e as Error).message); }
+    };
+    li.append(b);
+    if (typeof text === 'string') li.append(` ${(text.length / 1024).toFixed(0)} kB`);
+    ul.append(li);
+  }
+  return ul;
+}
+
+// ---------------------------------------------------------------- views
+
+type Field = { id: string; label: string; value: string; unit: string };
+
+function form(fields: Field[], action: string, run: (v: Record<string, number | undefined>) => void): HTMLElement {
+  const f = document.createElement('form');
+  f.className = 'args';
+  for (const x of fields) {
+    const l = document.createElement('label');
+    const i = document.createElement('input');
+    i.id = x.id; i.name = x.id; i.value = x.value; i.size = 8;
+    l.append(`${x.label} `, i, ` ${x.unit}`);
+    f.append(l);
+  }
+  const b = document.createElement('button');
+  b.type = 'submit'; b.textContent = action; b.id = `run-${state.tab}`;
+  f.append(b);
+  f.onsubmit = (ev) => {
+    ev.preventDefault();
+    const v: Record<string, number | undefined> = {};
+    for (const x of fields) {
+      const s = (f.querySelector<HTMLInputElement>(`#${x.id}`)!).value.trim();
+      v[x.id] = s === '' ? undefined : Number(s);
+    }
+    run(v);
+  };
+  return f;
+}
+
+function numbers(obj: Record<string, unknown>, keys: string[]): HTMLElement {
+  const t = document.createElement('table');
+  t.className = 'numbers';
+  for (const k of keys) {
+    const v = obj[k];
+    if (typeof v !== 'number') continue;
+    const tr = t.insertRow();
+    tr.insertCell().textContent = k;
+    const c = tr.insertCell();
+    c.textContent = fmt(v);
+    c.dataset.value = String(v);
+  }
+  return t;
+}
+
+function fmt(v: number): string {
+  if (!Number.isFinite(v)) return String(v);
+  const a = Math.abs(v);
+  return a !== 0 && (a < 1e-3 || a >= 1e6) ? v.toExponential(4) : Number(v.toPrecision(5)).toString();
+}
+
+function chartBox(id: string): HTMLCanvasElement {
+  const c = document.createElement('canvas');
+  c.id = id;
+  return c;
+}
+
+function lastStageHours(): number {
+  const h = state.keys.find((k) => k.key === 'wear.stage_hours')?.value;
+  return Array.isArray(h) && h.length ? Number(h[h.length - 1]) : 0;
+}
+
+function ratedTorque(): number {
+  return Number(state.keys.find((k) => k.key === 'reducer.rated_torque_nm')?.value ?? 0);
+}
+
+const tabs: Record<string, { title: string; render: (panel: HTMLElement) => void }> = {
+  profile: { title: 'Profile', render: renderProfile },
+  contact: { title: 'Contact', render: renderContact },
+  te: { title: 'Transmission error', render: renderTe },
+  hysteresis: { title: 'Hysteresis', render: renderHysteresis },
+  dynamics: { title: 'Dynamics', render: renderDynamics },
+  life: { title: 'Accuracy life', render: renderLife },
+  montecarlo: { title: 'Monte Carlo', render: renderMonteCarlo },
+};
+
+function buildTabs() {
+  const nav = $('tabs');
+  for (const [id, t] of Object.entries(tabs)) {
+    const b = document.createElement('button');
+    b.textContent = t.title;
+    b.dataset.tab = id;
+    b.onclick = () => { state.tab = id; renderTab(); };
+    nav.append(b);
+  }
+}
+
+function renderTab() {
+  destroyCharts();
+  document.querySelectorAll<HTMLElement>('#tabs button').forEach((b) => b.classList.toggle('active', b.dataset.tab === state.tab));
+  const panel = $('panel');
+  panel.replaceChildren();
+  if (!state.valid) {
+    const p = document.createElement('p');
+    p.className = 'error';
+    p.textContent = 'Fix the config (the message above names the key) to see this view.';
+    panel.append(p);
+    return;
+  }
+  tabs[state.tab].render(panel);
+}
+
+let profileHours = '';
+
+function renderProfile(panel: HTMLElement) {
+  const outline = chartBox('chart-profile');
+  const wear = chartBox('chart-wear');
+  const draw = async (hours: number | undefined) => {
+    const text = state.text;
+    const r = await job('Profile', async (p) => {
+      const nominal = JSON.parse(await jobs.call('profile', [text, undefined, undefined, true, 60]));
+      const modified = JSON.parse(await jobs.call('profile', [text, undefined, undefined, false, 60]));
+      const worn = hours ? JSON.parse(await jobs.call('profile', [text, hours, undefined, false, 60], p)) : null;
+      return { nominal, modified, worn };
+    });
+    if (!r || text !== state.text) return;
+    const pts = (x: any) => x.x_mm.map((v: number, i: number) => ({ x: v, y: x.y_mm[i] }));
+    const series: Series[] = [
+      { label: 'nominal', data: pts(r.nominal) },
+      { label: 'modified', data: pts(r.modified), dash: [6, 3] },
+    ];
+    if (r.worn) series.push({ label: `worn at ${hours} h (max ${fmt(r.worn.max_wear_um)} um)`, data: pts(r.worn), dash: [2, 2] });
+    lineChart(outline, series, { x: 'x, mm', y: 'y, mm', equal: true, zoom: true, title: 'Disc profile (wheel or pinch to zoom, drag to pan)' });
+    if (r.worn) {
+      const per = r.worn.points_per_tooth;
+      const w = r.worn.mesh_angle_deg.slice(0, per).map((a: number, i: number) => ({ x: a, y: r.worn.wear_um[i] }));
+      lineChart(wear, [{ label: `wear depth of tooth 1 at ${hours} h`, data: w }], { x: 'mesh angle, deg (0 root, 180 tip)', y: 'wear, um', title: 'Wear along the flank' });
+    }
+  };
+  if (!profileHours) profileHours = String(lastStageHours());
+  const f = form([{ id: 'profile-hours', label: 'worn at', value: profileHours, unit: 'h' }], 'Draw', (v) => {
+    profileHours = v['profile-hours'] === undefined ? '' : String(v['profile-hours']);
+    draw(v['profile-hours']);
+  });
+  const reset = document.createElement('button');
+  reset.textContent = 'Reset zoom';
+  reset.onclick = () => (outline as any).chart?.resetZoom?.();
+  panel.append(f, reset, wrap(outline, 'square'), wrap(wear));
+  draw(profileHours === '' ? undefined : Number(profileHours));
+}
+
+function wrap(c: HTMLCanvasElement, cls = ''): HTMLElement {
+  const d = document.createElement('div');
+  d.className = `chart ${cls}`;
+  d.append(c);
+  return d;
+}
+
+/** A view that runs one command from a form and shows its numbers and one chart. */
+function analysisView(panel: HTMLElement, spec: {
+  chart: string; note?: string; fields: Field[]; action: string; label: string;
+  call: (v: Record<string, number | undefined>) => [string, unknown[]];
+  show: (x: any, out: HTMLElement, chart: HTMLCanvasElement) => void;
+}) {
+  const out = document.createElement('div');
+  const c = chartBox(spec.chart);
+  if (spec.note) {
+    const note = document.createElement('p');
+    note.className = 'note';
+    note.textContent = spec.note;
+    panel.append(note);
+  }
+  panel.append(form(spec.fields, spec.action, async (v) => {
+    const [cmd, args] = spec.call(v);
+    const r = await job(spec.label, (p) => jobs.call(cmd, [state.text, ...args], p));
+    if (r) spec.show(JSON.parse(r), out, c);
+  }), out, wrap(c));
+}
+
+const curve = (xs: number[], ys: number[]) => xs.map((x, i) => ({ x, y: ys[i] }));
+
+function renderContact(panel: HTMLElement) {
+  analysisView(panel, {
+    chart: 'chart-contact', action: 'Solve', label: 'Contact',
+    fields: [
+      { id: 'crank', label: 'crank angle', value: '0', unit: 'deg' },
+      { id: 'torque', label: 'output torque', value: String(ratedTorque()), unit: 'N m' },
+      { id: 'hours', label: 'worn at', value: '', unit: 'h' },
+    ],
+    call: (v) => ['contact', [v.crank ?? 0, v.torque ?? 0, v.hours]],
+    show: (x, out, c) => {
+      out.replaceChildren(numbers(x, ['twist_arcmin', 'max_force_n', 'pins_in_contact', 'max_pressure_mpa', 'torsional_stiffness_nm_per_arcmin', 'max_wear_um', 'residual']));
+      lineChart(c, x.discs.map((d: any, i: number) => ({ label: `disc ${i + 1}`, data: d.pin_forces_n.map((f: number, j: number) => ({ x: j, y: f })), points: true })),
+        { x: 'pin', y: 'force, N', title: 'Pin forces' });
+    },
+  });
+}
+
+function renderTe(panel: HTMLElement) {
+  analysisView(panel, {
+    chart: 'chart-te', action: 'Compute', label: 'Transmission error',
+    fields: [
+      { id: 'hours', label: 'worn at', value: '0', unit: 'h' },
+      { id: 'torque', label: 'loaded at', value: String(ratedTorque()), unit: 'N m' },
+    ],
+    call: (v) => ['te', [v.hours || undefined, v.torque]],
+    show: (x, out, c) => {
+      out.replaceChildren(numbers(x, ['max_wear_um', 'te_mean_arcmin', 'te_peak_to_peak_arcmin', 'backlash_arcmin', 'lost_motion_arcmin', 'angular_te_arcmin', 'torsional_stiffness_nm_per_arcmin']));
+      const s: Series[] = [{ label: 'static TE (forward)', data: curve(x.input_deg, x.te_arcmin) }];
+      if (x.loaded) s.push({ label: `loaded TE at ${x.loaded.torque_nm} N m`, data: curve(x.input_deg, x.loaded.loaded_te_arcmin), dash: [6, 3] });
+      lineChart(c, s, { x: 'input angle, deg (one mesh cycle)', y: 'TE, arcmin', title: 'Transmission error' });
+    },
+  });
+}
+
+function renderHysteresis(panel: HTMLElement) {
+  analysisView(panel, {
+    chart: 'chart-hysteresis', action: 'Compute', label: 'Hysteresis',
+    fields: [
+      { id: 'crank', label: 'crank angle', value: '0', unit: 'deg' },
+      { id: 'levels', label: 'torque levels', value: '21', unit: '' },
+      { id: 'hours', label: 'worn at', value: '0', unit: 'h' },
+    ],
+    call: (v) => ['hysteresis', [v.crank ?? 0, v.levels ?? 21, v.hours || undefined]],
+    show: (x, out, c) => {
+      out.replaceChildren(numbers(x, ['max_wear_um', 'lost_motion_arcmin', 'backlash_arcmin', 'hysteresis_loss_arcmin', 'torsional_stiffness_nm_per_arcmin']));
+      lineChart(c, [
+        { label: 'mean over a mesh cycle', data: curve(x.torque_nm, x.twist_arcmin) },
+        { label: `at crank ${x.crank_deg} deg`, data: curve(x.at_crank_angle.torque_nm, x.at_crank_angle.twist_arcmin), dash: [6, 3] },
+      ], { x: 'output torque, N m', y: 'twist, arcmin', title: 'Hysteresis curve (catalogue lost motion at +-3 % of rated torque)' });
+    },
+  });
+}
+
+function renderDynamics(panel: HTMLElement) {
+  analysisView(panel, {
+    chart: 'chart-dte', action: 'Simulate', label: 'Dynamics',
+    note: 'The multibody model of the whole reducer with rigid discs (rvlife dynamics --disc rigid); the flexible disc runs on the command line.',
+    fields: [
+      { id: 'hours', label: 'worn at', value: '0', unit: 'h' },
+      { id: 'torque', label: 'constant output torque', value: String(ratedTorque()), unit: 'N m' },
+    ],
+    call: (v) => ['dynamics', [v.hours || undefined, v.torque]],
+    show: (x, out, c) => {
+      out.replaceChildren(numbers(x.summary, ['max_wear_um', 'te_mean_arcmin', 'te_peak_to_peak_arcmin', 'te_rms_arcmin', 'max_pin_force_n', 'output_speed_deg_s', 'steps']));
+      lineChart(c, [{ label: 'dynamic TE', data: curve(x.time_s, x.te_arcmin) }],
+        { x: 'time, s', y: 'DTE, arcmin', title: 'Dynamic transmission error', zoom: true });
+    },
+  });
+}
+
+/** The spec of `[life]`: stage column to its limit and sense (`life.lost_motion_arcmin` is a
+ *  maximum, `life.torsional_stiffness_min_nm_per_arcmin` a minimum). */
+function specLimits(columns: string[]): Record<string, { limit: number; min: boolean }> {
+  const out: Record<string, { limit: number; min: boolean }> = {};
+  for (const k of state.keys) {
+    if (k.section !== 'life' || typeof k.value !== 'number') continue;
+    const name = k.key.slice('life.'.length);
+    if (name === 'torsional_stiffness_min_nm_per_arcmin') out.torsional_stiffness_nm_per_arcmin = { limit: k.value, min: true };
+    else if (columns.includes(name)) out[name] = { limit: k.value, min: false };
+  }
+  return out;
+}
+
+const STAGE_COLUMNS = ['hours', 'max_wear_um', 'lost_motion_arcmin', 'backlash_arcmin', 'angular_te_arcmin', 'ste_peak_to_peak_arcmin', 'torsional_stiffness_nm_per_arcmin', 'hysteresis_loss_arcmin', 'max_pressure_mpa'];
+
+function renderLife(panel: HTMLElement) {
+  const out = document.createElement('div');
+  out.id = 'life-results';
+  const show = () => {
+    const s = state.study!;
+    const verdict = document.createElement('p');
+    verdict.id = 'verdict';
+    const ok = !s.summary.accuracy_life || s.summary.accuracy_life.accuracy_life_h == null;
+    verdict.className = `verdict ${ok ? 'ok' : 'bad'}`;
+    verdict.textContent = s.verdict;
+    const table = document.createElement('table');
+    table.id = 'stages';
+    table.className = 'numbers';
+    const head = table.createTHead().insertRow();
+    for (const c of STAGE_COLUMNS) { const th = document.createElement('th'); th.textContent = c; head.append(th); }
+    const body = table.createTBody();
+    for (const st of s.summary.stages) {
+      const tr = body.insertRow();
+      for (const c of STAGE_COLUMNS) {
+        const td = tr.insertCell();
+        td.textContent = fmt(st[c]);
+        td.dataset.value = String(st[c]);
+        td.dataset.column = c;
+      }
+    }
+    const life = s.summary.accuracy_life;
+    const lifeBox = numbers(life ?? {}, ['accuracy_life_h', 'horizon_h']);
+    lifeBox.id = 'life-numbers';
+    const spec = specLimits(Object.keys(s.summary.stages[0] ?? {}));
+    const hours = s.summary.stages.map((x: any) => x.hours);
+    const charts: HTMLElement[] = [];
+    for (const [q, title] of [['lost_motion_arcmin', 'Lost motion'], ['backlash_arcmin', 'Backlash'], ['angular_te_arcmin', 'Angular transmission error'], ['torsional_stiffness_nm_per_arcmin', 'Torsional stiffness'], ['max_wear_um', 'Largest disc wear']]) {
+      const c = chartBox(`chart-${q}`);
+      const series: Series[] = [{ label: q, data: hours.map((h: number, i: number) => ({ x: h, y: s.summary.stages[i][q] })), points: true }];
+      const lim = spec[q];
+      if (lim) series.push({ label: `spec: ${lim.min ? 'at least' : 'at most'} ${lim.limit}`, data: [{ x: 0, y: lim.limit }, { x: hours[hours.length - 1], y: lim.limit }], dash: [8, 4], color: '#c0392b' });
+      if (life?.accuracy_life_h != null && q === life.limited_by) {
+        const ys = s.summary.stages.map((x: any) => x[q]);
+        series.push({ label: `accuracy life ${fmt(life.accuracy_life_h)} h`, data: [{ x: life.accuracy_life_h, y: Math.min(...ys) }, { x: life.accuracy_life_h, y: Math.max(...ys, lim?.limit ?? -Infinity) }], dash: [2, 3], color: '#555' });
+      }
+      charts.push(wrap(c));
+      requestAnimationFrame(() => lineChart(c, series, { x: 'working hours, h', y: q, title }));
+    }
+    const files: Record<string, string | (() => Promise<string>)> = {};
+    for (const name of s.files) files[name] = () => jobs.call('studyFile', [name]);
+    files['config.toml'] = state.text;
+    const dl = document.createElement('div');
+    dl.innerHTML = '<h3>Downloads (the files of <code>rvlife run</code>)</h3>';
+    dl.append(downloadList(files));
+    const scroll = document.createElement('div');
+    scroll.className = 'scroll';
+    scroll.append(table);
+    out.replaceChildren(verdict, lifeBox, scroll, ...charts, dl);
+  };
+  const run = document.createElement('button');
+  run.id = 'run-life';
+  run.textContent = 'Run the study (static analyses)';
+  run.onclick = async () => {
+    const text = state.text;
+    const r = await job('Accuracy-life study', (p) => jobs.call('study', [text], p));
+    if (!r || text !== state.text) return;
+    state.study = JSON.parse(r);
+    show();
+  };
+  const note = document.createElement('p');
+  note.className = 'note';
+  note.textContent = 'The study of rvlife run without dynamics and the FE disc: wear over the stages of [wear], the accuracy quantities at each, the accuracy life against [life].';
+  panel.append(run, note, out);
+  if (state.study) show();
+}
+
+function renderMonteCarlo(panel: HTMLElement) {
+  const out = document.createElement('div');
+  out.id = 'mc-results';
+  const c = chartBox('chart-reliability');
+  const show = () => {
+    const m = state.montecarlo;
+    const lives: number[] = m.records.filter((r: any) => r.status === 'ok').map((r: any) => r.accuracy_life_h ?? Infinity).sort((a: number, b: number) => a - b);
+    const n = lives.length;
+    const horizon = Math.max(m.horizon_h, ...lives.filter(Number.isFinite));
+    const pts = [{ x: 0, y: 1 }];
+    lives.forEach((l, i) => { if (Number.isFinite(l)) { pts.push({ x: l, y: 1 - i / n }); pts.push({ x: l, y: 1 - (i + 1) / n }); } });
+    pts.push({ x: horizon, y: pts[pts.length - 1].y });
+    const summary = numbers({ samples: m.records.length, ok: n, ...m.life, censored_fraction: m.life.censored_fraction }, ['samples', 'ok', 'censored_fraction', 'b10_h', 'b50_h', 'p5_h', 'p95_h']);
+    const lim = document.createElement('p');
+    lim.textContent = `limited by: ${Object.entries(m.life.limited_by).map(([k, v]) => `${k} ${v}`).join(', ') || 'none within the horizon'}`;
+    out.replaceChildren(summary, lim, wrap(c), downloadList({ 'samples.csv': m.samples_csv, 'stages.csv': m.stages_csv }));
+    lineChart(c, [{ label: `reliability: fraction within spec (${n} samples)`, data: pts }], { x: 'working hours, h', y: 'fraction within spec', title: 'Reliability of the accuracy life' });
+  };
+  panel.append(form([
+    { id: 'samples', label: 'samples', value: '8', unit: '' },
+    { id: 'seed', label: 'seed', value: '1', unit: '' },
+  ], 'Run Monte Carlo', async (v) => {
+    const r = await job('Monte Carlo', (p) => jobs.call('montecarlo', [state.text, v.samples ?? 8, v.seed ?? 1], p));
+    if (!r) return;
+    state.montecarlo = JSON.parse(r);
+    show();
+  }), out);
+  if (state.montecarlo) show();
+}
+
+// ---------------------------------------------------------------- start
+
+async function loadPreset(name: string) {
+  const text = await quick.call('presetText', [name]);
+  await setText(text, true);
+}
+
+async function start() {
+  buildTabs();
+  const presets: Preset[] = JSON.parse(await quick.call('presets', []));
+  const sel = $<HTMLSelectElement>('preset');
+  for (const p of presets) {
+    const o = document.createElement('option');
+    o.value = p.name; o.textContent = p.name; o.title = p.summary;
+    sel.append(o);
+  }
+  const custom = document.createElement('option');
+  custom.value = ''; custom.textContent = '(imported or shared)';
+  sel.append(custom);
+  sel.onchange = () => { if (sel.value) loadPreset(sel.value); };
+  $('cancel').onclick = () => jobs.cancel();
+  $('export').onclick = () => download('rvlife.toml', state.text, 'application/toml');
+  $('import').onclick = () => $('import-file').click();
+  $<HTMLInputElement>('import-file').onchange = async (ev) => {
+    const f = (ev.target as HTMLInputElement).files?.[0];
+    if (!f) return;
+    sel.value = '';
+    await setText(await f.text(), true);
+    (ev.target as HTMLInputElement).value = '';
+  };
+  $('share').onclick = async () => {
+    await navigator.clipboard?.writeText(location.href).catch(() => undefined);
+    status('link copied: it holds the whole config');
+  };
+  const shared = location.hash.startsWith('#config=') ? await decodeConfig(location.hash.slice(8)).catch(() => null) : null;
+  if (shared) { sel.value = ''; await setText(shared, true); } else { sel.value = 'rv-40e'; await loadPreset('rv-40e'); }
+  renderTab();
+  document.body.dataset.ready = 'true';
+}
+
+if ('serviceWorker' in navigator && location.protocol !== 'file:') {
+  navigator.serviceWorker.register('./sw.js').catch(() => undefined);
+}
+
+start().catch((e) => showError(String(e)));

@@ -1,0 +1,264 @@
+// End-to-end test of the built page (web/dist) in Debian's Chromium, driven by Playwright:
+// load the example, run the static study and compare its numbers with `rvlife run`'s
+// summary.json; type a bad value and see the command line's message; export the TOML and get
+// the same config back; a chart that is not blank; offline once loaded; no request outside
+// the page's origin; no console error. Prints the figures it measures (first paint, study time
+// against the native command, sizes) as `e2e: ...` lines.
+//
+// Needs: `scripts/web` run first, the rvlife binary (RVLIFE_BIN, default
+// target/release/rvlife) and Chromium (CHROMIUM, default /usr/bin/chromium).
+import { spawn, spawnSync } from 'node:child_process';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import zlib from 'node:zlib';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const web = path.resolve(here, '..');
+const root = path.resolve(web, '..');
+const dist = path.join(web, 'dist');
+const bin = process.env.RVLIFE_BIN ?? path.join(root, 'target/release/rvlife');
+const port = Number(process.env.PORT ?? 8123);
+const origin = `http://localhost:${port}`;
+const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'rvlife-e2e-'));
+
+let failures = 0;
+const results = [];
+function check(name, ok, detail = '') {
+  results.push(`${ok ? 'ok  ' : 'FAIL'} ${name}${detail ? ': ' + detail : ''}`);
+  console.log(results[results.length - 1]);
+  if (!ok) failures++;
+}
+const figure = (s) => console.log(`e2e: ${s}`);
+
+if (!fs.existsSync(path.join(dist, 'index.html'))) throw new Error('web/dist missing: run scripts/web first');
+if (!fs.existsSync(bin)) throw new Error(`no rvlife binary at ${bin} (set RVLIFE_BIN)`);
+
+// Sizes: the wasm module and the whole page, gzip -9 (what a static server sends compressed).
+let total = 0, gzTotal = 0, wasmGz = 0;
+for (const f of fs.readdirSync(dist, { recursive: true })) {
+  const p = path.join(dist, f);
+  if (!fs.statSync(p).isFile()) continue;
+  const b = fs.readFileSync(p);
+  const gz = zlib.gzipSync(b, { level: 9 }).length;
+  total += b.length; gzTotal += gz;
+  if (p.endsWith('.wasm')) wasmGz = gz;
+}
+figure(`page ${(total / 1e6).toFixed(2)} MB, gzip ${(gzTotal / 1e6).toFixed(2)} MB; wasm module gzip ${(wasmGz / 1e6).toFixed(2)} MB`);
+check('whole page under 3 MB compressed', gzTotal < 3e6, `${(gzTotal / 1e6).toFixed(2)} MB`);
+
+// A local static server: Vite's preview of web/dist.
+const server = spawn(path.join(web, 'node_modules/.bin/vite'), ['preview', '--port', String(port), '--strictPort'], { cwd: web, stdio: ['ignore', 'pipe', 'pipe'] });
+await new Promise((resolve, reject) => {
+  const t = setTimeout(() => reject(new Error('static server did not start')), 20000);
+  server.stdout.on('data', (d) => { if (String(d).includes(String(port))) { clearTimeout(t); resolve(); } });
+  server.on('exit', (c) => reject(new Error(`static server exited ${c}`)));
+});
+
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
+  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+    '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+});
+try {
+  const context = await browser.newContext({ acceptDownloads: true, viewport: { width: 1400, height: 1000 } });
+  const page = await context.newPage();
+  const outside = [];
+  const consoleErrors = [];
+  page.on('request', (r) => { if (!r.url().startsWith(origin) && !r.url().startsWith('blob:') && !r.url().startsWith('data:')) outside.push(r.url()); });
+  page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
+  page.on('pageerror', (e) => consoleErrors.push(String(e)));
+  page.on('worker', (w) => w.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); }));
+
+  // 1. Load: first paint and the example.
+  await page.goto(`${origin}/`);
+  const paint = await page.evaluate(() => new Promise((resolve) => {
+    const get = () => performance.getEntriesByType('paint').find((e) => e.name === 'first-contentful-paint')
+      ?? performance.getEntriesByType('paint').find((e) => e.name === 'first-paint');
+    const t = get();
+    if (t) resolve(t.startTime);
+    else new PerformanceObserver((l) => resolve(l.getEntries()[0].startTime)).observe({ type: 'paint', buffered: true });
+  }));
+  figure(`first paint ${paint.toFixed(0)} ms`);
+  check('first paint under 1 s', paint < 1000, `${paint.toFixed(0)} ms`);
+  await page.waitForSelector('body[data-ready="true"]', { timeout: 60000 });
+  const preset = await page.$eval('#preset', (s) => s.value);
+  check('the example is loaded', preset === 'rv-40e', preset);
+  const keyCount = await page.$$eval('.key', (k) => k.length);
+  const ranged = await page.$$eval('.key .range', (r) => r.filter((x) => x.textContent).length);
+  check('every key in the editor, with ranges', keyCount > 100 && ranged > 60, `${keyCount} keys, ${ranged} with a range`);
+  const unit = await page.$eval('.key[data-key="cycloid.eccentricity_mm"] .unit', (u) => u.textContent);
+  check('keys carry their unit', unit === 'mm', unit);
+  await page.waitForFunction(() => document.querySelector('#chart-profile')?.chart?.data.datasets.length === 3, null, { timeout: 60000 });
+
+  // The static study compared with `rvlife run`: dynamics and FE off in the editor too, so
+  // that the exported file is the config the page ran.
+  for (const k of ['dynamics.enabled', 'fem.enabled']) {
+    await page.click(`details[data-section="${k.split('.')[0]}"] > summary`);
+    await page.uncheck(`[name="${k}"]`);
+    await page.waitForFunction((k) => document.querySelector(`[name="${k}"]`) && location.hash.length > 10, k);
+  }
+  await page.waitForTimeout(300);
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#export')]);
+  const exported = path.join(tmp, 'exported.toml');
+  await download.saveAs(exported);
+  const text = fs.readFileSync(exported, 'utf8');
+  check('export: dynamics and FE off in the file', /\[dynamics\][^[]*enabled = false/.test(text) && /\[fem\][^[]*enabled = false/.test(text));
+  const example = spawnSync(bin, ['example'], { encoding: 'utf8' }).stdout;
+  const differing = text.split('\n').filter((l, i) => l !== example.split('\n')[i]);
+  check('export: the example with exactly the two edited lines', differing.length === 2 && differing.every((l) => l.startsWith('enabled = false')), JSON.stringify(differing));
+
+  await page.click('button[data-tab="life"]');
+  await page.click('#run-life');
+  await page.waitForSelector('#verdict', { timeout: 300000 });
+  const webMs = Number(await page.evaluate(() => document.body.dataset.lastJobMs));
+  const t0 = performance.now();
+  const cli = spawnSync(bin, ['run', exported, '--out', path.join(tmp, 'cli')], { encoding: 'utf8' });
+  const nativeMs = performance.now() - t0;
+  check('rvlife run on the exported file', cli.status === 0, cli.stderr.slice(0, 300));
+  figure(`study without dynamics and FE: page ${(webMs / 1000).toFixed(2)} s, native rvlife run ${(nativeMs / 1000).toFixed(2)} s, ratio ${(webMs / nativeMs).toFixed(2)}`);
+  const summary = JSON.parse(fs.readFileSync(path.join(tmp, 'cli/summary.json'), 'utf8'));
+  const cells = await page.$$eval('#stages td', (tds) => tds.map((td) => [td.parentElement.rowIndex - 1, td.dataset.column, Number(td.dataset.value)]));
+  let worst = 0, compared = 0;
+  for (const [row, col, v] of cells) {
+    const ref = summary.stages[row][col];
+    const rel = Math.abs(v - ref) / Math.max(Math.abs(ref), 1e-300);
+    worst = Math.max(worst, ref === 0 ? Math.abs(v) : rel);
+    compared++;
+  }
+  check('the page\'s stage numbers equal summary.json (relative 1e-9)', compared >= 40 && worst <= 1e-9, `${compared} numbers, worst relative difference ${worst.toExponential(2)}`);
+  const life = await page.$eval('#life-numbers td[data-value]', (td) => Number(td.dataset.value)).catch(() => null);
+  const refLife = summary.accuracy_life?.accuracy_life_h ?? null;
+  check('accuracy life equals summary.json', (life === null && refLife === null) || Math.abs(life - refLife) <= 1e-9 * Math.abs(refLife), `${life} h against ${refLife} h`);
+  const verdict = await page.$eval('#verdict', (v) => v.textContent);
+  check('the verdict is the command line\'s', cli.stdout.includes(verdict) || cli.stderr.includes(verdict), verdict);
+  // The downloads are the command line's files.
+  for (const name of ['summary.json', 'stages.csv', 'wear.csv', 'profiles/worn_7500h.dxf']) {
+    const [d] = await Promise.all([page.waitForEvent('download'), page.click(`button[data-file="${name}"]`)]);
+    const p = path.join(tmp, 'page-' + name.replace('/', '_'));
+    await d.saveAs(p);
+    const mine = fs.readFileSync(p, 'utf8');
+    const theirs = fs.readFileSync(path.join(tmp, 'cli', name), 'utf8');
+    const sameBytes = mine === theirs;
+    let detail = sameBytes ? 'same bytes' : '';
+    if (!sameBytes) {
+      // Numbers may differ in their last printed digit (parallel sums on two cores, one in the page).
+      const nums = (s) => (s.match(/-?\d+\.\d+(e-?\d+)?/g) ?? []).map(Number);
+      const a = nums(mine), b = nums(theirs);
+      const w = a.length === b.length ? Math.max(...a.map((x, i) => Math.abs(x - b[i]) / Math.max(Math.abs(b[i]), 1e-6))) : Infinity;
+      detail = `${a.length} numbers, worst relative difference ${w.toExponential(2)}`;
+      check(`download ${name} equals rvlife run's`, w <= 1e-9 || (name.endsWith('.csv') && w <= 1e-6), detail);
+    } else check(`download ${name} equals rvlife run's`, true, detail);
+  }
+
+  // The multibody simulation (rigid discs) against `rvlife dynamics --json`.
+  await page.click('button[data-tab="dynamics"]');
+  await page.click('#run-dynamics');
+  await page.waitForSelector('#panel table.numbers', { timeout: 120000 });
+  const dynMs = Number(await page.evaluate(() => document.body.dataset.lastJobMs));
+  const dte = await page.$$eval('#panel table.numbers td[data-value]', (tds) => Object.fromEntries(tds.map((td) => [td.previousElementSibling.textContent, Number(td.dataset.value)])));
+  const cliDyn = spawnSync(bin, ['dynamics', exported, '--disc', 'rigid', '--load', 'constant', '--torque-nm', '412', '--json'], { encoding: 'utf8' });
+  const refDyn = JSON.parse(cliDyn.stdout);
+  const dKeys = ['te_mean_arcmin', 'te_peak_to_peak_arcmin', 'te_rms_arcmin', 'max_pin_force_n'];
+  const dDiffs = dKeys.map((k) => Math.abs(dte[k] - refDyn[k]) / Math.abs(refDyn[k]));
+  const dRel = Math.max(...dDiffs);
+  figure(`dynamics relative differences: ${dKeys.map((k, i) => `${k} ${dDiffs[i].toExponential(1)}`).join(', ')}`);
+  figure(`dynamics (rigid discs, 0.8 s): page ${(dynMs / 1000).toFixed(2)} s, native ${refDyn.wall_time_s?.toFixed?.(2)} s; DTE worst relative difference ${dRel.toExponential(2)}, ${dte.steps} steps against ${refDyn.steps}`);
+  // The elementary functions differ in their last bits between the module's libm and the
+  // system's; the integrator's error control (relative tolerance 2e-4 in the example) carries
+  // such differences up to its own tolerance, not beyond.
+  check('the page\'s DTE equals rvlife dynamics --json (within the integrator\'s tolerance 2e-4)', dRel <= 2e-4 && dte.steps === refDyn.steps, `worst relative difference ${dRel.toExponential(2)}`);
+  await page.click('button[data-tab="life"]');
+  await page.waitForSelector('#verdict');
+  await page.waitForFunction(() => document.querySelector('#chart-lost_motion_arcmin')?.chart);
+
+  // A chart that is drawn, and a screenshot that is not blank.
+  const inked = await page.$eval('#chart-lost_motion_arcmin', (c) => {
+    const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+    let n = 0;
+    for (let i = 0; i < d.length; i += 4) if (d[i + 3] > 0 && (d[i] < 200 || d[i + 1] < 200 || d[i + 2] < 200)) n++;
+    return n / (d.length / 4);
+  });
+  check('the lost-motion chart is drawn', inked > 0.01, `${(100 * inked).toFixed(1)} % of its pixels inked`);
+  const lines = await page.$eval('#chart-lost_motion_arcmin', (c) => c.chart.data.datasets.map((d) => d.label));
+  check('the lost-motion chart shows the spec and the accuracy life', lines.some((l) => l.startsWith('spec: at most 1')) && lines.some((l) => l.startsWith('accuracy life')), lines.join(' | '));
+  await page.$eval('#views', (v) => v.scrollTo(0, 0));
+  const shot = path.join(process.env.RVLIFE_SCREENSHOT_DIR ?? tmp, 'rvlife-web.png');
+  await page.screenshot({ path: shot, fullPage: false });
+  const png = fs.readFileSync(shot);
+  check('screenshot not blank', png.length > 30000, `${(png.length / 1024).toFixed(0)} kB, ${shot}`);
+
+  // A bad value: the command line's message, inline at the key.
+  await page.fill('[name="cycloid.eccentricity_mm"]', '-1.2');
+  await page.press('[name="cycloid.eccentricity_mm"]', 'Enter');
+  await page.waitForSelector('.key.bad[data-key="cycloid.eccentricity_mm"] .msg:not(:empty)', { timeout: 20000 });
+  const shown = await page.$eval('.key.bad[data-key="cycloid.eccentricity_mm"] .msg', (m) => m.textContent);
+  const bad = path.join(tmp, 'bad.toml');
+  fs.writeFileSync(bad, text.replace('eccentricity_mm = 1.3 ', 'eccentricity_mm = -1.2 '));
+  const refused = spawnSync(bin, ['run', bad, '--out', path.join(tmp, 'bad')], { encoding: 'utf8' });
+  check('a bad value shows the command line\'s message', refused.status === 2 && refused.stderr.includes(shown), `page: ${shown} | rvlife: ${refused.stderr.trim()} (exit ${refused.status})`);
+  await page.fill('[name="cycloid.eccentricity_mm"]', '1.3');
+  await page.press('[name="cycloid.eccentricity_mm"]', 'Enter');
+  await page.waitForSelector('body[data-config-valid="true"]');
+
+  // Import the exported TOML: the same config back (the editor, the address and the text).
+  await page.setInputFiles('#import-file', exported);
+  await page.waitForFunction(() => document.querySelector('#preset').value === '');
+  await page.waitForTimeout(300);
+  const [again] = await Promise.all([page.waitForEvent('download'), page.click('#export')]);
+  const back = path.join(tmp, 'back.toml');
+  await again.saveAs(back);
+  check('import then export gives the same TOML', fs.readFileSync(back, 'utf8') === text);
+
+  // The address holds the config: a fresh page opened on it has the same config.
+  const link = page.url();
+  const page2 = await context.newPage();
+  page2.on('request', (r) => { if (!r.url().startsWith(origin) && !r.url().startsWith('blob:') && !r.url().startsWith('data:')) outside.push(r.url()); });
+  page2.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
+  await page2.goto(link);
+  await page2.waitForSelector('body[data-ready="true"]');
+  const [d2] = await Promise.all([page2.waitForEvent('download'), page2.click('#export')]);
+  const shared = path.join(tmp, 'shared.toml');
+  await d2.saveAs(shared);
+  check('a shared link opens the same config', fs.readFileSync(shared, 'utf8') === text, `${link.length} characters`);
+
+  // Offline once loaded: the service worker answers a reload with the network gone.
+  await page2.evaluate(() => navigator.serviceWorker.ready);
+  await page2.reload();
+  await page2.waitForSelector('body[data-ready="true"]');
+  await context.setOffline(true);
+  await page2.reload();
+  const offline = await page2.waitForSelector('body[data-ready="true"]', { timeout: 30000 }).then(() => true, () => false);
+  let offlineTe = false;
+  if (offline) {
+    await page2.click('button[data-tab="te"]');
+    await page2.click('#run-te');
+    offlineTe = await page2.waitForSelector('#panel table.numbers', { timeout: 60000 }).then(() => true, () => false);
+  }
+  check('works offline once loaded', offline && offlineTe);
+  await context.setOffline(false);
+
+  // Cancel: a Monte Carlo run stops and the page stays usable.
+  await page2.click('button[data-tab="montecarlo"]');
+  await page2.fill('#samples', '64');
+  await page2.click('#run-montecarlo');
+  await page2.waitForSelector('#cancel:not([hidden])');
+  await page2.waitForTimeout(500);
+  await page2.click('#cancel');
+  const cancelled = await page2.waitForFunction(() => document.querySelector('#status').textContent.includes('cancelled'), null, { timeout: 10000 }).then(() => true, () => false);
+  await page2.fill('#samples', '4');
+  await page2.click('#run-montecarlo');
+  const mc = await page2.waitForSelector('#chart-reliability', { timeout: 300000 }).then(() => true, () => false);
+  check('Monte Carlo cancels, then runs', cancelled && mc);
+
+  check('no request outside the page\'s origin', outside.length === 0, outside.slice(0, 5).join(' '));
+  check('no console error', consoleErrors.length === 0, consoleErrors.slice(0, 5).join(' | '));
+} finally {
+  await browser.close();
+  server.kill();
+}
+// The summary line in libtest's form, which scripts/test counts.
+console.log(`test result: ${failures ? 'FAILED' : 'ok'}. ${results.length - failures} passed; ${failures} failed; (web page end to end)`);
+process.exit(failures ? 1 : 0);
