@@ -567,10 +567,10 @@ function renderMonteCarlo(panel: HTMLElement) {
     lineChart(c, [{ label: `reliability: fraction within spec (${n} samples)`, data: pts }], { x: 'working hours, h', y: 'fraction within spec', title: 'Reliability of the accuracy life' });
   };
   panel.append(form([
-    { id: 'samples', label: 'samples', value: '8', unit: '' },
+    { id: 'samples', label: 'samples', value: '4', unit: '' },
     { id: 'seed', label: 'seed', value: '1', unit: '' },
   ], 'Run Monte Carlo', async (v) => {
-    const r = await job('Monte Carlo', (p) => jobs.call('montecarlo', [state.text, v.samples ?? 8, v.seed ?? 1], p));
+    const r = await job('Monte Carlo', (p) => jobs.call('montecarlo', [state.text, v.samples ?? 4, v.seed ?? 1], p));
     if (!r) return;
     state.montecarlo = JSON.parse(r);
     show();

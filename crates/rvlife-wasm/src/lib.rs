@@ -332,7 +332,8 @@ pub fn study(text: &str, progress: Option<js_sys::Function>) -> Result<StudyResu
 /// after `hours` or by `wear_um`, under a constant output torque `torque_nm` if given (else the
 /// config's `[dynamics.load]`): JSON `{summary, time_s, te_arcmin, output_speed_deg_s}` with
 /// the command line's summary and the time series at the output interval. The flexible disc
-/// is left to the command line (its modal FE model takes minutes to build in a page).
+/// is left to the command line: building its FE model reads the system clock
+/// (`std::time::Instant`, for its timing notes), which `wasm32-unknown-unknown` does not have.
 ///
 /// # Errors
 /// The config's message (`[dynamics]` checked as if enabled), or the argument's; the
