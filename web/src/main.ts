@@ -77,8 +77,20 @@ function keyOf(message: string): string | null {
 
 async function setText(text: string, rebuild: boolean) {
   state.text = text;
-  const message = await quick.call<string | null>('check', [text]);
+  // One validation gives both the message and the keys with their ranges.
+  const r: { message: string | null; keys: KeyDoc[] | null } = JSON.parse(await quick.call('inspect', [text]));
+  const message = r.message;
   state.valid = message === null;
+  if (r.keys && (rebuild || state.keys.length === 0)) {
+    state.keys = r.keys;
+    buildEditor();
+  } else if (r.keys && state.valid) {
+    // Ranges of keys the last validation did not reach.
+    for (const k of r.keys) {
+      const row = document.querySelector<HTMLElement>(`.key[data-key="${CSS.escape(k.key)}"] .range`);
+      if (row && k.allowed) row.textContent = k.allowed;
+    }
+  }
   showError(message);
   document.querySelectorAll('.key .msg').forEach((e) => { e.textContent = ''; });
   document.querySelectorAll('.key.bad').forEach((e) => e.classList.remove('bad'));
@@ -87,21 +99,11 @@ async function setText(text: string, rebuild: boolean) {
     const row = k ? document.querySelector<HTMLElement>(`.key[data-key="${CSS.escape(k)}"]`) : null;
     if (row) { row.classList.add('bad'); row.querySelector('.msg')!.textContent = message; }
   }
-  if (rebuild || (state.valid && state.keys.length === 0)) {
-    try { state.keys = JSON.parse(await quick.call('keys', [text])); buildEditor(); } catch (e) { showError((e as Error).message); }
-  } else if (state.valid) {
-    // Ranges of keys the last validation did not reach.
-    const fresh: KeyDoc[] = JSON.parse(await quick.call('keys', [text]));
-    for (const k of fresh) {
-      const row = document.querySelector<HTMLElement>(`.key[data-key="${CSS.escape(k.key)}"] .range`);
-      if (row && k.allowed) row.textContent = k.allowed;
-    }
-  }
   history.replaceState(null, '', `#config=${await encodeConfig(text)}`);
   state.study = null; state.montecarlo = null;
   document.body.dataset.configValid = String(state.valid);
-  if (state.tab === 'profile') renderTab();
-  else if (state.tab === 'life' || state.tab === 'montecarlo') renderTab();
+  // The views whose results came from the previous config.
+  if (['profile', 'life', 'montecarlo'].includes(state.tab)) renderTab();
 }
 
 function valueText(v: unknown): string {

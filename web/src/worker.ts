@@ -11,42 +11,37 @@ const ready = init();
 // The last study's results, kept here for the page's downloads.
 let lastStudy: rv.StudyResults | null = null;
 
-// Commands callable from the page; every one returns text (JSON or TOML) or null.
-const commands: Record<string, (...a: any[]) => string | null | undefined> = {
+// Commands callable from the page, each given the progress callback first; every one returns
+// text (JSON or TOML).
+type Progress = (done: number, total: number) => void;
+const commands: Record<string, (p: Progress, ...a: any[]) => string> = {
   presets: () => rv.presets(),
-  presetText: (name: string) => rv.presetText(name),
-  keys: (text: string) => rv.keys(text),
-  check: (text: string) => rv.check(text) ?? null,
-  setKey: (text: string, key: string, value: string) => rv.setKey(text, key, value),
-  configJson: (text: string) => rv.configJson(text),
-  profile: (text: string, hours: number | undefined, wearUm: number | undefined, nominal: boolean,
-    perTooth: number, p: Function) => rv.profile(text, hours, wearUm, nominal, perTooth, p),
-  profileFile: (text: string, hours: number | undefined, format: string, p: Function) =>
-    rv.profileFile(text, hours, format, p),
-  contact: (text: string, crankDeg: number, torqueNm: number, hours: number | undefined, p: Function) =>
+  presetText: (_p, name: string) => rv.presetText(name),
+  inspect: (_p, text: string) => rv.inspect(text),
+  setKey: (_p, text: string, key: string, value: string) => rv.setKey(text, key, value),
+  profile: (p, text: string, hours: number | undefined, wearUm: number | undefined, nominal: boolean,
+    perTooth: number) => rv.profile(text, hours, wearUm, nominal, perTooth, p),
+  contact: (p, text: string, crankDeg: number, torqueNm: number, hours: number | undefined) =>
     rv.contact(text, crankDeg, torqueNm, hours, undefined, p),
-  te: (text: string, hours: number | undefined, torqueNm: number | undefined, p: Function) =>
+  te: (p, text: string, hours: number | undefined, torqueNm: number | undefined) =>
     rv.te(text, hours, undefined, torqueNm, p),
-  hysteresis: (text: string, crankDeg: number, levels: number, hours: number | undefined, p: Function) =>
+  hysteresis: (p, text: string, crankDeg: number, levels: number, hours: number | undefined) =>
     rv.hysteresis(text, crankDeg, levels, hours, undefined, p),
-  dynamics: (text: string, hours: number | undefined, torqueNm: number | undefined, p: Function) =>
+  dynamics: (p, text: string, hours: number | undefined, torqueNm: number | undefined) =>
     rv.dynamics(text, hours, undefined, torqueNm, p),
-  study: (text: string, p: Function) => {
+  study: (p, text: string) => {
     lastStudy?.free();
     lastStudy = null;
     lastStudy = rv.study(text, p);
     return lastStudy.overview();
   },
-  studyFile: (name: string) => {
+  studyFile: (_p, name: string) => {
     if (!lastStudy) throw new Error('the study results are gone (an analysis was cancelled since): run the study again');
     return lastStudy.file(name);
   },
-  montecarlo: (text: string, samples: number, seed: number, p: Function) =>
+  montecarlo: (p, text: string, samples: number, seed: number) =>
     rv.montecarlo(text, samples, BigInt(seed), p),
 };
-
-// Commands whose last argument is the progress callback.
-const withProgress = new Set(['profile', 'profileFile', 'contact', 'te', 'hysteresis', 'dynamics', 'study', 'montecarlo']);
 
 self.onmessage = async (ev: MessageEvent<Call>) => {
   const { id, cmd, args } = ev.data;
@@ -62,8 +57,8 @@ self.onmessage = async (ev: MessageEvent<Call>) => {
         (self as unknown as Worker).postMessage({ id, kind: 'progress', done, total });
       }
     };
-    const value = f(...(withProgress.has(cmd) ? [...args, progress] : args));
-    (self as unknown as Worker).postMessage({ id, kind: 'result', value: value ?? null });
+    const value = f(progress, ...args);
+    (self as unknown as Worker).postMessage({ id, kind: 'result', value });
   } catch (e) {
     const message = e instanceof Error ? e.message : String(e);
     (self as unknown as Worker).postMessage({ id, kind: 'error', message });

@@ -107,24 +107,19 @@ pub fn preset_text(name: &str) -> Result<String, JsError> {
     rvlife::config::preset_text(name).map_err(err)
 }
 
-/// The keys of the config `text` for the editor: JSON `[{section, key, value, commented,
-/// comment, unit, allowed}]` ([`rvlife::config::schema::keys`]).
-///
-/// # Errors
-/// The config does not parse (syntax, types, unknown keys).
+/// The editor's view of the config `text`: JSON `{message, keys}`, where `message` is `null`
+/// if `text` is a valid config, else the command line's message for it (the first bad key,
+/// its value and its allowed range; or the parse error), and `keys` is
+/// `[{section, key, value, commented, comment, unit, allowed}]`
+/// ([`rvlife::config::schema::keys`], the ranges recorded by this same validation), or `null`
+/// if the text does not parse.
 #[wasm_bindgen]
-pub fn keys(text: &str) -> Result<String, JsError> {
-    to_json(&rvlife::config::schema::keys(text, ORIGIN).map_err(err)?)
-}
-
-/// `null` if `text` is a valid config, else the command line's message for it (the first
-/// bad key, its value and its allowed range).
-#[wasm_bindgen]
-pub fn check(text: &str) -> Option<String> {
-    model(text).err().map(|e| {
-        let v: JsValue = e.into();
-        js_sys::Error::from(v).message().into()
-    })
+pub fn inspect(text: &str) -> Result<String, JsError> {
+    let (keys, message) = match rvlife::config::schema::keys(text, ORIGIN, api::validated) {
+        Ok((keys, validated)) => (Some(keys), validated.err().map(|e| e.to_string())),
+        Err(e) => (None, Some(e.to_string())),
+    };
+    to_json(&json!({"message": message, "keys": keys}))
 }
 
 /// `text` with the dotted `key` set to the JSON `value_json` (`null` removes the key),
@@ -137,15 +132,6 @@ pub fn set_key(text: &str, key: &str, value_json: &str) -> Result<String, JsErro
     let v: Value = serde_json::from_str(value_json).map_err(err)?;
     let v = (!v.is_null()).then_some(v);
     rvlife::config::edit::set(text, ORIGIN, &[(key.to_string(), v)]).map_err(err)
-}
-
-/// The config `text` as JSON (`rvlife`'s Python `to_dict`).
-///
-/// # Errors
-/// The text does not parse.
-#[wasm_bindgen(js_name = configJson)]
-pub fn config_json(text: &str) -> Result<String, JsError> {
-    to_json(&rvlife::config::edit::to_json(text, ORIGIN).map_err(err)?)
 }
 
 /// The disc profile's points (`rvlife profile --json`): nominal (`nominal`: no modification),
@@ -173,36 +159,6 @@ pub fn profile(
             p,
         )
     })
-}
-
-/// The worn profile's file as text (`rvlife profile --out worn.dxf`): `format` `"dxf"`,
-/// `"csv"` or `"svg"`, at `hours` (h; none: the config's unworn profile), with the export's
-/// points per tooth.
-///
-/// # Errors
-/// The config's message; an unknown format.
-#[wasm_bindgen(js_name = profileFile)]
-pub fn profile_file(
-    text: &str,
-    hours: Option<f64>,
-    format: &str,
-    progress: Option<js_sys::Function>,
-) -> Result<String, JsError> {
-    use rvlife::output::export::{points_per_tooth, profile_bytes, ProfileFormat};
-    let format = match format {
-        "dxf" => ProfileFormat::Dxf,
-        "csv" => ProfileFormat::Csv,
-        "svg" => ProfileFormat::Svg,
-        other => return Err(JsError::new(&format!("unknown profile format {other:?}"))),
-    };
-    let m = model(text)?;
-    let p = Progress(progress);
-    let profile = api::profile_for(&m, wear(hours, None), false, Spelling::Python, &|d, t| {
-        p.call(d, t)
-    })
-    .map_err(err)?;
-    let bytes = profile_bytes(&profile, format, points_per_tooth(&profile)).map_err(err)?;
-    String::from_utf8(bytes).map_err(err)
 }
 
 /// The loaded contact at `crank_deg` under `torque_nm` (`rvlife contact --json`), worn after

@@ -107,17 +107,24 @@ fn at<'a>(json: &'a Json, key: &str) -> Option<&'a Json> {
 }
 
 /// The keys of the config `text` (read as from `origin`), in the text's order, each with its
-/// section, value, comment, unit and allowed range ([`KeyDoc`]). Keys of inline tables and
-/// arrays of tables are listed as one key holding the whole value.
+/// section, value, comment, unit and allowed range ([`KeyDoc`]), and the result of `validate`
+/// on the parsed config: the ranges are those its checks record, so a caller that validates
+/// the text anyway (the web page: `crate::api::validated`, with the work budget) passes its own
+/// validation and runs it once. Keys of inline tables and arrays of tables are listed as one
+/// key holding the whole value.
 ///
 /// # Errors
 /// [`crate::Error::Config`] if the text does not parse (syntax, types, unknown keys). A value
 /// out of range is not an error here: the key is listed, its range recorded as far as the
-/// validation got.
-pub fn keys(text: &str, origin: &str) -> Result<Vec<KeyDoc>> {
+/// validation got, and the validation's error returned beside the keys.
+pub fn keys<T>(
+    text: &str,
+    origin: &str,
+    validate: impl FnOnce(&Config) -> T,
+) -> Result<(Vec<KeyDoc>, T)> {
     let json = super::edit::to_json(text, origin)?;
     let config = Config::from_toml_in(text, origin, None)?;
-    let (_, checked) = super::range::recording(|| config.validate());
+    let (validated, checked) = super::range::recording(|| validate(&config));
     let mut out: Vec<KeyDoc> = Vec::new();
     let mut section = String::new();
     let mut last: Option<usize> = None;
@@ -175,7 +182,7 @@ pub fn keys(text: &str, origin: &str) -> Result<Vec<KeyDoc>> {
             },
         }
     }
-    Ok(out)
+    Ok((out, validated))
 }
 
 #[cfg(test)]
@@ -186,7 +193,8 @@ mod tests {
     #[test]
     fn every_key_the_example_sets_is_listed_with_its_value_and_range() {
         let text = crate::config::EXAMPLE_TOML;
-        let keys = keys(text, "<built-in>").unwrap();
+        let (keys, model) = keys(text, "<built-in>", Config::validate).unwrap();
+        assert!(model.is_ok());
         let e = keys
             .iter()
             .find(|k| k.key == "cycloid.eccentricity_mm")
@@ -230,7 +238,7 @@ mod tests {
         for p in PRESETS {
             let text = preset_text(p.name).unwrap();
             let json = crate::config::edit::to_json(&text, p.name).unwrap();
-            let keys = super::keys(&text, p.name).unwrap();
+            let (keys, _) = super::keys(&text, p.name, Config::validate).unwrap();
             let mut n = 0;
             fn leaves(prefix: &str, v: &Json, out: &mut Vec<String>) {
                 match v.as_object() {

@@ -118,21 +118,19 @@ pub fn profile_points(profile: &Profile, per_tooth: usize) -> Vec<(f64, f64, f64
 }
 
 fn csv_bytes(profile: &Profile, per_tooth: usize) -> Result<Vec<u8>> {
-    let mut rows = vec![["x_mm", "y_mm", "mesh_angle_deg", "wear_um"].map(String::from)];
-    rows.extend(
-        profile_points(profile, per_tooth)
-            .into_iter()
-            .map(|(x, y, t, h)| {
-                [
-                    format!("{x:.9}"),
-                    format!("{y:.9}"),
-                    format!("{t:.6}"),
-                    format!("{h:.6}"),
-                ]
-            }),
-    );
-    let (header, rest) = rows.split_first().expect("a header row");
-    super::rows_bytes(header, rest)
+    let rows: Vec<[String; 4]> = profile_points(profile, per_tooth)
+        .into_iter()
+        .map(|(x, y, t, h)| {
+            [
+                format!("{x:.9}"),
+                format!("{y:.9}"),
+                format!("{t:.6}"),
+                format!("{h:.6}"),
+            ]
+        })
+        .collect();
+    let header = ["x_mm", "y_mm", "mesh_angle_deg", "wear_um"].map(String::from);
+    super::rows_bytes(&header, &rows)
 }
 
 fn dxf_bytes(profile: &Profile, per_tooth: usize) -> Result<Vec<u8>> {

@@ -60,7 +60,7 @@ pub fn verdict(
     for r in records {
         *status_counts.entry(status_key(&r.status)).or_insert(0) += 1;
     }
-    let horizon = horizon(spec, stage_hours);
+    let horizon = spec.horizon_h(stage_hours);
     verdict_of(&life_distribution(records), &status_counts, spec, horizon)
 }
 
@@ -110,11 +110,6 @@ fn spec_text(spec: &LifeThresholds) -> String {
         })
         .collect::<Vec<_>>()
         .join(", ")
-}
-
-/// The horizon of the life search, h: `[life] max_hours`, or 10 times the last stage.
-pub(crate) fn horizon(spec: &LifeThresholds, stage_hours: &[f64]) -> f64 {
-    spec.horizon_h(stage_hours)
 }
 
 /// The run's verdict in one sentence, from its life distribution `l`, its samples' status
@@ -175,7 +170,7 @@ pub(crate) fn write(
     summary: &McSummary,
 ) -> Result<()> {
     let spec = spec_of(&meta.config_toml);
-    let horizon = horizon(&spec, &meta.stage_hours);
+    let horizon = spec.horizon_h(&meta.stage_hours);
     let plots = dir.join("plots");
     std::fs::create_dir_all(&plots).map_err(|e| Error::io(&plots, e))?;
     let life = &summary.life;
@@ -439,10 +434,10 @@ mod tests {
     fn spec_from_the_life_table() {
         let s = spec_of("[life]\nlost_motion_arcmin = 1.0\nmax_hours = 9000.0\n[wear]\nx = 1\n");
         assert_eq!(s.lost_motion_arcmin, Some(1.0));
-        assert_eq!(horizon(&s, &[0.0, 7500.0]), 9000.0);
+        assert_eq!(s.horizon_h(&[0.0, 7500.0]), 9000.0);
         assert_eq!(spec_text(&s), "lost motion 1 arcmin");
         let none = spec_of("[wear]\nx = 1\n");
         assert!(spec_text(&none).is_empty());
-        assert_eq!(horizon(&none, &[0.0, 7500.0]), 75000.0);
+        assert_eq!(none.horizon_h(&[0.0, 7500.0]), 75000.0);
     }
 }

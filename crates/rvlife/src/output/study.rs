@@ -68,25 +68,36 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
 /// [`crate::Error::Numerical`] if a table or a profile cannot be serialised.
 pub fn data_files(study: &Study) -> Result<Vec<(String, Vec<u8>)>> {
     let mut files = tables(study)?;
-    let profiles: Vec<(String, Vec<u8>)> = profile_files(study)
-        .par_iter()
-        .map(|name| Ok((name.clone(), profile_file(study, name)?.unwrap_or_default())))
+    let profiles: Vec<(String, Vec<u8>)> = profile_entries(study)
+        .collect::<Vec<_>>()
+        .into_par_iter()
+        .map(|(name, profile, format)| {
+            Ok((
+                name,
+                profile_bytes(profile, format, EXPORT_POINTS_PER_TOOTH)?,
+            ))
+        })
         .collect::<Result<_>>()?;
     files.extend(profiles);
     Ok(files)
 }
 
+/// Every stage profile file of the results directory: its name (`profiles/worn_<H>h.dxf` and
+/// `.csv`, in the stages' order), the profile and the format.
+fn profile_entries(
+    study: &Study,
+) -> impl Iterator<Item = (String, &crate::geometry::Profile, ProfileFormat)> {
+    study.stages.iter().flat_map(|s| {
+        let tag = hours_tag(s.hours);
+        [("dxf", ProfileFormat::Dxf), ("csv", ProfileFormat::Csv)]
+            .map(|(ext, format)| (format!("profiles/worn_{tag}.{ext}"), &s.profile, format))
+    })
+}
+
 /// The stage profiles' file names of the results directory, `profiles/worn_<H>h.dxf` and
 /// `.csv` for every stage, in the stages' order: what [`profile_file`] makes.
 pub fn profile_files(study: &Study) -> Vec<String> {
-    study
-        .stages
-        .iter()
-        .flat_map(|s| {
-            let tag = hours_tag(s.hours);
-            ["dxf", "csv"].map(|ext| format!("profiles/worn_{tag}.{ext}"))
-        })
-        .collect()
+    profile_entries(study).map(|(name, _, _)| name).collect()
 }
 
 /// The bytes of the stage profile file `name` (one of [`profile_files`]; `None` for another
@@ -95,15 +106,10 @@ pub fn profile_files(study: &Study) -> Vec<String> {
 /// # Errors
 /// [`crate::Error::Numerical`] if the file cannot be serialised.
 pub fn profile_file(study: &Study, name: &str) -> Result<Option<Vec<u8>>> {
-    for s in &study.stages {
-        let tag = hours_tag(s.hours);
-        for (ext, format) in [("dxf", ProfileFormat::Dxf), ("csv", ProfileFormat::Csv)] {
-            if name == format!("profiles/worn_{tag}.{ext}") {
-                return profile_bytes(&s.profile, format, EXPORT_POINTS_PER_TOOTH).map(Some);
-            }
-        }
-    }
-    Ok(None)
+    profile_entries(study)
+        .find(|(n, _, _)| n == name)
+        .map(|(_, profile, format)| profile_bytes(profile, format, EXPORT_POINTS_PER_TOOTH))
+        .transpose()
 }
 
 /// The study's `summary.json` and CSV tables (the module's list), in memory: `(file name,
