@@ -33,7 +33,10 @@ use crate::geometry::WearMap;
 use crate::life::accuracy_life;
 use crate::quantities::{AccuracyPoint, ACCURACY};
 use crate::statics::StaticAnalysis;
-use crate::te::{angular_te_of, hysteresis_with, mesh_cycle_angles, revolution_perturbed};
+use crate::te::{
+    angular_te_of, has_play, hysteresis_with, mesh_cycle_angles, revolution_perturbed,
+    zero_torque_over_revolution,
+};
 use crate::units::ARCMIN_PER_RAD;
 
 /// Wear maps between two stages of the shared wear history (the accuracy life is located to
@@ -325,10 +328,15 @@ fn accuracy_at(
     let profile = model.cycloid.profile(wear)?;
     let sa = StaticAnalysis::new(&model.reducer, &profile)?;
     let rated = model.rating.rated_torque;
-    let rev = revolution_perturbed(&sa, per_cycle)?;
-    // Parts whose rigid kinematics interfere assemble through the bearings' play or with
-    // preload (docs/model.md section 5.12).
-    let angular_te = angular_te_of(&sa, &rev, per_cycle, rated)?;
+    // With play the no-load limits are the contact problem's; parts whose rigid kinematics
+    // interfere assemble through the bearings' play or with preload (docs/model.md sections
+    // 5.10 and 5.12).
+    let angular_te = if has_play(&sa) {
+        zero_torque_over_revolution(&sa, per_cycle, rated)?.0
+    } else {
+        let rev = revolution_perturbed(&sa, per_cycle)?;
+        angular_te_of(&sa, &rev, per_cycle, rated)?
+    };
     let phis = mesh_cycle_angles(model.cycloid.geometry.pins, per_cycle);
     let (_, mean) = hysteresis_with(&sa, &phis, rated, model.te.measuring_torque_fraction, 1)?;
     let acc = mean.accuracy();

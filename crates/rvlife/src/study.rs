@@ -26,8 +26,8 @@ use crate::quantities::{AccuracyPoint, StageSummary, ACCURACY, STAGE};
 use crate::statics::StaticAnalysis;
 use crate::te::{
     angular_te_of, hysteresis_and_rated, loaded_te_with, mesh_cycle_angles, revolution,
-    static_te_with, torque_fractions, CurveStats, LoadedTe, RevolutionTe, StaticTe, TwistTable,
-    HYSTERESIS_LEVELS, PLAY_ROUND_OFF,
+    revolution_no_load, static_te_with, torque_fractions, CurveStats, LoadedTe, RevolutionTe,
+    StaticTe, TwistTable, HYSTERESIS_LEVELS, PLAY_ROUND_OFF,
 };
 use crate::units::ARCMIN_PER_RAD;
 use crate::wear::BearingWearRates;
@@ -376,10 +376,11 @@ pub(crate) fn analyse_profile(
     };
     let (angular_te, play_max) = match &rev {
         None => (s.peak_to_peak, play.max),
-        Some(rev) => (
-            angular_te_of(&sa, rev, model.te.samples, model.rating.rated_torque)?,
-            rev.play_stats().max.max(0.0),
-        ),
+        Some(rev) => {
+            let (angular_te, play_max) =
+                revolution_no_load(&sa, rev, model.te.samples, model.rating.rated_torque)?;
+            (angular_te, play_max.max(0.0))
+        }
     };
     let summary = StageSummary {
         hours,
@@ -437,7 +438,8 @@ fn accuracy_point(model: &Model, profile: &Profile, hours: f64) -> Result<Accura
         let forward: Vec<f64> = tables.iter().map(|t| t.positive[0]).collect();
         CurveStats::of(&forward).peak_to_peak
     } else {
-        revolution(&sa, model.te.samples)?.angular_te()
+        let rev = revolution(&sa, model.te.samples)?;
+        angular_te_of(&sa, &rev, model.te.samples, model.rating.rated_torque)?
     };
     let p = AccuracyPoint {
         hours,

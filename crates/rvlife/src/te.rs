@@ -38,7 +38,7 @@ use nalgebra::Rotation2;
 use crate::error::{Error, Result};
 use crate::geometry::{cross, Profile, Vec2};
 use crate::reducer::{Reducer, Support};
-use crate::statics::{StaticAnalysis, StaticSolution, TouchingPin};
+use crate::statics::{NoLoad, StaticAnalysis, StaticSolution, TouchingPin};
 use crate::units::ARCMIN_PER_RAD;
 
 /// Torque levels per side of the study's hysteresis curves beyond the measuring torque (every
@@ -286,11 +286,10 @@ pub struct TwistTable {
 /// there, so the mean of the two twists is the zero-torque one to the curve's second order.
 const PRELOAD_PROBE_FRACTION: f64 = 1e-4;
 
-/// Largest overshoot of an extrapolated zero-torque limit beyond the lightest loaded twist of
-/// its side that is bounded there rather than refused, as a fraction of the twist between the
-/// lightest loaded torques either way (the light solves' extrapolation error: 0.007-0.01
-/// arcmin measured against 0.4-0.8 arcmin in Monte Carlo samples of the built-in example).
-const ZERO_LIMIT_SLACK: f64 = 0.05;
+/// Torque fraction of the rated torque from which the solves of a preloaded stage come down
+/// to [`PRELOAD_PROBE_FRACTION`] (docs/model.md section 5.12): the measuring torque's order,
+/// where the preloaded contacts are settled and the solves converge.
+const PRELOAD_DESCENT_FRACTION: f64 = 0.0256;
 
 /// Negative play (rad) below which the two ways' twists cross (interference, or preload):
 /// the first contacts' round-off (an unmodified, unworn disc touches both ways at zero twist).
@@ -309,7 +308,8 @@ pub(crate) struct ZeroTorque {
     /// The twist each way from which loaded solves start (the rigid first contact, or the
     /// preloaded twist), rad.
     pub start: [f64; 2],
-    /// The light solves each way from which the loaded levels start (`None` without play).
+    /// The zero-torque solutions each way from which the loaded levels start: the no-load
+    /// limit's configuration, or with preload the light solves (`None` without play).
     pub light: [Option<StaticSolution>; 2],
     /// Whether one equilibrium carries zero torque (no play at this crank angle).
     #[cfg_attr(not(test), allow(dead_code))]
@@ -318,11 +318,12 @@ pub(crate) struct ZeroTorque {
 
 /// The zero-torque state of crank angle `phi`.
 ///
-/// With play the two limits come from [`StaticAnalysis::no_load_from`]. Where the disc cannot be
-/// turned without loading a pin either way (the rigid first contacts cross: part errors or
-/// modifications that interfere) or where the two limits cross, the stage is preloaded: one
-/// equilibrium carries zero torque, and both limits are its twist, the mean of solves at
-/// `+-PRELOAD_PROBE_FRACTION` of `rated` (N m).
+/// The two limits are the no-load limits of the contact problem
+/// ([`StaticAnalysis::no_load`], docs/model.md section 5.10), each from the rigid first contact
+/// of its direction. Where no configuration leaves every part unloaded (the contact problem is
+/// infeasible, or, without play, the rigid first contacts cross: part errors or modifications
+/// that interfere) the stage is preloaded: one equilibrium carries zero torque, and both limits
+/// are its twist, the mean of solves at `+-PRELOAD_PROBE_FRACTION` of `rated` (N m).
 ///
 /// # Errors
 /// Those of the solver.
@@ -341,34 +342,81 @@ pub(crate) fn zero_torque(sa: &StaticAnalysis, phi: f64, rated: f64) -> Result<Z
     } else {
         [forward, reverse]
     };
-    let (up, light_up) = sa.no_load_from(phi, 1.0, start[0])?;
-    let (down, light_down) = sa.no_load_from(phi, -1.0, start[1])?;
-    if crossed || up < down - PLAY_ROUND_OFF {
-        // Preloaded: the light solves each way bracket the one zero-torque equilibrium; their
-        // mean is its twist to the curve's second order. Without play there are none: solve
-        // at `+-PRELOAD_PROBE_FRACTION` of the rated torque.
-        let mut light = [light_up, light_down];
-        for (k, sol) in light.iter_mut().enumerate() {
-            if sol.is_none() {
-                let s = [1.0, -1.0][k];
-                *sol =
-                    Some(sa.solve_near(phi, s * PRELOAD_PROBE_FRACTION * rated, start[k], None)?);
-            }
+    // Where the rigid contacts cross, the contact problem starts from between them.
+    let from = if crossed {
+        let mid = (0.5 * (forward + reverse)).clamp(-PRELOAD_START_RANGE, PRELOAD_START_RANGE);
+        [mid, mid]
+    } else {
+        start
+    };
+    let limits = [
+        sa.no_load(phi, 1.0, from[0])?,
+        sa.no_load(phi, -1.0, from[1])?,
+    ];
+    match limits {
+        [NoLoad::Limit {
+            twist: up,
+            rest: rest_up,
+        }, NoLoad::Limit {
+            twist: down,
+            rest: rest_down,
+        }] if up >= down - PLAY_ROUND_OFF && !(crossed && rest_up.is_none()) => Ok(ZeroTorque {
+            twist: [up, down],
+            start: from,
+            light: [rest_up.map(|r| *r), rest_down.map(|r| *r)],
+            preloaded: false,
+        }),
+        _ => {
+            // Preloaded: solves each way bracket the one zero-torque equilibrium. Each way the
+            // torque comes down from `PRELOAD_DESCENT_FRACTION` of the rated torque, where the
+            // preloaded contacts are settled, halving with each solve started from the one
+            // above, to `PRELOAD_PROBE_FRACTION` (or as far as the solves converge).
+            // (Where the first level does not converge, from 4 or 16 times it.)
+            let ways = [1.0, -1.0].map(|s| {
+                let k = usize::from(s < 0.0);
+                let mut done: Vec<StaticSolution> = Vec::new();
+                let mut first = Err(Error::numerical("preload", "no level tried"));
+                for top in [1.0, 4.0, 16.0] {
+                    first = sa.solve_near(
+                        phi,
+                        s * top * PRELOAD_DESCENT_FRACTION * rated,
+                        start[k],
+                        None,
+                    );
+                    if first.is_ok() {
+                        break;
+                    }
+                }
+                done.push(first?);
+                let mut f = done[0].output_torque.abs() / rated;
+                while f >= 2.0 * 0.99 * PRELOAD_PROBE_FRACTION {
+                    f *= 0.5;
+                    match sa.solve_near(phi, s * f * rated, start[k], done.last()) {
+                        Ok(sol) => done.push(sol),
+                        Err(_) => break,
+                    }
+                }
+                Ok(done)
+            });
+            let [up, down] = ways;
+            let (mut up, mut down) = (up?, down?);
+            let light = [up.pop(), down.pop()];
+            // The curve through zero is smooth: the secant between the lightest solves each way
+            // at zero torque (their mean where the torques are equal).
+            let (u, d) = (light[0].as_ref(), light[1].as_ref());
+            let (Some(u), Some(d)) = (u, d) else {
+                unreachable!("every way holds its first level")
+            };
+            let (tu, td) = (u.output_torque.abs(), d.output_torque.abs());
+            let zero = d.twist + (u.twist - d.twist) * td / (tu + td);
+            Ok(ZeroTorque {
+                twist: [zero, zero],
+                start,
+                light,
+                preloaded: true,
+            })
         }
-        let zero = light.iter().flatten().map(|l| l.twist).sum::<f64>() / 2.0;
-        return Ok(ZeroTorque {
-            twist: [zero, zero],
-            start,
-            light,
-            preloaded: true,
-        });
     }
-    Ok(ZeroTorque {
-        twist: [up, down],
-        start,
-        light: [light_up, light_down],
-        preloaded: false,
-    })
 }
 
 impl TwistTable {
@@ -397,13 +445,22 @@ impl TwistTable {
         let sides = [(1.0, &mut positive), (-1.0, &mut negative)];
         for ((k, (side, out)), light) in sides.into_iter().enumerate().zip(light) {
             // Up the torque grid, each solve started from the one below (the first from the
-            // heaviest light solve of the no-load limit, with play or preload).
+            // zero-torque configuration of the no-load limit, with play, or the light solve, with preload).
             let mut below: Option<StaticSolution> = light;
             for &f in fractions {
                 out.push(if f == 0.0 {
                     twist[k]
                 } else {
-                    let sol = sa.solve_near(phi, side * f * rated, start[k], below.as_ref())?;
+                    let torque = side * f * rated;
+                    // From the level below; where that start does not lead to the equilibrium
+                    // (a light or zero-torque state on another side of a bearing's clearance
+                    // edge), from the locked-input mode as a solve without a neighbour starts.
+                    let sol = match sa.solve_near(phi, torque, start[k], below.as_ref()) {
+                        Err(e @ Error::Numerical { .. }) if below.is_some() => {
+                            sa.solve_near(phi, torque, start[k], None).map_err(|_| e)?
+                        }
+                        other => other?,
+                    };
                     let twist = sol.twist;
                     below = Some(sol);
                     twist
@@ -411,29 +468,6 @@ impl TwistTable {
             }
             if side > 0.0 {
                 heaviest = below;
-            }
-        }
-        // The zero-torque limits are extrapolated from light solves (docs/model.md section
-        // 5.10); by definition neither lies beyond the lightest loaded twist of its side. An
-        // overshoot within `ZERO_LIMIT_SLACK` of the twist across the lightest loaded torques
-        // is the extrapolation's error and is bounded there; a larger one is another branch.
-        // (Preloaded, both limits are one twist and stay one.)
-        if fractions.len() > 1 && positive[1] >= negative[1] {
-            let slack = ZERO_LIMIT_SLACK * (positive[1] - negative[1]);
-            let bound = |v: f64| {
-                if (v > positive[1] && v - positive[1] <= slack)
-                    || (v < negative[1] && negative[1] - v <= slack)
-                {
-                    v.clamp(negative[1], positive[1])
-                } else {
-                    v
-                }
-            };
-            if positive[0] == negative[0] {
-                let z = bound(positive[0]);
-                (positive[0], negative[0]) = (z, z);
-            } else {
-                (positive[0], negative[0]) = (bound(positive[0]), bound(negative[0]));
             }
         }
         // The twist rises with the torque through the whole grid, both sides.
@@ -711,43 +745,71 @@ impl RevolutionTe {
     }
 }
 
-/// Angular TE (rad) from the zero-torque forward twists ([`zero_torque`]) at `spread` crank
-/// angles spread over one output revolution (every `len/spread + 1`-th of
-/// [`revolution_angles`] at `samples` per mesh cycle, so that successive ones fall at different
-/// points of the mesh cycle): the peak-to-peak of those twists, with the bearings' play and any
-/// preload carried (docs/model.md section 5.12). A sampled estimate, below the exact one by the
-/// peaks it misses; for reducers whose rigid kinematics interfere, where [`revolution`] has no
-/// first contact to perturb.
+/// Crank angles spread over the output revolution at which the angular TE and the largest play
+/// of a reducer with play or whose rigid kinematics interfere are taken from its zero-torque
+/// twists (docs/model.md section 5.12).
+const ANGULAR_TE_SPREAD: usize = 24;
+
+/// Whether the reducer of `sa` turns through play before its pins stop it (bearings with
+/// clearance or meshes with backlash, on bearing support): its no-load limits then come from
+/// the contact problem ([`StaticAnalysis::no_load`]), not from the rigid first contacts.
+pub(crate) fn has_play(sa: &StaticAnalysis) -> bool {
+    let red = sa.reducer();
+    red.max_half_play() > 0.0 && red.support == Support::Bearings
+}
+
+/// Angular TE and largest play (rad) of the reducer of `sa` over its output revolution, from
+/// its revolution STE `rev` (at `samples` crank angles per mesh cycle; `rated`: the rated
+/// torque, N m). Without play, the peak-to-peak of the rigid forward twists
+/// ([`RevolutionTe::angular_te`]) and the largest gap between the two ways; where the part
+/// errors close the rigid play (the rigid first contacts cross: preload, docs/model.md section
+/// 5.12), or where the reducer has play (its no-load limits are the contact problem's, which
+/// the rigid revolution does not see), the zero-torque twists with the play and any preload
+/// carried ([`zero_torque`] at [`ANGULAR_TE_SPREAD`] crank angles spread over the revolution:
+/// the peak-to-peak of the forward twists and the largest gap between the two ways).
 ///
 /// # Errors
 /// Those of the solver.
-fn angular_te_carried(
+pub(crate) fn revolution_no_load(
     sa: &StaticAnalysis,
+    rev: &RevolutionTe,
     samples: usize,
-    spread: usize,
     rated: f64,
-) -> Result<f64> {
-    let all = revolution_angles(sa.reducer().geometry.pins, samples);
-    let stride = all.len() / spread.max(1) + 1;
-    let picked: Vec<f64> = all.into_iter().step_by(stride).collect();
-    let forward = picked
-        .par_iter()
-        .map(|&phi| zero_torque(sa, phi, rated).map(|z| z.twist[0]))
-        .collect::<Result<Vec<f64>>>()?;
-    Ok(CurveStats::of(&forward).peak_to_peak)
+) -> Result<(f64, f64)> {
+    if rev.play_stats().min >= -PLAY_ROUND_OFF && !has_play(sa) {
+        return Ok((rev.angular_te(), rev.play_stats().max));
+    }
+    zero_torque_over_revolution(sa, samples, rated)
 }
 
-/// Crank angles spread over the output revolution at which the angular TE of a reducer whose
-/// rigid kinematics interfere is taken from its zero-torque twists (docs/model.md section
-/// 5.12).
-const ANGULAR_TE_SPREAD: usize = 24;
+/// Angular TE and largest play (rad) from the zero-torque twists ([`zero_torque`]) at
+/// [`ANGULAR_TE_SPREAD`] crank angles spread over one output revolution (every
+/// `len/ANGULAR_TE_SPREAD + 1`-th of [`revolution_angles`] at `samples` per mesh cycle, so that
+/// successive ones fall at different points of the mesh cycle): the peak-to-peak of the
+/// forward twists and the largest gap between the two ways, with the play and any preload
+/// carried. A sampled estimate, below the exact one by the peaks it misses.
+///
+/// # Errors
+/// Those of the solver.
+pub(crate) fn zero_torque_over_revolution(
+    sa: &StaticAnalysis,
+    samples: usize,
+    rated: f64,
+) -> Result<(f64, f64)> {
+    let all = revolution_angles(sa.reducer().geometry.pins, samples);
+    let stride = all.len() / ANGULAR_TE_SPREAD + 1;
+    let picked: Vec<f64> = all.into_iter().step_by(stride).collect();
+    let twists = picked
+        .par_iter()
+        .map(|&phi| zero_torque(sa, phi, rated).map(|z| z.twist))
+        .collect::<Result<Vec<[f64; 2]>>>()?;
+    let forward: Vec<f64> = twists.iter().map(|t| t[0]).collect();
+    let play = twists.iter().map(|t| t[0] - t[1]).fold(0.0, f64::max);
+    Ok((CurveStats::of(&forward).peak_to_peak, play))
+}
 
-/// Angular TE (rad) of the reducer of `sa` from its revolution STE `rev` (at `samples` crank
-/// angles per mesh cycle): the peak-to-peak of the rigid forward twists
-/// ([`RevolutionTe::angular_te`]) where the rigid play stays open, and where the part errors
-/// close it (the rigid first contacts cross: preload, docs/model.md section 5.12) the
-/// zero-torque twists with the play and preload carried ([`angular_te_carried`] at
-/// [`ANGULAR_TE_SPREAD`] crank angles; `rated`: the rated torque, N m).
+/// Angular TE (rad) of the reducer of `sa` over its output revolution: the first of
+/// [`revolution_no_load`].
 ///
 /// # Errors
 /// Those of the solver.
@@ -757,11 +819,7 @@ pub(crate) fn angular_te_of(
     samples: usize,
     rated: f64,
 ) -> Result<f64> {
-    if rev.play_stats().min >= -PLAY_ROUND_OFF {
-        Ok(rev.angular_te())
-    } else {
-        angular_te_carried(sa, samples, ANGULAR_TE_SPREAD, rated)
-    }
+    Ok(revolution_no_load(sa, rev, samples, rated)?.0)
 }
 
 /// Static TE over one output revolution, each crank angle solved on its own

@@ -25,10 +25,12 @@
 mod bearing;
 pub mod errors;
 mod pin_wear;
+mod play;
 
 pub(crate) use bearing::{BearingEval, Frozen};
 pub use bearing::{BearingLaw, RadialBearing, DEAD_BAND_STIFFNESS, TAKE_UP_WIDTH};
 pub use pin_wear::{angle_on_pin, contact_direction, PinWear, PIN_MAP_POINTS};
+pub(crate) use play::{Element, ElementLaw, MeshElement};
 
 use std::f64::consts::PI;
 
@@ -592,7 +594,7 @@ impl Reducer {
     /// Generalised forces of a single-stage drive's eccentric bearings (input shaft to each
     /// disc) and pins in holes (each disc to the output flange), added to `g`
     /// ([`Reducer::structural_forces`]; every force derives from
-    /// [`Reducer::single_stage_energy`], plus the bearings' damping).
+    /// [`Reducer::structural_energy`], plus the bearings' damping).
     fn single_stage_forces(
         &self,
         w: &OutputPins,
@@ -643,29 +645,6 @@ impl Reducer {
         }
     }
 
-    /// Elastic energy (J) of a single-stage drive's eccentric bearings and pins in holes at
-    /// positions `q0 + dq`.
-    fn single_stage_energy(&self, w: &OutputPins, q0: &[f64], dq: &[f64]) -> f64 {
-        let lay = self.layout();
-        let a = self.geometry.eccentricity;
-        let b = &self.bearings;
-        let mut e = 0.0;
-        for d in 0..self.discs() {
-            let id = lay.disc(d);
-            let ang0 = q0[Layout::SUN] + self.phase(d);
-            let decc = rotation_difference(&Vec2::new(a, 0.0), ang0, dq[Layout::SUN]);
-            let dc = Vec2::new(dq[id], dq[id + 1]);
-            e += b.disc.energy(decc - dc);
-            let c0 = Vec2::new(q0[id], q0[id + 1]);
-            for k in 0..w.count {
-                let (_, dvec) = pin_in_hole(w, k, q0, dq, id, c0 + dc);
-                let pen = dvec.norm() - (a + w.hole_clearance);
-                e += bearing::take_up(pen, w.stiffness).2;
-            }
-        }
-        e
-    }
-
     /// Deflection (m) of crank `k`'s sun-planet mesh along its line of action at positions
     /// `q0 + dq` (see [`Reducer::structural_forces`]): `r_bs (d theta_s - d theta_o) + r_bp
     /// (d theta_k - d theta_o) - u . (crank centre - seat)`, zero in the nominal kinematics;
@@ -683,40 +662,23 @@ impl Reducer {
     }
 
     /// Elastic energy of the meshes and the crank bearings (J) at positions `q0 + dq` (see
-    /// [`Reducer::structural_forces`], whose static forces are minus its gradient).
+    /// [`Reducer::structural_forces`], whose static forces are minus its gradient), summed
+    /// over the elements of [`Reducer::elements`].
     pub(crate) fn structural_energy(&self, q0: &[f64], dq: &[f64]) -> f64 {
-        let lay = self.layout();
-        let d_o = dq[Layout::OUT];
-        let a = self.geometry.eccentricity;
-        let b = &self.bearings;
-        let m = &self.mesh;
-        let mut e = 0.0;
-        for k in 0..self.cranks {
-            let ic = lay.crank(k);
-            let dx = Vec2::new(dq[ic], dq[ic + 1]);
-            let seat0 = self.seat(k);
-            let rel = dx - rotation_difference(&seat0, q0[Layout::OUT], d_o);
-            let delta = self.mesh_deflection(k, q0, dq);
-            if m.backlash > 0.0 {
-                e += bearing::take_up(delta.abs() - 0.5 * m.backlash, m.stiffness).2;
-                e += 0.5 * DEAD_BAND_STIFFNESS * delta * delta;
+        let (mut radial, mut meshes) = (Vec::new(), Vec::new());
+        self.elements(q0, dq, &mut radial, &mut meshes);
+        let stiffness = self.mesh.stiffness;
+        let mesh_energy = |m: &MeshElement| {
+            let delta = m.deflection;
+            if m.half_play > 0.0 {
+                bearing::take_up(delta.abs() - m.half_play, stiffness).2
+                    + 0.5 * DEAD_BAND_STIFFNESS * delta * delta
             } else {
-                e += 0.5 * m.stiffness * delta * delta;
+                0.5 * stiffness * delta * delta
             }
-            e += b.carrier.energy(rel);
-            for d in 0..self.discs() {
-                let id = lay.disc(d);
-                let ang0 = q0[ic + 2] + self.phase(d);
-                let decc = rotation_difference(&Vec2::new(a, 0.0), ang0, dq[ic + 2]);
-                let dc = Vec2::new(dq[id], dq[id + 1]);
-                let darm = rotation_difference(&seat0, q0[id + 2], dq[id + 2]);
-                e += b.disc.energy(dx + decc - dc - darm);
-            }
-        }
-        if let Drive::SingleStage(w) = self.drive {
-            e += self.single_stage_energy(&w, q0, dq);
-        }
-        e
+        };
+        meshes.iter().map(mesh_energy).sum::<f64>()
+            + radial.iter().map(Element::energy).sum::<f64>()
     }
 }
 

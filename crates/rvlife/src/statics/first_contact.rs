@@ -120,116 +120,19 @@ impl<'a> StaticAnalysis<'a> {
     /// `phi`: [`StaticAnalysis::first_contact`] when the reducer has no play in its bearings
     /// and meshes; otherwise the mechanism first turns through its play (the bearings' centres
     /// and the meshes move within their clearances until pins stop the discs), and the limit
-    /// is extrapolated from loaded solutions at `T_1`, `2 T_1` and `4 T_1` (the fit
-    /// `psi = psi_0 + a T^0.9 + b T`: the rollers' approach goes as `F^0.9`, the contacts'
-    /// nearly as `F`), `T_1` the torque at which a bearing force `10^3 k_0 c/2` balances it
-    /// at the crank circle (`k_0` = [`crate::reducer::DEAD_BAND_STIFFNESS`], `c/2` the largest
-    /// half play): loads far above the dead-band springs and far below the rated ones; `10 T_1`
-    /// where a solve at `T_1` does not converge, `100 T_1` where neither does, then halving down
-    /// from `10^3 T_1` or `10^4 T_1` (docs/model.md section 5.10).
+    /// is the largest twist the constraints allow ([`StaticAnalysis::no_load`], docs/model.md
+    /// section 5.10). Where the parts interfere (preload, docs/model.md section 5.12) there is
+    /// no such limit, and the rigid first contact is returned: the two directions' values then
+    /// cross, which the callers report.
     ///
     /// # Errors
-    /// Those of [`StaticAnalysis::first_contact`] and [`StaticAnalysis::solve`].
+    /// Those of [`StaticAnalysis::first_contact`] and [`StaticAnalysis::no_load`].
     pub(crate) fn no_load_twist(&self, phi: f64, direction: f64) -> Result<f64> {
         let psi0 = self.first_contact(phi, direction)?;
-        Ok(self.no_load_from(phi, direction, psi0)?.0)
-    }
-
-    /// [`StaticAnalysis::no_load_twist`] from the first contact `psi0` already found
-    /// ([`StaticAnalysis::first_contact`] in the same direction), with the heaviest of the
-    /// light solves it was extrapolated from (`None` without play), from which solves at
-    /// higher torques can start.
-    ///
-    /// # Errors
-    /// As [`StaticAnalysis::no_load_twist`].
-    pub(crate) fn no_load_from(
-        &self,
-        phi: f64,
-        direction: f64,
-        psi0: f64,
-    ) -> Result<(f64, Option<StaticSolution>)> {
-        let s = sense(direction);
-        let play = self.red.max_half_play();
-        if play <= 0.0 || self.red.support != Support::Bearings {
-            return Ok((psi0, None));
-        }
-        let arm = match self.red.drive {
-            Drive::Rv => self.red.crank_circle_radius,
-            Drive::SingleStage(_) => {
-                self.red.geometry.eccentricity * self.red.geometry.disc_teeth() as f64
-            }
-        };
-        let t1 = 1e3 * crate::reducer::DEAD_BAND_STIFFNESS * play * arm;
-        // The three light solves; should one fail to converge (a disc nearly unloaded between
-        // both flanks, its contacts switching within Newton's steps; a disc on one pin of a
-        // modified profile with its bearing at the edge of its clearance), all three again at
-        // ten, then a hundred times the torques.
-        let solves = |t1: f64| -> Result<([f64; 3], Option<StaticSolution>)> {
-            let mut psi = [0.0; 3];
-            let mut below: Option<StaticSolution> = None;
-            for (i, f) in [1.0, 2.0, 4.0].iter().enumerate() {
-                let sol = self.solve_near(phi, s * f * t1, psi0, below.as_ref())?;
-                psi[i] = sol.twist;
-                below = Some(sol);
-            }
-            Ok((psi, below))
-        };
-        // Last resort: down from a loaded state, where the contacts are settled, halving the
-        // torque from `10^3 T_1` (then `10^4 T_1`) with each solve started from the one above,
-        // until a solve fails or `T_1` is reached: the three lightest converged, `L, 2 L, 4 L`,
-        // then take the place of `T_1, 2 T_1, 4 T_1`.
-        let descending = |top: f64| -> Result<([f64; 3], Option<StaticSolution>)> {
-            let mut done: Vec<StaticSolution> = Vec::new();
-            let mut t = top;
-            let mut last_error = None;
-            while t >= 0.99 * t1 {
-                match self.solve_near(phi, s * t, psi0, done.last()) {
-                    Ok(sol) => done.push(sol),
-                    Err(e) => {
-                        last_error = Some(e);
-                        break;
-                    }
-                }
-                t *= 0.5;
-            }
-            let n = done.len();
-            if n < 3 {
-                return Err(last_error.unwrap_or_else(|| {
-                    self.fail(phi, "no light solve converged on the way down")
-                }));
-            }
-            let psi = [done[n - 1].twist, done[n - 2].twist, done[n - 3].twist];
-            Ok((psi, Some(done.swap_remove(n - 3))))
-        };
-        // Each attempt in turn while the one before fails to converge; the last one's error.
-        type Light = Result<([f64; 3], Option<StaticSolution>)>;
-        let later: [&dyn Fn() -> Light; 4] = [
-            &|| solves(10.0 * t1),
-            &|| solves(100.0 * t1),
-            &|| descending(1e3 * t1),
-            &|| descending(1e4 * t1),
-        ];
-        let mut light = solves(t1);
-        for attempt in later {
-            match light {
-                Err(Error::Numerical { .. }) => light = attempt(),
-                _ => break,
-            }
-        }
-        let (psi, heaviest) = light?;
-        // psi_i = psi_0 + a x_i^0.9 + b x_i at x = 1, 2, 4 (units of T_1).
-        let m = nalgebra::Matrix3::from_fn(|r, c| {
-            let x = [1.0_f64, 2.0, 4.0][r];
-            [1.0, x.powf(0.9), x][c]
-        });
-        let sol = m
-            .lu()
-            .solve(&nalgebra::Vector3::new(psi[0], psi[1], psi[2]))
-            .ok_or_else(|| self.fail(phi, "the no-load extrapolation is singular"))?;
-        // The limit lies between the rigid first contact and the lightest loaded solution.
-        let lo = psi0.min(psi[0]);
-        let hi = psi0.max(psi[0]);
-        Ok((sol[0].clamp(lo, hi), heaviest))
+        Ok(match self.no_load(phi, direction, psi0)? {
+            NoLoad::Limit { twist, .. } => twist,
+            NoLoad::Preloaded => psi0,
+        })
     }
 
     /// Every pin that can stop the unloaded mechanism turned in direction `direction` at crank

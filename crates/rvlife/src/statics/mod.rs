@@ -42,9 +42,11 @@ use serde::Serialize;
 mod first_contact;
 mod forces;
 mod newton;
+mod play;
 mod shares;
 mod solve;
 
+pub(crate) use play::NoLoad;
 pub use shares::{twist_shares, TwistShare};
 
 use crate::contact::gap::GapField;

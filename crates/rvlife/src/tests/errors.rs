@@ -236,11 +236,20 @@ fn interfering_parts_are_assembled_with_preload() {
     let sa = StaticAnalysis::new(&red, &profile).unwrap();
     let rated = m.rating.rated_torque;
     let phis = crate::te::mesh_cycle_angles(red.geometry.pins, 8);
-    let mut preloaded = 0;
+    let (mut preloaded, mut crossings) = (0, 0);
     for &phi in &phis {
         let crossed = sa.first_contact(phi, 1.0).unwrap() < sa.first_contact(phi, -1.0).unwrap();
+        crossings += usize::from(crossed);
         let z = crate::te::zero_torque(&sa, phi, rated).unwrap();
-        assert_eq!(z.preloaded, crossed || z.twist[0] < z.twist[1], "phi {phi}");
+        // Preload needs the rigid contacts to cross (the play can only add room); where they
+        // cross the play may still take the interference up, and then the two no-load
+        // limits are the contact problem's, which never cross.
+        assert!(!z.preloaded || crossed, "phi {phi}");
+        assert!(
+            z.preloaded || z.twist[0] >= z.twist[1],
+            "phi {phi}: {:?}",
+            z.twist
+        );
         let (tables, _) = crate::te::hysteresis_with(&sa, &[phi], rated, 0.03, 1).unwrap();
         let t = &tables[0];
         assert!(
@@ -270,6 +279,7 @@ fn interfering_parts_are_assembled_with_preload() {
         );
         assert!(down.twist <= z.twist[0] && z.twist[0] <= up.twist);
     }
+    println!("{crossings} of 8 crank angles cross rigidly, {preloaded} preloaded");
     assert!(preloaded >= 4, "{preloaded} of 8 crank angles preloaded");
 }
 

@@ -13,4 +13,5 @@ mod life;
 mod measured;
 mod physics;
 mod pin_wear;
+mod play;
 mod single_stage;
