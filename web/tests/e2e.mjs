@@ -128,7 +128,10 @@ try {
     worst = Math.max(worst, ref === 0 ? Math.abs(v) : rel);
     compared++;
   }
-  check('the page\'s stage numbers equal summary.json (relative 1e-9)', compared >= 40 && worst <= 1e-9, `${compared} numbers, worst relative difference ${worst.toExponential(2)}`);
+  // The no-load limits converge to 1e-13 m at the pin circle (docs/model.md section 5.10), up to
+  // 5e-8 of the smallest no-load quantity: where the module's libm and glibc differ in the last
+  // bits, the iterations may stop at different points within that.
+  check('the page\'s stage numbers equal summary.json (relative 1e-7)', compared >= 40 && worst <= 1e-7, `${compared} numbers, worst relative difference ${worst.toExponential(2)}`);
   const life = await page.$eval('#life-numbers td[data-value]', (td) => Number(td.dataset.value)).catch(() => null);
   const refLife = summary.accuracy_life?.accuracy_life_h ?? null;
   check('accuracy life equals summary.json', (life === null && refLife === null) || Math.abs(life - refLife) <= 1e-9 * Math.abs(refLife), `${life} h against ${refLife} h`);
@@ -149,7 +152,7 @@ try {
       const a = nums(mine), b = nums(theirs);
       const w = a.length === b.length ? Math.max(...a.map((x, i) => Math.abs(x - b[i]) / Math.max(Math.abs(b[i]), 1e-6))) : Infinity;
       detail = `${a.length} numbers, worst relative difference ${w.toExponential(2)}`;
-      check(`download ${name} equals rvlife run's`, w <= 1e-9 || (name.endsWith('.csv') && w <= 1e-6), detail);
+      check(`download ${name} equals rvlife run's`, w <= 1e-7 || (name.endsWith('.csv') && w <= 1e-6), detail);
     } else check(`download ${name} equals rvlife run's`, true, detail);
   }
 
