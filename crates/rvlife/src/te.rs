@@ -362,8 +362,15 @@ pub(crate) fn zero_torque(sa: &StaticAnalysis, phi: f64, rated: f64) -> Result<Z
             rest: rest_down,
         }] if up >= down - PLAY_ROUND_OFF && !(crossed && rest_up.is_none()) => Ok(ZeroTorque {
             twist: [up, down],
-            start: from,
-            light: [rest_up.map(|r| *r), rest_down.map(|r| *r)],
+            start,
+            // Solves start from the rigid first contact (beside the rest configuration where
+            // it lies beyond it in the solve's direction).
+            light: [rest_up, rest_down].map(|r| {
+                r.map(|mut r| {
+                    r.first_contact_twist = start[usize::from(r.output_torque < 0.0)];
+                    *r
+                })
+            }),
             preloaded: false,
         }),
         _ => {
@@ -400,15 +407,15 @@ pub(crate) fn zero_torque(sa: &StaticAnalysis, phi: f64, rated: f64) -> Result<Z
             });
             let [up, down] = ways;
             let (mut up, mut down) = (up?, down?);
-            let light = [up.pop(), down.pop()];
             // The curve through zero is smooth: the secant between the lightest solves each way
             // at zero torque (their mean where the torques are equal).
-            let (u, d) = (light[0].as_ref(), light[1].as_ref());
-            let (Some(u), Some(d)) = (u, d) else {
+            let (Some(u), Some(d)) = (up.last(), down.last()) else {
                 unreachable!("every way holds its first level")
             };
             let (tu, td) = (u.output_torque.abs(), d.output_torque.abs());
             let zero = d.twist + (u.twist - d.twist) * td / (tu + td);
+            // The loaded levels start from the heaviest solves, next to the measuring torque.
+            let light = [Some(up.swap_remove(0)), Some(down.swap_remove(0))];
             Ok(ZeroTorque {
                 twist: [zero, zero],
                 start,
