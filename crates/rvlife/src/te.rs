@@ -308,8 +308,8 @@ pub(crate) struct ZeroTorque {
     /// The twist each way from which loaded solves start (the rigid first contact, or the
     /// preloaded twist), rad.
     pub start: [f64; 2],
-    /// The zero-torque solutions each way from which the loaded levels start: the no-load
-    /// limit's configuration, or with preload the light solves (`None` without play).
+    /// The solutions each way from which the loaded levels start: the no-load limit's
+    /// configuration, or with preload the heaviest solves of the descent (`None` without play).
     pub light: [Option<StaticSolution>; 2],
     /// Whether one equilibrium carries zero torque (no play at this crank angle).
     #[cfg_attr(not(test), allow(dead_code))]
@@ -323,7 +323,8 @@ pub(crate) struct ZeroTorque {
 /// of its direction. Where no configuration leaves every part unloaded (the contact problem is
 /// infeasible, or, without play, the rigid first contacts cross: part errors or modifications
 /// that interfere) the stage is preloaded: one equilibrium carries zero torque, and both limits
-/// are its twist, the mean of solves at `+-PRELOAD_PROBE_FRACTION` of `rated` (N m).
+/// are its twist, the secant at zero between the lightest solves each way, which come down from
+/// `PRELOAD_DESCENT_FRACTION` to `PRELOAD_PROBE_FRACTION` of `rated` (N m).
 ///
 /// # Errors
 /// Those of the solver.
@@ -452,7 +453,8 @@ impl TwistTable {
         let sides = [(1.0, &mut positive), (-1.0, &mut negative)];
         for ((k, (side, out)), light) in sides.into_iter().enumerate().zip(light) {
             // Up the torque grid, each solve started from the one below (the first from the
-            // zero-torque configuration of the no-load limit, with play, or the light solve, with preload).
+            // zero-torque configuration of the no-load limit, with play, or the heaviest solve of
+            // the descent, with preload).
             let mut below: Option<StaticSolution> = light;
             for &f in fractions {
                 out.push(if f == 0.0 {
