@@ -135,6 +135,10 @@ fn running_in_warps_the_hours() {
 /// kept: `k`, `r` and `b0` each within their 95 % intervals, `k` within 10 % and `r` within
 /// 30 % of the truth, the RMS residual within 0.5-1.5 times the noise.
 #[test]
+#[cfg_attr(
+    target_family = "wasm",
+    ignore = "calibration is not in the web build's page: run natively"
+)]
 fn calibration_fits_the_running_in_factor() {
     use rand::SeedableRng;
     use rand_distr::{Distribution, Normal};
@@ -212,6 +216,10 @@ fn calibration_fits_the_running_in_factor() {
 /// within 0.01-10 times the example's, `r` above 1, `b0` between 0 and the new lost motion),
 /// and 1 degree of freedom left for the intervals.
 #[test]
+#[cfg_attr(
+    target_family = "wasm",
+    ignore = "calibration is not in the web build's page: run natively"
+)]
 fn calibration_follows_the_2025_bench_lost_motion() {
     let text = crate::config::preset_text("rv-40e").unwrap();
     let mut cfg = crate::config::Config::from_toml_str(&text, "rv-40e").unwrap();

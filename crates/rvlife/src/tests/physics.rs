@@ -568,6 +568,10 @@ fn wear_depth_is_monotone_in_archard_coefficient_on_a_fixed_schedule() {
 ///   law's approach (beyond it: 0, 0.066 and 0.10 um). It ignores that a contact flattens
 ///   features narrower than its band, which the elastic check includes.
 #[test]
+#[cfg_attr(
+    target_family = "wasm",
+    ignore = "a fine scan of the static analysis, run natively; in wasm the other static tests and the page's end-to-end comparison check it"
+)]
 fn static_analysis_fine_scan() {
     fine_scan(&model(), example_discs(), &[0.0, 1250.0, 7500.0], 1e-4);
 }
@@ -577,6 +581,10 @@ fn static_analysis_fine_scan() {
 /// (worn without the play). Every solve balances, no pin beyond the contact law, the twist
 /// beyond the no-load limit and growing with the torque.
 #[test]
+#[cfg_attr(
+    target_family = "wasm",
+    ignore = "a fine scan of the static analysis, run natively; in wasm the other static tests and the page's end-to-end comparison check it"
+)]
 fn static_analysis_fine_scan_with_play() {
     let mut m = model();
     m.reducer.bearings.disc.clearance = 2e-6;
@@ -595,6 +603,10 @@ fn static_analysis_fine_scan_with_play() {
 /// pins' lever arms by up to `t/a` (4e-3 of them with `a` = 1.3 mm): within 2e-3 (1.24e-3
 /// measured, at 0.1 % of the rated torque; the unmodified discs with play stay within 1e-4).
 #[test]
+#[cfg_attr(
+    target_family = "wasm",
+    ignore = "a fine scan of the static analysis, run natively; in wasm the other static tests and the page's end-to-end comparison check it"
+)]
 fn static_analysis_fine_scan_on_the_example() {
     let m = Config::example().validate().unwrap();
     fine_scan(&m, &worn_discs(&m), &[0.0], 2e-3);
@@ -605,6 +617,10 @@ fn static_analysis_fine_scan_on_the_example() {
 /// 30 N at mesh angle 25.7 deg and the rated torque: a narrow contact on the flank of the wear
 /// peak, whose ridge the single band's average lowers), printed.
 #[test]
+#[cfg_attr(
+    target_family = "wasm",
+    ignore = "a fine scan of the static analysis, run natively; in wasm the other static tests and the page's end-to-end comparison check it"
+)]
 fn static_analysis_fine_scan_single_band() {
     let mut m = model();
     m.reducer.contact_envelope = false;
