@@ -365,7 +365,7 @@ fn montecarlo_on_the_example_as_shipped_analyses_every_sample() {
 /// Every built-in reducer as shipped (`rvlife example --preset NAME`: its own `[tolerances]`
 /// and `[life]`; `rv-40e` is the example) gives a verdict from `run` and from `montecarlo
 /// --samples 50`, each the first result line and the first section of its report, exit 0
-/// (about 14 minutes on 2 cores, most of this suite's time).
+/// (about 27 minutes on 2 cores beside the suite's other tests, most of its time).
 #[test]
 fn every_preset_gives_a_verdict_from_run_and_montecarlo() {
     let dir = tempfile::tempdir().unwrap();
