@@ -4,6 +4,10 @@
 
 use super::*;
 
+/// Largest move of a coordinate in one step of the torque-controlled Newton method, in
+/// multiples of the twist estimate at the pin circle ([`StaticAnalysis::twist_guess`]).
+const STEP_LIMIT_GUESSES: f64 = 16.0;
+
 impl<'a> StaticAnalysis<'a> {
     /// Largest scaled residual of the inner coordinates (every one but input and output):
     /// forces in N, moments divided by the pin circle radius.
@@ -238,6 +242,9 @@ impl<'a> StaticAnalysis<'a> {
         let mut last_res = f64::INFINITY;
         // Whether `kt` is the exact tangent (not the floored stand-in).
         let mut exact = true;
+        // Whether the line search also takes the potential energy as its merit (from the first
+        // step that the residual norm cut below a sixteenth).
+        let mut energy_merit = false;
         for _ in 0..30 {
             let res = (1..n).map(|i| scaled(&ev.g, i).abs()).fold(0.0, f64::max);
             let scale = ev.scale.max(force_floor).max(1e-300);
@@ -267,12 +274,25 @@ impl<'a> StaticAnalysis<'a> {
             let kt = kt.as_ref().expect("tangent built above");
             let k = kt.view((1, 1), (m, m)).into_owned();
             let rhs = DVector::from_iterator(m, (1..n).map(|i| residual(&ev.g, i)));
-            let Some(step) = k.lu().solve(&rhs) else {
+            let Some(mut step) = k.lu().solve(&rhs) else {
                 return Ok(None);
             };
+            // A trust region: no coordinate moves farther than `STEP_LIMIT_GUESSES` times the
+            // twist estimate at the pin circle (a floored or near-singular tangent far from the
+            // equilibrium, as in a cold start, gives steps of metres along a mechanism mode).
+            let limit = STEP_LIMIT_GUESSES * self.twist_guess(torque) * rp;
+            let longest = (0..m)
+                .map(|i| step[i].abs() * if is_angle(1 + i) { rp } else { 1.0 })
+                .fold(0.0, f64::max);
+            if longest > limit {
+                step *= limit / longest;
+            }
             let m0 = merit(&ev);
             let base: Vec<f64> = z[..n].to_vec();
             let mut alpha = 1.0;
+            // The potential energy at the base and its slope along the step, formed only when
+            // a trial fails the residual test.
+            let mut energy0: Option<(f64, f64)> = None;
             loop {
                 for i in 0..m {
                     z[1 + i] = base[1 + i] + alpha * step[i];
@@ -281,7 +301,29 @@ impl<'a> StaticAnalysis<'a> {
                     return Ok(None);
                 };
                 let mt = merit(&trial);
-                if mt <= m0 * (1.0 - 1e-4 * alpha) {
+                // Accepted where the residual falls, or where the potential energy falls
+                // enough along the step (Armijo: the equilibrium under the torque is the
+                // minimum of `U - T psi` over every coordinate but the input), as in
+                // `inner_solve`; above the round-off floor of the forces only.
+                let residual_falls = mt <= m0 * (1.0 - 1e-4 * alpha);
+                let accepted = residual_falls
+                    || energy_merit && res > ev.roundoff && {
+                        let (e0, slope) = *energy0.get_or_insert_with(|| {
+                            let slope = -(0..m)
+                                .map(|i| residual(&ev.g, 1 + i) * step[i])
+                                .sum::<f64>();
+                            (
+                                self.inner_energy(fr, &base, &ev) - torque * base[Layout::OUT],
+                                slope,
+                            )
+                        });
+                        let fall = -1e-4 * alpha * slope;
+                        fall > 1e-12 * e0.abs()
+                            && self.inner_energy(fr, z, &trial) - torque * z[Layout::OUT]
+                                <= e0 - fall
+                    };
+                energy_merit |= alpha < 0.0625;
+                if accepted {
                     ev = trial;
                     // At the round-off floor a step barely reduces the residual: accept there.
                     if mt > 0.25 * m0 && res <= 0.5 * ev.roundoff {

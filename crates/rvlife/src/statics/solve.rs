@@ -260,9 +260,7 @@ impl<'a> StaticAnalysis<'a> {
         let n = self.red.layout().dofs();
         let near = near.filter(|x| {
             let beyond = s * (x.twist - x.first_contact_twist);
-            (x.output_torque == 0.0 || x.output_torque * s > 0.0)
-                && beyond.is_finite()
-                && beyond >= 0.0
+            (x.output_torque == 0.0 || x.output_torque * s > 0.0) && beyond.is_finite()
         });
         let start = Start {
             psi0,
@@ -311,8 +309,11 @@ impl<'a> StaticAnalysis<'a> {
         Ok(runs.into_iter().flatten().collect())
     }
 
-    /// Safeguarded Newton on the monotone `f(x) = s T(psi0 + s x) - |T|`, `x >= 0`, with
-    /// `eval(psi) -> (T, dT/dpsi)`. Returns the converged twist.
+    /// Safeguarded Newton on the monotone `f(x) = s T(psi0 + s x) - |T|` with
+    /// `eval(psi) -> (T, dT/dpsi)`. Returns the converged twist. The root lies at `x >= 0`
+    /// unless the reducer already carries more than `|T|` at its rigid first contact (part
+    /// errors or a modification that interfere: preload, docs/model.md section 5.12), which
+    /// `f(0) > 0` shows: the search then continues behind first contact.
     pub(super) fn outer<F>(&self, phi: f64, torque: f64, start: &Start, mut eval: F) -> Result<f64>
     where
         F: FnMut(f64) -> Result<(f64, f64)>,
@@ -321,10 +322,13 @@ impl<'a> StaticAnalysis<'a> {
         let s = sense(torque);
         let target = torque.abs();
         let tol = 1e-11 * target;
-        let (mut lo, mut hi) = (0.0_f64, f64::INFINITY);
+        let guess = self.twist_guess(torque);
+        // `lo` stays -inf until a twist below the target is found; the first contact (x = 0) is
+        // tried before the bracket is allowed to open below it.
+        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
         let mut x = match start.beyond {
             Some(b) if b > 0.0 => b,
-            _ => self.twist_guess(torque),
+            _ => guess,
         };
         for step in 0..200 {
             let (t, k) = eval(psi0 + s * x)?;
@@ -339,18 +343,32 @@ impl<'a> StaticAnalysis<'a> {
             }
             // Newton inside the bracket; while the bracket is open above, at most four times
             // the current twist (the stiffness grows as pins engage, so a step from a soft
-            // start overshoots).
+            // start overshoots); while it is open below, first contact before anything behind.
             let newton = if k > 0.0 { x - f / k } else { f64::NAN };
+            let floor = if lo.is_finite() {
+                lo
+            } else if hi > 0.0 {
+                0.0
+            } else {
+                hi - 4.0 * (hi.abs().max(guess))
+            };
             // (Bisection only after 40 steps: where round-off makes T(psi) jitter at the
             // tolerance, Newton can wander inside the bracket.)
-            let next = if step < 40 && newton > lo && newton < hi.min(4.0 * x) {
+            let next = if step < 40 && newton > floor && newton < hi.min(4.0 * x.max(guess)) {
                 newton
+            } else if !lo.is_finite() {
+                // Nothing below the target yet: first contact, then ever farther behind it.
+                if hi > 0.0 {
+                    0.0
+                } else {
+                    floor
+                }
             } else if hi.is_finite() {
                 0.5 * (lo + hi)
             } else {
                 4.0 * x.max(lo)
             };
-            if next > MAX_TWIST {
+            if next.abs() > MAX_TWIST {
                 return Err(self.fail(
                     phi,
                     &format!(
@@ -360,7 +378,10 @@ impl<'a> StaticAnalysis<'a> {
                     ),
                 ));
             }
-            if hi.is_finite() && hi - lo <= 1e-15 * hi.max(1e-12) {
+            if hi.is_finite()
+                && lo.is_finite()
+                && hi - lo <= 1e-15 * hi.abs().max(lo.abs()).max(1e-12)
+            {
                 return Ok(psi0 + s * 0.5 * (lo + hi));
             }
             x = next;
