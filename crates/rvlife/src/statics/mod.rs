@@ -79,6 +79,11 @@ pub(crate) const ROUNDOFF_GAP_ULPS: f64 = 4.0;
 /// arcmin: 30 times the twist of the example at its rated torque).
 pub(crate) const MAX_TWIST: f64 = 0.01;
 
+/// Fraction of the twist estimate ([`StaticAnalysis::twist_guess`]) beyond first contact below
+/// which a twist-controlled search that still finds more than the torque concludes that the
+/// reducer is preloaded at first contact and continues behind it (docs/model.md section 5.3).
+pub(crate) const BEHIND_FIRST_CONTACT: f64 = 1e-3;
+
 /// Most solves of one loading path in `StaticAnalysis::solve_in_load_steps`.
 pub(crate) const MAX_LOAD_STEPS: usize = 96;
 

@@ -4,8 +4,8 @@
 
 use super::*;
 
-/// Largest move of a coordinate in one step of the torque-controlled Newton method, in
-/// multiples of the twist estimate at the pin circle ([`StaticAnalysis::twist_guess`]).
+/// Largest move of a coordinate in one step of the torque-controlled Newton method from a cold
+/// start, in multiples of the twist estimate at the pin circle ([`StaticAnalysis::twist_guess`]).
 const STEP_LIMIT_GUESSES: f64 = 16.0;
 
 impl<'a> StaticAnalysis<'a> {
@@ -277,14 +277,17 @@ impl<'a> StaticAnalysis<'a> {
             let Some(mut step) = k.lu().solve(&rhs) else {
                 return Ok(None);
             };
-            // A trust region: no coordinate moves farther than `STEP_LIMIT_GUESSES` times the
-            // twist estimate at the pin circle (a floored or near-singular tangent far from the
-            // equilibrium, as in a cold start, gives steps of metres along a mechanism mode).
+            // A trust region for a cold start: no coordinate moves farther than
+            // `STEP_LIMIT_GUESSES` times the twist estimate at the pin circle (its floored
+            // tangent far from the equilibrium is near-singular along a mechanism mode and gives
+            // steps of metres). From a neighbour the steps are left whole: limited there, a
+            // solve of the example with 10 um in both bearings fell back to twist control,
+            // which did not converge.
             let limit = STEP_LIMIT_GUESSES * self.twist_guess(torque) * rp;
             let longest = (0..m)
                 .map(|i| step[i].abs() * if is_angle(1 + i) { rp } else { 1.0 })
                 .fold(0.0, f64::max);
-            if longest > limit {
+            if start.near.is_none() && longest > limit {
                 step *= limit / longest;
             }
             let m0 = merit(&ev);

@@ -312,8 +312,9 @@ impl<'a> StaticAnalysis<'a> {
     /// Safeguarded Newton on the monotone `f(x) = s T(psi0 + s x) - |T|` with
     /// `eval(psi) -> (T, dT/dpsi)`. Returns the converged twist. The root lies at `x >= 0`
     /// unless the reducer already carries more than `|T|` at its rigid first contact (part
-    /// errors or a modification that interfere: preload, docs/model.md section 5.12), which
-    /// `f(0) > 0` shows: the search then continues behind first contact.
+    /// errors or a modification that interfere: preload, docs/model.md section 5.12): where
+    /// every twist tried carries too much down to [`BEHIND_FIRST_CONTACT`] of the twist
+    /// estimate, the search continues behind first contact.
     pub(super) fn outer<F>(&self, phi: f64, torque: f64, start: &Start, mut eval: F) -> Result<f64>
     where
         F: FnMut(f64) -> Result<(f64, f64)>,
@@ -323,9 +324,9 @@ impl<'a> StaticAnalysis<'a> {
         let target = torque.abs();
         let tol = 1e-11 * target;
         let guess = self.twist_guess(torque);
-        // `lo` stays -inf until a twist below the target is found; the first contact (x = 0) is
-        // tried before the bracket is allowed to open below it.
-        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+        let (mut lo, mut hi) = (0.0_f64, f64::INFINITY);
+        // Whether the bracket is open below first contact (preload).
+        let mut behind = false;
         let mut x = match start.beyond {
             Some(b) if b > 0.0 => b,
             _ => guess,
@@ -341,28 +342,26 @@ impl<'a> StaticAnalysis<'a> {
             } else {
                 lo = x;
             }
+            if !behind && lo == 0.0 && hi < BEHIND_FIRST_CONTACT * guess {
+                behind = true;
+                lo = f64::NEG_INFINITY;
+            }
             // Newton inside the bracket; while the bracket is open above, at most four times
             // the current twist (the stiffness grows as pins engage, so a step from a soft
-            // start overshoots); while it is open below, first contact before anything behind.
+            // start overshoots); while it is open below, at most four twist estimates behind.
             let newton = if k > 0.0 { x - f / k } else { f64::NAN };
             let floor = if lo.is_finite() {
                 lo
-            } else if hi > 0.0 {
-                0.0
             } else {
-                hi - 4.0 * (hi.abs().max(guess))
+                hi - 4.0 * hi.abs().max(guess)
             };
+            let ceiling = if x > 0.0 { hi.min(4.0 * x) } else { hi };
             // (Bisection only after 40 steps: where round-off makes T(psi) jitter at the
             // tolerance, Newton can wander inside the bracket.)
-            let next = if step < 40 && newton > floor && newton < hi.min(4.0 * x.max(guess)) {
+            let next = if step < 40 && newton > floor && newton < ceiling {
                 newton
             } else if !lo.is_finite() {
-                // Nothing below the target yet: first contact, then ever farther behind it.
-                if hi > 0.0 {
-                    0.0
-                } else {
-                    floor
-                }
+                floor
             } else if hi.is_finite() {
                 0.5 * (lo + hi)
             } else {
