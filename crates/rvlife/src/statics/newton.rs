@@ -283,12 +283,14 @@ impl<'a> StaticAnalysis<'a> {
             // steps of metres). From a neighbour the steps are left whole: limited there, a
             // solve of the example with 10 um in both bearings fell back to twist control,
             // which did not converge.
-            let limit = STEP_LIMIT_GUESSES * self.twist_guess(torque) * rp;
-            let longest = (0..m)
-                .map(|i| step[i].abs() * if is_angle(1 + i) { rp } else { 1.0 })
-                .fold(0.0, f64::max);
-            if start.near.is_none() && longest > limit {
-                step *= limit / longest;
+            if start.near.is_none() {
+                let limit = STEP_LIMIT_GUESSES * self.twist_guess(torque) * rp;
+                let longest = (0..m)
+                    .map(|i| step[i].abs() * if is_angle(1 + i) { rp } else { 1.0 })
+                    .fold(0.0, f64::max);
+                if longest > limit {
+                    step *= limit / longest;
+                }
             }
             let m0 = merit(&ev);
             let base: Vec<f64> = z[..n].to_vec();
