@@ -110,15 +110,18 @@ fn config(text: &str, origin: &str, base_dir: Option<PathBuf>) -> PyResult<Confi
 /// any thread; an exception it raises is printed and ignored.
 ///
 /// Calls are monotone: parallel work reports its counts out of order (30 after 31), and a
-/// count not above the last one reported is dropped.
+/// count not above the last one reported is dropped. The check and the call hold one lock
+/// (taken before the GIL, so no thread waits for it while holding the GIL), so a smaller count
+/// cannot overtake a larger one between them.
 fn progress_fn(cb: Option<Py<PyAny>>) -> impl Fn(usize, usize) + Sync {
-    let last = std::sync::atomic::AtomicUsize::new(0);
+    let last = std::sync::Mutex::new(0usize);
     move |done, total| {
         if let Some(cb) = &cb {
-            let before = last.fetch_max(done, std::sync::atomic::Ordering::SeqCst);
-            if done <= before && done != 0 {
+            let mut last = last.lock().unwrap_or_else(|e| e.into_inner());
+            if done <= *last && done != 0 {
                 return;
             }
+            *last = done;
             Python::attach(|py| {
                 if let Err(e) = cb.bind(py).call1((done, total)) {
                     e.print(py);
