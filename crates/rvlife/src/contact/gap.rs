@@ -393,10 +393,12 @@ fn path_parameter(a: f64, rp: f64, zc: f64, theta: f64, t_guess: f64) -> (f64, f
 }
 
 impl GapField {
-    /// Tabulates the gap of `profile` on `points` mesh angles per tooth (>= 16) with exact
-    /// global projections (in parallel): Newton's method on the radial offset finds the
-    /// touching offset (about three projections per mesh angle); the slope is the foot normal's
-    /// radial component there, the curvature that of the contact law at the touching foot.
+    /// Tabulates the gap of `profile` on `points` mesh angles per tooth (>= 16), in parallel
+    /// over runs of neighbouring mesh angles: Newton's method on the radial offset finds the
+    /// touching offset (about three local projections per mesh angle, the first from the
+    /// neighbour's foot), confirmed by one exact global projection (`touching_node`); the
+    /// slope is the foot normal's radial component there, the curvature that of the contact
+    /// law at the touching foot.
     ///
     /// # Errors
     /// [`crate::Error::Numerical`] if a projection fails.
@@ -411,33 +413,26 @@ impl GapField {
         let (a, rp, r) = (geo.eccentricity, geo.pin_circle_radius, geo.pin_radius);
         let zc = geo.disc_teeth() as f64;
         let n = points.max(16);
-        let rows: Vec<(f64, f64, f64)> = (0..n)
+        // The nodes in runs of `RUN` (in parallel), each node's first projection started from
+        // its predecessor's foot (the foot moves smoothly along the tooth).
+        const RUN: usize = 32;
+        let rows: Vec<(f64, f64, f64)> = (0..n.div_ceil(RUN))
             .into_par_iter()
-            .map(|i| -> Result<(f64, f64, f64)> {
-                let t = TAU * i as f64 / n as f64;
-                let c = Self::path(a, rp, zc, t);
-                let e = c / c.norm();
-                // Gap and its radial derivative (the foot normal along the radius: the distance
-                // gradient is the unit normal at the closest point).
-                let gap = |rho: f64| -> Result<(f64, f64, f64)> {
-                    let pr = profile.project(&(c + e * rho), t)?;
-                    Ok((
-                        pr.distance - r,
-                        pr.point.normal.dot(&e).max(0.05),
-                        profile.macro_curvature(pr.point.t),
-                    ))
-                };
-                let (mut rho0, (mut g1, mut s, mut k)) = (0.0, gap(0.0)?);
-                for _ in 0..8 {
-                    rho0 -= g1 / s;
-                    (g1, s, k) = gap(rho0)?;
-                    if g1.abs() < 1e-12 {
-                        break;
-                    }
+            .map(|run| -> Result<Vec<(f64, f64, f64)>> {
+                let mut out = Vec::with_capacity(RUN);
+                let mut seed: Option<f64> = None;
+                for i in run * RUN..((run + 1) * RUN).min(n) {
+                    let t = TAU * i as f64 / n as f64;
+                    let (row, foot) = Self::touching_node(profile, a, rp, zc, r, t, seed)?;
+                    out.push(row);
+                    seed = Some(foot + TAU / n as f64);
                 }
-                Ok((rho0 - g1 / s, s, k))
+                Ok(out)
             })
-            .collect::<Result<_>>()?;
+            .collect::<Result<Vec<_>>>()?
+            .into_iter()
+            .flatten()
+            .collect();
         let mut offset = Vec::with_capacity(n);
         let mut slope = Vec::with_capacity(n);
         let mut curvature = Vec::with_capacity(n);
@@ -480,6 +475,64 @@ impl GapField {
             curvature: PeriodicSpline::new(curvature),
             angle: PathAngleTable::shared(a, rp, zc),
         })
+    }
+
+    /// One node of the gap table at mesh angle `t`: `((offset, slope, curvature), foot)`, the
+    /// radial offset (m) at which the pin touches the flank, the foot normal's radial
+    /// component there, the contact law's curvature (1/m) at the touching foot and that foot's
+    /// parameter (rad).
+    ///
+    /// Newton's method on the offset, each projection local from the previous foot (`seed`
+    /// for the first: the neighbouring node's foot; without one, the global projection); the
+    /// touching foot is then confirmed by a global projection ([`Profile::project`]), and
+    /// where another foot lies closer there the iteration is repeated with global projections.
+    fn touching_node(
+        profile: &Profile,
+        a: f64,
+        rp: f64,
+        zc: f64,
+        r: f64,
+        t: f64,
+        seed: Option<f64>,
+    ) -> Result<((f64, f64, f64), f64)> {
+        let c = Self::path(a, rp, zc, t);
+        let e = c / c.norm();
+        // Gap, its radial derivative (the foot normal along the radius: the distance gradient
+        // is the unit normal at the closest point), the curvature and the foot at offset
+        // `rho`, locally from the foot `near` where it is given.
+        let gap = |rho: f64, near: Option<f64>| -> Result<(f64, f64, f64, f64)> {
+            let q = c + e * rho;
+            let pr = match near.and_then(|tn| profile.project_near(&q, tn)) {
+                Some(pr) => pr,
+                None => profile.project(&q, t)?,
+            };
+            Ok((
+                pr.distance - r,
+                pr.point.normal.dot(&e).max(0.05),
+                profile.macro_curvature(pr.point.t),
+                pr.point.t,
+            ))
+        };
+        let touching = |local: bool| -> Result<(f64, f64, f64, f64, f64)> {
+            let (mut rho0, (mut g1, mut s, mut k, mut tf)) =
+                (0.0, gap(0.0, seed.filter(|_| local))?);
+            for _ in 0..8 {
+                rho0 -= g1 / s;
+                (g1, s, k, tf) = gap(rho0, local.then_some(tf))?;
+                if g1.abs() < 1e-12 {
+                    break;
+                }
+            }
+            Ok((rho0, g1, s, k, tf))
+        };
+        let (rho0, g1, s, k, tf) = touching(true)?;
+        let confirm = profile.project(&(c + e * rho0), t)?;
+        let (rho0, g1, s, k, tf) = if confirm.distance - r >= g1 - 1e-15 {
+            (rho0, g1, s, k, tf)
+        } else {
+            touching(false)?
+        };
+        Ok(((rho0 - g1 / s, s, k), tf))
     }
 
     /// Nominal pin-centre path `C(t)` in the profile frame, m.
