@@ -420,12 +420,12 @@ impl GapField {
             .into_par_iter()
             .map(|run| -> Result<Vec<(f64, f64, f64)>> {
                 let mut out = Vec::with_capacity(RUN);
-                let mut seed: Option<f64> = None;
+                let mut seed: Option<(f64, f64)> = None;
                 for i in run * RUN..((run + 1) * RUN).min(n) {
                     let t = TAU * i as f64 / n as f64;
                     let (row, foot) = Self::touching_node(profile, a, rp, zc, r, t, seed)?;
                     out.push(row);
-                    seed = Some(foot + TAU / n as f64);
+                    seed = Some((foot + TAU / n as f64, row.0));
                 }
                 Ok(out)
             })
@@ -482,10 +482,11 @@ impl GapField {
     /// component there, the contact law's curvature (1/m) at the touching foot and that foot's
     /// parameter (rad).
     ///
-    /// Newton's method on the offset, each projection local from the previous foot (`seed`
-    /// for the first: the neighbouring node's foot; without one, the global projection); the
-    /// touching foot is then confirmed by a global projection ([`Profile::project`]), and
-    /// where another foot lies closer there the iteration is repeated with global projections.
+    /// Newton's method on the offset, each projection local from the previous foot; `seed`:
+    /// the neighbouring node's foot (rad) and touching offset (m), where the iteration starts
+    /// (without one, from offset 0 with the global projection). The touching foot is then
+    /// confirmed by a global projection ([`Profile::project_from`]), and where another foot
+    /// lies closer there the iteration is repeated from offset 0 with global projections.
     fn touching_node(
         profile: &Profile,
         a: f64,
@@ -493,7 +494,7 @@ impl GapField {
         zc: f64,
         r: f64,
         t: f64,
-        seed: Option<f64>,
+        seed: Option<(f64, f64)>,
     ) -> Result<((f64, f64, f64), f64)> {
         let c = Self::path(a, rp, zc, t);
         let e = c / c.norm();
@@ -514,8 +515,10 @@ impl GapField {
             ))
         };
         let touching = |local: bool| -> Result<(f64, f64, f64, f64, f64)> {
-            let (mut rho0, (mut g1, mut s, mut k, mut tf)) =
-                (0.0, gap(0.0, seed.filter(|_| local))?);
+            let (foot, rho) = seed
+                .filter(|_| local)
+                .map_or((None, 0.0), |s| (Some(s.0), s.1));
+            let (mut rho0, (mut g1, mut s, mut k, mut tf)) = (rho, gap(rho, foot)?);
             for _ in 0..8 {
                 rho0 -= g1 / s;
                 (g1, s, k, tf) = gap(rho0, local.then_some(tf))?;
@@ -526,7 +529,7 @@ impl GapField {
             Ok((rho0, g1, s, k, tf))
         };
         let (rho0, g1, s, k, tf) = touching(true)?;
-        let confirm = profile.project(&(c + e * rho0), t)?;
+        let confirm = profile.project_from(&(c + e * rho0), t, Some(tf))?;
         let (rho0, g1, s, k, tf) = if confirm.distance - r >= g1 - 1e-15 {
             (rho0, g1, s, k, tf)
         } else {

@@ -249,12 +249,26 @@ impl Profile {
     /// [`Error::Numerical`] if the closest point lies on the edge of the window (the guess was
     /// more than a quarter tooth off).
     pub(crate) fn project(&self, q: &Vec2, t0: f64) -> Result<Projection> {
+        self.project_from(q, t0, None)
+    }
+
+    /// [`Profile::project`] with a known local foot `foot` (rad, the parameter of a local
+    /// projection of `q`, [`Profile::project_near`]) as the global search's first candidate,
+    /// in place of the one polished from `t0` (ignored unless it lies within half the search
+    /// window of `t0`). The result is the global closest point as with `project`.
+    ///
+    /// # Errors
+    /// As [`Profile::project`].
+    pub(crate) fn project_from(&self, q: &Vec2, t0: f64, foot: Option<f64>) -> Result<Projection> {
         let (k, turn) = self.tooth_of(t0);
         let ql = rotate(q, turn);
         let tl = t0 - TAU * k;
-        let seed = self
-            .table
-            .polish(&ql, tl, tl - 8.0 * self.table.dt, tl + 8.0 * self.table.dt);
+        let seed = match foot.map(|f| f - TAU * k) {
+            Some(f) if (f - tl).abs() < 0.5 * PROJECTION_WINDOW => Some(f),
+            _ => self
+                .table
+                .polish(&ql, tl, tl - 8.0 * self.table.dt, tl + 8.0 * self.table.dt),
+        };
         let t = self
             .table
             .global_foot(&ql, tl, PROJECTION_WINDOW, seed)
