@@ -177,6 +177,29 @@ try {
       walk(pageSummary, JSON.parse(theirs), '');
       const extra = numbers(pageSummary) - w.compared;
       check(`download ${name} equals rvlife run's`, w.ok() && extra === 0, w.detail() + (extra ? `; ${extra} numbers more in the page's` : ''));
+    } else if (!sameBytes && name === 'stages.csv') {
+      // Cell by cell under its column's name: numbers may differ in their last printed digit
+      // (parallel sums on two cores, one in the page), and the no-load twists (columns in
+      // arcmin) by the bound of the stage table (2.2e-5 arcmin).
+      const rows = (s) => s.trim().split('\n').map((l) => l.split(','));
+      const [a, b] = [rows(mine), rows(theirs)];
+      const same = a.length === b.length && a[0].join() === b[0].join() && a.every((r) => r.length === a[0].length);
+      let compared = 0, worst = 0, worstKey = '';
+      const bad = [];
+      for (let r = 1; same && r < b.length; r++) {
+        for (let c = 0; c < b[0].length; c++) {
+          const key = `[${r - 1}].${b[0][c]}`;
+          const [x, y] = [Number(a[r][c]), Number(b[r][c])];
+          if (!Number.isFinite(y)) { if (a[r][c] !== b[r][c]) bad.push(key); continue; }
+          compared++;
+          const d = Math.abs(x - y);
+          const rel = d / Math.max(Math.abs(y), 1e-6);
+          if (rel > worst) { worst = rel; worstKey = key; }
+          if (!(rel <= 1e-6 || (b[0][c].endsWith('_arcmin') && d <= 2.2e-5))) bad.push(`${key}: ${a[r][c]} against ${b[r][c]}`);
+        }
+      }
+      detail = same ? `${compared} numbers, worst relative difference ${worst.toExponential(2)} (${worstKey})` : 'the tables differ in shape or header';
+      check(`download ${name} equals rvlife run's`, same && bad.length === 0, detail + (bad.length ? `; outside: ${bad.slice(0, 3).join('; ')}` : ''));
     } else if (!sameBytes) {
       // Numbers may differ in their last printed digit (parallel sums on two cores, one in the page).
       const nums = (s) => (s.match(/-?\d+\.\d+(e-?\d+)?/g) ?? []).map(Number);
