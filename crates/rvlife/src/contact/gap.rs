@@ -410,7 +410,7 @@ impl GapField {
     /// upper envelope of the two, the flank that stands further out (see the module docs).
     pub fn new(profile: &Profile, points: usize, band: Option<Band>) -> Result<Self> {
         let geo = profile.geometry();
-        let (a, rp, r) = (geo.eccentricity, geo.pin_circle_radius, geo.pin_radius);
+        let (a, rp) = (geo.eccentricity, geo.pin_circle_radius);
         let zc = geo.disc_teeth() as f64;
         let n = points.max(16);
         // The nodes in runs of `RUN` (in parallel), each node's first projection started from
@@ -423,7 +423,7 @@ impl GapField {
                 let mut seed: Option<(f64, f64)> = None;
                 for i in run * RUN..((run + 1) * RUN).min(n) {
                     let t = TAU * i as f64 / n as f64;
-                    let (row, foot) = Self::touching_node(profile, a, rp, zc, r, t, seed)?;
+                    let (row, foot) = Self::touching_node(profile, t, seed)?;
                     out.push(row);
                     seed = Some((foot + TAU / n as f64, row.0));
                 }
@@ -489,14 +489,17 @@ impl GapField {
     /// lies closer there the iteration is repeated from offset 0 with global projections.
     fn touching_node(
         profile: &Profile,
-        a: f64,
-        rp: f64,
-        zc: f64,
-        r: f64,
         t: f64,
         seed: Option<(f64, f64)>,
     ) -> Result<((f64, f64, f64), f64)> {
-        let c = Self::path(a, rp, zc, t);
+        let geo = profile.geometry();
+        let r = geo.pin_radius;
+        let c = Self::path(
+            geo.eccentricity,
+            geo.pin_circle_radius,
+            geo.disc_teeth() as f64,
+            t,
+        );
         let e = c / c.norm();
         // Gap, its radial derivative (the foot normal along the radius: the distance gradient
         // is the unit normal at the closest point), the curvature and the foot at offset
