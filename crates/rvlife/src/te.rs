@@ -350,10 +350,14 @@ pub(crate) fn zero_torque(sa: &StaticAnalysis, phi: f64, rated: f64) -> Result<Z
     } else {
         start
     };
-    let limits = [
-        sa.no_load(phi, 1.0, from[0])?,
-        sa.no_load(phi, -1.0, from[1])?,
-    ];
+    // Parts that interfere one way are preloaded whatever the other way finds: its limit is
+    // looked for only after a limit the first way.
+    let up = sa.no_load(phi, 1.0, from[0])?;
+    let down = match up {
+        NoLoad::Preloaded => NoLoad::Preloaded,
+        NoLoad::Limit { .. } => sa.no_load(phi, -1.0, from[1])?,
+    };
+    let limits = [up, down];
     match limits {
         [NoLoad::Limit {
             twist: up,
@@ -397,6 +401,18 @@ pub(crate) fn zero_torque(sa: &StaticAnalysis, phi: f64, rated: f64) -> Result<Z
                 }
                 done.push(first?);
                 let mut f = done[0].output_torque.abs() / rated;
+                let mut last = f;
+                while last >= 2.0 * 0.99 * PRELOAD_PROBE_FRACTION {
+                    last *= 0.5;
+                }
+                // The lightest level straight from the first where that converges; else the
+                // halving descent, each solve from the one above.
+                if last < f {
+                    if let Ok(sol) = sa.solve_near(phi, s * last * rated, start[k], done.last()) {
+                        done.push(sol);
+                        return Ok(done);
+                    }
+                }
                 while f >= 2.0 * 0.99 * PRELOAD_PROBE_FRACTION {
                     f *= 0.5;
                     match sa.solve_near(phi, s * f * rated, start[k], done.last()) {

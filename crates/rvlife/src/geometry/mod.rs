@@ -33,7 +33,12 @@ pub(crate) fn cross(a: &Vec2, b: &Vec2) -> f64 {
 /// Rotates `v` by `angle` (radians, counter-clockwise).
 #[inline]
 pub(crate) fn rotate(v: &Vec2, angle: f64) -> Vec2 {
-    let (s, c) = angle.sin_cos();
+    rotate_by(v, angle.sin_cos())
+}
+
+/// [`rotate`] by the angle whose `(sine, cosine)` is given (formed once for many vectors).
+#[inline]
+pub(crate) fn rotate_by(v: &Vec2, (s, c): (f64, f64)) -> Vec2 {
     Vec2::new(c * v.x - s * v.y, s * v.x + c * v.y)
 }
 

@@ -544,6 +544,16 @@ pub(crate) enum BearingEval<'a> {
 }
 
 impl BearingEval<'_> {
+    /// Passes over one bearing in call order without evaluating it (its slot in `Frozen` and
+    /// `Warm` is skipped; `Exact` and `Record` keep no order and are left as they are).
+    #[inline]
+    pub(crate) fn skip(&mut self) {
+        match self {
+            BearingEval::Frozen(_, next) | BearingEval::Warm(_, next) => *next += 1,
+            BearingEval::Exact | BearingEval::Record(..) => {}
+        }
+    }
+
     /// The force of `bearing` at `r` with relative velocity `rd`
     /// ([`RadialBearing::force`]), as this evaluation takes it.
     #[inline]

@@ -37,7 +37,7 @@ use std::f64::consts::PI;
 use nalgebra::UnitComplex;
 
 use crate::contact::ContactModel;
-use crate::geometry::{cross, rotate, CycloidGeometry, Vec2};
+use crate::geometry::{cross, rotate, rotate_by, CycloidGeometry, Vec2};
 use errors::at;
 
 /// `J v`: `v` turned by +90 degrees.
@@ -491,6 +491,26 @@ impl Reducer {
         g: &mut [f64],
         eval: &mut BearingEval,
     ) {
+        self.structural_forces_touching(q0, dq, qd, g, eval, None);
+    }
+
+    /// [`Reducer::structural_forces_with`], with `only = Some(c)` only the terms of the
+    /// elements whose deflection depends on coordinate `c` (a mesh on the sun, the output and
+    /// its crank; a crank-carrier bearing on its crank's centre and the output; a crank-disc
+    /// bearing on its crank and disc; a single-stage drive's eccentric bearing on the input and
+    /// its disc's centre, its pins in holes on the output and the disc): what a difference of
+    /// the forces over `c` sees, at a fraction of the work. The skipped bearings still take
+    /// their place in `eval`'s call order.
+    pub(crate) fn structural_forces_touching(
+        &self,
+        q0: &[f64],
+        dq: &[f64],
+        qd: &[f64],
+        g: &mut [f64],
+        eval: &mut BearingEval,
+        only: Option<usize>,
+    ) {
+        let touches = |set: &[usize]| only.is_none_or(|c| set.contains(&c));
         let lay = self.layout();
         let th_o = q0[Layout::OUT] + dq[Layout::OUT];
         let (w_s, w_o) = (qd[Layout::SUN], qd[Layout::OUT]);
@@ -528,6 +548,7 @@ impl Reducer {
             // Sun-planet mesh: deflection along the line of action in the carrier frame (zero
             // in the nominal kinematics: r_bs (th_s - th_o) + r_bp (th_k - th_o) = 0 there).
             let u = carrier * line_of_action(seat0, pa_sin, pa_cos);
+            let mesh_touched = touches(&[Layout::SUN, Layout::OUT, ic, ic + 1, ic + 2]);
             let delta = m.sun_base_radius * (dq[Layout::SUN] - d_o)
                 + m.planet_base_radius * (dq[ic + 2] - d_o)
                 - u.dot(&rel);
@@ -536,7 +557,9 @@ impl Reducer {
             let delta_dot =
                 m.sun_base_radius * w_s + m.planet_base_radius * w_k - u.dot(&xd) + d_th_o * w_o;
             let half = 0.5 * m.backlash;
-            let f = if half <= 0.0 {
+            let f = if !mesh_touched {
+                0.0
+            } else if half <= 0.0 {
                 m.stiffness * delta + m.damping * delta_dot
             } else {
                 let (fe, _, _) = bearing::take_up(delta.abs() - half, m.stiffness);
@@ -559,14 +582,22 @@ impl Reducer {
             g[ic] += f * u.x;
             g[ic + 1] += f * u.y;
             // Crank-carrier bearing.
-            let rd = xd - dseat * w_o;
-            let fb = eval.force(&b.carrier, rel, rd);
-            g[ic] -= fb.x;
-            g[ic + 1] -= fb.y;
-            g[Layout::OUT] += fb.dot(&dseat);
+            if touches(&[Layout::OUT, ic, ic + 1]) {
+                let rd = xd - dseat * w_o;
+                let fb = eval.force(&b.carrier, rel, rd);
+                g[ic] -= fb.x;
+                g[ic + 1] -= fb.y;
+                g[Layout::OUT] += fb.dot(&dseat);
+            } else {
+                eval.skip();
+            }
             // Crank-disc bearings: eccentric centre minus bore centre, zero nominally.
             for (d, (id, disc, disc_step)) in discs.iter().enumerate().take(n_discs) {
                 let id = *id;
+                if !touches(&[ic, ic + 1, ic + 2, id, id + 1, id + 2]) {
+                    eval.skip();
+                    continue;
+                }
                 let ang0 = q0[ic + 2] + self.phase(d);
                 let ecc = Vec2::new((ang0 + dq[ic + 2]).cos(), (ang0 + dq[ic + 2]).sin()) * a;
                 let decc = rotation_difference(&Vec2::new(a, 0.0), ang0, dq[ic + 2]);
@@ -587,14 +618,16 @@ impl Reducer {
             }
         }
         if let Drive::SingleStage(w) = self.drive {
-            self.single_stage_forces(&w, q0, dq, qd, g, eval);
+            self.single_stage_forces(&w, q0, dq, qd, g, eval, only);
         }
     }
 
     /// Generalised forces of a single-stage drive's eccentric bearings (input shaft to each
     /// disc) and pins in holes (each disc to the output flange), added to `g`
     /// ([`Reducer::structural_forces`]; every force derives from
-    /// [`Reducer::structural_energy`], plus the bearings' damping).
+    /// [`Reducer::structural_energy`], plus the bearings' damping); `only` as in
+    /// [`Reducer::structural_forces_touching`].
+    #[allow(clippy::too_many_arguments)]
     fn single_stage_forces(
         &self,
         w: &OutputPins,
@@ -603,7 +636,9 @@ impl Reducer {
         qd: &[f64],
         g: &mut [f64],
         eval: &mut BearingEval,
+        only: Option<usize>,
     ) {
+        let touches = |set: &[usize]| only.is_none_or(|c| set.contains(&c));
         let lay = self.layout();
         let a = self.geometry.eccentricity;
         let b = &self.bearings;
@@ -620,27 +655,38 @@ impl Reducer {
             let dc = Vec2::new(dq[id], dq[id + 1]);
             let cd = Vec2::new(qd[id], qd[id + 1]);
             // Eccentric bearing: eccentric centre minus disc centre, zero nominally.
-            let r = decc - dc;
-            let rdot = perp(ecc) * w_s - cd;
-            let fe = eval.force(&b.disc, r, rdot);
-            g[Layout::SUN] -= fe.dot(&perp(ecc));
-            g[id] += fe.x;
-            g[id + 1] += fe.y;
+            if touches(&[Layout::SUN, id, id + 1]) {
+                let r = decc - dc;
+                let rdot = perp(ecc) * w_s - cd;
+                let fe = eval.force(&b.disc, r, rdot);
+                g[Layout::SUN] -= fe.dot(&perp(ecc));
+                g[id] += fe.x;
+                g[id + 1] += fe.y;
+            } else {
+                eval.skip();
+            }
             // Pins in holes: pin centre minus hole centre, of length `a` nominally.
+            if !touches(&[Layout::OUT, id, id + 1, id + 2]) {
+                continue;
+            }
             let c0 = Vec2::new(q0[id], q0[id + 1]);
             let psi = q0[id + 2] + dq[id + 2];
+            // The rotations shared by the disc's pins, each formed once.
+            let steps = HoleSteps::new(q0, dq, id);
+            let (rot_o, rot_d) = (th_o.sin_cos(), psi.sin_cos());
             for k in 0..w.count {
-                let (wk, dvec) = pin_in_hole(w, k, q0, dq, id, c0 + dc);
+                let wk = output_pin(w, k);
+                let dvec = steps.pin_in_hole(&wk, c0 + dc);
                 let len = dvec.norm();
                 let pen = len - (a + w.hole_clearance);
                 if pen <= 0.0 || len == 0.0 {
                     continue;
                 }
                 let f = dvec * (bearing::take_up(pen, w.stiffness).0 / len);
-                g[Layout::OUT] -= f.dot(&perp(rotate(&wk, th_o)));
+                g[Layout::OUT] -= f.dot(&perp(rotate_by(&wk, rot_o)));
                 g[id] += f.x;
                 g[id + 1] += f.y;
-                g[id + 2] += f.dot(&perp(rotate(&wk, psi)));
+                g[id + 2] += f.dot(&perp(rotate_by(&wk, rot_d)));
             }
         }
     }
@@ -682,24 +728,36 @@ impl Reducer {
     }
 }
 
-/// Output pin `k` of `w` at carrier angle 0 (m), and its centre minus its hole's centre (m)
-/// at positions `q0 + dq` for the disc whose coordinates start at `id` and whose centre is at
-/// `centre`: of length `a` in the nominal kinematics (the disc turns with the output), formed
-/// from the deviations so that it keeps full precision.
-fn pin_in_hole(
-    w: &OutputPins,
-    k: usize,
-    q0: &[f64],
-    dq: &[f64],
-    id: usize,
-    centre: Vec2,
-) -> (Vec2, Vec2) {
+/// Output pin `k` of `w` at carrier angle 0 (m).
+#[inline]
+fn output_pin(w: &OutputPins, k: usize) -> Vec2 {
     let beta = std::f64::consts::TAU * k as f64 / w.count as f64;
-    let wk = Vec2::new(beta.cos(), beta.sin()) * w.circle_radius;
-    let d = rotation_difference(&wk, q0[Layout::OUT], dq[Layout::OUT])
-        - rotation_difference(&wk, q0[id + 2], dq[id + 2])
-        - centre;
-    (wk, d)
+    Vec2::new(beta.cos(), beta.sin()) * w.circle_radius
+}
+
+/// The output's and one disc's rotation steps at positions `q0 + dq` ([`RotationStep`]),
+/// formed once for all of that disc's pins in holes ([`HoleSteps::pin_in_hole`]).
+struct HoleSteps {
+    out: RotationStep,
+    disc: RotationStep,
+}
+
+impl HoleSteps {
+    #[inline]
+    fn new(q0: &[f64], dq: &[f64], id: usize) -> Self {
+        HoleSteps {
+            out: RotationStep::new(q0[Layout::OUT], dq[Layout::OUT]),
+            disc: RotationStep::new(q0[id + 2], dq[id + 2]),
+        }
+    }
+
+    /// The centre of the pin at `wk` (m, [`output_pin`]) minus its hole's centre (m) for the
+    /// disc whose centre is at `centre`: of length `a` in the nominal kinematics (the disc
+    /// turns with the output), formed from the deviations so that it keeps full precision.
+    #[inline]
+    fn pin_in_hole(&self, wk: &Vec2, centre: Vec2) -> Vec2 {
+        self.out.apply(wk) - self.disc.apply(wk) - centre
+    }
 }
 
 /// Line of action (unit vector) of the mesh of the crank seated at `seat` (m, carrier frame at

@@ -104,9 +104,10 @@ impl Reducer {
                     law: ElementLaw::Bearing(&b.disc),
                 });
                 let c0 = Vec2::new(q0[id], q0[id + 1]);
+                let steps = HoleSteps::new(q0, dq, id);
                 for k in 0..w.count {
                     radial.push(Element {
-                        r: pin_in_hole(&w, k, q0, dq, id, c0 + dc).1,
+                        r: steps.pin_in_hole(&output_pin(&w, k), c0 + dc),
                         room: a + w.hole_clearance,
                         law: ElementLaw::PinInHole(w.stiffness),
                     });

@@ -335,21 +335,25 @@ impl<'a> StaticAnalysis<'a> {
         for c in 0..n {
             let h = if is_angle(c) { step / rp } else { step };
             let (mut gp, mut gm) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
+            // Only the elements that coordinate `c` moves: the others' forces cancel in the
+            // difference.
             zz[c] = z[c] + h;
-            red.structural_forces_with(
+            red.structural_forces_touching(
                 &fr.q0[..n],
                 &zz[..n],
                 &zero[..n],
                 &mut gp[..n],
                 &mut BearingEval::Frozen(&frozen, 0),
+                Some(c),
             );
             zz[c] = z[c] - h;
-            red.structural_forces_with(
+            red.structural_forces_touching(
                 &fr.q0[..n],
                 &zz[..n],
                 &zero[..n],
                 &mut gm[..n],
                 &mut BearingEval::Frozen(&frozen, 0),
+                Some(c),
             );
             zz[c] = z[c];
             for r in 0..n {

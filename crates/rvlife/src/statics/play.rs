@@ -283,6 +283,13 @@ impl<'a> StaticAnalysis<'a> {
                 if penalty >= max_penalty {
                     return Ok(Outcome::Violating);
                 }
+                // The violation alone (`s = 0`): a heavier weight scales the whole objective
+                // and moves nothing but the steps' tie-break, so a least violation reached in
+                // an open region (as open as a raise would make it) is the answer; only a
+                // region that collapsed is raised and opened again.
+                if s == 0.0 && trust >= max_trust / 16.0 {
+                    return Ok(Outcome::Violating);
+                }
                 // A hundredfold, with the region opened again: a pin on the line of centres
                 // closes only to second order in the twist, so its multiplier, and the weight
                 // that moves the twist back, is large.
