@@ -400,22 +400,24 @@ pub(crate) fn zero_torque(sa: &StaticAnalysis, phi: f64, rated: f64) -> Result<Z
                     }
                 }
                 done.push(first?);
-                let mut f = done[0].output_torque.abs() / rated;
-                let mut last = f;
-                while last >= 2.0 * 0.99 * PRELOAD_PROBE_FRACTION {
-                    last *= 0.5;
-                }
+                // The levels below the first, each half the one above, down to the probe.
+                let levels: Vec<f64> =
+                    std::iter::successors(Some(done[0].output_torque.abs() / rated), |&f| {
+                        (f >= 2.0 * 0.99 * PRELOAD_PROBE_FRACTION).then_some(0.5 * f)
+                    })
+                    .skip(1)
+                    .collect();
                 // The lightest level straight from the first where that converges; else the
                 // halving descent, each solve from the one above.
-                if last < f {
-                    if let Ok(sol) = sa.solve_near(phi, s * last * rated, start[k], done.last()) {
-                        done.push(sol);
-                        return Ok(done);
-                    }
+                let solve = |f: f64, from: Option<&StaticSolution>| {
+                    sa.solve_near(phi, s * f * rated, start[k], from)
+                };
+                if let Some(Ok(sol)) = levels.last().map(|&f| solve(f, done.last())) {
+                    done.push(sol);
+                    return Ok(done);
                 }
-                while f >= 2.0 * 0.99 * PRELOAD_PROBE_FRACTION {
-                    f *= 0.5;
-                    match sa.solve_near(phi, s * f * rated, start[k], done.last()) {
+                for &f in &levels {
+                    match solve(f, done.last()) {
                         Ok(sol) => done.push(sol),
                         Err(_) => break,
                     }

@@ -510,7 +510,7 @@ impl Reducer {
         eval: &mut BearingEval,
         only: Option<usize>,
     ) {
-        let touches = |set: &[usize]| only.is_none_or(|c| set.contains(&c));
+        let touches = |set: &[usize]| moved_by(only, set);
         let lay = self.layout();
         let th_o = q0[Layout::OUT] + dq[Layout::OUT];
         let (w_s, w_o) = (qd[Layout::SUN], qd[Layout::OUT]);
@@ -547,40 +547,39 @@ impl Reducer {
             let rel = dx - carrier_step.apply(&seat0);
             // Sun-planet mesh: deflection along the line of action in the carrier frame (zero
             // in the nominal kinematics: r_bs (th_s - th_o) + r_bp (th_k - th_o) = 0 there).
-            let u = carrier * line_of_action(seat0, pa_sin, pa_cos);
-            let mesh_touched = touches(&[Layout::SUN, Layout::OUT, ic, ic + 1, ic + 2]);
-            let delta = m.sun_base_radius * (dq[Layout::SUN] - d_o)
-                + m.planet_base_radius * (dq[ic + 2] - d_o)
-                - u.dot(&rel);
-            let d_th_o =
-                -(m.sun_base_radius + m.planet_base_radius) - perp(u).dot(&rel) + u.dot(&dseat);
-            let delta_dot =
-                m.sun_base_radius * w_s + m.planet_base_radius * w_k - u.dot(&xd) + d_th_o * w_o;
-            let half = 0.5 * m.backlash;
-            let f = if !mesh_touched {
-                0.0
-            } else if half <= 0.0 {
-                m.stiffness * delta + m.damping * delta_dot
-            } else {
-                let (fe, _, _) = bearing::take_up(delta.abs() - half, m.stiffness);
-                let fe = fe.copysign(delta);
-                let damped = if fe != 0.0 {
-                    let v = fe + m.damping * delta_dot;
-                    if v * fe > 0.0 {
-                        v
+            if touches(&[Layout::SUN, Layout::OUT, ic, ic + 1, ic + 2]) {
+                let u = carrier * line_of_action(seat0, pa_sin, pa_cos);
+                let delta = m.sun_base_radius * (dq[Layout::SUN] - d_o)
+                    + m.planet_base_radius * (dq[ic + 2] - d_o)
+                    - u.dot(&rel);
+                let d_th_o =
+                    -(m.sun_base_radius + m.planet_base_radius) - perp(u).dot(&rel) + u.dot(&dseat);
+                let delta_dot = m.sun_base_radius * w_s + m.planet_base_radius * w_k - u.dot(&xd)
+                    + d_th_o * w_o;
+                let half = 0.5 * m.backlash;
+                let f = if half <= 0.0 {
+                    m.stiffness * delta + m.damping * delta_dot
+                } else {
+                    let (fe, _, _) = bearing::take_up(delta.abs() - half, m.stiffness);
+                    let fe = fe.copysign(delta);
+                    let damped = if fe != 0.0 {
+                        let v = fe + m.damping * delta_dot;
+                        if v * fe > 0.0 {
+                            v
+                        } else {
+                            0.0
+                        }
                     } else {
                         0.0
-                    }
-                } else {
-                    0.0
+                    };
+                    damped + DEAD_BAND_STIFFNESS * delta
                 };
-                damped + DEAD_BAND_STIFFNESS * delta
-            };
-            g[Layout::SUN] -= f * m.sun_base_radius;
-            g[ic + 2] -= f * m.planet_base_radius;
-            g[Layout::OUT] -= f * d_th_o;
-            g[ic] += f * u.x;
-            g[ic + 1] += f * u.y;
+                g[Layout::SUN] -= f * m.sun_base_radius;
+                g[ic + 2] -= f * m.planet_base_radius;
+                g[Layout::OUT] -= f * d_th_o;
+                g[ic] += f * u.x;
+                g[ic + 1] += f * u.y;
+            }
             // Crank-carrier bearing.
             if touches(&[Layout::OUT, ic, ic + 1]) {
                 let rd = xd - dseat * w_o;
@@ -638,7 +637,7 @@ impl Reducer {
         eval: &mut BearingEval,
         only: Option<usize>,
     ) {
-        let touches = |set: &[usize]| only.is_none_or(|c| set.contains(&c));
+        let touches = |set: &[usize]| moved_by(only, set);
         let lay = self.layout();
         let a = self.geometry.eccentricity;
         let b = &self.bearings;
@@ -726,6 +725,14 @@ impl Reducer {
         meshes.iter().map(mesh_energy).sum::<f64>()
             + radial.iter().map(Element::energy).sum::<f64>()
     }
+}
+
+/// Whether an element whose deflection depends on the coordinates `set` is evaluated when only
+/// those moved by coordinate `only` are ([`Reducer::structural_forces_touching`]; `None`:
+/// every element).
+#[inline]
+fn moved_by(only: Option<usize>, set: &[usize]) -> bool {
+    only.is_none_or(|c| set.contains(&c))
 }
 
 /// Output pin `k` of `w` at carrier angle 0 (m).
