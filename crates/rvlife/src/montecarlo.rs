@@ -318,12 +318,16 @@ pub(crate) fn sample_model(model: &Model, seed: u64, index: usize) -> Model {
     m
 }
 
-/// The accuracy quantities of `model` (a sampled reducer) with wear `wear` at `hours`.
+/// The accuracy quantities of `model` (a sampled reducer) with wear `wear` at `hours`. Without
+/// `with_angular_te` (a trial of the life search whose spec does not bound the angular TE) the
+/// revolution is not solved and the point's angular TE is NaN: such a point never leaves the
+/// life search, which reads only the quantities the spec bounds ([`crate::life::margins`]).
 fn accuracy_at(
     model: &Model,
     wear: Option<WearMap>,
     hours: f64,
     per_cycle: usize,
+    with_angular_te: bool,
 ) -> Result<AccuracyPoint> {
     let profile = model.cycloid.profile(wear)?;
     let sa = StaticAnalysis::new(&model.reducer, &profile)?;
@@ -331,7 +335,9 @@ fn accuracy_at(
     // With play the no-load limits are the contact problem's; parts whose rigid kinematics
     // interfere assemble through the bearings' play or with preload (docs/model.md sections
     // 5.10 and 5.12).
-    let angular_te = if has_play(&sa) {
+    let angular_te = if !with_angular_te {
+        f64::NAN
+    } else if has_play(&sa) {
         zero_torque_over_revolution(&sa, per_cycle, rated)?.0
     } else {
         let rev = revolution_perturbed(&sa, per_cycle)?;
@@ -346,7 +352,12 @@ fn accuracy_at(
         acc.torsional_stiffness,
         angular_te,
     ];
-    if values.iter().any(|v| !v.is_finite()) {
+    let needed = if with_angular_te {
+        &values[..]
+    } else {
+        &values[..3]
+    };
+    if needed.iter().any(|v| !v.is_finite()) {
         return Err(Error::numerical(
             "accuracy",
             format!(
@@ -394,15 +405,23 @@ pub(crate) fn run_sample(
         },
     };
     let per_cycle = plan.samples_per_mesh_cycle;
-    let at = |i: usize| {
+    // A stage reports every quantity; a trial of the life search solves the angular TE only
+    // where the spec bounds it.
+    let at = |i: usize, angular_te: bool| {
         let pins = wear.pin_maps.get(i).map_or(&[][..], |p| &p[..]);
         let worn = crate::config::worn_parts(&m, wear.bearing_rates, wear.hours[i], pins);
-        accuracy_at(&worn, wear.maps[i].clone(), wear.hours[i], per_cycle)
+        accuracy_at(
+            &worn,
+            wear.maps[i].clone(),
+            wear.hours[i],
+            per_cycle,
+            angular_te,
+        )
     };
     let mut points = Vec::new();
     let mut status = "ok".to_string();
     for &i in &wear.stage_index {
-        match at(i) {
+        match at(i, true) {
             Ok(p) => points.push(p),
             Err(e) => {
                 status = format!("failed: {e}");
@@ -421,7 +440,7 @@ pub(crate) fn run_sample(
                 .iter()
                 .position(|&x| (x - h).abs() <= 1e-9 * h.max(1.0))
                 .ok_or_else(|| Error::numerical("accuracy life", "no wear map at those hours"))?;
-            at(i)
+            at(i, model.life.angular_te_arcmin.is_some())
         };
         let ext: Vec<f64> = wear
             .extension_index

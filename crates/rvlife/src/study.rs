@@ -22,12 +22,12 @@ use crate::fem::flex::{analyse_stage, FlexibleStage};
 use crate::fem::mesh::Mesh;
 use crate::fem::DiscSet;
 use crate::geometry::{Profile, WearMap};
-use crate::quantities::{AccuracyPoint, StageSummary, ACCURACY, STAGE};
+use crate::quantities::{AccuracyPoint, StageSummary, ACCURACY, ANGULAR_TE, STAGE};
 use crate::statics::StaticAnalysis;
 use crate::te::{
-    angular_te_of, hysteresis_and_rated, loaded_te_with, mesh_cycle_angles, revolution,
-    revolution_no_load, static_te_with, torque_fractions, CurveStats, LoadedTe, RevolutionTe,
-    StaticTe, TwistTable, HYSTERESIS_LEVELS, PLAY_ROUND_OFF,
+    angular_te_of, hysteresis_and_rated, hysteresis_with, loaded_te_with, mesh_cycle_angles,
+    revolution, revolution_no_load, static_te_with, torque_fractions, CurveStats, LoadedTe,
+    RevolutionTe, StaticTe, TwistTable, HYSTERESIS_LEVELS, PLAY_ROUND_OFF,
 };
 use crate::units::ARCMIN_PER_RAD;
 use crate::wear::BearingWearRates;
@@ -428,18 +428,36 @@ pub(crate) fn analyse_profile(
 /// zero-torque row or, with part errors, over an output revolution), as
 /// [`analyse_profile`] finds them, without the loaded TE: the accuracy life's trials.
 ///
+/// A trial reads the curve at the three torques the quantities are defined at (zero, the
+/// measuring and the rated torque: [`hysteresis_with`] with one level), not on the stage's
+/// plotted grid: each loaded twist is the equilibrium at its torque whatever the levels solved
+/// before it, so the quantities are the stage analysis's to the solver's tolerance. With part
+/// errors and no angular TE in `[life]`, the revolution is not solved and the point's angular
+/// TE is NaN: a trial's point never leaves the life search, which reads only the quantities the
+/// spec bounds ([`crate::life::margins`]).
+///
 /// # Errors
-/// Solver failures; a quantity that is not finite.
+/// Solver failures; a quantity the spec needs that is not finite.
 fn accuracy_point(model: &Model, profile: &Profile, hours: f64) -> Result<AccuracyPoint> {
     let red = &model.reducer;
-    let (sa, _, (tables, mean, _)) = stage_hysteresis(model, profile)?;
+    let sa = StaticAnalysis::new(red, profile)?;
+    let phis = mesh_cycle_angles(red.geometry.pins, model.te.samples);
+    let (tables, mean) = hysteresis_with(
+        &sa,
+        &phis,
+        model.rating.rated_torque,
+        model.te.measuring_torque_fraction,
+        1,
+    )?;
     let acc = mean.accuracy();
     let angular_te = if red.errors.is_zero() {
         let forward: Vec<f64> = tables.iter().map(|t| t.positive[0]).collect();
         CurveStats::of(&forward).peak_to_peak
-    } else {
+    } else if model.life.angular_te_arcmin.is_some() {
         let rev = revolution(&sa, model.te.samples)?;
         angular_te_of(&sa, &rev, model.te.samples, model.rating.rated_torque)?
+    } else {
+        f64::NAN
     };
     let p = AccuracyPoint {
         hours,
@@ -449,9 +467,10 @@ fn accuracy_point(model: &Model, profile: &Profile, hours: f64) -> Result<Accura
         angular_te_arcmin: arcmin(angular_te),
         torsional_stiffness_nm_per_arcmin: acc.torsional_stiffness / ARCMIN_PER_RAD,
     };
+    let skipped = |name: &str| name == ANGULAR_TE.name && angular_te.is_nan();
     match ACCURACY
         .iter()
-        .find(|q| q.accuracy.is_some_and(|value| !value(&p).is_finite()))
+        .find(|q| !skipped(q.name) && q.accuracy.is_some_and(|value| !value(&p).is_finite()))
     {
         Some(q) => Err(Error::numerical(
             "accuracy life",
@@ -1015,24 +1034,35 @@ pub(crate) fn study_life(
         bearing_rates: rates,
         ..model.wear_inputs()
     };
+    let mut history = wear.clone();
     crate::life::accuracy_life(
         &model.life,
         &points,
         |h| {
-            let (map, pins) = match wear.replay(&base, h)? {
+            let (map, pins) = match history.replay(&base, h)? {
                 Some(state) => state,
                 None => {
-                    let mut w = model.wear.clone();
-                    w.stage_hours = vec![h];
-                    let hist = integrate(&WearInputs { wear: &w, ..base }, &|_, _| {})?;
-                    if let Some(l) = &hist.limit {
+                    // Beyond the hours integrated so far: the integration continued there,
+                    // and the trials between replayed from it.
+                    let next = if history.limit.is_none() && h > 0.0 {
+                        history.continued(&base, h)?
+                    } else {
+                        let mut w = model.wear.clone();
+                        w.stage_hours = vec![h];
+                        integrate(&WearInputs { wear: &w, ..base }, &|_, _| {})?
+                    };
+                    if let Some(l) = &next.limit {
                         return Err(crate::error::Error::numerical(
                             "accuracy life",
                             l.reason.clone(),
                         ));
                     }
-                    let pins = hist.pin_maps.first().cloned().unwrap_or_default();
-                    (hist.maps[0].clone(), pins)
+                    let state = (
+                        next.maps.last().cloned().unwrap_or_default(),
+                        next.pin_maps.last().cloned().unwrap_or_default(),
+                    );
+                    history = next;
+                    state
                 }
             };
             let max = map.iter().copied().fold(0.0, f64::max);

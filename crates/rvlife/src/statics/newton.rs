@@ -75,17 +75,33 @@ impl<'a> StaticAnalysis<'a> {
                 return Ok((ev, kt));
             }
             let kt = kt.as_ref().expect("tangent built above");
-            let mut kii = kt.view((2, 2), (m, m)).into_owned();
-            if damping > 0.0 {
-                for i in 0..m {
-                    kii[(i, i)] += damping * kii[(i, i)].abs();
-                }
-            }
+            let kii = kt.view((2, 2), (m, m)).into_owned();
             let rhs = DVector::from_iterator(m, (2..n).map(|i| ev.g[i]));
-            let step = kii
-                .lu()
-                .solve(&rhs)
-                .ok_or_else(|| self.fail(fr.phi, "the inner stiffness matrix is singular"))?;
+            // A coordinate without stiffness (a disc or crank free inside its bearing's
+            // clearance while no pin touches it that way) makes the tangent singular: damped
+            // against the largest diagonal term, it stays where it is while the others settle.
+            let largest = (0..m).map(|i| kii[(i, i)].abs()).fold(0.0, f64::max);
+            let damped = |d: f64| {
+                let mut k = kii.clone();
+                for i in 0..m {
+                    k[(i, i)] += d * kii[(i, i)].abs().max(1e-9 * largest);
+                }
+                k.lu().solve(&rhs)
+            };
+            let first = if damping > 0.0 {
+                damped(damping)
+            } else {
+                kii.clone().lu().solve(&rhs)
+            };
+            let step = match first {
+                Some(step) => step,
+                None => {
+                    damping = damping.max(1e-3);
+                    damped(damping).ok_or_else(|| {
+                        self.fail(fr.phi, "the inner stiffness matrix is singular")
+                    })?
+                }
+            };
             let m0 = merit(&ev);
             let base: Vec<f64> = z[..n].to_vec();
             // The elastic energy at the base and its slope along the step (`-g . step`),

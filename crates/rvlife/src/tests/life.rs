@@ -183,3 +183,61 @@ fn only_the_papers_reducer_is_compared_with_the_paper() {
         &Config::example().validate().unwrap()
     ));
 }
+
+/// The wear integration continued from its last stage (`WearHistory::continued`, the life
+/// search's step beyond the stages) keeps the history's stages, maps and profile updates, and
+/// its wear at the new last stage is an integration's from zero to the same hours: exactly
+/// (to 1e-12 of the deepest wear, round-off of the same sums) with profile updates where the
+/// old last stage is a multiple of `wear.profile_update_hours` (every update schedule passes
+/// through those multiples, so the two schedules are the same), and with the paper's model
+/// (one rate held throughout). Continuing again from the continued history is the same as
+/// continuing once. The trials of the life search between replay it (`replay`).
+#[test]
+fn wear_continued_from_the_last_stage_is_the_integration_from_zero() {
+    let example = Config::example().validate().unwrap();
+    let mut paper = model();
+    paper.wear.model = crate::wear::WearModelKind::Paper;
+    for (name, mut m) in [("example", example), ("paper model", paper)] {
+        m.wear.stage_hours = vec![0.0, 500.0];
+        let inputs = crate::wear::WearInputs {
+            bearing_rates: crate::config::bearing_rates(&m).unwrap(),
+            ..m.wear_inputs()
+        };
+        let short = crate::wear::integrate(&inputs, &|_, _| {}).unwrap();
+        let once = short.continued(&inputs, 1000.0).unwrap();
+        let twice = short
+            .continued(&inputs, 750.0)
+            .unwrap()
+            .continued(&inputs, 1000.0)
+            .unwrap();
+        // An integration from zero with these stages.
+        let from_zero = |stages: Vec<f64>| {
+            let mut w = m.wear.clone();
+            w.stage_hours = stages;
+            crate::wear::integrate(&crate::wear::WearInputs { wear: &w, ..inputs }, &|_, _| {})
+                .unwrap()
+        };
+        let long = from_zero(vec![0.0, 500.0, 1000.0]);
+        assert_eq!(once.hours, vec![0.0, 500.0, 1000.0], "{name}");
+        assert_eq!(once.maps[..2], short.maps[..], "{name}");
+        assert_eq!(once.update_hours, long.update_hours, "{name}");
+        let deepest = long.maps[2].iter().copied().fold(0.0, f64::max);
+        assert!(deepest > 0.0, "{name}");
+        assert_eq!(twice.update_hours, long.update_hours, "{name}");
+        for (got, x) in [(&once, "once"), (&twice, "twice")] {
+            let last = got.maps.last().unwrap();
+            for (a, b) in last.iter().zip(&long.maps[2]) {
+                assert!((a - b).abs() < 1e-12 * deepest, "{name} {x}: {a:e} {b:e}");
+            }
+        }
+        let (between, _) = once.replay(&inputs, 750.0).unwrap().unwrap();
+        let mid = from_zero(vec![0.0, 500.0, 750.0, 1000.0]);
+        for (a, b) in between.iter().zip(&mid.maps[2]) {
+            assert!(
+                (a - b).abs() < 1e-12 * deepest,
+                "{name} replayed: {a:e} {b:e}"
+            );
+        }
+        assert!(short.continued(&inputs, 400.0).is_err(), "{name}");
+    }
+}

@@ -154,3 +154,64 @@ fn single_stage_input_errors_name_their_key() {
         .replace("planets = 2 ", "planets = 2\ndiscs = 3\n");
     assert!(err(rv).contains("reducer.discs"));
 }
+
+/// The hysteresis curve of a single-stage drive with play in its eccentric bearings
+/// (clearances of 0.5-9.85 um, every crank angle of the study's mesh cycle, ten levels per
+/// quarter): every solve converges (the eccentric free inside its clearance while no pin
+/// holds it made the inner tangent singular, and the analysis failed). On the unmodified disc
+/// the play grows by the pitch-point closed form `c/(a Zc)` (docs/model.md section 5.10: the
+/// centre play `c/2` adds `c/(2 a Zc)` per side) within 1 % of that rise; on the preset's
+/// modified disc, which touches the pins on one flank each way and can also shift along the
+/// line of centres, by more than that and increasingly with the clearance.
+#[test]
+fn single_stage_hysteresis_with_play_in_the_eccentric_bearings() {
+    let backlash = |text: &str, c: f64| -> (f64, f64) {
+        let with = text.replace(
+            "crank_disc_clearance_um = 0.0",
+            &format!("crank_disc_clearance_um = {c}"),
+        );
+        assert_ne!(with, text, "the preset names the clearance");
+        let m = Config::from_toml_str(&with, "test")
+            .unwrap()
+            .validate()
+            .unwrap();
+        let profile = m.cycloid.profile(None).unwrap();
+        let phis = mesh_cycle_angles(m.reducer.geometry.pins, m.te.samples);
+        let (_, mean) = crate::te::hysteresis(
+            &m.reducer,
+            &profile,
+            &phis,
+            m.rating.rated_torque,
+            m.te.measuring_torque_fraction,
+            10,
+        )
+        .unwrap_or_else(|e| panic!("clearance {c} um: {e}"));
+        let geo = &m.reducer.geometry;
+        let rise = c * 1e-6 / (geo.eccentricity * geo.disc_teeth() as f64);
+        (mean.accuracy().backlash, rise)
+    };
+    let arcmin = |x: f64| x * ARCMIN_PER_RAD;
+    for (name, text, unmodified) in [
+        ("unmodified", config_text(2, 0.0), true),
+        ("preset", preset_text("single-stage").unwrap(), false),
+    ] {
+        let (b0, _) = backlash(&text, 0.0);
+        let mut last = 0.0;
+        for c in [0.5, 1.0, 2.07, 5.0, 9.85] {
+            let (b, rise) = backlash(&text, c);
+            let got = b - b0;
+            let ok = if unmodified {
+                (got - rise).abs() < 0.01 * rise
+            } else {
+                got > rise && got > last
+            };
+            assert!(
+                ok,
+                "{name}, clearance {c} um: the backlash rose {:.5} arcmin against {:.5}",
+                arcmin(got),
+                arcmin(rise)
+            );
+            last = got;
+        }
+    }
+}

@@ -489,19 +489,109 @@ pub(crate) fn integrate_on_schedule(
     integrate_inner(inputs, Some(update_hours), progress)
 }
 
+impl WearHistory {
+    /// This integration of `inputs` (by the model's rule, [`integrate`]) continued from its
+    /// last stage to `hours` (h), which becomes its last stage: the unfiltered state there
+    /// ([`WearHistory::replay`]'s) is the start, a wear rate is evaluated there and the
+    /// profile updates follow the same rule (the multiples of `wear.profile_update_hours`,
+    /// capped by `wear.max_wear_step_um`). It differs from an integration from zero to `hours`
+    /// only by that one extra profile update at the old last stage (within the integration's
+    /// own step error), and costs the hours added instead of all of them; the accuracy life's
+    /// search beyond the stages steps on this way and replays its trials in between.
+    ///
+    /// # Errors
+    /// As [`integrate`]; [`Error::Invalid`] naming `hours` if it is not beyond the last stage
+    /// or this history ended at a validity limit. A history that meets the validity limit on
+    /// the way is returned with [`WearHistory::limit`] set, as [`integrate`] returns it.
+    pub(crate) fn continued(&self, inputs: &WearInputs, hours: f64) -> Result<WearHistory> {
+        let end = self.hours.last().copied().unwrap_or(0.0);
+        if self.limit.is_some() || self.segments.is_empty() || hours.is_nan() || hours <= end {
+            return Err(Error::invalid(
+                "hours",
+                format!("{hours}"),
+                format!("beyond the last stage integrated ({end} h), without a validity limit"),
+            ));
+        }
+        let seg = self.segments.last().expect("checked: not empty");
+        let run_in = inputs.wear.running_in;
+        if update_step(inputs.wear).is_infinite() {
+            // One rate held throughout: the last segment runs on.
+            let (mut disc, mut pin) = (seg.disc.clone(), seg.pin.clone());
+            advance_depths(&mut disc, &seg.disc_rate, run_in, seg.start_h, hours);
+            advance_depths(&mut pin, &seg.pin_rate, run_in, seg.start_h, hours);
+            let map = BandSmoother::new(inputs)?.apply(&disc);
+            let mut next = self.clone();
+            next.limit = depth_limit(inputs, hours, &map);
+            if next.limit.is_none() {
+                next.hours.push(hours);
+                next.maps.push(map);
+                next.pin_maps.push(pin);
+            }
+            return Ok(next);
+        }
+        let (mut disc, mut pin) = (seg.disc.clone(), seg.pin.clone());
+        advance_depths(&mut disc, &seg.disc_rate, run_in, seg.start_h, end);
+        advance_depths(&mut pin, &seg.pin_rate, run_in, seg.start_h, end);
+        let mut wear = inputs.wear.clone();
+        wear.stage_hours = self.hours.clone();
+        wear.stage_hours.push(hours);
+        let start = Start {
+            hours: end,
+            disc,
+            pin,
+            history: self,
+        };
+        integrate_from(
+            &WearInputs {
+                wear: &wear,
+                ..*inputs
+            },
+            None,
+            Some(start),
+            &|_, _| {},
+        )
+    }
+}
+
+/// Hours between profile updates, h: infinite for the paper's model and without updates (one
+/// rate, of the unworn profile, held throughout).
+fn update_step(w: &WearParams) -> f64 {
+    if w.model == WearModelKind::Paper || w.update_hours <= 0.0 {
+        f64::INFINITY
+    } else {
+        w.update_hours
+    }
+}
+
+/// The state an integration continues from ([`WearHistory::continued`]): the unfiltered disc
+/// and pin wear (m) at `hours` (h), the last stage of `history`.
+struct Start<'a> {
+    hours: f64,
+    disc: Vec<f64>,
+    pin: Vec<f64>,
+    history: &'a WearHistory,
+}
+
 fn integrate_inner(
     inputs: &WearInputs,
     schedule: Option<&[f64]>,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<WearHistory> {
+    integrate_from(inputs, schedule, None, progress)
+}
+
+/// The integration loop of [`integrate`], from zero or from `start` (whose history's stages
+/// are the first of `inputs.wear.stage_hours`).
+fn integrate_from(
+    inputs: &WearInputs,
+    schedule: Option<&[f64]>,
+    start: Option<Start>,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<WearHistory> {
     let w = inputs.wear;
     let n = inputs.grid_points();
     let last = *w.stage_hours.last().expect("validated: at least one stage");
-    let step = if w.model == WearModelKind::Paper || w.update_hours <= 0.0 {
-        f64::INFINITY
-    } else {
-        w.update_hours
-    };
+    let step = update_step(w);
     // Expected number of rate evaluations, for the progress report.
     let total = match schedule {
         Some(sch) => 1 + sch.iter().filter(|&&x| x > 0.0 && x < last).count(),
@@ -528,6 +618,18 @@ fn integrate_inner(
     let mut maps = Vec::with_capacity(stages.len());
     let mut pin_maps = Vec::with_capacity(stages.len());
     let mut si = 0;
+    if let Some(st) = start {
+        h = st.disc;
+        hp = st.pin;
+        t = st.hours;
+        maps.extend(st.history.maps.iter().cloned());
+        pin_maps.extend(st.history.pin_maps.iter().cloned());
+        si = maps.len();
+        update_hours.extend(st.history.update_hours.iter().copied());
+        segments.extend(st.history.segments.iter().cloned());
+        // The budget was checked for the history's own horizon; the rate at the start is
+        // checked against the new one below.
+    }
     while si < stages.len() {
         if stages[si] <= t + eps {
             maps.push(smoother.apply(&h));
