@@ -205,7 +205,16 @@ impl<'a> StaticAnalysis<'a> {
         // is found near the start, the parts interfere.
         let mut hints = vec![f64::NAN; self.discs() * red.geometry.pins];
         if self.linearise(&fr, &start, &scale, &mut hints)?.violation > FEASIBILITY * UNIT {
-            match self.penalty_iteration(0.0, &fr, &scale, start, 1.0, max_trust, 1.0)? {
+            // Where the iteration runs out of programmes (a flank's kink, as below), once more
+            // from the start in a region of a sixty-fourth.
+            let mut found = Outcome::Unconverged;
+            for trust in [max_trust, max_trust / 64.0] {
+                found = self.penalty_iteration(0.0, &fr, &scale, start.clone(), 1.0, trust, 1.0)?;
+                if !matches!(found, Outcome::Unconverged) {
+                    break;
+                }
+            }
+            match found {
                 Outcome::Limit(_, z) => start = z,
                 Outcome::Violating => return Ok(None),
                 Outcome::Unconverged => return Err(fail("found no configuration")),
