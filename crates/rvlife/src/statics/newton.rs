@@ -75,23 +75,22 @@ impl<'a> StaticAnalysis<'a> {
                 return Ok((ev, kt));
             }
             let kt = kt.as_ref().expect("tangent built above");
-            let kii = kt.view((2, 2), (m, m)).into_owned();
             let rhs = DVector::from_iterator(m, (2..n).map(|i| ev.g[i]));
             // A coordinate without stiffness (a disc or crank free inside its bearing's
             // clearance while no pin touches it that way) makes the tangent singular: damped
             // against the largest diagonal term, it stays where it is while the others settle.
-            let largest = (0..m).map(|i| kii[(i, i)].abs()).fold(0.0, f64::max);
+            let largest = (2..n).map(|i| kt[(i, i)].abs()).fold(0.0, f64::max);
             let damped = |d: f64| {
-                let mut k = kii.clone();
+                let mut k = kt.view((2, 2), (m, m)).into_owned();
                 for i in 0..m {
-                    k[(i, i)] += d * kii[(i, i)].abs().max(1e-9 * largest);
+                    k[(i, i)] += d * kt[(2 + i, 2 + i)].abs().max(1e-9 * largest);
                 }
                 k.lu().solve(&rhs)
             };
             let first = if damping > 0.0 {
                 damped(damping)
             } else {
-                kii.clone().lu().solve(&rhs)
+                kt.view((2, 2), (m, m)).into_owned().lu().solve(&rhs)
             };
             let step = match first {
                 Some(step) => step,

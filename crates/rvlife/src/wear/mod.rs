@@ -402,6 +402,17 @@ pub(crate) struct WearSegment {
     pin_rate: Vec<f64>,
 }
 
+impl WearSegment {
+    /// The unfiltered disc and pin wear (m) at `hours` (h, at or after this update), the
+    /// rates held from it: the integration's own explicit step ([`advance_depths`]).
+    fn state_at(&self, run_in: RunningIn, hours: f64) -> (Vec<f64>, Vec<f64>) {
+        let (mut disc, mut pin) = (self.disc.clone(), self.pin.clone());
+        advance_depths(&mut disc, &self.disc_rate, run_in, self.start_h, hours);
+        advance_depths(&mut pin, &self.pin_rate, run_in, self.start_h, hours);
+        (disc, pin)
+    }
+}
+
 impl WearHistory {
     /// Number of wear-rate evaluations (profile updates + 1): `update_hours.len()`.
     pub(crate) fn rate_evaluations(&self) -> usize {
@@ -435,10 +446,7 @@ impl WearHistory {
         let Some(seg) = self.segments.iter().rev().find(|s| s.start_h <= hours) else {
             return Ok(None);
         };
-        let run_in = inputs.wear.running_in;
-        let (mut disc, mut pin) = (seg.disc.clone(), seg.pin.clone());
-        advance_depths(&mut disc, &seg.disc_rate, run_in, seg.start_h, hours);
-        advance_depths(&mut pin, &seg.pin_rate, run_in, seg.start_h, hours);
+        let (disc, pin) = seg.state_at(inputs.wear.running_in, hours);
         let map = BandSmoother::new(inputs)?.apply(&disc);
         if let Some(l) = depth_limit(inputs, hours, &map) {
             return Err(Error::numerical("wear integration", l.reason));
@@ -470,7 +478,7 @@ pub fn integrate(
     inputs: &WearInputs,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<WearHistory> {
-    integrate_inner(inputs, None, progress)
+    integrate_from(inputs, None, None, progress)
 }
 
 /// [`integrate`] with the profile updates at the given working hours (h, ascending; values
@@ -486,7 +494,7 @@ pub(crate) fn integrate_on_schedule(
     update_hours: &[f64],
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<WearHistory> {
-    integrate_inner(inputs, Some(update_hours), progress)
+    integrate_from(inputs, Some(update_hours), None, progress)
 }
 
 impl WearHistory {
@@ -516,9 +524,7 @@ impl WearHistory {
         let run_in = inputs.wear.running_in;
         if update_step(inputs.wear).is_infinite() {
             // One rate held throughout: the last segment runs on.
-            let (mut disc, mut pin) = (seg.disc.clone(), seg.pin.clone());
-            advance_depths(&mut disc, &seg.disc_rate, run_in, seg.start_h, hours);
-            advance_depths(&mut pin, &seg.pin_rate, run_in, seg.start_h, hours);
+            let (disc, pin) = seg.state_at(run_in, hours);
             let map = BandSmoother::new(inputs)?.apply(&disc);
             let mut next = self.clone();
             next.limit = depth_limit(inputs, hours, &map);
@@ -529,9 +535,7 @@ impl WearHistory {
             }
             return Ok(next);
         }
-        let (mut disc, mut pin) = (seg.disc.clone(), seg.pin.clone());
-        advance_depths(&mut disc, &seg.disc_rate, run_in, seg.start_h, end);
-        advance_depths(&mut pin, &seg.pin_rate, run_in, seg.start_h, end);
+        let (disc, pin) = seg.state_at(run_in, end);
         let mut wear = inputs.wear.clone();
         wear.stage_hours = self.hours.clone();
         wear.stage_hours.push(hours);
@@ -570,14 +574,6 @@ struct Start<'a> {
     disc: Vec<f64>,
     pin: Vec<f64>,
     history: &'a WearHistory,
-}
-
-fn integrate_inner(
-    inputs: &WearInputs,
-    schedule: Option<&[f64]>,
-    progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<WearHistory> {
-    integrate_from(inputs, schedule, None, progress)
 }
 
 /// The integration loop of [`integrate`], from zero or from `start` (whose history's stages
