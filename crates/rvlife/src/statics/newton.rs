@@ -56,6 +56,12 @@ impl<'a> StaticAnalysis<'a> {
         // Whether the line search also takes the elastic energy as its merit: from the first
         // step that the residual norm cut below a sixteenth (the search on it crawls there).
         let mut energy_merit = false;
+        // The residual of every step so far: a solve whose residual has not halved in eight
+        // steps is crawling (each step of the tangent runs a body that is free inside its
+        // bearing's clearance far into a contact the tangent does not see, and the
+        // backtracking keeps a sliver of it); from then on each step goes to the energy's
+        // minimum along it ([`StaticAnalysis::line_minimum`]).
+        let mut history: Vec<f64> = Vec::with_capacity(100);
         for _ in 0..100 {
             let res = self.inner_residual(&ev.g);
             let scale = ev.scale.max(force_floor).max(1e-300);
@@ -65,6 +71,8 @@ impl<'a> StaticAnalysis<'a> {
                 kt = Some(self.tangent(k_struct, &ev, fr, z));
             }
             last_res = res;
+            history.push(res);
+            let crawl = history.len() > 8 && res > 0.5 * history[history.len() - 9];
             // Converged to a hundredth of the acceptance tolerance, or at the round-off floor of
             // the forces (the residual stopped falling): return the tangent at the solution.
             if res <= 0.01 * RESIDUAL_TOLERANCE * scale || stalled >= 2 {
@@ -101,6 +109,15 @@ impl<'a> StaticAnalysis<'a> {
                     })?
                 }
             };
+            if crawl {
+                if let Some(next) = self.line_minimum(fr, z, &step, memory, &ev)? {
+                    let fell = self.inner_residual(&next.g) < 0.999 * res;
+                    stalled = if fell { 0 } else { stalled + 1 };
+                    damping = 0.0;
+                    ev = next;
+                    continue;
+                }
+            }
             let m0 = merit(&ev);
             let base: Vec<f64> = z[..n].to_vec();
             // The elastic energy at the base and its slope along the step (`-g . step`),
@@ -171,6 +188,92 @@ impl<'a> StaticAnalysis<'a> {
             fr.phi,
             "the bearing equilibrium did not converge in 100 Newton steps",
         ))
+    }
+
+    /// The elastic energy's minimum along the inner step `step` (the coordinates `2..n` of
+    /// `z`, evaluated as `ev`): the root of the energy's slope along the step,
+    /// `s(a) = -g(z + a step) . step` (the generalised forces `g` are the energy's negative
+    /// gradient), bracketed by `s(0) < 0` and the first of `a = 1, 1/2, 1/4, ...` whose
+    /// evaluation succeeds, and found by the Illinois method to a thousandth of `s(0)`; the
+    /// full step where the slope is still negative there. `z` is left at the point returned.
+    /// `None` (with `z` unchanged) where the step is no descent direction or no trial point can
+    /// be evaluated.
+    pub(super) fn line_minimum(
+        &self,
+        fr: &Frame,
+        z: &mut [f64],
+        step: &DVector<f64>,
+        memory: &mut [Vec<PinMemory>],
+        ev: &Eval,
+    ) -> Result<Option<Eval>> {
+        let n = self.red.layout().dofs();
+        let m = n - 2;
+        let base: Vec<f64> = z[..n].to_vec();
+        let slope = |g: &[f64]| -> f64 { -(0..m).map(|i| g[2 + i] * step[i]).sum::<f64>() };
+        let s0 = slope(&ev.g);
+        if s0.is_nan() || s0 >= 0.0 {
+            return Ok(None);
+        }
+        let at = |z: &mut [f64], a: f64, memory: &mut [Vec<PinMemory>]| {
+            for i in 0..m {
+                z[2 + i] = base[2 + i] + a * step[i];
+            }
+            self.eval_bearings(fr, z, memory, true).ok()
+        };
+        // The far end of the bracket: the longest step of 1, 1/2, 1/4, ... that evaluates.
+        let mut hi = 1.0;
+        let far = loop {
+            if let Some(e) = at(z, hi, memory) {
+                break e;
+            }
+            hi *= 0.5;
+            if hi < 1e-12 {
+                z[..n].copy_from_slice(&base);
+                return Ok(None);
+            }
+        };
+        let mut s_hi = slope(&far.g);
+        if s_hi <= 0.0 {
+            return Ok(Some(far));
+        }
+        let (mut lo, mut s_lo) = (0.0, s0);
+        // Which end moved last (the Illinois method halves the other end's slope when the
+        // same end moves twice).
+        let mut last_side = 0i8;
+        let (mut best, mut best_a) = (far, hi);
+        for _ in 0..60 {
+            let a = hi - s_hi * (hi - lo) / (s_hi - s_lo);
+            let a = if a > lo && a < hi { a } else { 0.5 * (lo + hi) };
+            let Some(e) = at(z, a, memory) else {
+                // Not evaluable there: the minimum is nearer.
+                hi = a;
+                continue;
+            };
+            let s = slope(&e.g);
+            (best, best_a) = (e, a);
+            if s.abs() <= 1e-3 * s0.abs() || hi - lo <= 1e-12 * hi {
+                break;
+            }
+            if s < 0.0 {
+                lo = a;
+                s_lo = s;
+                if last_side == -1 {
+                    s_hi *= 0.5;
+                }
+                last_side = -1;
+            } else {
+                hi = a;
+                s_hi = s;
+                if last_side == 1 {
+                    s_lo *= 0.5;
+                }
+                last_side = 1;
+            }
+        }
+        for i in 0..m {
+            z[2 + i] = base[2 + i] + best_a * step[i];
+        }
+        Ok(Some(best))
     }
 
     /// Elastic energy (J) of the configuration `z` evaluated as `ev`: the meshes' and the

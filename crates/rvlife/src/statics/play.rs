@@ -85,6 +85,11 @@ const RETRY_PENALTY: f64 = 1e4;
 /// Largest weight of the violation ([`PENALTY`]).
 const MAX_PENALTY: f64 = 1e8;
 
+/// Progress, as a fraction of the violation, below which the minimisation of the violation
+/// alone ends ([`StaticAnalysis::penalty_iteration`] with `s = 0`): its least value is reached
+/// to this fraction, so a least violation of 1e-12 m or more (preload) is told from zero.
+const VIOLATION_PROGRESS: f64 = 1e-5;
+
 /// Largest violation of the constraints (m, summed over them) of an accepted no-load limit.
 const FEASIBILITY: f64 = 1e-12;
 
@@ -282,7 +287,16 @@ impl<'a> StaticAnalysis<'a> {
                 trust *= 0.25;
             }
             last_predicted = predicted;
-            if predicted <= tolerance || trust < MIN_TRUST {
+            // The violation alone is minimised to a hundred-thousandth of itself: where it is not zero
+            // (preload) its least value lies in a valley along which the twist is free, and
+            // the programmes' progress along it, a few millionths of the violation, would
+            // never fall to the twist's tolerance.
+            let converged = if s == 0.0 {
+                predicted <= tolerance.max(VIOLATION_PROGRESS * here.violation)
+            } else {
+                predicted <= tolerance
+            };
+            if converged || trust < MIN_TRUST {
                 // Converged on the penalty. A configuration that still violates the
                 // constraints: the weight was below a multiplier (raise it and go on), or,
                 // at the largest weight, no configuration satisfies them (preload).

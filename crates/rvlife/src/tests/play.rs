@@ -161,3 +161,48 @@ fn hysteresis_over_clearances_on_every_preset() {
         );
     }
 }
+
+/// `rvlife hysteresis` as the command runs it ([`crate::api::hysteresis_curve`]: the preset's
+/// crank angles per mesh cycle, 10 torque levels per side, the twist shares) where the inner
+/// solve crawled and failed after 100 steps (a disc held only by its pins, its crank bearings
+/// open in their clearance, docs/model.md section 5.3): the RV presets with 9.85-20 um in both
+/// bearing kinds, the single-stage preset with 20 um in its eccentric bearings. Every curve is
+/// solved, every twist is finite and its backlash is positive (the bearings' play).
+#[test]
+fn hysteresis_where_the_inner_solve_crawled() {
+    let cases = [
+        ("rv-40e", 2, 9.85e-6),
+        ("rv-40e", 2, 20e-6),
+        ("rv-20e", 2, 13e-6),
+        ("single-stage", 0, 20e-6),
+        ("single-stage", 2, 20e-6),
+    ];
+    for &(name, kind, c) in &cases {
+        let mut m = Config::from_toml_str(&preset_text(name).unwrap(), "test")
+            .unwrap()
+            .validate()
+            .unwrap();
+        if kind != 1 {
+            m.reducer.bearings.disc.clearance = c;
+        }
+        if kind != 0 {
+            m.reducer.bearings.carrier.clearance = c;
+        }
+        let new = crate::api::Wear {
+            wear_um: None,
+            hours: None,
+        };
+        let r =
+            crate::api::hysteresis_curve(&m, new, 0.0, 10, crate::api::Spelling::Cli, &|_, _| {})
+                .unwrap_or_else(|e| panic!("{name}, bearings {kind}, clearance {c:e}: {e}"));
+        println!(
+            "{name} bearings {kind} clearance {c:e}: backlash {:.4} arcmin",
+            r.backlash_arcmin
+        );
+        assert!(
+            r.twist_arcmin.iter().all(|x| x.is_finite()) && r.backlash_arcmin > 0.0,
+            "{name}, bearings {kind}, clearance {c:e}: {:?}",
+            r.twist_arcmin
+        );
+    }
+}
