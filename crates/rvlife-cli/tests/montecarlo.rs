@@ -401,6 +401,40 @@ fn montecarlo_sample_whose_no_load_problem_crept_is_analysed() {
     }
 }
 
+/// Sample 9 of a 200-sample run of the paper's preset as shipped (no play): on its worn
+/// stages the two rigid first contacts leave a window of 0.004 arcmin while a pin near the line
+/// of centres penetrates throughout it, so the reducer is preloaded (docs/model.md section
+/// 5.12); the no-load limit took the window's edge and the twist at 3 % of the rated torque
+/// fell below it. The sample is analysed.
+#[test]
+fn montecarlo_sample_preloaded_without_play_is_analysed() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = common::ok(&common::rvlife(["example", "--preset", "paper"]), "paper");
+    let cfg = common::write_config(dir.path(), "paper.toml", &text);
+    let out = dir.path().join("mc");
+    std::env::set_var("RAYON_NUM_THREADS", "2");
+    let o = rvlife_within(
+        300,
+        [
+            std::ffi::OsString::from("montecarlo"),
+            cfg.into(),
+            "--samples".into(),
+            "200".into(),
+            "--shard".into(),
+            "10/200".into(),
+            "--keep-going".into(),
+            "--out".into(),
+            out.clone().into(),
+        ],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let samples = std::fs::read_to_string(out.join("samples.csv")).unwrap();
+    assert!(
+        samples.lines().nth(1).unwrap().starts_with("9,ok,"),
+        "{samples}"
+    );
+}
+
 /// Every built-in reducer as shipped (`rvlife example --preset NAME`: its own `[tolerances]`
 /// and `[life]`; `rv-40e` is the example) gives a verdict from `run` and from `montecarlo
 /// --samples 50`, each the first result line and the first section of its report, exit 0

@@ -90,6 +90,11 @@ const MAX_PENALTY: f64 = 1e8;
 /// to this fraction, so a least violation of 1e-12 m or more (preload) is told from zero.
 const VIOLATION_PROGRESS: f64 = 1e-5;
 
+/// Penetration of a pin (m) in the rigid kinematics of a reducer without play beyond which its
+/// parts interfere (preload): about the first contacts' round-off at the pin circle (1e-9
+/// rad of twist, `te::PLAY_ROUND_OFF`, at a pin circle of 0.1 m).
+const INTERFERENCE: f64 = 1e-10;
+
 /// Largest violation of the constraints (m, summed over them) of an accepted no-load limit.
 const FEASIBILITY: f64 = 1e-12;
 
@@ -145,10 +150,24 @@ impl<'a> StaticAnalysis<'a> {
     /// in [`MAX_ITERATIONS`], or the contact geometry cannot be evaluated.
     pub(crate) fn no_load(&self, phi: f64, direction: f64, psi0: f64) -> Result<NoLoad> {
         let s = sense(direction);
-        if self.red.max_half_play() <= 0.0 || self.red.support != Support::Bearings {
+        if self.red.support != Support::Bearings {
             return Ok(NoLoad::Limit {
                 twist: psi0,
                 rest: None,
+            });
+        }
+        if self.red.max_half_play() <= 0.0 {
+            // Without play the unloaded mechanism has one configuration per twist, the rigid
+            // kinematics: the limit is the rigid first contact unless a pin that neither way's
+            // first contact sees (one near the line of centres, whose gap the twist hardly
+            // moves) already penetrates there.
+            return Ok(if self.penetrates_at(phi, psi0)? {
+                NoLoad::Preloaded
+            } else {
+                NoLoad::Limit {
+                    twist: psi0,
+                    rest: None,
+                }
             });
         }
         let (phi_free, shift) = self.play_taken_up(phi, s);
@@ -171,6 +190,25 @@ impl<'a> StaticAnalysis<'a> {
             twist: twist + shift,
             rest: Some(Box::new(rest)),
         })
+    }
+
+    /// Whether a pin of a disc penetrates its flank by more than [`INTERFERENCE`] in the
+    /// rigid kinematics at crank angle `phi` and carrier twist `psi` (rad): parts that
+    /// interfere there, so that a reducer without play is preloaded (docs/model.md section
+    /// 5.12).
+    ///
+    /// # Errors
+    /// [`Error::Numerical`] if the contact geometry cannot be evaluated.
+    fn penetrates_at(&self, phi: f64, psi: f64) -> Result<bool> {
+        for d in 0..self.discs() {
+            for j in 0..self.red.geometry.pins {
+                let mut hint = f64::NAN;
+                if self.mode_gap(phi, d, j, psi, &mut hint)?.0 < -INTERFERENCE {
+                    return Ok(true);
+                }
+            }
+        }
+        Ok(false)
     }
 
     /// [`StaticAnalysis::no_load`] of the analysed reducer at its crank angle `phi`, direction
