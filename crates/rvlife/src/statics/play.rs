@@ -325,10 +325,10 @@ impl<'a> StaticAnalysis<'a> {
                 trust *= 0.25;
             }
             last_predicted = predicted;
-            // The violation alone is minimised to a hundred-thousandth of itself: where it is not zero
-            // (preload) its least value lies in a valley along which the twist is free, and
-            // the programmes' progress along it, a few millionths of the violation, would
-            // never fall to the twist's tolerance.
+            // The violation alone is minimised to a hundred-thousandth of itself: where it is
+            // not zero (preload) its least value lies in a valley along which the twist is
+            // free, and the programmes' progress along it, a few millionths of the violation,
+            // would never fall to the twist's tolerance.
             let converged = if s == 0.0 {
                 predicted <= tolerance.max(VIOLATION_PROGRESS * here.violation)
             } else {
