@@ -47,7 +47,6 @@ impl<'a> StaticAnalysis<'a> {
         // The tangent is kept while the residual falls at least fourfold per step (a modified
         // Newton method), and rebuilt otherwise.
         let mut kt: Option<DMatrix<f64>> = None;
-        let mut last_res = f64::INFINITY;
         // Levenberg-Marquardt damping of the Newton step (relative to the diagonal), raised
         // when a step of the exact tangent finds no descent away from the round-off floor (a
         // disc on a ridge of a worn flank, where the tangent is indefinite), reset after a
@@ -56,8 +55,8 @@ impl<'a> StaticAnalysis<'a> {
         // Whether the line search also takes the elastic energy as its merit: from the first
         // step that the residual norm cut below a sixteenth (the search on it crawls there).
         let mut energy_merit = false;
-        // The residual of every step so far: a solve whose residual has not halved in eight
-        // steps is crawling (each step of the tangent runs a body that is free inside its
+        // The residual of every step so far (the last one decides whether the tangent is
+        // rebuilt): a solve whose residual has not halved in eight steps is crawling (each step of the tangent runs a body that is free inside its
         // bearing's clearance far into a contact the tangent does not see, and the
         // backtracking keeps a sliver of it); from then on each step goes to the energy's
         // minimum along it ([`StaticAnalysis::line_minimum`]).
@@ -66,11 +65,11 @@ impl<'a> StaticAnalysis<'a> {
             let res = self.inner_residual(&ev.g);
             let scale = ev.scale.max(force_floor).max(1e-300);
             // Whether `kt` is the tangent at the current state `ev`.
+            let last_res = history.last().copied().unwrap_or(f64::INFINITY);
             let fresh = kt.is_none() || res > 0.25 * last_res;
             if fresh {
                 kt = Some(self.tangent(k_struct, &ev, fr, z));
             }
-            last_res = res;
             history.push(res);
             let crawl = history.len() > 8 && res > 0.5 * history[history.len() - 9];
             // Converged to a hundredth of the acceptance tolerance, or at the round-off floor of

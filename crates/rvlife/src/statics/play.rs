@@ -201,9 +201,9 @@ impl<'a> StaticAnalysis<'a> {
     /// [`Error::Numerical`] if the contact geometry cannot be evaluated.
     fn penetrates_at(&self, phi: f64, psi: f64) -> Result<bool> {
         for d in 0..self.discs() {
+            let (pose, _) = self.mode_pose(phi, d, psi);
             for j in 0..self.red.geometry.pins {
-                let mut hint = f64::NAN;
-                if self.mode_gap(phi, d, j, psi, &mut hint)?.0 < -INTERFERENCE {
+                if self.eval_pin(&pose, j, f64::NAN)?.gap < -INTERFERENCE {
                     return Ok(true);
                 }
             }

@@ -17,6 +17,22 @@ fn example() -> Model {
         .unwrap()
 }
 
+/// The preset `name` validated, with the radial clearance `c` (m) in its crank-disc bearings
+/// (`kind` 0), its crank-carrier bearings (1) or both (2).
+fn preset_with_clearance(name: &str, kind: usize, c: f64) -> Model {
+    let mut m = Config::from_toml_str(&preset_text(name).unwrap(), "test")
+        .unwrap()
+        .validate()
+        .unwrap();
+    if kind != 1 {
+        m.reducer.bearings.disc.clearance = c;
+    }
+    if kind != 0 {
+        m.reducer.bearings.carrier.clearance = c;
+    }
+    m
+}
+
 /// The example's disc new and at four stages of its own wear (1 250 to 7 500 h).
 fn stages(m: &Model) -> Vec<(f64, Profile)> {
     let mut m = m.clone();
@@ -125,19 +141,10 @@ fn hysteresis_over_clearances_on_every_preset() {
     let results: Vec<(String, usize, f64, f64)> = cases
         .par_iter()
         .map(|&(name, kind, c)| {
-            let m = Config::from_toml_str(&preset_text(name).unwrap(), "test")
-                .unwrap()
-                .validate()
-                .unwrap();
-            let mut red = m.reducer.clone();
-            if kind != 1 {
-                red.bearings.disc.clearance = c;
-            }
-            if kind != 0 {
-                red.bearings.carrier.clearance = c;
-            }
+            let m = preset_with_clearance(name, kind, c);
+            let red = &m.reducer;
             let profile = m.profile().unwrap();
-            let sa = StaticAnalysis::new(&red, &profile).unwrap();
+            let sa = StaticAnalysis::new(red, &profile).unwrap();
             let phis = mesh_cycle_angles(red.geometry.pins, 8);
             let (_, mean) = hysteresis_with(&sa, &phis, m.rating.rated_torque, 0.03, 2)
                 .unwrap_or_else(|e| panic!("{name}, bearings {kind}, clearance {c:e}: {e}"));
@@ -178,16 +185,7 @@ fn hysteresis_where_the_inner_solve_crawled() {
         ("single-stage", 2, 20e-6),
     ];
     for &(name, kind, c) in &cases {
-        let mut m = Config::from_toml_str(&preset_text(name).unwrap(), "test")
-            .unwrap()
-            .validate()
-            .unwrap();
-        if kind != 1 {
-            m.reducer.bearings.disc.clearance = c;
-        }
-        if kind != 0 {
-            m.reducer.bearings.carrier.clearance = c;
-        }
+        let m = preset_with_clearance(name, kind, c);
         let new = crate::api::Wear {
             wear_um: None,
             hours: None,
