@@ -34,8 +34,8 @@ use crate::life::accuracy_life;
 use crate::quantities::{AccuracyPoint, ACCURACY};
 use crate::statics::StaticAnalysis;
 use crate::te::{
-    angular_te_of, has_play, hysteresis_with, mesh_cycle_angles, revolution_perturbed,
-    zero_torque_over_revolution,
+    angular_te_from, has_play, hysteresis_with_from, mesh_cycle_angles, revolution_perturbed,
+    zero_torque_over_revolution_from, Starts,
 };
 use crate::units::ARCMIN_PER_RAD;
 
@@ -322,12 +322,16 @@ pub(crate) fn sample_model(model: &Model, seed: u64, index: usize) -> Model {
 /// `with_angular_te` (a trial of the life search whose spec does not bound the angular TE) the
 /// revolution is not solved and the point's angular TE is NaN: such a point never leaves the
 /// life search, which reads only the quantities the spec bounds ([`crate::life::margins`]).
+/// The revolution's zero-torque searches and the hysteresis curve's crank angles start from
+/// `warm`, the same sample's last state ([`zero_torque_over_revolution_from`],
+/// [`hysteresis_with_from`]), and leave this one's there.
 fn accuracy_at(
     model: &Model,
     wear: Option<WearMap>,
     hours: f64,
     per_cycle: usize,
     with_angular_te: bool,
+    warm: &mut Starts,
 ) -> Result<AccuracyPoint> {
     let profile = model.cycloid.profile(wear)?;
     let sa = StaticAnalysis::new(&model.reducer, &profile)?;
@@ -338,13 +342,20 @@ fn accuracy_at(
     let angular_te = if !with_angular_te {
         f64::NAN
     } else if has_play(&sa) {
-        zero_torque_over_revolution(&sa, per_cycle, rated)?.0
+        zero_torque_over_revolution_from(&sa, per_cycle, rated, &mut warm.revolution)?.0
     } else {
         let rev = revolution_perturbed(&sa, per_cycle)?;
-        angular_te_of(&sa, &rev, per_cycle, rated)?
+        angular_te_from(&sa, &rev, per_cycle, rated, &mut warm.revolution)?
     };
     let phis = mesh_cycle_angles(model.cycloid.geometry.pins, per_cycle);
-    let (_, mean) = hysteresis_with(&sa, &phis, rated, model.te.measuring_torque_fraction, 1)?;
+    let (_, mean) = hysteresis_with_from(
+        &sa,
+        &phis,
+        rated,
+        model.te.measuring_torque_fraction,
+        1,
+        &mut warm.cranks,
+    )?;
     let acc = mean.accuracy();
     let values = [
         acc.backlash,
@@ -406,7 +417,9 @@ pub(crate) fn run_sample(
     };
     let per_cycle = plan.samples_per_mesh_cycle;
     // A stage reports every quantity; a trial of the life search solves the angular TE only
-    // where the spec bounds it.
+    // where the spec bounds it. The stages and trials are solved in order, each revolution
+    // started from the last one's.
+    let warm = std::cell::RefCell::new(Starts::default());
     let at = |i: usize, angular_te: bool| {
         let pins = wear.pin_maps.get(i).map_or(&[][..], |p| &p[..]);
         let worn = crate::config::worn_parts(&m, wear.bearing_rates, wear.hours[i], pins);
@@ -416,6 +429,7 @@ pub(crate) fn run_sample(
             wear.hours[i],
             per_cycle,
             angular_te,
+            &mut warm.borrow_mut(),
         )
     };
     let mut points = Vec::new();

@@ -316,6 +316,108 @@ pub(crate) struct ZeroTorque {
     pub preloaded: bool,
 }
 
+/// The no-load limits of one crank angle each way ([`StaticAnalysis::no_load`]) and where the
+/// loaded solves of each way start.
+struct Limits {
+    /// The twist each way from which loaded solves start (rad): the rigid first contact, no
+    /// farther behind zero than `PRELOAD_START_RANGE` where the rigid contacts cross.
+    start: [f64; 2],
+    /// Whether the rigid first contacts cross (part errors or modifications that interfere).
+    crossed: bool,
+    /// Forward (counter-clockwise) and reverse; the reverse is not looked for where the
+    /// forward is preloaded (`NoLoad::Preloaded { least: None }` then).
+    limits: [NoLoad; 2],
+}
+
+impl Limits {
+    /// The limits of crank angle `phi`, each from the rigid first contact of its direction.
+    ///
+    /// # Errors
+    /// Those of the solver.
+    fn at(sa: &StaticAnalysis, phi: f64) -> Result<Limits> {
+        Self::at_from(sa, phi, &ZeroTorqueStart::default())
+    }
+
+    /// [`Limits::at`] with each way's contact problem started from the configuration `warm`
+    /// holds for it, where it holds one.
+    ///
+    /// # Errors
+    /// Those of the solver.
+    fn at_from(sa: &StaticAnalysis, phi: f64, warm: &ZeroTorqueStart) -> Result<Limits> {
+        let forward = sa.first_contact(phi, 1.0)?;
+        let reverse = sa.first_contact(phi, -1.0)?;
+        let crossed = forward < reverse - PLAY_ROUND_OFF;
+        // Each way from behind the rest position: the rigid first contact, which for an
+        // interfering disc can lie far beyond it (a pin near the line of centres), so no
+        // farther than `PRELOAD_START_RANGE`.
+        let start = if crossed {
+            [
+                forward.max(-PRELOAD_START_RANGE),
+                reverse.min(PRELOAD_START_RANGE),
+            ]
+        } else {
+            [forward, reverse]
+        };
+        // Where the rigid contacts cross, the contact problem starts from between them.
+        let from = if crossed {
+            let mid = (0.5 * (forward + reverse)).clamp(-PRELOAD_START_RANGE, PRELOAD_START_RANGE);
+            [mid, mid]
+        } else {
+            start
+        };
+        // Parts that interfere one way are preloaded whatever the other way finds: its limit is
+        // looked for only after a limit the first way.
+        let up = sa.no_load_from(phi, 1.0, from[0], warm.configs[0].as_deref())?;
+        let down = match up {
+            NoLoad::Preloaded { .. } => NoLoad::Preloaded { least: None },
+            NoLoad::Limit { .. } => {
+                sa.no_load_from(phi, -1.0, from[1], warm.configs[1].as_deref())?
+            }
+        };
+        Ok(Limits {
+            start,
+            crossed,
+            limits: [up, down],
+        })
+    }
+
+    /// Each way's configuration at the end of its contact problem (the limit's, or the one
+    /// that violates the constraints least), where it has one.
+    fn configs(&self) -> [Option<Vec<f64>>; 2] {
+        [0, 1].map(|k| match &self.limits[k] {
+            NoLoad::Limit { rest: Some(r), .. } | NoLoad::Preloaded { least: Some(r) } => {
+                Some(r.deviations.clone())
+            }
+            _ => None,
+        })
+    }
+
+    /// The two limits' twists `[psi(0+), psi(0-)]` (rad) where the reducer has play here: both
+    /// ways found a limit, in order, and (where the rigid contacts cross) through the
+    /// bearings' play. `None` where it is preloaded.
+    fn play(&self) -> Option<[f64; 2]> {
+        match &self.limits {
+            [NoLoad::Limit {
+                twist: up,
+                rest: rest_up,
+            }, NoLoad::Limit { twist: down, .. }]
+                if *up >= down - PLAY_ROUND_OFF && !(self.crossed && rest_up.is_none()) =>
+            {
+                Some([*up, *down])
+            }
+            _ => None,
+        }
+    }
+}
+
+/// The zero-torque twist of a preloaded stage (rad): the secant at zero torque between the
+/// lightest solves each way, `u` (positive torque) and `d` (negative), their mean where the
+/// torques are equal (docs/model.md section 5.12).
+fn preload_zero(u: &StaticSolution, d: &StaticSolution) -> f64 {
+    let (tu, td) = (u.output_torque.abs(), d.output_torque.abs());
+    d.twist + (u.twist - d.twist) * td / (tu + td)
+}
+
 /// The zero-torque state of crank angle `phi`.
 ///
 /// The two limits are the no-load limits of the contact problem
@@ -329,44 +431,21 @@ pub(crate) struct ZeroTorque {
 /// # Errors
 /// Those of the solver.
 pub(crate) fn zero_torque(sa: &StaticAnalysis, phi: f64, rated: f64) -> Result<ZeroTorque> {
-    let forward = sa.first_contact(phi, 1.0)?;
-    let reverse = sa.first_contact(phi, -1.0)?;
-    let crossed = forward < reverse - PLAY_ROUND_OFF;
-    // Each way from behind the rest position: the rigid first contact, which for an
-    // interfering disc can lie far beyond it (a pin near the line of centres), so no farther
-    // than `PRELOAD_START_RANGE`.
-    let start = if crossed {
-        [
-            forward.max(-PRELOAD_START_RANGE),
-            reverse.min(PRELOAD_START_RANGE),
-        ]
-    } else {
-        [forward, reverse]
-    };
-    // Where the rigid contacts cross, the contact problem starts from between them.
-    let from = if crossed {
-        let mid = (0.5 * (forward + reverse)).clamp(-PRELOAD_START_RANGE, PRELOAD_START_RANGE);
-        [mid, mid]
-    } else {
-        start
-    };
-    // Parts that interfere one way are preloaded whatever the other way finds: its limit is
-    // looked for only after a limit the first way.
-    let up = sa.no_load(phi, 1.0, from[0])?;
-    let down = match up {
-        NoLoad::Preloaded => NoLoad::Preloaded,
-        NoLoad::Limit { .. } => sa.no_load(phi, -1.0, from[1])?,
-    };
-    let limits = [up, down];
-    match limits {
-        [NoLoad::Limit {
-            twist: up,
-            rest: rest_up,
-        }, NoLoad::Limit {
-            twist: down,
-            rest: rest_down,
-        }] if up >= down - PLAY_ROUND_OFF && !(crossed && rest_up.is_none()) => Ok(ZeroTorque {
-            twist: [up, down],
+    zero_torque_from(sa, phi, rated, Limits::at(sa, phi)?)
+}
+
+/// [`zero_torque`] from the limits `lim` of crank angle `phi`.
+fn zero_torque_from(sa: &StaticAnalysis, phi: f64, rated: f64, lim: Limits) -> Result<ZeroTorque> {
+    let start = lim.start;
+    if let Some(twist) = lim.play() {
+        let [NoLoad::Limit { rest: rest_up, .. }, NoLoad::Limit {
+            rest: rest_down, ..
+        }] = lim.limits
+        else {
+            unreachable!("play() holds two limits")
+        };
+        return Ok(ZeroTorque {
+            twist,
             start,
             // Solves start from the rigid first contact (beside the rest configuration where
             // it lies beyond it in the solve's direction).
@@ -377,72 +456,186 @@ pub(crate) fn zero_torque(sa: &StaticAnalysis, phi: f64, rated: f64) -> Result<Z
                 })
             }),
             preloaded: false,
-        }),
-        _ => {
-            // Preloaded: solves each way bracket the one zero-torque equilibrium. Each way the
-            // torque comes down from `PRELOAD_DESCENT_FRACTION` of the rated torque, where the
-            // preloaded contacts are settled, halving with each solve started from the one
-            // above, to `PRELOAD_PROBE_FRACTION` (or as far as the solves converge).
-            // (Where the first level does not converge, from 4 or 16 times it.)
-            let ways = [1.0, -1.0].map(|s| {
-                let k = usize::from(s < 0.0);
-                let mut done: Vec<StaticSolution> = Vec::new();
-                let mut first = Err(Error::numerical("preload", "no level tried"));
-                for top in [1.0, 4.0, 16.0] {
-                    first = sa.solve_near(
-                        phi,
-                        s * top * PRELOAD_DESCENT_FRACTION * rated,
-                        start[k],
-                        None,
-                    );
-                    if first.is_ok() {
-                        break;
-                    }
-                }
-                done.push(first?);
-                // The levels below the first, each half the one above, down to the probe.
-                let levels: Vec<f64> =
-                    std::iter::successors(Some(done[0].output_torque.abs() / rated), |&f| {
-                        (f >= 2.0 * 0.99 * PRELOAD_PROBE_FRACTION).then_some(0.5 * f)
-                    })
-                    .skip(1)
-                    .collect();
-                // The lightest level straight from the first where that converges; else the
-                // halving descent, each solve from the one above.
-                let solve = |f: f64, from: Option<&StaticSolution>| {
-                    sa.solve_near(phi, s * f * rated, start[k], from)
-                };
-                if let Some(Ok(sol)) = levels.last().map(|&f| solve(f, done.last())) {
-                    done.push(sol);
-                    return Ok(done);
-                }
-                for &f in &levels {
-                    match solve(f, done.last()) {
-                        Ok(sol) => done.push(sol),
-                        Err(_) => break,
-                    }
-                }
-                Ok(done)
-            });
-            let [up, down] = ways;
-            let (mut up, mut down) = (up?, down?);
-            // The curve through zero is smooth: the secant between the lightest solves each way
-            // at zero torque (their mean where the torques are equal).
-            let (Some(u), Some(d)) = (up.last(), down.last()) else {
-                unreachable!("every way holds its first level")
-            };
-            let (tu, td) = (u.output_torque.abs(), d.output_torque.abs());
-            let zero = d.twist + (u.twist - d.twist) * td / (tu + td);
-            // The loaded levels start from the heaviest solves, next to the measuring torque.
-            let light = [Some(up.swap_remove(0)), Some(down.swap_remove(0))];
-            Ok(ZeroTorque {
-                twist: [zero, zero],
-                start,
-                light,
-                preloaded: true,
+        });
+    }
+    // Preloaded: solves each way bracket the one zero-torque equilibrium. Each way the
+    // torque comes down from `PRELOAD_DESCENT_FRACTION` of the rated torque, where the
+    // preloaded contacts are settled, halving with each solve started from the one
+    // above, to `PRELOAD_PROBE_FRACTION` (or as far as the solves converge).
+    // (Where the first level does not converge, from 4 or 16 times it.)
+    let ways = [1.0, -1.0].map(|s| {
+        let k = usize::from(s < 0.0);
+        let mut done: Vec<StaticSolution> = Vec::new();
+        let mut first = Err(Error::numerical("preload", "no level tried"));
+        for top in [1.0, 4.0, 16.0] {
+            first = sa.solve_near(
+                phi,
+                s * top * PRELOAD_DESCENT_FRACTION * rated,
+                start[k],
+                None,
+            );
+            if first.is_ok() {
+                break;
+            }
+        }
+        done.push(first?);
+        // The levels below the first, each half the one above, down to the probe.
+        let levels: Vec<f64> =
+            std::iter::successors(Some(done[0].output_torque.abs() / rated), |&f| {
+                (f >= 2.0 * 0.99 * PRELOAD_PROBE_FRACTION).then_some(0.5 * f)
             })
+            .skip(1)
+            .collect();
+        // The lightest level straight from the first where that converges; else the
+        // halving descent, each solve from the one above.
+        let solve = |f: f64, from: Option<&StaticSolution>| {
+            sa.solve_near(phi, s * f * rated, start[k], from)
+        };
+        if let Some(Ok(sol)) = levels.last().map(|&f| solve(f, done.last())) {
+            done.push(sol);
+            return Ok(done);
+        }
+        for &f in &levels {
+            match solve(f, done.last()) {
+                Ok(sol) => done.push(sol),
+                Err(_) => break,
+            }
+        }
+        Ok(done)
+    });
+    let [up, down] = ways;
+    let (mut up, mut down) = (up?, down?);
+    // The curve through zero is smooth: the secant between the lightest solves each way
+    // at zero torque.
+    let (Some(u), Some(d)) = (up.last(), down.last()) else {
+        unreachable!("every way holds its first level")
+    };
+    let zero = preload_zero(u, d);
+    // The loaded levels start from the heaviest solves, next to the measuring torque.
+    let light = [Some(up.swap_remove(0)), Some(down.swap_remove(0))];
+    Ok(ZeroTorque {
+        twist: [zero, zero],
+        start,
+        light,
+        preloaded: true,
+    })
+}
+
+/// Where the zero-torque search of one crank angle starts ([`zero_torque_twist_from`]): what
+/// the search at the same crank angle found in a neighbouring state (the same reducer at fewer
+/// hours of wear). The default is empty: the search starts from the rigid first contacts.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct ZeroTorqueStart {
+    /// Each way's configuration at the end of its contact problem (deviations: the limit's,
+    /// or where preloaded the one that violates the constraints least, forward only).
+    configs: [Option<Vec<f64>>; 2],
+    /// Where the stage was preloaded, the lightest solve of each way (positive torque first).
+    probes: Option<Box<[StaticSolution; 2]>>,
+}
+
+/// Where the hysteresis search of one crank angle starts ([`TwistTable`]'s grid at that
+/// crank angle): what the search found there in a neighbouring state. The default is empty.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct CrankStart {
+    /// The zero-torque search's.
+    zero: ZeroTorqueStart,
+    /// The loaded solutions of the grid each way (positive torques first), in the grid's order.
+    loaded: Option<Box<[Vec<StaticSolution>; 2]>>,
+}
+
+/// Where a sampled reducer's searches start at its next state: the revolution's zero-torque
+/// searches ([`zero_torque_over_revolution_from`]) and the hysteresis curve's crank angles
+/// ([`hysteresis_with_from`]). The default is empty.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Starts {
+    /// One per crank angle of the revolution.
+    pub revolution: Vec<ZeroTorqueStart>,
+    /// One per crank angle of the hysteresis curve.
+    pub cranks: Vec<CrankStart>,
+}
+
+/// The zero-torque twists `[psi(0+), psi(0-)]` (rad) of crank angle `phi`: those of
+/// [`zero_torque`], without the loaded states it also gives, started from what `warm` holds
+/// (the contact problems from its configurations), which it then holds for the next state.
+/// Where the stage is preloaded, the lightest solve of each way ([`PRELOAD_DESCENT_FRACTION`]
+/// halved down to [`PRELOAD_PROBE_FRACTION`], the torque that [`zero_torque`]'s descent
+/// reaches) starts from `warm`'s lightest solves, else from the configuration that violates
+/// the contact problem's constraints least, instead of coming down from the heavier level;
+/// where either does not converge, [`zero_torque`]'s descent. The twists are the same to the
+/// solvers' tolerances (the no-load limits to the contact problem's twist tolerance, the
+/// solves to their residual tolerance).
+///
+/// # Errors
+/// Those of the solver.
+pub(crate) fn zero_torque_twist_from(
+    sa: &StaticAnalysis,
+    phi: f64,
+    rated: f64,
+    warm: &mut ZeroTorqueStart,
+) -> Result<[f64; 2]> {
+    Ok(zero_twist_and_start(sa, phi, rated, warm)?.0)
+}
+
+/// [`zero_torque_twist_from`] and the twist each way from which loaded solves start
+/// ([`ZeroTorque::start`]), rad.
+///
+/// # Errors
+/// Those of the solver.
+fn zero_twist_and_start(
+    sa: &StaticAnalysis,
+    phi: f64,
+    rated: f64,
+    warm: &mut ZeroTorqueStart,
+) -> Result<([f64; 2], [f64; 2])> {
+    let lim = Limits::at_from(sa, phi, warm)?;
+    let start = lim.start;
+    warm.configs = lim.configs();
+    if let Some(twist) = lim.play() {
+        warm.probes = None;
+        return Ok((twist, start));
+    }
+    let probe = preload_probe_level() * rated;
+    let solve_from = |from: [&StaticSolution; 2]| -> Option<[StaticSolution; 2]> {
+        let [u, d] = [1.0, -1.0].map(|s| {
+            let k = usize::from(s < 0.0);
+            let mut near = from[k].clone();
+            near.output_torque = s * near.output_torque.abs().max(f64::MIN_POSITIVE);
+            sa.solve_near(phi, s * probe, lim.start[k], Some(&near))
+                .ok()
+        });
+        Some([u?, d?])
+    };
+    let mut found = warm.probes.take().and_then(|p| solve_from([&p[0], &p[1]]));
+    if found.is_none() {
+        let least = lim.limits.iter().find_map(|l| match l {
+            NoLoad::Preloaded { least: Some(z) } => Some(z),
+            _ => None,
+        });
+        if let Some(least) = least {
+            let mut from = (**least).clone();
+            from.first_contact_twist = lim.start[0];
+            let mut back = from.clone();
+            back.first_contact_twist = lim.start[1];
+            found = solve_from([&from, &back]);
         }
     }
+    if let Some([u, d]) = found {
+        let zero = preload_zero(&u, &d);
+        warm.probes = Some(Box::new([u, d]));
+        return Ok(([zero, zero], start));
+    }
+    Ok((zero_torque_from(sa, phi, rated, lim)?.twist, start))
+}
+
+/// The lightest level of a preloaded stage's descent, as a fraction of the rated torque:
+/// [`PRELOAD_DESCENT_FRACTION`] halved while it stays at or above about twice
+/// [`PRELOAD_PROBE_FRACTION`] (the same halving as [`zero_torque_from`]).
+fn preload_probe_level() -> f64 {
+    std::iter::successors(Some(PRELOAD_DESCENT_FRACTION), |&f| {
+        (f >= 2.0 * 0.99 * PRELOAD_PROBE_FRACTION).then_some(0.5 * f)
+    })
+    .last()
+    .expect("the first level is always there")
 }
 
 impl TwistTable {
@@ -459,50 +652,52 @@ impl TwistTable {
         rated: f64,
         measuring_fraction: f64,
     ) -> Result<(TwistTable, StaticSolution)> {
-        let mut positive = Vec::with_capacity(fractions.len());
-        let mut negative = Vec::with_capacity(fractions.len());
-        let mut heaviest = None;
-        let ZeroTorque {
-            twist,
-            start,
-            light,
-            ..
-        } = zero_torque(sa, phi, rated)?;
-        let sides = [(1.0, &mut positive), (-1.0, &mut negative)];
-        for ((k, (side, out)), light) in sides.into_iter().enumerate().zip(light) {
-            // Up the torque grid, each solve started from the one below (the first from the
-            // zero-torque configuration of the no-load limit, with play, or the heaviest solve of
-            // the descent, with preload).
-            let mut below: Option<StaticSolution> = light;
-            for &f in fractions {
-                out.push(if f == 0.0 {
-                    twist[k]
-                } else {
-                    let torque = side * f * rated;
-                    // From the level below; where that start does not lead to the equilibrium
-                    // (a light or zero-torque state on another side of a bearing's clearance
-                    // edge), from the locked-input mode as a solve without a neighbour starts.
-                    let sol = match sa.solve_near(phi, torque, start[k], below.as_ref()) {
-                        Err(e @ Error::Numerical { .. }) if below.is_some() => {
-                            sa.solve_near(phi, torque, start[k], None).map_err(|_| e)?
-                        }
-                        other => other?,
-                    };
-                    let twist = sol.twist;
-                    below = Some(sol);
-                    twist
-                });
-            }
-            if side > 0.0 {
-                heaviest = below;
-            }
-        }
+        let mut warm = CrankStart::default();
+        Self::at_crank_from(sa, phi, fractions, rated, measuring_fraction, &mut warm)
+    }
+
+    /// [`TwistTable::at_crank`] started from what `warm` holds (the same crank angle's search
+    /// in a neighbouring state: a sampled reducer's last stage), which it then holds for the
+    /// next: the zero-torque twists by [`zero_torque_twist_from`] and each loaded level from
+    /// the same level there, where `warm` holds the whole grid and every solve converges;
+    /// else as [`TwistTable::at_crank`]. The same equilibria, to the solvers' tolerances.
+    ///
+    /// # Errors
+    /// As [`TwistTable::at_crank`].
+    fn at_crank_from(
+        sa: &StaticAnalysis,
+        phi: f64,
+        fractions: &[f64],
+        rated: f64,
+        measuring_fraction: f64,
+        warm: &mut CrankStart,
+    ) -> Result<(TwistTable, StaticSolution)> {
+        let loaded = fractions.iter().filter(|&&f| f != 0.0).count();
+        let last = warm
+            .loaded
+            .take()
+            .filter(|l| l.iter().all(|side| side.len() == loaded));
         // The twist rises with the torque through the whole grid, both sides.
         let tol = PLAY_ROUND_OFF;
-        let rising = positive.windows(2).all(|w| w[1] >= w[0] - tol)
-            && negative.windows(2).all(|w| w[1] <= w[0] + tol)
-            && positive[0] >= negative[0] - tol;
-        if !rising {
+        let rising = |positive: &[f64], negative: &[f64]| {
+            positive.windows(2).all(|w| w[1] >= w[0] - tol)
+                && negative.windows(2).all(|w| w[1] <= w[0] + tol)
+                && positive[0] >= negative[0] - tol
+        };
+        // A warm grid that does not rise (a solve that followed its start onto another
+        // branch) is solved again cold.
+        let mut grid = last
+            .and_then(|last| Self::grid_from(sa, phi, fractions, rated, &mut warm.zero, &last).ok())
+            .filter(|(p, n, _)| rising(p, n));
+        if grid.is_none() {
+            grid = Some(Self::grid_cold(sa, phi, fractions, rated)?);
+        }
+        let Some((positive, negative, solutions)) = grid else {
+            unreachable!("the cold grid is solved above")
+        };
+        let heaviest = solutions[0].last().cloned();
+        warm.loaded = Some(Box::new(solutions));
+        if !rising(&positive, &negative) {
             return Err(Error::numerical(
                 "hysteresis",
                 format!(
@@ -533,6 +728,93 @@ impl TwistTable {
             Error::numerical("hysteresis", "the torque grid holds no loaded level")
         })?;
         Ok((table, rated_solution))
+    }
+
+    /// The twists of the grid each way (positive torques, then negative, each with the
+    /// zero-torque limit at zero) and the loaded solutions each way, up the torque grid from
+    /// the zero-torque state of [`zero_torque`].
+    ///
+    /// # Errors
+    /// Those of the solver.
+    #[allow(clippy::type_complexity)]
+    fn grid_cold(
+        sa: &StaticAnalysis,
+        phi: f64,
+        fractions: &[f64],
+        rated: f64,
+    ) -> Result<(Vec<f64>, Vec<f64>, [Vec<StaticSolution>; 2])> {
+        let mut positive = Vec::with_capacity(fractions.len());
+        let mut negative = Vec::with_capacity(fractions.len());
+        let mut solutions = [Vec::new(), Vec::new()];
+        let ZeroTorque {
+            twist,
+            start,
+            light,
+            ..
+        } = zero_torque(sa, phi, rated)?;
+        let sides = [(1.0, &mut positive), (-1.0, &mut negative)];
+        for ((k, (side, out)), light) in sides.into_iter().enumerate().zip(light) {
+            // Up the torque grid, each solve started from the one below (the first from the
+            // zero-torque configuration of the no-load limit, with play, or the heaviest solve of
+            // the descent, with preload).
+            let mut below: Option<StaticSolution> = light;
+            for &f in fractions {
+                out.push(if f == 0.0 {
+                    twist[k]
+                } else {
+                    let torque = side * f * rated;
+                    // From the level below; where that start does not lead to the equilibrium
+                    // (a light or zero-torque state on another side of a bearing's clearance
+                    // edge), from the locked-input mode as a solve without a neighbour starts.
+                    let sol = match sa.solve_near(phi, torque, start[k], below.as_ref()) {
+                        Err(e @ Error::Numerical { .. }) if below.is_some() => {
+                            sa.solve_near(phi, torque, start[k], None).map_err(|_| e)?
+                        }
+                        other => other?,
+                    };
+                    let twist = sol.twist;
+                    solutions[k].push(sol.clone());
+                    below = Some(sol);
+                    twist
+                });
+            }
+        }
+        Ok((positive, negative, solutions))
+    }
+
+    /// [`TwistTable::grid_cold`] with the zero-torque twists from `zero`
+    /// ([`zero_twist_and_start`]) and each loaded level from the same level of `last` (the
+    /// loaded solutions each way of a neighbouring state).
+    ///
+    /// # Errors
+    /// Those of the solver, at the first solve that fails.
+    #[allow(clippy::type_complexity)]
+    fn grid_from(
+        sa: &StaticAnalysis,
+        phi: f64,
+        fractions: &[f64],
+        rated: f64,
+        zero: &mut ZeroTorqueStart,
+        last: &[Vec<StaticSolution>; 2],
+    ) -> Result<(Vec<f64>, Vec<f64>, [Vec<StaticSolution>; 2])> {
+        let (twist, start) = zero_twist_and_start(sa, phi, rated, zero)?;
+        let mut twists = [Vec::new(), Vec::new()];
+        let mut solutions = [Vec::new(), Vec::new()];
+        for (k, side) in [1.0, -1.0].into_iter().enumerate() {
+            let mut level = 0;
+            for &f in fractions {
+                if f == 0.0 {
+                    twists[k].push(twist[k]);
+                    continue;
+                }
+                let sol = sa.solve_near(phi, side * f * rated, start[k], Some(&last[k][level]))?;
+                level += 1;
+                twists[k].push(sol.twist);
+                solutions[k].push(sol);
+            }
+        }
+        let [positive, negative] = twists;
+        Ok((positive, negative, solutions))
     }
 
     /// The mean of several tables of the same grid (non-empty).
@@ -678,6 +960,37 @@ pub(crate) fn hysteresis_with(
     Ok((tables, mean))
 }
 
+/// [`hysteresis_with`] with each crank angle's search started from its entry of `warm`
+/// ([`TwistTable::at_crank_from`]; a `warm` of another length is reset, an empty one starts
+/// every search cold), which then holds this curve's ends: a sampled reducer's stages, solved
+/// in order, start each from the one before.
+///
+/// # Errors
+/// As [`hysteresis`].
+pub(crate) fn hysteresis_with_from(
+    sa: &StaticAnalysis,
+    crank_angles: &[f64],
+    rated: f64,
+    measuring_fraction: f64,
+    levels: usize,
+    warm: &mut Vec<CrankStart>,
+) -> Result<(Vec<TwistTable>, TwistTable)> {
+    let fractions = torque_fractions(measuring_fraction, levels, false);
+    if warm.len() != crank_angles.len() {
+        *warm = vec![CrankStart::default(); crank_angles.len()];
+    }
+    let tables = crank_angles
+        .par_iter()
+        .zip(warm.par_iter_mut())
+        .map(|(&phi, w)| {
+            TwistTable::at_crank_from(sa, phi, &fractions, rated, measuring_fraction, w)
+                .map(|t| t.0)
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let mean = TwistTable::mean_of(&tables);
+    Ok((tables, mean))
+}
+
 /// [`hysteresis_with`] on the grid `fractions` ([`torque_fractions`]) and the equilibria at
 /// `+rated` at each crank angle on the way (the loaded TE at the rated torque,
 /// [`LoadedTe::from_solutions`]).
@@ -803,10 +1116,25 @@ pub(crate) fn revolution_no_load(
     samples: usize,
     rated: f64,
 ) -> Result<(f64, f64)> {
+    revolution_no_load_from(sa, rev, samples, rated, &mut Vec::new())
+}
+
+/// [`revolution_no_load`] with the zero-torque searches started from `warm`
+/// ([`zero_torque_over_revolution_from`]).
+///
+/// # Errors
+/// Those of the solver.
+pub(crate) fn revolution_no_load_from(
+    sa: &StaticAnalysis,
+    rev: &RevolutionTe,
+    samples: usize,
+    rated: f64,
+    warm: &mut Vec<ZeroTorqueStart>,
+) -> Result<(f64, f64)> {
     if rev.play_stats().min >= -PLAY_ROUND_OFF && !has_play(sa) {
         return Ok((rev.angular_te(), rev.play_stats().max));
     }
-    zero_torque_over_revolution(sa, samples, rated)
+    zero_torque_over_revolution_from(sa, samples, rated, warm)
 }
 
 /// Angular TE and largest play (rad) from the zero-torque twists ([`zero_torque`]) at
@@ -814,21 +1142,30 @@ pub(crate) fn revolution_no_load(
 /// `len/ANGULAR_TE_SPREAD + 1`-th of [`revolution_angles`] at `samples` per mesh cycle, so that
 /// successive ones fall at different points of the mesh cycle): the peak-to-peak of the
 /// forward twists and the largest gap between the two ways, with the play and any preload
-/// carried. A sampled estimate, below the exact one by the peaks it misses.
+/// carried. A sampled estimate, below the exact one by the peaks it misses. Each crank angle's
+/// search starts from its entry of `warm` ([`zero_torque_twist_from`]; a `warm` of another
+/// length is reset, an empty one starts every search from the rigid first contacts), which
+/// then holds this revolution's ends: a sampled reducer's stages, solved in order, start each
+/// from the one before.
 ///
 /// # Errors
 /// Those of the solver.
-pub(crate) fn zero_torque_over_revolution(
+pub(crate) fn zero_torque_over_revolution_from(
     sa: &StaticAnalysis,
     samples: usize,
     rated: f64,
+    warm: &mut Vec<ZeroTorqueStart>,
 ) -> Result<(f64, f64)> {
     let all = revolution_angles(sa.reducer().geometry.pins, samples);
     let stride = all.len() / ANGULAR_TE_SPREAD + 1;
     let picked: Vec<f64> = all.into_iter().step_by(stride).collect();
+    if warm.len() != picked.len() {
+        *warm = vec![ZeroTorqueStart::default(); picked.len()];
+    }
     let twists = picked
         .par_iter()
-        .map(|&phi| zero_torque(sa, phi, rated).map(|z| z.twist))
+        .zip(warm.par_iter_mut())
+        .map(|(&phi, w)| zero_torque_twist_from(sa, phi, rated, w))
         .collect::<Result<Vec<[f64; 2]>>>()?;
     let forward: Vec<f64> = twists.iter().map(|t| t[0]).collect();
     let play = twists.iter().map(|t| t[0] - t[1]).fold(0.0, f64::max);
@@ -846,7 +1183,22 @@ pub(crate) fn angular_te_of(
     samples: usize,
     rated: f64,
 ) -> Result<f64> {
-    Ok(revolution_no_load(sa, rev, samples, rated)?.0)
+    angular_te_from(sa, rev, samples, rated, &mut Vec::new())
+}
+
+/// [`angular_te_of`] with the zero-torque searches started from `warm`
+/// ([`revolution_no_load_from`]).
+///
+/// # Errors
+/// Those of the solver.
+pub(crate) fn angular_te_from(
+    sa: &StaticAnalysis,
+    rev: &RevolutionTe,
+    samples: usize,
+    rated: f64,
+    warm: &mut Vec<ZeroTorqueStart>,
+) -> Result<f64> {
+    Ok(revolution_no_load_from(sa, rev, samples, rated, warm)?.0)
 }
 
 /// Static TE over one output revolution, each crank angle solved on its own

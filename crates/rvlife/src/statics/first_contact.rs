@@ -131,7 +131,7 @@ impl<'a> StaticAnalysis<'a> {
         let psi0 = self.first_contact(phi, direction)?;
         Ok(match self.no_load(phi, direction, psi0)? {
             NoLoad::Limit { twist, .. } => twist,
-            NoLoad::Preloaded => psi0,
+            NoLoad::Preloaded { .. } => psi0,
         })
     }
 

@@ -108,16 +108,19 @@ pub(crate) enum NoLoad {
         twist: f64,
         rest: Option<Box<StaticSolution>>,
     },
-    /// Its parts interfere: no configuration leaves every pin and element unloaded.
-    Preloaded,
+    /// Its parts interfere: no configuration leaves every pin and element unloaded. With
+    /// play, `least` is the configuration that violates the constraints least (a zero-torque
+    /// state of direction `+1` from which solves may start, its twist that configuration's);
+    /// `None` without play.
+    Preloaded { least: Option<Box<StaticSolution>> },
 }
 
 /// How one trust-region iteration ends.
 enum Outcome {
     /// At the limit (twist, rad) and its configuration, within the constraints.
     Limit(f64, Vec<f64>),
-    /// On a configuration that violates the constraints at the largest weight.
-    Violating,
+    /// On this configuration, which violates the constraints at the largest weight.
+    Violating(Vec<f64>),
     /// Within [`MAX_ITERATIONS`] programmes, neither.
     Unconverged,
 }
@@ -149,6 +152,24 @@ impl<'a> StaticAnalysis<'a> {
     /// [`Error::Numerical`] naming the crank angle if the programme fails or does not converge
     /// in [`MAX_ITERATIONS`], or the contact geometry cannot be evaluated.
     pub(crate) fn no_load(&self, phi: f64, direction: f64, psi0: f64) -> Result<NoLoad> {
+        self.no_load_from(phi, direction, psi0, None)
+    }
+
+    /// [`StaticAnalysis::no_load`] whose programmes start from the configuration `from`
+    /// (deviations, the length of the layout's coordinates, as a [`NoLoad`] of a neighbouring
+    /// state holds them: the same crank angle at fewer hours of wear) instead of the rigid
+    /// mode at `psi0`; a `from` of another length is ignored. The limit is the same to
+    /// [`TWIST_TOLERANCE`]; a start near it takes fewer programmes.
+    ///
+    /// # Errors
+    /// As [`StaticAnalysis::no_load`].
+    pub(crate) fn no_load_from(
+        &self,
+        phi: f64,
+        direction: f64,
+        psi0: f64,
+        from: Option<&[f64]>,
+    ) -> Result<NoLoad> {
         let s = sense(direction);
         if self.red.support != Support::Bearings {
             return Ok(NoLoad::Limit {
@@ -162,7 +183,7 @@ impl<'a> StaticAnalysis<'a> {
             // first contact sees (one near the line of centres, whose gap the twist hardly
             // moves) already penetrates there.
             return Ok(if self.penetrates_at(phi, psi0)? {
-                NoLoad::Preloaded
+                NoLoad::Preloaded { least: None }
             } else {
                 NoLoad::Limit {
                     twist: psi0,
@@ -171,24 +192,29 @@ impl<'a> StaticAnalysis<'a> {
             });
         }
         let (phi_free, shift) = self.play_taken_up(phi, s);
-        let Some((twist, deviations)) = self.no_load_free(phi_free, s, psi0 - shift)? else {
-            return Ok(NoLoad::Preloaded);
+        // A zero-torque state of the direction at configuration `z` (what a solve started from
+        // it reads: the direction's sense with no load).
+        let state = |z: Vec<f64>| {
+            Box::new(StaticSolution {
+                crank_angle: phi,
+                output_torque: s * f64::MIN_POSITIVE,
+                twist: z[Layout::OUT] + shift,
+                first_contact_twist: psi0,
+                stiffness: 0.0,
+                discs: Vec::new(),
+                residual: 0.0,
+                roundoff_floor: 0.0,
+                deviations: z,
+            })
         };
-        let rest = StaticSolution {
-            crank_angle: phi,
-            // The direction's sense with no load (what a solve started from it reads).
-            output_torque: s * f64::MIN_POSITIVE,
-            twist: twist + shift,
-            first_contact_twist: psi0,
-            stiffness: 0.0,
-            discs: Vec::new(),
-            residual: 0.0,
-            roundoff_floor: 0.0,
-            deviations,
-        };
-        Ok(NoLoad::Limit {
-            twist: twist + shift,
-            rest: Some(Box::new(rest)),
+        Ok(match self.no_load_free(phi_free, s, psi0 - shift, from)? {
+            Ok((twist, z)) => NoLoad::Limit {
+                twist: twist + shift,
+                rest: Some(state(z)),
+            },
+            Err(least) => NoLoad::Preloaded {
+                least: Some(state(least)),
+            },
         })
     }
 
@@ -212,8 +238,9 @@ impl<'a> StaticAnalysis<'a> {
     }
 
     /// [`StaticAnalysis::no_load`] of the analysed reducer at its crank angle `phi`, direction
-    /// `s` (+-1), from the rigid first contact `psi0`: the twist and the configuration, or
-    /// `None` where no configuration within the constraints is found from the start (preload).
+    /// `s` (+-1), from the rigid first contact `psi0`: the twist and the configuration, or,
+    /// where no configuration within the constraints is found from the start (preload), the
+    /// one that violates them least.
     ///
     /// A trust-region iteration on the exact penalty `-s psi + mu violation`
     /// ([`StaticAnalysis::penalty_iteration`]): a step is taken where the penalty falls by at
@@ -224,7 +251,14 @@ impl<'a> StaticAnalysis<'a> {
     ///
     /// # Errors
     /// [`Error::Numerical`] naming the crank angle when neither attempt converges.
-    fn no_load_free(&self, phi: f64, s: f64, psi0: f64) -> Result<Option<(f64, Vec<f64>)>> {
+    #[allow(clippy::type_complexity)]
+    fn no_load_free(
+        &self,
+        phi: f64,
+        s: f64,
+        psi0: f64,
+        from: Option<&[f64]>,
+    ) -> Result<std::result::Result<(f64, Vec<f64>), Vec<f64>>> {
         let red = &*self.red;
         let n = red.layout().dofs();
         let fr = self.frame(phi);
@@ -235,7 +269,10 @@ impl<'a> StaticAnalysis<'a> {
             .map(|i| if is_angle(i) { UNIT * rp } else { UNIT })
             .collect();
         let mut start = vec![0.0; n];
-        self.mode_deviation(&fr, psi0, &mut start);
+        match from {
+            Some(z) if z.len() == n => start.copy_from_slice(z),
+            _ => self.mode_deviation(&fr, psi0, &mut start),
+        }
         let max_trust = 4.0 * UNIT * red.max_half_play() + 1.0;
         let fail = |what: &str| {
             self.fail(
@@ -259,7 +296,7 @@ impl<'a> StaticAnalysis<'a> {
             }
             match found {
                 Outcome::Limit(_, z) => start = z,
-                Outcome::Violating => return Ok(None),
+                Outcome::Violating(least) => return Ok(Err(least)),
                 Outcome::Unconverged => return Err(fail("found no configuration")),
             }
         }
@@ -271,7 +308,7 @@ impl<'a> StaticAnalysis<'a> {
             if let Outcome::Limit(twist, z) =
                 self.penalty_iteration(s, &fr, &scale, start.clone(), penalty, trust, MAX_PENALTY)?
             {
-                return Ok(Some((twist, z)));
+                return Ok(Ok((twist, z)));
             }
         }
         Err(fail("did not converge"))
@@ -342,14 +379,14 @@ impl<'a> StaticAnalysis<'a> {
                     return Ok(Outcome::Limit(z[Layout::OUT], z));
                 }
                 if penalty >= max_penalty {
-                    return Ok(Outcome::Violating);
+                    return Ok(Outcome::Violating(z));
                 }
                 // The violation alone (`s = 0`): a heavier weight scales the whole objective
                 // and moves nothing but the steps' tie-break, so a least violation reached in
                 // an open region (as open as a raise would make it) is the answer; only a
                 // region that collapsed is raised and opened again.
                 if s == 0.0 && trust >= max_trust / 16.0 {
-                    return Ok(Outcome::Violating);
+                    return Ok(Outcome::Violating(z));
                 }
                 // A hundredfold, with the region opened again: a pin on the line of centres
                 // closes only to second order in the twist, so its multiplier, and the weight
