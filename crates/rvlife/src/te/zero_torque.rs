@@ -1,0 +1,343 @@
+//! The zero-torque state of one crank angle (docs/model.md sections 5.10 and 5.12): the
+//! no-load limit each way from the contact problem, or, where the parts interfere, the one
+//! preloaded equilibrium that carries zero torque; and the same started from a neighbouring
+//! state's ends (a sampled reducer's last stage).
+
+use crate::error::{Error, Result};
+use crate::statics::{NoLoad, StaticAnalysis, StaticSolution};
+
+/// Negative play (rad) below which the two ways' twists cross (interference, or preload):
+/// the first contacts' round-off (an unmodified, unworn disc touches both ways at zero twist).
+pub(crate) const PLAY_ROUND_OFF: f64 = 1e-9;
+
+/// Torque fraction of the rated torque at which a preloaded stage is solved each way to find
+/// its zero-torque twist (docs/model.md section 5.12): the curve through zero torque is smooth
+/// there, so the mean of the two twists is the zero-torque one to the curve's second order.
+const PRELOAD_PROBE_FRACTION: f64 = 1e-4;
+
+/// Torque fraction of the rated torque from which the solves of a preloaded stage come down
+/// to [`PRELOAD_PROBE_FRACTION`] (docs/model.md section 5.12): the measuring torque's order,
+/// where the preloaded contacts are settled and the solves converge.
+const PRELOAD_DESCENT_FRACTION: f64 = 0.0256;
+
+/// Largest twist (rad) behind zero from which a preloaded stage's solves start each way
+/// (docs/model.md section 5.12), about 17 arcmin: a start farther back can reach the next
+/// pins' flanks.
+const PRELOAD_START_RANGE: f64 = 5e-3;
+
+/// The zero-torque state of one crank angle (docs/model.md section 5.12), index 0 forward
+/// (counter-clockwise), 1 reverse.
+pub(crate) struct ZeroTorque {
+    /// `[psi(0+), psi(0-)]`, rad.
+    pub twist: [f64; 2],
+    /// The twist each way from which loaded solves start (the rigid first contact, or the
+    /// preloaded twist), rad.
+    pub start: [f64; 2],
+    /// The solutions each way from which the loaded levels start: the no-load limit's
+    /// configuration, or with preload the heaviest solves of the descent (`None` without play).
+    pub light: [Option<StaticSolution>; 2],
+    /// Whether one equilibrium carries zero torque (no play at this crank angle).
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub preloaded: bool,
+}
+
+/// The no-load limits of one crank angle each way ([`StaticAnalysis::no_load`]) and where the
+/// loaded solves of each way start.
+struct Limits {
+    /// The twist each way from which loaded solves start (rad): the rigid first contact, no
+    /// farther behind zero than `PRELOAD_START_RANGE` where the rigid contacts cross.
+    start: [f64; 2],
+    /// Whether the rigid first contacts cross (part errors or modifications that interfere).
+    crossed: bool,
+    /// Forward (counter-clockwise) and reverse; the reverse is not looked for where the
+    /// forward is preloaded (`NoLoad::Preloaded { least: None }` then).
+    limits: [NoLoad; 2],
+}
+
+impl Limits {
+    /// The limits of crank angle `phi`, each from the rigid first contact of its direction.
+    ///
+    /// # Errors
+    /// Those of the solver.
+    fn at(sa: &StaticAnalysis, phi: f64) -> Result<Limits> {
+        Self::at_from(sa, phi, &ZeroTorqueStart::default())
+    }
+
+    /// [`Limits::at`] with each way's contact problem started from the configuration `warm`
+    /// holds for it, where it holds one.
+    ///
+    /// # Errors
+    /// Those of the solver.
+    fn at_from(sa: &StaticAnalysis, phi: f64, warm: &ZeroTorqueStart) -> Result<Limits> {
+        let forward = sa.first_contact(phi, 1.0)?;
+        let reverse = sa.first_contact(phi, -1.0)?;
+        let crossed = forward < reverse - PLAY_ROUND_OFF;
+        // Each way from behind the rest position: the rigid first contact, which for an
+        // interfering disc can lie far beyond it (a pin near the line of centres), so no
+        // farther than `PRELOAD_START_RANGE`.
+        let start = if crossed {
+            [
+                forward.max(-PRELOAD_START_RANGE),
+                reverse.min(PRELOAD_START_RANGE),
+            ]
+        } else {
+            [forward, reverse]
+        };
+        // Where the rigid contacts cross, the contact problem starts from between them.
+        let from = if crossed {
+            let mid = (0.5 * (forward + reverse)).clamp(-PRELOAD_START_RANGE, PRELOAD_START_RANGE);
+            [mid, mid]
+        } else {
+            start
+        };
+        // Parts that interfere one way are preloaded whatever the other way finds: its limit is
+        // looked for only after a limit the first way.
+        let up = sa.no_load_from(phi, 1.0, from[0], warm.configs[0].as_deref())?;
+        let down = match up {
+            NoLoad::Preloaded { .. } => NoLoad::Preloaded { least: None },
+            NoLoad::Limit { .. } => {
+                sa.no_load_from(phi, -1.0, from[1], warm.configs[1].as_deref())?
+            }
+        };
+        Ok(Limits {
+            start,
+            crossed,
+            limits: [up, down],
+        })
+    }
+
+    /// Each way's configuration at the end of its contact problem (the limit's, or the one
+    /// that violates the constraints least), where it has one.
+    fn configs(&self) -> [Option<Vec<f64>>; 2] {
+        [0, 1].map(|k| match &self.limits[k] {
+            NoLoad::Limit { rest: Some(r), .. } | NoLoad::Preloaded { least: Some(r) } => {
+                Some(r.deviations.clone())
+            }
+            _ => None,
+        })
+    }
+
+    /// The two limits' twists `[psi(0+), psi(0-)]` (rad) where the reducer has play here: both
+    /// ways found a limit, in order, and (where the rigid contacts cross) through the
+    /// bearings' play. `None` where it is preloaded.
+    fn play(&self) -> Option<[f64; 2]> {
+        match &self.limits {
+            [NoLoad::Limit {
+                twist: up,
+                rest: rest_up,
+            }, NoLoad::Limit { twist: down, .. }]
+                if *up >= down - PLAY_ROUND_OFF && !(self.crossed && rest_up.is_none()) =>
+            {
+                Some([*up, *down])
+            }
+            _ => None,
+        }
+    }
+}
+
+/// The zero-torque twist of a preloaded stage (rad): the secant at zero torque between the
+/// lightest solves each way, `u` (positive torque) and `d` (negative), their mean where the
+/// torques are equal (docs/model.md section 5.12).
+fn preload_zero(u: &StaticSolution, d: &StaticSolution) -> f64 {
+    let (tu, td) = (u.output_torque.abs(), d.output_torque.abs());
+    d.twist + (u.twist - d.twist) * td / (tu + td)
+}
+
+/// The zero-torque state of crank angle `phi`.
+///
+/// The two limits are the no-load limits of the contact problem
+/// ([`StaticAnalysis::no_load`], docs/model.md section 5.10), each from the rigid first contact
+/// of its direction. Where no configuration leaves every part unloaded (the contact problem is
+/// infeasible, or, without play, the rigid first contacts cross: part errors or modifications
+/// that interfere) the stage is preloaded: one equilibrium carries zero torque, and both limits
+/// are its twist, the secant at zero between the lightest solves each way, which come down from
+/// `PRELOAD_DESCENT_FRACTION` to `PRELOAD_PROBE_FRACTION` of `rated` (N m).
+///
+/// # Errors
+/// Those of the solver.
+pub(crate) fn zero_torque(sa: &StaticAnalysis, phi: f64, rated: f64) -> Result<ZeroTorque> {
+    zero_torque_from(sa, phi, rated, Limits::at(sa, phi)?)
+}
+
+/// [`zero_torque`] from the limits `lim` of crank angle `phi`.
+fn zero_torque_from(sa: &StaticAnalysis, phi: f64, rated: f64, lim: Limits) -> Result<ZeroTorque> {
+    let start = lim.start;
+    if let Some(twist) = lim.play() {
+        let [NoLoad::Limit { rest: rest_up, .. }, NoLoad::Limit {
+            rest: rest_down, ..
+        }] = lim.limits
+        else {
+            unreachable!("play() holds two limits")
+        };
+        return Ok(ZeroTorque {
+            twist,
+            start,
+            // Solves start from the rigid first contact (beside the rest configuration where
+            // it lies beyond it in the solve's direction).
+            light: [rest_up, rest_down].map(|r| {
+                r.map(|mut r| {
+                    r.first_contact_twist = start[usize::from(r.output_torque < 0.0)];
+                    *r
+                })
+            }),
+            preloaded: false,
+        });
+    }
+    // Preloaded: solves each way bracket the one zero-torque equilibrium. Each way the
+    // torque comes down from `PRELOAD_DESCENT_FRACTION` of the rated torque, where the
+    // preloaded contacts are settled, halving with each solve started from the one
+    // above, to `PRELOAD_PROBE_FRACTION` (or as far as the solves converge).
+    // (Where the first level does not converge, from 4 or 16 times it.)
+    let ways = [1.0, -1.0].map(|s| {
+        let k = usize::from(s < 0.0);
+        let mut done: Vec<StaticSolution> = Vec::new();
+        let mut first = Err(Error::numerical("preload", "no level tried"));
+        for top in [1.0, 4.0, 16.0] {
+            first = sa.solve_near(
+                phi,
+                s * top * PRELOAD_DESCENT_FRACTION * rated,
+                start[k],
+                None,
+            );
+            if first.is_ok() {
+                break;
+            }
+        }
+        done.push(first?);
+        // The levels below the first, each half the one above, down to the probe.
+        let levels: Vec<f64> =
+            std::iter::successors(Some(done[0].output_torque.abs() / rated), |&f| {
+                (f >= 2.0 * 0.99 * PRELOAD_PROBE_FRACTION).then_some(0.5 * f)
+            })
+            .skip(1)
+            .collect();
+        // The lightest level straight from the first where that converges; else the
+        // halving descent, each solve from the one above.
+        let solve = |f: f64, from: Option<&StaticSolution>| {
+            sa.solve_near(phi, s * f * rated, start[k], from)
+        };
+        if let Some(Ok(sol)) = levels.last().map(|&f| solve(f, done.last())) {
+            done.push(sol);
+            return Ok(done);
+        }
+        for &f in &levels {
+            match solve(f, done.last()) {
+                Ok(sol) => done.push(sol),
+                Err(_) => break,
+            }
+        }
+        Ok(done)
+    });
+    let [up, down] = ways;
+    let (mut up, mut down) = (up?, down?);
+    // The curve through zero is smooth: the secant between the lightest solves each way
+    // at zero torque.
+    let (Some(u), Some(d)) = (up.last(), down.last()) else {
+        unreachable!("every way holds its first level")
+    };
+    let zero = preload_zero(u, d);
+    // The loaded levels start from the heaviest solves, next to the measuring torque.
+    let light = [Some(up.swap_remove(0)), Some(down.swap_remove(0))];
+    Ok(ZeroTorque {
+        twist: [zero, zero],
+        start,
+        light,
+        preloaded: true,
+    })
+}
+
+/// Where the zero-torque search of one crank angle starts ([`zero_torque_twist_from`]): what
+/// the search at the same crank angle found in a neighbouring state (the same reducer at fewer
+/// hours of wear). The default is empty: the search starts from the rigid first contacts.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct ZeroTorqueStart {
+    /// Each way's configuration at the end of its contact problem (deviations: the limit's,
+    /// or where preloaded the one that violates the constraints least, forward only).
+    configs: [Option<Vec<f64>>; 2],
+    /// Where the stage was preloaded, the lightest solve of each way (positive torque first).
+    probes: Option<Box<[StaticSolution; 2]>>,
+}
+
+/// The zero-torque twists `[psi(0+), psi(0-)]` (rad) of crank angle `phi`: those of
+/// [`zero_torque`], without the loaded states it also gives, started from what `warm` holds
+/// (the contact problems from its configurations), which it then holds for the next state.
+/// Where the stage is preloaded, the lightest solve of each way ([`PRELOAD_DESCENT_FRACTION`]
+/// halved down to [`PRELOAD_PROBE_FRACTION`], the torque that [`zero_torque`]'s descent
+/// reaches) starts from `warm`'s lightest solves, else from the configuration that violates
+/// the contact problem's constraints least, instead of coming down from the heavier level;
+/// where either does not converge, [`zero_torque`]'s descent. The twists are the same to the
+/// solvers' tolerances (the no-load limits to the contact problem's twist tolerance, the
+/// solves to their residual tolerance).
+///
+/// # Errors
+/// Those of the solver.
+pub(crate) fn zero_torque_twist_from(
+    sa: &StaticAnalysis,
+    phi: f64,
+    rated: f64,
+    warm: &mut ZeroTorqueStart,
+) -> Result<[f64; 2]> {
+    Ok(zero_twist_and_start(sa, phi, rated, warm)?.0)
+}
+
+/// [`zero_torque_twist_from`] and the twist each way from which loaded solves start
+/// ([`ZeroTorque::start`]), rad.
+///
+/// # Errors
+/// Those of the solver.
+pub(super) fn zero_twist_and_start(
+    sa: &StaticAnalysis,
+    phi: f64,
+    rated: f64,
+    warm: &mut ZeroTorqueStart,
+) -> Result<([f64; 2], [f64; 2])> {
+    let lim = Limits::at_from(sa, phi, warm)?;
+    let start = lim.start;
+    warm.configs = lim.configs();
+    if let Some(twist) = lim.play() {
+        warm.probes = None;
+        return Ok((twist, start));
+    }
+    let probe = preload_probe_level() * rated;
+    let solve_from = |from: [&StaticSolution; 2]| -> Option<[StaticSolution; 2]> {
+        let [u, d] = [1.0, -1.0].map(|s| {
+            let k = usize::from(s < 0.0);
+            let mut near = from[k].clone();
+            near.output_torque = s * near.output_torque.abs().max(f64::MIN_POSITIVE);
+            sa.solve_near(phi, s * probe, lim.start[k], Some(&near))
+                .ok()
+        });
+        Some([u?, d?])
+    };
+    let mut found = warm.probes.take().and_then(|p| solve_from([&p[0], &p[1]]));
+    if found.is_none() {
+        let least = lim.limits.iter().find_map(|l| match l {
+            NoLoad::Preloaded { least: Some(z) } => Some(z),
+            _ => None,
+        });
+        if let Some(least) = least {
+            let mut from = (**least).clone();
+            from.first_contact_twist = lim.start[0];
+            let mut back = from.clone();
+            back.first_contact_twist = lim.start[1];
+            found = solve_from([&from, &back]);
+        }
+    }
+    if let Some([u, d]) = found {
+        let zero = preload_zero(&u, &d);
+        warm.probes = Some(Box::new([u, d]));
+        return Ok(([zero, zero], start));
+    }
+    Ok((zero_torque_from(sa, phi, rated, lim)?.twist, start))
+}
+
+/// The lightest level of a preloaded stage's descent, as a fraction of the rated torque:
+/// [`PRELOAD_DESCENT_FRACTION`] halved while it stays at or above about twice
+/// [`PRELOAD_PROBE_FRACTION`] (the same halving as [`zero_torque_from`]).
+fn preload_probe_level() -> f64 {
+    std::iter::successors(Some(PRELOAD_DESCENT_FRACTION), |&f| {
+        (f >= 2.0 * 0.99 * PRELOAD_PROBE_FRACTION).then_some(0.5 * f)
+    })
+    .last()
+    .expect("the first level is always there")
+}
