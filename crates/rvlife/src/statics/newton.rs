@@ -8,12 +8,6 @@ use super::*;
 /// start, in multiples of the twist estimate at the pin circle ([`StaticAnalysis::twist_guess`]).
 const STEP_LIMIT_GUESSES: f64 = 16.0;
 
-/// Levenberg-Marquardt weights (relative to the tangent's diagonal) of the steps the
-/// torque-controlled solve tries in turn at one iterate where the line search along the one
-/// before fails: 0 is Newton's step; the largest is a scaled steepest descent of the energy
-/// (Nocedal and Wright, *Numerical Optimization*, 2nd ed., section 10.3).
-const REGULARISATION: [f64; 4] = [0.0, 1e-2, 1.0, 1e2];
-
 impl<'a> StaticAnalysis<'a> {
     /// Largest scaled residual of the inner coordinates (every one but input and output):
     /// forces in N, moments divided by the pin circle radius.
@@ -397,106 +391,79 @@ impl<'a> StaticAnalysis<'a> {
             let kt = kt.as_ref().expect("tangent built above");
             let k = kt.view((1, 1), (m, m)).into_owned();
             let rhs = DVector::from_iterator(m, (1..n).map(|i| residual(&ev.g, i)));
-            let m0 = merit(&ev);
-            let base: Vec<f64> = z[..n].to_vec();
-            // The Newton step, and where the line search along it fails (a tangent that is
-            // not positive definite there: floored far from the equilibrium, or a contact's
-            // curvature, so that the step climbs the potential energy), Levenberg-Marquardt
-            // steps `(K + mu diag|K|)^-1 r` of rising `mu`, which turn towards the scaled
-            // steepest descent of the energy, accepted on its fall.
-            let mut moved = false;
-            'steps: for (attempt, &mu) in REGULARISATION.iter().enumerate() {
-                let solved = if mu == 0.0 {
-                    k.clone().lu().solve(&rhs)
-                } else {
-                    let top = (0..m).map(|i| k[(i, i)].abs()).fold(0.0, f64::max);
-                    let mut kr = k.clone();
-                    for i in 0..m {
-                        kr[(i, i)] += mu * k[(i, i)].abs().max(1e-12 * top);
-                    }
-                    kr.lu().solve(&rhs)
-                };
-                let Some(mut step) = solved else {
-                    continue;
-                };
-                // A trust region for a cold start: no coordinate moves farther than
-                // `STEP_LIMIT_GUESSES` times the twist estimate at the pin circle (its floored
-                // tangent far from the equilibrium is near-singular along a mechanism mode and
-                // gives steps of metres). From a neighbour the steps are left whole: limited
-                // there, a solve of the example with 10 um in both bearings fell back to twist
-                // control, which did not converge.
-                if start.near.is_none() {
-                    let limit = STEP_LIMIT_GUESSES * self.twist_guess(torque) * rp;
-                    let longest = (0..m)
-                        .map(|i| step[i].abs() * if is_angle(1 + i) { rp } else { 1.0 })
-                        .fold(0.0, f64::max);
-                    if longest > limit {
-                        step *= limit / longest;
-                    }
-                }
-                let mut alpha = 1.0;
-                // The potential energy at the base and its slope along the step, formed only
-                // when a trial fails the residual test.
-                let mut energy0: Option<(f64, f64)> = None;
-                loop {
-                    for i in 0..m {
-                        z[1 + i] = base[1 + i] + alpha * step[i];
-                    }
-                    let Ok(trial) = self.eval_bearings(fr, z, memory, true) else {
-                        return Ok(None);
-                    };
-                    let mt = merit(&trial);
-                    // Accepted where the residual falls, or where the potential energy falls
-                    // enough along the step (Armijo: the equilibrium under the torque is the
-                    // minimum of `U - T psi` over every coordinate but the input), as in
-                    // `inner_solve`; above the round-off floor of the forces only.
-                    let residual_falls = mt <= m0 * (1.0 - 1e-4 * alpha);
-                    let accepted = residual_falls
-                        || (energy_merit || mu > 0.0) && res > ev.roundoff && {
-                            let (e0, slope) = *energy0.get_or_insert_with(|| {
-                                let slope = -(0..m)
-                                    .map(|i| residual(&ev.g, 1 + i) * step[i])
-                                    .sum::<f64>();
-                                (
-                                    self.inner_energy(fr, &base, &ev) - torque * base[Layout::OUT],
-                                    slope,
-                                )
-                            });
-                            let fall = -1e-4 * alpha * slope;
-                            fall > 1e-12 * e0.abs()
-                                && self.inner_energy(fr, z, &trial) - torque * z[Layout::OUT]
-                                    <= e0 - fall
-                        };
-                    energy_merit |= alpha < 0.0625;
-                    if accepted {
-                        ev = trial;
-                        // At the round-off floor a step barely reduces the residual: accept
-                        // there.
-                        if mt > 0.25 * m0 && res <= 0.5 * ev.roundoff {
-                            let kt = self.tangent(k_struct, &ev, fr, z);
-                            return Ok(Some((ev, kt)));
-                        }
-                        moved = true;
-                        break 'steps;
-                    }
-                    if alpha < 1e-3 {
-                        // At the round-off floor of the contact forces the residual no longer
-                        // falls: accept there (the caller's check applies the floor).
-                        if res <= 0.5 * ev.roundoff {
-                            let kt = self.tangent(k_struct, &ev, fr, z);
-                            return Ok(Some((ev, kt)));
-                        }
-                        if attempt + 1 < REGULARISATION.len() {
-                            z[..n].copy_from_slice(&base);
-                            continue 'steps;
-                        }
-                        return Ok(None);
-                    }
-                    alpha *= 0.5;
+            let Some(mut step) = k.lu().solve(&rhs) else {
+                return Ok(None);
+            };
+            // A trust region for a cold start: no coordinate moves farther than
+            // `STEP_LIMIT_GUESSES` times the twist estimate at the pin circle (its floored
+            // tangent far from the equilibrium is near-singular along a mechanism mode and gives
+            // steps of metres). From a neighbour the steps are left whole: limited there, a
+            // solve of the example with 10 um in both bearings fell back to twist control,
+            // which did not converge.
+            if start.near.is_none() {
+                let limit = STEP_LIMIT_GUESSES * self.twist_guess(torque) * rp;
+                let longest = (0..m)
+                    .map(|i| step[i].abs() * if is_angle(1 + i) { rp } else { 1.0 })
+                    .fold(0.0, f64::max);
+                if longest > limit {
+                    step *= limit / longest;
                 }
             }
-            if !moved {
-                return Ok(None);
+            let m0 = merit(&ev);
+            let base: Vec<f64> = z[..n].to_vec();
+            let mut alpha = 1.0;
+            // The potential energy at the base and its slope along the step, formed only when
+            // a trial fails the residual test.
+            let mut energy0: Option<(f64, f64)> = None;
+            loop {
+                for i in 0..m {
+                    z[1 + i] = base[1 + i] + alpha * step[i];
+                }
+                let Ok(trial) = self.eval_bearings(fr, z, memory, true) else {
+                    return Ok(None);
+                };
+                let mt = merit(&trial);
+                // Accepted where the residual falls, or where the potential energy falls
+                // enough along the step (Armijo: the equilibrium under the torque is the
+                // minimum of `U - T psi` over every coordinate but the input), as in
+                // `inner_solve`; above the round-off floor of the forces only.
+                let residual_falls = mt <= m0 * (1.0 - 1e-4 * alpha);
+                let accepted = residual_falls
+                    || energy_merit && res > ev.roundoff && {
+                        let (e0, slope) = *energy0.get_or_insert_with(|| {
+                            let slope = -(0..m)
+                                .map(|i| residual(&ev.g, 1 + i) * step[i])
+                                .sum::<f64>();
+                            (
+                                self.inner_energy(fr, &base, &ev) - torque * base[Layout::OUT],
+                                slope,
+                            )
+                        });
+                        let fall = -1e-4 * alpha * slope;
+                        fall > 1e-12 * e0.abs()
+                            && self.inner_energy(fr, z, &trial) - torque * z[Layout::OUT]
+                                <= e0 - fall
+                    };
+                energy_merit |= alpha < 0.0625;
+                if accepted {
+                    ev = trial;
+                    // At the round-off floor a step barely reduces the residual: accept there.
+                    if mt > 0.25 * m0 && res <= 0.5 * ev.roundoff {
+                        let kt = self.tangent(k_struct, &ev, fr, z);
+                        return Ok(Some((ev, kt)));
+                    }
+                    break;
+                }
+                if alpha < 1e-3 {
+                    // At the round-off floor of the contact forces the residual no longer
+                    // falls: accept there (the caller's check applies the floor).
+                    if res <= 0.5 * ev.roundoff {
+                        let kt = self.tangent(k_struct, &ev, fr, z);
+                        return Ok(Some((ev, kt)));
+                    }
+                    return Ok(None);
+                }
+                alpha *= 0.5;
             }
         }
         Ok(None)

@@ -39,6 +39,9 @@ pub(crate) struct ZeroTorque {
     /// Whether one equilibrium carries zero torque (no play at this crank angle).
     #[cfg_attr(not(test), allow(dead_code))]
     pub preloaded: bool,
+    /// With preload, the lightest solves of the descent each way (positive torque first), the
+    /// two the zero-torque twist is the secant of.
+    pub lightest: Option<Box<[StaticSolution; 2]>>,
 }
 
 /// The no-load limits of one crank angle each way ([`StaticAnalysis::no_load`]) and where the
@@ -181,6 +184,7 @@ fn zero_torque_from(sa: &StaticAnalysis, phi: f64, rated: f64, lim: Limits) -> R
                 })
             }),
             preloaded: false,
+            lightest: None,
         });
     }
     // Preloaded: solves each way bracket the one zero-torque equilibrium. Each way the
@@ -237,12 +241,19 @@ fn zero_torque_from(sa: &StaticAnalysis, phi: f64, rated: f64, lim: Limits) -> R
     };
     let zero = preload_zero(u, d);
     // The loaded levels start from the heaviest solves, next to the measuring torque.
+    let lightest = match (up.last(), down.last()) {
+        (Some(u), Some(d)) if up.len() > 1 && down.len() > 1 => {
+            Some(Box::new([u.clone(), d.clone()]))
+        }
+        _ => None,
+    };
     let light = [Some(up.swap_remove(0)), Some(down.swap_remove(0))];
     Ok(ZeroTorque {
         twist: [zero, zero],
         start,
         light,
         preloaded: true,
+        lightest,
     })
 }
 
@@ -263,11 +274,11 @@ pub(crate) struct ZeroTorqueStart {
 /// (the contact problems from its configurations), which it then holds for the next state.
 /// Where the stage is preloaded, the lightest solve of each way ([`PRELOAD_DESCENT_FRACTION`]
 /// halved down to [`PRELOAD_PROBE_FRACTION`], the torque that [`zero_torque`]'s descent
-/// reaches) starts from `warm`'s lightest solves, else from the configuration that violates
-/// the contact problem's constraints least, instead of coming down from the heavier level;
-/// where either does not converge, [`zero_torque`]'s descent. The twists are the same to the
-/// solvers' tolerances (the no-load limits to the contact problem's twist tolerance, the
-/// solves to their residual tolerance).
+/// reaches) starts from `warm`'s lightest solves instead of coming down from the heavier
+/// level; where `warm` holds none, or either does not converge, [`zero_torque`]'s descent,
+/// whose lightest solves `warm` then holds. The twists are the same to the solvers'
+/// tolerances (the no-load limits to the contact problem's twist tolerance, the solves to
+/// their residual tolerance).
 ///
 /// # Errors
 /// Those of the solver.
@@ -309,26 +320,15 @@ pub(super) fn zero_twist_and_start(
         });
         Some([u?, d?])
     };
-    let mut found = warm.probes.take().and_then(|p| solve_from([&p[0], &p[1]]));
-    if found.is_none() {
-        let least = lim.limits.iter().find_map(|l| match l {
-            NoLoad::Preloaded { least: Some(z) } => Some(z),
-            _ => None,
-        });
-        if let Some(least) = least {
-            let mut from = (**least).clone();
-            from.first_contact_twist = lim.start[0];
-            let mut back = from.clone();
-            back.first_contact_twist = lim.start[1];
-            found = solve_from([&from, &back]);
-        }
-    }
+    let found = warm.probes.take().and_then(|p| solve_from([&p[0], &p[1]]));
     if let Some([u, d]) = found {
         let zero = preload_zero(&u, &d);
         warm.probes = Some(Box::new([u, d]));
         return Ok(([zero, zero], start));
     }
-    Ok((zero_torque_from(sa, phi, rated, lim)?.twist, start))
+    let cold = zero_torque_from(sa, phi, rated, lim)?;
+    warm.probes = cold.lightest;
+    Ok((cold.twist, start))
 }
 
 /// The lightest level of a preloaded stage's descent, as a fraction of the rated torque:

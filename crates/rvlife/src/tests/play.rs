@@ -215,8 +215,8 @@ fn hysteresis_where_the_inner_solve_crawled() {
 /// sample's stages) equal the cold search's ([`zero_torque`], from the rigid first contacts)
 /// to 1e-11 rad (2e-8 arcmin; the contact problem stops at 1.6e-12 rad, the solves at a
 /// residual of 1e-9 of their forces), both where the stage has play and where it is preloaded
-/// (the least-violating configuration and the last stage's lightest solves as starts, in
-/// place of the descent from 2.56 % of the rated torque); and so do the hysteresis curves at
+/// (the last stage's lightest solves as starts, in place of the descent from 2.56 % of the
+/// rated torque); and so do the hysteresis curves at
 /// the 4 crank angles of a mesh cycle, every level of the grid of [`hysteresis_with_from`]
 /// (each loaded level from the last stage's) against [`hysteresis_with`].
 #[test]
