@@ -357,14 +357,12 @@ impl TwistTable {
         };
         // A warm grid that does not rise (a solve that followed its start onto another
         // branch) is solved again cold.
-        let mut grid = last
+        let warm_grid = last
             .and_then(|last| Self::grid_from(sa, phi, fractions, rated, &mut warm.zero, &last).ok())
             .filter(|(p, n, _)| rising(p, n));
-        if grid.is_none() {
-            grid = Some(Self::grid_cold(sa, phi, fractions, rated)?);
-        }
-        let Some((positive, negative, solutions)) = grid else {
-            unreachable!("the cold grid is solved above")
+        let (positive, negative, solutions) = match warm_grid {
+            Some(grid) => grid,
+            None => Self::grid_cold(sa, phi, fractions, rated)?,
         };
         let heaviest = solutions[0].last().cloned();
         warm.loaded = Some(Box::new(solutions));
@@ -428,24 +426,23 @@ impl TwistTable {
             // Up the torque grid, each solve started from the one below (the first from the
             // zero-torque configuration of the no-load limit, with play, or the heaviest solve of
             // the descent, with preload).
-            let mut below: Option<StaticSolution> = light;
             for &f in fractions {
                 out.push(if f == 0.0 {
                     twist[k]
                 } else {
                     let torque = side * f * rated;
+                    let below = solutions[k].last().or(light.as_ref());
                     // From the level below; where that start does not lead to the equilibrium
                     // (a light or zero-torque state on another side of a bearing's clearance
                     // edge), from the locked-input mode as a solve without a neighbour starts.
-                    let sol = match sa.solve_near(phi, torque, start[k], below.as_ref()) {
+                    let sol = match sa.solve_near(phi, torque, start[k], below) {
                         Err(e @ Error::Numerical { .. }) if below.is_some() => {
                             sa.solve_near(phi, torque, start[k], None).map_err(|_| e)?
                         }
                         other => other?,
                     };
                     let twist = sol.twist;
-                    solutions[k].push(sol.clone());
-                    below = Some(sol);
+                    solutions[k].push(sol);
                     twist
                 });
             }

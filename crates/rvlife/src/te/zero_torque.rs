@@ -209,10 +209,7 @@ fn zero_torque_from(sa: &StaticAnalysis, phi: f64, rated: f64, lim: Limits) -> R
         }
         done.push(first?);
         // The levels below the first, each half the one above, down to the probe.
-        let levels: Vec<f64> =
-            std::iter::successors(Some(done[0].output_torque.abs() / rated), |&f| {
-                (f >= 2.0 * 0.99 * PRELOAD_PROBE_FRACTION).then_some(0.5 * f)
-            })
+        let levels: Vec<f64> = halvings(done[0].output_torque.abs() / rated)
             .skip(1)
             .collect();
         // The lightest level straight from the first where that converges; else the
@@ -240,13 +237,8 @@ fn zero_torque_from(sa: &StaticAnalysis, phi: f64, rated: f64, lim: Limits) -> R
         unreachable!("every way holds its first level")
     };
     let zero = preload_zero(u, d);
+    let lightest = (up.len() > 1 && down.len() > 1).then(|| Box::new([u.clone(), d.clone()]));
     // The loaded levels start from the heaviest solves, next to the measuring torque.
-    let lightest = match (up.last(), down.last()) {
-        (Some(u), Some(d)) if up.len() > 1 && down.len() > 1 => {
-            Some(Box::new([u.clone(), d.clone()]))
-        }
-        _ => None,
-    };
     let light = [Some(up.swap_remove(0)), Some(down.swap_remove(0))];
     Ok(ZeroTorque {
         twist: [zero, zero],
@@ -310,17 +302,16 @@ pub(super) fn zero_twist_and_start(
         return Ok((twist, start));
     }
     let probe = preload_probe_level() * rated;
-    let solve_from = |from: [&StaticSolution; 2]| -> Option<[StaticSolution; 2]> {
+    // Each way from the last lightest solve of that way (loaded in its sense).
+    let solve_from = |from: &[StaticSolution; 2]| -> Option<[StaticSolution; 2]> {
         let [u, d] = [1.0, -1.0].map(|s| {
             let k = usize::from(s < 0.0);
-            let mut near = from[k].clone();
-            near.output_torque = s * near.output_torque.abs().max(f64::MIN_POSITIVE);
-            sa.solve_near(phi, s * probe, lim.start[k], Some(&near))
+            sa.solve_near(phi, s * probe, lim.start[k], Some(&from[k]))
                 .ok()
         });
         Some([u?, d?])
     };
-    let found = warm.probes.take().and_then(|p| solve_from([&p[0], &p[1]]));
+    let found = warm.probes.take().and_then(|p| solve_from(&p));
     if let Some([u, d]) = found {
         let zero = preload_zero(&u, &d);
         warm.probes = Some(Box::new([u, d]));
@@ -331,13 +322,19 @@ pub(super) fn zero_twist_and_start(
     Ok((cold.twist, start))
 }
 
-/// The lightest level of a preloaded stage's descent, as a fraction of the rated torque:
-/// [`PRELOAD_DESCENT_FRACTION`] halved while it stays at or above about twice
-/// [`PRELOAD_PROBE_FRACTION`] (the same halving as [`zero_torque_from`]).
-fn preload_probe_level() -> f64 {
-    std::iter::successors(Some(PRELOAD_DESCENT_FRACTION), |&f| {
+/// The levels of a preloaded stage's descent from `first` (a fraction of the rated torque,
+/// itself the first level): each half the one before, down to the first below about twice
+/// [`PRELOAD_PROBE_FRACTION`].
+fn halvings(first: f64) -> impl Iterator<Item = f64> {
+    std::iter::successors(Some(first), |&f| {
         (f >= 2.0 * 0.99 * PRELOAD_PROBE_FRACTION).then_some(0.5 * f)
     })
-    .last()
-    .expect("the first level is always there")
+}
+
+/// The lightest level of a preloaded stage's descent from [`PRELOAD_DESCENT_FRACTION`], as a
+/// fraction of the rated torque ([`halvings`]).
+fn preload_probe_level() -> f64 {
+    halvings(PRELOAD_DESCENT_FRACTION)
+        .last()
+        .expect("the first level is always there")
 }
