@@ -510,37 +510,37 @@ impl Reducer {
         eval: &mut BearingEval,
         only: Option<usize>,
     ) {
+        let rot = StructureRotations::new(self, q0, dq);
+        self.structural_forces_at(&rot, q0, dq, qd, g, eval, only);
+    }
+
+    /// [`Reducer::structural_forces_touching`] with the rotations at `q0 + dq` already formed
+    /// (`rot`, [`StructureRotations::new`] or [`StructureRotations::moved`]).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn structural_forces_at(
+        &self,
+        rot: &StructureRotations,
+        q0: &[f64],
+        dq: &[f64],
+        qd: &[f64],
+        g: &mut [f64],
+        eval: &mut BearingEval,
+        only: Option<usize>,
+    ) {
         let touches = |set: &[usize]| moved_by(only, set);
         let lay = self.layout();
-        let th_o = q0[Layout::OUT] + dq[Layout::OUT];
         let (w_s, w_o) = (qd[Layout::SUN], qd[Layout::OUT]);
-        let a = self.geometry.eccentricity;
         let m = &self.mesh;
         let b = &self.bearings;
         let d_o = dq[Layout::OUT];
-        // The rotations shared by the cranks (the carrier's) and by the cranks of one disc (the
-        // disc's), each formed once.
-        let carrier = UnitComplex::new(th_o);
-        let carrier_step = RotationStep::new(q0[Layout::OUT], d_o);
-        let (pa_sin, pa_cos) = self.mesh.pressure_angle.sin_cos();
-        // (At most three discs: MAX_DOFS.)
-        let n_discs = if self.cranks > 0 { self.discs() } else { 0 };
-        let mut discs = [(0, UnitComplex::identity(), RotationStep::new(0.0, 0.0)); 3];
-        for (d, slot) in discs.iter_mut().enumerate().take(n_discs) {
-            let id = lay.disc(d);
-            let psi = q0[id + 2] + dq[id + 2];
-            *slot = (
-                id,
-                UnitComplex::new(psi),
-                RotationStep::new(q0[id + 2], dq[id + 2]),
-            );
-        }
+        let (carrier, carrier_step) = (rot.carrier, rot.carrier_step);
+        let n_discs = rot.n_discs;
         for k in 0..self.cranks {
             let ic = lay.crank(k);
             let dx = Vec2::new(dq[ic], dq[ic + 1]);
             let xd = Vec2::new(qd[ic], qd[ic + 1]);
             let w_k = qd[ic + 2];
-            let seat0 = self.seat(k);
+            let seat0 = rot.seats[k];
             let seat = carrier * seat0;
             let dseat = perp(seat);
             // Crank centre relative to its seat: the nominal crank sits on its seat.
@@ -548,7 +548,7 @@ impl Reducer {
             // Sun-planet mesh: deflection along the line of action in the carrier frame (zero
             // in the nominal kinematics: r_bs (th_s - th_o) + r_bp (th_k - th_o) = 0 there).
             if touches(&[Layout::SUN, Layout::OUT, ic, ic + 1, ic + 2]) {
-                let u = carrier * line_of_action(seat0, pa_sin, pa_cos);
+                let u = carrier * rot.lines[k];
                 let delta = m.sun_base_radius * (dq[Layout::SUN] - d_o)
                     + m.planet_base_radius * (dq[ic + 2] - d_o)
                     - u.dot(&rel);
@@ -591,15 +591,13 @@ impl Reducer {
                 eval.skip();
             }
             // Crank-disc bearings: eccentric centre minus bore centre, zero nominally.
-            for (d, (id, disc, disc_step)) in discs.iter().enumerate().take(n_discs) {
-                let id = *id;
+            for (d, (disc, disc_step)) in rot.discs.iter().enumerate().take(n_discs) {
+                let id = lay.disc(d);
                 if !touches(&[ic, ic + 1, ic + 2, id, id + 1, id + 2]) {
                     eval.skip();
                     continue;
                 }
-                let ang0 = q0[ic + 2] + self.phase(d);
-                let ecc = Vec2::new((ang0 + dq[ic + 2]).cos(), (ang0 + dq[ic + 2]).sin()) * a;
-                let decc = rotation_difference(&Vec2::new(a, 0.0), ang0, dq[ic + 2]);
+                let (ecc, decc) = rot.eccentrics[k][d];
                 let de_dth = perp(ecc);
                 let dc = Vec2::new(dq[id], dq[id + 1]);
                 let cd = Vec2::new(qd[id], qd[id + 1]);
@@ -724,6 +722,112 @@ impl Reducer {
         };
         meshes.iter().map(mesh_energy).sum::<f64>()
             + radial.iter().map(Element::energy).sum::<f64>()
+    }
+}
+
+/// Most cranks, and most discs, of an RV reducer's layout (`2 + 3 (cranks + discs) <=
+/// MAX_DOFS`).
+const MAX_BODIES: usize = 3;
+
+/// The rotations of an RV reducer's structure at positions `q0 + dq`
+/// ([`Reducer::structural_forces_at`]): the carrier's and each disc's (absolute and as a step
+/// from `q0`), each crank's eccentric for each disc (`a (cos, sin)(theta_k + phase)` and its
+/// step), and the cranks' seats and mesh lines of action at `theta_o = 0`. Formed once per
+/// configuration; a difference over one coordinate re-forms only the rotations that
+/// coordinate turns ([`StructureRotations::moved`]), from the same expressions, so the forces
+/// are those of [`Reducer::structural_forces_touching`] bit for bit.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct StructureRotations {
+    carrier: UnitComplex<f64>,
+    carrier_step: RotationStep,
+    /// Discs that the cranks carry (none without cranks: a single-stage drive).
+    n_discs: usize,
+    discs: [(UnitComplex<f64>, RotationStep); MAX_BODIES],
+    /// `[crank][disc]`: the eccentric (m) and its change from `q0` (m).
+    eccentrics: [[(Vec2, Vec2); MAX_BODIES]; MAX_BODIES],
+    seats: [Vec2; MAX_BODIES],
+    lines: [Vec2; MAX_BODIES],
+}
+
+impl StructureRotations {
+    /// The rotations of `red` at `q0 + dq` (rad; lengths `red.layout().dofs()`).
+    pub(crate) fn new(red: &Reducer, q0: &[f64], dq: &[f64]) -> Self {
+        let lay = red.layout();
+        let cranks = red.cranks.min(MAX_BODIES);
+        let n_discs = if red.cranks > 0 {
+            red.discs().min(MAX_BODIES)
+        } else {
+            0
+        };
+        let (pa_sin, pa_cos) = red.mesh.pressure_angle.sin_cos();
+        let mut seats = [Vec2::zeros(); MAX_BODIES];
+        let mut lines = [Vec2::zeros(); MAX_BODIES];
+        for k in 0..cranks {
+            seats[k] = red.seat(k);
+            lines[k] = line_of_action(seats[k], pa_sin, pa_cos);
+        }
+        let mut rot = StructureRotations {
+            carrier: UnitComplex::identity(),
+            carrier_step: RotationStep::new(0.0, 0.0),
+            n_discs,
+            discs: [(UnitComplex::identity(), RotationStep::new(0.0, 0.0)); MAX_BODIES],
+            eccentrics: [[(Vec2::zeros(), Vec2::zeros()); MAX_BODIES]; MAX_BODIES],
+            seats,
+            lines,
+        };
+        rot.turn_carrier(q0, dq);
+        for d in 0..n_discs {
+            rot.turn_disc(&lay, q0, dq, d);
+        }
+        for k in 0..cranks {
+            rot.turn_crank(red, &lay, q0, dq, k);
+        }
+        rot
+    }
+
+    /// These rotations (formed at `q0 + dq'`) at `q0 + dq` where `dq` differs from `dq'` in
+    /// coordinate `c` only: the rotations that `c` turns formed again.
+    pub(crate) fn moved(&self, red: &Reducer, q0: &[f64], dq: &[f64], c: usize) -> Self {
+        let lay = red.layout();
+        let mut rot = *self;
+        if c == Layout::OUT {
+            rot.turn_carrier(q0, dq);
+        }
+        for d in 0..rot.n_discs {
+            if lay.disc(d) + 2 == c {
+                rot.turn_disc(&lay, q0, dq, d);
+            }
+        }
+        for k in 0..red.cranks.min(MAX_BODIES) {
+            if lay.crank(k) + 2 == c {
+                rot.turn_crank(red, &lay, q0, dq, k);
+            }
+        }
+        rot
+    }
+
+    fn turn_carrier(&mut self, q0: &[f64], dq: &[f64]) {
+        self.carrier = UnitComplex::new(q0[Layout::OUT] + dq[Layout::OUT]);
+        self.carrier_step = RotationStep::new(q0[Layout::OUT], dq[Layout::OUT]);
+    }
+
+    fn turn_disc(&mut self, lay: &Layout, q0: &[f64], dq: &[f64], d: usize) {
+        let id = lay.disc(d);
+        self.discs[d] = (
+            UnitComplex::new(q0[id + 2] + dq[id + 2]),
+            RotationStep::new(q0[id + 2], dq[id + 2]),
+        );
+    }
+
+    fn turn_crank(&mut self, red: &Reducer, lay: &Layout, q0: &[f64], dq: &[f64], k: usize) {
+        let ic = lay.crank(k);
+        let a = red.geometry.eccentricity;
+        for d in 0..self.n_discs {
+            let ang0 = q0[ic + 2] + red.phase(d);
+            let ecc = Vec2::new((ang0 + dq[ic + 2]).cos(), (ang0 + dq[ic + 2]).sin()) * a;
+            let decc = rotation_difference(&Vec2::new(a, 0.0), ang0, dq[ic + 2]);
+            self.eccentrics[k][d] = (ecc, decc);
+        }
     }
 }
 

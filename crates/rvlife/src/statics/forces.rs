@@ -318,12 +318,16 @@ impl<'a> StaticAnalysis<'a> {
         // sums, exact to round-off for the linear part and the geometric terms alike.
         let mut frozen: Vec<Frozen> = Vec::with_capacity(12);
         let mut g0 = [0.0; MAX_DOFS];
-        red.structural_forces_with(
+        // The rotations at `z`, each difference re-forming only those its coordinate turns.
+        let base = StructureRotations::new(red, &fr.q0[..n], &z[..n]);
+        red.structural_forces_at(
+            &base,
             &fr.q0[..n],
             &z[..n],
             &zero[..n],
             &mut g0[..n],
             &mut BearingEval::Record(&mut frozen, floored),
+            None,
         );
         // The pins in holes of a single-stage drive touch at zero load: steps well below their
         // approach at the smallest loads solved (1e-8 m at 1 N m) keep the tangent of each
@@ -338,7 +342,8 @@ impl<'a> StaticAnalysis<'a> {
             // Only the elements that coordinate `c` moves: the others' forces cancel in the
             // difference.
             zz[c] = z[c] + h;
-            red.structural_forces_touching(
+            red.structural_forces_at(
+                &base.moved(red, &fr.q0[..n], &zz[..n], c),
                 &fr.q0[..n],
                 &zz[..n],
                 &zero[..n],
@@ -347,7 +352,8 @@ impl<'a> StaticAnalysis<'a> {
                 Some(c),
             );
             zz[c] = z[c] - h;
-            red.structural_forces_touching(
+            red.structural_forces_at(
+                &base.moved(red, &fr.q0[..n], &zz[..n], c),
                 &fr.q0[..n],
                 &zz[..n],
                 &zero[..n],

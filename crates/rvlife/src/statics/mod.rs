@@ -54,7 +54,8 @@ use crate::contact::DiscPose;
 use crate::error::{Error, Result};
 use crate::geometry::{cross, mesh_angle, Profile, Vec2};
 use crate::reducer::{
-    perp, rotation_difference, BearingEval, Drive, Frozen, Layout, Reducer, Support, MAX_DOFS,
+    perp, rotation_difference, BearingEval, Drive, Frozen, Layout, Reducer, StructureRotations,
+    Support, MAX_DOFS,
 };
 use crate::units::ARCMIN_PER_RAD;
 

@@ -294,7 +294,8 @@ pub struct TwistTable {
 pub(crate) struct CrankStart {
     /// The zero-torque search's.
     zero: ZeroTorqueStart,
-    /// The loaded solutions of the grid each way (positive torques first), in the grid's order.
+    /// The first loaded level of the grid each way (positive torque first; one solution
+    /// each): where the next search's first loaded level starts.
     loaded: Option<Box<[Vec<StaticSolution>; 2]>>,
 }
 
@@ -309,32 +310,47 @@ pub(crate) struct Starts {
     pub cranks: Vec<CrankStart>,
 }
 
+impl CrankStart {
+    /// Whether it holds nothing to start from (a search solved cold).
+    fn is_empty(&self) -> bool {
+        self.loaded.is_none() && self.zero.is_empty()
+    }
+
+    /// What the neighbouring crank angle starts from: the first loaded level of this grid
+    /// each way, and nothing else. The levels above it are solved each from the one below, as
+    /// cold: a worn reducer can hold more than one equilibrium under the same torque (a disc
+    /// that rolls over a ridge of its worn flank onto other pins), and the curve is the one
+    /// reached by loading at a fixed crank angle, not by turning the crank under load (on the
+    /// example worn for 1 250 h, levels from a quarter of the rated torque up started from
+    /// the neighbour's reached other equilibria, up to 9e-5 rad of twist away; a sampled
+    /// reducer's next stage keeps the same rule). The
+    /// zero-torque searches start cold: the contact problem from the neighbour's
+    /// configuration takes more programmes than from the rigid first contact, and a light
+    /// solve from the neighbour's may settle on another of the equilibria that the curve's
+    /// kink near zero torque allows.
+    fn neighbour(&self) -> CrankStart {
+        CrankStart {
+            zero: ZeroTorqueStart::default(),
+            loaded: self.loaded.clone(),
+        }
+    }
+}
+
 impl TwistTable {
     /// The twists of the static solutions of one crank angle, `solve(torque)` for every torque
-    /// of the grid (both signs) and the zero-torque limits ([`zero_torque`]) at zero.
+    /// of the grid `fractions` of `rated` (both signs) and the zero-torque limits
+    /// ([`zero_torque`]) at zero, and the solution at `+rated`, started from what `warm` holds
+    /// (the same crank angle's search in a neighbouring state, a sampled reducer's last stage,
+    /// or the neighbouring crank angle's first loaded level: [`CrankStart::neighbour`]), which
+    /// it then holds for the next: the zero-torque twists by [`zero_torque_twist_from`] and the
+    /// first loaded level each way from that level there, each level above from the one below,
+    /// where every solve converges; else cold (the first loaded level from the zero-torque
+    /// state, where the mechanism mode has no stiffness yet). The same equilibria, to the
+    /// solvers' tolerances.
     ///
     /// # Errors
     /// Those of the solver; [`Error::Numerical`] if the twists do not rise with the torque
     /// (a solve that settled on another branch).
-    fn at_crank(
-        sa: &StaticAnalysis,
-        phi: f64,
-        fractions: &[f64],
-        rated: f64,
-        measuring_fraction: f64,
-    ) -> Result<(TwistTable, StaticSolution)> {
-        let mut warm = CrankStart::default();
-        Self::at_crank_from(sa, phi, fractions, rated, measuring_fraction, &mut warm)
-    }
-
-    /// [`TwistTable::at_crank`] started from what `warm` holds (the same crank angle's search
-    /// in a neighbouring state: a sampled reducer's last stage), which it then holds for the
-    /// next: the zero-torque twists by [`zero_torque_twist_from`] and each loaded level from
-    /// the same level there, where `warm` holds the whole grid and every solve converges;
-    /// else as [`TwistTable::at_crank`]. The same equilibria, to the solvers' tolerances.
-    ///
-    /// # Errors
-    /// As [`TwistTable::at_crank`].
     fn at_crank_from(
         sa: &StaticAnalysis,
         phi: f64,
@@ -343,11 +359,10 @@ impl TwistTable {
         measuring_fraction: f64,
         warm: &mut CrankStart,
     ) -> Result<(TwistTable, StaticSolution)> {
-        let loaded = fractions.iter().filter(|&&f| f != 0.0).count();
         let last = warm
             .loaded
             .take()
-            .filter(|l| l.iter().all(|side| side.len() == loaded));
+            .filter(|l| l.iter().all(|side| side.len() == 1));
         // The twist rises with the torque through the whole grid, both sides.
         let tol = PLAY_ROUND_OFF;
         let rising = |positive: &[f64], negative: &[f64]| {
@@ -365,7 +380,11 @@ impl TwistTable {
             None => Self::grid_cold(sa, phi, fractions, rated)?,
         };
         let heaviest = solutions[0].last().cloned();
-        warm.loaded = Some(Box::new(solutions));
+        // The first loaded level each way, where the next state's grid starts.
+        let [mut up, mut down] = solutions;
+        up.truncate(1);
+        down.truncate(1);
+        warm.loaded = Some(Box::new([up, down]));
         if !rising(&positive, &negative) {
             return Err(Error::numerical(
                 "hysteresis",
@@ -451,8 +470,9 @@ impl TwistTable {
     }
 
     /// [`TwistTable::grid_cold`] with the zero-torque twists from `zero`
-    /// ([`zero_twist_and_start`]) and each loaded level from the same level of `last` (the
-    /// loaded solutions each way of a neighbouring state).
+    /// ([`zero_twist_and_start`]) and the first loaded level each way from `last` (that
+    /// level's solution each way in a neighbouring state), the levels above it each from the
+    /// one below, as cold.
     ///
     /// # Errors
     /// Those of the solver, at the first solve that fails.
@@ -475,7 +495,8 @@ impl TwistTable {
                     twists[k].push(twist[k]);
                     continue;
                 }
-                let sol = sa.solve_near(phi, side * f * rated, start[k], Some(&last[k][level]))?;
+                let near = last[k].get(level).or(solutions[k].last());
+                let sol = sa.solve_near(phi, side * f * rated, start[k], near)?;
                 level += 1;
                 twists[k].push(sol.twist);
                 solutions[k].push(sol);
@@ -629,9 +650,9 @@ pub(crate) fn hysteresis_with(
 }
 
 /// [`hysteresis_with`] with each crank angle's search started from its entry of `warm`
-/// ([`TwistTable::at_crank_from`]; a `warm` of another length is reset, an empty one starts
-/// every search cold), which then holds this curve's ends: a sampled reducer's stages, solved
-/// in order, start each from the one before.
+/// ([`TwistTable::at_crank_from`]; a `warm` of another length is reset), which then holds this
+/// curve's ends: a sampled reducer's stages, solved in order, start each from the one before.
+/// An empty entry starts from its neighbour's, as [`hysteresis_and_rated`] does.
 ///
 /// # Errors
 /// As [`hysteresis`].
@@ -647,21 +668,94 @@ pub(crate) fn hysteresis_with_from(
     if warm.len() != crank_angles.len() {
         *warm = vec![CrankStart::default(); crank_angles.len()];
     }
-    let tables = crank_angles
-        .par_iter()
-        .zip(warm.par_iter_mut())
-        .map(|(&phi, w)| {
-            TwistTable::at_crank_from(sa, phi, &fractions, rated, measuring_fraction, w)
-                .map(|t| t.0)
-        })
-        .collect::<Result<Vec<_>>>()?;
+    let tables: Vec<TwistTable> = tables_from(
+        sa,
+        crank_angles,
+        &fractions,
+        rated,
+        measuring_fraction,
+        warm,
+    )?
+    .into_iter()
+    .map(|t| t.0)
+    .collect();
     let mean = TwistTable::mean_of(&tables);
     Ok((tables, mean))
 }
 
+/// The twist table and the solution at `+rated` of each crank angle of `crank_angles`
+/// ([`TwistTable::at_crank_from`]), each started from its entry of `warm` (as long as
+/// `crank_angles`), or, where that entry is empty, from its neighbour's just solved: the
+/// loaded levels each from the same level at the crank angle before (a warm start from a
+/// state whose pins carry load, where the first level up from a zero-torque state starts from
+/// no stiffness along the mechanism mode), the zero-torque searches cold. In parallel over
+/// runs of consecutive crank angles ([`crate::statics::sequence_run`]: fixed by their number,
+/// so the results do not depend on the number of threads). The same equilibria as every crank
+/// angle solved cold, to the solvers' tolerances (a warm grid that does not rise is solved
+/// again cold).
+///
+/// # Errors
+/// As [`TwistTable::at_crank_from`].
+fn tables_from(
+    sa: &StaticAnalysis,
+    crank_angles: &[f64],
+    fractions: &[f64],
+    rated: f64,
+    measuring_fraction: f64,
+    warm: &mut [CrankStart],
+) -> Result<Vec<(TwistTable, StaticSolution)>> {
+    let run = crate::statics::sequence_run(crank_angles.len());
+    Ok(crank_angles
+        .par_chunks(run)
+        .zip(warm.par_chunks_mut(run))
+        .map(|(phis, starts)| {
+            let mut out = Vec::with_capacity(phis.len());
+            for (i, &phi) in phis.iter().enumerate() {
+                if i > 0 && starts[i].is_empty() {
+                    starts[i] = starts[i - 1].neighbour();
+                }
+                out.push(TwistTable::at_crank_from(
+                    sa,
+                    phi,
+                    fractions,
+                    rated,
+                    measuring_fraction,
+                    &mut starts[i],
+                )?);
+            }
+            Ok(out)
+        })
+        .collect::<Result<Vec<_>>>()?
+        .into_iter()
+        .flatten()
+        .collect())
+}
+
+/// [`hysteresis_and_rated`] with every crank angle solved cold (from the rigid first contacts,
+/// each level from the one below): the reference of the warm starts' tests.
+#[cfg(test)]
+pub(crate) fn hysteresis_cold(
+    sa: &StaticAnalysis,
+    crank_angles: &[f64],
+    rated: f64,
+    measuring_fraction: f64,
+    fractions: &[f64],
+) -> Result<(Vec<TwistTable>, Vec<StaticSolution>)> {
+    Ok(crank_angles
+        .par_iter()
+        .map(|&phi| {
+            let mut cold = CrankStart::default();
+            TwistTable::at_crank_from(sa, phi, fractions, rated, measuring_fraction, &mut cold)
+        })
+        .collect::<Result<Vec<_>>>()?
+        .into_iter()
+        .unzip())
+}
+
 /// [`hysteresis_with`] on the grid `fractions` ([`torque_fractions`]) and the equilibria at
 /// `+rated` at each crank angle on the way (the loaded TE at the rated torque,
-/// [`LoadedTe::from_solutions`]).
+/// [`LoadedTe::from_solutions`]), each crank angle's loaded levels started from its
+/// neighbour's ([`tables_from`]).
 ///
 /// # Errors
 /// As [`hysteresis`].
@@ -672,12 +766,17 @@ pub(crate) fn hysteresis_and_rated(
     measuring_fraction: f64,
     fractions: &[f64],
 ) -> Result<(Vec<TwistTable>, TwistTable, Vec<StaticSolution>)> {
-    let (tables, solutions): (Vec<TwistTable>, Vec<StaticSolution>) = crank_angles
-        .par_iter()
-        .map(|&phi| TwistTable::at_crank(sa, phi, fractions, rated, measuring_fraction))
-        .collect::<Result<Vec<_>>>()?
-        .into_iter()
-        .unzip();
+    let mut warm = vec![CrankStart::default(); crank_angles.len()];
+    let (tables, solutions): (Vec<TwistTable>, Vec<StaticSolution>) = tables_from(
+        sa,
+        crank_angles,
+        fractions,
+        rated,
+        measuring_fraction,
+        &mut warm,
+    )?
+    .into_iter()
+    .unzip();
     let mean = TwistTable::mean_of(&tables);
     Ok((tables, mean, solutions))
 }

@@ -274,6 +274,13 @@ pub(crate) struct ZeroTorqueStart {
 ///
 /// # Errors
 /// Those of the solver.
+impl ZeroTorqueStart {
+    /// Whether it holds nothing to start from.
+    pub(super) fn is_empty(&self) -> bool {
+        self.configs.iter().all(Option::is_none) && self.probes.is_none()
+    }
+}
+
 pub(crate) fn zero_torque_twist_from(
     sa: &StaticAnalysis,
     phi: f64,

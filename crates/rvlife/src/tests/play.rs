@@ -8,8 +8,9 @@ use crate::config::{preset_text, Config, Model, PRESETS};
 use crate::geometry::{Profile, Vec2, WearMap};
 use crate::statics::StaticAnalysis;
 use crate::te::{
-    hysteresis_with, hysteresis_with_from, mesh_cycle_angles, revolution_angles, zero_torque,
-    zero_torque_twist_from, ZeroTorqueStart,
+    hysteresis_and_rated, hysteresis_cold, hysteresis_with, hysteresis_with_from,
+    mesh_cycle_angles, revolution_angles, torque_fractions, zero_torque, zero_torque_twist_from,
+    ZeroTorqueStart, HYSTERESIS_LEVELS,
 };
 use crate::units::ARCMIN_PER_RAD;
 
@@ -218,7 +219,7 @@ fn hysteresis_where_the_inner_solve_crawled() {
 /// (the last stage's lightest solves as starts, in place of the descent from 2.56 % of the
 /// rated torque); and so do the hysteresis curves at
 /// the 4 crank angles of a mesh cycle, every level of the grid of [`hysteresis_with_from`]
-/// (each loaded level from the last stage's) against [`hysteresis_with`].
+/// (each loaded level from the last stage's) against every crank angle solved cold.
 #[test]
 fn warm_started_searches_equal_the_cold_ones() {
     let nominal = example();
@@ -244,7 +245,8 @@ fn warm_started_searches_equal_the_cold_ones() {
             let profile = sample.cycloid.profile(map.clone()).unwrap();
             let sa = StaticAnalysis::new(&sample.reducer, &profile).unwrap();
             let cycle = mesh_cycle_angles(sample.reducer.geometry.pins, 4);
-            let (cold, _) = hysteresis_with(&sa, &cycle, rated, 0.03, 1).unwrap();
+            let grid = torque_fractions(0.03, 1, false);
+            let (cold, _) = hysteresis_cold(&sa, &cycle, rated, 0.03, &grid).unwrap();
             let (hot, _) = hysteresis_with_from(&sa, &cycle, rated, 0.03, 1, &mut cranks).unwrap();
             for (c, h) in cold.iter().zip(&hot) {
                 for (a, b) in c.positive.iter().zip(&h.positive) {
@@ -287,5 +289,63 @@ fn warm_started_searches_equal_the_cold_ones() {
     assert!(
         worst_curve < 1e-11,
         "warm and cold hysteresis curves differ by {worst_curve:e} rad"
+    );
+}
+
+/// The study's hysteresis curves with each crank angle's loaded levels started from the
+/// neighbouring crank angle's ([`hysteresis_and_rated`], in runs of consecutive crank angles)
+/// equal every crank angle solved cold (each level from the one below, the first from the
+/// zero-torque state) to 1e-11 rad: the example and a sampled reducer of it (part errors that
+/// preload some crank angles), new and at three stages of wear (1 250 to 7 500 h), the 24
+/// crank angles of a mesh cycle, every level of the study's grid (0 to the rated torque, both
+/// ways: 22 loaded solves per crank angle) and the solutions at the rated torque.
+#[test]
+fn neighbour_started_hysteresis_equals_the_cold_one() {
+    let nominal = example();
+    let rated = nominal.rating.rated_torque;
+    let mut m = nominal.clone();
+    m.wear.stage_hours = vec![1250.0, 3750.0, 7500.0];
+    let hist = crate::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
+    let maps: Vec<Option<WearMap>> = std::iter::once(None)
+        .chain(
+            hist.maps
+                .iter()
+                .map(|w| Some(WearMap::new(w.clone()).unwrap())),
+        )
+        .collect();
+    let grid = torque_fractions(0.03, HYSTERESIS_LEVELS, true);
+    let (mut worst, mut solves) = (0.0_f64, 0);
+    for model in [
+        nominal.clone(),
+        crate::montecarlo::sample_model(&nominal, 1, 0),
+    ] {
+        let cycle = mesh_cycle_angles(model.reducer.geometry.pins, 24);
+        for map in &maps {
+            let profile = model.cycloid.profile(map.clone()).unwrap();
+            let sa = StaticAnalysis::new(&model.reducer, &profile).unwrap();
+            let (chained, _, rated_chained) =
+                hysteresis_and_rated(&sa, &cycle, rated, 0.03, &grid).unwrap();
+            let (cold, rated_cold) = hysteresis_cold(&sa, &cycle, rated, 0.03, &grid).unwrap();
+            for (c, h) in cold.iter().zip(&chained) {
+                for (a, b) in c
+                    .positive
+                    .iter()
+                    .zip(&h.positive)
+                    .chain(c.negative.iter().zip(&h.negative))
+                {
+                    worst = worst.max((a - b).abs());
+                    solves += 1;
+                }
+            }
+            for (c, h) in rated_cold.iter().zip(&rated_chained) {
+                worst = worst.max((c.twist - h.twist).abs());
+            }
+        }
+    }
+    println!("{solves} twists; largest difference {worst:.3e} rad");
+    assert_eq!(solves, 2 * 4 * 24 * 2 * grid.len());
+    assert!(
+        worst < 1e-11,
+        "neighbour-started and cold hysteresis differ by {worst:e} rad"
     );
 }
