@@ -666,9 +666,14 @@ impl<'a> StaticAnalysis<'a> {
                 .iter()
                 .map(|_| SupportedConeT::SecondOrderConeT(3)),
         );
+        // Without iterative refinement of the KKT solves: the interior-point iteration ends on
+        // its own residuals whatever the solves' accuracy, and the programmes are small and
+        // well scaled (micrometres); the study's no-load limits and curves come out the same
+        // to every printed digit, in a tenth less time.
         let settings = DefaultSettingsBuilder::default()
             .verbose(false)
             .max_iter(200)
+            .iterative_refinement_enable(false)
             .build()
             .map_err(|_| SolverStatus::Unsolved)?;
         let mut solver = DefaultSolver::new(&p, &q, &a, &b, &kinds, settings)
