@@ -491,31 +491,19 @@ impl Reducer {
         g: &mut [f64],
         eval: &mut BearingEval,
     ) {
-        self.structural_forces_touching(q0, dq, qd, g, eval, None);
-    }
-
-    /// [`Reducer::structural_forces_with`], with `only = Some(c)` only the terms of the
-    /// elements whose deflection depends on coordinate `c` (a mesh on the sun, the output and
-    /// its crank; a crank-carrier bearing on its crank's centre and the output; a crank-disc
-    /// bearing on its crank and disc; a single-stage drive's eccentric bearing on the input and
-    /// its disc's centre, its pins in holes on the output and the disc): what a difference of
-    /// the forces over `c` sees, at a fraction of the work. The skipped bearings still take
-    /// their place in `eval`'s call order.
-    pub(crate) fn structural_forces_touching(
-        &self,
-        q0: &[f64],
-        dq: &[f64],
-        qd: &[f64],
-        g: &mut [f64],
-        eval: &mut BearingEval,
-        only: Option<usize>,
-    ) {
         let rot = StructureRotations::new(self, q0, dq);
-        self.structural_forces_at(&rot, q0, dq, qd, g, eval, only);
+        self.structural_forces_at(&rot, q0, dq, qd, g, eval, None);
     }
 
-    /// [`Reducer::structural_forces_touching`] with the rotations at `q0 + dq` already formed
-    /// (`rot`, [`StructureRotations::new`] or [`StructureRotations::moved`]).
+    /// [`Reducer::structural_forces_with`] with the rotations at `q0 + dq` already formed
+    /// (`rot`, [`StructureRotations::new`] or [`StructureRotations::moved`]), and with
+    /// `only = Some(c)` only the terms of the elements whose deflection depends on coordinate
+    /// `c` (a mesh on the sun, the output and its crank; a crank-carrier bearing on its
+    /// crank's centre and the output; a crank-disc bearing on its crank and disc; a
+    /// single-stage drive's eccentric bearing on the input and its disc's centre, its pins in
+    /// holes on the output and the disc): what a difference of the forces over `c` sees, at a
+    /// fraction of the work. The skipped bearings still take their place in `eval`'s call
+    /// order.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn structural_forces_at(
         &self,
@@ -623,7 +611,7 @@ impl Reducer {
     /// disc) and pins in holes (each disc to the output flange), added to `g`
     /// ([`Reducer::structural_forces`]; every force derives from
     /// [`Reducer::structural_energy`], plus the bearings' damping); `only` as in
-    /// [`Reducer::structural_forces_touching`].
+    /// [`Reducer::structural_forces_at`].
     #[allow(clippy::too_many_arguments)]
     fn single_stage_forces(
         &self,
@@ -735,7 +723,7 @@ const MAX_BODIES: usize = 3;
 /// step), and the cranks' seats and mesh lines of action at `theta_o = 0`. Formed once per
 /// configuration; a difference over one coordinate re-forms only the rotations that
 /// coordinate turns ([`StructureRotations::moved`]), from the same expressions, so the forces
-/// are those of [`Reducer::structural_forces_touching`] bit for bit.
+/// are those of [`Reducer::structural_forces_at`] bit for bit.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct StructureRotations {
     carrier: UnitComplex<f64>,
@@ -832,7 +820,7 @@ impl StructureRotations {
 }
 
 /// Whether an element whose deflection depends on the coordinates `set` is evaluated when only
-/// those moved by coordinate `only` are ([`Reducer::structural_forces_touching`]; `None`:
+/// those moved by coordinate `only` are ([`Reducer::structural_forces_at`]; `None`:
 /// every element).
 #[inline]
 fn moved_by(only: Option<usize>, set: &[usize]) -> bool {

@@ -320,14 +320,13 @@ impl CrankStart {
     /// each way, and nothing else. The levels above it are solved each from the one below, as
     /// cold: a worn reducer can hold more than one equilibrium under the same torque (a disc
     /// that rolls over a ridge of its worn flank onto other pins), and the curve is the one
-    /// reached by loading at a fixed crank angle, not by turning the crank under load (on the
-    /// example worn for 1 250 h, levels from a quarter of the rated torque up started from
-    /// the neighbour's reached other equilibria, up to 9e-5 rad of twist away; a sampled
-    /// reducer's next stage keeps the same rule). The
-    /// zero-torque searches start cold: the contact problem from the neighbour's
-    /// configuration takes more programmes than from the rigid first contact, and a light
-    /// solve from the neighbour's may settle on another of the equilibria that the curve's
-    /// kink near zero torque allows.
+    /// reached by loading at a fixed crank angle, not by turning the crank under load
+    /// (docs/model.md section 6.3: every level started from the neighbour's, 10 of 3 456
+    /// loaded twists of the worn example reached other equilibria, up to 9e-5 rad away). A
+    /// sampled reducer's next stage keeps the same rule. The zero-torque searches start cold:
+    /// the contact problem from the neighbour's configuration takes more programmes than from
+    /// the rigid first contact, and a light solve from the neighbour's may settle on another
+    /// of the equilibria that the curve's kink near zero torque allows.
     fn neighbour(&self) -> CrankStart {
         CrankStart {
             zero: ZeroTorqueStart::default(),

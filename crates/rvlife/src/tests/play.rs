@@ -209,6 +209,21 @@ fn hysteresis_where_the_inner_solve_crawled() {
     }
 }
 
+/// The unworn disc (`None`) and `model`'s wear maps at each of `hours` (its own wear
+/// integration).
+fn new_and_worn(model: &Model, hours: &[f64]) -> Vec<Option<WearMap>> {
+    let mut m = model.clone();
+    m.wear.stage_hours = hours.to_vec();
+    let hist = crate::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
+    std::iter::once(None)
+        .chain(
+            hist.maps
+                .iter()
+                .map(|w| Some(WearMap::new(w.clone()).unwrap())),
+        )
+        .collect()
+}
+
 /// Four sampled reducers of the example (Monte Carlo samples 0-3 of seed 1: part errors and
 /// modification from its tolerances), on the nominal wear maps new and at four stages (1 250 to
 /// 7 500 h), at 24 crank angles spread over the output revolution: the zero-torque twists
@@ -224,16 +239,7 @@ fn hysteresis_where_the_inner_solve_crawled() {
 fn warm_started_searches_equal_the_cold_ones() {
     let nominal = example();
     let rated = nominal.rating.rated_torque;
-    let mut m = nominal.clone();
-    m.wear.stage_hours = vec![1250.0, 2500.0, 5000.0, 7500.0];
-    let hist = crate::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
-    let maps: Vec<Option<WearMap>> = std::iter::once(None)
-        .chain(
-            hist.maps
-                .iter()
-                .map(|w| Some(WearMap::new(w.clone()).unwrap())),
-        )
-        .collect();
+    let maps = new_and_worn(&nominal, &[1250.0, 2500.0, 5000.0, 7500.0]);
     let all = revolution_angles(nominal.reducer.geometry.pins, 4);
     let phis: Vec<f64> = all.iter().copied().step_by(all.len() / 24 + 1).collect();
     let (mut preloaded, mut play, mut worst, mut worst_curve) = (0, 0, 0.0_f64, 0.0_f64);
@@ -303,16 +309,7 @@ fn warm_started_searches_equal_the_cold_ones() {
 fn neighbour_started_hysteresis_equals_the_cold_one() {
     let nominal = example();
     let rated = nominal.rating.rated_torque;
-    let mut m = nominal.clone();
-    m.wear.stage_hours = vec![1250.0, 3750.0, 7500.0];
-    let hist = crate::wear::integrate(&m.wear_inputs(), &|_, _| {}).unwrap();
-    let maps: Vec<Option<WearMap>> = std::iter::once(None)
-        .chain(
-            hist.maps
-                .iter()
-                .map(|w| Some(WearMap::new(w.clone()).unwrap())),
-        )
-        .collect();
+    let maps = new_and_worn(&nominal, &[1250.0, 3750.0, 7500.0]);
     let grid = torque_fractions(0.03, HYSTERESIS_LEVELS, true);
     let (mut worst, mut solves) = (0.0_f64, 0);
     for model in [
