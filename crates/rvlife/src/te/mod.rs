@@ -685,9 +685,10 @@ pub(crate) fn hysteresis_with_from(
 /// The twist table and the solution at `+rated` of each crank angle of `crank_angles`
 /// ([`TwistTable::at_crank_from`]), each started from its entry of `warm` (as long as
 /// `crank_angles`), or, where that entry is empty, from its neighbour's just solved: the
-/// loaded levels each from the same level at the crank angle before (a warm start from a
-/// state whose pins carry load, where the first level up from a zero-torque state starts from
-/// no stiffness along the mechanism mode), the zero-torque searches cold. In parallel over
+/// first loaded level each way from that level at the crank angle before (a start whose pins
+/// carry load, where the first level up from a zero-torque state starts from no stiffness
+/// along the mechanism mode), the levels above each from the one below, the zero-torque
+/// searches cold ([`CrankStart::neighbour`], docs/model.md section 6.3). In parallel over
 /// runs of consecutive crank angles ([`crate::statics::sequence_run`]: fixed by their number,
 /// so the results do not depend on the number of threads). The same equilibria as every crank
 /// angle solved cold, to the solvers' tolerances (a warm grid that does not rise is solved
@@ -753,7 +754,7 @@ pub(crate) fn hysteresis_cold(
 
 /// [`hysteresis_with`] on the grid `fractions` ([`torque_fractions`]) and the equilibria at
 /// `+rated` at each crank angle on the way (the loaded TE at the rated torque,
-/// [`LoadedTe::from_solutions`]), each crank angle's loaded levels started from its
+/// [`LoadedTe::from_solutions`]), each crank angle's first loaded level started from its
 /// neighbour's ([`tables_from`]).
 ///
 /// # Errors
