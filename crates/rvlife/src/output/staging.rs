@@ -53,8 +53,22 @@ pub fn remove_pending() {
     let list = std::mem::take(&mut *guard);
     // Held until the process exits.
     std::mem::forget(guard);
-    for p in list {
-        // Twice: a writer thread may add a file while the first pass runs.
+    for (i, p) in list.into_iter().enumerate() {
+        // Moved aside first, under a name no writer knows: the writer threads still running
+        // address the output by its old path, so none can add a file to it while it is
+        // removed (removed in place, a directory that a writer adds a file to between the
+        // removal's listing and its last step stays behind).
+        let aside = parent_of(&p).join(format!(
+            "{TMP_PREFIX}{}-interrupted-{i}",
+            std::process::id()
+        ));
+        let p = if std::fs::rename(&p, &aside).is_ok() {
+            aside
+        } else {
+            p
+        };
+        // Twice: where the move failed, a writer thread may add a file while the first pass
+        // runs.
         for _ in 0..2 {
             if p.is_dir() {
                 let _ = std::fs::remove_dir_all(&p);
