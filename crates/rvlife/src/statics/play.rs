@@ -109,10 +109,10 @@ pub(crate) enum NoLoad {
         rest: Option<Box<StaticSolution>>,
     },
     /// Its parts interfere: no configuration leaves every pin and element unloaded. With
-    /// play, `least` is the configuration that violates the constraints least (a zero-torque
-    /// state of direction `+1` from which solves may start, its twist that configuration's);
+    /// play, `least` is the configuration that violates the constraints least (deviations,
+    /// the layout's coordinates: where a neighbouring state's contact problem starts);
     /// `None` without play.
-    Preloaded { least: Option<Box<StaticSolution>> },
+    Preloaded { least: Option<Vec<f64>> },
 }
 
 /// How one trust-region iteration ends.
@@ -212,9 +212,7 @@ impl<'a> StaticAnalysis<'a> {
                 twist: twist + shift,
                 rest: Some(state(z)),
             },
-            Err(least) => NoLoad::Preloaded {
-                least: Some(state(least)),
-            },
+            Err(least) => NoLoad::Preloaded { least: Some(least) },
         })
     }
 

@@ -113,9 +113,8 @@ impl Limits {
     /// that violates the constraints least), where it has one.
     fn configs(&self) -> [Option<Vec<f64>>; 2] {
         [0, 1].map(|k| match &self.limits[k] {
-            NoLoad::Limit { rest: Some(r), .. } | NoLoad::Preloaded { least: Some(r) } => {
-                Some(r.deviations.clone())
-            }
+            NoLoad::Limit { rest: Some(r), .. } => Some(r.deviations.clone()),
+            NoLoad::Preloaded { least: Some(z) } => Some(z.clone()),
             _ => None,
         })
     }
@@ -261,6 +260,13 @@ pub(crate) struct ZeroTorqueStart {
     probes: Option<Box<[StaticSolution; 2]>>,
 }
 
+impl ZeroTorqueStart {
+    /// Whether it holds nothing to start from.
+    pub(super) fn is_empty(&self) -> bool {
+        self.configs.iter().all(Option::is_none) && self.probes.is_none()
+    }
+}
+
 /// The zero-torque twists `[psi(0+), psi(0-)]` (rad) of crank angle `phi`: those of
 /// [`zero_torque`], without the loaded states it also gives, started from what `warm` holds
 /// (the contact problems from its configurations), which it then holds for the next state.
@@ -274,13 +280,6 @@ pub(crate) struct ZeroTorqueStart {
 ///
 /// # Errors
 /// Those of the solver.
-impl ZeroTorqueStart {
-    /// Whether it holds nothing to start from.
-    pub(super) fn is_empty(&self) -> bool {
-        self.configs.iter().all(Option::is_none) && self.probes.is_none()
-    }
-}
-
 pub(crate) fn zero_torque_twist_from(
     sa: &StaticAnalysis,
     phi: f64,
