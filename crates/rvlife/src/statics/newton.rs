@@ -8,6 +8,15 @@ use super::*;
 /// start, in multiples of the twist estimate at the pin circle ([`StaticAnalysis::twist_guess`]).
 const STEP_LIMIT_GUESSES: f64 = 16.0;
 
+/// Twist beyond first contact (rad) at which an iterate of the torque-controlled solve is lost:
+/// four times the analysis' range (`MAX_TWIST`), a quarter of a tooth of the example (a step
+/// bounded to a quarter of the range cannot pass a pin's flank, where the potential rises).
+const LOST_TWIST: f64 = 4.0 * MAX_TWIST;
+
+/// Most steps of the torque-controlled solve (`StaticAnalysis::torque_controlled`): Newton's
+/// and the trust region's.
+const TORQUE_CONTROL_STEPS: usize = 100;
+
 impl<'a> StaticAnalysis<'a> {
     /// Largest scaled residual of the inner coordinates (every one but input and output):
     /// forces in N, moments divided by the pin circle radius.
@@ -291,11 +300,18 @@ impl<'a> StaticAnalysis<'a> {
     }
 
     /// Equilibrium under the output torque `torque` with every coordinate but the input free
-    /// (torque control), by Newton's method on all of them at once from the locked-input mode
-    /// at `psi0` plus the twist estimate, with backtracking on the scaled residual norm: the
-    /// fast path of [`StaticAnalysis::solve`]. `None` when a step fails to reduce the residual
-    /// or the tangent is singular (near first contact, where the torque-twist curve has its
-    /// kink); the caller then takes the twist-controlled path, which always converges.
+    /// (torque control): the minimum of the potential energy `U - T psi` over all of them at
+    /// once (docs/model.md section 5.3), from the locked-input mode at `psi0` plus the twist
+    /// estimate or from a neighbouring solution. Newton's method with the tangent made
+    /// positive definite (shifted by a multiple of its diagonal until its Cholesky
+    /// factorisation exists) and a backtracking line search that accepts a step where the
+    /// residual norm falls or where the potential falls by Armijo's rule; once a line search
+    /// finds neither (or a trial cannot be evaluated), Levenberg-Marquardt's trust region for
+    /// the rest of the solve (`StaticAnalysis::trust_region_step`). The potential's decrease
+    /// is the forces' work along the step by the trapezoid rule, `(r(z) + r(z + s)) . s / 2`.
+    /// The fast path of [`StaticAnalysis::solve`]: `None` after `TORQUE_CONTROL_STEPS` steps,
+    /// where the trust region finds no decrease above the forces' round-off floor, or where
+    /// the twist leaves the analysis' range; the caller then takes the twist-controlled path.
     pub(super) fn torque_controlled(
         &self,
         fr: &Frame,
@@ -359,10 +375,18 @@ impl<'a> StaticAnalysis<'a> {
         let mut last_res = f64::INFINITY;
         // Whether `kt` is the exact tangent (not the floored stand-in).
         let mut exact = true;
-        // Whether the line search also takes the potential energy as its merit (from the first
-        // step that the residual norm cut below a sixteenth).
-        let mut energy_merit = false;
-        for _ in 0..30 {
+        // From a cold start no coordinate moves farther than `STEP_LIMIT_GUESSES` twist
+        // estimates at the pin circle in one step (its floored tangent far from the equilibrium
+        // gave steps of metres); from a neighbour a quarter of the analysis' range.
+        let limit = if start.near.is_none() {
+            STEP_LIMIT_GUESSES * self.twist_guess(torque) * rp
+        } else {
+            0.25 * MAX_TWIST * rp
+        };
+        // Levenberg-Marquardt's trust region, once a line search has failed: the shift of
+        // the tangent relative to its diagonal, kept from step to step.
+        let mut trust: Option<f64> = None;
+        for _ in 0..TORQUE_CONTROL_STEPS {
             let res = (1..n).map(|i| scaled(&ev.g, i).abs()).fold(0.0, f64::max);
             let scale = ev.scale.max(force_floor).max(1e-300);
             // Far from the equilibrium the bearings may be unloaded, where the rollers' tangent
@@ -390,65 +414,97 @@ impl<'a> StaticAnalysis<'a> {
             }
             let kt = kt.as_ref().expect("tangent built above");
             let k = kt.view((1, 1), (m, m)).into_owned();
-            let rhs = DVector::from_iterator(m, (1..n).map(|i| residual(&ev.g, i)));
-            let Some(mut step) = k.lu().solve(&rhs) else {
-                return Ok(None);
-            };
-            // A trust region for a cold start: no coordinate moves farther than
-            // `STEP_LIMIT_GUESSES` times the twist estimate at the pin circle (its floored
-            // tangent far from the equilibrium is near-singular along a mechanism mode and gives
-            // steps of metres). From a neighbour the steps are left whole: limited there, a
-            // solve of the example with 10 um in both bearings fell back to twist control,
-            // which did not converge.
-            if start.near.is_none() {
-                let limit = STEP_LIMIT_GUESSES * self.twist_guess(torque) * rp;
-                let longest = (0..m)
-                    .map(|i| step[i].abs() * if is_angle(1 + i) { rp } else { 1.0 })
-                    .fold(0.0, f64::max);
-                if longest > limit {
-                    step *= limit / longest;
+            let r = DVector::from_iterator(m, (1..n).map(|i| residual(&ev.g, i)));
+            // The Newton step of the tangent made positive definite: shifted by `lambda` times
+            // its diagonal, from none up by tenfold steps until its Cholesky factorisation
+            // exists (an indefinite tangent, a disc on a ridge of a worn flank, gets no step
+            // towards a saddle of the potential).
+            let largest = (0..m).map(|i| k[(i, i)].abs()).fold(0.0, f64::max);
+            let diag: Vec<f64> = (0..m)
+                .map(|i| k[(i, i)].abs().max(1e-9 * largest))
+                .collect();
+            if let Some(mut lambda) = trust {
+                match self.trust_region_step(
+                    fr,
+                    z,
+                    memory,
+                    &k,
+                    &r,
+                    &diag,
+                    limit,
+                    &mut lambda,
+                    &residual,
+                )? {
+                    Some(trial) => {
+                        let stalls = merit(&trial) > 0.25 * merit(&ev);
+                        ev = trial;
+                        trust = Some(lambda);
+                        if stalls && res <= 0.5 * ev.roundoff {
+                            let kt = self.tangent(k_struct, &ev, fr, z);
+                            return Ok(Some((ev, kt)));
+                        }
+                    }
+                    None if res <= 0.5 * ev.roundoff => {
+                        let kt = self.tangent(k_struct, &ev, fr, z);
+                        return Ok(Some((ev, kt)));
+                    }
+                    None => return Ok(None),
                 }
+                if (z[Layout::OUT] - start.psi0).abs() > LOST_TWIST {
+                    return Ok(None);
+                }
+                continue;
             }
+            let mut lambda = 0.0_f64;
+            let mut step = loop {
+                let mut a = k.clone();
+                for i in 0..m {
+                    a[(i, i)] += lambda * diag[i];
+                }
+                if let Some(chol) = a.cholesky() {
+                    break chol.solve(&r);
+                }
+                lambda = if lambda == 0.0 { 1e-8 } else { 10.0 * lambda };
+                if lambda > 1e8 {
+                    return Ok(None);
+                }
+            };
+            let longest = (0..m)
+                .map(|i| step[i].abs() * if is_angle(1 + i) { rp } else { 1.0 })
+                .fold(0.0, f64::max);
+            if longest > limit {
+                step *= limit / longest;
+            }
+            // The potential's slope along the step, `-r . s` (negative: a descent direction).
+            let descent = r.dot(&step);
             let m0 = merit(&ev);
             let base: Vec<f64> = z[..n].to_vec();
             let mut alpha = 1.0;
-            // The potential energy at the base and its slope along the step, formed only when
-            // a trial fails the residual test.
-            let mut energy0: Option<(f64, f64)> = None;
             loop {
                 for i in 0..m {
                     z[1 + i] = base[1 + i] + alpha * step[i];
                 }
                 let Ok(trial) = self.eval_bearings(fr, z, memory, true) else {
-                    return Ok(None);
+                    // A trial beyond the contact law's range: the trust region from here on.
+                    z[..n].copy_from_slice(&base);
+                    trust = Some(1e-4);
+                    break;
                 };
                 let mt = merit(&trial);
-                // Accepted where the residual falls, or where the potential energy falls
-                // enough along the step (Armijo: the equilibrium under the torque is the
-                // minimum of `U - T psi` over every coordinate but the input), as in
-                // `inner_solve`; above the round-off floor of the forces only.
+                // Accepted where the residual falls, or where the potential falls by Armijo's
+                // rule: its decrease, the forces' work along the step by the trapezoid rule,
+                // at least 1e-4 of the slope's prediction.
                 let residual_falls = mt <= m0 * (1.0 - 1e-4 * alpha);
-                let accepted = residual_falls
-                    || energy_merit && res > ev.roundoff && {
-                        let (e0, slope) = *energy0.get_or_insert_with(|| {
-                            let slope = -(0..m)
-                                .map(|i| residual(&ev.g, 1 + i) * step[i])
-                                .sum::<f64>();
-                            (
-                                self.inner_energy(fr, &base, &ev) - torque * base[Layout::OUT],
-                                slope,
-                            )
-                        });
-                        let fall = -1e-4 * alpha * slope;
-                        fall > 1e-12 * e0.abs()
-                            && self.inner_energy(fr, z, &trial) - torque * z[Layout::OUT]
-                                <= e0 - fall
-                    };
-                energy_merit |= alpha < 0.0625;
-                if accepted {
+                let energy_falls = residual_falls || {
+                    let r1: f64 = (1..n).map(|i| residual(&trial.g, i) * step[i - 1]).sum();
+                    0.5 * alpha * (descent + r1) >= 1e-4 * alpha * descent
+                };
+                if energy_falls {
+                    let stalls = mt > 0.25 * m0;
                     ev = trial;
-                    // At the round-off floor a step barely reduces the residual: accept there.
-                    if mt > 0.25 * m0 && res <= 0.5 * ev.roundoff {
+                    // At the round-off floor of the contact forces a step barely reduces the
+                    // residual: accept there.
+                    if stalls && res <= 0.5 * ev.roundoff {
                         let kt = self.tangent(k_struct, &ev, fr, z);
                         return Ok(Some((ev, kt)));
                     }
@@ -461,10 +517,97 @@ impl<'a> StaticAnalysis<'a> {
                         let kt = self.tangent(k_struct, &ev, fr, z);
                         return Ok(Some((ev, kt)));
                     }
-                    return Ok(None);
+                    // No descent along Newton's direction: the trust region from here on.
+                    z[..n].copy_from_slice(&base);
+                    trust = Some(1e-4);
+                    break;
                 }
                 alpha *= 0.5;
             }
+            // An iterate this far beyond the analysis' range is lost.
+            if (z[Layout::OUT] - start.psi0).abs() > LOST_TWIST {
+                return Ok(None);
+            }
+        }
+        Ok(None)
+    }
+
+    /// One step of Levenberg-Marquardt's trust region on the potential `U - T psi` (Moré 1978)
+    /// from the deviations `z` (updated in place) with the tangent `k` over the coordinates
+    /// `1..n`, its residual `r` and the diagonal scaling `diag`: the shift `lambda` (relative
+    /// to `diag`, updated in place) rises until the shifted tangent is positive definite and
+    /// its step, no coordinate moved more than `limit` (m at the pin circle), realises at least
+    /// 1e-4 of the model's decrease `r . s - s K s / 2`; the decrease realised is the forces'
+    /// work along the step by the trapezoid rule. The evaluation there, or `None` where the
+    /// shift passes 1e12 (`z` then unchanged).
+    ///
+    /// # Errors
+    /// None of its own (a failed evaluation raises the shift).
+    #[allow(clippy::too_many_arguments)]
+    fn trust_region_step(
+        &self,
+        fr: &Frame,
+        z: &mut [f64],
+        memory: &mut [Vec<PinMemory>],
+        k: &DMatrix<f64>,
+        r: &DVector<f64>,
+        diag: &[f64],
+        limit: f64,
+        lambda: &mut f64,
+        residual: &dyn Fn(&[f64; MAX_DOFS], usize) -> f64,
+    ) -> Result<Option<Eval>> {
+        let n = self.red.layout().dofs();
+        let m = n - 1;
+        let rp = self.red.geometry.pin_circle_radius;
+        let base: Vec<f64> = z[..n].to_vec();
+        while *lambda <= 1e12 {
+            let mut a = k.clone();
+            for i in 0..m {
+                a[(i, i)] += *lambda * diag[i];
+            }
+            let Some(chol) = a.cholesky() else {
+                *lambda = (4.0 * *lambda).max(1e-6);
+                continue;
+            };
+            let mut step = chol.solve(r);
+            let longest = (0..m)
+                .map(|i| step[i].abs() * if is_angle(1 + i) { rp } else { 1.0 })
+                .fold(0.0, f64::max);
+            if longest > limit {
+                step *= limit / longest;
+            }
+            let predicted = r.dot(&step) - 0.5 * step.dot(&(k * &step));
+            for i in 0..m {
+                z[1 + i] = base[1 + i] + step[i];
+            }
+            let Ok(trial) = self.eval_bearings(fr, z, memory, true) else {
+                z[..n].copy_from_slice(&base);
+                *lambda = (8.0 * *lambda).max(1e-4);
+                continue;
+            };
+            // The forces' work along the step: near the solution the difference of two
+            // energies is below their round-off, and farther out the sum of the elements'
+            // energies (`StaticAnalysis::inner_energy`) departed from it by 1e-10 J on steps of
+            // 5e-10 J (Monte Carlo samples of the example at the rated torque).
+            let r1: f64 = (1..n).map(|i| residual(&trial.g, i) * step[i - 1]).sum();
+            let actual = 0.5 * (r.dot(&step) + r1);
+            let rho = if predicted > 0.0 {
+                actual / predicted
+            } else {
+                -1.0
+            };
+            if rho > 1e-4 {
+                *lambda = if rho > 0.75 {
+                    0.25 * *lambda
+                } else if rho < 0.25 {
+                    (4.0 * *lambda).max(1e-4)
+                } else {
+                    *lambda
+                };
+                return Ok(Some(trial));
+            }
+            z[..n].copy_from_slice(&base);
+            *lambda = (8.0 * *lambda).max(1e-4);
         }
         Ok(None)
     }
