@@ -359,6 +359,10 @@ pub struct StaticAnalysis<'a> {
     pin_centres: Vec<Vec2>,
     /// Added to each pin's gap, m: minus the pin's radius error.
     pin_gap: Vec<f64>,
+    /// Loaded solves of bearing support so far, and those of them that the torque-controlled
+    /// method did not finish and the twist-controlled path did (docs/model.md section 5.3):
+    /// the solver's own diagnostic.
+    loaded_solves: [std::sync::atomic::AtomicUsize; 2],
 }
 
 impl<'a> StaticAnalysis<'a> {
@@ -403,7 +407,18 @@ impl<'a> StaticAnalysis<'a> {
             field,
             pin_centres,
             pin_gap,
+            loaded_solves: Default::default(),
         }
+    }
+
+    /// The loaded solves of bearing support this analysis has made so far, and how many of
+    /// them took the twist-controlled path, the torque-controlled method not having converged
+    /// (docs/model.md section 5.3).
+    #[cfg(test)]
+    pub(crate) fn loaded_solves(&self) -> [usize; 2] {
+        self.loaded_solves
+            .each_ref()
+            .map(|c| c.load(std::sync::atomic::Ordering::Relaxed))
     }
 
     /// The reducer analysed (as given).

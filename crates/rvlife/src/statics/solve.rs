@@ -474,6 +474,7 @@ impl<'a> StaticAnalysis<'a> {
             let kt = self.tangent(&k_struct, &ev, &fr, &z);
             return self.check(self.assemble(&fr, &z, ev, &kt, 0.0, psi0));
         }
+        self.loaded_solves[0].fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let mut zt = z;
         if let Some((_, kt)) =
             self.torque_controlled(&fr, torque, start, &mut zt[..n], &k_struct, &mut memory)?
@@ -485,6 +486,7 @@ impl<'a> StaticAnalysis<'a> {
                 return Ok(sol);
             }
         }
+        self.loaded_solves[1].fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         // The twist-controlled path. Cold: it trusts neither the neighbour nor the pins' memory
         // of the fast path (whose rejected trial steps can take a disc far outside the gap
         // field's range, where a remembered gap is no bound).
