@@ -311,7 +311,8 @@ impl<'a> StaticAnalysis<'a> {
     /// is the forces' work along the step by the trapezoid rule, `(r(z) + r(z + s)) . s / 2`.
     /// The fast path of [`StaticAnalysis::solve`]: `None` after `TORQUE_CONTROL_STEPS` steps,
     /// where the trust region finds no decrease above the forces' round-off floor, or where
-    /// the twist leaves the analysis' range; the caller then takes the twist-controlled path.
+    /// an iterate is lost (`LOST_TWIST` beyond first contact); the caller then takes the
+    /// twist-controlled path.
     pub(super) fn torque_controlled(
         &self,
         fr: &Frame,
@@ -475,7 +476,8 @@ impl<'a> StaticAnalysis<'a> {
             if longest > limit {
                 step *= limit / longest;
             }
-            // The potential's slope along the step, `-r . s` (negative: a descent direction).
+            // The potential's slope along the step is `-r . s`; `r . s` is positive (the
+            // shifted tangent is positive definite), so the step descends.
             let descent = r.dot(&step);
             let m0 = merit(&ev);
             let base: Vec<f64> = z[..n].to_vec();
