@@ -424,22 +424,13 @@ impl<'a> StaticAnalysis<'a> {
             let diag: Vec<f64> = (0..m)
                 .map(|i| k[(i, i)].abs().max(1e-9 * largest))
                 .collect();
-            if let Some(mut lambda) = trust {
-                match self.trust_region_step(
-                    fr,
-                    z,
-                    memory,
-                    &k,
-                    &r,
-                    &diag,
-                    limit,
-                    &mut lambda,
-                    &residual,
-                )? {
+            if let Some(lambda) = trust.as_mut() {
+                match self
+                    .trust_region_step(fr, z, memory, &k, &r, &diag, limit, lambda, &residual)?
+                {
                     Some(trial) => {
                         let stalls = merit(&trial) > 0.25 * merit(&ev);
                         ev = trial;
-                        trust = Some(lambda);
                         if stalls && res <= 0.5 * ev.roundoff {
                             let kt = self.tangent(k_struct, &ev, fr, z);
                             return Ok(Some((ev, kt)));
@@ -470,12 +461,7 @@ impl<'a> StaticAnalysis<'a> {
                     return Ok(None);
                 }
             };
-            let longest = (0..m)
-                .map(|i| step[i].abs() * if is_angle(1 + i) { rp } else { 1.0 })
-                .fold(0.0, f64::max);
-            if longest > limit {
-                step *= limit / longest;
-            }
+            self.bound_step(&mut step, limit);
             // The potential's slope along the step is `-r . s`; `r . s` is positive (the
             // shifted tangent is positive definite), so the step descends.
             let descent = r.dot(&step);
@@ -560,7 +546,6 @@ impl<'a> StaticAnalysis<'a> {
     ) -> Result<Option<Eval>> {
         let n = self.red.layout().dofs();
         let m = n - 1;
-        let rp = self.red.geometry.pin_circle_radius;
         let base: Vec<f64> = z[..n].to_vec();
         while *lambda <= 1e12 {
             let mut a = k.clone();
@@ -572,12 +557,7 @@ impl<'a> StaticAnalysis<'a> {
                 continue;
             };
             let mut step = chol.solve(r);
-            let longest = (0..m)
-                .map(|i| step[i].abs() * if is_angle(1 + i) { rp } else { 1.0 })
-                .fold(0.0, f64::max);
-            if longest > limit {
-                step *= limit / longest;
-            }
+            self.bound_step(&mut step, limit);
             let predicted = r.dot(&step) - 0.5 * step.dot(&(k * &step));
             for i in 0..m {
                 z[1 + i] = base[1 + i] + step[i];
@@ -612,6 +592,18 @@ impl<'a> StaticAnalysis<'a> {
             *lambda = (8.0 * *lambda).max(1e-4);
         }
         Ok(None)
+    }
+
+    /// Scales the step `step` of the coordinates `1..n` (m and rad) so that no coordinate moves
+    /// farther than `limit` (m; angles at the pin circle), keeping its direction.
+    fn bound_step(&self, step: &mut DVector<f64>, limit: f64) {
+        let rp = self.red.geometry.pin_circle_radius;
+        let longest = (0..step.len())
+            .map(|i| step[i].abs() * if is_angle(1 + i) { rp } else { 1.0 })
+            .fold(0.0, f64::max);
+        if longest > limit {
+            *step *= limit / longest;
+        }
     }
 
     /// Output torque (N m) that balances the generalised forces `g` along the locked-input mode
