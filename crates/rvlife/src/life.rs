@@ -74,35 +74,21 @@ pub(crate) fn accuracy_life(
     if !th.any() || points.is_empty() {
         return Ok(None);
     }
-    let mut horizon_h = points.last().map_or(0.0, |p| p.hours);
-    let out = |p: &AccuracyPoint| worst(th, p).is_some_and(|w| w.1 < 0.0);
-    let Some(i) = points.iter().position(out) else {
-        // Beyond the stages: the wear integration stepped on (x 1.5 in hours) up to the
-        // horizon `max_hours` (default 10 x the last stage), or until the wear model leaves
-        // its validity.
+    let horizon_h = points.last().map_or(0.0, |p| p.hours);
+    let Some(i) = points.iter().position(|p| outside(th, p)) else {
         let last = points.last().copied().expect("points is not empty");
-        let max_h = th.max_hours.unwrap_or(10.0 * last.hours);
-        let mut lo = last;
-        while lo.hours < max_h && lo.hours > 0.0 {
-            let next = (1.5 * lo.hours).min(max_h);
-            beyond(next, max_h);
-            let Ok(p) = at(next) else {
-                break;
-            };
-            horizon_h = next;
-            if out(&p) {
-                let (h, key) = locate_crossing(th, lo, p, &mut at)?;
-                return Ok(Some(AccuracyLife {
-                    accuracy_life_h: Some(h),
-                    limited_by: Some(key),
-                    horizon_h,
-                }));
-            }
-            lo = p;
-        }
+        let (bracket, horizon_h) = beyond_stages(th, last, &mut at, beyond);
+        let Some((lo, hi)) = bracket else {
+            return Ok(Some(AccuracyLife {
+                accuracy_life_h: None,
+                limited_by: None,
+                horizon_h,
+            }));
+        };
+        let (h, key) = locate_crossing(th, lo, hi, &mut at)?;
         return Ok(Some(AccuracyLife {
-            accuracy_life_h: None,
-            limited_by: None,
+            accuracy_life_h: Some(h),
+            limited_by: Some(key),
             horizon_h,
         }));
     };
@@ -119,6 +105,41 @@ pub(crate) fn accuracy_life(
         limited_by: Some(key),
         horizon_h,
     }))
+}
+
+/// The search of [`accuracy_life`] beyond the stages, from the last stage's point `last`
+/// (inside the spec): the wear integration stepped on (x 1.5 in hours, each trial `at`, each
+/// announced first by `beyond(trial hours, horizon)`) up to the horizon `max_hours` (default
+/// 10 x the last stage), or until a trial fails (the wear model leaves its validity). Returns
+/// the bracket of the crossing (the last trial inside the spec and the first outside), if a
+/// trial left the spec, and the hours reached (h).
+pub(crate) fn beyond_stages(
+    th: &LifeThresholds,
+    last: AccuracyPoint,
+    at: &mut dyn FnMut(f64) -> Result<AccuracyPoint>,
+    beyond: &dyn Fn(f64, f64),
+) -> (Option<(AccuracyPoint, AccuracyPoint)>, f64) {
+    let max_h = th.max_hours.unwrap_or(10.0 * last.hours);
+    let mut horizon_h = last.hours;
+    let mut lo = last;
+    while lo.hours < max_h && lo.hours > 0.0 {
+        let next = (1.5 * lo.hours).min(max_h);
+        beyond(next, max_h);
+        let Ok(p) = at(next) else {
+            break;
+        };
+        horizon_h = next;
+        if outside(th, &p) {
+            return (Some((lo, p)), horizon_h);
+        }
+        lo = p;
+    }
+    (None, horizon_h)
+}
+
+/// Whether the point `p` lies outside the spec `th` (a margin below zero).
+pub(crate) fn outside(th: &LifeThresholds, p: &AccuracyPoint) -> bool {
+    worst(th, p).is_some_and(|w| w.1 < 0.0)
 }
 
 /// The crossing in the bracket `lo` (inside the spec) .. `hi` (outside): Brent's root

@@ -567,6 +567,7 @@ fn run_stage(
     base_profile: &Profile,
     failed: &AtomicUsize,
     tick: &(dyn Fn() + Sync),
+    on_static: &dyn Fn(&StageSummary),
 ) -> Outcome {
     if i > failed.load(Ordering::Relaxed) {
         return Outcome::Skipped;
@@ -630,6 +631,7 @@ fn run_stage(
             return Outcome::Static(e, max);
         }
     }
+    on_static(&a.summary);
     tick();
     let rest = if i > failed.load(Ordering::Relaxed) {
         Ok((None, None))
@@ -805,6 +807,7 @@ pub fn run_with_notices(
                     &base_profile,
                     &failed,
                     &tick,
+                    &|_| {},
                 )
             });
             Ok((base, first))
@@ -830,27 +833,56 @@ pub fn run_with_notices(
     let mut order: Vec<usize> = (0..n).filter(|&i| slots[i].get().is_none()).collect();
     order.sort_by(|&a, &b| wear.hours[b].total_cmp(&wear.hours[a]));
     let next = AtomicUsize::new(0);
+    // The accuracy life's trials beyond the stages, taken up by the next worker free (before
+    // any further stage) once the last stage's static analysis finds it within the spec: the
+    // search beyond the stages then likely follows, and its wear integration runs beside the
+    // other stages' analyses.
+    let ahead: std::sync::Mutex<Option<LifeTrials>> = std::sync::Mutex::new(None);
+    let ahead_start: std::sync::Mutex<Option<AccuracyPoint>> = std::sync::Mutex::new(None);
+    let take_ahead = || {
+        let start = ahead_start.lock().ok().and_then(|mut s| s.take());
+        if let Some(start) = start {
+            let trials = LifeTrials::ahead(model, &wear, start);
+            if let Ok(mut slot) = ahead.lock() {
+                *slot = trials;
+            }
+        }
+    };
     rayon::scope(|s| {
         for _ in 0..rayon::current_num_threads().min(n) {
-            s.spawn(|_| {
-                while let Some(&i) = order.get(next.fetch_add(1, Ordering::Relaxed)) {
-                    let _ = slots[i].set(run_stage(
-                        model,
-                        rates,
-                        new,
-                        i,
-                        wear.hours[i],
-                        &wear.maps[i],
-                        &wear.pin_maps[i],
-                        base.as_ref(),
-                        &base_profile,
-                        &failed,
-                        &tick,
-                    ));
-                }
+            s.spawn(|_| loop {
+                take_ahead();
+                let Some(&i) = order.get(next.fetch_add(1, Ordering::Relaxed)) else {
+                    break;
+                };
+                let on_static = |summary: &StageSummary| {
+                    let start = AccuracyPoint::of(summary);
+                    let last = i + 1 == n && w.stage_hours.len() == n;
+                    if last && model.life.any() && !crate::life::outside(&model.life, &start) {
+                        if let Ok(mut slot) = ahead_start.lock() {
+                            *slot = Some(start);
+                        }
+                    }
+                };
+                let _ = slots[i].set(run_stage(
+                    model,
+                    rates,
+                    new,
+                    i,
+                    wear.hours[i],
+                    &wear.maps[i],
+                    &wear.pin_maps[i],
+                    base.as_ref(),
+                    &base_profile,
+                    &failed,
+                    &tick,
+                    &on_static,
+                ));
             });
         }
     });
+    // A worker that finished its last stage before the trials were asked for.
+    take_ahead();
     let mut stages = Vec::with_capacity(n_stages);
     let mut rows = Vec::with_capacity(n_stages);
     for (i, slot) in slots.into_iter().enumerate() {
@@ -933,7 +965,8 @@ pub fn run_with_notices(
         }
     }
     let summaries: Vec<StageSummary> = stages.iter().map(|s| s.summary.clone()).collect();
-    let life = study_life(model, &summaries, &wear, notice)?;
+    let ahead = ahead.into_inner().ok().flatten();
+    let life = study_life(model, &summaries, &wear, ahead, notice)?;
     Ok(Study {
         model: model.clone(),
         wear,
@@ -1011,7 +1044,9 @@ impl Study {
 /// ([`WearHistory::replay`]: no wear rate is evaluated again) and the worn profile's accuracy
 /// quantities ([`accuracy_point`]); beyond the last stage a wear
 /// integration by the model's rule, each step announced by `notice` (one line of text: the
-/// search can take as long as the study).
+/// search can take as long as the study). `ahead`: the trials beyond the stages already made
+/// from the last stage while the stages were analysed ([`LifeTrials::ahead`]), used when they
+/// start from the same point.
 ///
 /// # Errors
 /// Wear integration and analysis failures.
@@ -1019,6 +1054,7 @@ pub(crate) fn study_life(
     model: &Model,
     stages: &[StageSummary],
     wear: &WearHistory,
+    ahead: Option<LifeTrials>,
     notice: &dyn Fn(&str),
 ) -> Result<Option<crate::life::AccuracyLife>> {
     let points: Vec<AccuracyPoint> = stages.iter().map(AccuracyPoint::of).collect();
@@ -1029,55 +1065,104 @@ pub(crate) fn study_life(
              the accuracy life (search horizon {max_h:.0} h, life.max_hours)"
         ))
     };
-    let rates = crate::config::bearing_rates(model)?;
-    let base = WearInputs {
-        bearing_rates: rates,
-        ..model.wear_inputs()
+    let Some(&start) = points.last() else {
+        return Ok(None);
     };
-    let mut history = wear.clone();
-    crate::life::accuracy_life(
-        &model.life,
-        &points,
-        |h| {
-            let (map, pins) = match history.replay(&base, h)? {
-                Some(state) => state,
-                None => {
-                    // Beyond the hours integrated so far: the integration continued there,
-                    // and the trials between replayed from it.
-                    let next = if history.limit.is_none() && h > 0.0 {
-                        history.continued(&base, h)?
-                    } else {
-                        let mut w = model.wear.clone();
-                        w.stage_hours = vec![h];
-                        integrate(&WearInputs { wear: &w, ..base }, &|_, _| {})?
-                    };
-                    if let Some(l) = &next.limit {
-                        return Err(crate::error::Error::numerical(
-                            "accuracy life",
-                            l.reason.clone(),
-                        ));
-                    }
-                    let state = (
-                        next.maps.last().cloned().unwrap_or_default(),
-                        next.pin_maps.last().cloned().unwrap_or_default(),
-                    );
-                    history = next;
-                    state
+    let mut trials = match ahead {
+        Some(t) if wear.limit.is_none() && t.start == start => t,
+        _ => LifeTrials::new(model, wear, start)?,
+    };
+    crate::life::accuracy_life(&model.life, &points, |h| trials.at(model, h), &beyond)
+}
+
+/// The accuracy life's trials of a study ([`study_life`]): its wear integration, continued
+/// as the trials go beyond its last stage, and the points evaluated so far.
+pub(crate) struct LifeTrials {
+    /// The last stage's point, where the trials beyond the stages start.
+    start: AccuracyPoint,
+    rates: BearingWearRates,
+    history: WearHistory,
+    seen: Vec<AccuracyPoint>,
+}
+
+impl LifeTrials {
+    /// No trials yet, on the study's wear integration `wear` whose last stage's point is
+    /// `start`.
+    ///
+    /// # Errors
+    /// Those of [`crate::config::bearing_rates`].
+    fn new(model: &Model, wear: &WearHistory, start: AccuracyPoint) -> Result<Self> {
+        Ok(LifeTrials {
+            start,
+            rates: crate::config::bearing_rates(model)?,
+            history: wear.clone(),
+            seen: Vec::new(),
+        })
+    }
+
+    /// The trials beyond the stages ([`crate::life::beyond_stages`]) from the last stage's
+    /// point `start`, made while the other stages are analysed when that point lies within
+    /// the spec (the search beyond the stages then likely follows; the study waits for them).
+    /// Their failures are left to the search itself, which meets them again.
+    pub(crate) fn ahead(model: &Model, wear: &WearHistory, start: AccuracyPoint) -> Option<Self> {
+        let mut trials = LifeTrials::new(model, wear, start).ok()?;
+        crate::life::beyond_stages(&model.life, start, &mut |h| trials.at(model, h), &|_, _| {});
+        Some(trials)
+    }
+
+    /// The accuracy point after `h` working hours: one evaluated before, or the wear replayed
+    /// to `h` from the integration, continued beyond its last stage when `h` lies beyond it.
+    ///
+    /// # Errors
+    /// Wear integration (the validity limit met on the way included) and analysis failures.
+    fn at(&mut self, model: &Model, h: f64) -> Result<AccuracyPoint> {
+        if let Some(p) = self.seen.iter().find(|p| p.hours == h) {
+            return Ok(*p);
+        }
+        let rates = self.rates;
+        let base = WearInputs {
+            bearing_rates: rates,
+            ..model.wear_inputs()
+        };
+        let (map, pins) = match self.history.replay(&base, h)? {
+            Some(state) => state,
+            None => {
+                // Beyond the hours integrated so far: the integration continued there,
+                // and the trials between replayed from it.
+                let next = if self.history.limit.is_none() && h > 0.0 {
+                    self.history.continued(&base, h)?
+                } else {
+                    let mut w = model.wear.clone();
+                    w.stage_hours = vec![h];
+                    integrate(&WearInputs { wear: &w, ..base }, &|_, _| {})?
+                };
+                if let Some(l) = &next.limit {
+                    return Err(crate::error::Error::numerical(
+                        "accuracy life",
+                        l.reason.clone(),
+                    ));
                 }
-            };
-            let max = map.iter().copied().fold(0.0, f64::max);
-            let wear = match model.wear.model {
-                _ if max <= 0.0 => None,
-                WearModelKind::Paper => Some(WearMap::uniform(map.len(), max)?),
-                WearModelKind::Flodin => Some(WearMap::new(map.clone())?),
-            };
-            let profile = model.cycloid.profile(wear)?;
-            accuracy_point(
-                &crate::config::worn_parts(model, rates, h, &pins),
-                &profile,
-                h,
-            )
-        },
-        &beyond,
-    )
+                let state = (
+                    next.maps.last().cloned().unwrap_or_default(),
+                    next.pin_maps.last().cloned().unwrap_or_default(),
+                );
+                self.history = next;
+                state
+            }
+        };
+        let max = map.iter().copied().fold(0.0, f64::max);
+        let wear = match model.wear.model {
+            _ if max <= 0.0 => None,
+            WearModelKind::Paper => Some(WearMap::uniform(map.len(), max)?),
+            WearModelKind::Flodin => Some(WearMap::new(map.clone())?),
+        };
+        let profile = model.cycloid.profile(wear)?;
+        let p = accuracy_point(
+            &crate::config::worn_parts(model, rates, h, &pins),
+            &profile,
+            h,
+        )?;
+        self.seen.push(p);
+        Ok(p)
+    }
 }

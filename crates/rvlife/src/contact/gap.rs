@@ -137,7 +137,9 @@ pub(crate) const NARROW_BAND: f64 = 1.0 / 16.0;
 fn arc_steps(profile: &Profile, n: usize) -> Vec<f64> {
     let dt = TAU / n as f64;
     (0..n)
-        .map(|i| profile.point(i as f64 * dt).dp.norm() * dt)
+        .into_par_iter()
+        .with_min_len(128)
+        .map(|i| profile.derivative(i as f64 * dt).norm() * dt)
         .collect()
 }
 
@@ -155,6 +157,8 @@ fn band_average(
     let n = offset.len();
     let dt = TAU / n as f64;
     let weights: Vec<Vec<(usize, f64)>> = (0..n)
+        .into_par_iter()
+        .with_min_len(128)
         .map(|i| {
             let b = contact
                 .hertz(force, profile.macro_curvature(i as f64 * dt))
@@ -166,7 +170,8 @@ fn band_average(
         .collect();
     let pass = |v: &[f64]| -> Vec<f64> {
         weights
-            .iter()
+            .par_iter()
+            .with_min_len(128)
             .map(|w| w.iter().map(|&(k, x)| x * v[k]).sum())
             .collect()
     };
@@ -482,11 +487,13 @@ impl GapField {
     /// component there, the contact law's curvature (1/m) at the touching foot and that foot's
     /// parameter (rad).
     ///
-    /// Newton's method on the offset, each projection local from the previous foot; `seed`:
-    /// the neighbouring node's foot (rad) and touching offset (m), where the iteration starts
-    /// (without one, from offset 0 with the global projection). The touching foot is then
-    /// confirmed by a global projection ([`Profile::project_from`]), and where another foot
-    /// lies closer there the iteration is repeated from offset 0 with global projections.
+    /// Newton's method on the offset, each projection local from the previous foot on the
+    /// tabulated tooth ([`Profile::project_near_table`]); `seed`: the neighbouring node's foot
+    /// (rad) and touching offset (m), where the iteration starts (without one, from offset 0
+    /// and the foot of its global projection). The touching offset is then projected exactly
+    /// and globally ([`Profile::project_from`]), which gives the gap, slope and curvature
+    /// returned; where another foot lies closer there the iteration is repeated from offset 0
+    /// with exact global projections.
     fn touching_node(
         profile: &Profile,
         t: f64,
@@ -503,13 +510,9 @@ impl GapField {
         let e = c / c.norm();
         // Gap, its radial derivative (the foot normal along the radius: the distance gradient
         // is the unit normal at the closest point), the curvature and the foot at offset
-        // `rho`, locally from the foot `near` where it is given.
-        let gap = |rho: f64, near: Option<f64>| -> Result<(f64, f64, f64, f64)> {
-            let q = c + e * rho;
-            let pr = match near.and_then(|tn| profile.project_near(&q, tn)) {
-                Some(pr) => pr,
-                None => profile.project(&q, t)?,
-            };
+        // `rho`: globally, exact.
+        let exact = |rho: f64| -> Result<(f64, f64, f64, f64)> {
+            let pr = profile.project(&(c + e * rho), t)?;
             Ok((
                 pr.distance - r,
                 pr.point.normal.dot(&e).max(0.05),
@@ -517,26 +520,63 @@ impl GapField {
                 pr.point.t,
             ))
         };
-        let touching = |local: bool| -> Result<(f64, f64, f64, f64, f64)> {
-            let (foot, rho) = seed
-                .filter(|_| local)
-                .map_or((None, 0.0), |s| (Some(s.0), s.1));
-            let (mut rho0, (mut g1, mut s, mut k, mut tf)) = (rho, gap(rho, foot)?);
+        // Newton's method on the offset from the seed, each projection local from the previous
+        // foot on the tabulated tooth (`None` where the foot leaves its bracket).
+        let local = |(foot, rho): (f64, f64)| -> Option<(f64, f64)> {
+            let table = |rho: f64, near: f64| {
+                profile
+                    .project_near_table(&(c + e * rho), near)
+                    .map(|(tf, d, normal)| (d - r, normal.dot(&e).max(0.05), tf))
+            };
+            let (mut rho0, (mut g1, mut s, mut tf)) = (rho, table(rho, foot)?);
             for _ in 0..8 {
                 rho0 -= g1 / s;
-                (g1, s, k, tf) = gap(rho0, local.then_some(tf))?;
+                (g1, s, tf) = table(rho0, tf)?;
+                if g1.abs() < 1e-12 {
+                    break;
+                }
+            }
+            Some((rho0, tf))
+        };
+        // The same from offset 0 with global projections (no seed, or the local foot was not
+        // the closest).
+        let global = || -> Result<(f64, f64, f64, f64, f64)> {
+            let mut rho0 = 0.0;
+            let (mut g1, mut s, mut k, mut tf) = exact(rho0)?;
+            for _ in 0..8 {
+                rho0 -= g1 / s;
+                (g1, s, k, tf) = exact(rho0)?;
                 if g1.abs() < 1e-12 {
                     break;
                 }
             }
             Ok((rho0, g1, s, k, tf))
         };
-        let (rho0, g1, s, k, tf) = touching(true)?;
-        let confirm = profile.project_from(&(c + e * rho0), t, Some(tf))?;
-        let (rho0, g1, s, k, tf) = if confirm.distance - r >= g1 - 1e-15 {
-            (rho0, g1, s, k, tf)
-        } else {
-            touching(false)?
+        // The local result confirmed by one exact global projection at its offset, which
+        // gives its exact gap, slope and curvature where it finds the same foot (within two
+        // table steps of the tabulated one).
+        let start = match seed {
+            Some(s) => s,
+            None => (exact(0.0)?.3, 0.0),
+        };
+        let confirmed = match local(start) {
+            Some((rho0, tf)) => {
+                let pr = profile.project_from(&(c + e * rho0), t, Some(tf))?;
+                ((pr.point.t - tf).abs() <= 2.0 * profile.table_step()).then(|| {
+                    (
+                        rho0,
+                        pr.distance - r,
+                        pr.point.normal.dot(&e).max(0.05),
+                        profile.macro_curvature(pr.point.t),
+                        pr.point.t,
+                    )
+                })
+            }
+            None => None,
+        };
+        let (rho0, g1, s, k, tf) = match confirmed {
+            Some(x) => x,
+            None => global()?,
         };
         Ok(((rho0 - g1 / s, s, k), tf))
     }

@@ -121,12 +121,12 @@ fn arc_table(profile: &Profile, fine: usize) -> (Vec<f64>, Vec<f64>) {
     let mut ts = Vec::with_capacity(fine + 1);
     let mut ss = Vec::with_capacity(fine + 1);
     let mut s = 0.0;
-    let mut prev = profile.point(0.0).p;
+    let mut prev = profile.position(0.0);
     ts.push(0.0);
     ss.push(0.0);
     for k in 1..=fine {
         let t = TAU * k as f64 / fine as f64;
-        let p = profile.point(t).p;
+        let p = profile.position(t);
         s += (p - prev).norm();
         prev = p;
         ts.push(t);
@@ -565,7 +565,7 @@ fn mesh_with_arc_table(
 ) -> Result<Mesh> {
     let outline: Vec<Vec2> = outline_parameters(profile, params, ts, ss)
         .iter()
-        .map(|&t| profile.point(t).p)
+        .map(|&t| profile.position(t))
         .collect();
     let mut loops = vec![BoundaryLoop {
         points: outline,
@@ -643,7 +643,7 @@ pub(crate) fn morph_mesh(base: &DiscModel, from: &Profile, to: &Profile) -> Opti
     let tp = outline_parameters(from, params, &base.arc_t, &base.arc_s);
     let base = &base.fe.mesh;
     let m = tp.len();
-    let poly: Vec<Vec2> = tp.iter().map(|&t| from.point(t).p).collect();
+    let poly: Vec<Vec2> = tp.iter().map(|&t| from.position(t)).collect();
     // Polar angles along the polygon, unwrapped; strictly monotone for a star-shaped outline.
     let mut ang = Vec::with_capacity(m + 1);
     let mut prev = poly[0].y.atan2(poly[0].x);
@@ -695,7 +695,7 @@ pub(crate) fn morph_mesh(base: &DiscModel, from: &Profile, to: &Profile) -> Opti
                 tp[k + 1]
             };
             let t = tp[k] + lam * (t1 - tp[k]);
-            disp[i] = to.point(t).p - from.point(t).p;
+            disp[i] = to.position(t) - from.position(t);
             dist[i] = 0.0;
             src[i] = i;
             heap.push(Reverse((0u64, i)));

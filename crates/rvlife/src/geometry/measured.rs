@@ -153,7 +153,7 @@ pub fn fit(profile: &Profile, points: &[Vec2], n: usize, source: &Path) -> Resul
     let samples: Vec<(f64, Vec2)> = (0..m_samples)
         .map(|k| {
             let t = k as f64 * dt;
-            (t, profile.point(t).p)
+            (t, profile.position(t))
         })
         .collect();
     let mut obs: Vec<(f64, f64)> = Vec::with_capacity(points.len());

@@ -6,7 +6,7 @@ use std::f64::consts::TAU;
 use nalgebra::Complex;
 
 use super::wear_map::cubic_hermite;
-use super::{cross, mesh_angle, rotate, CycloidGeometry, Modification, Vec2, WearMap};
+use super::{cross, mesh_angle, rotate, rotate_by, CycloidGeometry, Modification, Vec2, WearMap};
 use crate::error::{Error, Result};
 
 /// One evaluated point of a profile, in the disc frame.
@@ -127,8 +127,8 @@ impl Profile {
             table: ToothTable::default(),
         };
         let mut profile = profile;
-        profile.check_undercut()?;
-        profile.table = ToothTable::new(&profile);
+        let unworn = UnwornTooth::shared(&profile, ToothTable::nodes_per_tooth(&profile))?;
+        profile.table = ToothTable::new(&profile, unworn)?;
         Ok(profile)
     }
 
@@ -185,9 +185,22 @@ impl Profile {
     /// Position and exact tangent `dp/dt` of the actual (worn) profile, plus an approximate
     /// second derivative (wear-map terms dropped) good enough for Newton steps.
     fn eval_d1(&self, t: f64) -> (Vec2, Vec2, Vec2) {
-        let (p, dp, ddp) = self.closed_form(t, self.r_mod);
+        self.eval_d1_folds(t).0
+    }
+
+    /// [`Profile::eval_d1`] and whether the worn flank folds over itself at `t`: its tangent
+    /// turned against the unworn one (`dp_worn . dp <= 0`, wear deeper than the local convex
+    /// radius or too steep along the profile); `false` without wear.
+    fn eval_d1_folds(&self, t: f64) -> ((Vec2, Vec2, Vec2), bool) {
+        self.worn_at(t, self.closed_form(t, self.r_mod))
+    }
+
+    /// [`Profile::eval_d1_folds`] at `t` from the profile without wear there (`unworn`: the
+    /// closed form's position and first two derivatives).
+    fn worn_at(&self, t: f64, unworn: (Vec2, Vec2, Vec2)) -> ((Vec2, Vec2, Vec2), bool) {
+        let (p, dp, ddp) = unworn;
         match &self.wear {
-            None => (p, dp, ddp),
+            None => ((p, dp, ddp), false),
             Some(w) => {
                 let (h, dh, ddh) = w.eval2(t);
                 let speed = dp.norm();
@@ -200,7 +213,7 @@ impl Profile {
                 // d2/dt2 of p - h n with dn/dt = k dp/dt; the dk/dt term (h k' ~ 1e-2 |dp|) is
                 // dropped: this derivative only steers Newton steps.
                 let ddpw = ddp * (1.0 - h * k) - dp * (2.0 * dh * k) - normal * ddh;
-                (pw, dpw, ddpw)
+                ((pw, dpw, ddpw), dpw.dot(&dp) <= 0.0)
             }
         }
     }
@@ -303,6 +316,11 @@ impl Profile {
         Some(self.finish_projection(&ql, t, k, turn))
     }
 
+    /// Parameter step of the tabulated tooth, rad.
+    pub(crate) fn table_step(&self) -> f64 {
+        self.table.dt
+    }
+
     /// Tooth index `k` of parameter `t` and the turn (rad) that takes tooth `k` onto tooth 0:
     /// `z(t + 2 pi k) = z(t) e^{-2 pi i k / Zc}`.
     fn tooth_of(&self, t: f64) -> (f64, f64) {
@@ -342,11 +360,46 @@ impl Profile {
         }
         let mut point = ProfilePoint::from_derivatives(t, ev.0, ev.1, ev.2);
         let distance = (ql - point.p).dot(&point.normal);
+        let back = (-turn).sin_cos();
         point.t = t + TAU * k;
-        point.p = rotate(&point.p, -turn);
-        point.dp = rotate(&point.dp, -turn);
-        point.normal = rotate(&point.normal, -turn);
+        point.p = rotate_by(&point.p, back);
+        point.dp = rotate_by(&point.dp, back);
+        point.normal = rotate_by(&point.normal, back);
         Projection { point, distance }
+    }
+
+    /// [`Profile::project_near`] on the tabulated tooth alone, without the exact evaluation
+    /// that finishes a projection: the foot's parameter (rad), the signed distance (m) and the
+    /// outward unit normal of the tabulated tooth there (disc frame). The table's position is
+    /// within about 1e-13 m of the exact profile and its tangent within 1e-8 m/rad, so the
+    /// distance is that close and the normal within about 1e-6 rad: good for the iterations of
+    /// a search whose result is then projected exactly.
+    pub(crate) fn project_near_table(&self, q: &Vec2, t_prev: f64) -> Option<(f64, f64, Vec2)> {
+        let (k, turn) = self.tooth_of(t_prev);
+        let ql = rotate(q, turn);
+        let tl = t_prev - TAU * k;
+        let w = 8.0 * self.table.dt;
+        let t = self.table.polish(&ql, tl, tl - w, tl + w)?;
+        if (t - tl).abs() >= w * 0.999 {
+            return None;
+        }
+        let (z, dz, _) = self.table.eval(t);
+        let tangent = dz / dz.norm();
+        let normal = Vec2::new(-tangent.y, tangent.x);
+        Some((t + TAU * k, (ql - z).dot(&normal), rotate(&normal, -turn)))
+    }
+
+    /// Position of the actual profile at parameter `t` (rad), m, disc frame: [`Profile::point`]'s
+    /// `p` without its normal and curvature (which cost two more evaluations on a worn
+    /// profile).
+    pub fn position(&self, t: f64) -> Vec2 {
+        self.eval_d1(t).0
+    }
+
+    /// Derivative `dp/dt` of the actual profile at parameter `t` (rad), m/rad, disc frame:
+    /// [`Profile::point`]'s `dp` alone.
+    pub(crate) fn derivative(&self, t: f64) -> Vec2 {
+        self.eval_d1(t).1
     }
 
     /// Samples the closed profile: `points_per_tooth` points per tooth, `Zc` teeth, in the
@@ -373,11 +426,17 @@ impl Profile {
             .fold(f64::INFINITY, f64::min)
     }
 
+    /// Checks that the modified profile without wear is not undercut, on 2000 parameters over
+    /// one tooth: the equidistant of the pin-centre path turns back (`dp . dpath <= 0`) where
+    /// its radius exceeds the path's local convex radius.
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] naming `cycloid.pin_radius_mm + cycloid.modification.equidistant_mm`.
     fn check_undercut(&self) -> Result<()> {
         let n = 2000;
         for k in 0..n {
             let t = TAU * k as f64 / n as f64;
-            let (_, dp, ddp) = self.closed_form(t, self.r_mod);
+            let (_, dp, _) = self.closed_form(t, self.r_mod);
             let (_, dpath, _) = self.closed_form(t, 0.0);
             if dp.dot(&dpath) <= 0.0 {
                 return Err(Error::invalid(
@@ -389,20 +448,6 @@ impl Profile {
                         self.pin_path_min_convex_radius() * 1e3
                     ),
                 ));
-            }
-            if let Some(w) = &self.wear {
-                let (h, dh) = w.eval(t);
-                let kk = -cross(&dp, &ddp) / dp.norm().powi(3);
-                let normal = Vec2::new(-dp.y, dp.x) / dp.norm();
-                let dpw = dp * (1.0 - h * kk) - normal * dh;
-                if dpw.dot(&dp) <= 0.0 {
-                    return Err(Error::invalid(
-                        "wear map",
-                        format!("{:.2} um at mesh angle {:.2} deg", h * 1e6, t.to_degrees()),
-                        "the worn profile folds over itself: wear deeper than the local convex \
-                         radius or too steep along the profile",
-                    ));
-                }
             }
         }
         Ok(())
@@ -463,32 +508,132 @@ const SUPER_CELL: usize = 8;
 /// Table nodes per cell of the Lipschitz-pruned scan.
 const SCAN_CELL: usize = 8;
 
-impl ToothTable {
-    fn new(profile: &Profile) -> Self {
-        let per_tooth = match &profile.wear {
-            Some(w) => {
-                let n = w.depths().len();
-                n * 2048usize.div_ceil(n)
+/// What a [`ToothTable`] takes from the modified profile without wear, shared by every worn
+/// profile of the same geometry and modification (a study builds hundreds): the closed form
+/// and the macro curvature at the table's nodes of one tooth and the curvature's
+/// central-difference slopes, after the undercut check ([`Profile::check_undercut`]).
+#[derive(Debug)]
+struct UnwornTooth {
+    /// [`Profile::closed_form`] at the nodes `t = j 2 pi / per_tooth`, `j = 0..per_tooth`.
+    nodes: Vec<(Vec2, Vec2, Vec2)>,
+    kappa: Vec<f64>,
+    kappa_slope: Vec<f64>,
+}
+
+impl UnwornTooth {
+    /// The unworn tooth of `profile` on `per_tooth` nodes, remembered for the last few
+    /// geometries of the process (keyed by every quantity [`Profile::closed_form`] reads).
+    ///
+    /// # Errors
+    /// Those of [`Profile::check_undercut`].
+    fn shared(profile: &Profile, per_tooth: usize) -> Result<std::sync::Arc<Self>> {
+        type Memo = Vec<([u64; 8], std::sync::Arc<UnwornTooth>)>;
+        static MEMO: std::sync::Mutex<Memo> = std::sync::Mutex::new(Vec::new());
+        let key = [
+            profile.k1.to_bits(),
+            profile.rp_mod.to_bits(),
+            profile.r_mod.to_bits(),
+            profile.geo.eccentricity.to_bits(),
+            profile.alpha.to_bits(),
+            profile.beta.to_bits(),
+            profile.modification.rotation.to_bits(),
+            per_tooth as u64,
+        ];
+        if let Ok(memo) = MEMO.lock() {
+            if let Some((_, t)) = memo.iter().find(|(k, _)| *k == key) {
+                return Ok(t.clone());
             }
-            None => 2048,
-        };
-        let dt = TAU / per_tooth as f64;
-        let m = ((PROJECTION_WINDOW + 0.1) / dt).ceil() as usize;
-        let count = per_tooth + 2 * m + 1;
-        let t_start = -(m as f64) * dt;
-        let mut p = Vec::with_capacity(count);
-        let mut dp = Vec::with_capacity(count);
-        for i in 0..count {
-            let (pi, dpi, _) = profile.eval_d1(t_start + i as f64 * dt);
-            p.push(pi);
-            dp.push(dpi);
         }
+        profile.check_undercut()?;
+        let dt = TAU / per_tooth as f64;
         let kappa: Vec<f64> = (0..per_tooth)
             .map(|i| profile.macro_curvature_exact(i as f64 * dt))
             .collect();
         let kappa_slope = (0..per_tooth)
             .map(|i| 0.5 * (kappa[(i + 1) % per_tooth] - kappa[(i + per_tooth - 1) % per_tooth]))
             .collect();
+        let nodes = (0..per_tooth)
+            .map(|i| profile.closed_form(i as f64 * dt, profile.r_mod))
+            .collect();
+        let tooth = std::sync::Arc::new(UnwornTooth {
+            nodes,
+            kappa,
+            kappa_slope,
+        });
+        if let Ok(mut memo) = MEMO.lock() {
+            if memo.len() >= 8 {
+                memo.remove(0);
+            }
+            memo.push((key, tooth.clone()));
+        }
+        Ok(tooth)
+    }
+}
+
+impl ToothTable {
+    /// Nodes per tooth of the table of `profile`: 2048, raised to a multiple of the wear map's
+    /// points so that every map node is a table node.
+    fn nodes_per_tooth(profile: &Profile) -> usize {
+        match &profile.wear {
+            Some(w) => {
+                let n = w.depths().len();
+                n * 2048usize.div_ceil(n)
+            }
+            None => 2048,
+        }
+    }
+
+    /// The table of `profile` (nodes of one tooth evaluated, in parallel, and turned onto the
+    /// neighbouring teeth: `z(t + 2 pi k) = z(t) e^(-2 pi i k / Zc)`), with `unworn` its
+    /// profile's without wear.
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] naming the wear map where the worn flank folds over itself at a node
+    /// ([`Profile::eval_d1_folds`]).
+    fn new(profile: &Profile, unworn: std::sync::Arc<UnwornTooth>) -> Result<Self> {
+        use rayon::prelude::*;
+        let per_tooth = Self::nodes_per_tooth(profile);
+        let dt = TAU / per_tooth as f64;
+        let m = ((PROJECTION_WINDOW + 0.1) / dt).ceil() as usize;
+        let count = per_tooth + 2 * m + 1;
+        let t_start = -(m as f64) * dt;
+        // One tooth, t = j dt for j = 0..per_tooth.
+        let tooth: Vec<((Vec2, Vec2, Vec2), bool)> = (0..per_tooth)
+            .into_par_iter()
+            .with_min_len(256)
+            .map(|j| profile.worn_at(j as f64 * dt, unworn.nodes[j]))
+            .collect();
+        if let Some(j) = tooth.iter().position(|x| x.1) {
+            let t = j as f64 * dt;
+            let h = profile.wear.as_ref().map_or(0.0, |w| w.eval(t).0);
+            return Err(Error::invalid(
+                "wear map",
+                format!("{:.2} um at mesh angle {:.2} deg", h * 1e6, t.to_degrees()),
+                "the worn profile folds over itself: wear deeper than the local convex radius \
+                 or too steep along the profile",
+            ));
+        }
+        // Node i is t = (i - m) dt = j dt + 2 pi k.
+        let turns: Vec<(f64, f64)> = (-1..=1)
+            .map(|k: i64| (-TAU * k as f64 / profile.zc).sin_cos())
+            .collect();
+        let mut p = Vec::with_capacity(count);
+        let mut dp = Vec::with_capacity(count);
+        for i in 0..count {
+            let shifted = i as i64 - m as i64;
+            let k = shifted.div_euclid(per_tooth as i64);
+            let j = shifted.rem_euclid(per_tooth as i64) as usize;
+            let (pj, dpj, _) = tooth[j].0;
+            if k == 0 {
+                p.push(pj);
+                dp.push(dpj);
+            } else {
+                let turn = turns[(k + 1) as usize];
+                p.push(rotate_by(&pj, turn));
+                dp.push(rotate_by(&dpj, turn));
+            }
+        }
+        let (kappa, kappa_slope) = (unworn.kappa.clone(), unworn.kappa_slope.clone());
         // Per cell, the largest node speed with 5 % for the Hermite bulge between nodes, and
         // the largest concave curvature from the tangent's turning between nodes (the mean over
         // each node step), raised by the largest change between neighbouring steps.
@@ -525,7 +670,7 @@ impl ToothTable {
             .map(|c| c.iter().copied().fold(0.0, f64::max))
             .collect();
         let lipschitz_max = lipschitz.iter().copied().fold(0.0, f64::max);
-        ToothTable {
+        Ok(ToothTable {
             t_start,
             dt,
             p,
@@ -536,7 +681,7 @@ impl ToothTable {
             concavity,
             concavity_super,
             lipschitz_max,
-        }
+        })
     }
 
     /// Table step, rad.
@@ -748,5 +893,59 @@ impl ToothTable {
         }
         feet.retain(|f| f.0 <= best + margin && inside(f.1));
         Some(feet)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::Config;
+
+    /// The example's profile worn by a smooth dent (2-12 um over the tooth).
+    fn worn() -> Profile {
+        let model = Config::example().validate().unwrap();
+        let n = model.wear_inputs().grid_points();
+        let depth = (0..n)
+            .map(|m| 7e-6 - 5e-6 * (TAU * m as f64 / n as f64).cos())
+            .collect();
+        model
+            .cycloid
+            .profile(Some(WearMap::new(depth).unwrap()))
+            .unwrap()
+    }
+
+    /// Every node of the tabulated tooth, those turned onto the neighbouring teeth included,
+    /// is the profile evaluated at its parameter: positions within 1e-15 m and tangents within
+    /// 1e-15 m/rad (the turn's round-off; the profile spans 0.1 m), new and worn.
+    #[test]
+    fn tooth_table_nodes_are_the_profile() {
+        let new = Config::example().validate().unwrap().profile().unwrap();
+        for (name, p) in [("new", new), ("worn", worn())] {
+            let table = &p.table;
+            assert!(table.t_start < -PROJECTION_WINDOW && table.p.len() as f64 * table.dt > TAU);
+            for i in 0..table.p.len() {
+                let (z, dz, _) = p.eval_d1(table.node_t(i));
+                assert!((table.p[i] - z).norm() < 1e-15, "{name} node {i}");
+                assert!((table.dp[i] - dz).norm() < 1e-15, "{name} node {i}");
+            }
+        }
+    }
+
+    /// Wear deeper than the flank's local convex radius turns it back on itself
+    /// (`dp_w . dp = |dp|^2 (1 - h kappa) <= 0`): 20 mm of uniform wear (the tips' convex
+    /// radius is a few millimetres) is refused, naming the wear map, the depth and the mesh
+    /// angle; 0.1 mm is a profile.
+    #[test]
+    fn folded_wear_map_rejected() {
+        let model = Config::example().validate().unwrap();
+        let n = model.wear_inputs().grid_points();
+        let uniform = |h: f64| model.cycloid.profile(Some(WearMap::uniform(n, h).unwrap()));
+        let e = uniform(20e-3).unwrap_err().to_string();
+        assert!(
+            e.contains("wear map") && e.contains("folds over itself"),
+            "{e}"
+        );
+        assert!(e.contains("20000.00 um at mesh angle"), "{e}");
+        assert!(uniform(1e-4).is_ok());
     }
 }

@@ -53,14 +53,29 @@ impl WearMap {
         let n = depth.len();
         // Node slopes of the periodic C2 cubic spline: m_{i-1} + 4 m_i + m_{i+1} =
         // 3 (y_{i+1} - y_{i-1}) (per grid step), solved by Gauss-Seidel sweeps (the cyclic
-        // system is diagonally dominant, the error halves each sweep; 80 sweeps reach round-off).
+        // system is diagonally dominant, the error at least halves each sweep) until a sweep
+        // moves no slope by more than the round-off of the largest (at most 80 sweeps).
         let rhs: Vec<f64> = (0..n)
             .map(|i| 3.0 * (depth[(i + 1) % n] - depth[(i + n - 1) % n]))
             .collect();
         let mut slope = vec![0.0; n];
         for _ in 0..80 {
-            for i in 0..n {
-                slope[i] = 0.25 * (rhs[i] - slope[(i + n - 1) % n] - slope[(i + 1) % n]);
+            // The sweep in order i = 0..n, the wrapped neighbours of the end points apart.
+            let update = |i: usize, before: f64, after: f64, slope: &mut [f64]| {
+                let next = 0.25 * (rhs[i] - before - after);
+                let moved = (next - slope[i]).abs();
+                slope[i] = next;
+                (moved, next.abs())
+            };
+            let (mut moved, mut largest) = update(0, slope[n - 1], slope[1], &mut slope);
+            for i in 1..n - 1 {
+                let (d, v) = update(i, slope[i - 1], slope[i + 1], &mut slope);
+                moved = moved.max(d);
+                largest = largest.max(v);
+            }
+            let (d, v) = update(n - 1, slope[n - 2], slope[0], &mut slope);
+            if moved.max(d) <= 1e-16 * largest.max(v) {
+                break;
             }
         }
         Ok(WearMap { depth, slope })

@@ -110,7 +110,7 @@ pub fn profile_points(profile: &Profile, per_tooth: usize) -> Vec<(f64, f64, f64
     (0..n)
         .map(|k| {
             let t = k as f64 * dt;
-            let p = profile.point(t).p;
+            let p = profile.position(t);
             let wear = profile.wear().map_or(0.0, |w| w.eval(t).0);
             (p.x * 1e3, p.y * 1e3, mesh_angle(t).to_degrees(), wear * 1e6)
         })

@@ -25,9 +25,10 @@ fn model() -> Model {
 /// that many hours (its own wear integration and analysis) equals the threshold to 1 % of the
 /// rise between the stages (the root finder stops at 0.5 % of the hours, the last bracket is
 /// interpolated linearly); the study's wear replayed to those hours (no wear rate evaluated
-/// again) is that integration's, within 1e-12 of the deepest wear. A threshold above the last stage's value is found beyond it, the
-/// integration stepped on (to 2 % of the last rise: the wear there is integrated on the
-/// model's own update rule); one never reached gives no life within the horizon
+/// again) is that integration's, within 1e-12 of the deepest wear. A threshold above the last
+/// stage's value is found beyond it, the integration stepped on (to 2 % of the last rise: the
+/// wear there is integrated on the model's own update rule), the same to the bit whether its
+/// trials are made ahead, beside the stages' analyses, or after them; one never reached gives no life within the horizon
 /// (`life.max_hours`); one below the unworn value a life of zero.
 #[test]
 fn accuracy_life_is_where_the_worn_reducer_reaches_the_threshold() {
@@ -38,7 +39,9 @@ fn accuracy_life_is_where_the_worn_reducer_reaches_the_threshold() {
     assert!(b.lost_motion_arcmin > a.lost_motion_arcmin);
     let limit = 0.5 * (a.lost_motion_arcmin + b.lost_motion_arcmin);
     m.life.lost_motion_arcmin = Some(limit);
-    let life = study_life(&m, &s, &study.wear, &|_| {}).unwrap().unwrap();
+    let life = study_life(&m, &s, &study.wear, None, &|_| {})
+        .unwrap()
+        .unwrap();
     let h = life.accuracy_life_h.unwrap();
     assert_eq!(life.limited_by, Some("lost_motion_arcmin"));
     assert!(
@@ -80,10 +83,24 @@ fn accuracy_life_is_where_the_worn_reducer_reaches_the_threshold() {
     let beyond = q.lost_motion_arcmin + 0.5 * (q.lost_motion_arcmin - p.lost_motion_arcmin);
     m.life.lost_motion_arcmin = Some(beyond);
     m.life.max_hours = Some(2.0 * q.hours);
-    let later = study_life(&m, &s, &study.wear, &|_| {}).unwrap().unwrap();
+    let later = study_life(&m, &s, &study.wear, None, &|_| {})
+        .unwrap()
+        .unwrap();
     let h = later
         .accuracy_life_h
         .expect("crossed beyond the last stage");
+    // The trials beyond the stages made ahead (beside the stages' analyses, from the last
+    // stage's point) give the same life to the bit, and so does the study itself, which makes
+    // them so when its last stage is within the spec.
+    let start = crate::quantities::AccuracyPoint::of(q);
+    let ahead = crate::study::LifeTrials::ahead(&m, &study.wear, start);
+    assert!(ahead.is_some());
+    let with_ahead = study_life(&m, &s, &study.wear, ahead, &|_| {})
+        .unwrap()
+        .unwrap();
+    assert_eq!(with_ahead, later);
+    let rerun = crate::study::run(&m, &|_, _| {}).unwrap();
+    assert_eq!(rerun.life.as_ref(), Some(&later));
     assert!(h > q.hours && h <= 2.0 * q.hours, "life {h} h");
     let mut at = m.clone();
     at.wear.stage_hours = vec![h];
@@ -104,11 +121,15 @@ fn accuracy_life_is_where_the_worn_reducer_reaches_the_threshold() {
     // Not crossed within the horizon.
     m.life.lost_motion_arcmin = Some(q.lost_motion_arcmin * 1.1);
     m.life.max_hours = Some(1.2 * q.hours);
-    let none = study_life(&m, &s, &study.wear, &|_| {}).unwrap().unwrap();
+    let none = study_life(&m, &s, &study.wear, None, &|_| {})
+        .unwrap()
+        .unwrap();
     assert_eq!(none.accuracy_life_h, None);
     assert_eq!(none.horizon_h, 1.2 * q.hours);
     m.life.lost_motion_arcmin = Some(s[0].lost_motion_arcmin * 0.9);
-    let zero = study_life(&m, &s, &study.wear, &|_| {}).unwrap().unwrap();
+    let zero = study_life(&m, &s, &study.wear, None, &|_| {})
+        .unwrap()
+        .unwrap();
     assert_eq!(zero.accuracy_life_h, Some(0.0));
 }
 

@@ -29,7 +29,9 @@ mod mesh_cycle;
 mod pin_turning;
 
 pub use bearings::{bearing_wear_rates, clearance_growth, BearingWearParams, BearingWearRates};
-pub(crate) use mesh_cycle::{revolution_positions, wear_per_mesh_cycle, MeshCycleWear};
+#[cfg(test)]
+pub(crate) use mesh_cycle::wear_per_mesh_cycle;
+pub(crate) use mesh_cycle::{revolution_positions, MeshCycleWear};
 pub use pin_turning::PinTurning;
 
 use std::f64::consts::TAU;
@@ -223,6 +225,21 @@ pub(crate) struct WearRate {
 /// # Errors
 /// Propagates contact-solver failures.
 pub(crate) fn wear_rate(profile: &Profile, inputs: &WearInputs) -> Result<WearRate> {
+    wear_rate_from(profile, inputs, &mut Vec::new())
+}
+
+/// [`wear_rate`] with the static solves of each load level started from `warm`'s (the
+/// solutions of the previous evaluation of a wear integration, per level;
+/// [`mesh_cycle::wear_per_mesh_cycle_from`]), which it replaces with this evaluation's.
+///
+/// # Errors
+/// As [`wear_rate`].
+fn wear_rate_from(
+    profile: &Profile,
+    inputs: &WearInputs,
+    warm: &mut Vec<Vec<crate::statics::StaticSolution>>,
+) -> Result<WearRate> {
+    warm.resize(inputs.load.len(), Vec::new());
     let n = inputs.grid_points();
     let geo = profile.geometry();
     let sweeps_per_cycle = geo.disc_teeth() as f64 / geo.pins as f64;
@@ -235,9 +252,15 @@ pub(crate) fn wear_rate(profile: &Profile, inputs: &WearInputs) -> Result<WearRa
         disc: vec![0.0; n],
         pin: vec![0.0; n_pin],
     };
-    for level in inputs.load {
+    for (level, warm) in inputs.load.iter().zip(warm.iter_mut()) {
         let per_cycle = match inputs.wear.model {
-            WearModelKind::Flodin => wear_per_mesh_cycle(profile, inputs, level.torque)?,
+            WearModelKind::Flodin => {
+                let near = (!warm.is_empty()).then_some(&warm[..]);
+                let (w, solutions) =
+                    mesh_cycle::wear_per_mesh_cycle_from(profile, inputs, level.torque, near)?;
+                *warm = solutions;
+                w
+            }
             WearModelKind::Paper => MeshCycleWear {
                 disc: paper_wear_per_input_rev(profile, inputs, level.torque)?,
                 pin: Vec::new(),
@@ -384,6 +407,11 @@ pub struct WearHistory {
     /// ([`WearHistory::replay`]).
     #[serde(skip)]
     pub(crate) segments: Vec<WearSegment>,
+    /// The static solutions of the last wear-rate evaluation, per load level: where a
+    /// continued integration's solves start ([`WearHistory::continued`]), as the next
+    /// evaluation's would have.
+    #[serde(skip)]
+    pub(crate) warm: Vec<Vec<crate::statics::StaticSolution>>,
 }
 
 /// One profile update of a wear integration: the unfiltered wear depths at its start and the
@@ -610,6 +638,9 @@ fn integrate_from(
         0
     };
     let mut hp = vec![0.0; n_pin];
+    // The static solutions of the last rate evaluation, per load level: the next one's
+    // starts.
+    let mut warm = Vec::new();
     let mut t = 0.0;
     let mut maps = Vec::with_capacity(stages.len());
     let mut pin_maps = Vec::with_capacity(stages.len());
@@ -623,6 +654,7 @@ fn integrate_from(
         si = maps.len();
         update_hours.extend(st.history.update_hours.iter().copied());
         segments.extend(st.history.segments.iter().cloned());
+        warm.clone_from(&st.history.warm);
         // The budget was checked for the history's own horizon; the rate at the start is
         // checked against the new one below.
     }
@@ -649,7 +681,7 @@ fn integrate_from(
             }
             let evaluated = WearMap::new(smoothed.clone())
                 .and_then(|m| inputs.disc.profile(Some(m)))
-                .and_then(|p| wear_rate(&p, &at_hours));
+                .and_then(|p| wear_rate_from(&p, &at_hours, &mut warm));
             match evaluated {
                 Ok(r) => r,
                 Err(e) => {
@@ -662,7 +694,7 @@ fn integrate_from(
                 }
             }
         } else {
-            wear_rate(&inputs.disc.profile(None)?, &at_hours)?
+            wear_rate_from(&inputs.disc.profile(None)?, &at_hours, &mut warm)?
         };
         if rate.disc.iter().chain(&rate.pin).any(|r| !r.is_finite()) {
             return Err(Error::numerical("wear integration", "non-finite wear rate"));
@@ -748,6 +780,7 @@ fn integrate_from(
         update_hours,
         limit,
         segments,
+        warm,
     })
 }
 

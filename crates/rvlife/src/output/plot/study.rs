@@ -470,7 +470,7 @@ fn stage_drawing(study: &Study, dir: &Path) -> Result<()> {
     let pts: Vec<((f64, f64), bool)> = (0..=n)
         .map(|k| {
             let t = (k % n) as f64 * dt;
-            let p = profile.point(t).p;
+            let p = profile.position(t);
             let worn =
                 max_wear > 0.0 && profile.wear().is_some_and(|w| w.eval(t).0 > 0.2 * max_wear);
             ((p.x * 1e3 + a, p.y * 1e3), worn)
