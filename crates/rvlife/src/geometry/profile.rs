@@ -305,15 +305,20 @@ impl Profile {
     /// micrometres between calls). `None` if the foot leaves that bracket; callers then use
     /// [`Profile::project`], and solvers confirm their converged pose with it.
     pub(crate) fn project_near(&self, q: &Vec2, t_prev: f64) -> Option<Projection> {
+        let (ql, t, k, turn) = self.near_foot(q, t_prev)?;
+        Some(self.finish_projection(&ql, t, k, turn))
+    }
+
+    /// The local foot of [`Profile::project_near`] on the tabulated tooth: `q` turned onto
+    /// tooth 0, the foot's tooth-0 parameter (rad), the tooth index and its turn (rad); `None`
+    /// where the foot leaves the bracket of `t_prev +- 8` table steps.
+    fn near_foot(&self, q: &Vec2, t_prev: f64) -> Option<(Vec2, f64, f64, f64)> {
         let (k, turn) = self.tooth_of(t_prev);
         let ql = rotate(q, turn);
         let tl = t_prev - TAU * k;
         let w = 8.0 * self.table.dt;
         let t = self.table.polish(&ql, tl, tl - w, tl + w)?;
-        if (t - tl).abs() >= w * 0.999 {
-            return None;
-        }
-        Some(self.finish_projection(&ql, t, k, turn))
+        ((t - tl).abs() < w * 0.999).then_some((ql, t, k, turn))
     }
 
     /// Parameter step of the tabulated tooth, rad.
@@ -375,14 +380,7 @@ impl Profile {
     /// distance is that close and the normal within about 1e-6 rad: good for the iterations of
     /// a search whose result is then projected exactly.
     pub(crate) fn project_near_table(&self, q: &Vec2, t_prev: f64) -> Option<(f64, f64, Vec2)> {
-        let (k, turn) = self.tooth_of(t_prev);
-        let ql = rotate(q, turn);
-        let tl = t_prev - TAU * k;
-        let w = 8.0 * self.table.dt;
-        let t = self.table.polish(&ql, tl, tl - w, tl + w)?;
-        if (t - tl).abs() >= w * 0.999 {
-            return None;
-        }
+        let (ql, t, k, turn) = self.near_foot(q, t_prev)?;
         let (z, dz, _) = self.table.eval(t);
         let tangent = dz / dz.norm();
         let normal = Vec2::new(-tangent.y, tangent.x);

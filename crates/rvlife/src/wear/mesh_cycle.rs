@@ -480,21 +480,16 @@ mod tests {
                 let (warm, warm_sol) =
                     wear_per_mesh_cycle_from(&profile, &inputs, torque, Some(&prev)).unwrap();
                 assert_eq!(cold_sol.len(), warm_sol.len(), "{name}");
-                let largest = cold.disc.iter().copied().fold(0.0, f64::max);
-                assert!(largest > 0.0, "{name}");
-                for (a, b) in cold.disc.iter().zip(&warm.disc) {
-                    assert!(
-                        (a - b).abs() <= 1e-9 * largest,
-                        "{name} {depth}: {a:e} {b:e}"
-                    );
-                }
-                let pin_largest = cold.pin.iter().copied().fold(0.0, f64::max);
-                assert!(pin_largest > 0.0, "{name}");
-                for (a, b) in cold.pin.iter().zip(&warm.pin) {
-                    assert!(
-                        (a - b).abs() <= 1e-9 * pin_largest,
-                        "{name} {depth}: {a:e} {b:e}"
-                    );
+                // Each map within 1e-9 of its largest value.
+                for (a, b) in [(&cold.disc, &warm.disc), (&cold.pin, &warm.pin)] {
+                    let largest = a.iter().copied().fold(0.0, f64::max);
+                    assert!(largest > 0.0, "{name}");
+                    for (x, y) in a.iter().zip(b) {
+                        assert!(
+                            (x - y).abs() <= 1e-9 * largest,
+                            "{name} {depth}: {x:e} {y:e}"
+                        );
+                    }
                 }
                 assert!(
                     (cold.sliding - warm.sliding).abs() <= 1e-9 * cold.sliding,
