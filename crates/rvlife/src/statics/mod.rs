@@ -188,6 +188,13 @@ pub struct StaticSolution {
     /// support), in the layout of [`Layout`], SI.
     #[serde(skip)]
     pub deviations: Vec<f64>,
+    /// `dz/dpsi` of every coordinate at the solution with the inner coordinates kept in
+    /// equilibrium (the condensation direction `-K_ii^-1 K_io`, its output entry 1; empty
+    /// where not known): with [`StaticSolution::stiffness`] the first-order change of the
+    /// configuration with the output torque, `dz/dT = twist_direction / stiffness`, from which
+    /// a solve at another torque starts (docs/model.md section 5.3).
+    #[serde(skip)]
+    pub(crate) twist_direction: Vec<f64>,
 }
 
 impl StaticSolution {
@@ -333,9 +340,21 @@ struct Eval {
 /// contact in the solve's direction, rad).
 struct Start<'s> {
     psi0: f64,
-    near: Option<(&'s [f64], f64)>,
+    near: Option<Near<'s>>,
     beyond: Option<f64>,
     offsets: &'s [f64],
+}
+
+/// A neighbouring solution a solve starts from: its deviations, first-contact twist (rad),
+/// output torque (N m), tangent torsional stiffness (N m/rad) and twist direction
+/// ([`StaticSolution::twist_direction`], empty where not known).
+#[derive(Clone, Copy)]
+struct Near<'s> {
+    deviations: &'s [f64],
+    first_contact_twist: f64,
+    torque: f64,
+    stiffness: f64,
+    direction: &'s [f64],
 }
 
 /// Static analysis of one reducer with one disc profile (both discs alike).

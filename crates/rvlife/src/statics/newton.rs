@@ -328,13 +328,22 @@ impl<'a> StaticAnalysis<'a> {
         let force_floor = torque.abs() / rp;
         let s = sense(torque);
         match start.near {
-            // The neighbour's deviations, moved along the mode by the change of first contact.
-            Some((near, near_psi0)) => {
+            // The neighbour's deviations, moved along the mode by the change of first contact
+            // and, at another torque, along its twist direction by the first-order change of
+            // the twist (the Euler predictor of path following).
+            Some(near) => {
                 let (mut a, mut b) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
-                self.mode_deviation(fr, near_psi0, &mut a[..n]);
+                self.mode_deviation(fr, near.first_contact_twist, &mut a[..n]);
                 self.mode_deviation(fr, start.psi0, &mut b[..n]);
                 for i in 0..n {
-                    z[i] = near[i] + b[i] - a[i];
+                    z[i] = near.deviations[i] + b[i] - a[i];
+                }
+                let dt = torque - near.torque;
+                if near.direction.len() == n && near.stiffness > 0.0 && dt * torque > 0.0 {
+                    let dpsi = dt / near.stiffness;
+                    for (zi, di) in z.iter_mut().zip(near.direction) {
+                        *zi += di * dpsi;
+                    }
                 }
                 z[Layout::SUN] = 0.0;
             }
@@ -639,9 +648,13 @@ impl<'a> StaticAnalysis<'a> {
 
     /// Condensed torsional stiffness `K_oo - K_oi K_ii^-1 K_io` (N m/rad).
     pub(super) fn condensed(&self, kt: &DMatrix<f64>) -> f64 {
+        self.condensed_along(kt, &self.condensation_direction(kt))
+    }
+
+    /// [`StaticAnalysis::condensed`] with its condensation direction `dz` already known.
+    pub(super) fn condensed_along(&self, kt: &DMatrix<f64>, dz: &[f64]) -> f64 {
         let n = self.red.layout().dofs();
         let o = Layout::OUT;
-        let dz = self.condensation_direction(kt);
         kt[(o, o)] + (2..n).map(|i| kt[(o, i)] * dz[i]).sum::<f64>()
     }
 }

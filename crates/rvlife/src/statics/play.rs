@@ -205,6 +205,7 @@ impl<'a> StaticAnalysis<'a> {
                 residual: 0.0,
                 roundoff_floor: 0.0,
                 deviations: z,
+                twist_direction: Vec::new(),
             })
         };
         Ok(match self.no_load_free(phi_free, s, psi0 - shift, from)? {

@@ -264,9 +264,13 @@ impl<'a> StaticAnalysis<'a> {
         });
         let start = Start {
             psi0,
-            near: near
-                .filter(|x| x.deviations.len() == n)
-                .map(|x| (&x.deviations[..], x.first_contact_twist)),
+            near: near.filter(|x| x.deviations.len() == n).map(|x| Near {
+                deviations: &x.deviations,
+                first_contact_twist: x.first_contact_twist,
+                torque: x.output_torque,
+                stiffness: x.stiffness,
+                direction: &x.twist_direction,
+            }),
             beyond: near.map(|x| s * (x.twist - x.first_contact_twist)),
             offsets,
         };
@@ -449,6 +453,7 @@ impl<'a> StaticAnalysis<'a> {
             residual,
             roundoff_floor: if torque == 0.0 { 0.0 } else { roundoff },
             deviations: Vec::new(),
+            twist_direction: Vec::new(),
         })
     }
 
@@ -575,16 +580,19 @@ impl<'a> StaticAnalysis<'a> {
                 )
             })
             .collect();
+        let mut direction = self.condensation_direction(kt);
+        direction[Layout::OUT] = 1.0;
         StaticSolution {
             crank_angle: fr.phi,
             output_torque: torque,
             twist: z[Layout::OUT],
             first_contact_twist: psi0,
-            stiffness: self.condensed(kt),
+            stiffness: self.condensed_along(kt, &direction),
             discs,
             residual: if unloaded { 0.0 } else { residual },
             roundoff_floor: if unloaded { 0.0 } else { ev.roundoff / scale },
             deviations: z[..n].to_vec(),
+            twist_direction: direction,
         }
     }
 
