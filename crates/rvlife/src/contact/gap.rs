@@ -133,17 +133,7 @@ impl PeriodicSpline {
 /// thirtieth of that at the rated torque).
 pub(crate) const NARROW_BAND: f64 = 1.0 / 16.0;
 
-/// Arc length (m) of each step of a grid of `n` profile parameters over one tooth.
-fn arc_steps(profile: &Profile, n: usize) -> Vec<f64> {
-    let dt = TAU / n as f64;
-    (0..n)
-        .into_par_iter()
-        .with_min_len(128)
-        .map(|i| profile.derivative(i as f64 * dt).norm() * dt)
-        .collect()
-}
-
-/// The offset and slope tables (`n` nodes over one tooth, arc steps `ds` from [`arc_steps`])
+/// The offset and slope tables (`n` nodes over one tooth, arc steps `ds` from [`Profile::arc_steps`])
 /// averaged over the Hertz band of `force` (N) on the unworn flank at each node: the
 /// semi-elliptic average over `+-b` of arc length, applied twice.
 fn band_average(
@@ -268,18 +258,9 @@ impl PathAngleTable {
         type Memo = Vec<([u64; 3], Option<std::sync::Arc<PathAngleTable>>)>;
         static MEMO: std::sync::Mutex<Memo> = std::sync::Mutex::new(Vec::new());
         let key = [a.to_bits(), rp.to_bits(), zc.to_bits()];
-        if let Ok(memo) = MEMO.lock() {
-            if let Some((_, t)) = memo.iter().find(|(k, _)| *k == key) {
-                return t.clone();
-            }
-        }
-        let table = Self::new(a, rp, zc).map(std::sync::Arc::new);
-        if let Ok(mut memo) = MEMO.lock() {
-            if memo.len() >= 8 {
-                memo.remove(0);
-            }
-            memo.push((key, table.clone()));
-        }
+        let Ok(table) = crate::geometry::remembered(&MEMO, key, || {
+            Ok::<_, std::convert::Infallible>(Self::new(a, rp, zc).map(std::sync::Arc::new))
+        });
         table
     }
 
@@ -452,7 +433,7 @@ impl GapField {
             envelope,
         }) = band
         {
-            let ds = arc_steps(profile, n);
+            let ds = profile.arc_steps(n);
             if envelope {
                 let (narrow, wide) = rayon::join(
                     || band_average(profile, contact, NARROW_BAND * force, &ds, &offset, &slope),
@@ -881,7 +862,7 @@ mod banded_tests {
         // The envelope: against each band's average, node by node.
         let exact = GapField::new(&profile, red.gap_points, None).unwrap();
         let f = red.contact_band_force;
-        let ds = arc_steps(&profile, exact.offset.value.len());
+        let ds = profile.arc_steps(exact.offset.value.len());
         let average = |f: f64| {
             band_average(
                 &profile,

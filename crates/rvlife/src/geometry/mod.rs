@@ -205,6 +205,36 @@ pub(crate) fn band_shape(ds: &[f64], centre: usize, b: f64) -> Vec<(usize, f64)>
     weights
 }
 
+/// Most entries a [`remembered`] memo keeps (the oldest goes first).
+const MEMO_ENTRIES: usize = 8;
+
+/// The value `build` makes for `key`, remembered in `memo` for the last [`MEMO_ENTRIES`] keys
+/// of the process: tables that depend on a few numbers of the geometry only, which every
+/// profile or gap field of a study shares. A failed build is not remembered; a poisoned lock
+/// builds without remembering.
+///
+/// # Errors
+/// Those of `build`.
+pub(crate) fn remembered<K: PartialEq, V: Clone, E>(
+    memo: &std::sync::Mutex<Vec<(K, V)>>,
+    key: K,
+    build: impl FnOnce() -> std::result::Result<V, E>,
+) -> std::result::Result<V, E> {
+    if let Ok(memo) = memo.lock() {
+        if let Some((_, v)) = memo.iter().find(|(k, _)| *k == key) {
+            return Ok(v.clone());
+        }
+    }
+    let value = build()?;
+    if let Ok(mut memo) = memo.lock() {
+        if memo.len() >= MEMO_ENTRIES {
+            memo.remove(0);
+        }
+        memo.push((key, value.clone()));
+    }
+    Ok(value)
+}
+
 /// Mesh angle (rad, in `[0, 2 pi)`) of a profile parameter.
 pub(crate) fn mesh_angle(t: f64) -> f64 {
     t.rem_euclid(TAU)

@@ -394,10 +394,16 @@ impl Profile {
         self.eval_d1(t).0
     }
 
-    /// Derivative `dp/dt` of the actual profile at parameter `t` (rad), m/rad, disc frame:
-    /// [`Profile::point`]'s `dp` alone.
-    pub(crate) fn derivative(&self, t: f64) -> Vec2 {
-        self.eval_d1(t).1
+    /// Arc length (m) of each step of a grid of `n` profile parameters over one tooth (at
+    /// `t = 2 pi i / n`, the speed `|dp/dt|` there times the step), evaluated in parallel.
+    pub(crate) fn arc_steps(&self, n: usize) -> Vec<f64> {
+        use rayon::prelude::*;
+        let dt = TAU / n as f64;
+        (0..n)
+            .into_par_iter()
+            .with_min_len(128)
+            .map(|i| self.eval_d1(i as f64 * dt).1.norm() * dt)
+            .collect()
     }
 
     /// Samples the closed profile: `points_per_tooth` points per tooth, `Zc` teeth, in the
@@ -482,11 +488,10 @@ pub struct ToothTable {
     dt: f64,
     p: Vec<Vec2>,
     dp: Vec<Vec2>,
-    /// Curvature of the modified profile without wear at the nodes of one tooth (1/m) and its
-    /// central-difference slopes per node step: a periodic cubic Hermite of
-    /// [`Profile::macro_curvature`].
-    kappa: Vec<f64>,
-    kappa_slope: Vec<f64>,
+    /// The profile without wear at the nodes of one tooth, shared with every worn profile of
+    /// its geometry: its curvature (1/m) and the curvature's central-difference slopes per
+    /// node step make the periodic cubic Hermite of [`Profile::macro_curvature`].
+    unworn: std::sync::Arc<UnwornTooth>,
     /// Upper bound of `|dz/dt|` over each cell of [`SCAN_CELL`] nodes (cell `c` spans nodes
     /// `SCAN_CELL c ..= SCAN_CELL (c + 1)`), m/rad.
     lipschitz: Vec<f64>,
@@ -510,7 +515,7 @@ const SCAN_CELL: usize = 8;
 /// profile of the same geometry and modification (a study builds hundreds): the closed form
 /// and the macro curvature at the table's nodes of one tooth and the curvature's
 /// central-difference slopes, after the undercut check ([`Profile::check_undercut`]).
-#[derive(Debug)]
+#[derive(Debug, Default)]
 struct UnwornTooth {
     /// [`Profile::closed_form`] at the nodes `t = j 2 pi / per_tooth`, `j = 0..per_tooth`.
     nodes: Vec<(Vec2, Vec2, Vec2)>,
@@ -537,34 +542,26 @@ impl UnwornTooth {
             profile.modification.rotation.to_bits(),
             per_tooth as u64,
         ];
-        if let Ok(memo) = MEMO.lock() {
-            if let Some((_, t)) = memo.iter().find(|(k, _)| *k == key) {
-                return Ok(t.clone());
-            }
-        }
-        profile.check_undercut()?;
-        let dt = TAU / per_tooth as f64;
-        let kappa: Vec<f64> = (0..per_tooth)
-            .map(|i| profile.macro_curvature_exact(i as f64 * dt))
-            .collect();
-        let kappa_slope = (0..per_tooth)
-            .map(|i| 0.5 * (kappa[(i + 1) % per_tooth] - kappa[(i + per_tooth - 1) % per_tooth]))
-            .collect();
-        let nodes = (0..per_tooth)
-            .map(|i| profile.closed_form(i as f64 * dt, profile.r_mod))
-            .collect();
-        let tooth = std::sync::Arc::new(UnwornTooth {
-            nodes,
-            kappa,
-            kappa_slope,
-        });
-        if let Ok(mut memo) = MEMO.lock() {
-            if memo.len() >= 8 {
-                memo.remove(0);
-            }
-            memo.push((key, tooth.clone()));
-        }
-        Ok(tooth)
+        super::remembered(&MEMO, key, || {
+            profile.check_undercut()?;
+            let dt = TAU / per_tooth as f64;
+            let kappa: Vec<f64> = (0..per_tooth)
+                .map(|i| profile.macro_curvature_exact(i as f64 * dt))
+                .collect();
+            let kappa_slope = (0..per_tooth)
+                .map(|i| {
+                    0.5 * (kappa[(i + 1) % per_tooth] - kappa[(i + per_tooth - 1) % per_tooth])
+                })
+                .collect();
+            let nodes = (0..per_tooth)
+                .map(|i| profile.closed_form(i as f64 * dt, profile.r_mod))
+                .collect();
+            Ok(std::sync::Arc::new(UnwornTooth {
+                nodes,
+                kappa,
+                kappa_slope,
+            }))
+        })
     }
 }
 
@@ -631,7 +628,6 @@ impl ToothTable {
                 dp.push(rotate_by(&dpj, turn));
             }
         }
-        let (kappa, kappa_slope) = (unworn.kappa.clone(), unworn.kappa_slope.clone());
         // Per cell, the largest node speed with 5 % for the Hermite bulge between nodes, and
         // the largest concave curvature from the tangent's turning between nodes (the mean over
         // each node step), raised by the largest change between neighbouring steps.
@@ -673,8 +669,7 @@ impl ToothTable {
             dt,
             p,
             dp,
-            kappa,
-            kappa_slope,
+            unworn,
             lipschitz,
             concavity,
             concavity_super,
@@ -713,19 +708,13 @@ impl ToothTable {
     /// Curvature of the modified profile without wear at mesh angle `m` (rad, in `[0, 2 pi)`),
     /// 1/m: the periodic cubic Hermite of the node values (relative error below 1e-7).
     pub(crate) fn curvature(&self, m: f64) -> f64 {
-        let n = self.kappa.len();
+        let (kappa, slope) = (&self.unworn.kappa, &self.unworn.kappa_slope);
+        let n = kappa.len();
         let s = m / self.dt;
         let i = (s.floor().max(0.0) as usize) % n;
         let j = (i + 1) % n;
         let u = s - s.floor();
-        cubic_hermite(
-            self.kappa[i],
-            self.kappa_slope[i],
-            self.kappa[j],
-            self.kappa_slope[j],
-            u,
-        )
-        .0
+        cubic_hermite(kappa[i], slope[i], kappa[j], slope[j], u).0
     }
 
     fn node_t(&self, i: usize) -> f64 {

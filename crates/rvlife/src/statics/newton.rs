@@ -458,12 +458,8 @@ impl<'a> StaticAnalysis<'a> {
             }
             let mut lambda = 0.0_f64;
             let mut step = loop {
-                let mut a = k.clone();
-                for i in 0..m {
-                    a[(i, i)] += lambda * diag[i];
-                }
-                if let Some(chol) = a.cholesky() {
-                    break chol.solve(&r);
+                if let Some(step) = shifted_step(&k, &diag, lambda, &r) {
+                    break step;
                 }
                 lambda = if lambda == 0.0 { 1e-8 } else { 10.0 * lambda };
                 if lambda > 1e8 {
@@ -557,15 +553,10 @@ impl<'a> StaticAnalysis<'a> {
         let m = n - 1;
         let base: Vec<f64> = z[..n].to_vec();
         while *lambda <= 1e12 {
-            let mut a = k.clone();
-            for i in 0..m {
-                a[(i, i)] += *lambda * diag[i];
-            }
-            let Some(chol) = a.cholesky() else {
+            let Some(mut step) = shifted_step(k, diag, *lambda, r) else {
                 *lambda = (4.0 * *lambda).max(1e-6);
                 continue;
             };
-            let mut step = chol.solve(r);
             self.bound_step(&mut step, limit);
             let predicted = r.dot(&step) - 0.5 * step.dot(&(k * &step));
             for i in 0..m {
@@ -657,4 +648,20 @@ impl<'a> StaticAnalysis<'a> {
         let o = Layout::OUT;
         kt[(o, o)] + (2..n).map(|i| kt[(o, i)] * dz[i]).sum::<f64>()
     }
+}
+
+/// The step `(K + lambda D)^-1 r` of the tangent `k` shifted by `lambda` times the diagonal
+/// `diag` (`D`), by Cholesky's factorisation; `None` where the shifted tangent is not positive
+/// definite.
+fn shifted_step(
+    k: &DMatrix<f64>,
+    diag: &[f64],
+    lambda: f64,
+    r: &DVector<f64>,
+) -> Option<DVector<f64>> {
+    let mut a = k.clone();
+    for (i, d) in diag.iter().enumerate() {
+        a[(i, i)] += lambda * d;
+    }
+    a.cholesky().map(|chol| chol.solve(r))
 }

@@ -415,13 +415,8 @@ fn pin_deposit<'s>(
 /// into the flank (Flodin and Andersson's point model integrated over the band).
 fn spread_over_band(profile: &Profile, depth: &[f64], half_width: &[f64]) -> Vec<f64> {
     let n = depth.len();
-    let dt = TAU / n as f64;
     // Arc length per grid step at every node.
-    let ds: Vec<f64> = (0..n)
-        .into_par_iter()
-        .with_min_len(128)
-        .map(|m| profile.derivative(m as f64 * dt).norm() * dt)
-        .collect();
+    let ds = profile.arc_steps(n);
     let mut out = vec![0.0; n];
     for src in 0..n {
         if depth[src] == 0.0 {
