@@ -2,7 +2,7 @@
 // comes from rvlife's WebAssembly module in a Web Worker (rvlife.ts, worker.ts); the page only
 // lays out, plots (Chart.js) and saves.
 import './style.css';
-import { Cancelled, Engine } from './rvlife';
+import { Cancelled, Engine, study } from './rvlife';
 import { lineChart, Series, destroyCharts } from './charts';
 import { decodeConfig, encodeConfig } from './share';
 
@@ -15,9 +15,10 @@ type Preset = { name: string; summary: string };
 const $ = <T extends HTMLElement>(id: string) => document.getElementById(id) as T;
 
 /** Config work (quick) and analyses (long, cancellable) run in separate workers, so that
- *  editing stays live while a study runs. */
+ *  editing stays live while a study runs; the study's stages run on one analysis worker per
+ *  core (up to four). */
 const quick = new Engine();
-const jobs = new Engine();
+const jobs = new Engine(Math.max(1, Math.min(navigator.hardwareConcurrency || 1, 4)), true);
 
 const state = {
   text: '',
@@ -538,7 +539,7 @@ function renderLife(panel: HTMLElement) {
   run.textContent = 'Run the study (static analyses)';
   run.onclick = async () => {
     const text = state.text;
-    const r = await job('Accuracy-life study', (p) => jobs.call('study', [text], p));
+    const r = await job('Accuracy-life study', (p) => study(jobs, text, p));
     if (!r || text !== state.text) return;
     state.study = JSON.parse(r);
     show();

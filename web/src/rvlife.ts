@@ -1,24 +1,34 @@
-// The page's handle on rvlife: each call runs in a Web Worker and returns a promise; a long
-// command can be cancelled (its worker is terminated and a fresh one started).
+// The page's handle on rvlife: each call runs in a Web Worker (one of the engine's, each with
+// its own WebAssembly module) and returns a promise; a long command can be cancelled (the
+// workers running it are terminated and fresh ones started). The accuracy-life study runs in
+// parts on all of an engine's workers (`study`).
 
 export type Progress = (done: number, total: number) => void;
 
-type Pending = { resolve: (v: any) => void; reject: (e: Error) => void; progress?: Progress };
+type Pending = { resolve: (v: any) => void; reject: (e: Error) => void; progress?: Progress; worker: number };
 
 export class Cancelled extends Error {
   constructor() { super('cancelled'); }
 }
 
 export class Engine {
-  private worker!: Worker;
+  private workers: Worker[];
   private next = 1;
   private pending = new Map<number, Pending>();
 
-  constructor() { this.start(); }
+  /** `size` workers (at least one): the first takes `call`, every one `callOn`. With `warm`,
+   *  the last worker runs the module's `warm` when it starts: the engine compiles and
+   *  optimises the solvers' code, which the page's workers share, before the first analysis
+   *  (on the last worker, so that the first stays free for the page's quick views). */
+  constructor(readonly size = 1, warm = false) {
+    this.workers = Array.from({ length: Math.max(1, size) }, () => this.spawn());
+    // Its answer (id 0) is nobody's call.
+    if (warm) this.workers[this.workers.length - 1].postMessage({ id: 0, cmd: 'warm', args: [] });
+  }
 
-  private start() {
-    this.worker = new Worker(new URL('./worker.ts', import.meta.url), { type: 'module' });
-    this.worker.onmessage = (ev) => {
+  private spawn(): Worker {
+    const w = new Worker(new URL('./worker.ts', import.meta.url), { type: 'module' });
+    w.onmessage = (ev) => {
       const m = ev.data as { id: number; kind: string; value?: any; message?: string; done?: number; total?: number };
       const p = this.pending.get(m.id);
       if (!p) return;
@@ -26,24 +36,64 @@ export class Engine {
       this.pending.delete(m.id);
       if (m.kind === 'result') p.resolve(m.value); else p.reject(new Error(m.message));
     };
+    return w;
   }
 
-  /** Runs `cmd` with `args` in the worker; `progress` hears (done, total). */
+  /** Runs `cmd` with `args` in the first worker; `progress` hears (done, total). */
   call<T = string>(cmd: string, args: unknown[], progress?: Progress): Promise<T> {
+    return this.callOn<T>(0, cmd, args, progress);
+  }
+
+  /** Runs `cmd` with `args` in worker `k` (0 <= k < size). */
+  callOn<T = string>(k: number, cmd: string, args: unknown[], progress?: Progress): Promise<T> {
     const id = this.next++;
     return new Promise<T>((resolve, reject) => {
-      this.pending.set(id, { resolve, reject, progress });
-      this.worker.postMessage({ id, cmd, args });
+      this.pending.set(id, { resolve, reject, progress, worker: k });
+      this.workers[k].postMessage({ id, cmd, args });
     });
   }
 
-  /** Stops whatever runs: every pending call rejects with `Cancelled`. */
+  /** Stops whatever runs: every pending call rejects with `Cancelled`; the workers that had
+   *  one are terminated and fresh ones started (the others keep their state). */
   cancel() {
-    this.worker.terminate();
+    const busy = new Set([...this.pending.values()].map((p) => p.worker));
+    for (const k of busy) {
+      this.workers[k].terminate();
+      this.workers[k] = this.spawn();
+    }
     for (const p of this.pending.values()) p.reject(new Cancelled());
     this.pending.clear();
-    this.start();
   }
 
   get busy() { return this.pending.size > 0; }
+}
+
+/** The plan of a study in parts (the module's `studyPlan`). */
+type Plan = { ground: Uint8Array; first?: Uint8Array; wearSteps: number; stages: number };
+
+/** The accuracy-life study of `text` (`rvlife run` without dynamics and FE) on every worker of
+ *  `engine`: the wear integration on the first, the unworn first stage beside it on a second,
+ *  then the stages, most worn first, on whichever worker is free, and the study assembled on
+ *  the first, which keeps its results (`studyFile`). Resolves to the results' overview JSON
+ *  (the module's `StudyResults.overview`); `progress` hears the wear-rate evaluations and the
+ *  stages done. */
+export async function study(engine: Engine, text: string, progress: Progress): Promise<string> {
+  const plan = await engine.call<Plan>('studyPlan', [text]);
+  const total = plan.wearSteps + plan.stages;
+  let wearDone = 0;
+  const outcomes: Uint8Array[] = [];
+  const report = () => progress(Math.min(wearDone, plan.wearSteps) + outcomes.length, total);
+  const analyse = async (k: number, stage: Uint8Array) => {
+    outcomes.push(await engine.callOn<Uint8Array>(k, 'studyStage', [text, plan.ground, stage]));
+    report();
+  };
+  const aside = plan.first && engine.size > 1 ? analyse(1, plan.first) : Promise.resolve();
+  const stages = await engine.call<Uint8Array[]>('studyWear', [text, plan.ground], (d) => { wearDone = d; report(); });
+  const queue = stages.slice(plan.first && engine.size > 1 ? 1 : 0).reverse();
+  const worker = async (k: number) => {
+    if (k === 1) await aside;
+    for (let s = queue.shift(); s; s = queue.shift()) await analyse(k, s);
+  };
+  await Promise.all(Array.from({ length: engine.size }, (_, k) => worker(k)));
+  return engine.call<string>('studyAssemble', [outcomes]);
 }

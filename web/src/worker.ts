@@ -8,13 +8,16 @@ type Call = { id: number; cmd: string; args: unknown[] };
 
 const ready = init();
 
-// The last study's results, kept here for the page's downloads.
+// The last study's results, kept here for the page's downloads, and the wear integration of
+// a study run in parts (rvlife.ts, `study`) until it is assembled.
 let lastStudy: rv.StudyResults | null = null;
+let lastWear: rv.StudyWear | null = null;
 
 // Commands callable from the page, each given the progress callback first; every one returns
-// text (JSON or TOML).
+// text (JSON or TOML), but the parts of a study, which return their bytes.
 type Progress = (done: number, total: number) => void;
-const commands: Record<string, (p: Progress, ...a: any[]) => string> = {
+const commands: Record<string, (p: Progress, ...a: any[]) => unknown> = {
+  warm: () => { rv.warm(); return ''; },
   presets: () => rv.presets(),
   presetText: (_p, name: string) => rv.presetText(name),
   inspect: (_p, text: string) => rv.inspect(text),
@@ -33,6 +36,23 @@ const commands: Record<string, (p: Progress, ...a: any[]) => string> = {
     lastStudy?.free();
     lastStudy = null;
     lastStudy = rv.study(text, p);
+    return lastStudy.overview();
+  },
+  studyPlan: (_p, text: string) => rv.studyPlan(text),
+  studyWear: (p, text: string, ground: Uint8Array) => {
+    lastWear?.free();
+    lastWear = null;
+    lastWear = rv.studyWear(text, ground, p);
+    return lastWear.stages();
+  },
+  studyStage: (_p, text: string, ground: Uint8Array, stage: Uint8Array) => rv.studyStage(text, ground, stage),
+  studyAssemble: (_p, outcomes: Uint8Array[]) => {
+    if (!lastWear) throw new Error('the study\'s wear integration is gone (an analysis was cancelled since): run the study again');
+    lastStudy?.free();
+    lastStudy = null;
+    lastStudy = lastWear.assemble(outcomes);
+    lastWear.free();
+    lastWear = null;
     return lastStudy.overview();
   },
   studyFile: (_p, name: string) => {

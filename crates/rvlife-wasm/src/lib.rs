@@ -284,6 +284,166 @@ pub fn study(text: &str, progress: Option<js_sys::Function>) -> Result<StudyResu
     Ok(StudyResults { study, tables })
 }
 
+// The study of `study` in parts, for the page to run its stages on several Web Workers
+// (each with its own module): `studyPlan`, then `studyWear` on one worker beside the
+// unworn first stage's `studyStage` on another, then `studyStage` for every stage of
+// `StudyWear.stages` on any worker, then `StudyWear.assemble` on the worker that
+// integrated the wear (`rvlife::study::parts`). What crosses between workers is bytes
+// (CBOR); the results equal `study`'s.
+
+/// `v` as CBOR bytes: what crosses between the page's workers.
+fn cbor(v: &impl Serialize) -> Result<Vec<u8>, JsError> {
+    let mut bytes = Vec::new();
+    ciborium::into_writer(v, &mut bytes).map_err(err)?;
+    Ok(bytes)
+}
+
+/// The value of the CBOR `bytes` ([`cbor`]); `what` names them in the error.
+fn from_cbor<T: serde::de::DeserializeOwned>(bytes: &[u8], what: &str) -> Result<T, JsError> {
+    ciborium::from_reader(bytes).map_err(|e| JsError::new(&format!("{what}: {e}")))
+}
+
+thread_local! {
+    /// The last config text a study part validated, and its model: the parts of one study
+    /// validate it once per worker.
+    static STATIC_MODEL: std::cell::RefCell<Option<(String, Model)>> =
+        const { std::cell::RefCell::new(None) };
+}
+
+/// [`static_model`] of `text`, validated once for the calls on the same text.
+fn static_model_kept(text: &str) -> Result<Model, JsError> {
+    if let Some(m) =
+        STATIC_MODEL.with_borrow(|k| k.as_ref().and_then(|(t, m)| (t == text).then(|| m.clone())))
+    {
+        return Ok(m);
+    }
+    let m = static_model(text)?;
+    STATIC_MODEL.with_borrow_mut(|k| *k = Some((text.to_string(), m.clone())));
+    Ok(m)
+}
+
+/// The plan of [`study`] in parts for the config `text`: a JavaScript object `{ground,
+/// first, wearSteps, stages}` with the bytes every part needs (`ground`), the unworn first
+/// stage's bytes for [`study_stage`] when the first stage lies at 0 h (else `undefined`), the
+/// wear integration's progress steps and the number of stages.
+///
+/// # Errors
+/// The config's message; solver failures on the new reducer.
+#[wasm_bindgen(js_name = studyPlan)]
+pub fn study_plan(text: &str) -> Result<js_sys::Object, JsError> {
+    use rvlife::study::parts;
+    let m = static_model_kept(text)?;
+    let ground = parts::ground(&m).map_err(err)?;
+    let plan = js_sys::Object::new();
+    let set = |k: &str, v: JsValue| js_sys::Reflect::set(&plan, &k.into(), &v).map(|_| ());
+    let bytes = |b: Vec<u8>| JsValue::from(js_sys::Uint8Array::from(b.as_slice()));
+    let first = match parts::unworn_first(&m) {
+        Some(s) => bytes(cbor(&s)?),
+        None => JsValue::UNDEFINED,
+    };
+    set("ground", bytes(cbor(&ground)?))
+        .and_then(|_| set("first", first))
+        .and_then(|_| set("wearSteps", (parts::wear_steps(&m) as f64).into()))
+        .and_then(|_| set("stages", (m.wear.stage_hours.len() as f64).into()))
+        .map_err(|_| JsError::new("the study plan could not be made"))?;
+    Ok(plan)
+}
+
+/// The static analysis of one stage of the study of `text` (`ground` and `stage`: bytes from
+/// [`study_plan`] or [`StudyWear::stages`]): the bytes of its outcome, for
+/// [`StudyWear::assemble`]. A stage whose analysis fails still has an outcome (its failure,
+/// reported by the assembly as the study would).
+///
+/// # Errors
+/// The config's message; bytes that are not a study part's.
+#[wasm_bindgen(js_name = studyStage)]
+pub fn study_stage(text: &str, ground: &[u8], stage: &[u8]) -> Result<Vec<u8>, JsError> {
+    use rvlife::study::parts;
+    let m = static_model_kept(text)?;
+    let ground: parts::Ground = from_cbor(ground, "study ground")?;
+    let stage: parts::StageWear = from_cbor(stage, "study stage")?;
+    cbor(&parts::static_stage(&m, &ground, &stage))
+}
+
+/// Runs a small analysis of the built-in example: its validation, the ground of its study (the
+/// new reducer's loads and play) and its unworn stage's static analysis; keeps nothing. A
+/// WebAssembly engine compiles a function when it is first called and optimises it once it
+/// has run a while (V8: Liftoff, then TurboFan), and the workers of one page share that code,
+/// so the page's first analysis runs at full speed once one worker has run this.
+///
+/// # Errors
+/// None in practice: the built-in example is valid.
+#[wasm_bindgen]
+pub fn warm() -> Result<(), JsError> {
+    use rvlife::study::parts;
+    let text = rvlife::config::preset_text("rv-40e").map_err(err)?;
+    let m = static_model(&text)?;
+    let ground = parts::ground(&m).map_err(err)?;
+    if let Some(first) = parts::unworn_first(&m) {
+        parts::static_stage(&m, &ground, &first);
+    }
+    Ok(())
+}
+
+/// The wear integration of the study of `text`, kept in the module for the stages and the
+/// assembly.
+#[wasm_bindgen]
+pub struct StudyWear {
+    model: Model,
+    wear: rvlife::wear::WearHistory,
+}
+
+/// The wear integration of the study of `text` (`ground`: [`study_plan`]'s bytes), with
+/// progress `(done, total)` in wear-rate evaluations.
+///
+/// # Errors
+/// The config's message; the wear integration's failures.
+#[wasm_bindgen(js_name = studyWear)]
+pub fn study_wear(
+    text: &str,
+    ground: &[u8],
+    progress: Option<js_sys::Function>,
+) -> Result<StudyWear, JsError> {
+    use rvlife::study::parts;
+    let m = static_model_kept(text)?;
+    let ground: parts::Ground = from_cbor(ground, "study ground")?;
+    let p = Progress(progress);
+    let wear = parts::wear_history(&m, &ground, &|d, t| p.call(d, t)).map_err(err)?;
+    Ok(StudyWear { model: m, wear })
+}
+
+#[wasm_bindgen]
+impl StudyWear {
+    /// Every stage's bytes for [`study_stage`], in the stages' order (their hours rising).
+    ///
+    /// # Errors
+    /// A stage that cannot be serialised.
+    pub fn stages(&self) -> Result<Vec<js_sys::Uint8Array>, JsError> {
+        rvlife::study::parts::stage_wears(&self.wear)
+            .iter()
+            .map(|s| cbor(s).map(|b| js_sys::Uint8Array::from(b.as_slice())))
+            .collect()
+    }
+
+    /// The study from this wear and the stages' outcomes ([`study_stage`]'s bytes, one for
+    /// each stage, in any order): the results of [`study`].
+    ///
+    /// # Errors
+    /// Outcomes that are not this study's; the stages' failures and the accuracy life's, as
+    /// [`study`] reports them.
+    pub fn assemble(&self, outcomes: Vec<js_sys::Uint8Array>) -> Result<StudyResults, JsError> {
+        let outcomes = outcomes
+            .iter()
+            .map(|o| from_cbor(&o.to_vec(), "study stage outcome"))
+            .collect::<Result<Vec<_>, _>>()?;
+        let study =
+            rvlife::study::parts::assemble(&self.model, self.wear.clone(), outcomes, &|_| {})
+                .map_err(err)?;
+        let tables = rvlife::output::study::tables(&study).map_err(err)?;
+        Ok(StudyResults { study, tables })
+    }
+}
+
 /// The multibody simulation with rigid discs (`rvlife dynamics --disc rigid --json`), worn
 /// after `hours` or by `wear_um`, under a constant output torque `torque_nm` if given (else the
 /// config's `[dynamics.load]`): JSON `{summary, time_s, te_arcmin, output_speed_deg_s}` with

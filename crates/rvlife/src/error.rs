@@ -44,7 +44,7 @@ pub enum Error {
     #[error("numerical failure in {context}: {message}")]
     Numerical {
         /// Which computation.
-        context: &'static str,
+        context: std::borrow::Cow<'static, str>,
         /// What happened.
         message: String,
     },
@@ -82,7 +82,7 @@ impl Error {
     /// Shorthand for [`Error::Numerical`].
     pub fn numerical(context: &'static str, message: impl Into<String>) -> Self {
         Error::Numerical {
-            context,
+            context: context.into(),
             message: message.into(),
         }
     }

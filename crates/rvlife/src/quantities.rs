@@ -103,7 +103,8 @@ impl Quantity {
 /// A stage's record: every quantity of [`STAGE`] at one working-hour stage (engineering units
 /// in the names). Serialised (`summary.json`) as the object of [`STAGE`]'s names, in its
 /// order, the absent values left out. The default is all zero and absent.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Deserialize)]
+#[serde(default)]
 pub struct StageSummary {
     /// Working hours, h.
     pub hours: f64,

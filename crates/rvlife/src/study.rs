@@ -33,6 +33,8 @@ use crate::units::ARCMIN_PER_RAD;
 use crate::wear::BearingWearRates;
 use crate::wear::{integrate, ValidityLimit, WearHistory, WearInputs, WearModelKind};
 
+pub mod parts;
+
 /// Full results of one stage.
 #[derive(Debug, Clone)]
 pub struct Stage {
@@ -485,10 +487,8 @@ type StageRow = (Option<DynamicsSummary>, Option<(FlexibleStage, Mesh)>);
 
 /// What [`run`] made of one stage.
 enum Outcome {
-    /// Its wear map could not be made: an error of the study.
-    Prepare(Error),
-    /// Its static analysis failed (with the stage's largest wear depth, m).
-    Static(Error, f64),
+    /// No static results.
+    Failed(Failure),
     /// Not analysed: an earlier stage's static analysis failed.
     Skipped,
     /// Analysed, with its dynamics and flexible analysis (or their error).
@@ -497,8 +497,8 @@ enum Outcome {
 
 /// The no-load accuracy of a reducer with a given disc: what the stages' lost motion and
 /// angular TE are split against (docs/model.md section 6.5).
-#[derive(Debug, Clone, Copy)]
-struct NoLoad {
+#[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize)]
+pub(crate) struct NoLoad {
     /// Mean backlash over a mesh cycle, rad.
     play: f64,
     /// Angular TE (over an output revolution with part errors, a mesh cycle without), rad.
@@ -549,62 +549,62 @@ fn split_play(s: &mut StageSummary, new: NoLoad, bearings: NoLoad, parts: NoLoad
             + s.angular_te_pin_wear_arcmin);
 }
 
-/// Stage `i` of a study at `hours` with the wear depth `map` (m per grid point; empty or zero:
-/// unworn) and the pins' wear `pin_map` (m round the pin; empty or zero: unworn): the worn profile (the uniform one of the paper's wear model), its static analysis,
-/// then its dynamics and flexible analysis ([`dynamics_and_flexible`]). Skipped when a stage
-/// before it has failed its static analysis (`failed`: the lowest such index, which a failure
-/// here lowers); `tick` after each analysis.
-#[allow(clippy::too_many_arguments)]
-fn run_stage(
-    model: &Model,
+/// The wear map of a stage from the wear integration's depths `map` (m per grid point; empty
+/// or zero: unworn), and the map its profile is made with (the uniform one at the map's
+/// largest depth in the paper's wear model, section 3.1 of the paper); `None` when unworn.
+///
+/// # Errors
+/// [`Error::Invalid`] for a map [`WearMap::new`] refuses.
+fn stage_maps(model: &Model, map: &[f64]) -> Result<(Option<WearMap>, Option<WearMap>)> {
+    let max = map.iter().copied().fold(0.0, f64::max);
+    let wear_map = if max > 0.0 {
+        Some(WearMap::new(map.to_vec())?)
+    } else {
+        None
+    };
+    let te_map = match (&wear_map, model.wear.model) {
+        (Some(_), WearModelKind::Paper) => Some(WearMap::uniform(map.len(), max)?),
+        (w, _) => w.clone(),
+    };
+    Ok((wear_map, te_map))
+}
+
+/// Why a stage of a study has no static results.
+#[derive(Debug)]
+enum Failure {
+    /// Its wear map could not be made: an error of the study.
+    Prepare(Error),
+    /// Its static analysis failed (with the stage's largest wear depth, m).
+    Static(Error, f64),
+}
+
+/// The static part of the stage at `hours` with the wear depth `map` (m per grid point; empty
+/// or zero: unworn) and the pins' wear `pin_map` (m round the pin; empty or zero: unworn):
+/// the worn profile, its static analysis on the parts as worn by then (the crank bearings'
+/// clearance grown by `rates`, the pins by `pin_map`), and its play split against the new
+/// reducer's (`new`) and the unworn disc's on those parts (docs/model.md section 6.5). Also
+/// returns the model with the worn parts. The stage has no dynamics or flexible results yet.
+fn static_part<'a>(
+    model: &'a Model,
     rates: BearingWearRates,
     new: NoLoad,
-    i: usize,
     hours: f64,
     map: &[f64],
     pin_map: &[f64],
-    base: Option<&DiscSet>,
     base_profile: &Profile,
-    failed: &AtomicUsize,
-    tick: &(dyn Fn() + Sync),
-    on_static: &dyn Fn(&StageSummary),
-) -> Outcome {
-    if i > failed.load(Ordering::Relaxed) {
-        return Outcome::Skipped;
-    }
+) -> std::result::Result<(Stage, std::borrow::Cow<'a, Model>), Failure> {
     // The crank bearings as worn by this stage's hours (their rates are constant in time),
     // and the pins as worn by then.
     let base_model = model;
     let staged = crate::config::worn_parts(model, rates, hours, pin_map);
     let model: &Model = &staged;
     let max = map.iter().copied().fold(0.0, f64::max);
-    let maps = (|| -> Result<(Option<WearMap>, Option<WearMap>)> {
-        let wear_map = if max > 0.0 {
-            Some(WearMap::new(map.to_vec())?)
-        } else {
-            None
-        };
-        let te_map = match (&wear_map, model.wear.model) {
-            (Some(_), WearModelKind::Paper) => Some(WearMap::uniform(map.len(), max)?),
-            (w, _) => w.clone(),
-        };
-        Ok((wear_map, te_map))
-    })();
-    let (wear_map, te_map) = match maps {
-        Ok(m) => m,
-        Err(e) => return Outcome::Prepare(e),
-    };
-    let analysed = model
+    let (wear_map, te_map) = stage_maps(model, map).map_err(Failure::Prepare)?;
+    let (profile, mut a) = model
         .cycloid
         .profile(te_map)
-        .and_then(|p| analyse_profile(model, &p, hours).map(|a| (p, a)));
-    let (profile, mut a) = match analysed {
-        Ok(x) => x,
-        Err(e) => {
-            failed.fetch_min(i, Ordering::Relaxed);
-            return Outcome::Static(e, max);
-        }
-    };
+        .and_then(|p| analyse_profile(model, &p, hours).map(|a| (p, a)))
+        .map_err(|e| Failure::Static(e, max))?;
     // The unworn disc's play on this stage's bearings, then on its bearings and pins (the new
     // reducer's unless they wear).
     let unworn = || -> Result<(NoLoad, NoLoad)> {
@@ -624,20 +624,8 @@ fn run_stage(
         };
         Ok((bearings, parts))
     };
-    match unworn() {
-        Ok((b, p)) => split_play(&mut a.summary, new, b, p),
-        Err(e) => {
-            failed.fetch_min(i, Ordering::Relaxed);
-            return Outcome::Static(e, max);
-        }
-    }
-    on_static(&a.summary);
-    tick();
-    let rest = if i > failed.load(Ordering::Relaxed) {
-        Ok((None, None))
-    } else {
-        dynamics_and_flexible(model, &profile, base, base_profile, tick)
-    };
+    let (b, p) = unworn().map_err(|e| Failure::Static(e, max))?;
+    split_play(&mut a.summary, new, b, p);
     let stage = Stage {
         hours,
         wear: wear_map,
@@ -650,7 +638,131 @@ fn run_stage(
         dynamics: None,
         flexible: None,
     };
+    Ok((stage, staged))
+}
+
+/// Stage `i` of a study at `hours` with the wear depth `map` and the pins' wear `pin_map`: its
+/// static part ([`static_part`]), then its dynamics and flexible analysis
+/// ([`dynamics_and_flexible`]). Skipped when a stage before it has failed its static analysis
+/// (`failed`: the lowest such index, which a failure here lowers); `tick` after each
+/// analysis, `on_static` with the static part's summary.
+#[allow(clippy::too_many_arguments)]
+fn run_stage(
+    model: &Model,
+    rates: BearingWearRates,
+    new: NoLoad,
+    i: usize,
+    hours: f64,
+    map: &[f64],
+    pin_map: &[f64],
+    base: Option<&DiscSet>,
+    base_profile: &Profile,
+    failed: &AtomicUsize,
+    tick: &(dyn Fn() + Sync),
+    on_static: &dyn Fn(&StageSummary),
+) -> Outcome {
+    if i > failed.load(Ordering::Relaxed) {
+        return Outcome::Skipped;
+    }
+    let (stage, staged) = match static_part(model, rates, new, hours, map, pin_map, base_profile) {
+        Ok(x) => x,
+        Err(f) => {
+            if matches!(f, Failure::Static(..)) {
+                failed.fetch_min(i, Ordering::Relaxed);
+            }
+            return Outcome::Failed(f);
+        }
+    };
+    on_static(&stage.summary);
+    tick();
+    let rest = if i > failed.load(Ordering::Relaxed) {
+        Ok((None, None))
+    } else {
+        dynamics_and_flexible(&staged, &stage.profile, base, base_profile, tick)
+    };
     Outcome::Done(Box::new((stage, rest)))
+}
+
+/// The stages of a study in order, each with its extra results (`T`), up to the validity
+/// limit: the first stage whose static analysis fails on a worn profile is where the wear
+/// model leaves its validity (set in `wear`, whose stages are cut there), and the stages after
+/// it are dropped. `None`: a stage not analysed.
+///
+/// # Errors
+/// A stage's failure that is not the validity limit (on the unworn profile, a bad input, a
+/// wear map that cannot be made); a stage not analysed before the limit; [`Error::Invalid`]
+/// naming `wear.stage_hours` when no stage lies within the validity.
+fn until_limit<T>(
+    model: &Model,
+    wear: &mut WearHistory,
+    outcomes: impl IntoIterator<Item = Option<std::result::Result<(Stage, T), Failure>>>,
+) -> Result<Vec<(Stage, T)>> {
+    let mut stages = Vec::new();
+    for (i, outcome) in outcomes.into_iter().enumerate() {
+        match outcome {
+            Some(Ok(done)) => stages.push(done),
+            Some(Err(Failure::Prepare(e))) => return Err(e),
+            Some(Err(Failure::Static(e, max))) => {
+                if max > 0.0 && !matches!(e, Error::Invalid { .. } | Error::Io { .. }) {
+                    // A worn stage the static analysis cannot follow: the validity limit.
+                    wear.limit = Some(ValidityLimit {
+                        hours: wear.hours[i],
+                        max_wear_um: max * 1e6,
+                        reason: e.to_string(),
+                    });
+                    break;
+                }
+                return Err(e);
+            }
+            None => {
+                return Err(Error::numerical(
+                    "study",
+                    format!("stage {i} was not analysed (an earlier stage's failure was lost)"),
+                ))
+            }
+        }
+    }
+    wear.hours.truncate(stages.len());
+    wear.maps.truncate(stages.len());
+    if stages.is_empty() {
+        let l = wear.limit.as_ref();
+        let w = &model.wear;
+        return Err(Error::invalid(
+            "wear.stage_hours",
+            format!("{:?}", w.stage_hours),
+            format!(
+                "no stage lies within the validity of the wear model: it leaves it at {:.0} h \
+                 ({:.2} um of wear: {}); list earlier stages",
+                l.map_or(0.0, |l| l.hours),
+                l.map_or(0.0, |l| l.max_wear_um),
+                l.map_or("", |l| l.reason.as_str())
+            ),
+        ));
+    }
+    Ok(stages)
+}
+
+/// The study of `model` from its wear history `wear` and its stages: the accuracy life
+/// ([`study_life`], with the trials beyond the stages made `ahead`, `notice` told of the search
+/// beyond them).
+///
+/// # Errors
+/// Those of [`study_life`].
+fn finish(
+    model: &Model,
+    wear: WearHistory,
+    stages: Vec<Stage>,
+    ahead: Option<LifeTrials>,
+    notice: &dyn Fn(&str),
+) -> Result<Study> {
+    let summaries: Vec<StageSummary> = stages.iter().map(|s| s.summary.clone()).collect();
+    let life = study_life(model, &summaries, &wear, ahead, notice)?;
+    Ok(Study {
+        model: model.clone(),
+        wear,
+        stages,
+        life,
+    })
 }
 
 /// The multibody simulation and the flexible analysis of the stage of `profile`, side by side
@@ -736,13 +848,7 @@ pub fn run_with_notices(
 ) -> Result<Study> {
     let w = &model.wear;
     let n_stages = w.stage_hours.len();
-    let wear_total = if w.model == WearModelKind::Paper || w.update_hours <= 0.0 {
-        1
-    } else {
-        (w.stage_hours.last().copied().unwrap_or(0.0) / w.update_hours)
-            .ceil()
-            .max(1.0) as usize
-    };
+    let wear_total = parts::wear_steps(model);
     let dyn_total = if model.dynamics.enabled { n_stages } else { 0 };
     let fem_total = if model.fem.enabled { n_stages } else { 0 };
     let total = wear_total + n_stages + dyn_total + fem_total;
@@ -752,15 +858,8 @@ pub fn run_with_notices(
     // wear).
     let flexible_dynamics = model.dynamics.enabled && model.dynamics.params.flexible.is_some();
     let base_profile = model.profile()?;
-    // The crank bearings' clearance growth, from the new reducer's loads (docs/model.md
-    // section 7.9).
-    let rates = crate::config::bearing_rates(model)?;
-    let wear_inputs = WearInputs {
-        bearing_rates: rates,
-        ..model.wear_inputs()
-    };
-    // The new reducer's play, against which the stages' lost motion is split.
-    let new = no_load(model, &base_profile)?;
+    let ground = parts::ground(model)?;
+    let (rates, new) = (ground.rates(), ground.new_play());
     // Progress: the wear-rate evaluations so far plus the stage analyses done.
     let (wear_done, done) = (AtomicUsize::new(0), AtomicUsize::new(0));
     let report = || {
@@ -779,7 +878,7 @@ pub fn run_with_notices(
     let unworn_first = w.stage_hours.first() == Some(&0.0);
     let (wear, base) = rayon::join(
         || {
-            integrate(&wear_inputs, &|d, _| {
+            parts::wear_history(model, &ground, &|d, _| {
                 wear_done.fetch_max(d, Ordering::Relaxed);
                 report();
             })
@@ -883,51 +982,16 @@ pub fn run_with_notices(
     });
     // A worker that finished its last stage before the trials were asked for.
     take_ahead();
+    let outcomes = slots.into_iter().map(|slot| match slot.into_inner() {
+        Some(Outcome::Done(b)) => Some(Ok(*b)),
+        Some(Outcome::Failed(f)) => Some(Err(f)),
+        Some(Outcome::Skipped) | None => None,
+    });
     let mut stages = Vec::with_capacity(n_stages);
     let mut rows = Vec::with_capacity(n_stages);
-    for (i, slot) in slots.into_iter().enumerate() {
-        match slot.into_inner() {
-            Some(Outcome::Done(b)) => {
-                let (stage, rest) = *b;
-                rows.push(rest?);
-                stages.push(stage);
-            }
-            Some(Outcome::Prepare(e)) => return Err(e),
-            Some(Outcome::Static(e, max)) => {
-                if max > 0.0 && !matches!(e, Error::Invalid { .. } | Error::Io { .. }) {
-                    // A worn stage the static analysis cannot follow: the validity limit.
-                    wear.limit = Some(ValidityLimit {
-                        hours: wear.hours[i],
-                        max_wear_um: max * 1e6,
-                        reason: e.to_string(),
-                    });
-                    break;
-                }
-                return Err(e);
-            }
-            Some(Outcome::Skipped) | None => {
-                return Err(Error::numerical(
-                    "study",
-                    format!("stage {i} was not analysed (an earlier stage's failure was lost)"),
-                ))
-            }
-        }
-    }
-    wear.hours.truncate(stages.len());
-    wear.maps.truncate(stages.len());
-    if stages.is_empty() {
-        let l = wear.limit.as_ref();
-        return Err(Error::invalid(
-            "wear.stage_hours",
-            format!("{:?}", w.stage_hours),
-            format!(
-                "no stage lies within the validity of the wear model: it leaves it at {:.0} h \
-                 ({:.2} um of wear: {}); list earlier stages",
-                l.map_or(0.0, |l| l.hours),
-                l.map_or(0.0, |l| l.max_wear_um),
-                l.map_or("", |l| l.reason.as_str())
-            ),
-        ));
+    for (stage, rest) in until_limit(model, &mut wear, outcomes)? {
+        rows.push(rest?);
+        stages.push(stage);
     }
     for (st, (dynamics, flexible)) in stages.iter_mut().zip(rows) {
         if let Some(d) = dynamics {
@@ -964,15 +1028,8 @@ pub fn run_with_notices(
             st.flexible = Some((fl, mesh));
         }
     }
-    let summaries: Vec<StageSummary> = stages.iter().map(|s| s.summary.clone()).collect();
     let ahead = ahead.into_inner().ok().flatten();
-    let life = study_life(model, &summaries, &wear, ahead, notice)?;
-    Ok(Study {
-        model: model.clone(),
-        wear,
-        stages,
-        life,
-    })
+    finish(model, wear, stages, ahead, notice)
 }
 
 impl Study {

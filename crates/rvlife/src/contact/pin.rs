@@ -34,7 +34,7 @@ pub(crate) fn disc_pose(geo: &CycloidGeometry, phi: f64, beta: f64) -> (Vec2, f6
 }
 
 /// Pose of a disc in the pin-ring frame.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct DiscPose {
     /// Crank angle `phi` whose kinematics the pose is near (rad): it gives the kinematic guess
     /// of every contact parameter (`Profile::contact_parameter_guess`).

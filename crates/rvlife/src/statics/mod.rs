@@ -102,7 +102,7 @@ pub(crate) fn sequence_run(n: usize) -> usize {
 }
 
 /// One pin's share of a static solution.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, serde::Deserialize)]
 pub struct PinLoad {
     /// Pin index `j`.
     pub pin: usize,
@@ -135,7 +135,7 @@ pub struct PinLoad {
 }
 
 /// One disc of a static solution.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, serde::Deserialize)]
 pub struct DiscLoad {
     /// Pose of the disc.
     #[serde(skip)]
@@ -164,7 +164,7 @@ impl DiscLoad {
 }
 
 /// A static equilibrium of the reducer.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, serde::Deserialize)]
 pub struct StaticSolution {
     /// Crank angle of disc 1, rad.
     pub crank_angle: f64,

@@ -71,7 +71,7 @@ pub(crate) fn mesh_cycle_angles(pins: usize, samples: usize) -> Vec<f64> {
 }
 
 /// Static transmission error over one mesh cycle.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, serde::Deserialize)]
 pub struct StaticTe {
     /// Crank angles, rad.
     pub crank_angle: Vec<f64>,
@@ -160,7 +160,7 @@ pub fn static_te(red: &Reducer, profile: &Profile, samples: usize) -> Result<Sta
 }
 
 /// Loaded TE over one mesh cycle.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, serde::Deserialize)]
 pub struct LoadedTe {
     /// Output torque, N m.
     pub torque: f64,
@@ -273,7 +273,7 @@ pub struct HysteresisCurve {
 }
 
 /// Twist (rad) at each torque of a grid, from which the sweep and the accuracy follow.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, serde::Deserialize)]
 pub struct TwistTable {
     /// Torque fractions of the rated torque on each side, increasing from 0 to 1 (0 first: the
     /// `0+` / `0-` limits), with the measuring fraction among them.
@@ -821,7 +821,7 @@ pub(crate) fn revolution_angles(pins: usize, samples: usize) -> Vec<f64> {
 
 /// Static transmission error over one output revolution (the reducer with part errors has no
 /// symmetry left: every mesh cycle differs).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, serde::Deserialize)]
 pub struct RevolutionTe {
     /// Crank angles, rad (`revolution_angles`).
     pub crank_angle: Vec<f64>,

@@ -191,7 +191,7 @@ fn zero_torque_from(sa: &StaticAnalysis, phi: f64, rated: f64, lim: Limits) -> R
     // preloaded contacts are settled, halving with each solve started from the one
     // above, to `PRELOAD_PROBE_FRACTION` (or as far as the solves converge).
     // (Where the first level does not converge, from 4 or 16 times it.)
-    let ways = [1.0, -1.0].map(|s| {
+    let ways: [Result<Vec<StaticSolution>>; 2] = [1.0, -1.0].map(|s| {
         let k = usize::from(s < 0.0);
         let mut done: Vec<StaticSolution> = Vec::new();
         let mut first = Err(Error::numerical("preload", "no level tried"));

@@ -11,6 +11,7 @@ mod fem;
 mod flexible_dynamics;
 mod life;
 mod measured;
+mod parts;
 mod physics;
 mod pin_wear;
 mod play;

@@ -47,7 +47,7 @@ pub struct BearingWearParams {
 }
 
 /// Clearance growth of the crank bearings, m/h.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct BearingWearRates {
     /// Each crank-disc bearing (single-stage: each eccentric bearing).
     pub disc: f64,

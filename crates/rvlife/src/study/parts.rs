@@ -1,0 +1,358 @@
+//! The accuracy-life study in parts, for a front end that runs its stages on workers that share
+//! no memory (the web page's Web Workers, each with its own WebAssembly instance): what
+//! [`super::run`] does on one machine's threads, without the dynamics and the flexible disc.
+//!
+//! 1. [`ground`]: the crank bearings' wear rates and the new reducer's play, which every
+//!    other part needs;
+//! 2. [`wear_history`]: the wear integration to the stages (one worker), while
+//!    [`unworn_first`], the 0 h stage, needs none and can be analysed beside it;
+//! 3. [`static_stage`] for every stage of [`stage_wears`], on any worker, in any order;
+//! 4. [`assemble`]: the study from the wear history and the stages' outcomes, with its
+//!    accuracy life, on the worker that integrated the wear.
+//!
+//! What crosses between workers ([`Ground`], [`StageWear`], [`StageOutcome`]) is plain data
+//! (serde). A study assembled from parts equals [`super::run`]'s with dynamics and FE off: the
+//! same functions on the same numbers, so the same results files byte for byte (tested). The
+//! loaded solutions' geometry that no results file holds (contact points and normals, disc
+//! poses, the solver's coordinates) does not cross and is zero in the assembled study.
+
+use serde::{Deserialize, Serialize};
+
+use super::{finish, no_load, static_part, until_limit, Failure, NoLoad, Stage, Study};
+use crate::config::Model;
+use crate::error::{Error, Result};
+use crate::quantities::StageSummary;
+use crate::te::{LoadedTe, RevolutionTe, StaticTe, TwistTable};
+use crate::wear::{integrate, BearingWearRates, WearHistory, WearInputs, WearModelKind};
+
+/// What every part of a study starts from: the crank bearings' clearance growth from the new
+/// reducer's loads (docs/model.md section 7.9) and the new reducer's play, against which the
+/// stages' lost motion is split (section 6.5).
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+pub struct Ground {
+    rates: BearingWearRates,
+    new: NoLoad,
+}
+
+/// The [`Ground`] of a study of `model` (about a twentieth of a study's work).
+///
+/// # Errors
+/// Solver failures on the new reducer.
+pub fn ground(model: &Model) -> Result<Ground> {
+    let rates = crate::config::bearing_rates(model)?;
+    let new = no_load(model, &model.profile()?)?;
+    Ok(Ground { rates, new })
+}
+
+impl Ground {
+    /// The crank bearings' clearance growth, m/h.
+    pub(crate) fn rates(&self) -> BearingWearRates {
+        self.rates
+    }
+
+    /// The new reducer's play.
+    pub(crate) fn new_play(&self) -> NoLoad {
+        self.new
+    }
+
+    /// The wear integration's inputs of `model` with these bearing rates.
+    pub(crate) fn wear_inputs<'a>(&self, model: &'a Model) -> WearInputs<'a> {
+        WearInputs {
+            bearing_rates: self.rates,
+            ..model.wear_inputs()
+        }
+    }
+}
+
+/// The steps of [`wear_history`]'s progress for `model`: its wear-rate evaluations as
+/// scheduled (`last stage / wear.profile_update_hours`, at least 1; 1 in the paper's model).
+pub fn wear_steps(model: &Model) -> usize {
+    let w = &model.wear;
+    if w.model == WearModelKind::Paper || w.update_hours <= 0.0 {
+        1
+    } else {
+        (w.stage_hours.last().copied().unwrap_or(0.0) / w.update_hours)
+            .ceil()
+            .max(1.0) as usize
+    }
+}
+
+/// The wear integration of a study of `model` to its stages ([`crate::wear::integrate`]);
+/// `progress(done, total)` after each wear-rate evaluation.
+///
+/// # Errors
+/// Those of [`crate::wear::integrate`].
+pub fn wear_history(
+    model: &Model,
+    ground: &Ground,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<WearHistory> {
+    integrate(&ground.wear_inputs(model), progress)
+}
+
+/// The wear of one stage: what [`static_stage`] needs of the wear history.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct StageWear {
+    /// The stage's index in the study (from 0, in the order of `wear.stage_hours`).
+    pub index: usize,
+    /// Working hours, h.
+    pub hours: f64,
+    /// The disc's wear depth on the wear grid, m ([`WearHistory::maps`]); empty: unworn.
+    map: Vec<f64>,
+    /// The pins' wear round the pin, m ([`WearHistory::pin_maps`]); empty: unworn.
+    pin_map: Vec<f64>,
+}
+
+/// The stages of the wear history `wear`, in order: what [`static_stage`] analyses.
+pub fn stage_wears(wear: &WearHistory) -> Vec<StageWear> {
+    (0..wear.hours.len())
+        .map(|i| StageWear {
+            index: i,
+            hours: wear.hours[i],
+            map: wear.maps[i].clone(),
+            pin_map: wear.pin_maps.get(i).cloned().unwrap_or_default(),
+        })
+        .collect()
+}
+
+/// The study's first stage when it lies at 0 h (`wear.stage_hours` starts with 0): unworn, so
+/// it can be analysed beside the wear integration ([`assemble`] takes its outcome in place of
+/// the wear history's first stage, which is unworn too).
+pub fn unworn_first(model: &Model) -> Option<StageWear> {
+    (model.wear.stage_hours.first() == Some(&0.0)).then(|| StageWear {
+        index: 0,
+        hours: 0.0,
+        map: Vec::new(),
+        pin_map: Vec::new(),
+    })
+}
+
+/// A stage's static results without its profile (which [`assemble`] makes again from the
+/// wear history) and without dynamics or flexible results.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct StageRecord {
+    ste: StaticTe,
+    loaded: LoadedTe,
+    hysteresis: TwistTable,
+    revolution: Option<RevolutionTe>,
+    summary: StageSummary,
+}
+
+/// A failure as it crosses between workers: the error's kind and words, so that
+/// [`assemble`] reports it exactly as [`super::run`] would.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+enum ErrorRecord {
+    Invalid {
+        field: String,
+        value: String,
+        allowed: String,
+    },
+    Config {
+        path: String,
+        message: String,
+    },
+    Io {
+        path: std::path::PathBuf,
+        message: String,
+    },
+    Numerical {
+        context: String,
+        message: String,
+    },
+}
+
+impl From<&Error> for ErrorRecord {
+    fn from(e: &Error) -> Self {
+        match e {
+            Error::Invalid {
+                field,
+                value,
+                allowed,
+            } => ErrorRecord::Invalid {
+                field: field.clone(),
+                value: value.clone(),
+                allowed: allowed.clone(),
+            },
+            Error::Config { path, message } => ErrorRecord::Config {
+                path: path.clone(),
+                message: message.clone(),
+            },
+            Error::Io { path, source } => ErrorRecord::Io {
+                path: path.clone(),
+                message: source.to_string(),
+            },
+            Error::Numerical { context, message } => ErrorRecord::Numerical {
+                context: context.to_string(),
+                message: message.clone(),
+            },
+        }
+    }
+}
+
+impl From<ErrorRecord> for Error {
+    fn from(e: ErrorRecord) -> Self {
+        match e {
+            ErrorRecord::Invalid {
+                field,
+                value,
+                allowed,
+            } => Error::Invalid {
+                field,
+                value,
+                allowed,
+            },
+            ErrorRecord::Config { path, message } => Error::Config { path, message },
+            ErrorRecord::Io { path, message } => Error::Io {
+                path,
+                source: std::io::Error::other(message),
+            },
+            ErrorRecord::Numerical { context, message } => Error::Numerical {
+                context: context.into(),
+                message,
+            },
+        }
+    }
+}
+
+/// What [`static_stage`] made of one stage: its static results, or why it has none.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct StageOutcome {
+    index: usize,
+    hours: f64,
+    result: std::result::Result<Box<StageRecord>, (ErrorRecord, Option<f64>)>,
+}
+
+impl StageOutcome {
+    /// The stage's index in the study.
+    pub fn index(&self) -> usize {
+        self.index
+    }
+
+    /// Whether the stage has no static results (its failure is reported by [`assemble`]).
+    pub fn failed(&self) -> bool {
+        self.result.is_err()
+    }
+
+    /// The outcome of `stage` whose static analysis failed with `e` (for tests of the
+    /// assembly).
+    #[cfg(test)]
+    pub(crate) fn static_failure(stage: &StageWear, e: &Error) -> Self {
+        let max = stage.map.iter().copied().fold(0.0, f64::max);
+        StageOutcome {
+            index: stage.index,
+            hours: stage.hours,
+            result: Err((e.into(), Some(max))),
+        }
+    }
+}
+
+/// The static analysis of one stage of a study of `model` (what [`super::run`] does for each
+/// stage before the dynamics and the flexible disc): the worn profile, the static TE,
+/// hysteresis curve, loaded TE and the play split by source, on the parts as worn by then.
+pub fn static_stage(model: &Model, ground: &Ground, stage: &StageWear) -> StageOutcome {
+    let profile = model.profile();
+    let result = profile
+        .map_err(|e| Failure::Static(e, 0.0))
+        .and_then(|base| {
+            static_stage_of(model, ground, stage, &base).map(|s| {
+                Box::new(StageRecord {
+                    ste: s.ste,
+                    loaded: s.loaded,
+                    hysteresis: s.hysteresis,
+                    revolution: s.revolution,
+                    summary: s.summary,
+                })
+            })
+        })
+        .map_err(|f| match f {
+            Failure::Prepare(e) => ((&e).into(), None),
+            Failure::Static(e, max) => ((&e).into(), Some(max)),
+        });
+    StageOutcome {
+        index: stage.index,
+        hours: stage.hours,
+        result,
+    }
+}
+
+fn static_stage_of(
+    model: &Model,
+    ground: &Ground,
+    stage: &StageWear,
+    base_profile: &crate::geometry::Profile,
+) -> std::result::Result<Stage, Failure> {
+    static_part(
+        model,
+        ground.rates,
+        ground.new,
+        stage.hours,
+        &stage.map,
+        &stage.pin_map,
+        base_profile,
+    )
+    .map(|(s, _)| s)
+}
+
+/// The study of `model` from its wear history `wear` ([`wear_history`]) and the outcomes of
+/// its stages ([`static_stage`] of every one of [`stage_wears`], in any order; the first may
+/// be [`unworn_first`]'s): the stages up to the validity limit, and the accuracy life
+/// (`notice` told when its search goes on beyond the last stage).
+///
+/// # Errors
+/// [`Error::Invalid`] naming the stage when an outcome does not belong to `wear` (another
+/// stage's hours, a stage missing or given twice); the stages' failures as [`super::run`]
+/// reports them; those of the accuracy life's search.
+pub fn assemble(
+    model: &Model,
+    mut wear: WearHistory,
+    outcomes: Vec<StageOutcome>,
+    notice: &dyn Fn(&str),
+) -> Result<Study> {
+    let n = wear.hours.len();
+    let mut slots: Vec<Option<StageOutcome>> = (0..n).map(|_| None).collect();
+    for o in outcomes {
+        let i = o.index;
+        let belongs = i < n && wear.hours[i] == o.hours && slots[i].is_none();
+        if !belongs {
+            return Err(Error::invalid(
+                format!("stage outcome {i}"),
+                format!("{} h", o.hours),
+                format!("one outcome for each of the wear history's {n} stages, at its hours"),
+            ));
+        }
+        slots[i] = Some(o);
+    }
+    let maps = wear.maps.clone();
+    let outcomes: Vec<_> = slots
+        .into_iter()
+        .zip(&maps)
+        .map(|(slot, map)| {
+            slot.map(|o| match o.result {
+                Ok(r) => super::stage_maps(model, map)
+                    .and_then(|(wear_map, te_map)| {
+                        Ok(Stage {
+                            hours: o.hours,
+                            wear: wear_map,
+                            profile: model.cycloid.profile(te_map)?,
+                            ste: r.ste,
+                            loaded: r.loaded,
+                            hysteresis: r.hysteresis,
+                            revolution: r.revolution,
+                            summary: r.summary,
+                            dynamics: None,
+                            flexible: None,
+                        })
+                    })
+                    .map(|s| (s, ()))
+                    .map_err(Failure::Prepare),
+                Err((e, None)) => Err(Failure::Prepare(e.into())),
+                Err((e, Some(max))) => Err(Failure::Static(e.into(), max)),
+            })
+        })
+        .collect();
+    let stages = until_limit(model, &mut wear, outcomes)?
+        .into_iter()
+        .map(|(s, ())| s)
+        .collect();
+    finish(model, wear, stages, None, notice)
+}

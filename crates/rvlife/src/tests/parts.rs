@@ -1,0 +1,120 @@
+//! The study in parts (`study::parts`, what the web page runs on separate workers) against the
+//! study on one machine's threads: the same results files byte for byte, through the bytes
+//! that cross between workers; and the validity limit taken from a failed stage as the study
+//! takes it.
+
+use crate::config::{Config, Model};
+use crate::study::parts::{self, StageOutcome};
+use crate::study::Study;
+
+/// The example without dynamics and FE; with `worn_parts`, also part errors, running-in and
+/// crank bearings and pins that wear (the stages' own bearings, pins and revolution TE).
+fn model(worn_parts: bool) -> Model {
+    let mut cfg = Config::example();
+    cfg.dynamics.enabled = false;
+    cfg.fem.enabled = false;
+    if worn_parts {
+        cfg.wear.bearing_archard_coefficient_mm3_per_n_m = 1e-9;
+        cfg.wear.pin_archard_coefficient_mm3_per_n_m = 6.844807e-9;
+        cfg.wear.running_in_factor = 3.0;
+        cfg.errors.pin_circle_runout_um = 2.0;
+        cfg.wear.stage_hours = vec![0.0, 2000.0, 4000.0];
+    }
+    cfg.validate().unwrap()
+}
+
+/// `x` through the bytes a worker sends (CBOR, as the WebAssembly binding sends them).
+fn crossed<T: serde::Serialize + serde::de::DeserializeOwned>(x: &T) -> T {
+    let mut bytes = Vec::new();
+    ciborium::into_writer(x, &mut bytes).unwrap();
+    ciborium::from_reader(bytes.as_slice()).unwrap()
+}
+
+/// The study of `m` in parts, as the page runs it: the unworn first stage beside the wear, the
+/// others most worn first, every piece through bytes.
+fn in_parts(m: &Model) -> Study {
+    let ground = crossed(&parts::ground(m).unwrap());
+    let first = parts::unworn_first(m).map(|s| crossed(&parts::static_stage(m, &ground, &s)));
+    let wear = parts::wear_history(m, &ground, &|_, _| {}).unwrap();
+    let mut outcomes: Vec<StageOutcome> = first.into_iter().collect();
+    for s in parts::stage_wears(&wear).iter().rev() {
+        if outcomes.iter().all(|o| o.index() != s.index) {
+            outcomes.push(crossed(&parts::static_stage(m, &ground, &crossed(s))));
+        }
+    }
+    parts::assemble(m, wear, outcomes, &|_| {}).unwrap()
+}
+
+#[test]
+fn study_in_parts_is_the_study() {
+    for worn_parts in [false, true] {
+        let m = model(worn_parts);
+        let whole = crate::study::run(&m, &|_, _| {}).unwrap();
+        let parted = in_parts(&m);
+        let (a, b) = (
+            crate::output::study::data_files(&whole).unwrap(),
+            crate::output::study::data_files(&parted).unwrap(),
+        );
+        assert_eq!(a.len(), b.len());
+        for ((name, x), (other, y)) in a.iter().zip(&b) {
+            assert_eq!(name, other);
+            assert!(x == y, "{name} differs (worn parts: {worn_parts})");
+        }
+        assert_eq!(whole.verdict(), parted.verdict());
+    }
+}
+
+#[test]
+fn stage_failure_in_parts_is_the_validity_limit() {
+    let m = model(false);
+    let ground = parts::ground(&m).unwrap();
+    let wear = parts::wear_history(&m, &ground, &|_, _| {}).unwrap();
+    let stages = parts::stage_wears(&wear);
+    // A worn stage whose static analysis fails (a solver's failure, through the bytes a
+    // worker sends) is the validity limit: the stages from it on are dropped.
+    let k = 3;
+    let failure = crate::Error::numerical("static equilibrium", "did not converge");
+    let mut outcomes: Vec<StageOutcome> = stages
+        .iter()
+        .map(|s| match s.index {
+            i if i == k => crossed(&StageOutcome::static_failure(s, &failure)),
+            _ => parts::static_stage(&m, &ground, s),
+        })
+        .collect();
+    outcomes.reverse();
+    assert!(outcomes.iter().any(|o| o.index() == k && o.failed()));
+    let study = parts::assemble(&m, wear.clone(), outcomes, &|_| {}).unwrap();
+    assert_eq!(study.stages.len(), k);
+    let limit = study.wear.limit.as_ref().expect("the validity limit");
+    assert_eq!(limit.hours, wear.hours[k]);
+    assert_eq!(limit.reason, failure.to_string());
+    assert_eq!(study.wear.hours.len(), k);
+    // On the unworn first stage the same failure is the study's error, word for word.
+    let mut outcomes: Vec<StageOutcome> = stages[1..]
+        .iter()
+        .map(|s| parts::static_stage(&m, &ground, s))
+        .collect();
+    outcomes.push(crossed(&StageOutcome::static_failure(&stages[0], &failure)));
+    let e = parts::assemble(&m, wear.clone(), outcomes, &|_| {}).unwrap_err();
+    assert_eq!(e.to_string(), failure.to_string());
+    // Outcomes that do not belong: a stage missing, or twice.
+    let again = |drop: usize, twice: bool| {
+        let mut o: Vec<StageOutcome> = stages
+            .iter()
+            .filter(|s| s.index != drop)
+            .map(|s| parts::static_stage(&m, &ground, s))
+            .collect();
+        if twice {
+            o.push(o[0].clone());
+        }
+        parts::assemble(&m, wear.clone(), o, &|_| {})
+    };
+    assert!(again(usize::MAX, true)
+        .unwrap_err()
+        .to_string()
+        .contains("stage outcome"));
+    assert!(again(2, false)
+        .unwrap_err()
+        .to_string()
+        .contains("stage 2 was not analysed"));
+}
