@@ -168,10 +168,9 @@ pub struct System<'a> {
     /// Last contact force of every pin (disc-major), N: the warm start of the contact law's
     /// inversion.
     f_cache: RefCell<Vec<f64>>,
-    /// Share of each crank bearing's displacement that the bearing itself took at the last
-    /// evaluation (beside its series part; in the order the structural forces visit them):
-    /// the warm start of its series solve.
-    b_cache: RefCell<Vec<f64>>,
+    /// Each crank bearing's law as a table (in the order the structural forces visit them;
+    /// made at the first evaluation; docs/model.md section 5.9).
+    b_tables: Vec<std::cell::OnceCell<Option<crate::reducer::BearingTable>>>,
     /// Gap (m) of every pin at its last evaluation and the pin centre in the disc's profile
     /// frame then (disc-major), to skip pins that cannot have closed since (rigid discs).
     open_cache: RefCell<Vec<(f64, Vec2)>>,
@@ -249,7 +248,9 @@ impl<'a> System<'a> {
             zp: geo.pins,
             t_cache: RefCell::new(vec![f64::NAN; 2 * geo.pins]),
             f_cache: RefCell::new(vec![0.0; 2 * geo.pins]),
-            b_cache: RefCell::new(vec![f64::NAN; red.cranks.max(1) * (1 + red.discs())]),
+            b_tables: (0..red.cranks.max(1) * (1 + red.discs()))
+                .map(|_| std::cell::OnceCell::new())
+                .collect(),
             open_cache: RefCell::new(vec![(f64::NAN, Vec2::zeros()); 2 * geo.pins]),
             max_gradient: Cell::new(1.0),
             flex: None,
@@ -542,7 +543,7 @@ impl<'a> System<'a> {
             &k.dq[..n],
             &k.qd[..n],
             g,
-            &mut BearingEval::Warm(&mut self.b_cache.borrow_mut(), 0),
+            &mut BearingEval::Tabulated(&self.b_tables, 0),
         );
         let mut kept = match contacts {
             Contacts::Compute => None,
@@ -886,11 +887,9 @@ impl<'a> System<'a> {
     }
 
     /// Forgets the warm starts of the contact solves (closest-point parameters, last pin
-    /// forces) and of the crank bearings' series solves, so that a new integration starts as
-    /// from [`System::new`].
+    /// forces), so that a new integration starts as from [`System::new`].
     pub(crate) fn reset_caches(&self) {
         self.t_cache.borrow_mut().fill(f64::NAN);
-        self.b_cache.borrow_mut().fill(f64::NAN);
         self.f_cache.borrow_mut().fill(0.0);
         self.open_cache.borrow_mut().fill((f64::NAN, Vec2::zeros()));
         self.max_gradient.set(1.0);

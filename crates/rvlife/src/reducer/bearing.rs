@@ -268,15 +268,6 @@ impl RadialBearing {
     /// loaded set does not change with `d`), then refined by Halley's method (third order:
     /// two or three roller sums from that start reach round-off) to about `1e-15` of the share.
     pub fn radial_force(&self, x: f64) -> (f64, f64) {
-        let mut fresh = f64::NAN;
-        self.radial_force_from(x, &mut fresh)
-    }
-
-    /// [`RadialBearing::radial_force`] with the series solve started from `share`, the
-    /// fraction of the displacement beyond the clearance that the bearing took at the last
-    /// call (NaN: none), and `share` updated: two roller sums where the displacement moved
-    /// little (the multibody model's successive evaluations).
-    pub(crate) fn radial_force_from(&self, x: f64, share: &mut f64) -> (f64, f64) {
         let reg = if self.has_dead_band() {
             DEAD_BAND_STIFFNESS
         } else {
@@ -288,7 +279,7 @@ impl RadialBearing {
             if x <= half {
                 (0.0, 0.0)
             } else {
-                let (f, kb) = self.series_share(x, half, ks, share);
+                let (f, kb) = self.series_share(x, half, ks);
                 (f, if kb > 0.0 { kb * ks / (kb + ks) } else { 0.0 })
             }
         } else {
@@ -299,12 +290,9 @@ impl RadialBearing {
 
     /// The bearing's force and stiffness `(F(d), F'(d))` at its share `d` of a total
     /// displacement `x > half` with series stiffness `ks` ([`RadialBearing::radial_force`]).
-    fn series_share(&self, x: f64, half: f64, ks: f64, share: &mut f64) -> (f64, f64) {
+    fn series_share(&self, x: f64, half: f64, ks: f64) -> (f64, f64) {
         let u = x - half;
-        let warm = share.is_finite() && *share > 0.0 && *share <= 1.0;
-        let y = if warm {
-            *share * u
-        } else {
+        let y = {
             let (fx, kx, _) = self.own_law(x, false);
             if fx <= 0.0 || kx <= 0.0 {
                 return (fx, kx);
@@ -346,14 +334,6 @@ impl RadialBearing {
                 // Converged at this share (the start, where the power law is exact).
                 break;
             }
-            if warm && halley && step.abs() <= 1e-7 * scale {
-                // Warm (the multibody model's next evaluation): the last step by Taylor's
-                // expansion of the law at this share, to second order in a step below 1e-7 of
-                // it (1e-14 of the force). The static analysis, whose light solves through the
-                // dead bands need the law to round-off, evaluates it exactly.
-                *share = (d - step - half) / u;
-                return (fd - kd * step, kd - cd * step);
-            }
             d = (d - step).max(half).min(x);
             // A step below 1e-5 of the share (Halley's, third order) or 1e-8 (Newton's, second)
             // leaves an error of order 1e-15 of it.
@@ -363,7 +343,6 @@ impl RadialBearing {
                 break;
             }
         }
-        *share = (d - half) / u;
         (out.0, out.1)
     }
 
@@ -372,8 +351,7 @@ impl RadialBearing {
     /// of `|r|` plus damping along `r` while the bearing carries load.
     #[inline]
     pub fn force(&self, r: Vec2, rd: Vec2) -> Vec2 {
-        let mut fresh = f64::NAN;
-        self.force_from(r, rd, &mut fresh)
+        self.force_with(r, rd, |x| self.radial_force(x).0)
     }
 
     /// The stiffness (N/m) of a linear bearing without clearance or series parts, whose force
@@ -389,10 +367,10 @@ impl RadialBearing {
         }
     }
 
-    /// [`RadialBearing::force`] with the series solve started from `share` (see
-    /// [`RadialBearing::radial_force_from`]).
+    /// [`RadialBearing::force`] with the radial force (N, dead-band spring included) at a
+    /// displacement (m) given by `radial`: the law evaluated exactly or from a table.
     #[inline]
-    pub(crate) fn force_from(&self, r: Vec2, rd: Vec2, share: &mut f64) -> Vec2 {
+    pub(crate) fn force_with(&self, r: Vec2, rd: Vec2, radial: impl FnOnce(f64) -> f64) -> Vec2 {
         if let Some(stiffness) = self.plain_linear() {
             return r * stiffness + rd * self.damping;
         }
@@ -401,7 +379,7 @@ impl RadialBearing {
             return rd * self.damping.min(DEAD_BAND_STIFFNESS);
         }
         let n = r / len;
-        let (f, _) = self.radial_force_from(len, share);
+        let f = radial(len);
         let elastic = f - DEAD_BAND_STIFFNESS * len * f64::from(self.has_dead_band());
         let damp = if elastic > 0.0 {
             self.damping * rd.dot(&n)
@@ -509,75 +487,5 @@ impl RadialBearing {
     /// damping in the dynamics and of the defaults that take a bearing's stiffness.
     pub fn reference_stiffness(&self) -> f64 {
         self.radial_force(0.5 * self.clearance + 5e-6).1
-    }
-}
-
-/// A bearing's state recorded by [`BearingEval::Record`]: relative position (m), static force
-/// (N) and stiffness matrix (N/m).
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Frozen {
-    r: Vec2,
-    f: Vec2,
-    k: Matrix2<f64>,
-}
-
-impl Frozen {
-    /// The recorded static force, N.
-    pub(crate) fn force(&self) -> Vec2 {
-        self.f
-    }
-}
-
-/// How [`crate::reducer::Reducer::structural_forces_with`] evaluates the bearings: exactly,
-/// exactly while recording each bearing's state (in call order), or each bearing's law
-/// linearised at a recorded state (for the structural stiffness by differences of the forces:
-/// exact kinematics, no roller sums).
-pub(crate) enum BearingEval<'a> {
-    Exact,
-    /// Records each bearing's state; with `true` its stiffness floored
-    /// ([`RadialBearing::stiffness_matrix_floored`]).
-    Record(&'a mut Vec<Frozen>, bool),
-    Frozen(&'a [Frozen], usize),
-    /// Exactly, each bearing's series solve started from its share at the last evaluation
-    /// (one slot per bearing, in call order; NaN: none).
-    Warm(&'a mut [f64], usize),
-}
-
-impl BearingEval<'_> {
-    /// Passes over one bearing in call order without evaluating it (its slot in `Frozen` and
-    /// `Warm` is skipped; `Exact` and `Record` keep no order and are left as they are).
-    #[inline]
-    pub(crate) fn skip(&mut self) {
-        match self {
-            BearingEval::Frozen(_, next) | BearingEval::Warm(_, next) => *next += 1,
-            BearingEval::Exact | BearingEval::Record(..) => {}
-        }
-    }
-
-    /// The force of `bearing` at `r` with relative velocity `rd`
-    /// ([`RadialBearing::force`]), as this evaluation takes it.
-    #[inline]
-    pub(crate) fn force(&mut self, bearing: &RadialBearing, r: Vec2, rd: Vec2) -> Vec2 {
-        match self {
-            BearingEval::Exact => bearing.force(r, rd),
-            BearingEval::Record(list, floored) => {
-                let (f, k) = bearing.force_and_stiffness(r, *floored);
-                list.push(Frozen { r, f, k });
-                f
-            }
-            BearingEval::Frozen(list, next) => {
-                let s = list[*next];
-                *next += 1;
-                s.f + s.k * (r - s.r)
-            }
-            BearingEval::Warm(shares, next) => {
-                let i = *next;
-                *next += 1;
-                match shares.get_mut(i) {
-                    Some(share) => bearing.force_from(r, rd, share),
-                    None => bearing.force(r, rd),
-                }
-            }
-        }
     }
 }

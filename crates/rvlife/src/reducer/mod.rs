@@ -23,12 +23,15 @@
 //! kinematics still apply (turning the carrier with the input locked turns the cranks too).
 
 mod bearing;
+mod bearing_eval;
+mod bearing_table;
 pub mod errors;
 mod pin_wear;
 mod play;
 
-pub(crate) use bearing::{BearingEval, Frozen};
 pub use bearing::{BearingLaw, RadialBearing, DEAD_BAND_STIFFNESS, TAKE_UP_WIDTH};
+pub(crate) use bearing_eval::{BearingEval, Frozen};
+pub(crate) use bearing_table::BearingTable;
 pub use pin_wear::{angle_on_pin, contact_direction, PinWear, PIN_MAP_POINTS};
 pub(crate) use play::{Element, ElementLaw, MeshElement};
 

@@ -18,12 +18,16 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{finish, no_load, static_part, until_limit, Failure, NoLoad, Stage, Study};
+use super::results::Study;
+use super::stage::{no_load, stage_maps, static_part, Failure, NoLoad, Stage};
+use super::trials::{study_life, LifeTrials};
 use crate::config::Model;
 use crate::error::{Error, Result};
 use crate::quantities::StageSummary;
 use crate::te::{LoadedTe, RevolutionTe, StaticTe, TwistTable};
-use crate::wear::{integrate, BearingWearRates, WearHistory, WearInputs, WearModelKind};
+use crate::wear::{
+    integrate, BearingWearRates, ValidityLimit, WearHistory, WearInputs, WearModelKind,
+};
 
 /// What every part of a study starts from: the crank bearings' clearance growth from the new
 /// reducer's loads (docs/model.md section 7.9) and the new reducer's play, against which the
@@ -328,7 +332,7 @@ pub fn assemble(
         .zip(&maps)
         .map(|(slot, map)| {
             slot.map(|o| match o.result {
-                Ok(r) => super::stage_maps(model, map)
+                Ok(r) => stage_maps(model, map)
                     .and_then(|(wear_map, te_map)| {
                         Ok(Stage {
                             hours: o.hours,
@@ -355,4 +359,86 @@ pub fn assemble(
         .map(|(s, ())| s)
         .collect();
     finish(model, wear, stages, None, notice)
+}
+
+/// The stages of a study in order, each with its extra results (`T`), up to the validity
+/// limit: the first stage whose static analysis fails on a worn profile is where the wear
+/// model leaves its validity (set in `wear`, whose stages are cut there), and the stages after
+/// it are dropped. `None`: a stage not analysed.
+///
+/// # Errors
+/// A stage's failure that is not the validity limit (on the unworn profile, a bad input, a
+/// wear map that cannot be made); a stage not analysed before the limit; [`Error::Invalid`]
+/// naming `wear.stage_hours` when no stage lies within the validity.
+pub(super) fn until_limit<T>(
+    model: &Model,
+    wear: &mut WearHistory,
+    outcomes: impl IntoIterator<Item = Option<std::result::Result<(Stage, T), Failure>>>,
+) -> Result<Vec<(Stage, T)>> {
+    let mut stages = Vec::new();
+    for (i, outcome) in outcomes.into_iter().enumerate() {
+        match outcome {
+            Some(Ok(done)) => stages.push(done),
+            Some(Err(Failure::Prepare(e))) => return Err(e),
+            Some(Err(Failure::Static(e, max))) => {
+                if max > 0.0 && !matches!(e, Error::Invalid { .. } | Error::Io { .. }) {
+                    // A worn stage the static analysis cannot follow: the validity limit.
+                    wear.limit = Some(ValidityLimit {
+                        hours: wear.hours[i],
+                        max_wear_um: max * 1e6,
+                        reason: e.to_string(),
+                    });
+                    break;
+                }
+                return Err(e);
+            }
+            None => {
+                return Err(Error::numerical(
+                    "study",
+                    format!("stage {i} was not analysed (an earlier stage's failure was lost)"),
+                ))
+            }
+        }
+    }
+    wear.hours.truncate(stages.len());
+    wear.maps.truncate(stages.len());
+    if stages.is_empty() {
+        let l = wear.limit.as_ref();
+        let w = &model.wear;
+        return Err(Error::invalid(
+            "wear.stage_hours",
+            format!("{:?}", w.stage_hours),
+            format!(
+                "no stage lies within the validity of the wear model: it leaves it at {:.0} h \
+                 ({:.2} um of wear: {}); list earlier stages",
+                l.map_or(0.0, |l| l.hours),
+                l.map_or(0.0, |l| l.max_wear_um),
+                l.map_or("", |l| l.reason.as_str())
+            ),
+        ));
+    }
+    Ok(stages)
+}
+
+/// The study of `model` from its wear history `wear` and its stages: the accuracy life
+/// ([`study_life`], with the trials beyond the stages made `ahead`, `notice` told of the search
+/// beyond them).
+///
+/// # Errors
+/// Those of [`study_life`].
+pub(super) fn finish(
+    model: &Model,
+    wear: WearHistory,
+    stages: Vec<Stage>,
+    ahead: Option<LifeTrials>,
+    notice: &dyn Fn(&str),
+) -> Result<Study> {
+    let summaries: Vec<StageSummary> = stages.iter().map(|s| s.summary.clone()).collect();
+    let life = study_life(model, &summaries, &wear, ahead, notice)?;
+    Ok(Study {
+        model: model.clone(),
+        wear,
+        stages,
+        life,
+    })
 }
