@@ -5,7 +5,10 @@
 
 export type Progress = (done: number, total: number) => void;
 
-type Pending = { resolve: (v: any) => void; reject: (e: Error) => void; progress?: Progress; worker: number };
+type Pending = {
+  resolve: (v: any) => void; reject: (e: Error) => void; progress?: Progress; item?: (v: any) => void;
+  worker: number;
+};
 
 export class Cancelled extends Error {
   constructor() { super('cancelled'); }
@@ -33,6 +36,7 @@ export class Engine {
       const p = this.pending.get(m.id);
       if (!p) return;
       if (m.kind === 'progress') { p.progress?.(m.done!, m.total!); return; }
+      if (m.kind === 'item') { p.item?.(m.value); return; }
       this.pending.delete(m.id);
       if (m.kind === 'result') p.resolve(m.value); else p.reject(new Error(m.message));
     };
@@ -44,11 +48,13 @@ export class Engine {
     return this.callOn<T>(0, cmd, args, progress);
   }
 
-  /** Runs `cmd` with `args` in worker `k` (0 <= k < size). */
-  callOn<T = string>(k: number, cmd: string, args: unknown[], progress?: Progress): Promise<T> {
+  /** Runs `cmd` with `args` in worker `k` (0 <= k < size); `item` hears each piece the
+   *  command hands on before it ends. */
+  callOn<T = string>(k: number, cmd: string, args: unknown[], progress?: Progress,
+    item?: (v: any) => void): Promise<T> {
     const id = this.next++;
     return new Promise<T>((resolve, reject) => {
-      this.pending.set(id, { resolve, reject, progress, worker: k });
+      this.pending.set(id, { resolve, reject, progress, item, worker: k });
       this.workers[k].postMessage({ id, cmd, args });
     });
   }
@@ -72,11 +78,11 @@ export class Engine {
 type Plan = { ground: Uint8Array; first?: Uint8Array; wearSteps: number; stages: number };
 
 /** The accuracy-life study of `text` (`rvlife run` without dynamics and FE) on every worker of
- *  `engine`: the wear integration on the first, the unworn first stage beside it on a second,
- *  then the stages, most worn first, on whichever worker is free, and the study assembled on
- *  the first, which keeps its results (`studyFile`). Resolves to the results' overview JSON
- *  (the module's `StudyResults.overview`); `progress` hears the wear-rate evaluations and the
- *  stages done. */
+ *  `engine`: the wear integration on the first, the unworn first stage beside it on a second;
+ *  each stage, as soon as the integration hands it on, on whichever worker is free (the most
+ *  worn waiting first); the study assembled on the first, which keeps its results
+ *  (`studyFile`). Resolves to the results' overview JSON (the module's
+ *  `StudyResults.overview`); `progress` hears the wear-rate evaluations and the stages done. */
 export async function study(engine: Engine, text: string, progress: Progress): Promise<string> {
   const plan = await engine.call<Plan>('studyPlan', [text]);
   const total = plan.wearSteps + plan.stages;
@@ -87,13 +93,30 @@ export async function study(engine: Engine, text: string, progress: Progress): P
     outcomes.push(await engine.callOn<Uint8Array>(k, 'studyStage', [text, plan.ground, stage]));
     report();
   };
-  const aside = plan.first && engine.size > 1 ? analyse(1, plan.first) : Promise.resolve();
-  const stages = await engine.call<Uint8Array[]>('studyWear', [text, plan.ground], (d) => { wearDone = d; report(); });
-  const queue = stages.slice(plan.first && engine.size > 1 ? 1 : 0).reverse();
+  const apart = plan.first !== undefined && engine.size > 1;
+  const aside = apart ? analyse(1, plan.first!) : Promise.resolve();
+  // The stages handed on and not yet taken, and the workers waiting for one.
+  const queue: Uint8Array[] = [];
+  const idle: (() => void)[] = [];
+  let handed = 0;
+  let integrated = false;
+  const wear = engine.callOn<string>(0, 'studyWear', [text, plan.ground],
+    (d) => { wearDone = d; report(); },
+    (stage: Uint8Array) => {
+      if (handed++ === 0 && apart) return;
+      queue.push(stage);
+      idle.shift()?.();
+    }).finally(() => { integrated = true; idle.splice(0).forEach((wake) => wake()); });
   const worker = async (k: number) => {
+    if (k === 0) await wear;
     if (k === 1) await aside;
-    for (let s = queue.shift(); s; s = queue.shift()) await analyse(k, s);
+    for (;;) {
+      const s = queue.pop();
+      if (s) await analyse(k, s);
+      else if (integrated) return;
+      else await new Promise<void>((wake) => idle.push(wake));
+    }
   };
-  await Promise.all(Array.from({ length: engine.size }, (_, k) => worker(k)));
+  await Promise.all([wear, ...Array.from({ length: engine.size }, (_, k) => worker(k))]);
   return engine.call<string>('studyAssemble', [outcomes]);
 }

@@ -1,7 +1,8 @@
 // The Web Worker that runs rvlife's WebAssembly module: the page never blocks on an analysis.
 // Protocol: the page posts {id, cmd, args}; the worker answers {id, kind: 'progress', done,
-// total} while the command runs, then {id, kind: 'result', value} or {id, kind: 'error',
-// message}. Cancelling a command terminates the worker (see rvlife.ts).
+// total} while the command runs (and {id, kind: 'item', value} for each piece a command hands
+// on before it ends: the stages of a study's wear), then {id, kind: 'result', value} or {id,
+// kind: 'error', message}. Cancelling a command terminates the worker (see rvlife.ts).
 import init, * as rv from './pkg/rvlife_wasm.js';
 
 type Call = { id: number; cmd: string; args: unknown[] };
@@ -13,9 +14,10 @@ const ready = init();
 let lastStudy: rv.StudyResults | null = null;
 let lastWear: rv.StudyWear | null = null;
 
-// Commands callable from the page, each given the progress callback first; every one returns
-// text (JSON or TOML), but the parts of a study, which return their bytes.
-type Progress = (done: number, total: number) => void;
+// Commands callable from the page, each given the progress callback first (with `item`, which
+// hands a piece on); every one returns text (JSON or TOML), but the parts of a study, which
+// return their bytes.
+type Progress = ((done: number, total: number) => void) & { item: (value: unknown) => void };
 const commands: Record<string, (p: Progress, ...a: any[]) => unknown> = {
   warm: () => { rv.warm(); return ''; },
   presets: () => rv.presets(),
@@ -42,8 +44,8 @@ const commands: Record<string, (p: Progress, ...a: any[]) => unknown> = {
   studyWear: (p, text: string, ground: Uint8Array) => {
     lastWear?.free();
     lastWear = null;
-    lastWear = rv.studyWear(text, ground, p);
-    return lastWear.stages();
+    lastWear = rv.studyWear(text, ground, p, p.item);
+    return '';
   },
   studyStage: (_p, text: string, ground: Uint8Array, stage: Uint8Array) => rv.studyStage(text, ground, stage),
   studyAssemble: (_p, outcomes: Uint8Array[]) => {
@@ -70,13 +72,14 @@ self.onmessage = async (ev: MessageEvent<Call>) => {
     const f = commands[cmd];
     if (!f) throw new Error(`unknown command ${cmd}`);
     let last = 0;
-    const progress = (done: number, total: number) => {
+    const post = (m: object) => (self as unknown as Worker).postMessage({ id, ...m });
+    const progress = Object.assign((done: number, total: number) => {
       const now = performance.now();
       if (now - last > 50 || done === total) {
         last = now;
-        (self as unknown as Worker).postMessage({ id, kind: 'progress', done, total });
+        post({ kind: 'progress', done, total });
       }
-    };
+    }, { item: (value: unknown) => post({ kind: 'item', value }) });
     const value = f(progress, ...args);
     (self as unknown as Worker).postMessage({ id, kind: 'result', value });
   } catch (e) {

@@ -286,10 +286,10 @@ pub fn study(text: &str, progress: Option<js_sys::Function>) -> Result<StudyResu
 
 // The study of `study` in parts, for the page to run its stages on several Web Workers
 // (each with its own module): `studyPlan`, then `studyWear` on one worker beside the
-// unworn first stage's `studyStage` on another, then `studyStage` for every stage of
-// `StudyWear.stages` on any worker, then `StudyWear.assemble` on the worker that
-// integrated the wear (`rvlife::study::parts`). What crosses between workers is bytes
-// (CBOR); the results equal `study`'s.
+// unworn first stage's `studyStage` on another, then `studyStage` for every stage
+// `studyWear` hands on, on any worker, as soon as it is handed on, then `StudyWear.assemble`
+// on the worker that integrated the wear (`rvlife::study::parts`). What crosses between
+// workers is bytes (CBOR); the results equal `study`'s.
 
 /// `v` as CBOR bytes: what crosses between the page's workers.
 fn cbor(v: &impl Serialize) -> Result<Vec<u8>, JsError> {
@@ -350,7 +350,7 @@ pub fn study_plan(text: &str) -> Result<js_sys::Object, JsError> {
 }
 
 /// The static analysis of one stage of the study of `text` (`ground` and `stage`: bytes from
-/// [`study_plan`] or [`StudyWear::stages`]): the bytes of its outcome, for
+/// [`study_plan`] or handed on by [`study_wear`]): the bytes of its outcome, for
 /// [`StudyWear::assemble`]. A stage whose analysis fails still has an outcome (its failure,
 /// reported by the assembly as the study would).
 ///
@@ -394,7 +394,9 @@ pub struct StudyWear {
 }
 
 /// The wear integration of the study of `text` (`ground`: [`study_plan`]'s bytes), with
-/// progress `(done, total)` in wear-rate evaluations.
+/// progress `(done, total)` in wear-rate evaluations; `on_stage` is called with each stage's
+/// bytes for [`study_stage`] as soon as the integration has passed it (in the stages' order),
+/// so that the stages can be analysed on other workers while it goes on.
 ///
 /// # Errors
 /// The config's message; the wear integration's failures.
@@ -403,28 +405,24 @@ pub fn study_wear(
     text: &str,
     ground: &[u8],
     progress: Option<js_sys::Function>,
+    on_stage: Option<js_sys::Function>,
 ) -> Result<StudyWear, JsError> {
     use rvlife::study::parts;
     let m = static_model_kept(text)?;
     let ground: parts::Ground = from_cbor(ground, "study ground")?;
     let p = Progress(progress);
-    let wear = parts::wear_history(&m, &ground, &|d, t| p.call(d, t)).map_err(err)?;
+    let wear = parts::wear_history(&m, &ground, &|d, t| p.call(d, t), &|s| {
+        if let (Some(f), Ok(bytes)) = (&on_stage, cbor(&s)) {
+            // A callback that throws does not stop the integration.
+            let _ = f.call1(&JsValue::NULL, &js_sys::Uint8Array::from(bytes.as_slice()));
+        }
+    })
+    .map_err(err)?;
     Ok(StudyWear { model: m, wear })
 }
 
 #[wasm_bindgen]
 impl StudyWear {
-    /// Every stage's bytes for [`study_stage`], in the stages' order (their hours rising).
-    ///
-    /// # Errors
-    /// A stage that cannot be serialised.
-    pub fn stages(&self) -> Result<Vec<js_sys::Uint8Array>, JsError> {
-        rvlife::study::parts::stage_wears(&self.wear)
-            .iter()
-            .map(|s| cbor(s).map(|b| js_sys::Uint8Array::from(b.as_slice())))
-            .collect()
-    }
-
     /// The study from this wear and the stages' outcomes ([`study_stage`]'s bytes, one for
     /// each stage, in any order): the results of [`study`].
     ///

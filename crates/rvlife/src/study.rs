@@ -279,7 +279,7 @@ pub fn run_with_notices(
     // wear).
     let flexible_dynamics = model.dynamics.enabled && model.dynamics.params.flexible.is_some();
     let base_profile = model.profile()?;
-    let ground = parts::ground(model)?;
+    let ground = parts::ground_on(model, &base_profile)?;
     let (rates, new) = (ground.rates(), ground.new_play());
     // Progress: the wear-rate evaluations so far plus the stage analyses done.
     let (wear_done, done) = (AtomicUsize::new(0), AtomicUsize::new(0));
@@ -299,10 +299,15 @@ pub fn run_with_notices(
     let unworn_first = w.stage_hours.first() == Some(&0.0);
     let (wear, base) = rayon::join(
         || {
-            parts::wear_history(model, &ground, &|d, _| {
-                wear_done.fetch_max(d, Ordering::Relaxed);
-                report();
-            })
+            parts::wear_history(
+                model,
+                &ground,
+                &|d, _| {
+                    wear_done.fetch_max(d, Ordering::Relaxed);
+                    report();
+                },
+                &|_| {},
+            )
         },
         || -> Result<(Option<DiscSet>, Option<Outcome>)> {
             let base = if model.fem.enabled || flexible_dynamics {

@@ -25,9 +25,7 @@ use crate::config::Model;
 use crate::error::{Error, Result};
 use crate::quantities::StageSummary;
 use crate::te::{LoadedTe, RevolutionTe, StaticTe, TwistTable};
-use crate::wear::{
-    integrate, BearingWearRates, ValidityLimit, WearHistory, WearInputs, WearModelKind,
-};
+use crate::wear::{BearingWearRates, ValidityLimit, WearHistory, WearInputs, WearModelKind};
 
 /// What every part of a study starts from: the crank bearings' clearance growth from the new
 /// reducer's loads (docs/model.md section 7.9) and the new reducer's play, against which the
@@ -43,8 +41,16 @@ pub struct Ground {
 /// # Errors
 /// Solver failures on the new reducer.
 pub fn ground(model: &Model) -> Result<Ground> {
+    ground_on(model, &model.profile()?)
+}
+
+/// [`ground`] with the model's unworn profile `profile` at hand.
+///
+/// # Errors
+/// As [`ground`].
+pub(super) fn ground_on(model: &Model, profile: &crate::geometry::Profile) -> Result<Ground> {
     let rates = crate::config::bearing_rates(model)?;
-    let new = no_load(model, &model.profile()?)?;
+    let new = no_load(model, profile)?;
     Ok(Ground { rates, new })
 }
 
@@ -82,7 +88,9 @@ pub fn wear_steps(model: &Model) -> usize {
 }
 
 /// The wear integration of a study of `model` to its stages ([`crate::wear::integrate`]);
-/// `progress(done, total)` after each wear-rate evaluation.
+/// `progress(done, total)` after each wear-rate evaluation, `on_stage` with each stage's wear
+/// as soon as it is known (what [`stage_wears`] gives of the history), so that it can be
+/// analysed while the integration goes on.
 ///
 /// # Errors
 /// Those of [`crate::wear::integrate`].
@@ -90,12 +98,20 @@ pub fn wear_history(
     model: &Model,
     ground: &Ground,
     progress: &(dyn Fn(usize, usize) + Sync),
+    on_stage: &dyn Fn(StageWear),
 ) -> Result<WearHistory> {
-    integrate(&ground.wear_inputs(model), progress)
+    crate::wear::integrate_with_stages(&ground.wear_inputs(model), progress, &|s| {
+        on_stage(StageWear {
+            index: s.index,
+            hours: s.hours,
+            map: s.map.to_vec(),
+            pin_map: s.pin_map.to_vec(),
+        })
+    })
 }
 
 /// The wear of one stage: what [`static_stage`] needs of the wear history.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct StageWear {
     /// The stage's index in the study (from 0, in the order of `wear.stage_hours`).
     pub index: usize,

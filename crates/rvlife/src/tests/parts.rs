@@ -35,11 +35,23 @@ fn crossed<T: serde::Serialize + serde::de::DeserializeOwned>(x: &T) -> T {
 fn in_parts(m: &Model) -> Study {
     let ground = crossed(&parts::ground(m).unwrap());
     let first = parts::unworn_first(m).map(|s| crossed(&parts::static_stage(m, &ground, &s)));
-    let wear = parts::wear_history(m, &ground, &|_, _| {}).unwrap();
+    // The stages as the integration hands them on, each analysed at once (the first unless
+    // it was analysed beside the wear): those of the finished history.
+    let handed = std::cell::RefCell::new(Vec::new());
+    let wear = parts::wear_history(m, &ground, &|_, _| {}, &|s| {
+        handed.borrow_mut().push(crossed(&s));
+    })
+    .unwrap();
+    let handed = handed.into_inner();
+    let whole = parts::stage_wears(&wear);
+    assert_eq!(handed.len(), whole.len());
+    for (a, b) in handed.iter().zip(&whole) {
+        assert_eq!(crossed(a), crossed(b));
+    }
     let mut outcomes: Vec<StageOutcome> = first.into_iter().collect();
-    for s in parts::stage_wears(&wear).iter().rev() {
+    for s in handed.iter().rev() {
         if outcomes.iter().all(|o| o.index() != s.index) {
-            outcomes.push(crossed(&parts::static_stage(m, &ground, &crossed(s))));
+            outcomes.push(crossed(&parts::static_stage(m, &ground, s)));
         }
     }
     parts::assemble(m, wear, outcomes, &|_| {}).unwrap()
@@ -68,7 +80,7 @@ fn study_in_parts_is_the_study() {
 fn stage_failure_in_parts_is_the_validity_limit() {
     let m = model(false);
     let ground = parts::ground(&m).unwrap();
-    let wear = parts::wear_history(&m, &ground, &|_, _| {}).unwrap();
+    let wear = parts::wear_history(&m, &ground, &|_, _| {}, &|_| {}).unwrap();
     let stages = parts::stage_wears(&wear);
     // A worn stage whose static analysis fails (a solver's failure, through the bytes a
     // worker sends) is the validity limit: the stages from it on are dropped.

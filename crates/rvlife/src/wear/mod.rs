@@ -506,7 +506,34 @@ pub fn integrate(
     inputs: &WearInputs,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<WearHistory> {
-    integrate_from(inputs, None, None, progress)
+    integrate_from(inputs, None, None, progress, &|_| {})
+}
+
+/// [`integrate`], telling `on_stage` each stage's wear as soon as it is known (what the
+/// history will hold at that index): a stage can be analysed while the integration goes on
+/// to the next.
+///
+/// # Errors
+/// As [`integrate`].
+pub fn integrate_with_stages(
+    inputs: &WearInputs,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    on_stage: &dyn Fn(StageWearRef),
+) -> Result<WearHistory> {
+    integrate_from(inputs, None, None, progress, on_stage)
+}
+
+/// One stage's wear as [`integrate_with_stages`] finds it.
+#[derive(Debug, Clone, Copy)]
+pub struct StageWearRef<'a> {
+    /// The stage's index (in `wear.stage_hours`).
+    pub index: usize,
+    /// Working hours, h.
+    pub hours: f64,
+    /// The disc's wear depth on the grid, m (filtered at the Hertz band scale).
+    pub map: &'a [f64],
+    /// The pins' wear round the pin, m (empty when the pins do not wear).
+    pub pin_map: &'a [f64],
 }
 
 /// [`integrate`] with the profile updates at the given working hours (h, ascending; values
@@ -522,7 +549,7 @@ pub(crate) fn integrate_on_schedule(
     update_hours: &[f64],
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<WearHistory> {
-    integrate_from(inputs, Some(update_hours), None, progress)
+    integrate_from(inputs, Some(update_hours), None, progress, &|_| {})
 }
 
 impl WearHistory {
@@ -581,6 +608,7 @@ impl WearHistory {
             None,
             Some(start),
             &|_, _| {},
+            &|_| {},
         )
     }
 }
@@ -605,12 +633,13 @@ struct Start<'a> {
 }
 
 /// The integration loop of [`integrate`], from zero or from `start` (whose history's stages
-/// are the first of `inputs.wear.stage_hours`).
+/// are the first of `inputs.wear.stage_hours`), telling `on_stage` each new stage.
 fn integrate_from(
     inputs: &WearInputs,
     schedule: Option<&[f64]>,
     start: Option<Start>,
     progress: &(dyn Fn(usize, usize) + Sync),
+    on_stage: &dyn Fn(StageWearRef),
 ) -> Result<WearHistory> {
     let w = inputs.wear;
     let n = inputs.grid_points();
@@ -658,10 +687,19 @@ fn integrate_from(
         // The budget was checked for the history's own horizon; the rate at the start is
         // checked against the new one below.
     }
+    let told = |si: usize, maps: &[Vec<f64>], pin_maps: &[Vec<f64>]| {
+        on_stage(StageWearRef {
+            index: si,
+            hours: stages[si],
+            map: &maps[si],
+            pin_map: &pin_maps[si],
+        })
+    };
     while si < stages.len() {
         if stages[si] <= t + eps {
             maps.push(smoother.apply(&h));
             pin_maps.push(hp.clone());
+            told(si, &maps, &pin_maps);
             si += 1;
             continue;
         }
@@ -758,6 +796,7 @@ fn integrate_from(
             }
             maps.push(map);
             pin_maps.push(hp.clone());
+            told(si, &maps, &pin_maps);
             si += 1;
         }
         if limit.is_some() {
