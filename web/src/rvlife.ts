@@ -19,14 +19,14 @@ export class Engine {
   private next = 1;
   private pending = new Map<number, Pending>();
 
-  /** `size` workers (at least one): the first takes `call`, every one `callOn`. With `warm`,
-   *  the last worker runs the module's `warm` when it starts: the engine compiles and
-   *  optimises the solvers' code, which the page's workers share, before the first analysis
-   *  (on the last worker, so that the first stays free for the page's quick views). */
+  /** `size` workers (at least one): the first takes `call`, every one `callOn`. With `warm`
+   *  and more than one worker, the last runs the module's `warm` when it starts: the engine
+   *  compiles and optimises the solvers' code, which the page's workers share, before the
+   *  first analysis (on the last worker, so that the first stays free for the page's views). */
   constructor(readonly size = 1, warm = false) {
     this.workers = Array.from({ length: Math.max(1, size) }, () => this.spawn());
     // Its answer (id 0) is nobody's call.
-    if (warm) this.workers[this.workers.length - 1].postMessage({ id: 0, cmd: 'warm', args: [] });
+    if (warm && this.workers.length > 1) this.workers[this.workers.length - 1].postMessage({ id: 0, cmd: 'warm', args: [] });
   }
 
   private spawn(): Worker {
