@@ -270,18 +270,27 @@ impl StageOutcome {
 /// stage before the dynamics and the flexible disc): the worn profile, the static TE,
 /// hysteresis curve, loaded TE and the play split by source, on the parts as worn by then.
 pub fn static_stage(model: &Model, ground: &Ground, stage: &StageWear) -> StageOutcome {
-    let profile = model.profile();
-    let result = profile
+    let result = model
+        .profile()
         .map_err(|e| Failure::Static(e, 0.0))
         .and_then(|base| {
-            static_stage_of(model, ground, stage, &base).map(|s| {
-                Box::new(StageRecord {
-                    ste: s.ste,
-                    loaded: s.loaded,
-                    hysteresis: s.hysteresis,
-                    revolution: s.revolution,
-                    summary: s.summary,
-                })
+            static_part(
+                model,
+                ground.rates,
+                ground.new,
+                stage.hours,
+                &stage.map,
+                &stage.pin_map,
+                &base,
+            )
+        })
+        .map(|(s, _)| {
+            Box::new(StageRecord {
+                ste: s.ste,
+                loaded: s.loaded,
+                hysteresis: s.hysteresis,
+                revolution: s.revolution,
+                summary: s.summary,
             })
         })
         .map_err(|f| match f {
@@ -293,24 +302,6 @@ pub fn static_stage(model: &Model, ground: &Ground, stage: &StageWear) -> StageO
         hours: stage.hours,
         result,
     }
-}
-
-fn static_stage_of(
-    model: &Model,
-    ground: &Ground,
-    stage: &StageWear,
-    base_profile: &crate::geometry::Profile,
-) -> std::result::Result<Stage, Failure> {
-    static_part(
-        model,
-        ground.rates,
-        ground.new,
-        stage.hours,
-        &stage.map,
-        &stage.pin_map,
-        base_profile,
-    )
-    .map(|(s, _)| s)
 }
 
 /// The study of `model` from its wear history `wear` ([`wear_history`]) and the outcomes of
@@ -342,10 +333,9 @@ pub fn assemble(
         }
         slots[i] = Some(o);
     }
-    let maps = wear.maps.clone();
     let outcomes: Vec<_> = slots
         .into_iter()
-        .zip(&maps)
+        .zip(&wear.maps)
         .map(|(slot, map)| {
             slot.map(|o| match o.result {
                 Ok(r) => stage_maps(model, map)

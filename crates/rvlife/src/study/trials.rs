@@ -2,12 +2,11 @@
 //! stages, each trial the study's wear replayed to its hours, and the search beyond the last
 //! stage, the wear integration continued.
 
-use super::stage::accuracy_point;
+use super::stage::{accuracy_point, stage_maps};
 use crate::config::Model;
 use crate::error::Result;
-use crate::geometry::WearMap;
 use crate::quantities::{AccuracyPoint, StageSummary};
-use crate::wear::{integrate, BearingWearRates, WearHistory, WearInputs, WearModelKind};
+use crate::wear::{integrate, BearingWearRates, WearHistory, WearInputs};
 
 /// [`crate::life::accuracy_life`] of a study of `model`: the stages' summaries, each trial
 /// the study's own wear integration `wear` replayed to the trial hours
@@ -120,13 +119,8 @@ impl LifeTrials {
                 state
             }
         };
-        let max = map.iter().copied().fold(0.0, f64::max);
-        let wear = match model.wear.model {
-            _ if max <= 0.0 => None,
-            WearModelKind::Paper => Some(WearMap::uniform(map.len(), max)?),
-            WearModelKind::Flodin => Some(WearMap::new(map.clone())?),
-        };
-        let profile = model.cycloid.profile(wear)?;
+        let (_, te_map) = stage_maps(model, &map)?;
+        let profile = model.cycloid.profile(te_map)?;
         let p = accuracy_point(
             &crate::config::worn_parts(model, rates, h, &pins),
             &profile,
