@@ -13,7 +13,8 @@
 //! `trials` searches the accuracy life between and beyond the stages, and [`parts`] is the
 //! study in parts that [`run`] and the web page's workers assemble.
 
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Mutex, OnceLock};
 
 use crate::budget;
 use crate::config::Model;
@@ -26,7 +27,7 @@ use crate::geometry::Profile;
 use crate::quantities::{AccuracyPoint, StageSummary};
 use crate::te::CurveStats;
 use crate::units::ARCMIN_PER_RAD;
-use crate::wear::BearingWearRates;
+use crate::wear::{BearingWearRates, WearHistory};
 
 pub mod parts;
 mod results;
@@ -186,6 +187,15 @@ fn run_stage(
     Outcome::Done(Box::new((stage, rest)))
 }
 
+/// Whether stage `i` of `wear` is unworn (no wear of the disc or the pins).
+fn unworn(wear: &WearHistory, i: usize) -> bool {
+    wear.maps[i].iter().all(|w| *w == 0.0)
+        && wear
+            .pin_maps
+            .get(i)
+            .is_none_or(|m| m.iter().all(|w| *w == 0.0))
+}
+
 /// The multibody simulation and the flexible analysis of the stage of `profile`, side by side
 /// (each if enabled), on the FE disc (the unworn `base` moved onto a worn profile's outline);
 /// `tick` after each.
@@ -294,120 +304,171 @@ pub fn run_with_notices(
         report();
     };
     let failed = AtomicUsize::new(usize::MAX);
-    // A first stage at 0 h needs no wear: it is analysed beside the wear integration, on the
-    // unworn disc's FE models.
+    // A first stage at 0 h needs no wear: it is analysed beside the wear integration (on the
+    // unworn disc's FE models).
     let unworn_first = w.stage_hours.first() == Some(&0.0);
-    let (wear, base) = rayon::join(
-        || {
-            parts::wear_history(
-                model,
-                &ground,
-                &|d, _| {
-                    wear_done.fetch_max(d, Ordering::Relaxed);
-                    report();
-                },
-                &|_| {},
-            )
-        },
-        || -> Result<(Option<DiscSet>, Option<Outcome>)> {
-            let base = if model.fem.enabled || flexible_dynamics {
-                Some(DiscSet::build(
-                    &base_profile,
-                    &model.fem.params,
-                    &model.reducer,
-                )?)
-            } else {
-                None
-            };
-            let first = unworn_first.then(|| {
-                run_stage(
-                    model,
-                    rates,
-                    new,
-                    0,
-                    0.0,
-                    &[],
-                    &[],
-                    base.as_ref(),
-                    &base_profile,
-                    &failed,
-                    &tick,
-                    &|_| {},
-                )
-            });
-            Ok((base, first))
-        },
-    );
-    let mut wear = wear?;
-    let (base, first) = base?;
-    // Per stage, in parallel, the most worn first (they take longest, so the cores finish
-    // together): the static analysis, then the FE disc moved onto the worn outline (when the
-    // flexible disc or flexible dynamics need it), and the multibody simulation and the
-    // flexible analysis side by side. The stages are then taken in order: the first whose
-    // static analysis fails on a worn profile is the validity limit, and the stages after it
-    // are dropped (skipped once it is known).
-    let n = wear.hours.len();
-    let slots: Vec<std::sync::OnceLock<Outcome>> =
-        (0..n).map(|_| std::sync::OnceLock::new()).collect();
-    // The 0 h stage analysed beside the wear (the wear history then starts at 0 h unworn).
-    if let Some(f) = first {
-        if n > 0 && wear.hours[0] == 0.0 && wear.maps[0].iter().all(|w| *w == 0.0) {
-            let _ = slots[0].set(f);
-        }
-    }
-    let mut order: Vec<usize> = (0..n).filter(|&i| slots[i].get().is_none()).collect();
-    order.sort_by(|&a, &b| wear.hours[b].total_cmp(&wear.hours[a]));
-    let next = AtomicUsize::new(0);
-    // The accuracy life's trials beyond the stages, taken up by the next worker free (before
-    // any further stage) once the last stage's static analysis finds it within the spec: the
-    // search beyond the stages then likely follows, and its wear integration runs beside the
-    // other stages' analyses.
-    let ahead: std::sync::Mutex<Option<LifeTrials>> = std::sync::Mutex::new(None);
-    let ahead_start: std::sync::Mutex<Option<AccuracyPoint>> = std::sync::Mutex::new(None);
+    let slots: Vec<OnceLock<Outcome>> = (0..n_stages).map(|_| OnceLock::new()).collect();
+    let first: OnceLock<Outcome> = OnceLock::new();
+    let wear_slot: OnceLock<WearHistory> = OnceLock::new();
+    // The accuracy life's trials, taken up by the next worker free (before any further stage)
+    // as soon as the stages show where they go: beyond the last stage when its static analysis
+    // finds it within the spec (the search beyond the stages then likely follows, and its wear
+    // integration runs beside the other stages' analyses), or between two stages when the
+    // first stage outside the spec and every stage before it are done.
+    let ahead: Mutex<Option<LifeTrials>> = Mutex::new(None);
+    let ahead_start: Mutex<Option<AccuracyPoint>> = Mutex::new(None);
+    let crossing_asked = AtomicBool::new(false);
     let take_ahead = || {
+        let Some(wear) = wear_slot.get() else {
+            return;
+        };
         let start = ahead_start.lock().ok().and_then(|mut s| s.take());
         if let Some(start) = start {
-            let trials = LifeTrials::ahead(model, &wear, start);
+            let trials = LifeTrials::ahead(model, wear, start);
             if let Ok(mut slot) = ahead.lock() {
                 *slot = trials;
             }
         }
-    };
-    rayon::scope(|s| {
-        for _ in 0..rayon::current_num_threads().min(n) {
-            s.spawn(|_| loop {
-                take_ahead();
-                let Some(&i) = order.get(next.fetch_add(1, Ordering::Relaxed)) else {
-                    break;
-                };
-                let on_static = |summary: &StageSummary| {
-                    let start = AccuracyPoint::of(summary);
-                    let last = i + 1 == n && w.stage_hours.len() == n;
-                    if last && model.life.any() && !crate::life::outside(&model.life, &start) {
-                        if let Ok(mut slot) = ahead_start.lock() {
-                            *slot = Some(start);
-                        }
-                    }
-                };
-                let _ = slots[i].set(run_stage(
-                    model,
-                    rates,
-                    new,
-                    i,
-                    wear.hours[i],
-                    &wear.maps[i],
-                    &wear.pin_maps[i],
-                    base.as_ref(),
-                    &base_profile,
-                    &failed,
-                    &tick,
-                    &on_static,
-                ));
-            });
+        if !model.life.any() || crossing_asked.load(Ordering::Relaxed) {
+            return;
         }
-    });
+        let mut points = Vec::new();
+        for (i, slot) in slots.iter().enumerate().take(wear.hours.len()) {
+            let stage = match (i, slot.get(), first.get()) {
+                (0, None, Some(f)) => f,
+                (_, Some(o), _) => o,
+                _ => return,
+            };
+            let Outcome::Done(done) = stage else {
+                return;
+            };
+            let p = AccuracyPoint::of(&done.0.summary);
+            points.push(p);
+            if crate::life::outside(&model.life, &p) {
+                if i > 0 && !crossing_asked.swap(true, Ordering::Relaxed) {
+                    let trials = LifeTrials::crossing_ahead(model, wear, &points);
+                    if let Ok(mut slot) = ahead.lock() {
+                        *slot = trials;
+                    }
+                }
+                return;
+            }
+        }
+    };
+    let on_static = |i: usize, summary: &StageSummary| {
+        let start = AccuracyPoint::of(summary);
+        if i + 1 == n_stages && model.life.any() && !crate::life::outside(&model.life, &start) {
+            if let Ok(mut slot) = ahead_start.lock() {
+                *slot = Some(start);
+            }
+        }
+    };
+    let stage = |i: usize, hours: f64, map: &[f64], pin_map: &[f64], base: Option<&DiscSet>| {
+        run_stage(
+            model,
+            rates,
+            new,
+            i,
+            hours,
+            map,
+            pin_map,
+            base,
+            &base_profile,
+            &failed,
+            &tick,
+            &|summary| on_static(i, summary),
+        )
+    };
+    let wear_progress = |d: usize, _: usize| {
+        wear_done.fetch_max(d, Ordering::Relaxed);
+        report();
+    };
+    if model.fem.enabled || flexible_dynamics {
+        // The FE disc is built beside the wear integration, then the stages in parallel, the
+        // most worn first (they take longest, so the cores finish together): the static
+        // analysis, then the FE disc moved onto the worn outline, and the multibody simulation
+        // and the flexible analysis side by side.
+        let (wear, base) = rayon::join(
+            || parts::wear_history(model, &ground, &wear_progress, &|_| {}),
+            || -> Result<Option<DiscSet>> {
+                let base = DiscSet::build(&base_profile, &model.fem.params, &model.reducer)?;
+                if unworn_first {
+                    let _ = first.set(stage(0, 0.0, &[], &[], Some(&base)));
+                }
+                Ok(Some(base))
+            },
+        );
+        let _ = wear_slot.set(wear?);
+        let base = base?;
+        let wear = wear_slot.get().expect("set above");
+        let mut order: Vec<usize> = (0..wear.hours.len())
+            .filter(|&i| !(i == 0 && first.get().is_some() && unworn(wear, 0)))
+            .collect();
+        order.sort_by(|&a, &b| wear.hours[b].total_cmp(&wear.hours[a]));
+        let next = AtomicUsize::new(0);
+        rayon::scope(|s| {
+            for _ in 0..rayon::current_num_threads().min(order.len()) {
+                s.spawn(|_| loop {
+                    take_ahead();
+                    let Some(&i) = order.get(next.fetch_add(1, Ordering::Relaxed)) else {
+                        break;
+                    };
+                    let _ = slots[i].set(stage(
+                        i,
+                        wear.hours[i],
+                        &wear.maps[i],
+                        &wear.pin_maps[i],
+                        base.as_ref(),
+                    ));
+                });
+            }
+        });
+    } else {
+        // Without an FE disc each stage is analysed as soon as the wear integration has passed
+        // it, beside the integration; the stages left when it ends are taken the most worn
+        // first (each worker takes its latest task first).
+        rayon::scope(|s| {
+            if unworn_first {
+                s.spawn(|_| {
+                    let _ = first.set(stage(0, 0.0, &[], &[], None));
+                    take_ahead();
+                });
+            }
+            let wear = parts::wear_history(model, &ground, &wear_progress, &|sw| {
+                if unworn_first && sw.index == 0 && sw.is_unworn() {
+                    return;
+                }
+                let (stage, slots, take_ahead) = (&stage, &slots, &take_ahead);
+                s.spawn(move |_| {
+                    let i = sw.index;
+                    let _ = slots[i].set(stage(i, sw.hours, &sw.map, &sw.pin_map, None));
+                    take_ahead();
+                });
+            });
+            match wear {
+                Ok(wear) => {
+                    let _ = wear_slot.set(wear);
+                    take_ahead();
+                    Ok(())
+                }
+                Err(e) => Err(e),
+            }
+        })?;
+    }
     // A worker that finished its last stage before the trials were asked for.
     take_ahead();
+    let mut wear = wear_slot
+        .into_inner()
+        .expect("the wear history is set above");
+    let n = wear.hours.len();
+    let mut slots = slots;
+    slots.truncate(n);
+    // The 0 h stage analysed beside the wear (the wear history then starts at 0 h unworn).
+    if let Some(f) = first.into_inner() {
+        if n > 0 && unworn(&wear, 0) && slots[0].get().is_none() {
+            let _ = slots[0].set(f);
+        }
+    }
     let outcomes = slots.into_iter().map(|slot| match slot.into_inner() {
         Some(Outcome::Done(b)) => Some(Ok(*b)),
         Some(Outcome::Failed(f)) => Some(Err(f)),

@@ -39,24 +39,25 @@ use crate::units::ARCMIN_PER_RAD;
 #[cfg(feature = "files")]
 pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
     let summary = study.summary();
-    let files = data_files(study)?;
     for sub in ["profiles", "plots"] {
         let d = dir.join(sub);
         std::fs::create_dir(&d).map_err(|e| Error::io(&d, e))?;
     }
-    // Data files and plots are independent: write them side by side.
+    // Data files, plots and the report are independent: made side by side.
     let (written, figures) = rayon::join(
         || {
-            files.par_iter().try_for_each(|(name, bytes)| {
+            data_files(study)?.par_iter().try_for_each(|(name, bytes)| {
                 let p = dir.join(name);
                 std::fs::write(&p, bytes).map_err(|e| Error::io(&p, e))
             })
         },
-        || crate::output::plot::write_all(study, &dir.join("plots")),
+        || {
+            crate::output::plot::write_all(study, &dir.join("plots"))?;
+            crate::output::html::write_report(study, &summary, dir)
+        },
     );
     written?;
-    figures?;
-    crate::output::html::write_report(study, &summary, dir)
+    figures
 }
 
 /// The data files of a study's results directory, in memory: `(path relative to the
@@ -67,18 +68,23 @@ pub fn write_files(study: &Study, dir: &Path) -> Result<()> {
 /// # Errors
 /// [`crate::Error::Numerical`] if a table or a profile cannot be serialised.
 pub fn data_files(study: &Study) -> Result<Vec<(String, Vec<u8>)>> {
-    let mut files = tables(study)?;
-    let profiles: Vec<(String, Vec<u8>)> = profile_entries(study)
-        .collect::<Vec<_>>()
-        .into_par_iter()
-        .map(|(name, profile, format)| {
-            Ok((
-                name,
-                profile_bytes(profile, format, EXPORT_POINTS_PER_TOOTH)?,
-            ))
-        })
-        .collect::<Result<_>>()?;
-    files.extend(profiles);
+    let (files, profiles) = rayon::join(
+        || tables(study),
+        || {
+            profile_entries(study)
+                .collect::<Vec<_>>()
+                .into_par_iter()
+                .map(|(name, profile, format)| {
+                    Ok((
+                        name,
+                        profile_bytes(profile, format, EXPORT_POINTS_PER_TOOTH)?,
+                    ))
+                })
+                .collect::<Result<Vec<_>>>()
+        },
+    );
+    let mut files = files?;
+    files.extend(profiles?);
     Ok(files)
 }
 

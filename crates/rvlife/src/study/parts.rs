@@ -118,9 +118,16 @@ pub struct StageWear {
     /// Working hours, h.
     pub hours: f64,
     /// The disc's wear depth on the wear grid, m ([`WearHistory::maps`]); empty: unworn.
-    map: Vec<f64>,
+    pub(crate) map: Vec<f64>,
     /// The pins' wear round the pin, m ([`WearHistory::pin_maps`]); empty: unworn.
-    pin_map: Vec<f64>,
+    pub(crate) pin_map: Vec<f64>,
+}
+
+impl StageWear {
+    /// Whether neither the disc nor the pins have worn.
+    pub(crate) fn is_unworn(&self) -> bool {
+        self.map.iter().chain(&self.pin_map).all(|w| *w == 0.0)
+    }
 }
 
 /// The stages of the wear history `wear`, in order: what [`static_stage`] analyses.

@@ -38,7 +38,7 @@ pub(crate) fn study_life(
         return Ok(None);
     };
     let mut trials = match ahead {
-        Some(t) if wear.limit.is_none() && t.start == start => t,
+        Some(t) if wear.limit.is_none() && (t.start == start || t.within_stages) => t,
         _ => LifeTrials::new(model, wear, start)?,
     };
     crate::life::accuracy_life(&model.life, &points, |h| trials.at(model, h), &beyond)
@@ -49,6 +49,9 @@ pub(crate) fn study_life(
 pub(crate) struct LifeTrials {
     /// The last stage's point, where the trials beyond the stages start.
     start: AccuracyPoint,
+    /// Trials between two stages only (the crossing of [`LifeTrials::crossing_ahead`]): good
+    /// for any last stage.
+    within_stages: bool,
     rates: BearingWearRates,
     history: WearHistory,
     seen: Vec<AccuracyPoint>,
@@ -63,6 +66,7 @@ impl LifeTrials {
     fn new(model: &Model, wear: &WearHistory, start: AccuracyPoint) -> Result<Self> {
         Ok(LifeTrials {
             start,
+            within_stages: false,
             rates: crate::config::bearing_rates(model)?,
             history: wear.clone(),
             seen: Vec::new(),
@@ -76,6 +80,23 @@ impl LifeTrials {
     pub(crate) fn ahead(model: &Model, wear: &WearHistory, start: AccuracyPoint) -> Option<Self> {
         let mut trials = LifeTrials::new(model, wear, start).ok()?;
         crate::life::beyond_stages(&model.life, start, &mut |h| trials.at(model, h), &|_, _| {});
+        Some(trials)
+    }
+
+    /// The trials of the crossing between the stages' points `points` (in order of hours, the
+    /// last the first outside the spec, the others inside), made while the later stages are
+    /// analysed: the accuracy life's search there ([`crate::life::accuracy_life`]) meets the
+    /// same trials again and finds them done. Its failures are left to the search itself.
+    pub(crate) fn crossing_ahead(
+        model: &Model,
+        wear: &WearHistory,
+        points: &[AccuracyPoint],
+    ) -> Option<Self> {
+        let last = *points.last()?;
+        let mut trials = LifeTrials::new(model, wear, last).ok()?;
+        trials.within_stages = true;
+        let _ =
+            crate::life::accuracy_life(&model.life, points, |h| trials.at(model, h), &|_, _| {});
         Some(trials)
     }
 
