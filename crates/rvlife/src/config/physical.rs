@@ -15,6 +15,9 @@
 //!   torque the stage does carry in that direction.
 
 use std::f64::consts::TAU;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use rayon::prelude::*;
 
 use super::dynamics::load_peaks;
 use super::{Model, ModificationConfig};
@@ -68,16 +71,19 @@ fn show(v: f64) -> String {
 /// [`check_stage`]); `mods` and the pin circle radius `rp` (m) name the modification that is
 /// to blame.
 ///
+/// Returns the static analysis of the unworn stage on `nominal`, which the torque checks use
+/// too.
+///
 /// # Errors
 /// [`Error::Invalid`] naming the modification key that contributes most (its effect on the
 /// flank in mm: `|equidistant|`, `|offset|`, `|rotation| Rp`), its value and the play found.
-fn check_mesh(
+fn check_mesh<'a>(
     model: &Model,
-    nominal: &Reducer,
-    profile: &Profile,
+    nominal: &'a Reducer,
+    profile: &'a Profile,
     mods: &ModificationConfig,
     rp: f64,
-) -> Result<()> {
+) -> Result<StaticAnalysis<'a>> {
     let blame = |why: String| {
         let parts = [
             (
@@ -144,32 +150,51 @@ fn check_mesh(
             )));
         }
     }
-    Ok(())
+    Ok(sa)
 }
 
 /// Largest Hertz pressure (Pa) of the static solutions at the probe angles under `torque`, or
-/// why the stage does not carry it.
+/// why the stage does not carry it (at the first probe angle, in order, that does not). The
+/// angles are solved in parallel; those after a failure are left unsolved.
 fn carried(sa: &StaticAnalysis, model: &Model, torque: f64) -> std::result::Result<f64, String> {
-    let mut pmax: f64 = 0.0;
-    for phi in probe_angles(model) {
-        match sa.solve(phi, torque) {
-            Ok(s) => {
-                // Half the twist range of the static analysis: the loading paths of the study
-                // (warm starts, load steps, the hysteresis sweep) stay inside the range.
-                let beyond = (s.twist - s.first_contact_twist).abs();
-                if beyond > 0.5 * MAX_TWIST {
-                    return Err(format!(
-                        "the twist beyond first contact would be {:.1} arcmin at crank angle \
-                         {:.2} deg, more than half the {:.0} arcmin the static analysis follows",
-                        beyond * ARCMIN_PER_RAD,
-                        phi.to_degrees(),
-                        MAX_TWIST * ARCMIN_PER_RAD
-                    ));
-                }
-                pmax = pmax.max(s.max_pressure());
-            }
-            Err(e) => return Err(format!("the static analysis cannot carry it ({e})")),
+    let angles = probe_angles(model);
+    let failed = AtomicUsize::new(usize::MAX);
+    let at = |phi: f64| -> std::result::Result<f64, String> {
+        let s = sa
+            .solve(phi, torque)
+            .map_err(|e| format!("the static analysis cannot carry it ({e})"))?;
+        // Half the twist range of the static analysis: the loading paths of the study (warm
+        // starts, load steps, the hysteresis sweep) stay inside the range.
+        let beyond = (s.twist - s.first_contact_twist).abs();
+        if beyond > 0.5 * MAX_TWIST {
+            return Err(format!(
+                "the twist beyond first contact would be {:.1} arcmin at crank angle {:.2} deg, \
+                 more than half the {:.0} arcmin the static analysis follows",
+                beyond * ARCMIN_PER_RAD,
+                phi.to_degrees(),
+                MAX_TWIST * ARCMIN_PER_RAD
+            ));
         }
+        Ok(s.max_pressure())
+    };
+    let results: Vec<Option<std::result::Result<f64, String>>> = angles
+        .par_iter()
+        .enumerate()
+        .map(|(i, &phi)| {
+            if i > failed.load(Ordering::Relaxed) {
+                return None;
+            }
+            let r = at(phi);
+            if r.is_err() {
+                failed.fetch_min(i, Ordering::Relaxed);
+            }
+            Some(r)
+        })
+        .collect();
+    let mut pmax: f64 = 0.0;
+    // Every angle before the first failure was solved.
+    for r in results.into_iter().map_while(|r| r) {
+        pmax = pmax.max(r?);
     }
     if pmax > model.materials.max_contact_pressure {
         Err(format!(
@@ -242,11 +267,9 @@ impl NotCarried {
 /// Those of building the static analysis.
 fn not_carried(
     model: &Model,
-    red: &Reducer,
-    profile: &Profile,
+    sa: &StaticAnalysis,
     uses: &[(String, f64)],
 ) -> Result<Option<NotCarried>> {
-    let sa = StaticAnalysis::new(red, profile)?;
     let max = super::load::MAX_TORQUE_NM;
     let mut checked: Vec<f64> = Vec::new();
     for (key, torque) in uses {
@@ -259,14 +282,14 @@ fn not_carried(
                 "it is beyond {max:e} N m, the largest torque rvlife takes"
             ))
         } else {
-            carried(&sa, model, t)
+            carried(sa, model, t)
         };
         if let Err(reason) = refused {
             return Ok(Some(NotCarried {
                 key: key.clone(),
                 torque: t,
                 reason,
-                capacity: capacity(&sa, model, t.signum(), t.abs().min(max)),
+                capacity: capacity(sa, model, t.signum(), t.abs().min(max)),
             }));
         }
         checked.push(t);
@@ -275,19 +298,14 @@ fn not_carried(
 }
 
 /// Checks the torques `uses` (key as the user wrote it, output torque in N m) against what the
-/// unworn stage of `profile` on the reducer `red` carries (see the module docs).
+/// unworn stage of the static analysis `sa` carries (see the module docs).
 ///
 /// # Errors
 /// [`Error::Invalid`] naming the first key whose torque is not carried, with the reason (the
 /// pressure above the limit, or the static analysis failing) and the largest torque the stage
 /// carries in that direction.
-fn check_torques(
-    model: &Model,
-    red: &Reducer,
-    profile: &Profile,
-    uses: &[(String, f64)],
-) -> Result<()> {
-    match not_carried(model, red, profile, uses)? {
+fn check_torques(model: &Model, sa: &StaticAnalysis, uses: &[(String, f64)]) -> Result<()> {
+    match not_carried(model, sa, uses)? {
         None => Ok(()),
         Some(n) => Err(Error::invalid(
             n.key.as_str(),
@@ -321,7 +339,7 @@ pub(super) fn check_stage(
         errors: Default::default(),
         ..model.reducer.clone()
     };
-    check_mesh(
+    let sa = check_mesh(
         model,
         &nominal,
         profile,
@@ -351,11 +369,11 @@ pub(super) fn check_stage(
     }
     // With part errors: the nominal stage first, so that a torque it does not carry is blamed
     // on the torque (or the stage), and one that only the errors make too much on the errors.
-    check_torques(model, &nominal, profile, &uses)?;
+    check_torques(model, &sa, &uses)?;
     if model.reducer.errors.is_zero() {
         return Ok(());
     }
-    match not_carried(model, &model.reducer, profile, &uses)? {
+    match not_carried(model, &StaticAnalysis::new(&model.reducer, profile)?, &uses)? {
         None => Ok(()),
         Some(n) => Err(blame_errors(model, &n)),
     }
@@ -423,7 +441,8 @@ impl Model {
             return Err(Error::invalid(key, torque, "must be a finite number"));
         }
         let profile = self.profile()?;
-        check_torques(self, &self.reducer, &profile, &[(key.to_string(), torque)])
+        let sa = StaticAnalysis::new(&self.reducer, &profile)?;
+        check_torques(self, &sa, &[(key.to_string(), torque)])
     }
 }
 
