@@ -79,8 +79,9 @@ type Plan = { ground: Uint8Array; first?: Uint8Array; wearSteps: number; stages:
 
 /** The accuracy-life study of `text` (`rvlife run` without dynamics and FE) on every worker of
  *  `engine`: the wear integration on the first, the unworn first stage beside it on a second;
- *  each stage, as soon as the integration hands it on, on whichever worker is free (the most
- *  worn waiting first); the study assembled on the first, which keeps its results
+ *  each stage, as soon as the integration hands it on, on whichever worker is free (in the
+ *  order handed on while the wear goes on, then the most worn waiting first); the accuracy life's trials between two stages on the first once the
+ *  stages show where they go; the study assembled on the first, which keeps its results
  *  (`studyFile`). Resolves to the results' overview JSON (the module's
  *  `StudyResults.overview`); `progress` hears the wear-rate evaluations and the stages done. */
 export async function study(engine: Engine, text: string, progress: Progress): Promise<string> {
@@ -107,11 +108,18 @@ export async function study(engine: Engine, text: string, progress: Progress): P
       queue.push(stage);
       idle.shift()?.();
     }).finally(() => { integrated = true; idle.splice(0).forEach((wake) => wake()); });
+  // The accuracy life's trials between two stages, made on the first worker (which holds the
+  // wear) as soon as the stages up to the first outside the spec are in, while the others go
+  // on; offered again before each of its stages until settled.
+  let settled = false;
   const worker = async (k: number) => {
     if (k === 0) await wear;
     if (k === 1) await aside;
     for (;;) {
-      const s = queue.pop();
+      if (k === 0 && !settled) settled = await engine.callOn<boolean>(0, 'studyOffer', [outcomes]);
+      // In the order handed on while the wear goes on (the early stages settle the accuracy
+      // life's crossing), the most worn first once it has ended (they take longest).
+      const s = integrated ? queue.pop() : queue.shift();
       if (s) await analyse(k, s);
       else if (integrated) return;
       else await new Promise<void>((wake) => idle.push(wake));

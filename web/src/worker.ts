@@ -48,6 +48,7 @@ const commands: Record<string, (p: Progress, ...a: any[]) => unknown> = {
     return '';
   },
   studyStage: (_p, text: string, ground: Uint8Array, stage: Uint8Array) => rv.studyStage(text, ground, stage),
+  studyOffer: (_p, outcomes: Uint8Array[]) => (lastWear ? lastWear.offer(outcomes) : true),
   studyAssemble: (_p, outcomes: Uint8Array[]) => {
     if (!lastWear) throw new Error('the study\'s wear integration is gone (an analysis was cancelled since): run the study again');
     lastStudy?.free();

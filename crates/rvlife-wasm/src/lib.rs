@@ -231,12 +231,21 @@ pub fn hysteresis(
     })
 }
 
-/// A study's results, kept in the module for the page to read: its summary and tables at
-/// once, each stage profile's file (DXF, CSV) made when asked for.
+/// A study's results, kept in the module for the page to read: its summary at once, the
+/// tables when the first is asked for, each stage profile's file (DXF, CSV) when asked for.
 #[wasm_bindgen]
 pub struct StudyResults {
     study: rvlife::study::Study,
-    tables: Vec<(String, Vec<u8>)>,
+    tables: std::cell::OnceCell<Vec<(String, Vec<u8>)>>,
+}
+
+impl StudyResults {
+    fn new(study: rvlife::study::Study) -> Self {
+        StudyResults {
+            study,
+            tables: std::cell::OnceCell::new(),
+        }
+    }
 }
 
 #[wasm_bindgen]
@@ -245,7 +254,7 @@ impl StudyResults {
     /// one-line verdict against `[life]`, `files` the names of every data file of the results
     /// directory (`summary.json`, `stages.csv`, ..., `profiles/worn_<H>h.dxf`), in order.
     pub fn overview(&self) -> Result<String, JsError> {
-        let mut files: Vec<String> = self.tables.iter().map(|(n, _)| n.clone()).collect();
+        let mut files = rvlife::output::study::table_names(&self.study);
         files.extend(rvlife::output::study::profile_files(&self.study));
         to_json(&json!({
             "summary": self.study.summary(),
@@ -260,7 +269,12 @@ impl StudyResults {
     /// # Errors
     /// An unknown name.
     pub fn file(&self, name: &str) -> Result<String, JsError> {
-        let bytes = match self.tables.iter().find(|(n, _)| n == name) {
+        if self.tables.get().is_none() {
+            let tables = rvlife::output::study::tables(&self.study).map_err(err)?;
+            let _ = self.tables.set(tables);
+        }
+        let tables = self.tables.get().map_or(&[][..], |t| t.as_slice());
+        let bytes = match tables.iter().find(|(n, _)| n == name) {
             Some((_, b)) => b.clone(),
             None => rvlife::output::study::profile_file(&self.study, name)
                 .map_err(err)?
@@ -280,8 +294,7 @@ pub fn study(text: &str, progress: Option<js_sys::Function>) -> Result<StudyResu
     let m = static_model(text)?;
     let p = Progress(progress);
     let study = rvlife::study::run(&m, &|d, t| p.call(d, t)).map_err(err)?;
-    let tables = rvlife::output::study::tables(&study).map_err(err)?;
-    Ok(StudyResults { study, tables })
+    Ok(StudyResults::new(study))
 }
 
 // The study of `study` in parts, for the page to run its stages on several Web Workers
@@ -391,6 +404,8 @@ pub fn warm() -> Result<(), JsError> {
 pub struct StudyWear {
     model: Model,
     wear: rvlife::wear::WearHistory,
+    /// The accuracy life's trials between two stages, once made ([`StudyWear::offer`]).
+    ahead: Option<rvlife::study::parts::LifeAhead>,
 }
 
 /// The wear integration of the study of `text` (`ground`: [`study_plan`]'s bytes), with
@@ -418,27 +433,55 @@ pub fn study_wear(
         }
     })
     .map_err(err)?;
-    Ok(StudyWear { model: m, wear })
+    Ok(StudyWear {
+        model: m,
+        wear,
+        ahead: None,
+    })
 }
 
 #[wasm_bindgen]
 impl StudyWear {
+    /// The stages' outcomes known so far ([`study_stage`]'s bytes, any order): once every
+    /// stage up to the first outside the spec is among them, the accuracy life's trials
+    /// between two stages are made here, for [`StudyWear::assemble`] (while the other workers
+    /// analyse the later stages). Returns whether that is settled (made, or not needed); the
+    /// page offers the outcomes again after each stage until it is.
+    ///
+    /// # Errors
+    /// Outcomes that cannot be read.
+    pub fn offer(&mut self, outcomes: Vec<js_sys::Uint8Array>) -> Result<bool, JsError> {
+        if self.ahead.is_some() {
+            return Ok(true);
+        }
+        let outcomes = outcomes
+            .iter()
+            .map(|o| from_cbor(&o.to_vec(), "study stage outcome"))
+            .collect::<Result<Vec<_>, _>>()?;
+        self.ahead = rvlife::study::parts::crossing_ahead(&self.model, &self.wear, &outcomes);
+        Ok(self.ahead.is_some())
+    }
+
     /// The study from this wear and the stages' outcomes ([`study_stage`]'s bytes, one for
     /// each stage, in any order): the results of [`study`].
     ///
     /// # Errors
     /// Outcomes that are not this study's; the stages' failures and the accuracy life's, as
     /// [`study`] reports them.
-    pub fn assemble(&self, outcomes: Vec<js_sys::Uint8Array>) -> Result<StudyResults, JsError> {
+    pub fn assemble(&mut self, outcomes: Vec<js_sys::Uint8Array>) -> Result<StudyResults, JsError> {
         let outcomes = outcomes
             .iter()
             .map(|o| from_cbor(&o.to_vec(), "study stage outcome"))
             .collect::<Result<Vec<_>, _>>()?;
-        let study =
-            rvlife::study::parts::assemble(&self.model, self.wear.clone(), outcomes, &|_| {})
-                .map_err(err)?;
-        let tables = rvlife::output::study::tables(&study).map_err(err)?;
-        Ok(StudyResults { study, tables })
+        let study = rvlife::study::parts::assemble_ahead(
+            &self.model,
+            self.wear.clone(),
+            outcomes,
+            self.ahead.take(),
+            &|_| {},
+        )
+        .map_err(err)?;
+        Ok(StudyResults::new(study))
     }
 }
 

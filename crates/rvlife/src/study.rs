@@ -329,30 +329,33 @@ pub fn run_with_notices(
                 *slot = trials;
             }
         }
-        if !model.life.any() || crossing_asked.load(Ordering::Relaxed) {
+        if crossing_asked.load(Ordering::Relaxed) {
             return;
         }
-        let mut points = Vec::new();
-        for (i, slot) in slots.iter().enumerate().take(wear.hours.len()) {
-            let stage = match (i, slot.get(), first.get()) {
-                (0, None, Some(f)) => f,
-                (_, Some(o), _) => o,
-                _ => return,
-            };
-            let Outcome::Done(done) = stage else {
-                return;
-            };
-            let p = AccuracyPoint::of(&done.0.summary);
-            points.push(p);
-            if crate::life::outside(&model.life, &p) {
-                if i > 0 && !crossing_asked.swap(true, Ordering::Relaxed) {
-                    let trials = LifeTrials::crossing_ahead(model, wear, &points);
-                    if let Ok(mut slot) = ahead.lock() {
-                        *slot = trials;
-                    }
-                }
-                return;
-            }
+        let points = slots
+            .iter()
+            .enumerate()
+            .take(wear.hours.len())
+            .map(|(i, slot)| {
+                let stage = match (i, slot.get(), first.get()) {
+                    (0, None, Some(f)) => f,
+                    (_, Some(o), _) => o,
+                    _ => return None,
+                };
+                Some(match stage {
+                    Outcome::Done(done) => Some(AccuracyPoint::of(&done.0.summary)),
+                    _ => None,
+                })
+            });
+        // Known once every stage up to the first outside the spec is done; made by one worker.
+        let Some(trials) = LifeTrials::crossing_ahead(model, wear, points) else {
+            return;
+        };
+        if crossing_asked.swap(true, Ordering::Relaxed) {
+            return;
+        }
+        if let (Some(t), Ok(mut slot)) = (trials, ahead.lock()) {
+            *slot = Some(t);
         }
     };
     let on_static = |i: usize, summary: &StageSummary| {

@@ -325,6 +325,26 @@ pub fn tables(study: &Study) -> Result<Vec<(String, Vec<u8>)>> {
     Ok(files)
 }
 
+/// The names of [`tables`]' files for `study`, in its order, without making them (the page
+/// lists the results before any is asked for).
+pub fn table_names(study: &Study) -> Vec<String> {
+    let mut names: Vec<String> = [
+        "summary.json",
+        "stages.csv",
+        "wear.csv",
+        "te_mesh_cycle.csv",
+        "te_revolution.csv",
+        "hysteresis.csv",
+        "load.csv",
+    ]
+    .map(String::from)
+    .to_vec();
+    if study.stages.iter().any(|s| s.flexible.is_some()) {
+        names.extend(["te_flexible.csv", "hysteresis_flexible.csv"].map(String::from));
+    }
+    names
+}
+
 /// Writes a dynamic simulation's results into the existing directory `dir` (written
 /// all-or-nothing through [`super::Staging`]): `summary.json`
 /// ([`crate::dynamics::DynamicsSummary`]), `dynamics.csv` (the time series), `pin_forces.csv`

@@ -322,8 +322,49 @@ pub fn static_stage(model: &Model, ground: &Ground, stage: &StageWear) -> StageO
 /// reports them; those of the accuracy life's search.
 pub fn assemble(
     model: &Model,
+    wear: WearHistory,
+    outcomes: Vec<StageOutcome>,
+    notice: &dyn Fn(&str),
+) -> Result<Study> {
+    assemble_ahead(model, wear, outcomes, None, notice)
+}
+
+/// The accuracy life's trials between two stages, made before the assembly
+/// ([`crossing_ahead`]).
+pub struct LifeAhead(Option<LifeTrials>);
+
+/// The accuracy life's trials between two stages (docs/model.md section 11), made from the
+/// stages' outcomes known so far (any order) while the others are analysed, on the worker that
+/// holds the wear history `wear`: `None` while the stages up to the first outside the spec are
+/// not all known; otherwise what [`assemble_ahead`] takes (trials, or none where the search
+/// needs none there). The assembly then finds them done: the same study as [`assemble`]'s.
+pub fn crossing_ahead(
+    model: &Model,
+    wear: &WearHistory,
+    outcomes: &[StageOutcome],
+) -> Option<LifeAhead> {
+    let mut points: Vec<Option<Option<crate::quantities::AccuracyPoint>>> =
+        vec![None; wear.hours.len()];
+    for o in outcomes {
+        if let Some(slot) = points.get_mut(o.index) {
+            *slot = Some(match &o.result {
+                Ok(r) => Some(crate::quantities::AccuracyPoint::of(&r.summary)),
+                Err(_) => None,
+            });
+        }
+    }
+    LifeTrials::crossing_ahead(model, wear, points).map(LifeAhead)
+}
+
+/// [`assemble`] with the accuracy life's trials made ahead ([`crossing_ahead`]).
+///
+/// # Errors
+/// As [`assemble`].
+pub fn assemble_ahead(
+    model: &Model,
     mut wear: WearHistory,
     outcomes: Vec<StageOutcome>,
+    ahead: Option<LifeAhead>,
     notice: &dyn Fn(&str),
 ) -> Result<Study> {
     let n = wear.hours.len();
@@ -371,7 +412,7 @@ pub fn assemble(
         .into_iter()
         .map(|(s, ())| s)
         .collect();
-    finish(model, wear, stages, None, notice)
+    finish(model, wear, stages, ahead.and_then(|a| a.0), notice)
 }
 
 /// The stages of a study in order, each with its extra results (`T`), up to the validity

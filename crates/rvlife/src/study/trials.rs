@@ -83,21 +83,46 @@ impl LifeTrials {
         Some(trials)
     }
 
-    /// The trials of the crossing between the stages' points `points` (in order of hours, the
-    /// last the first outside the spec, the others inside), made while the later stages are
-    /// analysed: the accuracy life's search there ([`crate::life::accuracy_life`]) meets the
-    /// same trials again and finds them done. Its failures are left to the search itself.
+    /// The trials of the crossing between two stages, made while the later stages are
+    /// analysed: `stages` gives each stage's accuracy point in order (`None`: not known yet;
+    /// `Some(None)`: the stage failed). `None` while the crossing is not known yet (a stage up
+    /// to the first outside the spec, or any stage when none is outside so far, still to
+    /// come); `Some(None)` when no trials are to be made there (the first stage outside, none
+    /// outside, or a failure before); otherwise the trials. The accuracy life's search there
+    /// ([`crate::life::accuracy_life`]) meets the same trials again and finds them done. Their
+    /// failures are left to the search itself.
     pub(crate) fn crossing_ahead(
         model: &Model,
         wear: &WearHistory,
-        points: &[AccuracyPoint],
-    ) -> Option<Self> {
-        let last = *points.last()?;
-        let mut trials = LifeTrials::new(model, wear, last).ok()?;
+        stages: impl IntoIterator<Item = Option<Option<AccuracyPoint>>>,
+    ) -> Option<Option<Self>> {
+        if !model.life.any() {
+            return Some(None);
+        }
+        let mut points = Vec::new();
+        for stage in stages {
+            let p = stage?;
+            let Some(p) = p else {
+                return Some(None);
+            };
+            points.push(p);
+            if crate::life::outside(&model.life, &p) {
+                break;
+            }
+        }
+        let Some(&last) = points.last() else {
+            return Some(None);
+        };
+        if points.len() < 2 || !crate::life::outside(&model.life, &last) {
+            return Some(None);
+        }
+        let Ok(mut trials) = LifeTrials::new(model, wear, last) else {
+            return Some(None);
+        };
         trials.within_stages = true;
         let _ =
-            crate::life::accuracy_life(&model.life, points, |h| trials.at(model, h), &|_, _| {});
-        Some(trials)
+            crate::life::accuracy_life(&model.life, &points, |h| trials.at(model, h), &|_, _| {});
+        Some(Some(trials))
     }
 
     /// The accuracy point after `h` working hours: one evaluated before, or the wear replayed
