@@ -80,8 +80,9 @@ type Plan = { ground: Uint8Array; first?: Uint8Array; wearSteps: number; stages:
 /** The accuracy-life study of `text` (`rvlife run` without dynamics and FE) on every worker of
  *  `engine`: the wear integration on the first, the unworn first stage beside it on a second;
  *  each stage, as soon as the integration hands it on, on whichever worker is free (in the
- *  order handed on while the wear goes on, then the most worn waiting first); the accuracy life's trials between two stages on the first once the
- *  stages show where they go; the study assembled on the first, which keeps its results
+ *  order handed on while the wear goes on, then the most worn waiting first); the accuracy
+ *  life's trials between two stages on the first once the stages show where they go; the study
+ *  assembled on the first, which keeps its results
  *  (`studyFile`). Resolves to the results' overview JSON (the module's
  *  `StudyResults.overview`); `progress` hears the wear-rate evaluations and the stages done. */
 export async function study(engine: Engine, text: string, progress: Progress): Promise<string> {

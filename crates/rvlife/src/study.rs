@@ -189,11 +189,7 @@ fn run_stage(
 
 /// Whether stage `i` of `wear` is unworn (no wear of the disc or the pins).
 fn unworn(wear: &WearHistory, i: usize) -> bool {
-    wear.maps[i].iter().all(|w| *w == 0.0)
-        && wear
-            .pin_maps
-            .get(i)
-            .is_none_or(|m| m.iter().all(|w| *w == 0.0))
+    parts::unworn(&wear.maps[i], wear.pin_maps.get(i).map_or(&[], |m| m))
 }
 
 /// The multibody simulation and the flexible analysis of the stage of `profile`, side by side
@@ -393,12 +389,12 @@ pub fn run_with_notices(
         // and the flexible analysis side by side.
         let (wear, base) = rayon::join(
             || parts::wear_history(model, &ground, &wear_progress, &|_| {}),
-            || -> Result<Option<DiscSet>> {
+            || -> Result<DiscSet> {
                 let base = DiscSet::build(&base_profile, &model.fem.params, &model.reducer)?;
                 if unworn_first {
                     let _ = first.set(stage(0, 0.0, &[], &[], Some(&base)));
                 }
-                Ok(Some(base))
+                Ok(base)
             },
         );
         let _ = wear_slot.set(wear?);
@@ -421,7 +417,7 @@ pub fn run_with_notices(
                         wear.hours[i],
                         &wear.maps[i],
                         &wear.pin_maps[i],
-                        base.as_ref(),
+                        Some(&base),
                     ));
                 });
             }
@@ -448,14 +444,9 @@ pub fn run_with_notices(
                     take_ahead();
                 });
             });
-            match wear {
-                Ok(wear) => {
-                    let _ = wear_slot.set(wear);
-                    take_ahead();
-                    Ok(())
-                }
-                Err(e) => Err(e),
-            }
+            let _ = wear_slot.set(wear?);
+            take_ahead();
+            Ok::<(), Error>(())
         })?;
     }
     // A worker that finished its last stage before the trials were asked for.

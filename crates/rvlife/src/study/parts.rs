@@ -126,8 +126,13 @@ pub struct StageWear {
 impl StageWear {
     /// Whether neither the disc nor the pins have worn.
     pub(crate) fn is_unworn(&self) -> bool {
-        self.map.iter().chain(&self.pin_map).all(|w| *w == 0.0)
+        unworn(&self.map, &self.pin_map)
     }
+}
+
+/// Whether a stage's disc wear `map` and pins' wear `pin_map` (m; empty: unworn) are nil.
+pub(crate) fn unworn(map: &[f64], pin_map: &[f64]) -> bool {
+    map.iter().chain(pin_map).all(|w| *w == 0.0)
 }
 
 /// The stages of the wear history `wear`, in order: what [`static_stage`] analyses.
