@@ -13,14 +13,18 @@
 //! profile ([`GapField`]: exact global closest points at touching, averaged over the Hertz
 //! band).
 //!
-//! **Solution.** Twist control: for a given carrier twist `psi` the other coordinates are in
-//! equilibrium (a strongly convex problem: Newton's method with the exact tangent of the
-//! contacts and backtracking on the residual norm), and the torque the carrier needs, `T(psi)`,
-//! is monotone; the outer loop finds `T(psi) = T` by safeguarded Newton with the condensed
-//! stiffness `dT/dpsi = K_oo - K_oi K_ii^-1 K_io` and an Euler predictor of the inner
-//! coordinates. Every solution is returned only with its residual (every generalised force,
-//! moments over the pin circle radius) below `RESIDUAL_TOLERANCE` of the force scale;
-//! otherwise an error names the crank angle, the torque and the wear.
+//! **Solution.** One method for every loaded state: the equilibrium under `T` is the minimum
+//! of the potential energy `U - T psi` over every coordinate but the input (torque control),
+//! found by Newton's method with the tangent made positive definite, a backtracking line search
+//! and Levenberg-Marquardt's trust region, started from the neighbouring crank angle, torque
+//! level or stage with an Euler predictor, or cold from the locked-input mode at a twist that
+//! carries the torque (where Newton does not converge from it, the same mode with the other
+//! coordinates settled at that twist). Where a solve does not converge from its start, the
+//! torque is applied in load steps from it, each solved the same way (path following). Every
+//! solution is returned only with its residual (every generalised force, moments over the pin
+//! circle radius) below `RESIDUAL_TOLERANCE` of the force scale; otherwise an error names the
+//! crank angle, the torque and the wear. The no-load limits come from the same constraints
+//! (`NoLoad`). docs/model.md section 5.3.
 //!
 //! **`T -> 0+` (STE).** With no load the bearings are undeformed and the mechanism moves as one
 //! rigid body along its locked-input mode: carrier `+psi`, cranks `+(1 + Z1/Z2) psi` about their
@@ -81,8 +85,9 @@ pub(crate) const ROUNDOFF_GAP_ULPS: f64 = 4.0;
 pub(crate) const MAX_TWIST: f64 = 0.01;
 
 /// Fraction of the twist estimate ([`StaticAnalysis::twist_guess`]) beyond first contact below
-/// which a twist-controlled search that still finds more than the torque concludes that the
-/// reducer is preloaded at first contact and continues behind it (docs/model.md section 5.3).
+/// which the rigid support's search for the twist (`StaticAnalysis::outer`) that still finds
+/// more than the torque concludes that the reducer is preloaded at first contact and continues
+/// behind it (docs/model.md section 5.3).
 pub(crate) const BEHIND_FIRST_CONTACT: f64 = 1e-3;
 
 /// Most solves of one loading path in `StaticAnalysis::solve_in_load_steps`.
@@ -337,12 +342,15 @@ struct Eval {
 
 /// Where a solve starts: the first-contact twist of its direction (rad), and optionally a
 /// neighbouring solution (its deviations and first-contact twist, and its twist beyond first
-/// contact in the solve's direction, rad).
+/// contact in the solve's direction, rad); `settle`: a cold start with the coordinates other
+/// than the twist settled at it (docs/model.md section 5.3).
+#[derive(Clone, Copy)]
 struct Start<'s> {
     psi0: f64,
     near: Option<Near<'s>>,
     beyond: Option<f64>,
     offsets: &'s [f64],
+    settle: bool,
 }
 
 /// A neighbouring solution a solve starts from: its deviations, first-contact twist (rad),
@@ -378,9 +386,9 @@ pub struct StaticAnalysis<'a> {
     pin_centres: Vec<Vec2>,
     /// Added to each pin's gap, m: minus the pin's radius error.
     pin_gap: Vec<f64>,
-    /// Loaded solves of bearing support so far, and those of them that the torque-controlled
-    /// method did not finish and the twist-controlled path did (docs/model.md section 5.3):
-    /// the solver's own diagnostic.
+    /// Loaded solves of bearing support so far (each load step counted), and the solves that
+    /// did not converge from their start and applied the torque in load steps (docs/model.md
+    /// section 5.3): the solver's own diagnostic.
     loaded_solves: [std::sync::atomic::AtomicUsize; 2],
 }
 
@@ -430,9 +438,9 @@ impl<'a> StaticAnalysis<'a> {
         }
     }
 
-    /// The loaded solves of bearing support this analysis has made so far, and how many of
-    /// them took the twist-controlled path, the torque-controlled method not having converged
-    /// (docs/model.md section 5.3).
+    /// The loaded solves of bearing support this analysis has made so far (each load step
+    /// counted), and how many solves did not converge from their start and applied the torque
+    /// in load steps (docs/model.md section 5.3).
     #[cfg(test)]
     pub(crate) fn loaded_solves(&self) -> [usize; 2] {
         self.loaded_solves

@@ -1,12 +1,19 @@
-//! The inner equilibrium at a given twist (Newton with the analytic tangent, backtracking,
-//! Levenberg-Marquardt damping) and the condensed stiffness of the outer loop
-//! (docs/model.md section 5).
+//! The loaded equilibrium: the potential's minimum over every coordinate but the input (Newton
+//! with the analytic tangent, backtracking, Levenberg-Marquardt's trust region), its cold start
+//! (the inner coordinates' equilibrium at a fixed twist) and the condensed stiffness
+//! (docs/model.md section 5.3).
 
 use super::*;
 
-/// Largest move of a coordinate in one step of the torque-controlled Newton method from a cold
-/// start, in multiples of the twist estimate at the pin circle ([`StaticAnalysis::twist_guess`]).
+/// Largest move of a coordinate in the first step of the torque-controlled Newton method from a
+/// cold start, in multiples of the twist estimate at the pin circle
+/// ([`StaticAnalysis::twist_guess`]); doubled after each full step it bounds.
 const STEP_LIMIT_GUESSES: f64 = 16.0;
+
+/// Fraction of [`RESIDUAL_TOLERANCE`] within which a torque-controlled solve whose steps no
+/// longer reduce the residual fourfold is accepted (it aims at a hundredth; the solution's
+/// check allows the whole tolerance).
+const STALL_FRACTION: f64 = 0.1;
 
 /// Twist beyond first contact (rad) at which an iterate of the torque-controlled solve is lost:
 /// four times the analysis' range (`MAX_TWIST`), a quarter of a tooth of the example (a step
@@ -15,7 +22,7 @@ const LOST_TWIST: f64 = 4.0 * MAX_TWIST;
 
 /// Most steps of the torque-controlled solve (`StaticAnalysis::torque_controlled`): Newton's
 /// and the trust region's.
-const TORQUE_CONTROL_STEPS: usize = 100;
+pub(super) const TORQUE_CONTROL_STEPS: usize = 100;
 
 impl<'a> StaticAnalysis<'a> {
     /// Largest scaled residual of the inner coordinates (every one but input and output):
@@ -309,10 +316,11 @@ impl<'a> StaticAnalysis<'a> {
     /// finds neither (or a trial cannot be evaluated), Levenberg-Marquardt's trust region for
     /// the rest of the solve (`StaticAnalysis::trust_region_step`). The potential's decrease
     /// is the forces' work along the step by the trapezoid rule, `(r(z) + r(z + s)) . s / 2`.
-    /// The fast path of [`StaticAnalysis::solve`]: `None` after `TORQUE_CONTROL_STEPS` steps,
-    /// where the trust region finds no decrease above the forces' round-off floor, or where
-    /// an iterate is lost (`LOST_TWIST` beyond first contact); the caller then takes the
-    /// twist-controlled path.
+    /// The loaded solve of [`StaticAnalysis::solve`] (bearing support): `None` after
+    /// `TORQUE_CONTROL_STEPS` steps, where the trust region finds no decrease above the point
+    /// where a stalled solve is accepted, where an iterate is lost (`LOST_TWIST` beyond first
+    /// contact) or where a cold start's inner equilibrium fails; the caller then applies the
+    /// torque in load steps, each solved by this method from the one before.
     pub(super) fn torque_controlled(
         &self,
         fr: &Frame,
@@ -374,11 +382,19 @@ impl<'a> StaticAnalysis<'a> {
                 }
                 x *= 2.0;
                 self.mode_deviation(fr, start.psi0 + s * x, z);
-                // A failed evaluation sends the solve to the twist-controlled path.
+                // A failed evaluation ends the method (the caller applies the load in steps).
                 let Ok(next) = self.eval_bearings(fr, z, memory, true) else {
                     return Ok(None);
                 };
                 ev = next;
+            }
+            // Settled: the other coordinates in equilibrium at that twist (a strongly convex
+            // problem; the rigid mode leaves them out of balance by about the force scale).
+            if start.settle {
+                match self.inner_solve(fr, z, k_struct, memory, force_floor) {
+                    Ok((settled, _)) => ev = settled,
+                    Err(_) => return Ok(None),
+                }
             }
         }
         let mut kt: Option<DMatrix<f64>> = None;
@@ -388,10 +404,16 @@ impl<'a> StaticAnalysis<'a> {
         // From a cold start no coordinate moves farther than `STEP_LIMIT_GUESSES` twist
         // estimates at the pin circle in one step (its floored tangent far from the equilibrium
         // gave steps of metres); from a neighbour a quarter of the analysis' range.
-        let limit = if start.near.is_none() {
-            STEP_LIMIT_GUESSES * self.twist_guess(torque) * rp
+        let widest = 0.25 * MAX_TWIST * rp;
+        let mut limit = if start.near.is_none() {
+            (STEP_LIMIT_GUESSES * self.twist_guess(torque) * rp).min(widest)
         } else {
-            0.25 * MAX_TWIST * rp
+            widest
+        };
+        // Where a solve whose steps no longer reduce the residual fourfold is accepted: the
+        // forces' round-off floor, or a tenth of the check's tolerance.
+        let stalled_at = |e: &Eval, scale: f64| -> f64 {
+            (0.5 * e.roundoff).max(STALL_FRACTION * RESIDUAL_TOLERANCE * scale)
         };
         // Levenberg-Marquardt's trust region, once a line search has failed: the shift of
         // the tangent relative to its diagonal, kept from step to step.
@@ -440,12 +462,12 @@ impl<'a> StaticAnalysis<'a> {
                     Some(trial) => {
                         let stalls = merit(&trial) > 0.25 * merit(&ev);
                         ev = trial;
-                        if stalls && res <= 0.5 * ev.roundoff {
+                        if stalls && res <= stalled_at(&ev, scale) {
                             let kt = self.tangent(k_struct, &ev, fr, z);
                             return Ok(Some((ev, kt)));
                         }
                     }
-                    None if res <= 0.5 * ev.roundoff => {
+                    None if res <= stalled_at(&ev, scale) => {
                         let kt = self.tangent(k_struct, &ev, fr, z);
                         return Ok(Some((ev, kt)));
                     }
@@ -466,7 +488,7 @@ impl<'a> StaticAnalysis<'a> {
                     return Ok(None);
                 }
             };
-            self.bound_step(&mut step, limit);
+            let bounded = self.bound_step(&mut step, limit);
             // The potential's slope along the step is `-r . s`; `r . s` is positive (the
             // shifted tangent is positive definite), so the step descends.
             let descent = r.dot(&step);
@@ -478,7 +500,12 @@ impl<'a> StaticAnalysis<'a> {
                     z[1 + i] = base[1 + i] + alpha * step[i];
                 }
                 let Ok(trial) = self.eval_bearings(fr, z, memory, true) else {
-                    // A trial beyond the contact law's range: the trust region from here on.
+                    // A trial beyond the contact law's range: a shorter one, then the trust
+                    // region from here on.
+                    if alpha >= 1e-3 {
+                        alpha *= 0.5;
+                        continue;
+                    }
                     z[..n].copy_from_slice(&base);
                     trust = Some(1e-4);
                     break;
@@ -493,11 +520,15 @@ impl<'a> StaticAnalysis<'a> {
                     0.5 * alpha * (descent + r1) >= 1e-4 * alpha * descent
                 };
                 if energy_falls {
+                    // A full step that the bound cut: the bound doubles (a trust radius).
+                    if bounded && alpha == 1.0 {
+                        limit = (2.0 * limit).min(widest);
+                    }
                     let stalls = mt > 0.25 * m0;
                     ev = trial;
                     // At the round-off floor of the contact forces a step barely reduces the
                     // residual: accept there.
-                    if stalls && res <= 0.5 * ev.roundoff {
+                    if stalls && res <= stalled_at(&ev, scale) {
                         let kt = self.tangent(k_struct, &ev, fr, z);
                         return Ok(Some((ev, kt)));
                     }
@@ -506,7 +537,7 @@ impl<'a> StaticAnalysis<'a> {
                 if alpha < 1e-3 {
                     // At the round-off floor of the contact forces the residual no longer
                     // falls: accept there (the caller's check applies the floor).
-                    if res <= 0.5 * ev.roundoff {
+                    if res <= stalled_at(&ev, scale) {
                         let kt = self.tangent(k_struct, &ev, fr, z);
                         return Ok(Some((ev, kt)));
                     }
@@ -596,13 +627,16 @@ impl<'a> StaticAnalysis<'a> {
 
     /// Scales the step `step` of the coordinates `1..n` (m and rad) so that no coordinate moves
     /// farther than `limit` (m; angles at the pin circle), keeping its direction.
-    fn bound_step(&self, step: &mut DVector<f64>, limit: f64) {
+    fn bound_step(&self, step: &mut DVector<f64>, limit: f64) -> bool {
         let rp = self.red.geometry.pin_circle_radius;
         let longest = (0..step.len())
             .map(|i| step[i].abs() * if is_angle(1 + i) { rp } else { 1.0 })
             .fold(0.0, f64::max);
         if longest > limit {
             *step *= limit / longest;
+            true
+        } else {
+            false
         }
     }
 
@@ -637,12 +671,8 @@ impl<'a> StaticAnalysis<'a> {
         out
     }
 
-    /// Condensed torsional stiffness `K_oo - K_oi K_ii^-1 K_io` (N m/rad).
-    pub(super) fn condensed(&self, kt: &DMatrix<f64>) -> f64 {
-        self.condensed_along(kt, &self.condensation_direction(kt))
-    }
-
-    /// [`StaticAnalysis::condensed`] with its condensation direction `dz` already known.
+    /// Condensed torsional stiffness `K_oo - K_oi K_ii^-1 K_io` (N m/rad) with the condensation
+    /// direction `dz` ([`StaticAnalysis::condensation_direction`]) already known.
     pub(super) fn condensed_along(&self, kt: &DMatrix<f64>, dz: &[f64]) -> f64 {
         let n = self.red.layout().dofs();
         let o = Layout::OUT;

@@ -1,5 +1,6 @@
-//! Solutions under an output torque: twist control with safeguarded Newton, load steps,
-//! sequences of crank angles, and the checked solution (docs/model.md section 5).
+//! Solutions under an output torque: the potential's minimum (torque control) from a neighbour
+//! or cold, load steps where it does not converge from there, sequences of crank angles, and
+//! the checked solution (docs/model.md section 5.3).
 
 use super::*;
 
@@ -143,22 +144,20 @@ impl<'a> StaticAnalysis<'a> {
     ) -> Result<StaticSolution> {
         match self.solve_direct(phi, torque, psi0, near, offsets) {
             Err(Error::Numerical { .. }) if torque != 0.0 => {
-                match self.solve_in_load_steps(phi, torque, psi0, near, offsets) {
-                    Err(e @ Error::Numerical { .. }) => self
-                        .solve_from_above(phi, torque, psi0, offsets)
-                        .map_err(|_| e),
-                    result => result,
-                }
+                self.loaded_solves[1].fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                self.solve_in_load_steps(phi, torque, psi0, near, offsets)
             }
             result => result,
         }
     }
 
-    /// The fallback of [`StaticAnalysis::solve_with_offsets`]: the torque applied in steps
-    /// from `near` (when it lies on the way, else from zero), each solve started from the one
-    /// before, a step halved where it fails and doubled again (up to an eighth of the way)
-    /// where it succeeds (a disc that moves onto other pins part of the way up, as on a ridge of
-    /// a worn flank, is followed along the loading path). The error of the last step tried when
+    /// [`StaticAnalysis::solve_with_offsets`] where the solve from its start does not converge
+    /// (path following with step control): the torque applied in steps
+    /// from `near` (loaded in the same sense, below or above the torque by more than a
+    /// thousandth of it; else from zero), each
+    /// solve started from the one before, a step halved where it fails and doubled again (up to
+    /// an eighth of the way) where it succeeds (a disc that moves onto other pins part of the
+    /// way, as on a ridge of a worn flank, is followed along the loading path). The error of the last step tried when
     /// the step falls below 1e-6 of the torque, or after [`MAX_LOAD_STEPS`] solves (a path that
     /// advances by ever smaller steps would otherwise run for hours).
     pub(super) fn solve_in_load_steps(
@@ -170,7 +169,10 @@ impl<'a> StaticAnalysis<'a> {
         offsets: &[f64],
     ) -> Result<StaticSolution> {
         let mut prev = near
-            .filter(|x| x.output_torque * torque > 0.0 && x.output_torque.abs() < torque.abs())
+            .filter(|x| {
+                x.output_torque * torque > 0.0
+                    && (x.output_torque - torque).abs() > 1e-3 * torque.abs()
+            })
             .cloned();
         let mut reached = prev.as_ref().map_or(0.0, |x| x.output_torque);
         let first_step = (torque - reached) / 8.0;
@@ -209,44 +211,6 @@ impl<'a> StaticAnalysis<'a> {
         }
     }
 
-    /// The last resort of [`StaticAnalysis::solve_with_offsets`] when the load steps from zero
-    /// fail (light loads on a reducer with both play in its bearings and modified teeth, where
-    /// a disc rests on one pin with its bearing at the edge of its clearance and Newton's steps
-    /// overshoot across that edge): a cold solve at 4, 16 or 64 times `torque`, where the
-    /// bearings that carry the load are well engaged, then the torque halved step by step down
-    /// to `torque`, each solve started from the one above. The error of the step that failed.
-    fn solve_from_above(
-        &self,
-        phi: f64,
-        torque: f64,
-        psi0: f64,
-        offsets: &[f64],
-    ) -> Result<StaticSolution> {
-        let mut last = Err(self.fail(phi, "no solve above the torque converged"));
-        for f in [4.0, 16.0, 64.0] {
-            let Ok(mut above) = self.solve_direct(phi, f * torque, psi0, None, offsets) else {
-                continue;
-            };
-            let mut t = f * torque;
-            loop {
-                t = if (0.5 * t).abs() <= 1.000001 * torque.abs() {
-                    torque
-                } else {
-                    0.5 * t
-                };
-                match self.solve_direct(phi, t, psi0, Some(&above), offsets) {
-                    Ok(sol) if t == torque => return Ok(sol),
-                    Ok(sol) => above = sol,
-                    Err(e) => {
-                        last = Err(e);
-                        break;
-                    }
-                }
-            }
-        }
-        last
-    }
-
     /// One attempt of [`StaticAnalysis::solve_with_offsets`]: from `near`, or cold.
     pub(super) fn solve_direct(
         &self,
@@ -273,6 +237,7 @@ impl<'a> StaticAnalysis<'a> {
             }),
             beyond: near.map(|x| s * (x.twist - x.first_contact_twist)),
             offsets,
+            settle: false,
         };
         let result = match self.red.support {
             Support::Bearings => self.solve_bearings(phi, torque, &start),
@@ -313,8 +278,9 @@ impl<'a> StaticAnalysis<'a> {
         Ok(runs.into_iter().flatten().collect())
     }
 
-    /// Safeguarded Newton on the monotone `f(x) = s T(psi0 + s x) - |T|` with
-    /// `eval(psi) -> (T, dT/dpsi)`. Returns the converged twist. The root lies at `x >= 0`
+    /// The rigid support's twist (its only unknown): safeguarded Newton on the monotone
+    /// `f(x) = s T(psi0 + s x) - |T|` with `eval(psi) -> (T, dT/dpsi)`. Returns the converged
+    /// twist. The root lies at `x >= 0`
     /// unless the reducer already carries more than `|T|` at its rigid first contact (part
     /// errors or a modification that interfere: preload, docs/model.md section 5.12): where
     /// every twist tried carries too much down to [`BEHIND_FIRST_CONTACT`] of the twist
@@ -467,7 +433,6 @@ impl<'a> StaticAnalysis<'a> {
         let red = &*self.red;
         let n = red.layout().dofs();
         let zp = red.geometry.pins;
-        let rp = red.geometry.pin_circle_radius;
         let mut fr = self.frame(phi);
         fr.offsets = start.offsets.to_vec();
         let mut memory = vec![vec![PinMemory::NONE; zp]; self.red.discs()];
@@ -480,73 +445,37 @@ impl<'a> StaticAnalysis<'a> {
             return self.check(self.assemble(&fr, &z, ev, &kt, 0.0, psi0));
         }
         self.loaded_solves[0].fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        let mut zt = z;
-        if let Some((_, kt)) =
-            self.torque_controlled(&fr, torque, start, &mut zt[..n], &k_struct, &mut memory)?
-        {
-            // Every pin at the solution (the solve skipped pins known to be open).
-            let ev = self.eval_bearings(&fr, &zt, &mut memory, false)?;
-            let sol = self.assemble(&fr, &zt, ev, &kt, torque, psi0);
-            if sol.residual <= RESIDUAL_TOLERANCE.max(sol.roundoff_floor) {
-                return Ok(sol);
+        // Cold, from the locked-input mode and, where Newton does not converge from there,
+        // from the mode with the other coordinates settled at its twist.
+        let mut solved =
+            self.torque_controlled(&fr, torque, start, &mut z[..n], &k_struct, &mut memory)?;
+        if solved.is_none() && start.near.is_none() {
+            for m in memory.iter_mut() {
+                m.fill(PinMemory::NONE);
             }
+            let settled = Start {
+                settle: true,
+                ..*start
+            };
+            solved =
+                self.torque_controlled(&fr, torque, &settled, &mut z[..n], &k_struct, &mut memory)?;
         }
-        self.loaded_solves[1].fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        // The twist-controlled path. Cold: it trusts neither the neighbour nor the pins' memory
-        // of the fast path (whose rejected trial steps can take a disc far outside the gap
-        // field's range, where a remembered gap is no bound).
-        for m in memory.iter_mut() {
-            m.fill(PinMemory::NONE);
-        }
-        let cold = Start {
-            psi0,
-            near: None,
-            beyond: None,
-            offsets: start.offsets,
+        let Some((_, kt)) = solved else {
+            return Err(self.fail(
+                phi,
+                &format!(
+                    "the potential's minimum under the output torque was not reached from the \
+                     {} start in {} steps",
+                    if start.near.is_some() {
+                        "neighbour's"
+                    } else {
+                        "cold"
+                    },
+                    newton::TORQUE_CONTROL_STEPS
+                ),
+            ));
         };
-        let floor = torque.abs() / rp;
-        // Predictor of the inner coordinates per unit twist: the rigid mode at first, then the
-        // condensation direction `-K_ii^-1 K_io` of the last tangent.
-        let mut current = psi0;
-        let mut slope: Option<Vec<f64>> = None;
-        let mut last: Option<DMatrix<f64>> = None;
-        let psi = self.outer(phi, torque, &cold, |p| {
-            match &slope {
-                Some(dz) => {
-                    for i in 2..n {
-                        z[i] += dz[i] * (p - current);
-                    }
-                    z[Layout::OUT] = p;
-                }
-                None => {
-                    let (mut a, mut b) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
-                    self.mode_deviation(&fr, current, &mut a[..n]);
-                    self.mode_deviation(&fr, p, &mut b[..n]);
-                    for i in 0..n {
-                        z[i] += b[i] - a[i];
-                    }
-                }
-            }
-            current = p;
-            let (ev, kt) = self.inner_solve(&fr, &mut z[..n], &k_struct, &mut memory, floor)?;
-            slope = Some(self.condensation_direction(&kt));
-            let out = (-ev.g[Layout::OUT], self.condensed(&kt));
-            last = Some(kt);
-            Ok(out)
-        })?;
-        let kt = match last {
-            Some(kt) if current == psi => kt,
-            _ => {
-                if let Some(dz) = &slope {
-                    for i in 2..n {
-                        z[i] += dz[i] * (psi - current);
-                    }
-                }
-                z[Layout::OUT] = psi;
-                self.inner_solve(&fr, &mut z[..n], &k_struct, &mut memory, floor)?
-                    .1
-            }
-        };
+        // Every pin at the solution (the solve skipped pins known to be open).
         let ev = self.eval_bearings(&fr, &z, &mut memory, false)?;
         self.check(self.assemble(&fr, &z, ev, &kt, torque, psi0))
     }

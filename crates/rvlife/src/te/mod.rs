@@ -371,9 +371,18 @@ impl TwistTable {
         };
         // A warm grid that does not rise (a solve that followed its start onto another
         // branch) is solved again cold.
-        let warm_grid = last
-            .and_then(|last| Self::grid_from(sa, phi, fractions, rated, &mut warm.zero, &last).ok())
-            .filter(|(p, n, _)| rising(p, n));
+        let warm_grid = match last {
+            Some(last) => Some(Self::grid_from(
+                sa,
+                phi,
+                fractions,
+                rated,
+                &mut warm.zero,
+                &last,
+            )?)
+            .filter(|(p, n, _)| rising(p, n)),
+            None => None,
+        };
         let (positive, negative, solutions) = match warm_grid {
             Some(grid) => grid,
             None => Self::grid_cold(sa, phi, fractions, rated)?,
@@ -450,15 +459,7 @@ impl TwistTable {
                 } else {
                     let torque = side * f * rated;
                     let below = solutions[k].last().or(light.as_ref());
-                    // From the level below; where that start does not lead to the equilibrium
-                    // (a light or zero-torque state on another side of a bearing's clearance
-                    // edge), from the locked-input mode as a solve without a neighbour starts.
-                    let sol = match sa.solve_near(phi, torque, start[k], below) {
-                        Err(e @ Error::Numerical { .. }) if below.is_some() => {
-                            sa.solve_near(phi, torque, start[k], None).map_err(|_| e)?
-                        }
-                        other => other?,
-                    };
+                    let sol = sa.solve_near(phi, torque, start[k], below)?;
                     let twist = sol.twist;
                     solutions[k].push(sol);
                     twist

@@ -3,7 +3,7 @@
 //! preloaded equilibrium that carries zero torque; and the same started from a neighbouring
 //! state's ends (a sampled reducer's last stage).
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::statics::{NoLoad, StaticAnalysis, StaticSolution};
 
 /// Negative play (rad) below which the two ways' twists cross (interference, or preload):
@@ -40,7 +40,7 @@ pub(crate) struct ZeroTorque {
     #[cfg_attr(not(test), allow(dead_code))]
     pub preloaded: bool,
     /// With preload, the lightest solves of the descent each way (positive torque first), the
-    /// two the zero-torque twist is the secant of.
+    /// two the zero-torque twist is the secant of (`None` without preload).
     pub lightest: Option<Box<[StaticSolution; 2]>>,
 }
 
@@ -186,47 +186,18 @@ fn zero_torque_from(sa: &StaticAnalysis, phi: f64, rated: f64, lim: Limits) -> R
             lightest: None,
         });
     }
-    // Preloaded: solves each way bracket the one zero-torque equilibrium. Each way the
-    // torque comes down from `PRELOAD_DESCENT_FRACTION` of the rated torque, where the
-    // preloaded contacts are settled, halving with each solve started from the one
-    // above, to `PRELOAD_PROBE_FRACTION` (or as far as the solves converge).
-    // (Where the first level does not converge, from 4 or 16 times it.)
+    // Preloaded: solves each way bracket the one zero-torque equilibrium. Each way a solve at
+    // `PRELOAD_DESCENT_FRACTION` of the rated torque, where the preloaded contacts are
+    // settled, and from it the lightest level, `PRELOAD_PROBE_FRACTION` (the solver follows
+    // the load down in steps where the solve from the level above does not converge).
     let ways: [Result<Vec<StaticSolution>>; 2] = [1.0, -1.0].map(|s| {
         let k = usize::from(s < 0.0);
-        let mut done: Vec<StaticSolution> = Vec::new();
-        let mut first = Err(Error::numerical("preload", "no level tried"));
-        for top in [1.0, 4.0, 16.0] {
-            first = sa.solve_near(
-                phi,
-                s * top * PRELOAD_DESCENT_FRACTION * rated,
-                start[k],
-                None,
-            );
-            if first.is_ok() {
-                break;
-            }
-        }
-        done.push(first?);
-        // The levels below the first, each half the one above, down to the probe.
-        let levels: Vec<f64> = halvings(done[0].output_torque.abs() / rated)
-            .skip(1)
-            .collect();
-        // The lightest level straight from the first where that converges; else the
-        // halving descent, each solve from the one above.
-        let solve = |f: f64, from: Option<&StaticSolution>| {
-            sa.solve_near(phi, s * f * rated, start[k], from)
-        };
-        if let Some(Ok(sol)) = levels.last().map(|&f| solve(f, done.last())) {
-            done.push(sol);
-            return Ok(done);
-        }
-        for &f in &levels {
-            match solve(f, done.last()) {
-                Ok(sol) => done.push(sol),
-                Err(_) => break,
-            }
-        }
-        Ok(done)
+        let first = sa.solve_near(phi, s * PRELOAD_DESCENT_FRACTION * rated, start[k], None)?;
+        let lightest = halvings(first.output_torque.abs() / rated)
+            .last()
+            .expect("the first level is always there");
+        let light = sa.solve_near(phi, s * lightest * rated, start[k], Some(&first))?;
+        Ok(vec![first, light])
     });
     let [up, down] = ways;
     let (mut up, mut down) = (up?, down?);
@@ -236,7 +207,7 @@ fn zero_torque_from(sa: &StaticAnalysis, phi: f64, rated: f64, lim: Limits) -> R
         unreachable!("every way holds its first level")
     };
     let zero = preload_zero(u, d);
-    let lightest = (up.len() > 1 && down.len() > 1).then(|| Box::new([u.clone(), d.clone()]));
+    let lightest = Some(Box::new([u.clone(), d.clone()]));
     // The loaded levels start from the heaviest solves, next to the measuring torque.
     let light = [Some(up.swap_remove(0)), Some(down.swap_remove(0))];
     Ok(ZeroTorque {
@@ -273,8 +244,8 @@ impl ZeroTorqueStart {
 /// Where the stage is preloaded, the lightest solve of each way ([`PRELOAD_DESCENT_FRACTION`]
 /// halved down to [`PRELOAD_PROBE_FRACTION`], the torque that [`zero_torque`]'s descent
 /// reaches) starts from `warm`'s lightest solves instead of coming down from the heavier
-/// level; where `warm` holds none, or either does not converge, [`zero_torque`]'s descent,
-/// whose lightest solves `warm` then holds. The twists are the same to the solvers'
+/// level; where `warm` holds none, [`zero_torque`]'s descent, whose lightest solves `warm`
+/// then holds. The twists are the same to the solvers'
 /// tolerances (the no-load limits to the contact problem's twist tolerance, the solves to
 /// their residual tolerance).
 ///
@@ -309,16 +280,12 @@ pub(super) fn zero_twist_and_start(
     }
     let probe = preload_probe_level() * rated;
     // Each way from the last lightest solve of that way (loaded in its sense).
-    let solve_from = |from: &[StaticSolution; 2]| -> Option<[StaticSolution; 2]> {
+    if let Some(from) = warm.probes.take() {
         let [u, d] = [1.0, -1.0].map(|s| {
             let k = usize::from(s < 0.0);
             sa.solve_near(phi, s * probe, lim.start[k], Some(&from[k]))
-                .ok()
         });
-        Some([u?, d?])
-    };
-    let found = warm.probes.take().and_then(|p| solve_from(&p));
-    if let Some([u, d]) = found {
+        let (u, d) = (u?, d?);
         let zero = preload_zero(&u, &d);
         warm.probes = Some(Box::new([u, d]));
         return Ok(([zero, zero], start));
