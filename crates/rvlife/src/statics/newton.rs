@@ -402,8 +402,9 @@ impl<'a> StaticAnalysis<'a> {
         // Whether `kt` is the exact tangent (not the floored stand-in).
         let mut exact = true;
         // From a cold start no coordinate moves farther than `STEP_LIMIT_GUESSES` twist
-        // estimates at the pin circle in one step (its floored tangent far from the equilibrium
-        // gave steps of metres); from a neighbour a quarter of the analysis' range.
+        // estimates at the pin circle in the first step (its floored tangent far from the
+        // equilibrium gave steps of metres), the bound doubling after each full step it cut;
+        // from a neighbour, and at most, a quarter of the analysis' range.
         let widest = 0.25 * MAX_TWIST * rp;
         let mut limit = if start.near.is_none() {
             (STEP_LIMIT_GUESSES * self.twist_guess(torque) * rp).min(widest)
