@@ -771,7 +771,8 @@ impl ToothTable {
     /// Every local minimum of the distance from `q` over `[tc - w, tc + w]` whose distance is
     /// within `margin` (m) of the global minimum, as `(distance, t)` pairs, closest first,
     /// starting from the local foot `seed` if one is known (it makes the best distance tight
-    /// from the start, so that most cells are pruned). `None` if the global minimum lies on the
+    /// from the start, so that most cells are pruned; the node step that holds it is not
+    /// polished again). `None` if the global minimum lies on the
     /// window's edge (minima on the edge are left out).
     ///
     /// Only cells whose Lipschitz bound on the distance is within `margin` of the best can hold
@@ -851,10 +852,13 @@ impl ToothTable {
                 let mut f0 = fk(a);
                 for k in a..b {
                     let f1 = fk(k + 1);
-                    if f0 < 0.0 && f1 >= 0.0 {
+                    let (tl, th) = (self.node_t(k), self.node_t(k + 1));
+                    // The seed's own step holds the seed's minimum, polished already (one
+                    // sign change of `f` a step).
+                    let seeded = seed.is_some_and(|t| tl <= t && t <= th);
+                    if f0 < 0.0 && f1 >= 0.0 && !seeded {
                         let near = dist(k).min(dist(k + 1)) - self.lipschitz[c] * self.dt;
                         if near <= best + margin {
-                            let (tl, th) = (self.node_t(k), self.node_t(k + 1));
                             // A foot on a node can test as either side of it: widen the bracket.
                             let t = self.polish(q, 0.5 * (tl + th), tl, th).or_else(|| {
                                 self.polish(q, 0.5 * (tl + th), tl - self.dt, th + self.dt)
