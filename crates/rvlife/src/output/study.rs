@@ -125,12 +125,12 @@ pub fn profile_file(study: &Study, name: &str) -> Result<Option<Vec<u8>>> {
 /// [`crate::Error::Numerical`] if a table cannot be serialised.
 pub fn tables(study: &Study) -> Result<Vec<(String, Vec<u8>)>> {
     let summary = study.summary();
-    let mut files = Vec::new();
-    files.push(("summary.json".to_string(), json_bytes(&summary)?));
+    // The files' contents in the order of `table_names`, which names them.
+    let mut files = vec![json_bytes(&summary)?];
 
     // stages.csv: every quantity of the table.
     let (header, rows) = crate::quantities::stages_csv(&summary.stages);
-    files.push(("stages.csv".to_string(), rows_bytes(&header, &rows)?));
+    files.push(rows_bytes(&header, &rows)?);
 
     // wear.csv
     let tags: Vec<String> = study.stages.iter().map(|s| hours_tag(s.hours)).collect();
@@ -146,7 +146,7 @@ pub fn tables(study: &Study) -> Result<Vec<(String, Vec<u8>)>> {
             r
         })
         .collect();
-    files.push(("wear.csv".to_string(), rows_bytes(&header, &rows)?));
+    files.push(rows_bytes(&header, &rows)?);
 
     // te_mesh_cycle.csv
     let header: Vec<String> = [
@@ -178,7 +178,7 @@ pub fn tables(study: &Study) -> Result<Vec<(String, Vec<u8>)>> {
             ]);
         }
     }
-    files.push(("te_mesh_cycle.csv".to_string(), rows_bytes(&header, &rows)?));
+    files.push(rows_bytes(&header, &rows)?);
 
     // te_revolution.csv
     let curves: Vec<(Vec<f64>, Vec<f64>)> = study
@@ -209,7 +209,7 @@ pub fn tables(study: &Study) -> Result<Vec<(String, Vec<u8>)>> {
             r
         })
         .collect();
-    files.push(("te_revolution.csv".to_string(), rows_bytes(&header, &rows)?));
+    files.push(rows_bytes(&header, &rows)?);
 
     // hysteresis.csv: the curve of every stage, averaged over a mesh cycle.
     let header: Vec<String> = ["hours", "torque_nm", "twist_arcmin"]
@@ -223,7 +223,7 @@ pub fn tables(study: &Study) -> Result<Vec<(String, Vec<u8>)>> {
             rows.push(vec![f(s.hours), f(*t), f(x * ARCMIN_PER_RAD)]);
         }
     }
-    files.push(("hysteresis.csv".to_string(), rows_bytes(&header, &rows)?));
+    files.push(rows_bytes(&header, &rows)?);
 
     // load.csv
     let header: Vec<String> = [
@@ -264,7 +264,7 @@ pub fn tables(study: &Study) -> Result<Vec<(String, Vec<u8>)>> {
             ]);
         }
     }
-    files.push(("load.csv".to_string(), rows_bytes(&header, &rows)?));
+    files.push(rows_bytes(&header, &rows)?);
 
     // te_flexible.csv (flexible disc on)
     if study.stages.iter().any(|s| s.flexible.is_some()) {
@@ -302,7 +302,7 @@ pub fn tables(study: &Study) -> Result<Vec<(String, Vec<u8>)>> {
                 }
             }
         }
-        files.push(("te_flexible.csv".to_string(), rows_bytes(&header, &rows)?));
+        files.push(rows_bytes(&header, &rows)?);
         // hysteresis_flexible.csv: the flexible hysteresis curve of every stage.
         let header: Vec<String> = ["hours", "torque_nm", "twist_arcmin"]
             .iter()
@@ -316,17 +316,16 @@ pub fn tables(study: &Study) -> Result<Vec<(String, Vec<u8>)>> {
                 }
             }
         }
-        files.push((
-            "hysteresis_flexible.csv".to_string(),
-            rows_bytes(&header, &rows)?,
-        ));
+        files.push(rows_bytes(&header, &rows)?);
     }
 
-    Ok(files)
+    let names = table_names(study);
+    assert_eq!(names.len(), files.len(), "a table without its name");
+    Ok(names.into_iter().zip(files).collect())
 }
 
 /// The names of [`tables`]' files for `study`, in its order, without making them (the page
-/// lists the results before any is asked for).
+/// lists the results before any is asked for): the one list of the tables' names.
 pub fn table_names(study: &Study) -> Vec<String> {
     let mut names: Vec<String> = [
         "summary.json",

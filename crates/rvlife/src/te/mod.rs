@@ -371,18 +371,10 @@ impl TwistTable {
         };
         // A warm grid that does not rise (a solve that followed its start onto another
         // branch) is solved again cold.
-        let warm_grid = match last {
-            Some(last) => Some(Self::grid_from(
-                sa,
-                phi,
-                fractions,
-                rated,
-                &mut warm.zero,
-                &last,
-            )?)
-            .filter(|(p, n, _)| rising(p, n)),
-            None => None,
-        };
+        let warm_grid = last
+            .map(|last| Self::grid_from(sa, phi, fractions, rated, &mut warm.zero, &last))
+            .transpose()?
+            .filter(|(p, n, _)| rising(p, n));
         let (positive, negative, solutions) = match warm_grid {
             Some(grid) => grid,
             None => Self::grid_cold(sa, phi, fractions, rated)?,

@@ -193,10 +193,12 @@ fn zero_torque_from(sa: &StaticAnalysis, phi: f64, rated: f64, lim: Limits) -> R
     let ways: [Result<Vec<StaticSolution>>; 2] = [1.0, -1.0].map(|s| {
         let k = usize::from(s < 0.0);
         let first = sa.solve_near(phi, s * PRELOAD_DESCENT_FRACTION * rated, start[k], None)?;
-        let lightest = halvings(first.output_torque.abs() / rated)
-            .last()
-            .expect("the first level is always there");
-        let light = sa.solve_near(phi, s * lightest * rated, start[k], Some(&first))?;
+        let light = sa.solve_near(
+            phi,
+            s * preload_probe_level() * rated,
+            start[k],
+            Some(&first),
+        )?;
         Ok(vec![first, light])
     });
     let [up, down] = ways;
