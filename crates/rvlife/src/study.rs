@@ -41,7 +41,7 @@ pub(crate) use trials::LifeTrials;
 pub(crate) use {results::is_papers_reducer, stage::analyse_profile, trials::study_life};
 
 use parts::{finish, until_limit};
-use stage::{arcmin, static_part, Failure, NoLoad};
+use stage::{arcmin, no_load, static_part, Failure, NoLoad, UnwornPlay};
 
 /// The validated model of `cfg` ([`crate::config::Config::validate`]) whose study fits the
 /// work budget ([`check_work`]): what every command and every design of a sweep runs on.
@@ -141,8 +141,9 @@ enum Outcome {
     Failed(Failure),
     /// Not analysed: an earlier stage's static analysis failed.
     Skipped,
-    /// Analysed, with its dynamics and flexible analysis (or their error).
-    Done(Box<(Stage, Result<StageRow>)>),
+    /// Analysed, with the unworn disc's play on its parts (its play not yet split against
+    /// the new reducer's) and its dynamics and flexible analysis (or their error).
+    Done(Box<(Stage, UnwornPlay, Result<StageRow>)>),
 }
 
 /// Stage `i` of a study at `hours` with the wear depth `map` and the pins' wear `pin_map`: its
@@ -154,7 +155,6 @@ enum Outcome {
 fn run_stage(
     model: &Model,
     rates: BearingWearRates,
-    new: NoLoad,
     i: usize,
     hours: f64,
     map: &[f64],
@@ -168,7 +168,7 @@ fn run_stage(
     if i > failed.load(Ordering::Relaxed) {
         return Outcome::Skipped;
     }
-    let (stage, staged) = match static_part(model, rates, new, hours, map, pin_map, base_profile) {
+    let (stage, staged, play) = match static_part(model, rates, hours, map, pin_map, base_profile) {
         Ok(x) => x,
         Err(f) => {
             if matches!(f, Failure::Static(..)) {
@@ -184,7 +184,7 @@ fn run_stage(
     } else {
         dynamics_and_flexible(&staged, &stage.profile, base, base_profile, tick)
     };
-    Outcome::Done(Box::new((stage, rest)))
+    Outcome::Done(Box::new((stage, play, rest)))
 }
 
 /// Whether stage `i` of `wear` is unworn (no wear of the disc or the pins).
@@ -285,8 +285,14 @@ pub fn run_with_notices(
     // wear).
     let flexible_dynamics = model.dynamics.enabled && model.dynamics.params.flexible.is_some();
     let base_profile = model.profile()?;
-    let ground = parts::ground_on(model, &base_profile)?;
-    let (rates, new) = (ground.rates(), ground.new_play());
+    let rates = crate::config::bearing_rates(model)?;
+    // The new reducer's play, against which every stage's play is split once the stages are
+    // done ([`UnwornPlay::split`]): made by the first worker free, beside the wear
+    // integration.
+    let new_play: OnceLock<Result<NoLoad>> = OnceLock::new();
+    let make_new_play = || {
+        let _ = new_play.set(no_load(model, &base_profile));
+    };
     // Progress: the wear-rate evaluations so far plus the stage analyses done.
     let (wear_done, done) = (AtomicUsize::new(0), AtomicUsize::new(0));
     let report = || {
@@ -343,13 +349,12 @@ pub fn run_with_notices(
                     _ => None,
                 })
             });
-        // Known once every stage up to the first outside the spec is done; made by one worker.
-        let Some(trials) = LifeTrials::crossing_ahead(model, wear, points) else {
+        // Known once every stage up to the first outside the spec is done; made by the one
+        // worker that claims it first.
+        let claim = || !crossing_asked.swap(true, Ordering::Relaxed);
+        let Some(trials) = LifeTrials::crossing_ahead(model, wear, points, claim) else {
             return;
         };
-        if crossing_asked.swap(true, Ordering::Relaxed) {
-            return;
-        }
         if let (Some(t), Ok(mut slot)) = (trials, ahead.lock()) {
             *slot = Some(t);
         }
@@ -366,7 +371,6 @@ pub fn run_with_notices(
         run_stage(
             model,
             rates,
-            new,
             i,
             hours,
             map,
@@ -388,8 +392,9 @@ pub fn run_with_notices(
         // analysis, then the FE disc moved onto the worn outline, and the multibody simulation
         // and the flexible analysis side by side.
         let (wear, base) = rayon::join(
-            || parts::wear_history(model, &ground, &wear_progress, &|_| {}),
+            || parts::wear_history_with(model, rates, &wear_progress, &|_| {}),
             || -> Result<DiscSet> {
+                make_new_play();
                 let base = DiscSet::build(&base_profile, &model.fem.params, &model.reducer)?;
                 if unworn_first {
                     let _ = first.set(stage(0, 0.0, &[], &[], Some(&base)));
@@ -427,13 +432,14 @@ pub fn run_with_notices(
         // it, beside the integration; the stages left when it ends are taken the most worn
         // first (each worker takes its latest task first).
         rayon::scope(|s| {
+            s.spawn(|_| make_new_play());
             if unworn_first {
                 s.spawn(|_| {
                     let _ = first.set(stage(0, 0.0, &[], &[], None));
                     take_ahead();
                 });
             }
-            let wear = parts::wear_history(model, &ground, &wear_progress, &|sw| {
+            let wear = parts::wear_history_with(model, rates, &wear_progress, &|sw| {
                 if unworn_first && sw.index == 0 && sw.is_unworn() {
                     return;
                 }
@@ -463,8 +469,15 @@ pub fn run_with_notices(
             let _ = slots[0].set(f);
         }
     }
+    let new = new_play
+        .into_inner()
+        .unwrap_or_else(|| no_load(model, &base_profile))?;
     let outcomes = slots.into_iter().map(|slot| match slot.into_inner() {
-        Some(Outcome::Done(b)) => Some(Ok(*b)),
+        Some(Outcome::Done(b)) => {
+            let (mut stage, play, rest) = *b;
+            play.split(&mut stage.summary, new);
+            Some(Ok((stage, rest)))
+        }
         Some(Outcome::Failed(f)) => Some(Err(f)),
         Some(Outcome::Skipped) | None => None,
     });

@@ -291,6 +291,7 @@ impl PathAngleTable {
         while n <= Self::MAX_NODES {
             let h = 2.0 * s_max / n as f64;
             let nodes = (0..=n)
+                .into_par_iter()
                 .map(|j| {
                     let [t, dt, r, dr] = at(-s_max + j as f64 * h);
                     [t, dt * h, r, dr * h]

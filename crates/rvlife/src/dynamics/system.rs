@@ -168,9 +168,6 @@ pub struct System<'a> {
     /// Last contact force of every pin (disc-major), N: the warm start of the contact law's
     /// inversion.
     f_cache: RefCell<Vec<f64>>,
-    /// Each crank bearing's law as a table (in the order the structural forces visit them;
-    /// made at the first evaluation; docs/model.md section 5.9).
-    b_tables: Vec<std::cell::OnceCell<Option<crate::reducer::BearingTable>>>,
     /// Gap (m) of every pin at its last evaluation and the pin centre in the disc's profile
     /// frame then (disc-major), to skip pins that cannot have closed since (rigid discs).
     open_cache: RefCell<Vec<(f64, Vec2)>>,
@@ -248,9 +245,6 @@ impl<'a> System<'a> {
             zp: geo.pins,
             t_cache: RefCell::new(vec![f64::NAN; 2 * geo.pins]),
             f_cache: RefCell::new(vec![0.0; 2 * geo.pins]),
-            b_tables: (0..red.cranks.max(1) * (1 + red.discs()))
-                .map(|_| std::cell::OnceCell::new())
-                .collect(),
             open_cache: RefCell::new(vec![(f64::NAN, Vec2::zeros()); 2 * geo.pins]),
             max_gradient: Cell::new(1.0),
             flex: None,
@@ -543,7 +537,7 @@ impl<'a> System<'a> {
             &k.dq[..n],
             &k.qd[..n],
             g,
-            &mut BearingEval::Tabulated(&self.b_tables, 0),
+            &mut BearingEval::Exact,
         );
         let mut kept = match contacts {
             Contacts::Compute => None,

@@ -118,19 +118,12 @@ pub fn profile_points(profile: &Profile, per_tooth: usize) -> Vec<(f64, f64, f64
 }
 
 fn csv_bytes(profile: &Profile, per_tooth: usize) -> Result<Vec<u8>> {
-    let rows: Vec<[String; 4]> = profile_points(profile, per_tooth)
-        .into_iter()
-        .map(|(x, y, t, h)| {
-            [
-                format!("{x:.9}"),
-                format!("{y:.9}"),
-                format!("{t:.6}"),
-                format!("{h:.6}"),
-            ]
-        })
-        .collect();
-    let header = ["x_mm", "y_mm", "mesh_angle_deg", "wear_um"].map(String::from);
-    super::rows_bytes(&header, &rows)
+    let points = profile_points(profile, per_tooth);
+    let header = ["x_mm", "y_mm", "mesh_angle_deg", "wear_um"];
+    Ok(super::numbers_bytes(&header, points.len(), 4, |i, j| {
+        let (x, y, t, h) = points[i];
+        [(x, 9), (y, 9), (t, 6), (h, 6)][j]
+    }))
 }
 
 fn dxf_bytes(profile: &Profile, per_tooth: usize) -> Result<Vec<u8>> {

@@ -78,7 +78,84 @@ pub(crate) fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<(
 }
 
 pub(crate) fn f(v: f64) -> String {
-    format!("{v:.6}")
+    fixed(v, 6)
+}
+
+/// `v` with `decimals` digits after the point: the text of `format!("{v:.decimals$}")`, byte
+/// for byte, without its exact decimal expansion where none is needed. `|v| 10^decimals` is
+/// rounded to an integer in floating point (its error at most 1.2e-4 below 1e12) wherever its
+/// fraction lies more than 1e-3 from one half, so that the exact value rounds the same way;
+/// elsewhere (and for non-finite values, more than 9 decimals or 1e12 and above) the
+/// standard formatting.
+pub(crate) fn fixed(v: f64, decimals: usize) -> String {
+    let mut s = String::with_capacity(24);
+    push_fixed(&mut s, v, decimals);
+    s
+}
+
+/// A CSV table of numbers as [`rows_bytes`] writes it: the `header`, then `rows` rows of `cols`
+/// columns, the value of row `i`, column `j` and its decimals `value(i, j)`, each as
+/// [`fixed`] gives it (the fields of numbers and of plain names need no quotes).
+pub(crate) fn numbers_bytes(
+    header: &[impl AsRef<str>],
+    rows: usize,
+    cols: usize,
+    value: impl Fn(usize, usize) -> (f64, usize),
+) -> Vec<u8> {
+    let mut s = header
+        .iter()
+        .map(|h| h.as_ref())
+        .collect::<Vec<_>>()
+        .join(",");
+    s.reserve(rows * cols * 14);
+    s.push('\n');
+    for i in 0..rows {
+        for j in 0..cols {
+            if j > 0 {
+                s.push(',');
+            }
+            let (v, decimals) = value(i, j);
+            push_fixed(&mut s, v, decimals);
+        }
+        s.push('\n');
+    }
+    s.into_bytes()
+}
+
+/// Appends [`fixed`]`(v, decimals)` to `s`.
+pub(crate) fn push_fixed(s: &mut String, v: f64, decimals: usize) {
+    use std::fmt::Write;
+    const POW10: [u64; 10] = [
+        1,
+        10,
+        100,
+        1_000,
+        10_000,
+        100_000,
+        1_000_000,
+        10_000_000,
+        100_000_000,
+        1_000_000_000,
+    ];
+    if let Some(&p) = POW10.get(decimals) {
+        let y = v.abs() * p as f64;
+        if y < 1e12 && (y - y.floor() - 0.5).abs() > 1e-3 {
+            let n = y.round() as u64;
+            if v.is_sign_negative() {
+                s.push('-');
+            }
+            let mut digits = itoa::Buffer::new();
+            s.push_str(digits.format(n / p));
+            if decimals > 0 {
+                s.push('.');
+                let fraction = digits.format(n % p);
+                s.extend(std::iter::repeat_n('0', decimals - fraction.len()));
+                s.push_str(fraction);
+            }
+            return;
+        }
+    }
+    let _ = write!(s, "{v:.decimals$}");
 }
 
 pub(crate) fn hours_tag(h: f64) -> String {
@@ -86,5 +163,47 @@ pub(crate) fn hours_tag(h: f64) -> String {
         format!("{h:.0}h")
     } else {
         format!("{h}h").replace('.', "p")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fixed;
+    use rand::{Rng, SeedableRng};
+
+    /// [`fixed`] against the standard formatting, byte for byte: 400 000 values over every
+    /// scale from 1e-14 to 1e13 of both signs, the halfway points `(k + 1/2) 10^-d` and their
+    /// neighbours one ulp away (where the fast path must give way), zeros and non-finite values.
+    #[test]
+    fn fixed_is_the_standard_formatting() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let mut values = vec![
+            0.0,
+            -0.0,
+            1e-300,
+            -1e-300,
+            f64::NAN,
+            f64::INFINITY,
+            -f64::INFINITY,
+        ];
+        for _ in 0..200_000 {
+            let v: f64 = 10f64.powf(rng.random_range(-14.0..13.0)) * rng.random_range(1.0..10.0);
+            values.push(if rng.random_bool(0.5) { -v } else { v });
+        }
+        for d in 0..10usize {
+            for _ in 0..20_000 {
+                let k: u64 = rng.random_range(0..10_000_000);
+                let half = (k as f64 + 0.5) / 10f64.powi(d as i32);
+                values.extend([half, f64::from_bits(half.to_bits() + 1), -half]);
+                if half > 0.0 {
+                    values.push(f64::from_bits(half.to_bits() - 1));
+                }
+            }
+        }
+        for &v in &values {
+            for d in 0..12usize {
+                assert_eq!(fixed(v, d), format!("{v:.d$}"), "{v:e} to {d} decimals");
+            }
+        }
     }
 }

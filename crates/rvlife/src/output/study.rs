@@ -21,7 +21,7 @@ use std::path::Path;
 use rayon::prelude::*;
 
 use super::export::{profile_bytes, ProfileFormat, EXPORT_POINTS_PER_TOOTH};
-use super::{f, hours_tag, json_bytes, rows_bytes};
+use super::{f, hours_tag, json_bytes, numbers_bytes, rows_bytes};
 #[cfg(feature = "files")]
 use super::{write_json, write_rows};
 #[cfg(feature = "files")]
@@ -198,18 +198,15 @@ pub fn tables(study: &Study) -> Result<Vec<(String, Vec<u8>)>> {
         .collect();
     let mut header = vec!["input_deg".to_string()];
     header.extend(tags.iter().map(|t| format!("ste_arcmin_{t}")));
-    let rows: Vec<Vec<String>> = (0..curves[0].0.len())
-        .map(|i| {
-            let mut r = vec![format!("{:.4}", curves[0].0[i])];
-            r.extend(
-                curves
-                    .iter()
-                    .map(|c| format!("{:.5}", c.1[i] * ARCMIN_PER_RAD)),
-            );
-            r
-        })
-        .collect();
-    files.push(rows_bytes(&header, &rows)?);
+    files.push(numbers_bytes(
+        &header,
+        curves[0].0.len(),
+        1 + curves.len(),
+        |i, j| match j {
+            0 => (curves[0].0[i], 4),
+            _ => (curves[j - 1].1[i] * ARCMIN_PER_RAD, 5),
+        },
+    ));
 
     // hysteresis.csv: the curve of every stage, averaged over a mesh cycle.
     let header: Vec<String> = ["hours", "torque_nm", "twist_arcmin"]
@@ -376,9 +373,9 @@ pub fn write_dynamics_files(res: &crate::dynamics::DynamicsResult, dir: &Path) -
             .iter()
             .map(|s| {
                 vec![
-                    format!("{:.7}", s.time_s),
-                    format!("{:.9}", s.input_angle_deg),
-                    format!("{:.9}", s.output_angle_deg),
+                    super::fixed(s.time_s, 7),
+                    super::fixed(s.input_angle_deg, 9),
+                    super::fixed(s.output_angle_deg, 9),
                     f(s.input_speed_deg_s),
                     f(s.output_speed_deg_s),
                     f(s.te_arcmin),
@@ -402,8 +399,8 @@ pub fn write_dynamics_files(res: &crate::dynamics::DynamicsResult, dir: &Path) -
                 .iter()
                 .zip(forces)
                 .map(|(s, r)| {
-                    std::iter::once(format!("{:.7}", s.time_s))
-                        .chain(r.iter().map(|v| format!("{v:.3}")))
+                    std::iter::once(super::fixed(s.time_s, 7))
+                        .chain(r.iter().map(|v| super::fixed(*v, 3)))
                         .collect()
                 })
                 .collect();

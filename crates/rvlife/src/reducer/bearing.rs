@@ -260,14 +260,14 @@ impl RadialBearing {
         Some(self.roller_loads(0.5 * (lo + hi)))
     }
 
-    /// Radial force (N) at a total displacement `x >= 0` (m) of the bearing and its series
-    /// parts, and `dF/dx` (N/m): the bearing's share `d` solves `g(d) = d + F(d)/k_s - x = 0`;
-    /// plus the dead-band spring. `g` is increasing and convex above the clearance (`F`
-    /// convex). The root is started from the local power law `F(x) ((d - c/2)/(x - c/2))^q`
-    /// through the value and slope of `F` at `x` (exact for rollers without clearance, whose
-    /// loaded set does not change with `d`), then refined by Halley's method (third order:
-    /// two or three roller sums from that start reach round-off) to about `1e-15` of the share.
-    pub fn radial_force(&self, x: f64) -> (f64, f64) {
+    /// The exact radial law of [`RadialBearing::radial_force`]: the bearing's share `d`
+    /// solves `g(d) = d + F(d)/k_s - x = 0`; plus the dead-band spring. `g` is increasing and
+    /// convex above the clearance (`F` convex). The root is started from the local power law
+    /// `F(x) ((d - c/2)/(x - c/2))^q` through the value and slope of `F` at `x` (exact for
+    /// rollers without clearance, whose loaded set does not change with `d`), then refined by
+    /// Halley's method (third order: two or three roller sums from that start reach
+    /// round-off) to about `1e-15` of the share.
+    pub fn radial_force_exact(&self, x: f64) -> (f64, f64) {
         let reg = if self.has_dead_band() {
             DEAD_BAND_STIFFNESS
         } else {
@@ -289,7 +289,7 @@ impl RadialBearing {
     }
 
     /// The bearing's force and stiffness `(F(d), F'(d))` at its share `d` of a total
-    /// displacement `x > half` with series stiffness `ks` ([`RadialBearing::radial_force`]).
+    /// displacement `x > half` with series stiffness `ks` ([`RadialBearing::radial_force_exact`]).
     fn series_share(&self, x: f64, half: f64, ks: f64) -> (f64, f64) {
         let u = x - half;
         let y = {
@@ -432,12 +432,10 @@ impl RadialBearing {
         )
     }
 
-    /// Elastic energy (J) at the relative position `r` (m), whose gradient is
-    /// [`RadialBearing::force`] at rest: the rollers' `rows K_n sum (9/19) delta_i^(19/9)`
-    /// (or the linear spring's) at the bearing's own share `d`, plus `F^2 / (2 k_s)` in the
-    /// series parts and the dead-band spring's.
-    pub(crate) fn energy(&self, r: Vec2) -> f64 {
-        let x = r.norm();
+    /// The energy (J) of the exact law at a displacement `x` (m): the rollers' `rows K_n sum
+    /// (9/19) delta_i^(19/9)` (or the linear spring's) at the bearing's own share `d`, plus
+    /// `F^2 / (2 k_s)` in the series parts and the dead-band spring's.
+    pub(crate) fn energy_exact(&self, x: f64) -> f64 {
         let reg = if self.has_dead_band() {
             0.5 * DEAD_BAND_STIFFNESS * x * x
         } else {
@@ -447,7 +445,7 @@ impl RadialBearing {
         if x <= half {
             return reg;
         }
-        let (f, _) = self.radial_force(x);
+        let (f, _) = self.radial_force_exact(x);
         let f = f - if self.has_dead_band() {
             DEAD_BAND_STIFFNESS * x
         } else {

@@ -1,12 +1,11 @@
 //! How the reducer's structural forces evaluate its crank bearings
-//! ([`crate::reducer::Reducer::structural_forces_with`]): exactly, recording each bearing's
-//! state, linearised at a recorded state, or from each bearing's table (the multibody model;
-//! docs/model.md section 5.9).
+//! ([`crate::reducer::Reducer::structural_forces_with`]): by their law (a roller bearing's from
+//! its table, docs/model.md section 5.9), recording each bearing's state, or linearised at a
+//! recorded state.
 
 use nalgebra::Matrix2;
 
 use super::bearing::RadialBearing;
-use super::bearing_table::BearingTable;
 use crate::geometry::Vec2;
 
 /// A bearing's state recorded by [`BearingEval::Record`]: relative position (m), static force
@@ -25,28 +24,26 @@ impl Frozen {
     }
 }
 
-/// How [`crate::reducer::Reducer::structural_forces_with`] evaluates the bearings: exactly,
-/// exactly while recording each bearing's state (in call order), or each bearing's law
-/// linearised at a recorded state (for the structural stiffness by differences of the forces:
-/// exact kinematics, no roller sums).
+/// How [`crate::reducer::Reducer::structural_forces_with`] evaluates the bearings: by their law
+/// ([`RadialBearing::force`]), by it while recording each bearing's state (in call order), or
+/// each bearing's law linearised at a recorded state (for the structural stiffness by
+/// differences of the forces: exact kinematics, no look-ups).
 pub(crate) enum BearingEval<'a> {
+    /// By the law ([`RadialBearing::force`]).
     Exact,
     /// Records each bearing's state; with `true` its stiffness floored
     /// ([`RadialBearing::stiffness_matrix_floored`]).
     Record(&'a mut Vec<Frozen>, bool),
     Frozen(&'a [Frozen], usize),
-    /// Each bearing's law from its table (one slot per bearing, in call order, the table made
-    /// at the first call; `None` in a slot: a linear bearing, evaluated exactly).
-    Tabulated(&'a [std::cell::OnceCell<Option<BearingTable>>], usize),
 }
 
 impl BearingEval<'_> {
-    /// Passes over one bearing in call order without evaluating it (its slot in `Frozen` and
-    /// `Tabulated` is skipped; `Exact` and `Record` keep no order and are left as they are).
+    /// Passes over one bearing in call order without evaluating it (its slot in `Frozen` is
+    /// skipped; `Exact` and `Record` keep no order and are left as they are).
     #[inline]
     pub(crate) fn skip(&mut self) {
         match self {
-            BearingEval::Frozen(_, next) | BearingEval::Tabulated(_, next) => *next += 1,
+            BearingEval::Frozen(_, next) => *next += 1,
             BearingEval::Exact | BearingEval::Record(..) => {}
         }
     }
@@ -66,17 +63,6 @@ impl BearingEval<'_> {
                 let s = list[*next];
                 *next += 1;
                 s.f + s.k * (r - s.r)
-            }
-            BearingEval::Tabulated(tables, next) => {
-                let i = *next;
-                *next += 1;
-                match tables
-                    .get(i)
-                    .map(|t| t.get_or_init(|| BearingTable::new(bearing)))
-                {
-                    Some(Some(table)) => table.force(r, rd),
-                    _ => bearing.force(r, rd),
-                }
             }
         }
     }

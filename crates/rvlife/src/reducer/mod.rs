@@ -31,6 +31,7 @@ mod play;
 
 pub use bearing::{BearingLaw, RadialBearing, DEAD_BAND_STIFFNESS, TAKE_UP_WIDTH};
 pub(crate) use bearing_eval::{BearingEval, Frozen};
+#[cfg(test)]
 pub(crate) use bearing_table::BearingTable;
 pub use pin_wear::{angle_on_pin, contact_direction, PinWear, PIN_MAP_POINTS};
 pub(crate) use play::{Element, ElementLaw, MeshElement};

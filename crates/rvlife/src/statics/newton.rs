@@ -15,6 +15,15 @@ const STEP_LIMIT_GUESSES: f64 = 16.0;
 /// check allows the whole tolerance).
 const STALL_FRACTION: f64 = 0.1;
 
+/// Fraction of [`RESIDUAL_TOLERANCE`] at which the torque-controlled solve stops (the
+/// solution's check allows the whole tolerance). Where a pin has just touched, its contact
+/// law's curvature (the force's second derivative in the approach, large at small approach)
+/// holds Newton's method near a thousandfold reduction of the residual per step instead of
+/// squaring it, so a tighter aim costs a whole step (an evaluation and a tangent) for
+/// twists that move by about 1e-15 m at the pin circle (the residual's 1e-9 of the force
+/// scale over the contacts' stiffness).
+const CONVERGED_FRACTION: f64 = 0.3;
+
 /// Twist beyond first contact (rad) at which an iterate of the torque-controlled solve is lost:
 /// four times the analysis' range (`MAX_TWIST`), a quarter of a tooth of the example (a step
 /// bounded to a quarter of the range cannot pass a pin's flank, where the potential rises).
@@ -438,7 +447,7 @@ impl<'a> StaticAnalysis<'a> {
                 exact = !floored;
             }
             last_res = res;
-            if res <= 0.01 * RESIDUAL_TOLERANCE * scale {
+            if res <= CONVERGED_FRACTION * RESIDUAL_TOLERANCE * scale {
                 let kt = match kt {
                     Some(kt) if fresh && exact => kt,
                     _ => self.tangent(k_struct, &ev, fr, z),

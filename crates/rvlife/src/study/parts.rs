@@ -2,8 +2,7 @@
 //! no memory (the web page's Web Workers, each with its own WebAssembly instance): what
 //! [`super::run`] does on one machine's threads, without the dynamics and the flexible disc.
 //!
-//! 1. [`ground`]: the crank bearings' wear rates and the new reducer's play, which every
-//!    other part needs;
+//! 1. [`ground`]: the crank bearings' wear rates, which every other part needs;
 //! 2. [`wear_history`]: the wear integration to the stages (one worker), while
 //!    [`unworn_first`], the 0 h stage, needs none and can be analysed beside it;
 //! 3. [`static_stage`] for every stage of [`stage_wears`], on any worker, in any order;
@@ -19,7 +18,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::results::Study;
-use super::stage::{no_load, stage_maps, static_part, Failure, NoLoad, Stage};
+use super::stage::{no_load, stage_maps, static_part, Failure, NoLoad, Stage, UnwornPlay};
 use super::trials::{study_life, LifeTrials};
 use crate::config::Model;
 use crate::error::{Error, Result};
@@ -28,50 +27,20 @@ use crate::te::{LoadedTe, RevolutionTe, StaticTe, TwistTable};
 use crate::wear::{BearingWearRates, ValidityLimit, WearHistory, WearInputs, WearModelKind};
 
 /// What every part of a study starts from: the crank bearings' clearance growth from the new
-/// reducer's loads (docs/model.md section 7.9) and the new reducer's play, against which the
-/// stages' lost motion is split (section 6.5).
+/// reducer's loads (docs/model.md section 7.9).
 #[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct Ground {
     rates: BearingWearRates,
-    new: NoLoad,
 }
 
-/// The [`Ground`] of a study of `model` (about a twentieth of a study's work).
+/// The [`Ground`] of a study of `model` (nothing to solve where the bearings do not wear).
 ///
 /// # Errors
 /// Solver failures on the new reducer.
 pub fn ground(model: &Model) -> Result<Ground> {
-    ground_on(model, &model.profile()?)
-}
-
-/// [`ground`] with the model's unworn profile `profile` at hand.
-///
-/// # Errors
-/// As [`ground`].
-pub(super) fn ground_on(model: &Model, profile: &crate::geometry::Profile) -> Result<Ground> {
-    let rates = crate::config::bearing_rates(model)?;
-    let new = no_load(model, profile)?;
-    Ok(Ground { rates, new })
-}
-
-impl Ground {
-    /// The crank bearings' clearance growth, m/h.
-    pub(crate) fn rates(&self) -> BearingWearRates {
-        self.rates
-    }
-
-    /// The new reducer's play.
-    pub(crate) fn new_play(&self) -> NoLoad {
-        self.new
-    }
-
-    /// The wear integration's inputs of `model` with these bearing rates.
-    pub(crate) fn wear_inputs<'a>(&self, model: &'a Model) -> WearInputs<'a> {
-        WearInputs {
-            bearing_rates: self.rates,
-            ..model.wear_inputs()
-        }
-    }
+    Ok(Ground {
+        rates: crate::config::bearing_rates(model)?,
+    })
 }
 
 /// The steps of [`wear_history`]'s progress for `model`: its wear-rate evaluations as
@@ -100,7 +69,25 @@ pub fn wear_history(
     progress: &(dyn Fn(usize, usize) + Sync),
     on_stage: &dyn Fn(StageWear),
 ) -> Result<WearHistory> {
-    crate::wear::integrate_with_stages(&ground.wear_inputs(model), progress, &|s| {
+    wear_history_with(model, ground.rates, progress, on_stage)
+}
+
+/// [`wear_history`] with the crank bearings' clearance growth `rates` (m/h), what it takes of
+/// the [`Ground`].
+///
+/// # Errors
+/// As [`wear_history`].
+pub(super) fn wear_history_with(
+    model: &Model,
+    rates: BearingWearRates,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    on_stage: &dyn Fn(StageWear),
+) -> Result<WearHistory> {
+    let inputs = WearInputs {
+        bearing_rates: rates,
+        ..model.wear_inputs()
+    };
+    crate::wear::integrate_with_stages(&inputs, progress, &|s| {
         on_stage(StageWear {
             index: s.index,
             hours: s.hours,
@@ -160,7 +147,9 @@ pub fn unworn_first(model: &Model) -> Option<StageWear> {
 }
 
 /// A stage's static results without its profile (which [`assemble`] makes again from the
-/// wear history) and without dynamics or flexible results.
+/// wear history) and without dynamics or flexible results; its play not yet split against the
+/// new reducer's (the unworn disc's play on its parts kept for that), which the first stage
+/// finds when it lies at 0 h (beside the wear integration, as [`super::run`] does).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 struct StageRecord {
     ste: StaticTe,
@@ -168,6 +157,8 @@ struct StageRecord {
     hysteresis: TwistTable,
     revolution: Option<RevolutionTe>,
     summary: StageSummary,
+    play: UnwornPlay,
+    new: Option<NoLoad>,
 }
 
 /// A failure as it crosses between workers: the error's kind and words, so that
@@ -280,29 +271,37 @@ impl StageOutcome {
 
 /// The static analysis of one stage of a study of `model` (what [`super::run`] does for each
 /// stage before the dynamics and the flexible disc): the worn profile, the static TE,
-/// hysteresis curve, loaded TE and the play split by source, on the parts as worn by then.
+/// hysteresis curve, loaded TE and the unworn disc's play on the parts as worn by then (the
+/// play is split by source in [`assemble`]); the first stage, at 0 h, also finds the new
+/// reducer's play.
 pub fn static_stage(model: &Model, ground: &Ground, stage: &StageWear) -> StageOutcome {
     let result = model
         .profile()
         .map_err(|e| Failure::Static(e, 0.0))
         .and_then(|base| {
-            static_part(
+            let (s, _, play) = static_part(
                 model,
                 ground.rates,
-                ground.new,
                 stage.hours,
                 &stage.map,
                 &stage.pin_map,
                 &base,
-            )
+            )?;
+            let new = (stage.index == 0 && stage.hours == 0.0)
+                .then(|| no_load(model, &base))
+                .transpose()
+                .map_err(|e| Failure::Static(e, 0.0))?;
+            Ok((s, play, new))
         })
-        .map(|(s, _)| {
+        .map(|(s, play, new)| {
             Box::new(StageRecord {
                 ste: s.ste,
                 loaded: s.loaded,
                 hysteresis: s.hysteresis,
                 revolution: s.revolution,
                 summary: s.summary,
+                play,
+                new,
             })
         })
         .map_err(|f| match f {
@@ -358,7 +357,7 @@ pub fn crossing_ahead(
             });
         }
     }
-    LifeTrials::crossing_ahead(model, wear, points).map(LifeAhead)
+    LifeTrials::crossing_ahead(model, wear, points, || true).map(LifeAhead)
 }
 
 /// [`assemble`] with the accuracy life's trials made ahead ([`crossing_ahead`]).
@@ -386,13 +385,28 @@ pub fn assemble_ahead(
         }
         slots[i] = Some(o);
     }
+    // The new reducer's play: the first stage's, else found here when a stage needs it.
+    let mut new = slots
+        .first()
+        .and_then(|o| o.as_ref())
+        .and_then(|o| o.result.as_ref().ok())
+        .and_then(|r| r.new);
+    let mut new_play = || -> Result<NoLoad> {
+        if let Some(n) = new {
+            return Ok(n);
+        }
+        let n = no_load(model, &model.profile()?)?;
+        new = Some(n);
+        Ok(n)
+    };
     let outcomes: Vec<_> = slots
         .into_iter()
         .zip(&wear.maps)
         .map(|(slot, map)| {
             slot.map(|o| match o.result {
-                Ok(r) => stage_maps(model, map)
+                Ok(mut r) => stage_maps(model, map)
                     .and_then(|(wear_map, te_map)| {
+                        r.play.split(&mut r.summary, new_play()?);
                         Ok(Stage {
                             hours: o.hours,
                             wear: wear_map,

@@ -11,9 +11,9 @@ use crate::geometry::{Profile, WearMap};
 use crate::quantities::{AccuracyPoint, StageSummary, ACCURACY, ANGULAR_TE, STAGE};
 use crate::statics::StaticAnalysis;
 use crate::te::{
-    angular_te_of, hysteresis_and_rated, hysteresis_with, loaded_te_with, mesh_cycle_angles,
-    revolution, revolution_no_load, static_te_with, torque_fractions, CurveStats, LoadedTe,
-    RevolutionTe, StaticTe, TwistTable, HYSTERESIS_LEVELS, PLAY_ROUND_OFF,
+    angular_te_of, hysteresis_and_rated, hysteresis_with_from, loaded_te_with, mesh_cycle_angles,
+    revolution, revolution_no_load, static_te_with, torque_fractions, CrankStart, CurveStats,
+    LoadedTe, RevolutionTe, StaticTe, TwistTable, HYSTERESIS_LEVELS, PLAY_ROUND_OFF,
 };
 use crate::units::ARCMIN_PER_RAD;
 use crate::wear::{BearingWearRates, WearModelKind};
@@ -236,9 +236,13 @@ pub(crate) fn analyse_profile(
 /// [`analyse_profile`] finds them, without the loaded TE: the accuracy life's trials.
 ///
 /// A trial reads the curve at the three torques the quantities are defined at (zero, the
-/// measuring and the rated torque: [`hysteresis_with`] with one level), not on the stage's
-/// plotted grid: each loaded twist is the equilibrium at its torque whatever the levels solved
-/// before it, so the quantities are the stage analysis's to the solver's tolerance. With part
+/// measuring and the rated torque: [`hysteresis_with_from`] with one level), not on the
+/// stage's plotted grid: each loaded twist is the equilibrium at its torque whatever the
+/// levels solved before it, so the quantities are the stage analysis's to the solver's
+/// tolerance. Each crank angle's search starts from its entry of `warm` (the same crank angle
+/// at the trial before, which the search then holds for the next: the contact problems from
+/// that trial's configurations, the first loaded levels from its solutions; empty: as cold),
+/// as a sampled reducer's stages do; the same equilibria to the solvers' tolerances. With part
 /// errors and no angular TE in `[life]`, the revolution is not solved and the point's angular
 /// TE is NaN: a trial's point never leaves the life search, which reads only the quantities the
 /// spec bounds ([`crate::life::margins`]).
@@ -249,16 +253,18 @@ pub(super) fn accuracy_point(
     model: &Model,
     profile: &Profile,
     hours: f64,
+    warm: &mut Vec<CrankStart>,
 ) -> Result<AccuracyPoint> {
     let red = &model.reducer;
     let sa = StaticAnalysis::new(red, profile)?;
     let phis = mesh_cycle_angles(red.geometry.pins, model.te.samples);
-    let (tables, mean) = hysteresis_with(
+    let (tables, mean) = hysteresis_with_from(
         &sa,
         &phis,
         model.rating.rated_torque,
         model.te.measuring_torque_fraction,
         1,
+        warm,
     )?;
     let acc = mean.accuracy();
     let angular_te = if red.errors.is_zero() {
@@ -324,7 +330,7 @@ pub(super) fn no_load(model: &Model, profile: &Profile) -> Result<NoLoad> {
 /// pins' wear (the unworn disc's on the stage's bearings and pins, `parts`, beyond
 /// `bearings`) and the disc's wear (the rest), the elastic part being the lost motion beyond
 /// the backlash; and its angular TE the same way (docs/model.md section 6.5).
-pub(super) fn split_play(s: &mut StageSummary, new: NoLoad, bearings: NoLoad, parts: NoLoad) {
+fn split_play(s: &mut StageSummary, new: NoLoad, bearings: NoLoad, parts: NoLoad) {
     s.lost_motion_assembly_arcmin = arcmin(new.play);
     s.lost_motion_bearing_wear_arcmin = arcmin(bearings.play - new.play);
     s.lost_motion_pin_wear_arcmin = arcmin(parts.play - bearings.play);
@@ -374,21 +380,39 @@ pub(super) enum Failure {
     Static(Error, f64),
 }
 
+/// The unworn disc's play on the parts of one stage (docs/model.md section 6.5), against
+/// which [`split_play`] splits the stage's play: on the stage's bearings, then on its bearings
+/// and pins. `None` where those parts have not worn by then: `bearings` the new reducer's,
+/// `parts` the same as `bearings`.
+#[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize)]
+pub(super) struct UnwornPlay {
+    bearings: Option<NoLoad>,
+    parts: Option<NoLoad>,
+}
+
+impl UnwornPlay {
+    /// [`split_play`] of `s` against the new reducer's play `new` and these.
+    pub(super) fn split(self, s: &mut StageSummary, new: NoLoad) {
+        let bearings = self.bearings.unwrap_or(new);
+        split_play(s, new, bearings, self.parts.unwrap_or(bearings));
+    }
+}
+
 /// The static part of the stage at `hours` with the wear depth `map` (m per grid point; empty
 /// or zero: unworn) and the pins' wear `pin_map` (m round the pin; empty or zero: unworn):
 /// the worn profile, its static analysis on the parts as worn by then (the crank bearings'
-/// clearance grown by `rates`, the pins by `pin_map`), and its play split against the new
-/// reducer's (`new`) and the unworn disc's on those parts (docs/model.md section 6.5). Also
-/// returns the model with the worn parts. The stage has no dynamics or flexible results yet.
+/// clearance grown by `rates`, the pins by `pin_map`), and the unworn disc's play on those
+/// parts, against which its play is split once the new reducer's is known
+/// ([`UnwornPlay::split`]; the summary's split fields are zero until then). Also returns the
+/// model with the worn parts. The stage has no dynamics or flexible results yet.
 pub(super) fn static_part<'a>(
     model: &'a Model,
     rates: BearingWearRates,
-    new: NoLoad,
     hours: f64,
     map: &[f64],
     pin_map: &[f64],
     base_profile: &Profile,
-) -> std::result::Result<(Stage, std::borrow::Cow<'a, Model>), Failure> {
+) -> std::result::Result<(Stage, std::borrow::Cow<'a, Model>, UnwornPlay), Failure> {
     // The crank bearings as worn by this stage's hours (their rates are constant in time),
     // and the pins as worn by then.
     let base_model = model;
@@ -396,32 +420,34 @@ pub(super) fn static_part<'a>(
     let model: &Model = &staged;
     let max = map.iter().copied().fold(0.0, f64::max);
     let (wear_map, te_map) = stage_maps(model, map).map_err(Failure::Prepare)?;
-    let (profile, mut a) = model
+    let (profile, a) = model
         .cycloid
         .profile(te_map)
         .and_then(|p| analyse_profile(model, &p, hours).map(|a| (p, a)))
         .map_err(|e| Failure::Static(e, max))?;
     // The unworn disc's play on this stage's bearings, then on its bearings and pins (the new
     // reducer's unless they wear).
-    let unworn = || -> Result<(NoLoad, NoLoad)> {
+    let unworn = || -> Result<UnwornPlay> {
         if std::ptr::eq(model, base_model) {
-            return Ok((new, new));
+            return Ok(UnwornPlay {
+                bearings: None,
+                parts: None,
+            });
         }
         let bearings_only = crate::config::worn_parts(base_model, rates, hours, &[]);
         let bearings = if std::ptr::eq(&*bearings_only, base_model) {
-            new
+            None
         } else {
-            no_load(&bearings_only, base_profile)?
+            Some(no_load(&bearings_only, base_profile)?)
         };
         let parts = if model.reducer.pin_wear.is_zero() {
-            bearings
+            None
         } else {
-            no_load(model, base_profile)?
+            Some(no_load(model, base_profile)?)
         };
-        Ok((bearings, parts))
+        Ok(UnwornPlay { bearings, parts })
     };
-    let (b, p) = unworn().map_err(|e| Failure::Static(e, max))?;
-    split_play(&mut a.summary, new, b, p);
+    let play = unworn().map_err(|e| Failure::Static(e, max))?;
     let stage = Stage {
         hours,
         wear: wear_map,
@@ -434,5 +460,5 @@ pub(super) fn static_part<'a>(
         dynamics: None,
         flexible: None,
     };
-    Ok((stage, staged))
+    Ok((stage, staged, play))
 }

@@ -6,6 +6,7 @@ use super::stage::{accuracy_point, stage_maps};
 use crate::config::Model;
 use crate::error::Result;
 use crate::quantities::{AccuracyPoint, StageSummary};
+use crate::te::CrankStart;
 use crate::wear::{integrate, BearingWearRates, WearHistory, WearInputs};
 
 /// [`crate::life::accuracy_life`] of a study of `model`: the stages' summaries, each trial
@@ -55,6 +56,8 @@ pub(crate) struct LifeTrials {
     rates: BearingWearRates,
     history: WearHistory,
     seen: Vec<AccuracyPoint>,
+    /// Where the next trial's crank angles start: the last trial's ([`accuracy_point`]).
+    starts: Vec<CrankStart>,
 }
 
 impl LifeTrials {
@@ -70,6 +73,7 @@ impl LifeTrials {
             rates: crate::config::bearing_rates(model)?,
             history: wear.clone(),
             seen: Vec::new(),
+            starts: Vec::new(),
         })
     }
 
@@ -88,13 +92,16 @@ impl LifeTrials {
     /// `Some(None)`: the stage failed). `None` while the crossing is not known yet (a stage up
     /// to the first outside the spec, or any stage when none is outside so far, still to
     /// come); `Some(None)` when no trials are to be made there (the first stage outside, none
-    /// outside, or a failure before); otherwise the trials. The accuracy life's search there
+    /// outside, or a failure before, or `claim` returning `false`: another worker makes them);
+    /// otherwise the trials. `claim` is called once the crossing is known, before any trial:
+    /// the one worker it returns `true` to makes them. The accuracy life's search there
     /// ([`crate::life::accuracy_life`]) meets the same trials again and finds them done. Their
     /// failures are left to the search itself.
     pub(crate) fn crossing_ahead(
         model: &Model,
         wear: &WearHistory,
         stages: impl IntoIterator<Item = Option<Option<AccuracyPoint>>>,
+        claim: impl FnOnce() -> bool,
     ) -> Option<Option<Self>> {
         if !model.life.any() {
             return Some(None);
@@ -113,7 +120,7 @@ impl LifeTrials {
         let Some(&last) = points.last() else {
             return Some(None);
         };
-        if points.len() < 2 || !crate::life::outside(&model.life, &last) {
+        if points.len() < 2 || !crate::life::outside(&model.life, &last) || !claim() {
             return Some(None);
         }
         let Ok(mut trials) = LifeTrials::new(model, wear, last) else {
@@ -171,6 +178,7 @@ impl LifeTrials {
             &crate::config::worn_parts(model, rates, h, &pins),
             &profile,
             h,
+            &mut self.starts,
         )?;
         self.seen.push(p);
         Ok(p)

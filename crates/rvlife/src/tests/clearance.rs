@@ -518,15 +518,19 @@ fn mesh_backlash_adds_its_closed_form_play() {
     }
 }
 
-/// The multibody model's tabulated bearing law (`reducer::BearingTable`) against the exact
-/// law: the force within 1e-7 relative (of the force without the dead-band spring) at 12 500
-/// displacements from 1 nm to 1 mm beyond the clearance, log-uniform (the rollers' first
-/// contacts among them), on both crank bearings of every built-in reducer with clearances of 0
-/// to 40 um, with and without their series parts.
+/// The analyses' tabulated bearing law (`reducer::BearingTable`) against the exact law: the
+/// force within 1e-7 relative (of the force without the dead-band spring), its stiffness (the
+/// interpolant's derivative) within 1e-4 and its energy within 1e-7, at 12 500 displacements
+/// from 1 nm to 1 mm beyond the clearance, log-uniform (the rollers' first contacts among
+/// them), on both crank bearings of every built-in reducer with clearances of 0 to 40 um, with
+/// and without their series parts; and the energy's derivative (central differences over
+/// 1e-6 of the displacement beyond the clearance) the tabulated force within 1e-8, so that
+/// the static solver's potential and forces agree.
 #[test]
 fn tabulated_bearing_law_is_the_exact_law() {
     use crate::reducer::BearingTable;
     let mut worst: f64 = 0.0;
+    let (mut worst_k, mut worst_e, mut worst_de): (f64, f64, f64) = (0.0, 0.0, 0.0);
     for preset in crate::config::PRESETS {
         let m = Config::from_toml_in(&preset_text(preset.name).unwrap(), "preset", None)
             .unwrap()
@@ -548,14 +552,32 @@ fn tabulated_bearing_law_is_the_exact_law() {
                     let n = 12_500;
                     for i in 0..=n {
                         let x = half + 1e-9 * 1e6_f64.powf(i as f64 / n as f64);
-                        let f = bearing.radial_force(x).0;
+                        let (f, k) = bearing.radial_force_exact(x);
                         let elastic = f - DEAD_BAND_STIFFNESS * x;
-                        worst = worst.max((table.radial_force(x) - f).abs() / elastic);
+                        let (ft, kt) = table.radial_force_and_stiffness(x);
+                        worst = worst.max((ft - f).abs() / elastic);
+                        worst_k = worst_k.max((kt - k).abs() / (k - DEAD_BAND_STIFFNESS));
+                        let spring = 0.5 * DEAD_BAND_STIFFNESS * x * x;
+                        let e = bearing.energy_exact(x);
+                        worst_e = worst_e.max((table.energy(x) - e).abs() / (e - spring));
+                        // The work's derivative against the force without the dead-band
+                        // spring (whose energy is exact).
+                        let u = x - half;
+                        let h = 1e-6 * u;
+                        let de = (table.work(u + h) - table.work(u - h)) / (2.0 * h);
+                        let fe = ft - DEAD_BAND_STIFFNESS * x;
+                        worst_de = worst_de.max((de - fe).abs() / fe);
                     }
                 }
             }
         }
     }
-    eprintln!("tabulated bearing law: force within {worst:.2e}");
+    eprintln!(
+        "tabulated bearing law: force within {worst:.2e}, stiffness {worst_k:.2e}, energy \
+         {worst_e:.2e}, energy's derivative {worst_de:.2e} of the force"
+    );
     assert!(worst < 1e-7, "{worst:e}");
+    assert!(worst_k < 1e-4, "{worst_k:e}");
+    assert!(worst_e < 1e-7, "{worst_e:e}");
+    assert!(worst_de < 1e-8, "{worst_de:e}");
 }
