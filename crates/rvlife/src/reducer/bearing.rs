@@ -351,7 +351,22 @@ impl RadialBearing {
     /// of `|r|` plus damping along `r` while the bearing carries load.
     #[inline]
     pub fn force(&self, r: Vec2, rd: Vec2) -> Vec2 {
-        self.force_with(r, rd, |x| self.radial_force(x).0)
+        if let Some(stiffness) = self.plain_linear() {
+            return r * stiffness + rd * self.damping;
+        }
+        let len = r.norm();
+        if len == 0.0 {
+            return rd * self.damping.min(DEAD_BAND_STIFFNESS);
+        }
+        let n = r / len;
+        let f = self.radial_force(len).0;
+        let elastic = f - DEAD_BAND_STIFFNESS * len * f64::from(self.has_dead_band());
+        let damp = if elastic > 0.0 {
+            self.damping * rd.dot(&n)
+        } else {
+            0.0
+        };
+        n * (f + damp).max(0.0)
     }
 
     /// The stiffness (N/m) of a linear bearing without clearance or series parts, whose force
@@ -365,28 +380,6 @@ impl RadialBearing {
             }
             _ => None,
         }
-    }
-
-    /// [`RadialBearing::force`] with the radial force (N, dead-band spring included) at a
-    /// displacement (m) given by `radial`: the law evaluated exactly or from a table.
-    #[inline]
-    pub(crate) fn force_with(&self, r: Vec2, rd: Vec2, radial: impl FnOnce(f64) -> f64) -> Vec2 {
-        if let Some(stiffness) = self.plain_linear() {
-            return r * stiffness + rd * self.damping;
-        }
-        let len = r.norm();
-        if len == 0.0 {
-            return rd * self.damping.min(DEAD_BAND_STIFFNESS);
-        }
-        let n = r / len;
-        let f = radial(len);
-        let elastic = f - DEAD_BAND_STIFFNESS * len * f64::from(self.has_dead_band());
-        let damp = if elastic > 0.0 {
-            self.damping * rd.dot(&n)
-        } else {
-            0.0
-        };
-        n * (f + damp).max(0.0)
     }
 
     /// Static stiffness matrix `dF/dr` (N/m) at the relative position `r` (m):

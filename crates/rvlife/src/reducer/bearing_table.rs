@@ -134,6 +134,19 @@ impl BearingTable {
         Some(table)
     }
 
+    /// The table's `(ln F, d ln F / d ln u)` at `lu = ln u` within the table's span (below
+    /// its first node, the first node's power law), and the cell that holds it (`None` below
+    /// the first node).
+    #[inline]
+    fn law_at(&self, lu: f64) -> ((f64, f64), Option<usize>) {
+        if lu <= self.ln_u[0] {
+            let ln_f = self.ln_f[0] + self.slope[0] * (lu - self.ln_u[0]);
+            return ((ln_f, self.slope[0]), None);
+        }
+        let i = self.ln_u.partition_point(|&v| v <= lu) - 1;
+        (self.cell(i, lu), Some(i))
+    }
+
     /// The interpolant `(ln F, d ln F / d ln u)` in cell `i` at `lu = ln u`.
     #[inline]
     fn cell(&self, i: usize, lu: f64) -> (f64, f64) {
@@ -177,8 +190,8 @@ impl BearingTable {
     }
 
     /// Elastic energy (J) at the total displacement `x` (m): the dead-band spring's and the
-    /// [`BearingTable::work`] of the rest, so that its derivative is
-    /// [`BearingTable::radial_force`] to round-off.
+    /// [`BearingTable::work`] of the rest, so that its derivative is the force of
+    /// [`BearingTable::radial_force_and_stiffness`] to round-off.
     pub(crate) fn energy(&self, x: f64) -> f64 {
         0.5 * self.dead_band * x * x + self.work(x - 0.5 * self.bearing.clearance)
     }
@@ -196,12 +209,10 @@ impl BearingTable {
             let x = 0.5 * self.bearing.clearance + u;
             return self.bearing.energy_exact(x) - 0.5 * self.dead_band * x * x + self.beyond;
         }
-        if lu <= self.ln_u[0] {
-            let ln_f = self.ln_f[0] + self.slope[0] * (lu - self.ln_u[0]);
-            return ln_f.exp() * u / (self.slope[0] + 1.0);
+        match self.law_at(lu) {
+            ((ln_f, slope), None) => ln_f.exp() * u / (slope + 1.0),
+            (_, Some(i)) => self.work[i] + self.cell_work(i, lu),
         }
-        let i = self.ln_u.partition_point(|&v| v <= lu) - 1;
-        self.work[i] + self.cell_work(i, lu)
     }
 
     /// `f` of the table of `bearing` ([`BearingTable::new`]), remembered for the last 16
@@ -260,14 +271,7 @@ impl BearingTable {
         if lu >= self.ln_u[last] {
             return self.bearing.radial_force_exact(x);
         }
-        let (ln_f, slope) = if lu <= self.ln_u[0] {
-            (
-                self.ln_f[0] + self.slope[0] * (lu - self.ln_u[0]),
-                self.slope[0],
-            )
-        } else {
-            self.cell(self.ln_u.partition_point(|&v| v <= lu) - 1, lu)
-        };
+        let ((ln_f, slope), _) = self.law_at(lu);
         let f = ln_f.exp();
         (f + reg, f * slope / u + kreg)
     }
