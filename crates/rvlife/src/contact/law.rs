@@ -193,34 +193,46 @@ impl ContactModel {
         (c0, rho, self.pin_radius)
     }
 
-    /// Coefficients `(g0, g1)` of the logarithmic laws written as `delta = F (g0 - g1 ln F)`
-    /// (F in N, delta in m), on a flank of curvature `disc_curvature`; `None` for the linear
-    /// law.
-    fn log_coefficients(&self, disc_curvature: f64) -> Option<(f64, f64)> {
+    /// The logarithmic law with its parts that do not depend on the flank curvature evaluated
+    /// ([`LogLaw`]; its coefficients `(g0, g1)` of `delta = F (g0 - g1 ln F)`, F in N, delta
+    /// in m); `None` for the linear law.
+    pub(crate) fn log_law(&self) -> Option<LogLaw> {
         if let ApproachLaw::Linear { .. } = self.law {
             return None;
         }
         let pi = std::f64::consts::PI;
-        let (c0, rho, rp) = self.log_law_terms(disc_curvature);
+        let (c0, _, rp) = self.log_law_terms(0.0);
         let (c1, c2) = self.materials.compliances();
-        let r = self.reduced_radius(disc_curvature);
         let e = self.materials.contact_modulus();
-        // b = sqrt(cb F); ln(4R/b) = ln(4R) - ln(cb)/2 - ln(F)/2.
-        let cb = 4.0 * r / (pi * self.width * e);
         let k = 2.0 / (pi * self.width);
-        let g0 = k
-            * (c1 * (c0 + (4.0 * rho).ln() - 0.5 * cb.ln())
-                + c2 * (c0 + (4.0 * rp).ln() - 0.5 * cb.ln()));
-        let g1 = 0.5 * k * (c1 + c2);
-        // A pin bent between its ends adds F c: g0 + c.
-        let g0 = g0 + self.pin_compliance;
-        match self.groove {
-            None => Some((g0, g1)),
-            Some(gr) => {
-                let (h0, h1) = self.groove_coefficients(&gr, c0);
-                Some((g0 + h0, g1 + h1))
-            }
+        // b = sqrt(cb F) with cb = 4 R / (pi B E); ln(4 rho / b) = ln(4 rho) - ln(cb)/2 - ln(F)/2
+        // and ln(cb) = ln(4 / (pi B E)) + ln R: the disc's term k c1 ln(4 rho) (a constant with
+        // a fixed depth) and the reduced radius's -k (c1 + c2) ln(R) / 2 vary with the flank.
+        let mut base = k
+            * ((c1 + c2) * (c0 - 0.5 * (4.0 / (pi * self.width * e)).ln()) + c2 * (4.0 * rp).ln())
+            + self.pin_compliance;
+        let mut g1 = 0.5 * k * (c1 + c2);
+        if let Some(d) = self.disc_depth {
+            base += k * c1 * (4.0 * d).ln();
         }
+        if let Some(gr) = self.groove {
+            let (h0, h1) = self.groove_coefficients(&gr, c0);
+            base += h0;
+            g1 += h1;
+        }
+        Some(LogLaw {
+            base,
+            disc: if self.disc_depth.is_some() {
+                0.0
+            } else {
+                k * c1
+            },
+            radius: -0.5 * k * (c1 + c2),
+            g1,
+            inv_pin_radius: 1.0 / self.pin_radius,
+            max_radius: self.max_radius,
+            ln_max_radius: self.max_radius.ln(),
+        })
     }
 
     /// Change of the contact force with the flank curvature at a fixed approach, `dF/dkappa`
@@ -250,17 +262,9 @@ impl ContactModel {
         stiffness: f64,
         disc_curvature: f64,
     ) -> f64 {
-        if force <= 0.0 {
-            return 0.0;
-        }
-        let h = 1e-6 * disc_curvature.abs().max(1.0);
-        match (
-            self.log_coefficients(disc_curvature + h),
-            self.log_coefficients(disc_curvature - h),
-        ) {
-            (Some((gp, _)), Some((gm, _))) => -force * stiffness * (gp - gm) / (2.0 * h),
-            _ => 0.0,
-        }
+        self.log_law().map_or(0.0, |l| {
+            l.force_curvature_derivative(force, stiffness, disc_curvature)
+        })
     }
 
     /// Elastic energy `int_0^delta F d(delta)` (J) stored in the contact at approach `delta` (m):
@@ -290,12 +294,10 @@ impl ContactModel {
         if force <= 0.0 {
             return 0.0;
         }
-        match self.log_coefficients(disc_curvature) {
-            Some((g0, g1)) => 0.5 * force * force * (g0 - 0.5 * g1 - g1 * force.ln()),
-            None => match self.law {
-                ApproachLaw::Linear { stiffness } => 0.5 * force * force / stiffness,
-                _ => 0.0,
-            },
+        match (self.log_law(), self.law) {
+            (Some(l), _) => l.energy_at_force(force, disc_curvature),
+            (None, ApproachLaw::Linear { stiffness }) => 0.5 * force * force / stiffness,
+            (None, _) => 0.0,
         }
     }
 
@@ -354,9 +356,131 @@ impl ContactModel {
         if let ApproachLaw::Linear { stiffness } = self.law {
             return Ok((stiffness * delta, stiffness));
         }
-        let (g0, g1) = self
-            .log_coefficients(disc_curvature)
-            .expect("logarithmic law");
+        self.log_law().map_or(Ok((0.0, 0.0)), |law| {
+            law.force_from(delta, disc_curvature, f_guess)
+        })
+    }
+}
+
+/// The logarithmic approach laws of a [`ContactModel`] (Johnson's and the paper's eq 6), with
+/// the parts of `delta = F (g0(kappa) - g1 ln F)` that do not depend on the flank curvature
+/// `kappa` evaluated once ([`ContactModel::log_law`]): `g0 = base + disc ln(4 rho(kappa)) +
+/// radius ln(R(kappa))`, `rho` the disc term's radius and `R` the reduced radius (m). A
+/// solver's inner loop then takes one logarithm for the coefficients (two without a fixed
+/// disc depth) where the closed form takes three.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct LogLaw {
+    /// The constant part of `g0`, m/N.
+    base: f64,
+    /// Factor of `ln(4 rho)` in `g0` (0 with a fixed disc depth, which `base` holds), m/N.
+    disc: f64,
+    /// Factor of `ln R` in `g0`, m/N.
+    radius: f64,
+    /// `g1`, m/N.
+    g1: f64,
+    /// The inverse of [`ContactModel::pin_radius`], 1/m.
+    inv_pin_radius: f64,
+    /// [`ContactModel::max_radius`], m, and its logarithm.
+    max_radius: f64,
+    ln_max_radius: f64,
+}
+
+impl LogLaw {
+    /// `(g0, g1)` (m/N) on a flank of curvature `disc_curvature` (1/m), as
+    /// [`ContactModel::log_law_terms`] and [`ContactModel::reduced_radius`] give the radii.
+    #[inline]
+    pub(crate) fn coefficients(&self, disc_curvature: f64) -> (f64, f64) {
+        // ln R = -ln(1/R), R = 1 / (1/rrp + kappa) capped at the largest radius.
+        let inv = self.inv_pin_radius + disc_curvature;
+        let ln_r = if inv * self.max_radius <= 1.0 {
+            self.ln_max_radius
+        } else {
+            -inv.ln()
+        };
+        let mut g0 = self.base + self.radius * ln_r;
+        if self.disc != 0.0 {
+            let rho = if disc_curvature.abs() * self.max_radius < 1.0 {
+                self.max_radius
+            } else {
+                1.0 / disc_curvature.abs()
+            };
+            g0 += self.disc * (4.0 * rho).ln();
+        }
+        (g0, self.g1)
+    }
+
+    /// [`ContactModel::energy_at_force`] for this law, J.
+    pub(crate) fn energy_at_force(&self, force: f64, disc_curvature: f64) -> f64 {
+        if force <= 0.0 {
+            return 0.0;
+        }
+        let (g0, g1) = self.coefficients(disc_curvature);
+        0.5 * force * force * (g0 - 0.5 * g1 - g1 * force.ln())
+    }
+
+    /// [`ContactModel::force_curvature_derivative`] for this law, N m.
+    pub(crate) fn force_curvature_derivative(
+        &self,
+        force: f64,
+        stiffness: f64,
+        disc_curvature: f64,
+    ) -> f64 {
+        if force <= 0.0 {
+            return 0.0;
+        }
+        let h = 1e-6 * disc_curvature.abs().max(1.0);
+        let (gp, _) = self.coefficients(disc_curvature + h);
+        let (gm, _) = self.coefficients(disc_curvature - h);
+        -force * stiffness * (gp - gm) / (2.0 * h)
+    }
+
+    /// [`ContactModel::force_from`] for this law: the force (N) and contact stiffness
+    /// `dF/ddelta` (N/m) at approach `delta` (m) on a flank of curvature `disc_curvature`
+    /// (1/m), by Newton's method on the law from the force `f_guess` (N, ignored if not
+    /// positive), to 1e-14 of the force; where that start does not serve (not positive, or
+    /// the steps leave the law's range), by Newton's method in `ln F` from a cold start.
+    ///
+    /// # Errors
+    /// As [`ContactModel::force`].
+    pub(crate) fn force_from(
+        &self,
+        delta: f64,
+        disc_curvature: f64,
+        f_guess: f64,
+    ) -> Result<(f64, f64)> {
+        if delta <= 0.0 {
+            return Ok((0.0, 0.0));
+        }
+        let (g0, g1) = self.coefficients(disc_curvature);
+        // From a warm start, Newton's method on `F (g0 - g1 ln F) = delta` itself, concave and
+        // increasing in F over the law's range (`g0 - g1 ln F > g1`): one logarithm a step, and
+        // one step where the start is the contact's force a moment before.
+        if f_guess > 0.0 {
+            let mut f = f_guess;
+            for _ in 0..4 {
+                let lf = f.ln();
+                let g = g0 - g1 * lf;
+                if g <= 2.0 * g1 {
+                    break;
+                }
+                let fp = g - g1;
+                let inv_fp = 1.0 / fp;
+                let step = (f * g - delta) * inv_fp;
+                let next = f - step;
+                if next.is_nan() || next <= 0.0 {
+                    break;
+                }
+                // Newton's error after the step is `|f''| / (2 f') step^2 = g1 step^2 /
+                // (2 F fp)`, relative to the force; the stiffness `1 / (fp + g1 step / F)` at
+                // the new force to first order in the step (its error is of that order too).
+                let tol = 1e-14 * next;
+                if step.abs() < tol || g1 * step * step < 0.2 * tol * next * fp {
+                    let moved = g1 * inv_fp * (step / f);
+                    return Ok((next, inv_fp * (1.0 - moved)));
+                }
+                f = next;
+            }
+        }
         // delta = e^u (g0 - g1 u) with u = ln F; solve ln delta = u + ln(g0 - g1 u).
         let target = delta.ln();
         let warm = if f_guess > 0.0 {

@@ -124,6 +124,44 @@ impl WearMap {
         )
     }
 
+    /// The cells of this map that `before` (`None`: no wear) already had, for a worn flank
+    /// grown from `before`'s by wear alone: per cell `i` (from node `i` to `i + 1`), whether
+    /// its node depths and slopes are within [`WearMap::UNCHANGED`] of `before`'s (the worn
+    /// profile there is `before`'s to far below a picometre). `None` if the maps differ in
+    /// size, or if this map lies above `before`'s anywhere (sampled at 8 points per cell) by
+    /// more than `tolerance` (m): material was added, not worn off.
+    pub(crate) fn grown_from(&self, before: Option<&WearMap>, tolerance: f64) -> Option<Vec<bool>> {
+        let n = self.depth.len();
+        let zeros = vec![0.0; n];
+        let (d0, s0) = match before {
+            Some(b) if b.depth.len() == n => (&b.depth[..], &b.slope[..]),
+            Some(_) => return None,
+            None => (&zeros[..], &zeros[..]),
+        };
+        let (dd, ds): (Vec<f64>, Vec<f64>) = (0..n)
+            .map(|i| (self.depth[i] - d0[i], self.slope[i] - s0[i]))
+            .unzip();
+        let mut cells = Vec::with_capacity(n);
+        for i in 0..n {
+            let j = if i + 1 == n { 0 } else { i + 1 };
+            let grown = (0..=8)
+                .all(|k| cubic_hermite(dd[i], ds[i], dd[j], ds[j], k as f64 / 8.0).0 >= -tolerance);
+            if !grown {
+                return None;
+            }
+            cells.push(
+                [dd[i], ds[i], dd[j], ds[j]]
+                    .iter()
+                    .all(|x| x.abs() <= Self::UNCHANGED),
+            );
+        }
+        Some(cells)
+    }
+
+    /// Depth or slope change (m) below which [`WearMap::grown_from`] takes a cell as unchanged:
+    /// the round-off of the spline's slopes (solved to 1e-16 of the largest).
+    pub(crate) const UNCHANGED: f64 = 1e-15;
+
     /// Depth `h` (m) and its derivative `dh/dt` (m/rad) at mesh angle `t` (any real; wrapped).
     ///
     /// Periodic cubic spline interpolation (C2: the worn flank's curvature is continuous, so the

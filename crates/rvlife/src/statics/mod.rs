@@ -382,6 +382,8 @@ pub struct StaticAnalysis<'a> {
     mesh_play: f64,
     profile: &'a Profile,
     field: GapField,
+    /// The contact's logarithmic law ([`crate::contact::ContactModel::log_law`]).
+    log_law: Option<crate::contact::LogLaw>,
     /// Pin centres, ground frame, m (with the reducer's part errors).
     pin_centres: Vec<Vec2>,
     /// Added to each pin's gap, m: minus the pin's radius error.
@@ -416,7 +418,7 @@ impl<'a> StaticAnalysis<'a> {
     }
 
     /// The analysis of `red` on the contact geometry `field` of `profile`.
-    fn with_field(red: &'a Reducer, profile: &'a Profile, field: GapField) -> Self {
+    pub(crate) fn with_field(red: &'a Reducer, profile: &'a Profile, field: GapField) -> Self {
         let (pin_centres, pin_gap) = pins_of(red);
         let carried = red.mesh.backlash > 0.0 && red.cranks > 0 && red.support == Support::Bearings;
         let (analysed, mesh_play) = if carried {
@@ -428,6 +430,7 @@ impl<'a> StaticAnalysis<'a> {
         };
         StaticAnalysis {
             given: red,
+            log_law: red.contact.log_law(),
             red: analysed,
             mesh_play,
             profile,

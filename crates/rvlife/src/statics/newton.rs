@@ -310,7 +310,10 @@ impl<'a> StaticAnalysis<'a> {
             .pins
             .iter()
             .flatten()
-            .map(|p| self.red.contact.energy_at_force(p.force, p.curvature))
+            .map(|p| match &self.log_law {
+                Some(l) => l.energy_at_force(p.force, p.curvature),
+                None => self.red.contact.energy_at_force(p.force, p.curvature),
+            })
             .sum();
         self.red.structural_energy(&fr.q0[..n], &z[..n]) + contacts
     }

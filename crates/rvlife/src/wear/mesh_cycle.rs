@@ -8,6 +8,7 @@ use rayon::prelude::*;
 
 use super::pin_turning::{self, PinTurning};
 use super::{resample_periodic, WearInputs};
+use crate::contact::gap::GapField;
 use crate::error::Result;
 #[cfg(test)]
 use crate::geometry::WearMap;
@@ -57,7 +58,7 @@ pub(crate) fn wear_per_mesh_cycle(
     inputs: &WearInputs,
     torque: f64,
 ) -> Result<MeshCycleWear> {
-    Ok(wear_per_mesh_cycle_from(profile, inputs, torque, None)?.0)
+    Ok(wear_per_mesh_cycle_from(profile, inputs, torque, None, None)?.0)
 }
 
 /// [`wear_per_mesh_cycle`] with each static solve started from `warm`, the solutions of the
@@ -66,7 +67,9 @@ pub(crate) fn wear_per_mesh_cycle(
 /// neighbouring crank angles), every crank angle then solved on its own; without them (or
 /// with another count of them) each run of consecutive crank angles is solved in order, each
 /// solve from its predecessor ([`StaticAnalysis::solve_sequence`]). Returns the wear and the
-/// solutions (position-major, crank angle within), the next evaluation's `warm`.
+/// solutions (position-major, crank angle within), the next evaluation's `warm`. `field`: the
+/// contact geometry of `profile` when already built (else built here, as
+/// [`StaticAnalysis::new`] builds it).
 ///
 /// # Errors
 /// Propagates contact-solver failures.
@@ -75,6 +78,7 @@ pub(crate) fn wear_per_mesh_cycle_from(
     inputs: &WearInputs,
     torque: f64,
     warm: Option<&[StaticSolution]>,
+    field: Option<&GapField>,
 ) -> Result<(MeshCycleWear, Vec<StaticSolution>)> {
     let n = inputs.grid_points();
     let pins_wear = inputs.wear.pin_archard > 0.0;
@@ -93,7 +97,10 @@ pub(crate) fn wear_per_mesh_cycle_from(
     let steps = inputs.wear.crank_steps;
     let dphi = TAU / (zp * steps as f64);
     let slide_scale = 1.0 - inputs.wear.pin_rolling_fraction;
-    let sa = StaticAnalysis::new(inputs.reducer, profile)?;
+    let sa = match field {
+        Some(f) => StaticAnalysis::with_field(inputs.reducer, profile, f.clone()),
+        None => StaticAnalysis::new(inputs.reducer, profile)?,
+    };
     let phis: Vec<f64> = (0..steps)
         .map(|k| TAU * k as f64 / (zp * steps as f64))
         .collect();
@@ -468,12 +475,13 @@ mod tests {
                 };
                 // The previous evaluation: 1 % less wear (a couple of profile updates).
                 let before = at(0.99);
-                let (_, prev) = wear_per_mesh_cycle_from(&before, &inputs, torque, None).unwrap();
+                let (_, prev) =
+                    wear_per_mesh_cycle_from(&before, &inputs, torque, None, None).unwrap();
                 let profile = at(1.0);
                 let (cold, cold_sol) =
-                    wear_per_mesh_cycle_from(&profile, &inputs, torque, None).unwrap();
+                    wear_per_mesh_cycle_from(&profile, &inputs, torque, None, None).unwrap();
                 let (warm, warm_sol) =
-                    wear_per_mesh_cycle_from(&profile, &inputs, torque, Some(&prev)).unwrap();
+                    wear_per_mesh_cycle_from(&profile, &inputs, torque, Some(&prev), None).unwrap();
                 assert_eq!(cold_sol.len(), warm_sol.len(), "{name}");
                 // Each map within 1e-9 of its largest value.
                 for (a, b) in [(&cold.disc, &warm.disc), (&cold.pin, &warm.pin)] {

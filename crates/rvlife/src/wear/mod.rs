@@ -39,6 +39,7 @@ use std::f64::consts::TAU;
 use serde::Serialize;
 
 use crate::budget::{self, Budget};
+use crate::contact::gap::GapField;
 use crate::contact::li_load_distribution;
 use crate::error::{Error, Result};
 use crate::geometry::{band_shape, mesh_angle, CycloidParams, Profile, WearMap};
@@ -225,21 +226,29 @@ pub(crate) struct WearRate {
 /// # Errors
 /// Propagates contact-solver failures.
 pub(crate) fn wear_rate(profile: &Profile, inputs: &WearInputs) -> Result<WearRate> {
-    wear_rate_from(profile, inputs, &mut Vec::new())
+    wear_rate_from(profile, inputs, &mut WearWarm::default())
+}
+
+/// What a wear-rate evaluation leaves for the next one of a wear integration: the static
+/// solutions per load level and the worn profile with its contact geometry.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct WearWarm {
+    /// Per load level, the solutions of [`mesh_cycle::wear_per_mesh_cycle_from`].
+    solutions: Vec<Vec<crate::statics::StaticSolution>>,
+    /// The profile evaluated and its gap field ([`GapField::new_after`]).
+    gap: Option<(Profile, GapField)>,
 }
 
 /// [`wear_rate`] with the static solves of each load level started from `warm`'s (the
 /// solutions of the previous evaluation of a wear integration, per level;
-/// [`mesh_cycle::wear_per_mesh_cycle_from`]), which it replaces with this evaluation's.
+/// [`mesh_cycle::wear_per_mesh_cycle_from`]) and the contact geometry built from its
+/// ([`GapField::new_after`]; once for every level), which it replaces with this evaluation's.
 ///
 /// # Errors
 /// As [`wear_rate`].
-fn wear_rate_from(
-    profile: &Profile,
-    inputs: &WearInputs,
-    warm: &mut Vec<Vec<crate::statics::StaticSolution>>,
-) -> Result<WearRate> {
-    warm.resize(inputs.load.len(), Vec::new());
+fn wear_rate_from(profile: &Profile, inputs: &WearInputs, warm: &mut WearWarm) -> Result<WearRate> {
+    warm.solutions.resize(inputs.load.len(), Vec::new());
+    let mut field: Option<GapField> = None;
     let n = inputs.grid_points();
     let geo = profile.geometry();
     let sweeps_per_cycle = geo.disc_teeth() as f64 / geo.pins as f64;
@@ -252,13 +261,26 @@ fn wear_rate_from(
         disc: vec![0.0; n],
         pin: vec![0.0; n_pin],
     };
-    for (level, warm) in inputs.load.iter().zip(warm.iter_mut()) {
+    for (level, solved) in inputs.load.iter().zip(warm.solutions.iter_mut()) {
         let per_cycle = match inputs.wear.model {
             WearModelKind::Flodin => {
-                let near = (!warm.is_empty()).then_some(&warm[..]);
-                let (w, solutions) =
-                    mesh_cycle::wear_per_mesh_cycle_from(profile, inputs, level.torque, near)?;
-                *warm = solutions;
+                let near = (!solved.is_empty()).then_some(&solved[..]);
+                if field.is_none() && level.torque != 0.0 {
+                    field = Some(GapField::new_after(
+                        profile,
+                        inputs.reducer.gap_points,
+                        Some(inputs.reducer.contact_band()),
+                        warm.gap.as_ref().map(|(p, f)| (f, p)),
+                    )?);
+                }
+                let (w, solutions) = mesh_cycle::wear_per_mesh_cycle_from(
+                    profile,
+                    inputs,
+                    level.torque,
+                    near,
+                    field.as_ref(),
+                )?;
+                *solved = solutions;
                 w
             }
             WearModelKind::Paper => MeshCycleWear {
@@ -278,6 +300,9 @@ fn wear_rate_from(
         for (r, d) in rate.pin.iter_mut().zip(&per_cycle.pin) {
             *r += level.fraction * cycles * sweeps_per_cycle * d;
         }
+    }
+    if let Some(f) = field {
+        warm.gap = Some((profile.clone(), f));
     }
     Ok(rate)
 }
@@ -407,11 +432,11 @@ pub struct WearHistory {
     /// ([`WearHistory::replay`]).
     #[serde(skip)]
     pub(crate) segments: Vec<WearSegment>,
-    /// The static solutions of the last wear-rate evaluation, per load level: where a
-    /// continued integration's solves start ([`WearHistory::continued`]), as the next
-    /// evaluation's would have.
+    /// What the last wear-rate evaluation leaves for the next: where a continued
+    /// integration's evaluations start ([`WearHistory::continued`]), as the next evaluation's
+    /// would have.
     #[serde(skip)]
-    pub(crate) warm: Vec<Vec<crate::statics::StaticSolution>>,
+    pub(crate) warm: WearWarm,
 }
 
 /// One profile update of a wear integration: the unfiltered wear depths at its start and the
@@ -667,9 +692,8 @@ fn integrate_from(
         0
     };
     let mut hp = vec![0.0; n_pin];
-    // The static solutions of the last rate evaluation, per load level: the next one's
-    // starts.
-    let mut warm = Vec::new();
+    // What the last rate evaluation leaves for the next.
+    let mut warm = WearWarm::default();
     let mut t = 0.0;
     let mut maps = Vec::with_capacity(stages.len());
     let mut pin_maps = Vec::with_capacity(stages.len());
