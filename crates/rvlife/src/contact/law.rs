@@ -235,11 +235,6 @@ impl ContactModel {
         })
     }
 
-    /// Change of the contact force with the flank curvature at a fixed approach, `dF/dkappa`
-    /// (N m), for a contact carrying `force` (N) with stiffness `stiffness` (N/m) on a flank of
-    /// curvature `disc_curvature` (1/m): from `delta = F (g0(kappa) - g1 ln F)`,
-    /// `dF/dkappa = -F g0'(kappa) dF/ddelta` (`g0'` by a central difference of the closed
-    /// form). Zero for the linear law or no force.
     /// `(h0, h1)` of the groove's approach `F (h0 - h1 ln F)` ([`Groove`]), for the law's
     /// constant `c0`.
     fn groove_coefficients(&self, gr: &Groove, c0: f64) -> (f64, f64) {
@@ -256,6 +251,11 @@ impl ContactModel {
         (h0, 0.5 * k * (c_pin + c_housing))
     }
 
+    /// Change of the contact force with the flank curvature at a fixed approach, `dF/dkappa`
+    /// (N m), for a contact carrying `force` (N) with stiffness `stiffness` (N/m) on a flank of
+    /// curvature `disc_curvature` (1/m): from `delta = F (g0(kappa) - g1 ln F)`,
+    /// `dF/dkappa = -F g0'(kappa) dF/ddelta` (`g0'` by a central difference of the closed
+    /// form). Zero for the linear law or no force.
     pub(crate) fn force_curvature_derivative(
         &self,
         force: f64,
