@@ -193,13 +193,19 @@ impl ContactModel {
         (c0, rho, self.pin_radius)
     }
 
-    /// The logarithmic law with its parts that do not depend on the flank curvature evaluated
-    /// ([`LogLaw`]; its coefficients `(g0, g1)` of `delta = F (g0 - g1 ln F)`, F in N, delta
-    /// in m); `None` for the linear law.
-    pub(crate) fn log_law(&self) -> Option<LogLaw> {
-        if let ApproachLaw::Linear { .. } = self.law {
-            return None;
+    /// The approach law with its parts that do not depend on the flank curvature evaluated
+    /// ([`PreparedLaw`]): what a solver's inner loop keeps for the force, stiffness and
+    /// energy of every contact.
+    pub(crate) fn prepared(&self) -> PreparedLaw {
+        match self.law {
+            ApproachLaw::Linear { stiffness } => PreparedLaw::Linear { stiffness },
+            _ => PreparedLaw::Log(self.log_law()),
         }
+    }
+
+    /// The logarithmic law ([`LogLaw`]; its coefficients `(g0, g1)` of
+    /// `delta = F (g0 - g1 ln F)`, F in N, delta in m) of a law that is not linear.
+    fn log_law(&self) -> LogLaw {
         let pi = std::f64::consts::PI;
         let (c0, _, rp) = self.log_law_terms(0.0);
         let (c1, c2) = self.materials.compliances();
@@ -220,7 +226,7 @@ impl ContactModel {
             base += h0;
             g1 += h1;
         }
-        Some(LogLaw {
+        LogLaw {
             base,
             disc: if self.disc_depth.is_some() {
                 0.0
@@ -232,7 +238,7 @@ impl ContactModel {
             inv_pin_radius: 1.0 / self.pin_radius,
             max_radius: self.max_radius,
             ln_max_radius: self.max_radius.ln(),
-        })
+        }
     }
 
     /// `(h0, h1)` of the groove's approach `F (h0 - h1 ln F)` ([`Groove`]), for the law's
@@ -251,22 +257,6 @@ impl ContactModel {
         (h0, 0.5 * k * (c_pin + c_housing))
     }
 
-    /// Change of the contact force with the flank curvature at a fixed approach, `dF/dkappa`
-    /// (N m), for a contact carrying `force` (N) with stiffness `stiffness` (N/m) on a flank of
-    /// curvature `disc_curvature` (1/m): from `delta = F (g0(kappa) - g1 ln F)`,
-    /// `dF/dkappa = -F g0'(kappa) dF/ddelta` (`g0'` by a central difference of the closed
-    /// form). Zero for the linear law or no force.
-    pub(crate) fn force_curvature_derivative(
-        &self,
-        force: f64,
-        stiffness: f64,
-        disc_curvature: f64,
-    ) -> f64 {
-        self.log_law().map_or(0.0, |l| {
-            l.force_curvature_derivative(force, stiffness, disc_curvature)
-        })
-    }
-
     /// Elastic energy `int_0^delta F d(delta)` (J) stored in the contact at approach `delta` (m):
     /// for the logarithmic laws, with `delta = F (g0 - g1 ln F)`, exactly
     /// `F^2/2 (g0 - g1/2 - g1 ln F)`; `k delta^2 / 2` for the linear law. Zero for
@@ -283,22 +273,7 @@ impl ContactModel {
             return Ok(0.5 * stiffness * delta * delta);
         }
         let (f, _) = self.force(delta, disc_curvature)?;
-        Ok(self.energy_at_force(f, disc_curvature))
-    }
-
-    /// Elastic energy (J) stored in a contact carrying `force` (N) on a flank of curvature
-    /// `disc_curvature` (1/m): `int F d(delta)` from zero, for the logarithmic laws
-    /// `F^2 (g0/2 - g1/4 - (g1/2) ln F)` (the integral of `delta'(F) F`), for the linear law
-    /// `F^2 / (2 k)`. Zero for `force <= 0`.
-    pub(crate) fn energy_at_force(&self, force: f64, disc_curvature: f64) -> f64 {
-        if force <= 0.0 {
-            return 0.0;
-        }
-        match (self.log_law(), self.law) {
-            (Some(l), _) => l.energy_at_force(force, disc_curvature),
-            (None, ApproachLaw::Linear { stiffness }) => 0.5 * force * force / stiffness,
-            (None, _) => 0.0,
-        }
+        Ok(self.prepared().energy_at_force(f, disc_curvature))
     }
 
     /// Approach `delta` (m) of the force `force` (N) on a flank of curvature `disc_curvature`.
@@ -350,21 +325,78 @@ impl ContactModel {
         disc_curvature: f64,
         f_guess: f64,
     ) -> Result<(f64, f64)> {
-        if delta <= 0.0 {
-            return Ok((0.0, 0.0));
+        self.prepared().force_from(delta, disc_curvature, f_guess)
+    }
+}
+
+/// A [`ContactModel`]'s approach law prepared for a solver's inner loop
+/// ([`ContactModel::prepared`]): the linear law, or the logarithmic laws with their parts that
+/// do not depend on the flank curvature evaluated ([`LogLaw`]); [`ContactModel::force_from`]
+/// calls it.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum PreparedLaw {
+    /// `F = k delta` (N/m).
+    Linear { stiffness: f64 },
+    /// Johnson's or the paper's eq 6.
+    Log(LogLaw),
+}
+
+impl PreparedLaw {
+    /// [`ContactModel::force_from`]: the force (N) and contact stiffness `dF/ddelta` (N/m) at
+    /// approach `delta` (m) on a flank of curvature `disc_curvature` (1/m), from the force
+    /// `f_guess` (N) a moment before; zero for `delta <= 0`.
+    ///
+    /// # Errors
+    /// As [`ContactModel::force`].
+    #[inline]
+    pub(crate) fn force_from(
+        &self,
+        delta: f64,
+        disc_curvature: f64,
+        f_guess: f64,
+    ) -> Result<(f64, f64)> {
+        match self {
+            _ if delta <= 0.0 => Ok((0.0, 0.0)),
+            PreparedLaw::Linear { stiffness } => Ok((stiffness * delta, *stiffness)),
+            PreparedLaw::Log(law) => law.force_from(delta, disc_curvature, f_guess),
         }
-        if let ApproachLaw::Linear { stiffness } = self.law {
-            return Ok((stiffness * delta, stiffness));
+    }
+
+    /// Elastic energy (J) stored in a contact carrying `force` (N) on a flank of curvature
+    /// `disc_curvature` (1/m): `int F d(delta)` from zero, for the logarithmic laws
+    /// `F^2 (g0/2 - g1/4 - (g1/2) ln F)` (the integral of `delta'(F) F`), for the linear law
+    /// `F^2 / (2 k)`. Zero for `force <= 0`.
+    pub(crate) fn energy_at_force(&self, force: f64, disc_curvature: f64) -> f64 {
+        match self {
+            _ if force <= 0.0 => 0.0,
+            PreparedLaw::Linear { stiffness } => 0.5 * force * force / stiffness,
+            PreparedLaw::Log(law) => law.energy_at_force(force, disc_curvature),
         }
-        self.log_law().map_or(Ok((0.0, 0.0)), |law| {
-            law.force_from(delta, disc_curvature, f_guess)
-        })
+    }
+
+    /// Change of the contact force with the flank curvature at a fixed approach, `dF/dkappa`
+    /// (N m), for a contact carrying `force` (N) with stiffness `stiffness` (N/m) on a flank of
+    /// curvature `disc_curvature` (1/m): from `delta = F (g0(kappa) - g1 ln F)`,
+    /// `dF/dkappa = -F g0'(kappa) dF/ddelta` (`g0'` by a central difference of the closed
+    /// form). Zero for the linear law or no force.
+    pub(crate) fn force_curvature_derivative(
+        &self,
+        force: f64,
+        stiffness: f64,
+        disc_curvature: f64,
+    ) -> f64 {
+        match self {
+            PreparedLaw::Log(law) if force > 0.0 => {
+                law.force_curvature_derivative(force, stiffness, disc_curvature)
+            }
+            _ => 0.0,
+        }
     }
 }
 
 /// The logarithmic approach laws of a [`ContactModel`] (Johnson's and the paper's eq 6), with
 /// the parts of `delta = F (g0(kappa) - g1 ln F)` that do not depend on the flank curvature
-/// `kappa` evaluated once ([`ContactModel::log_law`]): `g0 = base + disc ln(4 rho(kappa)) +
+/// `kappa` evaluated once ([`ContactModel::prepared`]): `g0 = base + disc ln(4 rho(kappa)) +
 /// radius ln(R(kappa))`, `rho` the disc term's radius and `R` the reduced radius (m). A
 /// solver's inner loop then takes one logarithm for the coefficients (two without a fixed
 /// disc depth) where the closed form takes three.
@@ -389,7 +421,7 @@ impl LogLaw {
     /// `(g0, g1)` (m/N) on a flank of curvature `disc_curvature` (1/m), as
     /// [`ContactModel::log_law_terms`] and [`ContactModel::reduced_radius`] give the radii.
     #[inline]
-    pub(crate) fn coefficients(&self, disc_curvature: f64) -> (f64, f64) {
+    fn coefficients(&self, disc_curvature: f64) -> (f64, f64) {
         // ln R = -ln(1/R), R = 1 / (1/rrp + kappa) capped at the largest radius.
         let inv = self.inv_pin_radius + disc_curvature;
         let ln_r = if inv * self.max_radius <= 1.0 {
@@ -409,32 +441,21 @@ impl LogLaw {
         (g0, self.g1)
     }
 
-    /// [`ContactModel::energy_at_force`] for this law, J.
-    pub(crate) fn energy_at_force(&self, force: f64, disc_curvature: f64) -> f64 {
-        if force <= 0.0 {
-            return 0.0;
-        }
+    /// [`PreparedLaw::energy_at_force`] for this law (`force > 0`), J.
+    fn energy_at_force(&self, force: f64, disc_curvature: f64) -> f64 {
         let (g0, g1) = self.coefficients(disc_curvature);
         0.5 * force * force * (g0 - 0.5 * g1 - g1 * force.ln())
     }
 
-    /// [`ContactModel::force_curvature_derivative`] for this law, N m.
-    pub(crate) fn force_curvature_derivative(
-        &self,
-        force: f64,
-        stiffness: f64,
-        disc_curvature: f64,
-    ) -> f64 {
-        if force <= 0.0 {
-            return 0.0;
-        }
+    /// [`PreparedLaw::force_curvature_derivative`] for this law (`force > 0`), N m.
+    fn force_curvature_derivative(&self, force: f64, stiffness: f64, disc_curvature: f64) -> f64 {
         let h = 1e-6 * disc_curvature.abs().max(1.0);
         let (gp, _) = self.coefficients(disc_curvature + h);
         let (gm, _) = self.coefficients(disc_curvature - h);
         -force * stiffness * (gp - gm) / (2.0 * h)
     }
 
-    /// [`ContactModel::force_from`] for this law: the force (N) and contact stiffness
+    /// [`PreparedLaw::force_from`] for this law (`delta > 0`): the force (N) and contact stiffness
     /// `dF/ddelta` (N/m) at approach `delta` (m) on a flank of curvature `disc_curvature`
     /// (1/m), by Newton's method on the law from the force `f_guess` (N, ignored if not
     /// positive), to 1e-14 of the force; where that start does not serve (not positive, or
@@ -442,15 +463,7 @@ impl LogLaw {
     ///
     /// # Errors
     /// As [`ContactModel::force`].
-    pub(crate) fn force_from(
-        &self,
-        delta: f64,
-        disc_curvature: f64,
-        f_guess: f64,
-    ) -> Result<(f64, f64)> {
-        if delta <= 0.0 {
-            return Ok((0.0, 0.0));
-        }
+    fn force_from(&self, delta: f64, disc_curvature: f64, f_guess: f64) -> Result<(f64, f64)> {
         let (g0, g1) = self.coefficients(disc_curvature);
         // From a warm start, Newton's method on `F (g0 - g1 ln F) = delta` itself, concave and
         // increasing in F over the law's range (`g0 - g1 ln F > g1`): one logarithm a step, and

@@ -24,7 +24,7 @@ pub mod law;
 pub mod li;
 pub mod pin;
 
-pub(crate) use law::LogLaw;
+pub(crate) use law::PreparedLaw;
 pub use law::{ApproachLaw, ContactModel, Groove, HertzState, Materials, PinBending};
 pub(crate) use li::li_load_distribution;
 pub(crate) use pin::pin_geometry;

@@ -110,26 +110,23 @@ impl ImpactLaw {
     /// NaN where the Hertz law leaves its range (the simulation then stops with an error).
     #[inline]
     pub fn force(&self, contact: &ContactModel, pen: f64, curvature: f64, warm: f64) -> f64 {
-        self.force_with(contact, contact.log_law().as_ref(), pen, curvature, warm)
+        self.force_with(&contact.prepared(), pen, curvature, warm)
     }
 
-    /// [`ImpactLaw::force`] with the contact's logarithmic law already evaluated
-    /// (`log`: [`ContactModel::log_law`] of `contact`).
+    /// [`ImpactLaw::force`] with the contact's law already prepared (`law`:
+    /// [`ContactModel::prepared`] of the contact).
     #[inline]
     pub(crate) fn force_with(
         &self,
-        contact: &ContactModel,
-        log: Option<&crate::contact::LogLaw>,
+        law: &crate::contact::PreparedLaw,
         pen: f64,
         curvature: f64,
         warm: f64,
     ) -> f64 {
         match *self {
-            ImpactLaw::Hertz => match log {
-                Some(law) => law.force_from(pen, curvature, warm),
-                None => contact.force_from(pen, curvature, warm),
-            }
-            .map_or(f64::NAN, |(f, _)| f),
+            ImpactLaw::Hertz => law
+                .force_from(pen, curvature, warm)
+                .map_or(f64::NAN, |(f, _)| f),
             ImpactLaw::Power {
                 stiffness,
                 exponent,

@@ -173,8 +173,8 @@ pub struct System<'a> {
     open_cache: RefCell<Vec<(f64, Vec2)>>,
     /// Largest gap gradient `|grad g|` met so far (at least 1).
     max_gradient: Cell<f64>,
-    /// The contact's logarithmic law ([`crate::contact::ContactModel::log_law`]).
-    log_law: Option<crate::contact::LogLaw>,
+    /// The contact's law, prepared ([`crate::contact::ContactModel::prepared`]).
+    contact_law: crate::contact::PreparedLaw,
     /// The flexible discs (the modal FE disc, each disc on it by its mount), if any.
     flex: Option<Flexible<'a>>,
     /// The pin contacts of the last Jacobian's base point, reused by its columns.
@@ -249,7 +249,7 @@ impl<'a> System<'a> {
             f_cache: RefCell::new(vec![0.0; 2 * geo.pins]),
             open_cache: RefCell::new(vec![(f64::NAN, Vec2::zeros()); 2 * geo.pins]),
             max_gradient: Cell::new(1.0),
-            log_law: red.contact.log_law(),
+            contact_law: red.contact.prepared(),
             flex: None,
             kept: RefCell::new(KeptContacts::default()),
         }
@@ -626,13 +626,9 @@ impl<'a> System<'a> {
             // d(gap)/dt = w . (-c' - psi' J (p - c)).
             let gap_dot = -w.dot(&(cd + perp(rel) * wpsi));
             let f_cached = &mut fcache[d * self.zp + j];
-            let elastic = ct.law.force_with(
-                &p.reducer.contact,
-                self.log_law.as_ref(),
-                pen,
-                ge.curvature,
-                *f_cached,
-            );
+            let elastic = ct
+                .law
+                .force_with(&self.contact_law, pen, ge.curvature, *f_cached);
             *f_cached = elastic;
             let fnorm =
                 (elastic - step(pen, 0.0, 0.0, ct.penetration, ct.max_damping) * gap_dot).max(0.0);

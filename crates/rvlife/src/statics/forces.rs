@@ -166,11 +166,9 @@ impl<'a> StaticAnalysis<'a> {
             .gap_at(&self.red.geometry, j, pose.crank_angle);
         let gap = ge.gap + offset + self.pin_gap[j] + worn;
         let (force, stiffness) = if gap < 0.0 {
-            match &self.log_law {
-                Some(law) => law.force_from(-gap, ge.curvature, force),
-                None => self.red.contact.force_from(-gap, ge.curvature, force),
-            }
-            .map_err(|e| self.law_error(e, pose))?
+            self.contact_law
+                .force_from(-gap, ge.curvature, force)
+                .map_err(|e| self.law_error(e, pose))?
         } else {
             (0.0, 0.0)
         };
@@ -418,7 +416,6 @@ impl<'a> StaticAnalysis<'a> {
     pub(super) fn tangent_with(&self, k_struct: &DMatrix<f64>, ev: &Eval) -> DMatrix<f64> {
         let lay = self.red.layout();
         let mut k = k_struct.clone();
-        let law = &self.red.contact;
         for (d, pose) in ev.poses.iter().enumerate() {
             let id = lay.disc(d);
             let rot = Rotation2::new(pose.angle);
@@ -436,10 +433,9 @@ impl<'a> StaticAnalysis<'a> {
                 let a = Vector3::new(-p.w.x, -p.w.y, -cross(&p.rel, &p.w));
                 let kappa = rot * p.curvature_grad;
                 let dk = Vector3::new(-kappa.x, -kappa.y, jr.dot(&kappa));
-                let force_kappa = match &self.log_law {
-                    Some(l) => l.force_curvature_derivative(p.force, p.stiffness, p.curvature),
-                    None => law.force_curvature_derivative(p.force, p.stiffness, p.curvature),
-                };
+                let force_kappa =
+                    self.contact_law
+                        .force_curvature_derivative(p.force, p.stiffness, p.curvature);
                 let kd = a * a.transpose() * p.stiffness
                     - a * dk.transpose() * force_kappa
                     - hess * p.force;

@@ -382,8 +382,8 @@ pub struct StaticAnalysis<'a> {
     mesh_play: f64,
     profile: &'a Profile,
     field: GapField,
-    /// The contact's logarithmic law ([`crate::contact::ContactModel::log_law`]).
-    log_law: Option<crate::contact::LogLaw>,
+    /// The contact's law, prepared ([`crate::contact::ContactModel::prepared`]).
+    contact_law: crate::contact::PreparedLaw,
     /// Pin centres, ground frame, m (with the reducer's part errors).
     pin_centres: Vec<Vec2>,
     /// Added to each pin's gap, m: minus the pin's radius error.
@@ -430,7 +430,7 @@ impl<'a> StaticAnalysis<'a> {
         };
         StaticAnalysis {
             given: red,
-            log_law: red.contact.log_law(),
+            contact_law: red.contact.prepared(),
             red: analysed,
             mesh_play,
             profile,

@@ -302,7 +302,7 @@ impl<'a> StaticAnalysis<'a> {
 
     /// Elastic energy (J) of the configuration `z` evaluated as `ev`: the meshes' and the
     /// crank bearings' ([`crate::reducer::Reducer::structural_energy`]) plus each loaded
-    /// contact's ([`crate::contact::ContactModel::energy_at_force`]). The merit of the inner
+    /// contact's ([`crate::contact::PreparedLaw::energy_at_force`]). The merit of the inner
     /// solve's line search where the residual does not fall.
     pub(super) fn inner_energy(&self, fr: &Frame, z: &[f64], ev: &Eval) -> f64 {
         let n = self.red.layout().dofs();
@@ -310,10 +310,7 @@ impl<'a> StaticAnalysis<'a> {
             .pins
             .iter()
             .flatten()
-            .map(|p| match &self.log_law {
-                Some(l) => l.energy_at_force(p.force, p.curvature),
-                None => self.red.contact.energy_at_force(p.force, p.curvature),
-            })
+            .map(|p| self.contact_law.energy_at_force(p.force, p.curvature))
             .sum();
         self.red.structural_energy(&fr.q0[..n], &z[..n]) + contacts
     }
