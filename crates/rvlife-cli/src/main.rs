@@ -20,9 +20,11 @@ use serde_json::{json, Value};
 /// a sign (`0.00000`, not the round-off's `-0.00000`).
 macro_rules! say {
     ($($t:tt)*) => {
-        println!("{}", unsigned_zeros(&format!($($t)*)))
+        println!("{}", $crate::unsigned_zeros(&format!($($t)*)))
     };
 }
+
+mod calibrate;
 
 /// `text` with the minus sign of every number that is all zeros (`-0`, `-0.000`) removed (a
 /// space in its place where padding precedes it, so that columns stay aligned).
@@ -159,6 +161,11 @@ enum Command {
         /// Print one JSON object.
         #[arg(long)]
         json: bool,
+        /// Also how `b/a` and the lost motion of the new reducer move when each estimated
+        /// dimension or count of its structure and bearings changes by this fraction both ways
+        /// (0.2 when given without a value; in (0, 0.5]); `--json` as `sensitivity`.
+        #[arg(long, num_args = 0..=1, default_missing_value = "0.2", allow_negative_numbers = true)]
+        sensitivity: Option<f64>,
         #[command(flatten)]
         wear: WearArgs,
     },
@@ -271,16 +278,25 @@ enum Command {
         /// `backlash_arcmin`, `angular_te_arcmin`, `max_wear_um` (empty cell: not measured). Fits the Archard
         /// coefficient by weighted least squares with a 95 % confidence interval (Gauss-Newton,
         /// Student-t) instead of aiming at --target-wear-um; with `[wear] running_in_factor` > 1
-        /// in the config it fits that factor too (`running_in_hours` kept).
-        #[arg(long, conflicts_with = "target_wear_um")]
+        /// in the config it fits that factor too (`running_in_hours` kept). Or a measured
+        /// hysteresis curve of the new reducer, columns `torque_nm,twist_arcmin` in the bench's
+        /// order (0 -> +rated -> -rated -> +rated): fits `[reducer.structure]
+        /// compliance_arcmin_per_knm` with its 95 % interval.
+        #[arg(long, conflicts_with_all = ["target_wear_um", "catalogue_stiffness_nm_per_arcmin"])]
         measured: Option<PathBuf>,
+        /// A catalogue torsional stiffness b/a, N m/arcmin: sets `[reducer.structure]
+        /// compliance_arcmin_per_knm` so that the new reducer's b/a equals it.
+        #[arg(long, conflicts_with = "target_wear_um")]
+        catalogue_stiffness_nm_per_arcmin: Option<f64>,
         /// Also fit a running-in play b0 (arcmin) added to backlash and lost motion (the
         /// assembly play of a new reducer beyond the model's own).
         #[arg(long, requires = "measured")]
         fit_running_in: bool,
-        /// Results directory for the fit: calibration.json, residuals.csv, calibration.svg/png
-        /// (created; must not exist or be empty unless --force).
-        #[arg(long, requires = "measured")]
+        /// Results directory: calibrated.toml (the config with the fitted values set, ready for
+        /// `rvlife run`) and, for a fit to measurements, calibration.json, residuals.csv,
+        /// calibration.svg/png (created; must not exist or be empty unless --force). Without
+        /// it, calibrated.toml is written in the current directory, where it must not exist.
+        #[arg(long)]
         out: Option<PathBuf>,
         /// Replace an existing results directory.
         #[arg(long, requires = "out")]
@@ -718,9 +734,14 @@ fn run(cli: Cli) -> Result<()> {
             crank_deg,
             levels,
             json,
+            sensitivity,
             wear,
         } => {
-            let model = validated(&load_config(config.as_deref(), budget)?)?;
+            let cfg = load_config(config.as_deref(), budget)?;
+            let model = validated(&cfg)?;
+            if let Some(f) = sensitivity {
+                rvlife::sensitivity::check_fraction(f, &model)?;
+            }
             let pb = busy("hysteresis");
             let v = rvlife::api::hysteresis_curve(
                 &model,
@@ -730,10 +751,18 @@ fn run(cli: Cli) -> Result<()> {
                 Spelling::Cli,
                 &|_, _| {},
             );
+            let table = sensitivity
+                .map(|f| rvlife::sensitivity::sensitivity(&cfg, f))
+                .transpose();
             pb.finish_and_clear();
             let r = v?;
+            let table = table?;
             if json {
-                print_json(&r)?;
+                let mut j = to_json(&r)?;
+                if let (Some(t), Some(o)) = (&table, j.as_object_mut()) {
+                    o.insert("sensitivity".into(), to_json(t)?);
+                }
+                print_json(&j)?;
             } else {
                 let (a, b) = (&r.mesh_cycle_mean, &r.at_crank_angle);
                 say!(
@@ -759,6 +788,9 @@ fn run(cli: Cli) -> Result<()> {
                         r.rated_torque_nm,
                         parts.join(", ")
                     );
+                }
+                if let Some(t) = &table {
+                    print_sensitivity(t);
                 }
                 say!("{:>12} {:>14}", "torque_N_m", "twist_arcmin");
                 for (t, x) in a.torque_nm.iter().zip(&a.twist_arcmin) {
@@ -840,39 +872,21 @@ fn run(cli: Cli) -> Result<()> {
         Command::Calibrate {
             config,
             target_wear_um,
-            measured: Some(path),
+            measured,
+            catalogue_stiffness_nm_per_arcmin,
             fit_running_in,
             out,
             force,
-        } => {
-            let _ = target_wear_um;
-            calibrate_measured(
-                config.as_deref(),
-                budget,
-                &path,
-                fit_running_in,
-                out.as_deref(),
-                force,
-            )?;
-        }
-        Command::Calibrate {
-            config,
+        } => calibrate::run(
+            config.as_deref(),
+            budget,
             target_wear_um,
-            measured: None,
-            ..
-        } => {
-            let model = validated(&load_config(config.as_deref(), budget)?)?;
-            let pb = busy("calibrating");
-            let calibrated = rvlife::wear::calibrate(&model.wear_inputs(), target_wear_um * 1e-6);
-            pb.finish_and_clear();
-            let (k, achieved) = calibrated?;
-            say!(
-                "archard_coefficient_mm3_per_n_m = {:.6e}   # max wear {:.4} um at {} h",
-                k * 1e9,
-                achieved * 1e6,
-                model.wear.stage_hours.last().copied().unwrap_or(0.0)
-            );
-        }
+            measured.as_deref(),
+            catalogue_stiffness_nm_per_arcmin,
+            fit_running_in,
+            out.as_deref(),
+            force,
+        )?,
     }
     Ok(())
 }
@@ -976,92 +990,6 @@ fn short_key(key: &str) -> &str {
     key.rsplit('.').next().unwrap_or(key)
 }
 
-/// `rvlife calibrate --measured`: every input is checked (the file, the config, the work
-/// budget, the results directory) before the reference studies run.
-fn calibrate_measured(
-    config: Option<&Path>,
-    budget: f64,
-    path: &Path,
-    fit_running_in: bool,
-    out: Option<&Path>,
-    force: bool,
-) -> Result<()> {
-    use rvlife::calibration::{Measurements, Options};
-    let data = Measurements::read(path)?;
-    data.check_for_fit(fit_running_in, false)?;
-    let model = rvlife::api::validated(&load_config(config, budget)?)?;
-    let start = std::time::Instant::now();
-    let pb = busy("calibrating");
-    let cal = rvlife::api::calibrate_measured(
-        &model,
-        &data,
-        Options { fit_running_in },
-        out,
-        force,
-        &|pass| pb.set_message(format!("calibrating: reference study {pass}")),
-    );
-    pb.finish_and_clear();
-    let cal = cal?;
-    let wall = start.elapsed().as_secs_f64();
-    let pct = cal.confidence * 100.0;
-    let (k, unit) = if model.wear.archard_key.ends_with("m2_per_n") {
-        (&cal.archard_coefficient_m2_per_n, "m^2/N")
-    } else {
-        (&cal.archard_coefficient_mm3_per_n_m, "mm^3/(N m)")
-    };
-    say!(
-        "{} = {:.6e}   # {unit}; {pct:.0} % CI [{:.6e}, {:.6e}]; {:.4} x the config's",
-        model.wear.archard_key.trim_start_matches("wear."),
-        k.value,
-        k.lower,
-        k.upper,
-        cal.archard_coefficient_m2_per_n.value / cal.config_archard_coefficient_m2_per_n
-    );
-    say!(
-        "k = {:.6e} m^2/N, {pct:.0} % CI [{:.6e}, {:.6e}] (Gauss-Newton covariance, Student-t \
-         with {} degrees of freedom, {} values, residual variance from the data)",
-        cal.archard_coefficient_m2_per_n.value,
-        cal.archard_coefficient_m2_per_n.lower,
-        cal.archard_coefficient_m2_per_n.upper,
-        cal.degrees_of_freedom,
-        cal.points
-    );
-    if let Some(b) = &cal.running_in_backlash_arcmin {
-        say!(
-            "running-in play b0 = {:.5} arcmin, {pct:.0} % CI [{:.5}, {:.5}]",
-            b.value,
-            b.lower,
-            b.upper
-        );
-    }
-    if let (Some(r), Some(tau)) = (&cal.running_in_factor, cal.running_in_hours) {
-        say!(
-            "running_in_factor = {:.5}   # {pct:.0} % CI [{:.5}, {:.5}]; running_in_hours = {tau} \
-             (the config's, not fitted)",
-            r.value,
-            r.lower,
-            r.upper
-        );
-    }
-    for q in &cal.quantities {
-        say!(
-            "{}: RMS residual {:.5} {} over {} values",
-            q.column,
-            q.rms_residual,
-            q.unit,
-            q.points
-        );
-    }
-    say!(
-        "{} reference studies ({} stages), {:.2} s{}",
-        cal.reference_runs,
-        cal.reference_stages,
-        wall,
-        out.map_or(String::new(), |d| format!("; results in {}", d.display()))
-    );
-    Ok(())
-}
-
 fn main() -> ExitCode {
     // A closed pipe (`rvlife te --json | head -1`) ends the process quietly, as it ends `cat`,
     // instead of making the next print panic: the default action of SIGPIPE, which the Rust
@@ -1114,6 +1042,38 @@ fn main() -> ExitCode {
 /// Prints the stage table: units in a line above it, then one row per stage; the DTE columns
 /// appear when the dynamic model ran, the flexible-disc columns when the FE disc did
 /// ([`rvlife::quantities::CONSOLE`]).
+/// The sensitivity table of `rvlife hysteresis --sensitivity`, to stdout.
+fn print_sensitivity(t: &rvlife::sensitivity::SensitivityTable) {
+    say!(
+        "sensitivity of the new reducer (b/a {:.1} N m/arcmin, lost motion {:.4} arcmin) to each \
+         estimate moved by -+{:.0} %:",
+        t.stiffness_nm_per_arcmin,
+        t.lost_motion_arcmin,
+        100.0 * t.fraction
+    );
+    say!(
+        "  {:48} {:>10} {:>19} {:>19} {:>19}",
+        "key",
+        "value",
+        "tried",
+        "b/a change %",
+        "lost motion %"
+    );
+    for r in &t.rows {
+        say!(
+            "  {:48} {:>10.4} {:>9.4} {:>9.4} {:>+9.2} {:>+9.2} {:>+9.2} {:>+9.2}",
+            r.key,
+            r.value,
+            r.tried[0],
+            r.tried[1],
+            100.0 * r.stiffness_change[0],
+            100.0 * r.stiffness_change[1],
+            100.0 * r.lost_motion_change[0],
+            100.0 * r.lost_motion_change[1]
+        );
+    }
+}
+
 fn print_stage_table(stages: &[StageSummary]) {
     // A column is shown when every stage has its value.
     let shown: Vec<&ConsoleColumn> = CONSOLE

@@ -306,10 +306,18 @@ fn calibrate_outputs_are_unchanged() {
          hours,lost_motion_arcmin,max_wear_um\n\
          0,0.08,\n600,0.36,\n1200,0.45,15\n2400,0.55,\n3600,0.62,33\n",
     );
+    // The paper's reducer: the fit of the disc's coefficient needs a config whose bearings and
+    // pins keep their size (the example's wear too).
+    let paper = Command::new(binary())
+        .args(["example", "--preset", "paper"])
+        .output()
+        .expect("cannot start rvlife");
+    c.input("paper.toml", &String::from_utf8_lossy(&paper.stdout));
     c.run(
         "measured",
         &[
             "calibrate",
+            "paper.toml",
             "--measured",
             "measured.csv",
             "--fit-running-in",
@@ -320,6 +328,20 @@ fn calibrate_outputs_are_unchanged() {
     );
     c.files("cal");
     c.run("target", &["calibrate", "--target-wear-um", "60"], 0);
+    c.files("calibrated.toml");
+    // A hysteresis curve: the structure compliance, into the folder of its own.
+    c.input(
+        "curve.csv",
+        "torque_nm,twist_arcmin\n0,0\n12.36,0.5\n103,1.5\n206,2.5\n309,3.5\n412,4.5\n\
+         206,2.5\n0,0.2\n-12.36,-0.5\n-103,-1.5\n-206,-2.5\n-309,-3.5\n-412,-4.5\n\
+         -206,-2.5\n0,-0.2\n12.36,0.5\n206,2.5\n412,4.5\n",
+    );
+    c.run(
+        "structure",
+        &["calibrate", "--measured", "curve.csv", "--out", "structure"],
+        0,
+    );
+    c.files("structure");
     c.check();
 }
 

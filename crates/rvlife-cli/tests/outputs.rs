@@ -350,6 +350,9 @@ fn calibrate_measured_bad_inputs_exit_2_before_work() {
             &["largest measured hours", "work budget"],
         ),
     ];
+    // The paper's reducer: its disc alone wears, without running-in (the example's bearings and
+    // pins wear too, which the fit refuses, and its running-in factor is fitted as well).
+    let paper = write_config(dir.path(), "paper.toml", &paper_text());
     for (name, text, needles) in cases {
         let p = dir.path().join(name);
         std::fs::write(&p, text).unwrap();
@@ -358,6 +361,7 @@ fn calibrate_measured_bad_inputs_exit_2_before_work() {
             60,
             [
                 "calibrate".as_ref(),
+                paper.as_os_str(),
                 "--measured".as_ref(),
                 p.as_os_str(),
                 "--out".as_ref(),
@@ -385,6 +389,7 @@ fn calibrate_measured_bad_inputs_exit_2_before_work() {
     std::fs::write(&p, "hours,max_wear_um\n100,1\n200,2\n300,3\n").unwrap();
     let o = rvlife([
         "calibrate".as_ref(),
+        paper.as_os_str(),
         "--measured".as_ref(),
         p.as_os_str(),
         "--fit-running-in".as_ref(),
@@ -398,6 +403,7 @@ fn calibrate_measured_bad_inputs_exit_2_before_work() {
     std::fs::write(&p, "hours,backlash_arcmin\n100,1\n200,2\n").unwrap();
     let o = rvlife([
         "calibrate".as_ref(),
+        paper.as_os_str(),
         "--measured".as_ref(),
         p.as_os_str(),
         "--fit-running-in".as_ref(),
@@ -423,7 +429,12 @@ fn calibrate_measured_bad_inputs_exit_2_before_work() {
             &["2 measured value(s)", "running-in factor r", "at least 3"][..],
         ),
     ] {
-        let cfg = write_config(dir.path(), "c.toml", &add_line(&paper_text(), "wear", line));
+        let (key, value) = line.split_once(" = ").unwrap();
+        let cfg = write_config(
+            dir.path(),
+            "c.toml",
+            &set_key(&paper_text(), "wear", key, value),
+        );
         let o = rvlife([
             "calibrate".as_ref(),
             cfg.as_os_str(),

@@ -425,7 +425,8 @@ def test_calibrate_equals_the_command_line(tmp):
     import pandas as pd
 
     cfg = write(tmp, "cal.toml", short_text())
-    line = cli("calibrate", cfg, "--target-wear-um", 20)
+    # In the test's folder: the command writes calibrated.toml where it runs.
+    line = cli("calibrate", cfg, "--target-wear-um", 20, cwd=tmp)
     k_cli = float(line.split("=")[1].split()[0])
     fit = rvlife.calibrate(rvlife.Config.from_file(cfg), target_wear_um=20.0)
     assert abs(fit.archard_coefficient_mm3_per_n_m - k_cli) <= 5e-7 * k_cli, (fit, line)

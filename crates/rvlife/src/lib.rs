@@ -33,6 +33,7 @@ pub mod montecarlo;
 pub mod output;
 pub mod quantities;
 pub mod reducer;
+pub mod sensitivity;
 pub mod statics;
 pub mod study;
 pub mod sweep;

@@ -31,7 +31,7 @@ const LAYERS: &[&[&str]] = &[
     &["config"],
     &["life"],
     &["study", "montecarlo"],
-    &["calibration", "sweep"],
+    &["calibration", "sensitivity", "sweep"],
     &["output"],
     &["api"],
 ];

@@ -57,6 +57,7 @@
 
 mod measurements;
 mod pchip;
+pub mod structure;
 
 use std::path::Path;
 

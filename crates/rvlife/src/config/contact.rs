@@ -46,12 +46,14 @@ pub struct ContactConfig {
     /// `"single"` (averaged over the band of `band_force_n`).
     #[serde(default = "default_band")]
     pub band: String,
-    /// How the pins are held: `"rigid"` (default, the earlier model), `"groove"` (each pin
-    /// seated in a housing groove, the pin-groove contact in series with the flank contact) or
-    /// `"ends"` (each pin held at its two ends only and bent by the disc's load, a beam in
-    /// series with the flank contact; docs/model.md section 3.5).
-    #[serde(default = "default_pin_support")]
-    pub pin_support: String,
+    /// How the pins are held: `"groove"` (each pin seated in a housing groove, the pin-groove
+    /// contact in series with the flank contact: the RV construction, default for
+    /// `reducer.drive = "rv"`), `"rigid"` (the pins held rigidly, the paper's model and the
+    /// default of a single-stage drive) or `"ends"` (each pin held at its two ends only and
+    /// bent by the disc's load, a beam in series with the flank contact; docs/model.md
+    /// sections 3.4 and 3.5). The groove needs the log laws (`law = "paper"` or `"johnson"`).
+    #[serde(default)]
+    pub pin_support: Option<String>,
     /// Distance between the supports of a pin held at its ends, mm (`pin_support = "ends"`
     /// only; default three disc widths: the two discs side by side and half a disc width at
     /// each end for the running clearances and the support, an **estimate**). Range: [2 B,
@@ -62,10 +64,6 @@ pub struct ContactConfig {
     /// a hardened pin in a ground groove). Range: [1, 1000] um.
     #[serde(default)]
     pub groove_clearance_um: Option<f64>,
-}
-
-fn default_pin_support() -> String {
-    "rigid".into()
 }
 
 fn default_band() -> String {
@@ -95,7 +93,7 @@ impl Default for ContactConfig {
             load_share: None,
             band_force_n: None,
             band: default_band(),
-            pin_support: default_pin_support(),
+            pin_support: None,
             pin_span_mm: None,
             groove_clearance_um: None,
         }
@@ -128,7 +126,8 @@ fn one_of<'v>(key: &str, value: &'v str, allowed: &[&str], words: &str) -> Resul
 
 impl ContactConfig {
     /// The contact law for the stage `geometry` and the elastic constants `materials`, the
-    /// support, the band, SI.
+    /// support, the band, SI; `rv` for an RV reducer (its pins sit in housing grooves unless
+    /// `pin_support` says otherwise).
     ///
     /// # Errors
     /// [`Error::Invalid`] naming the key, the value and the allowed values or range.
@@ -136,6 +135,7 @@ impl ContactConfig {
         &self,
         geometry: &CycloidGeometry,
         materials: Materials,
+        rv: bool,
     ) -> Result<ContactParams> {
         let law = match self.law.as_str() {
             "paper" => ApproachLaw::Paper,
@@ -193,13 +193,14 @@ impl ContactConfig {
             }
             None => 10e-6,
         };
+        let log_law = !matches!(law, ApproachLaw::Linear { .. });
+        let default_support = if rv && log_law { "groove" } else { "rigid" };
         let pin_support = one_of(
             "contact.pin_support",
-            &self.pin_support,
+            self.pin_support.as_deref().unwrap_or(default_support),
             &["groove", "rigid", "ends"],
             "must be \"groove\", \"rigid\" or \"ends\"",
         )?;
-        let log_law = !matches!(law, ApproachLaw::Linear { .. });
         let groove = match pin_support {
             // Loaded over the disc width, into a housing wall of about 0.15 Rp (estimate).
             "groove" if log_law => Some(Groove {

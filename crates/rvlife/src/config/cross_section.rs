@@ -41,6 +41,7 @@ pub(super) fn reducer(
         drive: parts.drive,
         disc_phases: parts.disc_phases.clone(),
         pin_wear: Default::default(),
+        series: parts.series,
     };
     reducer.contact_band_force = match contact.band_force {
         Some(f) => f,

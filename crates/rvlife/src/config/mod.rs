@@ -10,7 +10,7 @@
 //!
 //! | section | file | checked into |
 //! |---|---|---|
-//! | `[reducer]`, `[reducer.gears]`, `[reducer.bearings]`, `[reducer.output_pins]` | `reducer.rs` | [`crate::reducer::Reducer`] (with the next three), [`Rating`] |
+//! | `[reducer]`, `[reducer.gears]`, `[reducer.bearings]`, `[reducer.output_pins]`, `[reducer.structure]` | `reducer.rs`, `structure.rs` | [`crate::reducer::Reducer`] (with the next three), [`Rating`] |
 //! | `[cycloid]`, `[cycloid.modification]` | `cycloid.rs` | [`crate::geometry::CycloidParams`] |
 //! | `[materials]` | `materials.rs` | [`MaterialParams`] |
 //! | `[contact]` | `contact.rs` | [`crate::contact::ContactModel`], [`crate::reducer::Support`] |
@@ -47,6 +47,7 @@ mod presets;
 pub(crate) mod range;
 mod reducer;
 pub mod schema;
+mod structure;
 mod te;
 mod tolerances;
 mod wear;
@@ -63,6 +64,7 @@ pub(crate) use model::{bearing_rates, worn_parts};
 pub use model::{Model, Section};
 pub use presets::{preset_text, Preset, PRESETS};
 pub use reducer::{BearingsConfig, GearsConfig, OutputPinsConfig, Rating, ReducerConfig};
+pub use structure::{StructureConfig, StructureParams};
 pub use te::TeConfig;
 pub use tolerances::{Tolerance, ToleranceConfig, Tolerances, TolerancesConfig};
 pub use wear::WearConfig;

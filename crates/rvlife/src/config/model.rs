@@ -40,6 +40,8 @@ pub struct Model {
     pub reducer: Reducer,
     /// `[reducer]`: rated torque and input speed.
     pub rating: Rating,
+    /// `[reducer.structure]`: the dimensions of the parts in series in `reducer`.
+    pub structure: super::StructureParams,
     /// `[materials]`: elastic constants (also in the contact law) and the contact's static
     /// capacity.
     pub materials: MaterialParams,
@@ -127,8 +129,10 @@ impl Config {
         // The stage's own checks (K1, undercut).
         let nominal_profile = Profile::new(geometry.clone(), modification, None)?;
         let materials = self.materials.validate()?;
-        let contact = self.contact.validate(&geometry, materials.elastic)?;
         let parts = self.reducer.validate(&geometry)?;
+        let contact = self
+            .contact
+            .validate(&geometry, materials.elastic, !parts.single)?;
         let rating = parts.rating;
         let gap_points = whole(
             "dynamics.gap_points_per_tooth",
@@ -179,6 +183,7 @@ impl Config {
             },
             reducer,
             rating,
+            structure: parts.structure,
             materials,
             load,
             wear,

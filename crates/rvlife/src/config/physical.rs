@@ -451,10 +451,12 @@ mod tests {
     use super::*;
     use crate::config::Config;
 
-    /// The example's capacity is where its largest Hertz pressure reaches the limit: carried at
-    /// 0.99 of it, not at 1.01, both ways, and the pressure there within 1 % of 4000 MPa
-    /// (Hertz pressure grows as the square root of the force, so 2 % of torque is 1 % of
-    /// pressure).
+    /// The capacity of the paper's reducer is where its largest Hertz pressure reaches the limit
+    /// or its twist leaves the range the static analysis follows, whichever comes first: carried
+    /// at 0.99 of it, not at 1.01, both ways, above the catalogue's momentary maximum torque (5
+    /// times the rated for the RV-E series); where the pressure sets it, the pressure there
+    /// within 1 % of 4000 MPa (Hertz pressure grows as the square root of the force, so 2 % of
+    /// torque is 1 % of pressure), and the refusal names the limit that set it.
     #[test]
     fn capacity_is_where_the_pressure_reaches_the_limit() {
         let m = Config::paper().validate().unwrap();
@@ -462,16 +464,22 @@ mod tests {
         let sa = StaticAnalysis::new(&m.reducer, &p).unwrap();
         for sign in [1.0, -1.0] {
             let cap = capacity(&sa, &m, sign, 1e6);
-            assert!(cap > 10.0 * m.rating.rated_torque, "{cap}");
+            assert!(cap > 5.0 * m.rating.rated_torque, "{cap}");
             let p_at = carried(&sa, &m, sign * 0.99 * cap).unwrap();
-            assert!(carried(&sa, &m, sign * 1.01 * cap).is_err());
+            let beyond = carried(&sa, &m, sign * 1.01 * cap).unwrap_err();
             let rel = p_at / m.materials.max_contact_pressure - 1.0;
-            assert!(rel.abs() < 0.01, "pressure {p_at} at 0.99 x {cap} N m");
             assert!(m.check_torque("t", sign * 0.99 * cap).is_ok());
             let e = m
                 .check_torque("t", sign * 1.01 * cap)
                 .unwrap_err()
                 .to_string();
+            assert!(e.contains("carries at most"), "{e}");
+            if beyond.contains("twist beyond first contact") {
+                assert!(rel < 0.0, "pressure {p_at} at 0.99 x {cap} N m");
+                assert!(e.contains("twist beyond first contact"), "{e}");
+                continue;
+            }
+            assert!(rel.abs() < 0.01, "pressure {p_at} at 0.99 x {cap} N m");
             assert!(e.contains("carries at most") && e.contains("MPa"), "{e}");
         }
     }

@@ -78,11 +78,17 @@ pub const PRESETS: &[Preset] = &[
     Preset {
         name: "paper",
         summary: "the paper's RV-40E-class reducer as printed (Tao et al. 2024, Tables 1-2): no \
-                  play in the crank bearings, no profile modification",
+                  play in the crank bearings, no profile modification, pins held rigidly, the \
+                  disc the only part that wears, at the paper's coefficient, without running-in",
         edits: &[
             ("reducer.bearings", "crank_disc_clearance_um", "0.0"),
             ("cycloid.modification", "equidistant_mm", "0.0"),
             ("cycloid.modification", "offset_mm", "0.0"),
+            ("contact", "pin_support", "\"rigid\""),
+            ("wear", "archard_coefficient_mm3_per_n_m", "6.844807e-9"),
+            ("wear", "bearing_archard_coefficient_mm3_per_n_m", "0.0"),
+            ("wear", "pin_archard_coefficient_mm3_per_n_m", "0.0"),
+            ("wear", "running_in_factor", "1.0"),
         ],
     },
     Preset {
@@ -112,6 +118,7 @@ pub const PRESETS: &[Preset] = &[
             ("cycloid.modification", "equidistant_mm", "0.008"),
             ("cycloid.modification", "offset_mm", "-0.005"),
             ("reducer.bearings", "crank_disc_clearance_um", "0.0"),
+            ("contact", "pin_support", "\"rigid\""),
             ("life", "lost_motion_arcmin", "2.0"),
             ("life", "backlash_arcmin", "2.0"),
         ],

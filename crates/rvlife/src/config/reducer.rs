@@ -7,8 +7,12 @@
 use serde::{Deserialize, Serialize};
 
 use super::range::{check, whole, Range};
+use super::structure::{StructureConfig, StructureParams};
 use crate::error::{Error, Result};
 use crate::geometry::CycloidGeometry;
+use crate::reducer::structure::{
+    carrier_seat_stiffness, shaft_torsion_stiffness, stiffness_of, CrankBeam, SeriesCompliances,
+};
 use crate::reducer::{BearingLaw, Bearings, Drive, Mesh, OutputPins, RadialBearing};
 
 /// `[reducer]`: the drive (RV with its planetary first stage, or single-stage) and the rating.
@@ -49,6 +53,9 @@ pub struct ReducerConfig {
     /// The crank bearings.
     #[serde(default)]
     pub bearings: BearingsConfig,
+    /// The crankshafts' and the input shaft's dimensions and the structure compliance.
+    #[serde(default)]
+    pub structure: StructureConfig,
 }
 
 fn default_drive() -> String {
@@ -206,19 +213,22 @@ pub struct BearingsConfig {
     /// Radial internal clearance of each crank-carrier bearing, um. Range: [0, 1000] um.
     #[serde(default)]
     pub crank_carrier_clearance_um: Option<f64>,
-    /// Bending stiffness of the crankshaft at an eccentric, in series with the crank-disc
-    /// bearing, N/um (default from beam theory: [`crank_bending_stiffness`]; RV only).
+    /// Bending stiffness of the crankshaft at one eccentric under a load there, N/um (default
+    /// Timoshenko's beam of `[reducer.structure]`'s crank: [`CrankBeam::flexibility`]; RV with
+    /// rollers only, or a single-stage drive's eccentric shaft when given). In an RV reducer the
+    /// other eccentric's load moves it too, by the beam's ratio of cross to direct flexibility.
     /// Range: [1, 1e7] N/um.
     #[serde(default)]
     pub crank_bending_stiffness_n_per_um: Option<f64>,
     /// Stiffness of the carrier at each crank's seat, in series with the crank-carrier bearing
     /// pair, N/um (default from beam theory of the carrier's pillars:
-    /// [`carrier_seat_stiffness`]; RV with rollers only). Range: [1, 1e7] N/um.
+    /// [`carrier_seat_stiffness`] of pillars filling the discs' pillar holes; RV with rollers
+    /// only). Range: [1, 1e7] N/um.
     #[serde(default)]
     pub carrier_stiffness_n_per_um: Option<f64>,
     /// Torsional stiffness of a crankshaft between its planet and its eccentrics, in series
-    /// with the sun-planet mesh, N m/rad (default from beam theory:
-    /// [`crank_torsion_stiffness`]; RV with rollers only). Range: [1, 1e7] N m/rad.
+    /// with the sun-planet mesh, N m/rad (default from beam theory of `[reducer.structure]`'s
+    /// crank: [`shaft_torsion_stiffness`]; RV with rollers only). Range: [1, 1e7] N m/rad.
     #[serde(default)]
     pub crank_torsion_stiffness_nm_per_rad: Option<f64>,
     /// Damping ratio of the bearing modes (dynamics only). Range: [0, 10].
@@ -271,24 +281,6 @@ impl Default for BearingsConfig {
     }
 }
 
-/// Young's modulus of the crankshaft, Pa (bearing steel).
-const CRANK_YOUNGS_MODULUS: f64 = 210e9;
-
-/// Bending stiffness (N/m) of the crankshaft at one eccentric, in series with its crank-disc
-/// bearing: the crank as a beam simply supported at its two crank-carrier bearings, span
-/// `L = 4 B`, diameter `d = 0.4` of the crank circle radius (**estimates** for the RV-E class:
-/// the discs and the bearings side by side between the carrier plates), loaded at the
-/// eccentric `x = L/2 - 0.6 B` from a support: `k = 3 E I L / (x^2 (L - x)^2)` (Roark, table
-/// 8.1, case 1e), `I = pi d^4 / 64`. The other disc's load, nearly opposite, is left out,
-/// which overstates the compliance.
-pub(crate) fn crank_bending_stiffness(width: f64, crank_circle_radius: f64) -> f64 {
-    let span = 4.0 * width;
-    let d = 0.4 * crank_circle_radius;
-    let x = 0.5 * span - 0.6 * width;
-    let inertia = std::f64::consts::PI * d.powi(4) / 64.0;
-    3.0 * CRANK_YOUNGS_MODULUS * inertia * span / (x * x * (span - x) * (span - x))
-}
-
 /// Fill of a roller set's pitch circle by its rollers, `Z D / (pi d_m)`, for the default roller
 /// diameter: 0.75, a caged set (**estimate**; a full complement fills about 0.95, Harris and
 /// Kotzalas, vol. 1, ch. 2).
@@ -303,63 +295,32 @@ pub(crate) fn roller_diameter_estimate(count: usize, journal: f64) -> f64 {
 }
 
 /// Journal diameters (m) of the crank-carrier and crank-disc roller sets: the crank's diameter
-/// `0.4` of the crank circle radius (as in [`crank_bending_stiffness`]) and the eccentric's,
-/// that plus twice the eccentricity (the eccentric carries the crank's section off its axis;
-/// **estimates**). A stage without cranks (single-stage) takes its eccentric journal as a fifth
-/// of the pin circle radius.
+/// (`reducer.structure.crank_diameter_mm`) and the eccentric's, that plus twice the
+/// eccentricity (the eccentric carries the crank's section off its axis; **estimates**). A
+/// stage without cranks (single-stage) takes its eccentric journal as a fifth of the pin
+/// circle radius.
 pub(crate) fn journal_estimates(
     geometry: &CycloidGeometry,
-    crank_circle_radius: f64,
+    crank: Option<&CrankBeam>,
 ) -> (f64, f64) {
-    let crank = if crank_circle_radius > 0.0 {
-        0.4 * crank_circle_radius
-    } else {
-        0.2 * geometry.pin_circle_radius
+    let crank = match crank {
+        Some(c) => c.diameter,
+        None => 0.2 * geometry.pin_circle_radius,
     };
     (crank, crank + 2.0 * geometry.eccentricity)
 }
 
-/// Torsional stiffness (N m/rad) of a crankshaft between its planet and its eccentrics: a
-/// round shaft of diameter `d = 0.4` of the crank circle radius (as in
-/// [`crank_bending_stiffness`]) twisted over `3 B`, from the planet's mid-plane outside a
-/// crank-carrier bearing to the middle of the two eccentrics (**estimates** for the RV-E
-/// class): `k_t = G pi d^4 / (32 L)` (Roark, table 10.1, case 1), `G = E / (2 (1 + 0.3))`.
-pub(crate) fn crank_torsion_stiffness(width: f64, crank_circle_radius: f64) -> f64 {
-    let d = 0.4 * crank_circle_radius;
-    let g = CRANK_YOUNGS_MODULUS / (2.0 * (1.0 + 0.3));
-    g * std::f64::consts::PI * d.powi(4) / (32.0 * 3.0 * width)
-}
-
-/// Stiffness (N/m) of the carrier at a crank's seat, in series with the crank-carrier bearing
-/// pair: the carrier as two plates joined by pillars through the discs' holes. The output is
-/// taken at one plate; each crank rests on both, half its force on each, so the other plate's
-/// half reaches the output through the pillars, which it shears and bends as beams fixed in
-/// one plate and guided by the other (`k_p = 1/(L^3/(12 E I) + L/(kappa G A))`, Timoshenko's
-/// beam with the shear coefficient `kappa = 0.9` of a round section; Roark, table 8.1, and the
-/// shear deflection of section 8.10). With as many pillars as cranks on the crank circle, that plate
-/// turns by `(T/2)/(n k_p r^2)`, moving each crank's far seat by `r` times that and the crank
-/// (between its two seats) by half of it: a seat stiffness `4 k_p` per crank, whatever the
-/// number of cranks. **Estimates** (RV-E class, scaled with the stage): pillars as round bars
-/// filling the discs' pillar holes (22 mm diameter scaled, [`CycloidGeometry::scaled_from_root`])
-/// less twice the eccentricity and 0.5 mm of running clearance, as long as 2.5 disc widths
-/// (two discs and their spacers between the plates). The seat is taken as isotropic: at the
-/// rated torque a crank's force is mostly tangential (the two discs' radial forces nearly
-/// cancel), which is the direction the pillars give. The plates themselves, the output
+/// The carrier's pillars at the crank seats (**estimates**, RV-E class, scaled with the
+/// stage): round bars filling the discs' pillar holes (22 mm diameter scaled,
+/// [`CycloidGeometry::scaled_from_root`]) less twice the eccentricity and 0.5 mm of running
+/// clearance, as long as 2.5 disc widths (two discs and their spacers between the plates):
+/// the seat stiffness of [`carrier_seat_stiffness`], N/m. The plates themselves, the output
 /// flange's bolts and the main bearings (which carry no load under a pure torque) are taken
 /// as rigid. `None` where the pillars would be under 1 mm thick (an eccentricity too large for
 /// the scaled holes).
-pub(crate) fn carrier_seat_stiffness(geometry: &CycloidGeometry) -> Option<f64> {
-    let e = CRANK_YOUNGS_MODULUS;
-    let g = e / (2.0 * (1.0 + 0.3));
+fn carrier_seat_estimate(geometry: &CycloidGeometry) -> Option<f64> {
     let d = (geometry.scaled_from_root(22.0) - 0.5) * 1e-3 - 2.0 * geometry.eccentricity;
-    if d < 1e-3 {
-        return None;
-    }
-    let length = 2.5 * geometry.width;
-    let area = std::f64::consts::PI * d * d / 4.0;
-    let inertia = std::f64::consts::PI * d.powi(4) / 64.0;
-    let pillar = 1.0 / (length.powi(3) / (12.0 * e * inertia) + length / (0.9 * g * area));
-    Some(4.0 * pillar)
+    (d >= 1e-3).then(|| carrier_seat_stiffness(d, 2.5 * geometry.width))
 }
 
 /// The rating of `[reducer]`, SI.
@@ -394,8 +355,12 @@ pub(super) struct ReducerParts {
     pub rv_mesh: Mesh,
     /// Damping ratios of the mesh and of the bearings (the dynamic analysis applies them).
     pub damping: (f64, f64),
-    /// The crank bearings.
+    /// The crank bearings (with the parts in series summed in).
     pub bearings: Bearings,
+    /// The parts in series with the bearings and the meshes, each on its own.
+    pub series: SeriesCompliances,
+    /// The dimensions they were computed from.
+    pub structure: StructureParams,
     /// The rating.
     pub rating: Rating,
 }
@@ -468,15 +433,33 @@ impl ReducerConfig {
         } else {
             rv_mesh.sun_pitch_radius + rv_mesh.planet_pitch_radius
         };
-        let (bearings, bearing_zeta, crank_torsion) =
-            self.bearings.validate(geometry, crank_circle)?;
-        // The crank's torsion between its planet and its eccentrics, in series with the mesh
-        // along the line of action: a twist `F r_bp / k_t` moves the planet's base circle by
-        // `F r_bp^2 / k_t` (docs/model.md section 5.9).
+        let structure =
+            self.structure
+                .validate(geometry, crank_circle, rv_mesh.sun_pitch_radius)?;
+        let cranks_of_stage = if single { 2 } else { planets };
+        let (mut bearings, bearing_zeta, series) = self.bearings.validate(
+            geometry,
+            crank_circle,
+            &structure,
+            &rv_mesh,
+            cranks_of_stage,
+        )?;
+        // The housing ring under the pins' loads, a twist compliance taken at the seats.
+        let mut series = series;
+        if let (Some(ring), false, "rollers") =
+            (structure.housing, single, self.bearings.model.as_str())
+        {
+            let zp = geometry.pins as f64;
+            let twist_factor = (zp - 1.0) / (zp + rv_mesh.sun_planet_ratio);
+            let c = ring.twist_compliance(geometry, &disc_phases, 0.5 * twist_factor, 12);
+            series.housing = c * planets as f64 * crank_circle * crank_circle;
+        }
+        // The parts in series, summed into the bearings' and the meshes' stiffness
+        // (docs/model.md section 5.9).
+        bearings.disc.series_stiffness = stiffness_of(series.disc_side());
+        bearings.carrier.series_stiffness = stiffness_of(series.carrier_side());
         let mut rv_mesh = rv_mesh;
-        rv_mesh.stiffness = 1.0
-            / (1.0 / rv_mesh.stiffness
-                + rv_mesh.planet_base_radius * rv_mesh.planet_base_radius / crank_torsion);
+        rv_mesh.stiffness = 1.0 / (1.0 / rv_mesh.stiffness + series.mesh_side());
         let (drive, cranks, crank_circle_radius, mesh) = match output_pins {
             Some(mut w) => {
                 if w.stiffness <= 0.0 {
@@ -504,6 +487,8 @@ impl ReducerConfig {
             rv_mesh,
             damping: (mesh_zeta, bearing_zeta),
             bearings,
+            series,
+            structure,
             rating: Rating {
                 rated_torque,
                 input_speed_rpm,
@@ -693,16 +678,20 @@ impl GearsConfig {
 }
 
 impl BearingsConfig {
-    /// The crank bearings of `[reducer.bearings]` for the stage `geometry` and a crank circle
-    /// of radius `crank_circle_radius` (m; 0 for a single-stage drive, whose eccentric has no
-    /// crank to bend), their damping ratio (applied by the dynamic analysis) and the torsional
-    /// stiffness of a crank between its planet and its eccentrics, N m/rad (infinite when
-    /// left out of the model).
+    /// The crank bearings of `[reducer.bearings]` for the stage `geometry`, a crank circle of
+    /// radius `crank_circle_radius` (m; 0 for a single-stage drive, whose eccentric has no
+    /// crank to bend), the crankshafts and input shaft of `structure`, the sun-planet `mesh`
+    /// and `cranks` cranks; their damping ratio (applied by the dynamic analysis) and the parts
+    /// in series with them and with the meshes (docs/model.md section 5.9; the bearings'
+    /// `series_stiffness` is left infinite, for the caller to sum the parts into).
     fn validate(
         &self,
         geometry: &CycloidGeometry,
         crank_circle_radius: f64,
-    ) -> Result<(Bearings, f64, f64)> {
+        structure: &StructureParams,
+        mesh: &Mesh,
+        cranks: usize,
+    ) -> Result<(Bearings, f64, SeriesCompliances)> {
         let key = |k: &str| format!("reducer.bearings.{k}");
         let clearance = |k: &str, own: Option<f64>| -> Result<f64> {
             let (name, v) = match (own, self.clearance_um) {
@@ -801,7 +790,7 @@ impl BearingsConfig {
                 )?;
                 let zd = whole(&key("crank_disc_rollers"), self.crank_disc_rollers, 6, 200)?;
                 let (crank_journal, eccentric_journal) =
-                    journal_estimates(geometry, crank_circle_radius);
+                    journal_estimates(geometry, structure.crank.as_ref());
                 let (dc, pc) = set(
                     "crank_carrier_roller_diameter_mm",
                     self.crank_carrier_roller_diameter_mm,
@@ -856,44 +845,70 @@ impl BearingsConfig {
         // its unit, times `si`), or the beam-theory estimate where the crank bearings are
         // roller sets in an RV reducer (the linear model keeps the earlier springs alone).
         // `None`: the estimate does not apply to this stage (the key must be given).
+        let estimates = crank_circle_radius > 0.0 && self.model == "rollers";
         let series =
             |k: &str, v: Option<f64>, unit: &'static str, si: f64, estimate: Option<f64>| {
                 Ok::<f64, Error>(match v {
                     Some(v) => check(&key(k), v, Range::closed(1.0, 1e7, unit))? * si,
-                    None if crank_circle_radius > 0.0 && self.model == "rollers" => estimate
-                        .ok_or_else(|| {
-                            Error::invalid(
+                    None if estimates => estimate.ok_or_else(|| {
+                        Error::invalid(
                             key(k),
                             "left out",
                             "must be given for this stage: its estimate needs pillars at least \
                              1 mm thick, and the discs' pillar holes (22 mm scaled with the \
                              stage) less twice the eccentricity leave less",
                         )
-                        })?,
+                    })?,
                     None => f64::INFINITY,
                 })
             };
-        let bending = series(
+        // The crank's 2x2 flexibility at its eccentrics (Timoshenko's beam), or the key's
+        // direct stiffness with the beam's ratio of cross to direct term.
+        let beam = structure.crank.map(|c| c.flexibility());
+        let direct = series(
             "crank_bending_stiffness_n_per_um",
             self.crank_bending_stiffness_n_per_um,
             "N/um",
             1e6,
-            Some(crank_bending_stiffness(geometry.width, crank_circle_radius)),
+            beam.map(|(d, _)| 1.0 / d),
         )?;
+        let direct = 1.0 / direct;
+        let cross = beam.map_or(0.0, |(d, c)| direct * c / d);
         let carrier = series(
             "carrier_stiffness_n_per_um",
             self.carrier_stiffness_n_per_um,
             "N/um",
             1e6,
-            carrier_seat_stiffness(geometry),
+            carrier_seat_estimate(geometry),
         )?;
         let torsion = series(
             "crank_torsion_stiffness_nm_per_rad",
             self.crank_torsion_stiffness_nm_per_rad,
             "N m/rad",
             1.0,
-            Some(crank_torsion_stiffness(geometry.width, crank_circle_radius)),
+            structure
+                .crank
+                .map(|c| shaft_torsion_stiffness(c.diameter, structure.crank_torsion_length)),
         )?;
+        let (shaft_d, shaft_l) = structure.input_shaft;
+        let shaft = if estimates {
+            shaft_torsion_stiffness(shaft_d, shaft_l)
+        } else {
+            f64::INFINITY
+        };
+        let r = crank_circle_radius;
+        let parts = SeriesCompliances {
+            crank_bending_own: direct - cross,
+            crank_bending_shared: cross,
+            carrier: 1.0 / carrier,
+            housing: 0.0,
+            structure: structure.compliance * cranks as f64 * r * r,
+            // A twist `F r_bp/k_t` moves the planet's base circle by `F r_bp^2/k_t`; the sun's
+            // torque `n F r_bs` twists the input shaft by `n F r_bs/k_s`, moving each mesh by
+            // `r_bs` times that.
+            crank_torsion: mesh.planet_base_radius.powi(2) / torsion,
+            input_shaft: cranks as f64 * mesh.sun_base_radius.powi(2) / shaft,
+        };
         let bearings = Bearings {
             carrier: RadialBearing {
                 law: carrier_law,
@@ -901,13 +916,13 @@ impl BearingsConfig {
                     "crank_carrier_clearance_um",
                     self.crank_carrier_clearance_um,
                 )?,
-                series_stiffness: carrier,
+                series_stiffness: f64::INFINITY,
                 damping: 0.0,
             },
             disc: RadialBearing {
                 law: disc_law,
                 clearance: clearance("crank_disc_clearance_um", self.crank_disc_clearance_um)?,
-                series_stiffness: bending,
+                series_stiffness: f64::INFINITY,
                 damping: 0.0,
             },
         };
@@ -916,6 +931,6 @@ impl BearingsConfig {
             self.damping_ratio,
             Range::non_negative(10.0, ""),
         )?;
-        Ok((bearings, zeta, torsion))
+        Ok((bearings, zeta, parts))
     }
 }

@@ -226,7 +226,7 @@ mod tests {
             .find(|k| k.key == "reducer.bearings.crank_disc_roller_diameter_mm")
             .unwrap();
         assert_eq!(d.value, None);
-        assert_eq!(d.commented.as_deref(), Some("4.05"));
+        assert_eq!(d.commented.as_deref(), Some("2.83"));
         assert!(
             d.comment.starts_with("default: the needles filling"),
             "{}",

@@ -243,7 +243,7 @@ impl ContactModel {
 
     /// `(h0, h1)` of the groove's approach `F (h0 - h1 ln F)` ([`Groove`]), for the law's
     /// constant `c0`.
-    fn groove_coefficients(&self, gr: &Groove, c0: f64) -> (f64, f64) {
+    pub(crate) fn groove_coefficients(&self, gr: &Groove, c0: f64) -> (f64, f64) {
         let pi = std::f64::consts::PI;
         let (c_housing, c_pin) = self.materials.compliances();
         let rp = self.pin_radius;

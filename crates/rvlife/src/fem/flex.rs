@@ -66,9 +66,19 @@ impl FlexibleLaw {
             (0.0, 0.0)
         };
         let pin = c2 * (c0 + (4.0 * m.pin_radius / b).ln());
+        // A pin seated in a housing groove (section 3.4) adds the groove contact's approach
+        // `F (h0 - h1 ln F)`, outside the disc body like the pin's own.
+        let (groove, groove_slope) = match &m.groove {
+            Some(gr) => {
+                let (h0, h1) = m.groove_coefficients(gr, c0);
+                (h0 - h1 * f.ln(), h0 - h1 * f.ln() - h1)
+            }
+            None => (0.0, 0.0),
+        };
         // A pin bent between its ends (section 3.5) adds F c.
-        let w_at = |ff: f64| k * ff * (disc + pin) + ff * m.pin_compliance;
-        let slope = k * (disc + pin) - 0.5 * k * (disc_slope + c2) + m.pin_compliance;
+        let w_at = |ff: f64| k * ff * (disc + pin) + ff * (m.pin_compliance + groove);
+        let slope =
+            k * (disc + pin) - 0.5 * k * (disc_slope + c2) + m.pin_compliance + groove_slope;
         (w_at(force.max(0.0)), slope.max(1e-3 * k * c2))
     }
 }

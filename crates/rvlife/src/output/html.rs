@@ -238,6 +238,30 @@ pub(crate) fn write_report(study: &Study, summary: &Summary, dir: &Path) -> Resu
         ],
     );
 
+    if !study.twist_shares.is_empty() {
+        h.push_str(
+            "<h2>Where the twist goes</h2>\n<p>Each part's share of the new reducer's elastic \
+             twist at the rated torque: the twist that goes when that part alone is made rigid \
+             (mean over a mesh cycle; the parts share the load through parallel paths, so the \
+             shares add to 100 % only nearly).</p>\n",
+        );
+        let rows: Vec<(String, String)> = study
+            .twist_shares
+            .iter()
+            .map(|s| {
+                (
+                    s.part.to_string(),
+                    format!(
+                        "{} % ({} arcmin)",
+                        num(100.0 * s.share),
+                        num(s.twist * crate::units::ARCMIN_PER_RAD)
+                    ),
+                )
+            })
+            .collect();
+        key_value_table(&mut h, &rows);
+    }
+
     h.push_str("<h2>Model options</h2>\n");
     let mut opts: Vec<(String, String)> = vec![
         ("wear model".into(), format!("{:?}", m.wear.model)),

@@ -37,7 +37,10 @@ use std::path::Path;
 use crate::error::{Error, Result};
 
 #[cfg(feature = "files")]
-pub use staging::{check_output_file, interrupted, remove_pending, write_file_atomically, Staging};
+pub use staging::{
+    check_output_dir, check_output_file, interrupted, remove_pending, write_file_atomically,
+    Staging,
+};
 #[cfg(feature = "files")]
 pub use study::{write_dynamics_files, write_files};
 

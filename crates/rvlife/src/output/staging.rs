@@ -560,7 +560,7 @@ fn check_own_results(out: &Path) -> Result<()> {
 ///
 /// # Errors
 /// [`Error::Invalid`] naming `--out`.
-pub(crate) fn check_output_dir(out: &Path, replace: bool) -> Result<()> {
+pub fn check_output_dir(out: &Path, replace: bool) -> Result<()> {
     let last = out.components().next_back();
     if matches!(
         last,

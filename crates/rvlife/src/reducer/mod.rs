@@ -28,6 +28,7 @@ mod bearing_table;
 pub mod errors;
 mod pin_wear;
 mod play;
+pub mod structure;
 
 pub use bearing::{BearingLaw, RadialBearing, DEAD_BAND_STIFFNESS, TAKE_UP_WIDTH};
 pub(crate) use bearing_eval::{BearingEval, Frozen};
@@ -83,7 +84,8 @@ pub struct Mesh {
     pub planet_base_radius: f64,
     /// `Z1 / Z2`.
     pub sun_planet_ratio: f64,
-    /// Stiffness, N/m.
+    /// Stiffness along the line of action, N/m: the mesh's with the parts in series with it
+    /// (the crank's and the input shaft's torsion, [`structure::SeriesCompliances`]).
     pub stiffness: f64,
     /// Damping, N s/m (dynamics only).
     pub damping: f64,
@@ -203,6 +205,10 @@ pub struct Reducer {
     /// The pins' wear (docs/model.md section 7.11), seen by the static analysis; empty for
     /// unworn pins. The multibody model and the flexible disc use unworn pins.
     pub pin_wear: PinWear,
+    /// The parts in series with the crank bearings and the meshes, each on its own: what
+    /// [`RadialBearing::series_stiffness`] and [`Mesh::stiffness`] hold summed (the share of
+    /// the twist each part takes is found by taking it out).
+    pub series: structure::SeriesCompliances,
 }
 
 impl Reducer {

@@ -14,6 +14,7 @@ use super::StaticAnalysis;
 use crate::contact::ApproachLaw;
 use crate::error::{Error, Result};
 use crate::geometry::Profile;
+use crate::reducer::structure::SeriesCompliances;
 use crate::reducer::{BearingLaw, Drive, Reducer};
 
 /// A stiffness that stands for a rigid bearing or mesh, N/m (1e13: about 4e3 times the
@@ -28,10 +29,11 @@ const RIGID_CONTACT: f64 = 1e12;
 /// One part's share of the elastic twist (docs/model.md section 5.9).
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct TwistShare {
-    /// The part: `"crank bearings"`, `"crank bending"`, `"carrier"`, `"first stage"` (the
-    /// sun-planet meshes with the cranks' torsion in series), `"disc-pin contacts"` (with the
-    /// pins' housing grooves) or, for a single-stage drive, `"eccentric bearings"`,
-    /// `"output pins"`.
+    /// The part: `"crank bearings"`, `"crank bending"` (both eccentrics' terms),
+    /// `"carrier"`, `"housing"`, `"structure"` (the structure compliance), `"input shaft"`, `"first
+    /// stage"` (the sun-planet meshes with the cranks' torsion in series), `"disc-pin
+    /// contacts"` (with the pins' housing grooves) or, for a single-stage drive, `"eccentric
+    /// bearings"`, `"output pins"`.
     pub part: &'static str,
     /// Its share of the elastic twist, 0..1.
     pub share: f64,
@@ -64,13 +66,41 @@ fn rigid_variants(red: &Reducer) -> Vec<(&'static str, Reducer)> {
         },
     );
     if !single {
+        // A part in series taken out of the sums it is in (the bearings' and the meshes'
+        // series stiffness): what the reducer would be with it rigid.
+        let without = |r: &mut Reducer, c: &dyn Fn(&mut SeriesCompliances)| {
+            let mut s = r.series;
+            c(&mut s);
+            let less = |k: f64, before: f64, after: f64| 1.0 / (1.0 / k - before + after);
+            let b = &mut r.bearings;
+            b.disc.series_stiffness =
+                less(b.disc.series_stiffness, r.series.disc_side(), s.disc_side());
+            b.carrier.series_stiffness = less(
+                b.carrier.series_stiffness,
+                r.series.carrier_side(),
+                s.carrier_side(),
+            );
+            r.mesh.stiffness = less(r.mesh.stiffness, r.series.mesh_side(), s.mesh_side());
+            r.series = s;
+        };
         with("crank bending", &|r| {
-            r.bearings.disc.series_stiffness = f64::INFINITY
+            without(r, &|s| {
+                s.crank_bending_own = 0.0;
+                s.crank_bending_shared = 0.0;
+            });
+            // A bending stiffness of a linear model's key, not in the parts.
+            if r.series.disc_side() == 0.0 {
+                r.bearings.disc.series_stiffness = f64::INFINITY;
+            }
         });
-        with("carrier", &|r| {
-            r.bearings.carrier.series_stiffness = f64::INFINITY
+        with("carrier", &|r| without(r, &|s| s.carrier = 0.0));
+        with("housing", &|r| without(r, &|s| s.housing = 0.0));
+        with("structure", &|r| without(r, &|s| s.structure = 0.0));
+        with("input shaft", &|r| without(r, &|s| s.input_shaft = 0.0));
+        with("first stage", &|r| {
+            without(r, &|s| s.crank_torsion = 0.0);
+            r.mesh.stiffness = 1.0 / (1.0 / RIGID + r.series.mesh_side());
         });
-        with("first stage", &|r| r.mesh.stiffness = RIGID);
     }
     with("disc-pin contacts", &|r| {
         r.contact.law = ApproachLaw::Linear {

@@ -508,10 +508,18 @@ pub(super) fn finish(
 ) -> Result<Study> {
     let summaries: Vec<StageSummary> = stages.iter().map(|s| s.summary.clone()).collect();
     let life = study_life(model, &summaries, &wear, ahead, notice)?;
+    // Where the new reducer's twist goes at the rated torque (docs/model.md section 5.9).
+    let twist_shares = crate::statics::twist_shares(
+        &model.reducer,
+        &model.profile()?,
+        &crate::te::mesh_cycle_angles(model.reducer.geometry.pins, model.te.samples),
+        model.rating.rated_torque,
+    )?;
     Ok(Study {
         model: model.clone(),
         wear,
         stages,
         life,
+        twist_shares,
     })
 }

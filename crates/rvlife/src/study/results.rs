@@ -20,6 +20,9 @@ pub struct Study {
     pub stages: Vec<Stage>,
     /// The accuracy life against `[life]` (when thresholds are set).
     pub life: Option<crate::life::AccuracyLife>,
+    /// Each part's share of the new reducer's elastic twist at the rated torque, mean over a
+    /// mesh cycle (docs/model.md section 5.9; empty for the paper's rigid support).
+    pub twist_shares: Vec<crate::statics::TwistShare>,
 }
 
 /// Comparison with the paper's headline numbers (docs/model.md section 16).
@@ -75,6 +78,9 @@ pub struct Summary {
     /// The accuracy life against `[life]` (when thresholds are set).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub accuracy_life: Option<crate::life::AccuracyLife>,
+    /// Each part's share of the new reducer's elastic twist at the rated torque
+    /// (docs/model.md section 5.9): part, share (0..1), twist (arcmin).
+    pub twist_shares: Vec<serde_json::Value>,
     /// The measured profile's fit (when `cycloid.measured_profile` is set): file, points, RMS
     /// and largest residual, um.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -136,6 +142,17 @@ impl Study {
             wear_rate_evaluations: self.wear.rate_evaluations(),
             validity_limit: self.wear.limit.clone(),
             accuracy_life: self.life.clone(),
+            twist_shares: self
+                .twist_shares
+                .iter()
+                .map(|s| {
+                    serde_json::json!({
+                        "part": s.part,
+                        "share": s.share,
+                        "twist_arcmin": s.twist * ARCMIN_PER_RAD,
+                    })
+                })
+                .collect(),
             measured_profile_fit: m.cycloid.measured.as_ref().map(|x| {
                 serde_json::json!({
                     "source": x.source.display().to_string(),

@@ -125,6 +125,8 @@ fn twist_shares_add_up_and_the_first_stage_follows_its_closed_form() {
             "crank bearings",
             "crank bending",
             "carrier",
+            "housing",
+            "input shaft",
             "first stage",
             "disc-pin contacts"
         ]
@@ -137,13 +139,97 @@ fn twist_shares_add_up_and_the_first_stage_follows_its_closed_form() {
     assert!((sum - 1.0).abs() < 0.02, "sum {sum}");
     let kappa = red.geometry.pins as f64 + red.mesh.sun_planet_ratio;
     let (n, rb) = (red.cranks as f64, red.mesh.planet_base_radius);
-    let closed = torque / (n * kappa * kappa * rb * rb * red.mesh.stiffness);
+    // The meshes with the cranks' torsion, without the input shaft (a part of its own).
+    let first_stage = 1.0 / red.mesh.stiffness - red.series.input_shaft;
+    let closed = torque * first_stage / (n * kappa * kappa * rb * rb);
     let first = shares.iter().find(|s| s.part == "first stage").unwrap();
     println!(
         "first stage {:.4e} rad, closed form {closed:.4e}",
         first.twist
     );
     assert!((first.twist / closed - 1.0).abs() < 0.005);
+    // The input shaft, locked at its far end: the sun turns by `(T/i_H)/k_s`, the output by
+    // `1/i_H` of that.
+    let (d, l) = (13.5e-3, 80e-3);
+    let k_s = crate::reducer::structure::shaft_torsion_stiffness(d, l);
+    let closed = torque / (red.ratio * red.ratio * k_s);
+    let shaft = shares.iter().find(|s| s.part == "input shaft").unwrap();
+    println!(
+        "input shaft {:.4e} rad, closed form {closed:.4e}",
+        shaft.twist
+    );
+    assert!((shaft.twist / closed - 1.0).abs() < 0.005);
+}
+
+/// The structure compliance `c` (`[reducer.structure] compliance_arcmin_per_knm`), taken at
+/// the crank seats, adds `c T` to the twist under a pure torque `T`: within 1 % at 8 crank
+/// angles and 3 torques on the example with 5 arcmin per kN m (the seats' radial forces,
+/// which the isotropic seat compliance also yields to, are small beside the tangential).
+#[test]
+fn the_structure_compliance_adds_its_twist() {
+    let with = |c: f64| {
+        Config::from_toml_str(
+            &EXAMPLE_TOML.replace(
+                "compliance_arcmin_per_knm = 0.0",
+                &format!("compliance_arcmin_per_knm = {c}"),
+            ),
+            "test",
+        )
+        .unwrap()
+        .validate()
+        .unwrap()
+    };
+    let (soft, stiff) = (with(5.0), with(0.0));
+    let c = 5.0 / 1e3 * std::f64::consts::PI / (180.0 * 60.0);
+    for i in 0..8 {
+        let phi = 0.2 + i as f64 * 0.77;
+        for torque in [41.2, 206.0, 412.0] {
+            let added = twist(&soft, phi, torque) - twist(&stiff, phi, torque);
+            println!(
+                "crank {phi:.2}, {torque} N m: added/(c T) {:.5}",
+                added / (c * torque)
+            );
+            assert!((added / (c * torque) - 1.0).abs() < 0.01, "{phi} {torque}");
+        }
+    }
+}
+
+/// The needles' and the crank-carrier rollers' default diameters and pitch diameters that
+/// docs/model.md (section 5.9) and the example's comments give are the code's, to their
+/// printed digits.
+#[test]
+fn the_documented_roller_defaults_are_the_code_s() {
+    let m = Config::example().validate().unwrap();
+    let set = |law: &BearingLaw| match *law {
+        BearingLaw::Rollers {
+            diameter,
+            pitch_diameter,
+            ..
+        } => (diameter * 1e3, pitch_diameter * 1e3),
+        _ => panic!("the example's bearings are roller sets"),
+    };
+    let (nd, np) = set(&m.reducer.bearings.disc.law);
+    let (cd, cp) = set(&m.reducer.bearings.carrier.law);
+    let docs = include_str!("../../../../docs/model.md");
+    let docs_text = docs.split_whitespace().collect::<Vec<_>>().join(" ");
+    let quoted = format!(
+        "{nd:.2} mm needles on a {np:.1} mm pitch circle and {cd:.2} mm rollers on {cp:.1} mm"
+    );
+    assert!(
+        docs_text.contains(&quoted),
+        "docs/model.md should say: {quoted}"
+    );
+    for line in [
+        format!("# crank_disc_roller_diameter_mm = {nd:.2}"),
+        format!("crank_disc_pitch_diameter_mm (default journal + diameter, {np:.2})"),
+        format!("# crank_carrier_roller_diameter_mm = {cd:.2}"),
+        format!("(pitch diameter {cp:.2})"),
+    ] {
+        assert!(
+            EXAMPLE_TOML.contains(&line),
+            "the example should say: {line}"
+        );
+    }
 }
 
 /// A pin held at its ends (`[contact] pin_support = "ends"`, docs/model.md section 3.5) bends
@@ -156,9 +242,15 @@ fn twist_shares_add_up_and_the_first_stage_follows_its_closed_form() {
 /// widths.
 #[test]
 fn pins_held_at_their_ends_bend_as_a_beam_in_series_with_the_contact() {
+    // The example's pins set rigid, unless `extra` says how they are held.
     let with = |extra: &str| {
+        let support = if extra.contains("pin_support") {
+            ""
+        } else {
+            "pin_support = \"rigid\"\n"
+        };
         Config::from_toml_str(
-            &EXAMPLE_TOML.replace("[contact]\n", &format!("[contact]\n{extra}")),
+            &EXAMPLE_TOML.replace("pin_support = \"groove\"", &format!("{support}{extra}")),
             "test",
         )
         .and_then(|c| c.validate())
