@@ -137,10 +137,10 @@ fn contact_negative_torque_mirrors_the_forces() {
         let a = fp[j];
         let b = fn_[(PINS - j) % PINS];
         // The roller bearings' stiffness follows their load, which the first stage's
-        // asymmetric lines of action make differ slightly between the senses (1.5e-3 of the
-        // largest force measured; 1e-3 with linear bearings).
+        // asymmetric lines of action make differ slightly between the senses (3.1e-3 of the
+        // largest force measured with the structure in series; 1e-3 with linear bearings).
         assert!(
-            (a - b).abs() <= 3e-3 * fmax,
+            (a - b).abs() <= 4e-3 * fmax,
             "pin {j} at +412 N m: {a} N; pin {} at -412 N m: {b} N",
             (PINS - j) % PINS
         );

@@ -611,6 +611,41 @@ fn calibrate_measured(
     })
 }
 
+/// `rvlife calibrate --measured CURVE` or `--catalogue-stiffness-nm-per-arcmin`: the
+/// structure compliance fitted to a measured hysteresis curve (`csv`, its text, columns
+/// `torque_nm,twist_arcmin`; `name` in messages) or to a catalogue `b/a` (`catalogue`,
+/// N m/arcmin), `calibration.json` as a dict (`rvlife::calibration::structure::StructureFit`).
+#[pyfunction]
+#[pyo3(signature = (cfg, csv, name, catalogue))]
+fn calibrate_structure(
+    py: Python<'_>,
+    cfg: &Loaded,
+    csv: Option<&str>,
+    name: &str,
+    catalogue: Option<f64>,
+) -> PyResult<Py<PyAny>> {
+    use rvlife::calibration::structure::{fit_catalogue, fit_curve, MeasuredCurve};
+    command(py, None, |_| match (csv, catalogue) {
+        (_, Some(s)) => fit_catalogue(&cfg.model, s),
+        (Some(text), None) => {
+            let curve = MeasuredCurve::parse(std::path::Path::new(name), text)?;
+            fit_curve(&cfg.model, &curve)
+        }
+        (None, None) => Err(rvlife::Error::invalid(
+            "measured",
+            "missing",
+            "a hysteresis curve or a catalogue stiffness",
+        )),
+    })
+}
+
+/// Whether the CSV text `csv` is a hysteresis curve (`torque_nm,twist_arcmin`) rather than
+/// measurements against hours.
+#[pyfunction]
+fn is_hysteresis_curve(csv: &str) -> bool {
+    rvlife::calibration::structure::MeasuredCurve::is_curve(csv)
+}
+
 /// The designs of a sweep as config texts (`rvlife sweep`'s `--vary`, validated with the
 /// sweep's work budget): `vary` a JSON list of `[key, [values]]`.
 #[pyfunction]
@@ -715,6 +750,8 @@ fn _rvlife(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(accuracy_life, m)?)?;
     m.add_function(wrap_pyfunction!(calibrate_target, m)?)?;
     m.add_function(wrap_pyfunction!(calibrate_measured, m)?)?;
+    m.add_function(wrap_pyfunction!(calibrate_structure, m)?)?;
+    m.add_function(wrap_pyfunction!(is_hysteresis_curve, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_designs, m)?)?;
     m.add_function(wrap_pyfunction!(quantities, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;

@@ -449,6 +449,38 @@ def test_calibrate_equals_the_command_line(tmp):
     assert declared(rvlife.Calibration) >= set(r.keys())
 
 
+def test_structure_calibration_equals_the_command_line(tmp):
+    import pandas as pd
+
+    base = rvlife.example()
+    # A "bench" curve: the model's own hysteresis curve with 3 arcmin/(kN m) in series.
+    stiff = base.replace({"reducer.structure.compliance_arcmin_per_knm": 3.0})
+    h = rvlife.hysteresis(stiff)
+    curve = pd.DataFrame({"torque_nm": h.torque_nm, "twist_arcmin": h.twist_arcmin})
+    fit = rvlife.calibrate_structure(base, curve=curve)
+    assert isinstance(fit, rvlife.StructureFit), fit
+    c = fit.compliance_arcmin_per_knm
+    # Noise-free, so the interval is narrow; the model's own curve is interpolated (24 levels).
+    assert abs(c["value"] - 3.0) < 0.03 and c["lower"] < c["value"] < c["upper"], c
+    assert fit.calibrated.get("reducer.structure.compliance_arcmin_per_knm") == round(c["value"], 4)
+    # The same fit as the command line's calibration.json, from the same CSV file.
+    data = tmp / "curve.csv"
+    curve.to_csv(data, index=False)
+    out_cli = tmp / "structure_cli"
+    cli("calibrate", "--measured", data, "--out", out_cli)
+    expected = json.loads((out_cli / "calibration.json").read_text())
+    same(rvlife.calibrate_structure(base, curve=data).to_dict(), expected)
+    assert declared(rvlife.StructureFit) >= set(expected.keys())
+    # A catalogue b/a: the calibrated config gives it back within 2 %.
+    cat = rvlife.calibrate_structure(base, catalogue_stiffness_nm_per_arcmin=108.0)
+    b_a = rvlife.hysteresis(cat.calibrated).torsional_stiffness_nm_per_arcmin
+    assert abs(b_a / 108.0 - 1.0) < 0.02, b_a
+    with pytest.raises(ValueError, match="calibrate_structure"):
+        rvlife.calibrate(base, measured=curve)
+    with pytest.raises(ValueError, match="exactly one"):
+        rvlife.calibrate_structure(base, curve=curve, catalogue_stiffness_nm_per_arcmin=108.0)
+
+
 def test_merge_equals_the_command_line(tmp):
     cfg = write(tmp, "mc_merge.toml", mc_text())
     c = rvlife.Config.from_file(cfg)

@@ -273,6 +273,25 @@ pub fn run_with_notices(
     progress: &(dyn Fn(usize, usize) + Sync),
     notice: &dyn Fn(&str),
 ) -> Result<Study> {
+    run_inner(model, progress, notice, true)
+}
+
+/// [`run`] without each part's share of the twist (`Study::twist_shares` empty): the stages
+/// and the life alone, what the calibration's reference studies read.
+///
+/// # Errors
+/// As [`run`].
+pub(crate) fn run_stages(model: &Model) -> Result<Study> {
+    run_inner(model, &|_, _| {}, &|_| {}, false)
+}
+
+/// [`run_with_notices`], with the twist shares when `shares`.
+fn run_inner(
+    model: &Model,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    notice: &dyn Fn(&str),
+    shares: bool,
+) -> Result<Study> {
     let w = &model.wear;
     let n_stages = w.stage_hours.len();
     let wear_total = parts::wear_steps(model);
@@ -523,5 +542,5 @@ pub fn run_with_notices(
         }
     }
     let ahead = ahead.into_inner().ok().flatten();
-    finish(model, wear, stages, ahead, notice)
+    finish(model, wear, stages, ahead, notice, shares)
 }

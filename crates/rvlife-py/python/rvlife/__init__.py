@@ -3,7 +3,7 @@
 Every command of the ``rvlife`` command line is a function here, running the same Rust code
 with the same validation: :func:`profile`, :func:`contact`, :func:`te`, :func:`hysteresis`,
 :func:`dynamics`, :func:`run_study`, :func:`accuracy_life`, :func:`calibrate`,
-:func:`montecarlo` and :func:`merge` take a :class:`Config` (or ``None``: the built-in example)
+:func:`calibrate_structure`, :func:`montecarlo` and :func:`merge` take a :class:`Config` (or ``None``: the built-in example)
 and return a typed result whose attributes are the keys of the command's JSON output, numeric
 series as numpy ``float64`` arrays, tables as pandas DataFrames. Units are in the names:
 ``_mm``, ``_um``, ``_deg``, ``_arcmin``, ``_nm`` (newton metres), ``_n``, ``_mpa``, ``_h``,
@@ -27,6 +27,7 @@ from ._commands import (
     Progress,
     accuracy_life,
     calibrate,
+    calibrate_structure,
     contact,
     dynamics,
     hysteresis,
@@ -49,6 +50,7 @@ from ._results import (
     ProfileResult,
     Quantity,
     Result,
+    StructureFit,
     StudyResult,
     TeResult,
     quantities,
@@ -72,6 +74,7 @@ __all__ = [
     "AccuracyLifeResult",
     "ArchardFit",
     "Calibration",
+    "StructureFit",
     "MonteCarloResult",
     "Quantity",
     "quantities",
@@ -84,6 +87,7 @@ __all__ = [
     "run_study",
     "accuracy_life",
     "calibrate",
+    "calibrate_structure",
     "montecarlo",
     "merge",
     "grid",

@@ -21,6 +21,7 @@ from ._results import (
     HysteresisResult,
     MonteCarloResult,
     ProfileResult,
+    StructureFit,
     StudyResult,
     TeResult,
 )
@@ -218,7 +219,8 @@ def calibrate(
     coefficient fitted to the measurements with its 95 % interval (:class:`Calibration`);
     ``fit_running_in`` also fits a running-in play, ``out`` writes the fit's results
     directory. The command line's pairs are refused: ``target_wear_um`` with ``measured``,
-    ``fit_running_in`` or ``out`` without it, ``force`` without ``out``."""
+    ``fit_running_in`` or ``out`` without it, ``force`` without ``out``. A hysteresis curve
+    (``torque_nm``, ``twist_arcmin``) is :func:`calibrate_structure`'s."""
     c = _cfg(config)
     if measured is None:
         for name, given in (("fit_running_in", fit_running_in), ("out", out is not None), ("force", force)):
@@ -232,9 +234,39 @@ def calibrate(
         )
     o = _out(out, force)
     text, name = _measured_csv(measured)
+    if _rvlife.is_hysteresis_curve(text):
+        raise ValueError(
+            f"invalid measured = {name!r}: a hysteresis curve (torque_nm, twist_arcmin) fits the "
+            "structure compliance: use rvlife.calibrate_structure(config, curve=...)"
+        )
     r = Calibration(_rvlife.calibrate_measured(c._loaded, text, name, fit_running_in, o, force, progress))
     r.out = None if out is None else Path(out)
     return r
+
+
+def calibrate_structure(
+    config: Optional[Config] = None,
+    *,
+    curve: Optional[Union[PathLike, pd.DataFrame]] = None,
+    catalogue_stiffness_nm_per_arcmin: Optional[float] = None,
+) -> StructureFit:
+    """``rvlife calibrate --measured CURVE`` or ``--catalogue-stiffness-nm-per-arcmin``: the
+    structure compliance fitted to a measured hysteresis curve (``curve``, a DataFrame or a CSV
+    file with ``torque_nm`` and ``twist_arcmin`` in the bench's order) with its 95 % interval,
+    or to a catalogue ``b/a`` (N m/arcmin); exactly one of the two. The result's
+    ``calibrated`` is the config with the fitted compliance set (the command line's
+    ``calibrated.toml``)."""
+    c = _cfg(config)
+    if (curve is None) == (catalogue_stiffness_nm_per_arcmin is None):
+        raise ValueError(
+            "invalid curve / catalogue_stiffness_nm_per_arcmin: give exactly one (a measured "
+            "hysteresis curve or a catalogue stiffness)"
+        )
+    text, name = (None, "catalogue") if curve is None else _measured_csv(curve)
+    fit = StructureFit(_rvlife.calibrate_structure(c._loaded, text, name, catalogue_stiffness_nm_per_arcmin))
+    value = round(fit.compliance_arcmin_per_knm["value"] * 1e4) / 1e4
+    fit.calibrated = c.replace({"reducer.structure.compliance_arcmin_per_knm": value})
+    return fit
 
 
 def _mc_result(data: Dict[str, str], out: Optional[PathLike]) -> MonteCarloResult:

@@ -440,6 +440,38 @@ class ArchardFit(Result):
     """The last stage, h."""
 
 
+class StructureFit(Result):
+    """The structure compliance fitted to a measured hysteresis curve or a catalogue
+    stiffness (``calibrate --measured CURVE`` or ``--catalogue-stiffness-nm-per-arcmin``,
+    ``calibration.json``); :attr:`calibrated` is the config with the fitted key set (the
+    command line's ``calibrated.toml``)."""
+
+    target: str
+    """``"hysteresis curve"`` or ``"catalogue stiffness"``."""
+    compliance_arcmin_per_knm: Dict[str, float]
+    """Fitted compliance and its 95 % interval (``value``, ``lower``, ``upper``), arcmin per
+    kN m (the key ``reducer.structure.compliance_arcmin_per_knm``)."""
+    config_compliance_arcmin_per_knm: float
+    """The config's own compliance, arcmin per kN m."""
+    model_stiffness_nm_per_arcmin: float
+    """The model's ``b/a`` with the config's compliance, N m/arcmin."""
+    fitted_stiffness_nm_per_arcmin: float
+    """The model's ``b/a`` with the fitted compliance, N m/arcmin."""
+    offset_arcmin: Optional[float]
+    """The bench's zero, arcmin (curve only)."""
+    extra_play_arcmin: Optional[float]
+    """How far the measured loading sides lie apart beyond the model's, arcmin (curve only)."""
+    rms_residual_arcmin: Optional[float]
+    """RMS residual of the fitted rows, arcmin (curve only)."""
+    points: int
+    """Rows fitted."""
+    degrees_of_freedom: int
+    """Degrees of freedom of the interval."""
+    calibrated: Any = None
+    """The input :class:`Config` with the fitted compliance set (rounded to 1e-4, as the
+    command line writes it)."""
+
+
 class Calibration(Result):
     """The fit of the Archard coefficient to measurements (``calibrate --measured``,
     ``calibration.json``): estimates as dicts ``value``, ``lower``, ``upper``."""

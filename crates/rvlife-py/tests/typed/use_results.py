@@ -54,7 +54,9 @@ def calibration(cfg: rvlife.Config, data: pd.DataFrame) -> float:
     k: float = fit.archard_coefficient_mm3_per_n_m
     cal: rvlife.Calibration = rvlife.calibrate(cfg, measured=data)
     points: int = cal.points
-    return k * points
+    structure: rvlife.StructureFit = rvlife.calibrate_structure(cfg, catalogue_stiffness_nm_per_arcmin=108.0)
+    stiffness: float = structure.fitted_stiffness_nm_per_arcmin
+    return k * points + stiffness
 
 
 def edit(cfg: rvlife.Config) -> rvlife.Config:

@@ -29,8 +29,9 @@
 //! lost motion, backlash and maximum wear of the example at 2 k (test
 //! `direct_run_at_twice_k_matches_the_reference_at_twice_the_hours`).
 //!
-//! The reference runs are [`crate::study::run`] with dynamics and the flexible disc off (none
-//! of the fitted quantities needs them) and stages spread evenly over the equivalent hours:
+//! The reference runs are the study ([`crate::study::run`], without the twist shares) with
+//! dynamics and the flexible disc off (none of the fitted quantities needs them) and stages
+//! spread evenly over the equivalent hours:
 //! a first pass at the config's coefficient over `4 h_max` (24 stages) locates `k`, and passes
 //! at the last estimate over `2 h_max` (32 stages) refine it until two agree within 25 %.
 //!
@@ -637,8 +638,8 @@ fn run_reference(
     let m = reference_model(model, archard, horizon, stages);
     let h_max = data.max_hours();
     crate::study::check_work(&m).map_err(|e| budget_error(&data.path, h_max, horizon, e))?;
-    let study = crate::study::run(&m, &|_, _| {})
-        .map_err(|e| budget_error(&data.path, h_max, horizon, e))?;
+    let study =
+        crate::study::run_stages(&m).map_err(|e| budget_error(&data.path, h_max, horizon, e))?;
     let sums: Vec<StageSummary> = study.stages.iter().map(|s| s.summary.clone()).collect();
     if sums.len() < 3 {
         let why = study

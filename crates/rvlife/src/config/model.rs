@@ -200,6 +200,14 @@ impl Config {
             &self.cycloid.modification,
             &level_keys,
         )?;
+        let mut model = model;
+        if parts.structure.elastic_disc
+            && !parts.single
+            && model.reducer.support == crate::reducer::Support::Bearings
+            && self.reducer.bearings.model == "rollers"
+        {
+            elastic_disc(&mut model, &nominal_profile)?;
+        }
         Ok(model)
     }
 
@@ -305,6 +313,29 @@ impl Config {
             },
         ))
     }
+}
+
+/// `model` with its discs' body and bores in series with its crank-disc bearings
+/// ([`crate::fem::body::series_compliances`] on the disc of `[fem]` at the rated torque,
+/// docs/model.md section 5.13), in the static analysis's reducer and the dynamic analysis's.
+///
+/// # Errors
+/// The FE models' and the static analysis's failures.
+fn elastic_disc(model: &mut Model, profile: &Profile) -> Result<()> {
+    let c = crate::fem::body::series_compliances_memoised(
+        &model.reducer,
+        profile,
+        &model.fem.params,
+        model.rating.rated_torque,
+    )?;
+    let series = crate::reducer::structure::SeriesCompliances {
+        disc_body: c.body,
+        disc_bores: c.bores,
+        ..model.reducer.series
+    };
+    model.reducer.set_series(series);
+    model.dynamics.params.reducer.set_series(series);
+    Ok(())
 }
 
 /// `model` with its crank bearings worn for `hours` at `rates` and its pins worn by the map

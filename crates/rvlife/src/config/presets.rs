@@ -78,13 +78,15 @@ pub const PRESETS: &[Preset] = &[
     Preset {
         name: "paper",
         summary: "the paper's RV-40E-class reducer as printed (Tao et al. 2024, Tables 1-2): no \
-                  play in the crank bearings, no profile modification, pins held rigidly, the \
-                  disc the only part that wears, at the paper's coefficient, without running-in",
+                  play in the crank bearings, no profile modification, pins held rigidly, a \
+                  rigid disc body, the disc the only part that wears, at the paper's \
+                  coefficient, without running-in",
         edits: &[
             ("reducer.bearings", "crank_disc_clearance_um", "0.0"),
             ("cycloid.modification", "equidistant_mm", "0.0"),
             ("cycloid.modification", "offset_mm", "0.0"),
             ("contact", "pin_support", "\"rigid\""),
+            ("reducer.structure", "disc_body", "\"rigid\""),
             ("wear", "archard_coefficient_mm3_per_n_m", "6.844807e-9"),
             ("wear", "bearing_archard_coefficient_mm3_per_n_m", "0.0"),
             ("wear", "pin_archard_coefficient_mm3_per_n_m", "0.0"),

@@ -902,6 +902,8 @@ impl BearingsConfig {
             crank_bending_shared: cross,
             carrier: 1.0 / carrier,
             housing: 0.0,
+            disc_body: 0.0,
+            disc_bores: 0.0,
             structure: structure.compliance * cranks as f64 * r * r,
             // A twist `F r_bp/k_t` moves the planet's base circle by `F r_bp^2/k_t`; the sun's
             // torque `n F r_bs` twists the input shaft by `n F r_bs/k_s`, moving each mesh by

@@ -61,6 +61,13 @@ pub struct StructureConfig {
     /// m).
     #[serde(default)]
     pub compliance_arcmin_per_knm: f64,
+    /// The discs' body in the static analysis: `"elastic"` (default: the compliance of the
+    /// disc between its pins' contacts and its crank bores, and its bores' ovalisation under
+    /// the needles, from a finite-element solve of the disc of `[fem]`'s mesh, docs/model.md
+    /// section 5.13) or `"rigid"` (the paper's rigid disc: only the contact law's depth term).
+    /// RV reducers on roller bearings; a single-stage drive's discs stay rigid (not modelled).
+    #[serde(default)]
+    pub disc_body: Option<String>,
 }
 
 /// `[reducer.structure]` checked, SI: the dimensions the series parts of the reducer
@@ -78,6 +85,9 @@ pub struct StructureParams {
     pub housing: Option<HousingRing>,
     /// Structure compliance, rad/(N m).
     pub compliance: f64,
+    /// Whether the discs' body and bores are elastic in the static analysis
+    /// (`disc_body = "elastic"`).
+    pub elastic_disc: bool,
 }
 
 /// Radians of an arcmin per kN m, the unit of `compliance_arcmin_per_knm`, in rad/(N m).
@@ -109,6 +119,17 @@ impl StructureConfig {
             self.compliance_arcmin_per_knm,
             Range::non_negative(1e3, "arcmin/(kN m)"),
         )? * ARCMIN_PER_KNM;
+        let elastic_disc = match self.disc_body.as_deref() {
+            None | Some("elastic") => true,
+            Some("rigid") => false,
+            Some(other) => {
+                return Err(Error::invalid(
+                    key("disc_body"),
+                    format!("\"{other}\""),
+                    "must be \"elastic\" or \"rigid\"",
+                ))
+            }
+        };
         if crank_circle_radius <= 0.0 {
             let given = [
                 ("crank_diameter_mm", self.crank_diameter_mm),
@@ -138,6 +159,7 @@ impl StructureConfig {
                 input_shaft: (0.0, 0.0),
                 housing: None,
                 compliance: 0.0,
+                elastic_disc: false,
             });
         }
         let b = geometry.width;
@@ -232,6 +254,7 @@ impl StructureConfig {
             crank_torsion_length: torsion_length,
             input_shaft: (shaft_d, shaft_l),
             compliance,
+            elastic_disc,
         })
     }
 }

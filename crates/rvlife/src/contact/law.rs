@@ -179,6 +179,20 @@ impl ContactModel {
         }
     }
 
+    /// The disc's own term of the approach law per unit force, m/N: `2/(pi B) C1 (c0 + ln(4
+    /// rho / w))`, the mean approach of the half-plane under the flank from an elliptic load of
+    /// half-width `w` (m) down to the law's reference depth `rho` (docs/model.md section 5.13):
+    /// what a finite-element disc loaded over the half-width `w` models again, beyond the
+    /// part the law keeps below `w`. 0 for the linear law.
+    pub(crate) fn disc_depth_compliance(&self, disc_curvature: f64, w: f64) -> f64 {
+        if let ApproachLaw::Linear { .. } = self.law {
+            return 0.0;
+        }
+        let (c0, rho, _) = self.log_law_terms(disc_curvature);
+        let (c1, _) = self.materials.compliances();
+        2.0 / (std::f64::consts::PI * self.width) * c1 * (c0 + (4.0 * rho / w).ln())
+    }
+
     /// Constant `c0` and the two radii of the logarithmic laws.
     fn log_law_terms(&self, disc_curvature: f64) -> (f64, f64, f64) {
         let c0 = match self.law {

@@ -199,7 +199,12 @@ pub fn simulate_discs(
     };
     let modal = ModalDisc::build(&discs.models[0], settings)?;
     let flexible = FlexibleDiscs::new(&modal, discs)?;
-    simulate_with(profile, params, Some(flexible), pin_forces)
+    // The FE disc is the disc's body: not again in series with the bearings.
+    let params = DynamicsParams {
+        reducer: params.reducer.without_disc_body(),
+        ..params.clone()
+    };
+    simulate_with(profile, &params, Some(flexible), pin_forces)
 }
 
 /// [`simulate`] with rigid discs (`flexible` = `None`) or with flexible discs: each disc the

@@ -719,7 +719,9 @@ fn two_sense_stiffness(st: &FlexibleStage) -> f64 {
 /// minus to plus the rated torque (mean over `HYSTERESIS_CRANK_ANGLES` crank angles); and
 /// the stress at the crank angle of the largest forward pin force.
 ///
-/// With bearing support (the default) both discs sit on their bearings and the TEs are the
+/// The reducer's disc body in series with its bearings
+/// ([`crate::reducer::structure::SeriesCompliances::disc_body`]) is left out: the FE disc is
+/// that body. With bearing support (the default) both discs sit on their bearings and the TEs are the
 /// reducer's output twists (`solve_flexible_bearings`). With the rigid support the disc is
 /// analysed with its centre on the eccentric at a fixed crank angle and carries the equivalent
 /// disc torque `share T Zc/(Zp + Z1/Z2)` (share: `load_share`); its rotation `beta` is
@@ -733,6 +735,8 @@ pub fn analyse_stage(
     discs: &DiscSet,
     rated_torque: f64,
 ) -> Result<FlexibleStage> {
+    // The FE disc is the disc's body: not again in series with the bearings.
+    let reducer = &reducer.without_disc_body();
     // The fixed-centre model is disc 1 carrying its load share.
     let disc = discs.disc(0).0;
     let factor = reducer.twist_factor();

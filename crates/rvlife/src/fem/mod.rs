@@ -31,6 +31,7 @@
 //! (the symbolic factorisation is shared), and results that change smoothly with the wear,
 //! where a fresh refinement of a profile that differs by picometres can add or drop nodes.
 
+pub mod body;
 pub mod flex;
 pub mod mesh;
 pub mod modal;
@@ -170,7 +171,8 @@ pub struct DiscModel {
     flank_spans: [(f64, f64); 2],
     /// Outline boundary-edge indices.
     outline_edges: Vec<usize>,
-    /// Wall time of meshing, assembly with factorisation, and condensation, s.
+    /// Wall time of meshing, assembly with factorisation, and condensation, s (0 in a
+    /// browser's WebAssembly).
     pub timings: [f64; 3],
 }
 
@@ -205,14 +207,14 @@ impl DiscModel {
         params: &FemParams,
         base: Option<(&DiscModel, &Profile)>,
     ) -> Result<DiscModel> {
-        let t0 = std::time::Instant::now();
+        let t0 = clock();
         let (ts, ss) = arc_table(profile, 4000);
         let morphed = base.and_then(|(b, bp)| morph_mesh(b, bp, profile).map(|mesh| (mesh, &b.fe)));
         let (mesh, reuse) = match morphed {
             Some((mesh, fe)) => (mesh, Some(fe)),
             None => (mesh_with_arc_table(profile, params, &ts, &ss)?, None),
         };
-        let t1 = std::time::Instant::now();
+        let t1 = clock();
         let spiders: Vec<Spider> = params
             .bores
             .iter()
@@ -226,7 +228,7 @@ impl DiscModel {
             .filter(|&e| mesh.boundary[e].kind == LoopKind::Outline)
             .collect();
         let fe = FeModel::new_reusing(mesh, params.material, &bc, spiders, reuse)?;
-        let t2 = std::time::Instant::now();
+        let t2 = clock();
         let teeth = profile.geometry().disc_teeth();
         let m = params.stations_per_flank;
         let (arc_t, arc_s) = (ts.clone(), ss.clone());
@@ -267,12 +269,8 @@ impl DiscModel {
             .collect();
         model.compliance = model.fe.condense(&loads);
         model.station_loads = loads;
-        let t3 = std::time::Instant::now();
-        model.timings = [
-            (t1 - t0).as_secs_f64(),
-            (t2 - t1).as_secs_f64(),
-            (t3 - t2).as_secs_f64(),
-        ];
+        let t3 = clock();
+        model.timings = [elapsed(t0, t1), elapsed(t1, t2), elapsed(t2, t3)];
         Ok(model)
     }
 
@@ -292,15 +290,7 @@ impl DiscModel {
             let r = (x - point).norm() / w;
             (r < 1.0).then(|| dir * (2.0 / (PI * w * thickness) * (1.0 - r * r).sqrt()))
         });
-        let total: f64 = load
-            .chunks(2)
-            .map(|c| c[0].1 * dir.x + c[1].1 * dir.y)
-            .sum();
-        if total > 0.0 {
-            for l in &mut load {
-                l.1 /= total;
-            }
-        }
+        plane::scale_to_resultant(&mut load, dir, 1.0);
         load
     }
 
@@ -375,6 +365,27 @@ impl DiscModel {
     /// Number of stations in all (both flanks of every tooth).
     pub(crate) fn stations(&self) -> usize {
         2 * self.teeth * self.params.stations_per_flank
+    }
+}
+
+/// The wall clock where it exists: `None` in a browser's WebAssembly, where
+/// `std::time::Instant` panics (the models' timings are then 0).
+fn clock() -> Option<std::time::Instant> {
+    #[cfg(all(target_arch = "wasm32", target_os = "unknown"))]
+    {
+        None
+    }
+    #[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
+    {
+        Some(std::time::Instant::now())
+    }
+}
+
+/// Seconds from `a` to `b` ([`clock`]; 0 without a clock).
+fn elapsed(a: Option<std::time::Instant>, b: Option<std::time::Instant>) -> f64 {
+    match (a, b) {
+        (Some(a), Some(b)) => (b - a).as_secs_f64(),
+        _ => 0.0,
     }
 }
 

@@ -931,6 +931,20 @@ pub(crate) fn traction_load(
     out
 }
 
+/// Scales the nodal loads `load` (`(node dof, N)` pairs) so that their resultant along the
+/// unit vector `dir` is `size` (N); unchanged if that resultant is not positive.
+pub(crate) fn scale_to_resultant(load: &mut [(usize, f64)], dir: &Vec2, size: f64) {
+    let total: f64 = load
+        .chunks(2)
+        .map(|c| c[0].1 * dir.x + c[1].1 * dir.y)
+        .sum();
+    if total > 0.0 {
+        for l in load.iter_mut() {
+            l.1 = l.1 / total * size;
+        }
+    }
+}
+
 /// 8-point Gauss-Legendre rule on `[-1, 1]`: `(point, weight)` (Abramowitz & Stegun,
 /// table 25.4), exact to degree 15.
 pub(crate) const GAUSS_LEGENDRE8: [(f64, f64); 8] = [

@@ -212,6 +212,36 @@ pub struct Reducer {
 }
 
 impl Reducer {
+    /// Replaces the parts in series ([`Reducer::series`]) by `series`, taking the old parts
+    /// out of the sums in the bearings' and the mesh's stiffness and the new ones in
+    /// (`1/k' = 1/k - c_old + c_new` on each side; docs/model.md section 5.9).
+    pub fn set_series(&mut self, series: structure::SeriesCompliances) {
+        let swap = |k: f64, before: f64, after: f64| 1.0 / (1.0 / k - before + after);
+        let old = self.series;
+        let b = &mut self.bearings;
+        b.disc.series_stiffness =
+            swap(b.disc.series_stiffness, old.disc_side(), series.disc_side());
+        b.carrier.series_stiffness = swap(
+            b.carrier.series_stiffness,
+            old.carrier_side(),
+            series.carrier_side(),
+        );
+        self.mesh.stiffness = swap(self.mesh.stiffness, old.mesh_side(), series.mesh_side());
+        self.series = series;
+    }
+
+    /// This reducer without its disc body's compliance in series
+    /// ([`structure::SeriesCompliances::disc_body`]): for the analyses that model the disc
+    /// body as a finite-element model themselves (its bores' part stays).
+    pub fn without_disc_body(&self) -> Reducer {
+        let mut r = self.clone();
+        r.set_series(structure::SeriesCompliances {
+            disc_body: 0.0,
+            ..self.series
+        });
+        r
+    }
+
     /// Whether the meshes and bearings are linear springs (no clearance, backlash, rollers or
     /// parts in series), so that their stiffness matrix is the same at every configuration.
     pub(crate) fn structure_is_linear(&self) -> bool {

@@ -67,21 +67,32 @@ pub fn shaft_torsion_stiffness(diameter: f64, length: f64) -> f64 {
 /// pair: the carrier as two plates joined by `pillar` round bars of `pillar_diameter` and
 /// `pillar_length` (m). The output is taken at one plate; each crank rests on both, half its
 /// force on each, so the other plate's half reaches the output through the pillars, which it
-/// shears and bends as beams fixed in one plate and guided by the other
-/// (`k_p = 1/(L^3/(12 E I) + L/(kappa G A))`, Timoshenko's beam; Roark, table 8.1, and section
-/// 8.10). With as many pillars as cranks on the crank circle, that plate turns by
-/// `(T/2)/(n k_p r^2)`, moving each crank's far seat by `r` times that and the crank (between
-/// its two seats) by half of it: a seat stiffness `4 k_p` per crank, whatever the number of
-/// cranks.
+/// shears and bends as beams guided by one plate against the other, each root elastic in its
+/// plate: `1/k_p = L^3/(12 E I) + L/(kappa G A) + L^2/(2 K_r) + 2/K_h` (Timoshenko's beam,
+/// Roark, table 8.1, and section 8.10; the antisymmetric end moments `V L/2` turn both roots
+/// by `V L/(2 K_r)`), with each root a rigid circular punch of the pillar's radius `a` on an
+/// elastic half-space, rocking `K_r = 8 G a^3/(3 (1 - nu))` and sliding `K_h = 8 G a/(2 - nu)`
+/// (Gazetas, *J. Geotech. Eng.* 117(9), 1991, table 1; Richart, Hall & Woods, *Vibrations of
+/// Soils and Foundations*, 1970). With as many pillars as cranks on the crank circle, that
+/// plate turns by `(T/2)/(n k_p r^2)`, moving each crank's far seat by `r` times that and the
+/// crank (between its two seats) by half of it: a seat stiffness `4 k_p` per crank, whatever
+/// the number of cranks.
 pub fn carrier_seat_stiffness(pillar_diameter: f64, pillar_length: f64) -> f64 {
-    let e = STEEL_YOUNGS_MODULUS;
-    let d = pillar_diameter;
+    4.0 / pillar_compliance(pillar_diameter, pillar_length)
+}
+
+/// The compliance `1/k_p` (m/N) of one pillar with its roots ([`carrier_seat_stiffness`]).
+fn pillar_compliance(d: f64, l: f64) -> f64 {
+    let (e, g, nu) = (STEEL_YOUNGS_MODULUS, shear_modulus(), STEEL_POISSON);
     let area = PI * d * d / 4.0;
     let inertia = PI * d.powi(4) / 64.0;
-    let pillar = 1.0
-        / (pillar_length.powi(3) / (12.0 * e * inertia)
-            + pillar_length / (ROUND_SHEAR_COEFFICIENT * shear_modulus() * area));
-    4.0 * pillar
+    let a = 0.5 * d;
+    let rocking = 8.0 * g * a.powi(3) / (3.0 * (1.0 - nu));
+    let sliding = 8.0 * g * a / (2.0 - nu);
+    l.powi(3) / (12.0 * e * inertia)
+        + l / (ROUND_SHEAR_COEFFICIENT * g * area)
+        + l * l / (2.0 * rocking)
+        + 2.0 / sliding
 }
 
 /// The housing ring that holds the pins: a steel ring from the pins' grooves (`inner_radius`,
@@ -189,6 +200,12 @@ pub struct SeriesCompliances {
     /// which carries both discs' loads: the 2x2 flexibility of the crank exactly, for the
     /// loads of the discs.
     pub crank_bending_shared: f64,
+    /// The disc's body between its pins' contacts and its crank bores, beyond the contact
+    /// law's own depth term (`crate::fem::body`), with each crank-disc bearing.
+    pub disc_body: f64,
+    /// The ovalisation of the disc's crank bores under the needles' pressure
+    /// (`crate::fem::body`), with each crank-disc bearing.
+    pub disc_bores: f64,
     /// The carrier's pillars at the seat ([`carrier_seat_stiffness`]), with the crank-carrier
     /// pair.
     pub carrier: f64,
@@ -209,7 +226,7 @@ pub struct SeriesCompliances {
 impl SeriesCompliances {
     /// The parts with a crank-disc bearing, m/N.
     pub fn disc_side(&self) -> f64 {
-        self.crank_bending_own
+        self.crank_bending_own + self.disc_body + self.disc_bores
     }
     /// The parts with a crank-carrier pair, m/N.
     pub fn carrier_side(&self) -> f64 {
@@ -295,6 +312,49 @@ mod tests {
         let (direct, cross) = beam.flexibility();
         assert!((direct / closed - 1.0).abs() < 1e-12);
         assert!((cross / closed - 1.0).abs() < 1e-12);
+    }
+
+    /// A pillar with elastic roots against the direct stiffness method: a Timoshenko beam
+    /// element (exact in statics: Przemieniecki, *Theory of Matrix Structural Analysis*, 1968,
+    /// section 5.6) joined to each plate by a rocking and a sliding spring of the punch
+    /// formulas, one plate held, the other pushed sideways without turning; its deflection per
+    /// force against [`pillar_compliance`], on several pillars.
+    #[test]
+    fn pillar_with_roots_is_the_beam_on_root_springs() {
+        let (e, g, nu) = (STEEL_YOUNGS_MODULUS, shear_modulus(), STEEL_POISSON);
+        for (d, l) in [(18.9e-3_f64, 21.9e-3_f64), (10e-3, 40e-3), (30e-3, 15e-3)] {
+            let a = 0.5 * d;
+            let (kr, kh) = (
+                8.0 * g * a.powi(3) / (3.0 * (1.0 - nu)),
+                8.0 * g * a / (2.0 - nu),
+            );
+            let ei = e * PI * d.powi(4) / 64.0;
+            let phi = 12.0 * ei / (ROUND_SHEAR_COEFFICIENT * g * PI * d * d / 4.0 * l * l);
+            let c = ei / (l.powi(3) * (1.0 + phi));
+            let kb = [
+                [12.0, 6.0 * l, -12.0, 6.0 * l],
+                [6.0 * l, (4.0 + phi) * l * l, -6.0 * l, (2.0 - phi) * l * l],
+                [-12.0, -6.0 * l, 12.0, -6.0 * l],
+                [6.0 * l, (2.0 - phi) * l * l, -6.0 * l, (4.0 + phi) * l * l],
+            ];
+            // Unknowns: w_A, theta_A, w_B, theta_B (beam ends), delta (the pushed plate).
+            let mut k = nalgebra::DMatrix::<f64>::zeros(5, 5);
+            for i in 0..4 {
+                for j in 0..4 {
+                    k[(i, j)] = c * kb[i][j];
+                }
+            }
+            k[(0, 0)] += kh;
+            k[(1, 1)] += kr;
+            k[(3, 3)] += kr;
+            for (i, j, v) in [(2, 2, kh), (4, 4, kh), (2, 4, -kh), (4, 2, -kh)] {
+                k[(i, j)] += v;
+            }
+            let f = nalgebra::DVector::from_vec(vec![0.0, 0.0, 0.0, 0.0, 1.0]);
+            let u = k.lu().solve(&f).expect("regular");
+            let closed = pillar_compliance(d, l);
+            assert!((u[4] / closed - 1.0).abs() < 1e-9, "{} vs {closed}", u[4]);
+        }
     }
 
     /// The housing ring against the ring formulas: a thin ring pinched by two opposite radial

@@ -29,8 +29,8 @@ const RIGID_CONTACT: f64 = 1e12;
 /// One part's share of the elastic twist (docs/model.md section 5.9).
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct TwistShare {
-    /// The part: `"crank bearings"`, `"crank bending"` (both eccentrics' terms),
-    /// `"carrier"`, `"housing"`, `"structure"` (the structure compliance), `"input shaft"`, `"first
+    /// The part: `"crank bearings"`, `"crank bending"` (both eccentrics' terms), `"disc
+    /// body"`, `"disc bores"` (their ovalisation), `"carrier"`, `"housing"`, `"structure"` (the structure compliance), `"input shaft"`, `"first
     /// stage"` (the sun-planet meshes with the cranks' torsion in series), `"disc-pin
     /// contacts"` (with the pins' housing grooves) or, for a single-stage drive, `"eccentric
     /// bearings"`, `"output pins"`.
@@ -71,17 +71,7 @@ fn rigid_variants(red: &Reducer) -> Vec<(&'static str, Reducer)> {
         let without = |r: &mut Reducer, c: &dyn Fn(&mut SeriesCompliances)| {
             let mut s = r.series;
             c(&mut s);
-            let less = |k: f64, before: f64, after: f64| 1.0 / (1.0 / k - before + after);
-            let b = &mut r.bearings;
-            b.disc.series_stiffness =
-                less(b.disc.series_stiffness, r.series.disc_side(), s.disc_side());
-            b.carrier.series_stiffness = less(
-                b.carrier.series_stiffness,
-                r.series.carrier_side(),
-                s.carrier_side(),
-            );
-            r.mesh.stiffness = less(r.mesh.stiffness, r.series.mesh_side(), s.mesh_side());
-            r.series = s;
+            r.set_series(s);
         };
         with("crank bending", &|r| {
             without(r, &|s| {
@@ -93,6 +83,8 @@ fn rigid_variants(red: &Reducer) -> Vec<(&'static str, Reducer)> {
                 r.bearings.disc.series_stiffness = f64::INFINITY;
             }
         });
+        with("disc body", &|r| without(r, &|s| s.disc_body = 0.0));
+        with("disc bores", &|r| without(r, &|s| s.disc_bores = 0.0));
         with("carrier", &|r| without(r, &|s| s.carrier = 0.0));
         with("housing", &|r| without(r, &|s| s.housing = 0.0));
         with("structure", &|r| without(r, &|s| s.structure = 0.0));

@@ -431,7 +431,7 @@ pub fn assemble_ahead(
         .into_iter()
         .map(|(s, ())| s)
         .collect();
-    finish(model, wear, stages, ahead.and_then(|a| a.0), notice)
+    finish(model, wear, stages, ahead.and_then(|a| a.0), notice, true)
 }
 
 /// The stages of a study in order, each with its extra results (`T`), up to the validity
@@ -495,26 +495,31 @@ pub(super) fn until_limit<T>(
 
 /// The study of `model` from its wear history `wear` and its stages: the accuracy life
 /// ([`study_life`], with the trials beyond the stages made `ahead`, `notice` told of the search
-/// beyond them).
+/// beyond them) and, with `shares`, each part's share of the new reducer's twist.
 ///
 /// # Errors
-/// Those of [`study_life`].
+/// Those of [`study_life`] and of the shares' static solves.
 pub(super) fn finish(
     model: &Model,
     wear: WearHistory,
     stages: Vec<Stage>,
     ahead: Option<LifeTrials>,
     notice: &dyn Fn(&str),
+    shares: bool,
 ) -> Result<Study> {
     let summaries: Vec<StageSummary> = stages.iter().map(|s| s.summary.clone()).collect();
     let life = study_life(model, &summaries, &wear, ahead, notice)?;
     // Where the new reducer's twist goes at the rated torque (docs/model.md section 5.9).
-    let twist_shares = crate::statics::twist_shares(
-        &model.reducer,
-        &model.profile()?,
-        &crate::te::mesh_cycle_angles(model.reducer.geometry.pins, model.te.samples),
-        model.rating.rated_torque,
-    )?;
+    let twist_shares = if shares {
+        crate::statics::twist_shares(
+            &model.reducer,
+            &model.profile()?,
+            &crate::te::mesh_cycle_angles(model.reducer.geometry.pins, model.te.samples),
+            model.rating.rated_torque,
+        )?
+    } else {
+        Vec::new()
+    };
     Ok(Study {
         model: model.clone(),
         wear,

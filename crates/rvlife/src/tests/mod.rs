@@ -5,6 +5,7 @@
 mod calibration;
 mod clearance;
 mod compliance;
+mod disc_body;
 mod dynamics;
 mod errors;
 mod fem;

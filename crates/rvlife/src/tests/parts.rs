@@ -24,6 +24,10 @@ fn model(worn_parts: bool) -> Model {
         // not reached in 100 steps; natively it converges): a robustness defect of its own, not
         // what this test is about.
         cfg.contact.pin_support = Some("rigid".into());
+        // And the disc body rigid: with it elastic the native static solve at 4e-4 N m fails
+        // the same way at 223 h (the discs float in their bearings' grown clearance), the
+        // same defect.
+        cfg.reducer.structure.disc_body = Some("rigid".into());
     }
     cfg.validate().unwrap()
 }
