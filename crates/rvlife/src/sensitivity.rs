@@ -12,7 +12,6 @@ use serde::Serialize;
 
 use crate::config::{Config, Model};
 use crate::error::{Error, Result};
-use crate::te::{hysteresis, mesh_cycle_angles};
 use crate::units::ARCMIN_PER_RAD;
 
 /// One input's effect.
@@ -197,18 +196,7 @@ fn roller_length(law: &crate::reducer::BearingLaw) -> Option<f64> {
 
 /// `b/a` (N m/arcmin) and lost motion (arcmin) of `model`'s new reducer.
 fn accuracy(model: &Model) -> Result<(f64, f64)> {
-    let red = &model.reducer;
-    let profile = model.profile()?;
-    let phis = mesh_cycle_angles(red.geometry.pins, model.te.samples);
-    let (_, mean) = hysteresis(
-        red,
-        &profile,
-        &phis,
-        model.rating.rated_torque,
-        model.te.measuring_torque_fraction,
-        1,
-    )?;
-    let a = mean.accuracy();
+    let a = crate::study::new_reducer_curve(model, 1)?.accuracy();
     Ok((
         a.torsional_stiffness / ARCMIN_PER_RAD,
         a.lost_motion * ARCMIN_PER_RAD,

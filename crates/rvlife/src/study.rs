@@ -248,6 +248,25 @@ fn dynamics_and_flexible(
     Ok((dynamics?, flexible.zip(mesh)))
 }
 
+/// The hysteresis curve of `model`'s new reducer, mean over a mesh cycle (`model.te.samples`
+/// crank angles), `levels` torque levels each way ([`crate::te::hysteresis`]): the curve the
+/// structure's calibration fits and the sensitivity moves.
+///
+/// # Errors
+/// Those of the profile and of the static solves.
+pub(crate) fn new_reducer_curve(model: &Model, levels: usize) -> Result<crate::te::TwistTable> {
+    let red = &model.reducer;
+    let (_, mean) = crate::te::hysteresis(
+        red,
+        &model.profile()?,
+        &crate::te::mesh_cycle_angles(red.geometry.pins, model.te.samples),
+        model.rating.rated_torque,
+        model.te.measuring_torque_fraction,
+        levels,
+    )?;
+    Ok(mean)
+}
+
 /// Runs the study. `progress(done, total)` reports the work in steps (wear-rate evaluations,
 /// then stages, then, when dynamics are on, one multibody simulation per stage, run in
 /// parallel).

@@ -26,7 +26,7 @@ use statrs::distribution::{ContinuousCDF, StudentsT};
 use super::Estimate;
 use crate::config::Model;
 use crate::error::{Error, Result};
-use crate::te::{hysteresis, mesh_cycle_angles, TwistTable};
+use crate::te::TwistTable;
 
 /// Radians per arcmin.
 const RAD_PER_ARCMIN: f64 = std::f64::consts::PI / (180.0 * 60.0);
@@ -159,18 +159,7 @@ pub struct StructureFit {
 /// The model's hysteresis curve (mean over a mesh cycle, 24 levels each way) of the new
 /// reducer of `model`.
 fn model_curve(model: &Model) -> Result<TwistTable> {
-    let red = &model.reducer;
-    let profile = model.profile()?;
-    let phis = mesh_cycle_angles(red.geometry.pins, model.te.samples);
-    let (_, mean) = hysteresis(
-        red,
-        &profile,
-        &phis,
-        model.rating.rated_torque,
-        model.te.measuring_torque_fraction,
-        24,
-    )?;
-    Ok(mean)
+    crate::study::new_reducer_curve(model, 24)
 }
 
 /// The model's twist (rad) at torque `t` (N m) on the branch reached from `previous` (the
@@ -366,20 +355,8 @@ pub fn fit_catalogue(model: &Model, stiffness_nm_per_arcmin: f64) -> Result<Stru
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::config::{Config, EXAMPLE_TOML};
 
-    fn example_with(c: f64) -> Model {
-        Config::from_toml_str(
-            &EXAMPLE_TOML.replace(
-                "compliance_arcmin_per_knm = 0.0",
-                &format!("compliance_arcmin_per_knm = {c}"),
-            ),
-            "test",
-        )
-        .unwrap()
-        .validate()
-        .unwrap()
-    }
+    use crate::tests::example_with_structure_compliance as example_with;
 
     /// A curve that the model itself gives with 3 arcmin/(kN m) of structure compliance, in
     /// the bench's order, with 0.1 arcmin of extra play between the sides, a bench zero of

@@ -167,18 +167,7 @@ fn twist_shares_add_up_and_the_first_stage_follows_its_closed_form() {
 /// which the isotropic seat compliance also yields to, are small beside the tangential).
 #[test]
 fn the_structure_compliance_adds_its_twist() {
-    let with = |c: f64| {
-        Config::from_toml_str(
-            &EXAMPLE_TOML.replace(
-                "compliance_arcmin_per_knm = 0.0",
-                &format!("compliance_arcmin_per_knm = {c}"),
-            ),
-            "test",
-        )
-        .unwrap()
-        .validate()
-        .unwrap()
-    };
+    let with = super::example_with_structure_compliance;
     let (soft, stiff) = (with(5.0), with(0.0));
     let c = 5.0 / 1e3 * std::f64::consts::PI / (180.0 * 60.0);
     for i in 0..8 {

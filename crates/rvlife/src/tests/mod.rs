@@ -17,3 +17,17 @@ mod physics;
 mod pin_wear;
 mod play;
 mod single_stage;
+
+/// The built-in example with `[reducer.structure] compliance_arcmin_per_knm = c`, validated.
+pub(crate) fn example_with_structure_compliance(c: f64) -> crate::config::Model {
+    crate::config::Config::from_toml_str(
+        &crate::config::EXAMPLE_TOML.replace(
+            "compliance_arcmin_per_knm = 0.0",
+            &format!("compliance_arcmin_per_knm = {c}"),
+        ),
+        "test",
+    )
+    .unwrap()
+    .validate()
+    .unwrap()
+}
