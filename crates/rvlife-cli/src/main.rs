@@ -25,6 +25,7 @@ macro_rules! say {
 }
 
 mod calibrate;
+mod efficiency;
 
 /// `text` with the minus sign of every number that is all zeros (`-0`, `-0.000`) removed (a
 /// space in its place where padding precedes it, so that columns stay aligned).
@@ -166,6 +167,33 @@ enum Command {
         /// (0.2 when given without a value; in (0, 0.5]); `--json` as `sensitivity`.
         #[arg(long, num_args = 0..=1, default_missing_value = "0.2", allow_negative_numbers = true)]
         sensitivity: Option<f64>,
+        #[command(flatten)]
+        wear: WearArgs,
+    },
+    /// Power losses and efficiency over output speed, torque and oil temperature: the disc-pin
+    /// contacts (the oil film's friction), crank bearings and sun-planet meshes.
+    Efficiency {
+        /// Config file (default: the built-in example).
+        config: Option<PathBuf>,
+        /// Output speeds, rpm, comma-separated (default 5,10,15,20,30,40,50).
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        speeds_rpm: Option<Vec<f64>>,
+        /// Output torques, N m, comma-separated (default 1/4, 1/2, 3/4 and all of the rated
+        /// torque).
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        torques_nm: Option<Vec<f64>>,
+        /// Oil temperatures, deg C, comma-separated (default `[lubrication] temperature_c`).
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        temperatures_c: Option<Vec<f64>>,
+        /// Also write the map as CSV to this file (must not exist unless --force).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Replace an existing --out file.
+        #[arg(long)]
+        force: bool,
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
         #[command(flatten)]
         wear: WearArgs,
     },
@@ -727,6 +755,40 @@ fn run(cli: Cli) -> Result<()> {
                         l.loaded_te_peak_to_peak_arcmin
                     );
                 }
+            }
+        }
+        Command::Efficiency {
+            config,
+            speeds_rpm,
+            torques_nm,
+            temperatures_c,
+            out,
+            force,
+            json,
+            wear,
+        } => {
+            let cfg = load_config(config.as_deref(), budget)?;
+            let model = validated(&cfg)?;
+            efficiency::check_out(out.as_deref(), force)?;
+            let pb = busy("efficiency");
+            let r = rvlife::api::efficiency(
+                &model,
+                wear.get(),
+                speeds_rpm.as_deref(),
+                torques_nm.as_deref(),
+                temperatures_c.as_deref(),
+                Spelling::Cli,
+                &|_, _| {},
+            );
+            pb.finish_and_clear();
+            let r = r?;
+            if let Some(path) = &out {
+                rvlife::output::efficiency::write_csv(path, &r.points)?;
+            }
+            if json {
+                print_json(&r)?;
+            } else {
+                efficiency::print(&r);
             }
         }
         Command::Hysteresis {

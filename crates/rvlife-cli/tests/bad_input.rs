@@ -7,7 +7,7 @@ use common::*;
 
 #[test]
 fn bad_fem_bore_cuts_the_teeth() {
-    let t = format!("{}\ncrank_bore_diameter_mm = 40.0\n", paper_text());
+    let t = add_line(&paper_text(), "fem", "crank_bore_diameter_mm = 40.0");
     check_bad_config(&t, &["fem.crank_bore_diameter_mm", "cuts the teeth"]);
 }
 

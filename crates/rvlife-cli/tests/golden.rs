@@ -269,6 +269,24 @@ fn run_outputs_are_unchanged() {
     c.check();
 }
 
+/// With friction off (`[lubrication] enabled = false`), the built-in example writes what it
+/// wrote before friction existed, byte for byte: `run_frictionless.sha256` is the last
+/// frictionless release's record of the `run` case, kept as it was.
+#[test]
+fn frictionless_run_equals_the_release_before_friction() {
+    let mut c = Case::new("run_frictionless");
+    let example = rvlife::config::EXAMPLE_TOML;
+    let on = "[lubrication]\nenabled = true";
+    assert!(example.contains(on), "the example enables [lubrication]");
+    c.input(
+        "frictionless.toml",
+        &example.replacen(on, "[lubrication]\nenabled = false", 1),
+    );
+    c.run("run", &["run", "frictionless.toml", "--out", "run"], 0);
+    c.files("run");
+    c.check();
+}
+
 #[test]
 fn montecarlo_outputs_are_unchanged() {
     let mut c = Case::new("montecarlo");

@@ -298,6 +298,35 @@ fn hysteresis(
     })
 }
 
+/// `rvlife efficiency --json`: the losses and efficiency over output speed, torque and oil
+/// temperature.
+#[pyfunction]
+#[pyo3(signature = (cfg, speeds_rpm, torques_nm, temperatures_c, wear_um, hours, progress = None))]
+#[allow(clippy::too_many_arguments)]
+fn efficiency(
+    py: Python<'_>,
+    cfg: &Loaded,
+    speeds_rpm: Option<Vec<f64>>,
+    torques_nm: Option<Vec<f64>>,
+    temperatures_c: Option<Vec<f64>>,
+    wear_um: Option<f64>,
+    hours: Option<f64>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Py<PyAny>> {
+    let wear = Wear { wear_um, hours };
+    command(py, progress, |p| {
+        rvlife::api::efficiency(
+            &cfg.model,
+            wear,
+            speeds_rpm.as_deref(),
+            torques_nm.as_deref(),
+            temperatures_c.as_deref(),
+            Spelling::Python,
+            p,
+        )
+    })
+}
+
 /// `rvlife dynamics --json` (without `wall_time_s`) with the time series as `samples`
 /// (`time_s`, `te_arcmin`, ... arrays) and, when asked, `pin_forces_n` (samples x pins of
 /// both discs); `out` also writes the results directory.
@@ -697,7 +726,7 @@ fn merge(py: Python<'_>, dirs: Vec<PathBuf>, out: PathBuf, force: bool) -> PyRes
 /// The rvlife version.
 /// The table of stage quantities (`rvlife::quantities::STAGE`, the order of `summary.json` and
 /// `stages.csv`): per quantity its name (with its unit), unit, label, description, the models
-/// that produce it (`static`, `dynamics`, `flexible`) and its CSV columns.
+/// that produce it (`static`, `dynamics`, `flexible`, `lubrication`) and its CSV columns.
 /// One quantity for Python: name, unit, label, description, models, CSV columns.
 type QuantityRow = (
     &'static str,
@@ -717,6 +746,7 @@ fn quantities() -> Vec<QuantityRow> {
                 rvlife::quantities::Models::Static => "static",
                 rvlife::quantities::Models::Dynamics => "dynamics",
                 rvlife::quantities::Models::Flexible => "flexible",
+                rvlife::quantities::Models::Lubrication => "lubrication",
             };
             (q.name, q.unit, q.label, q.description, models, q.columns())
         })
@@ -739,6 +769,7 @@ fn _rvlife(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(contact, m)?)?;
     m.add_function(wrap_pyfunction!(te, m)?)?;
     m.add_function(wrap_pyfunction!(hysteresis, m)?)?;
+    m.add_function(wrap_pyfunction!(efficiency, m)?)?;
     m.add_function(wrap_pyfunction!(dynamics, m)?)?;
     m.add_function(wrap_pyfunction!(run_study, m)?)?;
     m.add_function(wrap_pyfunction!(montecarlo, m)?)?;

@@ -24,6 +24,7 @@ pub mod calibration;
 pub mod config;
 pub mod contact;
 pub mod dynamics;
+pub mod efficiency;
 pub mod error;
 pub mod fem;
 pub mod geometry;
@@ -38,6 +39,7 @@ pub mod statics;
 pub mod study;
 pub mod sweep;
 pub mod te;
+pub mod tribology;
 pub mod units;
 pub mod wear;
 

@@ -21,6 +21,8 @@ pub enum Models {
     Dynamics,
     /// The flexible disc (`[fem] enabled`; docs/model.md section 9).
     Flexible,
+    /// The losses and efficiency (`[lubrication] enabled`; docs/model.md section 18).
+    Lubrication,
 }
 
 /// The value of a quantity at one stage.
@@ -193,6 +195,22 @@ pub struct StageSummary {
     pub max_von_mises_mpa: Option<f64>,
     /// Largest tooth-root stress, MPa (flexible disc).
     pub max_root_stress_mpa: Option<f64>,
+    /// Efficiency at the rated torque and speed (lubrication).
+    pub efficiency: Option<f64>,
+    /// Loss of the disc-pin contacts there, W (lubrication).
+    pub loss_disc_pins_w: Option<f64>,
+    /// Loss of the pins in their grooves there, W (lubrication).
+    pub loss_pin_grooves_w: Option<f64>,
+    /// Loss of the crank bearings there, W (lubrication).
+    pub loss_crank_bearings_w: Option<f64>,
+    /// Loss of the sun-planet meshes there, W (lubrication).
+    pub loss_gear_meshes_w: Option<f64>,
+    /// Load-weighted mean lambda ratio of the disc-pin contacts there (lubrication).
+    pub lambda_mean: Option<f64>,
+    /// Oil temperature there, deg C (lubrication; the heat balance's when on).
+    pub oil_temperature_c: Option<f64>,
+    /// Friction torque of the hysteresis curve at the rated torque, N m (lubrication).
+    pub friction_torque_nm: Option<f64>,
     /// DTE mean, arcmin (dynamics).
     pub dte_mean_arcmin: Option<f64>,
     /// DTE peak-to-peak, arcmin (dynamics).
@@ -727,6 +745,89 @@ pub const MAX_VON_MISES: Quantity = optional(
     Models::Flexible,
     |s| opt(s.max_von_mises_mpa),
 );
+/// Efficiency.
+pub const EFFICIENCY: Quantity = optional(
+    "efficiency",
+    "",
+    "efficiency",
+    "Output over input power at the rated torque and the rated input speed, the oil at \
+     [lubrication] temperature_c: friction at the disc-pin contacts with the oil film's \
+     coefficient, Palmgren's bearing moments, ISO/TR 14179-2's mesh loss, on the loads of \
+     the frictionless static analysis over a mesh cycle (docs/model.md section 18.4).",
+    Models::Lubrication,
+    |s| opt(s.efficiency),
+);
+/// Disc-pin loss.
+pub const LOSS_DISC_PINS: Quantity = optional(
+    "loss_disc_pins_w",
+    "W",
+    "loss: disc-pin contacts",
+    "Power lost by the sliding disc-pin contacts at the efficiency's operating point, mean \
+     over a mesh cycle (docs/model.md section 18.4).",
+    Models::Lubrication,
+    |s| opt(s.loss_disc_pins_w),
+);
+/// Groove loss.
+pub const LOSS_PIN_GROOVES: Quantity = optional(
+    "loss_pin_grooves_w",
+    "W",
+    "loss: pins in grooves",
+    "Power lost by the pins turning in their housing grooves there (0 for pins held).",
+    Models::Lubrication,
+    |s| opt(s.loss_pin_grooves_w),
+);
+/// Bearing loss.
+pub const LOSS_CRANK_BEARINGS: Quantity = optional(
+    "loss_crank_bearings_w",
+    "W",
+    "loss: crank bearings",
+    "Power lost by the crank-disc and crank-carrier bearings there (Palmgren's load and \
+     viscous moments).",
+    Models::Lubrication,
+    |s| opt(s.loss_crank_bearings_w),
+);
+/// Mesh loss.
+pub const LOSS_GEAR_MESHES: Quantity = optional(
+    "loss_gear_meshes_w",
+    "W",
+    "loss: sun-planet meshes",
+    "Power lost by the sun-planet meshes there (ISO/TR 14179-2, Ohlendorf's loss factor).",
+    Models::Lubrication,
+    |s| opt(s.loss_gear_meshes_w),
+);
+/// Lambda ratio.
+pub const LAMBDA_MEAN: Quantity = optional(
+    "lambda_mean",
+    "",
+    "lambda ratio of the disc-pin contacts",
+    "Minimum film thickness (Pan and Hamrock) over the composite roughness, load-weighted mean \
+     over the loaded disc-pin contacts at the efficiency's operating point (docs/model.md \
+     section 18.2).",
+    Models::Lubrication,
+    |s| opt(s.lambda_mean),
+);
+/// Oil temperature.
+pub const OIL_TEMPERATURE: Quantity = optional(
+    "oil_temperature_c",
+    "deg C",
+    "oil temperature",
+    "Oil temperature of the efficiency's operating point: [lubrication] temperature_c, or with \
+     heat_balance the steady temperature where the losses leave through the housing \
+     (docs/model.md section 18.5).",
+    Models::Lubrication,
+    |s| opt(s.oil_temperature_c),
+);
+/// Friction torque of the hysteresis curve.
+pub const FRICTION_TORQUE: Quantity = optional(
+    "friction_torque_nm",
+    "N m",
+    "friction torque at rated torque",
+    "Coulomb friction torque resisting the output's twist at the rated torque with the input \
+     locked (the half-width of the hysteresis loop in torque there), mean over a mesh cycle \
+     (docs/model.md section 18.3).",
+    Models::Lubrication,
+    |s| opt(s.friction_torque_nm),
+);
 /// Largest root stress.
 pub const MAX_ROOT_STRESS: Quantity = optional(
     "max_root_stress_mpa",
@@ -779,7 +880,7 @@ pub const DTE_RANGE: Quantity = Quantity {
 
 /// Every quantity of a stage, in the order of `summary.json`: `stages.csv`, the report's stage
 /// table, `rvlife run --all` and the Python study's columns list them all.
-pub const STAGE: [&Quantity; 47] = [
+pub const STAGE: [&Quantity; 55] = [
     &HOURS,
     &MAX_WEAR,
     &PIN_MAX_WEAR,
@@ -823,6 +924,14 @@ pub const STAGE: [&Quantity; 47] = [
     &RIGID_LOADED_TE_REVOLUTION_MEAN,
     &MAX_VON_MISES,
     &MAX_ROOT_STRESS,
+    &FRICTION_TORQUE,
+    &EFFICIENCY,
+    &LOSS_DISC_PINS,
+    &LOSS_PIN_GROOVES,
+    &LOSS_CRANK_BEARINGS,
+    &LOSS_GEAR_MESHES,
+    &LAMBDA_MEAN,
+    &OIL_TEMPERATURE,
     &DTE_MEAN,
     &DTE_PEAK_TO_PEAK,
     &DTE_RMS,
@@ -945,7 +1054,16 @@ pub const CONSOLE: [ConsoleColumn; 16] = [
 /// `stages.csv` of stage records: the columns of every quantity of [`STAGE`] (a pair as two),
 /// then one row per stage.
 pub fn stages_csv(stages: &[StageSummary]) -> (Vec<String>, Vec<Vec<String>>) {
-    let header = STAGE
+    stages_csv_of(&written(stages), stages)
+}
+
+/// [`stages_csv`] with the columns of `quantities` (a table of several studies: the
+/// [`written`] quantities of all their stages).
+pub fn stages_csv_of(
+    quantities: &[&Quantity],
+    stages: &[StageSummary],
+) -> (Vec<String>, Vec<Vec<String>>) {
+    let header = quantities
         .iter()
         .flat_map(|q| q.columns())
         .map(str::to_string)
@@ -953,13 +1071,26 @@ pub fn stages_csv(stages: &[StageSummary]) -> (Vec<String>, Vec<Vec<String>>) {
     let rows = stages
         .iter()
         .map(|s| {
-            STAGE
+            quantities
                 .iter()
                 .flat_map(|q| s.value(q).csv_cells(q.columns().len()))
                 .collect()
         })
         .collect();
     (header, rows)
+}
+
+/// The quantities of [`STAGE`] that `stages.csv` writes for `stages`: all, but those of the
+/// losses and efficiency ([`Models::Lubrication`]) only where a stage has them (a study
+/// without `[lubrication] enabled` writes the columns it wrote before the section existed).
+pub fn written(stages: &[StageSummary]) -> Vec<&'static Quantity> {
+    STAGE
+        .iter()
+        .copied()
+        .filter(|q| {
+            q.models != Models::Lubrication || stages.iter().any(|s| s.value(q) != Value::Absent)
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -1,7 +1,7 @@
 """rvlife: accuracy-life prediction of RV reducers and cycloid drives, from Python.
 
 Every command of the ``rvlife`` command line is a function here, running the same Rust code
-with the same validation: :func:`profile`, :func:`contact`, :func:`te`, :func:`hysteresis`,
+with the same validation: :func:`profile`, :func:`contact`, :func:`te`, :func:`hysteresis`, :func:`efficiency`,
 :func:`dynamics`, :func:`run_study`, :func:`accuracy_life`, :func:`calibrate`,
 :func:`calibrate_structure`, :func:`montecarlo` and :func:`merge` take a :class:`Config` (or ``None``: the built-in example)
 and return a typed result whose attributes are the keys of the command's JSON output, numeric
@@ -30,6 +30,7 @@ from ._commands import (
     calibrate_structure,
     contact,
     dynamics,
+    efficiency,
     hysteresis,
     merge,
     montecarlo,
@@ -45,6 +46,7 @@ from ._results import (
     Calibration,
     ContactResult,
     DynamicsResult,
+    EfficiencyResult,
     HysteresisResult,
     MonteCarloResult,
     ProfileResult,
@@ -69,6 +71,7 @@ __all__ = [
     "ContactResult",
     "TeResult",
     "HysteresisResult",
+    "EfficiencyResult",
     "DynamicsResult",
     "StudyResult",
     "AccuracyLifeResult",
@@ -83,6 +86,7 @@ __all__ = [
     "contact",
     "te",
     "hysteresis",
+    "efficiency",
     "dynamics",
     "run_study",
     "accuracy_life",

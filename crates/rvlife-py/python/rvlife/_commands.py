@@ -18,6 +18,7 @@ from ._results import (
     Calibration,
     ContactResult,
     DynamicsResult,
+    EfficiencyResult,
     HysteresisResult,
     MonteCarloResult,
     ProfileResult,
@@ -111,6 +112,27 @@ def hysteresis(
     c = _cfg(config)
     _whole("levels", levels)
     return HysteresisResult(_rvlife.hysteresis(c._loaded, crank_deg, levels, wear_um, hours, progress))
+
+
+def efficiency(
+    config: Optional[Config] = None,
+    *,
+    speeds_rpm: Optional[Sequence[float]] = None,
+    torques_nm: Optional[Sequence[float]] = None,
+    temperatures_c: Optional[Sequence[float]] = None,
+    wear_um: Optional[float] = None,
+    hours: Optional[float] = None,
+    progress: Optional[Progress] = None,
+) -> EfficiencyResult:
+    """The power losses and efficiency (``rvlife efficiency``) at every output speed (rpm),
+    output torque (N m) and oil temperature (deg C) given (defaults: 5-50 rpm, a quarter to all
+    of the rated torque, ``[lubrication] temperature_c``), split by contact kind, and at the
+    rated point; ``to_pandas()`` gives the map, one row per point."""
+    c = _cfg(config)
+    lists = [None if v is None else [float(x) for x in v] for v in (speeds_rpm, torques_nm, temperatures_c)]
+    return EfficiencyResult(
+        _rvlife.efficiency(c._loaded, lists[0], lists[1], lists[2], wear_um, hours, progress)
+    )
 
 
 def dynamics(

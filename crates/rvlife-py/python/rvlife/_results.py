@@ -191,6 +191,34 @@ class TeResult(Result):
         return pd.DataFrame(cols)
 
 
+class EfficiencyResult(Result):
+    """The power losses and efficiency over output speed, torque and oil temperature
+    (``rvlife efficiency --json``)."""
+
+    rated_torque_nm: float
+    """Rated torque, N m."""
+    rated_output_speed_rpm: float
+    """Output speed at the rated input speed, rpm."""
+    max_wear_um: float
+    """Largest wear depth of the profile analysed, um."""
+    samples_per_mesh_cycle: int
+    """Crank angles per mesh cycle whose losses are averaged."""
+    friction_model: str
+    """``lambda`` (mixed lubrication) or ``constant``."""
+    oil_viscosity_40_mm2_per_s: float
+    """The oil's viscosity at 40 deg C, mm^2/s."""
+    points: List[Dict[str, Any]]
+    """Every operating point: ``output_speed_rpm``, ``torque_nm``, ``temperature_c``,
+    ``efficiency``, the powers and losses (W) by contact kind, ``lambda_min``,
+    ``lambda_mean``, ``film_min_um``, ``pin_friction_coefficient``."""
+    at_rated: Dict[str, Any]
+    """The same at the rated torque and speed."""
+
+    def to_pandas(self) -> pd.DataFrame:
+        """One row per operating point, the columns of ``points``."""
+        return pd.DataFrame(self.points)
+
+
 class HysteresisResult(Result):
     """The hysteresis curve, output torque 0 -> +rated -> -rated -> +rated, input locked
     (``rvlife hysteresis --json``); the top-level curve is the mean over a mesh cycle."""
@@ -326,9 +354,13 @@ def _column_value(v: Any, i: int, n: int) -> float:
 
 def stage_table(stages: List[Dict[str, Any]]) -> pd.DataFrame:
     """The stage table of ``stages.csv``: one row per stage, the columns of every quantity of
-    :func:`quantities` (NaN where its model did not run)."""
+    :func:`quantities` (NaN where its model did not run; the losses' only where a stage has
+    them)."""
     cols: Dict[str, List[float]] = {}
     for q in quantities():
+        # The losses' columns only where a stage has them, as stages.csv writes them.
+        if q.models == "lubrication" and all(s.get(q.name) is None for s in stages):
+            continue
         for i, c in enumerate(q.columns):
             cols[c] = [_column_value(s.get(q.name), i, len(q.columns)) for s in stages]
     return pd.DataFrame(cols)

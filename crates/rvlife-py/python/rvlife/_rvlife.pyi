@@ -46,6 +46,15 @@ def hysteresis(
     hours: Optional[float],
     progress: Progress = None,
 ) -> Dict[str, Any]: ...
+def efficiency(
+    cfg: Loaded,
+    speeds_rpm: Optional[List[float]],
+    torques_nm: Optional[List[float]],
+    temperatures_c: Optional[List[float]],
+    wear_um: Optional[float],
+    hours: Optional[float],
+    progress: Progress = None,
+) -> Dict[str, Any]: ...
 def dynamics(
     cfg: Loaded,
     load: Optional[str],

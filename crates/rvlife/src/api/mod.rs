@@ -4,7 +4,10 @@
 //! same object. Arguments are checked here, and an error names the argument as the caller
 //! spells it ([`Spelling`]: `--crank-deg` on the command line, `crank_deg` in Python).
 
+mod efficiency;
 mod results;
+
+pub use efficiency::{efficiency, EfficiencyResult, DEFAULT_SPEEDS_RPM, DEFAULT_TORQUE_FRACTIONS};
 
 pub use results::{
     ContactDisc, ContactPin, ContactResult, HysteresisResult, LoadedTeResult, ProfilePoints,

@@ -42,6 +42,7 @@ pub(super) fn reducer(
         disc_phases: parts.disc_phases.clone(),
         pin_wear: Default::default(),
         series: parts.series,
+        friction: None,
     };
     reducer.contact_band_force = match contact.band_force {
         Some(f) => f,

@@ -22,6 +22,7 @@
 //! | `[fem]` | `fem.rs` | [`crate::fem::FemParams`] |
 //! | `[tolerances]` | `tolerances.rs` | [`Tolerances`] |
 //! | `[life]` | `life.rs` | [`LifeThresholds`] |
+//! | `[lubrication]` | `lubrication.rs` | [`crate::tribology::Lubrication`] |
 //!
 //! [`Config::example`] is the paper's RV-40E class reducer (paper Tables 1-2, docs/model.md
 //! section 16), printed by `rvlife example`.
@@ -40,6 +41,7 @@ mod errors;
 mod fem;
 mod life;
 mod load;
+mod lubrication;
 mod materials;
 pub mod model;
 pub mod physical;
@@ -59,6 +61,7 @@ pub use errors::ErrorsConfig;
 pub use fem::FemConfig;
 pub use life::{LifeConfig, LifeThresholds};
 pub use load::{LoadConfig, LoadParams};
+pub use lubrication::LubricationConfig;
 pub use materials::{MaterialConfig, MaterialParams, MaterialsConfig};
 pub(crate) use model::{bearing_rates, worn_parts};
 pub use model::{Model, Section};
@@ -109,6 +112,10 @@ pub struct Config {
     /// Accuracy spec: the thresholds that end the accuracy life.
     #[serde(default)]
     pub life: LifeConfig,
+    /// Oil, temperature, surfaces and friction: the losses and efficiency, and the wear's
+    /// dependence on the oil film.
+    #[serde(default)]
+    pub lubrication: LubricationConfig,
     /// Directory of the config file (for relative paths); not a key.
     #[serde(skip)]
     pub base_dir: Option<PathBuf>,

@@ -59,6 +59,9 @@ pub struct Model {
     pub tolerances: Tolerances,
     /// `[life]`: the accuracy spec (none set: no accuracy life).
     pub life: LifeThresholds,
+    /// `[lubrication]`: the oil, the surfaces and the friction models (losses, efficiency,
+    /// the wear's dependence on the film).
+    pub lubrication: crate::tribology::Lubrication,
     /// Work budget in static contact solves (the command line's `--work-budget-min`,
     /// [`crate::budget`]); checked by [`crate::api::validated`], not here.
     pub work_budget: f64,
@@ -75,6 +78,7 @@ impl Model {
             band_torque: self.te.loaded_torque,
             budget: self.budget(),
             bearing_rates: Default::default(),
+            lubrication: self.lubrication,
         }
     }
 
@@ -175,6 +179,7 @@ impl Config {
         )?);
         let tolerances = self.tolerances.validate(&geometry)?;
         let life = self.life.validate()?;
+        let lubrication = self.lubrication.validate()?;
         let model = Model {
             cycloid: CycloidParams {
                 geometry,
@@ -192,6 +197,7 @@ impl Config {
             fem,
             tolerances,
             life,
+            lubrication,
             work_budget,
         };
         super::physical::check_stage(
@@ -201,6 +207,22 @@ impl Config {
             &level_keys,
         )?;
         let mut model = model;
+        if let Some(h) = &mut model.lubrication.heat {
+            // The housing's surface: a cylinder of its outer diameter and half as long, with
+            // one free end face (an estimate where the outline is not given).
+            let d = match &parts.structure.housing {
+                Some(ring) => 2.0 * ring.outer_radius,
+                None => 2.6 * model.cycloid.geometry.pin_circle_radius,
+            };
+            h.area.get_or_insert(0.75 * std::f64::consts::PI * d * d);
+        }
+        if model.lubrication.enabled {
+            model.reducer.friction = Some(
+                model
+                    .lubrication
+                    .quasi_static(model.wear.pin_turning, model.wear.pin_rolling_fraction),
+            );
+        }
         if parts.structure.elastic_disc
             && !parts.single
             && model.reducer.support == crate::reducer::Support::Bearings

@@ -80,7 +80,7 @@ pub const PRESETS: &[Preset] = &[
         summary: "the paper's RV-40E-class reducer as printed (Tao et al. 2024, Tables 1-2): no \
                   play in the crank bearings, no profile modification, pins held rigidly, a \
                   rigid disc body, the disc the only part that wears, at the paper's \
-                  coefficient, without running-in",
+                  coefficient, without running-in, frictionless",
         edits: &[
             ("reducer.bearings", "crank_disc_clearance_um", "0.0"),
             ("cycloid.modification", "equidistant_mm", "0.0"),
@@ -91,6 +91,7 @@ pub const PRESETS: &[Preset] = &[
             ("wear", "bearing_archard_coefficient_mm3_per_n_m", "0.0"),
             ("wear", "pin_archard_coefficient_mm3_per_n_m", "0.0"),
             ("wear", "running_in_factor", "1.0"),
+            ("lubrication", "enabled", "false"),
         ],
     },
     Preset {

@@ -23,9 +23,11 @@ pub mod gap;
 pub mod law;
 pub mod li;
 pub mod pin;
+pub mod pin_turning;
 
 pub(crate) use law::PreparedLaw;
 pub use law::{ApproachLaw, ContactModel, Groove, HertzState, Materials, PinBending};
 pub(crate) use li::li_load_distribution;
 pub(crate) use pin::pin_geometry;
 pub use pin::{DiscPose, PinGeometry};
+pub use pin_turning::PinTurning;

@@ -62,7 +62,14 @@ fn lead_cells(o: &Outcome) -> Vec<String> {
 
 /// The tidy table of `sweep.csv` (module documentation): header and rows.
 pub fn table(varies: &[Vary], outcomes: &[Outcome]) -> (Vec<String>, Vec<Vec<String>>) {
-    let (stage_header, _) = crate::quantities::stages_csv(&[]);
+    // The columns of every design's stages (the losses' where any design has them).
+    let all: Vec<_> = outcomes
+        .iter()
+        .filter_map(|o| o.study.as_ref().ok())
+        .flat_map(|s| s.stages.iter().map(|x| x.summary.clone()))
+        .collect();
+    let quantities = crate::quantities::written(&all);
+    let (stage_header, _) = crate::quantities::stages_csv_of(&quantities, &[]);
     let mut header = lead_header(varies);
     header.extend(stage_header.iter().cloned());
     let mut rows = Vec::new();
@@ -71,7 +78,7 @@ pub fn table(varies: &[Vary], outcomes: &[Outcome]) -> (Vec<String>, Vec<Vec<Str
         match &o.study {
             Ok(study) => {
                 let stages: Vec<_> = study.stages.iter().map(|s| s.summary.clone()).collect();
-                let (_, stage_rows) = crate::quantities::stages_csv(&stages);
+                let (_, stage_rows) = crate::quantities::stages_csv_of(&quantities, &stages);
                 for r in stage_rows {
                     let mut row = lead.clone();
                     row.extend(r);

@@ -165,6 +165,20 @@ pub struct OutputPins {
     pub stiffness: f64,
 }
 
+/// Coulomb friction of the quasi-static hysteresis curve (docs/model.md section 18.3): the
+/// contacts creep at no speed, so no film forms and each slides at its boundary coefficient.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct QuasiStaticFriction {
+    /// Friction coefficient of the disc-pin contacts at a standstill (lambda 0).
+    pub pin: f64,
+    /// Palmgren's load factor `f1` of the crank bearings.
+    pub bearing_f1: f64,
+    /// How the pins sit in their grooves (`[wear] pin_turning`).
+    pub pin_turning: crate::contact::PinTurning,
+    /// `[wear] pin_rolling_fraction`.
+    pub pin_rolling_fraction: f64,
+}
+
 /// The reducer's mechanical model (SI): what the static and the dynamic analysis share.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Reducer {
@@ -209,6 +223,9 @@ pub struct Reducer {
     /// [`RadialBearing::series_stiffness`] and [`Mesh::stiffness`] hold summed (the share of
     /// the twist each part takes is found by taking it out).
     pub series: structure::SeriesCompliances,
+    /// Coulomb friction of the quasi-static hysteresis curve (docs/model.md section 18.3;
+    /// `None`: frictionless, `[lubrication] enabled = false`).
+    pub friction: Option<QuasiStaticFriction>,
 }
 
 impl Reducer {

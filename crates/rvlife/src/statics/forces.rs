@@ -2,6 +2,7 @@
 //! their tangent stiffness (docs/model.md section 5).
 
 use super::*;
+use crate::geometry::rotate;
 
 impl<'a> StaticAnalysis<'a> {
     /// Nominal positions at crank angle `phi` (input locked there).
@@ -45,6 +46,70 @@ impl<'a> StaticAnalysis<'a> {
             &mut BearingEval::Record(&mut recorded, false),
         );
         recorded.iter().map(|b| b.force().norm()).collect()
+    }
+
+    /// The creep of the contacts and bearings of `sol` per unit output twist, along its twist
+    /// direction (`dz/dpsi` with the inner coordinates in equilibrium; docs/model.md section
+    /// 18.3): per disc and pin, the displacement of the disc's material point at the contact
+    /// along the pin's counter-clockwise tangent (m/rad; 0 for an unloaded pin), by central
+    /// differences of the poses `1e-7` rad either side; per bearing, in the order of
+    /// [`StaticAnalysis::bearing_forces`], its rings' relative turn (rad/rad). `None` where
+    /// the solution holds no twist direction (rigid support).
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn creep_rates(&self, sol: &StaticSolution) -> Option<(Vec<Vec<f64>>, Vec<f64>)> {
+        let red = &*self.red;
+        let lay = red.layout();
+        let n = lay.dofs();
+        let t = &sol.twist_direction;
+        if t.len() != n || sol.deviations.len() != n {
+            return None;
+        }
+        let s = sense(sol.output_torque);
+        let fr = self.frame(self.play_taken_up(sol.crank_angle, s).0);
+        const H: f64 = 1e-7;
+        let shifted = |h: f64| -> Vec<f64> {
+            sol.deviations
+                .iter()
+                .zip(t)
+                .map(|(z, d)| z + h * d)
+                .collect()
+        };
+        let (zp, zm) = (shifted(H), shifted(-H));
+        let contacts = sol
+            .discs
+            .iter()
+            .enumerate()
+            .map(|(d, disc)| {
+                let (a, b) = (self.pose_from(&fr, &zm, d), self.pose_from(&fr, &zp, d));
+                disc.pins
+                    .iter()
+                    .map(|p| {
+                        if p.force <= 0.0 {
+                            return 0.0;
+                        }
+                        let moved = (b.centre + rotate(&p.point, b.angle))
+                            - (a.centre + rotate(&p.point, a.angle));
+                        let out = -rotate(&p.normal, disc.pose.angle);
+                        moved.dot(&Vec2::new(-out.y, out.x)) / (2.0 * H)
+                    })
+                    .collect()
+            })
+            .collect();
+        let mut bearings = Vec::new();
+        if red.cranks == 0 {
+            for d in 0..red.discs() {
+                bearings.push(t[Layout::SUN] - t[lay.disc(d) + 2]);
+            }
+        } else {
+            for k in 0..red.cranks {
+                let c = lay.crank(k) + 2;
+                bearings.push(t[c] - t[Layout::OUT]);
+                for d in 0..red.discs() {
+                    bearings.push(t[c] - t[lay.disc(d) + 2]);
+                }
+            }
+        }
+        Some((contacts, bearings))
     }
 
     /// Deviations `z` of the locked-input rigid-body mode at carrier twist `psi` from the

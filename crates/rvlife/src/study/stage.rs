@@ -146,6 +146,16 @@ pub(crate) fn analyse_profile(
              thin the teeth (equidistant > 0 or offset < 0)",
         ));
     }
+    // The losses and efficiency at the rated torque and speed, on the hysteresis' top level.
+    let efficiency = model
+        .lubrication
+        .enabled
+        .then(|| stage_efficiency(model, &sa, profile, &rated))
+        .transpose()?;
+    let friction_torque = mean
+        .friction
+        .as_ref()
+        .and_then(|f| f.positive.last().copied());
     // At the rated torque (the default) the loaded TE is the hysteresis' top level.
     let loaded = if model.te.loaded_torque == model.rating.rated_torque {
         LoadedTe::from_solutions(model.te.loaded_torque, phis, rated)
@@ -217,6 +227,14 @@ pub(crate) fn analyse_profile(
         crank_carrier_clearance_um: red.bearings.carrier.clearance * 1e6,
         torsional_stiffness_nm_per_arcmin: acc.torsional_stiffness / ARCMIN_PER_RAD,
         tangent_stiffness_nm_per_arcmin: loaded.mean_stiffness() / ARCMIN_PER_RAD,
+        friction_torque_nm: friction_torque,
+        efficiency: efficiency.map(|e| e.efficiency),
+        loss_disc_pins_w: efficiency.map(|e| e.loss_disc_pins_w),
+        loss_pin_grooves_w: efficiency.map(|e| e.loss_pin_grooves_w),
+        loss_crank_bearings_w: efficiency.map(|e| e.loss_crank_bearings_w),
+        loss_gear_meshes_w: efficiency.map(|e| e.loss_gear_meshes_w),
+        lambda_mean: efficiency.map(|e| e.lambda_mean),
+        oil_temperature_c: efficiency.map(|e| e.temperature_c),
         // The dynamics' and the flexible disc's quantities are added by the study.
         ..Default::default()
     };
@@ -228,6 +246,30 @@ pub(crate) fn analyse_profile(
         revolution: rev,
         summary,
     })
+}
+
+/// The power balance of `profile` at the rated torque and the rated input speed
+/// ([`crate::efficiency::balanced_point`]) on the equilibria `rated` at the rated torque over
+/// the mesh cycle.
+fn stage_efficiency(
+    model: &Model,
+    sa: &StaticAnalysis,
+    profile: &Profile,
+    rated: &[crate::statics::StaticSolution],
+) -> Result<crate::efficiency::OperatingPoint> {
+    let loads = crate::efficiency::MeshCycleLoads {
+        torque: model.rating.rated_torque,
+        solutions: rated.to_vec(),
+        bearing_forces: rated.iter().map(|s| sa.bearing_forces(s)).collect(),
+    };
+    crate::efficiency::balanced_point(
+        &model.reducer,
+        profile,
+        &model.lubrication,
+        &model.wear,
+        &loads,
+        model.rating.input_speed_rpm / model.reducer.ratio.abs(),
+    )
 }
 
 /// The accuracy-spec quantities of one profile only ([`AccuracyPoint`]: backlash, lost motion

@@ -41,7 +41,10 @@ use crate::reducer::{Reducer, Support};
 use crate::statics::{StaticAnalysis, StaticSolution, TouchingPin};
 use crate::units::ARCMIN_PER_RAD;
 
+mod friction;
 mod zero_torque;
+
+pub use friction::FrictionTorques;
 
 use zero_torque::zero_twist_and_start;
 pub(crate) use zero_torque::{
@@ -286,6 +289,11 @@ pub struct TwistTable {
     pub positive: Vec<f64>,
     /// Twist at `-fraction T_r` (the first entry: `0-`), rad.
     pub negative: Vec<f64>,
+    /// The friction torque at each torque of the grid (`[lubrication] enabled`; `None`:
+    /// frictionless), from which the curve's two branches follow (docs/model.md section
+    /// 18.3).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<FrictionTorques>,
 }
 
 /// Where the hysteresis search of one crank angle starts ([`TwistTable`]'s grid at that
@@ -380,6 +388,13 @@ impl TwistTable {
             None => Self::grid_cold(sa, phi, fractions, rated)?,
         };
         let heaviest = solutions[0].last().cloned();
+        // Friction: the torque at each level each way, zero at zero torque where the discs
+        // float in their play (nothing presses the contacts), the lightest level's where they
+        // are preloaded.
+        let friction = sa
+            .reducer()
+            .friction
+            .map(|f| friction::table_friction(sa, &f, &solutions, &positive, &negative));
         // The first loaded level each way, where the next state's grid starts.
         let [mut up, mut down] = solutions;
         up.truncate(1);
@@ -411,6 +426,7 @@ impl TwistTable {
             measuring_fraction,
             positive,
             negative,
+            friction,
         };
         let rated_solution = heaviest.ok_or_else(|| {
             Error::numerical("hysteresis", "the torque grid holds no loaded level")
@@ -512,20 +528,36 @@ impl TwistTable {
             measuring_fraction: tables[0].measuring_fraction,
             positive: avg(|t| &t.positive),
             negative: avg(|t| &t.negative),
+            friction: tables
+                .iter()
+                .all(|t| t.friction.is_some())
+                .then(|| FrictionTorques {
+                    positive: avg(|t| &t.friction.as_ref().expect("checked").positive),
+                    negative: avg(|t| &t.friction.as_ref().expect("checked").negative),
+                    positive_twist: avg(|t| &t.friction.as_ref().expect("checked").positive_twist),
+                    negative_twist: avg(|t| &t.friction.as_ref().expect("checked").negative_twist),
+                }),
         }
     }
 
-    fn at(&self, fraction: f64) -> (f64, f64) {
-        let i = self
-            .fractions
+    pub(crate) fn at(&self, fraction: f64) -> (f64, f64) {
+        let i = self.level(fraction);
+        (self.positive[i], self.negative[i])
+    }
+
+    /// The index of the torque fraction `fraction` in the grid.
+    pub(crate) fn level(&self, fraction: f64) -> usize {
+        self.fractions
             .iter()
             .position(|&f| (f - fraction).abs() < 1e-12)
-            .expect("the grid holds the measuring and the rated torque");
-        (self.positive[i], self.negative[i])
+            .expect("the grid holds the measuring and the rated torque")
     }
 
     /// The catalogue quantities of this table.
     pub fn accuracy(&self) -> Accuracy {
+        if let Some(b) = self.branches() {
+            return self.accuracy_with_friction(&b);
+        }
         let (zp, zn) = self.at(0.0);
         let (mp, mn) = self.at(self.measuring_fraction);
         let (rp, rn) = self.at(1.0);
@@ -543,6 +575,9 @@ impl TwistTable {
 
     /// The sweep `0 -> +T_r -> -T_r -> +T_r` as one polyline.
     pub fn curve(&self) -> HysteresisCurve {
+        if let Some(b) = self.branches() {
+            return self.curve_with_friction(&b);
+        }
         let t = |f: f64, s: f64| s * f * self.rated_torque;
         let mut torque = Vec::new();
         let mut twist = Vec::new();

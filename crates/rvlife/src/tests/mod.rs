@@ -10,6 +10,7 @@ mod dynamics;
 mod errors;
 mod fem;
 mod flexible_dynamics;
+mod friction;
 mod life;
 mod measured;
 mod parts;

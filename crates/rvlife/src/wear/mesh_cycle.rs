@@ -6,15 +6,15 @@ use std::f64::consts::TAU;
 
 use rayon::prelude::*;
 
-use super::pin_turning::{self, PinTurning};
 use super::{resample_periodic, WearInputs};
 use crate::contact::gap::GapField;
+use crate::contact::pin_turning::{self, PinTurning};
 use crate::error::Result;
 #[cfg(test)]
 use crate::geometry::WearMap;
 use crate::geometry::{band_shape, rotate, Profile, Vec2};
 use crate::reducer::{contact_direction, PIN_MAP_POINTS};
-use crate::statics::{StaticAnalysis, StaticSolution};
+use crate::statics::{DiscLoad, StaticAnalysis, StaticSolution};
 
 /// Mesh cycles of the output revolution whose wear is averaged for a reducer with part errors
 /// or a single-stage drive (spread evenly over the revolution; the nominal RV reducer needs
@@ -31,6 +31,53 @@ pub(crate) fn revolution_positions(reducer: &crate::reducer::Reducer) -> usize {
     } else {
         1
     }
+}
+
+/// Every pin contact's kinematics of `disc` per unit crank angle (ground frame, pins at rest):
+/// `(w, v_d)`, the disc material's speed along the pin's counter-clockwise tangent, `w = v . t`
+/// with `v = dO/dphi + dpsi/dphi x (x - O)`, `dpsi/dphi = -1/Zc`, and the contact's speed along
+/// the flank `v_d` (docs/model.md section 7.2); `(0, 0)` for an unloaded pin. One entry per
+/// pin.
+pub(crate) fn contact_kinematics(profile: &Profile, disc: &DiscLoad) -> Vec<(f64, f64)> {
+    let zc = profile.geometry().disc_teeth() as f64;
+    let (centre, psi) = (disc.pose.centre, disc.pose.angle);
+    disc.pins
+        .iter()
+        .map(|p| {
+            if p.force <= 0.0 {
+                return (0.0, 0.0);
+            }
+            let pt = profile.point(p.profile_parameter);
+            let r = rotate(&pt.p, psi);
+            let v = Vec2::new(-centre.y, centre.x) + Vec2::new(-r.y, r.x) * (-1.0 / zc);
+            let tangent = rotate(&(pt.dp / pt.dp.norm()), psi);
+            // The pin's outward direction at the contact is minus the flank's outward normal;
+            // its counter-clockwise tangent is that turned a quarter turn, along the flank's
+            // tangent one way or the other.
+            let n = -rotate(&p.normal, psi);
+            let sense = tangent.dot(&Vec2::new(-n.y, n.x)).signum();
+            (v.dot(&tangent) * sense, pt.dp.norm())
+        })
+        .collect()
+}
+
+/// The entrainment (mean rolling) speed of a fixed pin's contact per unit crank angle, m/rad:
+/// half the sum of the two surfaces' speeds relative to the contact point, the disc's `v_d`
+/// along its flank and the pin's `r_p |d beta/d phi|` round the pin
+/// ([`contact_direction`]), whose difference is the sliding speed `|w|`; along the common
+/// tangent, `|u_1 + u_2| = sqrt(2 u_1^2 + 2 u_2^2 - (u_1 - u_2)^2)` (docs/model.md section
+/// 18.2). `crank` the disc's crank angle, rad.
+pub(crate) fn entrainment_speed(
+    geo: &crate::geometry::CycloidGeometry,
+    pin: usize,
+    crank: f64,
+    w: f64,
+    v_disc: f64,
+) -> f64 {
+    let u_pin = geo.pin_radius * contact_direction(geo, pin, crank).1.abs();
+    0.5 * (2.0 * v_disc * v_disc + 2.0 * u_pin * u_pin - w * w)
+        .max(0.0)
+        .sqrt()
 }
 
 /// Wear of one mesh cycle ([`wear_per_mesh_cycle`]).
@@ -58,7 +105,7 @@ pub(crate) fn wear_per_mesh_cycle(
     inputs: &WearInputs,
     torque: f64,
 ) -> Result<MeshCycleWear> {
-    Ok(wear_per_mesh_cycle_from(profile, inputs, torque, None, None)?.0)
+    Ok(wear_per_mesh_cycle_from(profile, inputs, torque, 0.0, None, None)?.0)
 }
 
 /// [`wear_per_mesh_cycle`] with each static solve started from `warm`, the solutions of the
@@ -77,6 +124,7 @@ pub(crate) fn wear_per_mesh_cycle_from(
     profile: &Profile,
     inputs: &WearInputs,
     torque: f64,
+    speed_rpm: f64,
     warm: Option<&[StaticSolution]>,
     field: Option<&GapField>,
 ) -> Result<(MeshCycleWear, Vec<StaticSolution>)> {
@@ -147,16 +195,26 @@ pub(crate) fn wear_per_mesh_cycle_from(
         } => Some((pin_friction, groove_friction)),
     };
     let contact_modulus = inputs.reducer.contact.materials.contact_modulus();
+    // The wear coefficient's factor from the contact's film (docs/model.md section 18.6): the
+    // crank speed in the pins' frame, `Zc` times the output's, sets the entrainment.
+    let lub = &inputs.lubrication;
+    let crank_speed = speed_rpm.abs() * TAU / 60.0 / inputs.reducer.ratio.abs() * zc;
+    let film_factor = |p: &crate::statics::PinLoad, crank: f64, w: f64, v_disc: f64| -> f64 {
+        if !lub.wear_follows_film() {
+            return 1.0;
+        }
+        let u = entrainment_speed(geo, p.pin, crank, w, v_disc) * crank_speed;
+        let (_, lambda) = lub.contact_film(p.half_width, p.max_pressure, contact_modulus, u);
+        lub.wear_factor(lambda)
+    };
     // Per solution and disc: the disc's samples (mesh angle, depth, half-width, sliding
     // integral F |v_s| dphi) and the pins' (section 7.11; with turning pins, 7.12).
     let per_step: Vec<Vec<(Vec<DiscSample>, Vec<PinSample>)>> = solutions
         .par_iter()
         .map(|sol| {
-            // Every loaded contact's kinematics per unit crank angle, once: the disc
-            // material's speed along the pin's counter-clockwise tangent (ground frame, pins at
-            // rest), `w = v . t` with `v = dO/dphi + dpsi/dphi x (x - O)`, `dpsi/dphi = -1/Zc`,
-            // and the contact's speed along the flank `v_d`; for the discs whose wear is
-            // sampled, and with turning pins for every disc (a pin's balance takes them all).
+            // Every loaded contact's kinematics per unit crank angle, once
+            // ([`contact_kinematics`]): for the discs whose wear is sampled, and with turning
+            // pins for every disc (a pin's balance takes them all).
             let kinematic_discs = if balance.is_some() {
                 sol.discs.len()
             } else {
@@ -164,28 +222,7 @@ pub(crate) fn wear_per_mesh_cycle_from(
             };
             let kinematics: Vec<Vec<(f64, f64)>> = sol.discs[..kinematic_discs]
                 .iter()
-                .map(|disc| {
-                    let (centre, psi) = (disc.pose.centre, disc.pose.angle);
-                    disc.pins
-                        .iter()
-                        .map(|p| {
-                            if p.force <= 0.0 {
-                                return (0.0, 0.0);
-                            }
-                            let pt = profile.point(p.profile_parameter);
-                            let r = rotate(&pt.p, psi);
-                            let v =
-                                Vec2::new(-centre.y, centre.x) + Vec2::new(-r.y, r.x) * (-1.0 / zc);
-                            let tangent = rotate(&(pt.dp / pt.dp.norm()), psi);
-                            // The pin's outward direction at the contact is minus the flank's
-                            // outward normal; its counter-clockwise tangent is that turned a
-                            // quarter turn, along the flank's tangent one way or the other.
-                            let n = -rotate(&p.normal, psi);
-                            let sense = tangent.dot(&Vec2::new(-n.y, n.x)).signum();
-                            (v.dot(&tangent) * sense, pt.dp.norm())
-                        })
-                        .collect()
-                })
+                .map(|disc| contact_kinematics(profile, disc))
                 .collect();
             // Each pin's balance over the contacts of every disc (a pin is one body).
             let turning: Vec<Option<pin_turning::PinBalance>> = match balance {
@@ -243,8 +280,11 @@ pub(crate) fn wear_per_mesh_cycle_from(
                                 (slide, u)
                             }
                         };
-                        let dh =
-                            weight * inputs.wear.archard * p.force * v_slide / (geo.width * v_disc);
+                        // The film's share of the load wears nothing (docs/model.md section
+                        // 18.3; 1 with constant coefficients).
+                        let film = film_factor(p, disc.pose.crank_angle, w, v_disc);
+                        let dh = film * weight * inputs.wear.archard * p.force * v_slide
+                            / (geo.width * v_disc);
                         let sliding = weight * p.force * v_slide * dphi;
                         disc_out.push((p.mesh_angle, dh, p.half_width, sliding));
                         if !pins_wear {
@@ -258,7 +298,7 @@ pub(crate) fn wear_per_mesh_cycle_from(
                         pin_out.push(PinSample {
                             beta,
                             dbeta,
-                            sliding,
+                            sliding: film * sliding,
                             half_width: p.half_width,
                             even: turns,
                         });
@@ -267,7 +307,7 @@ pub(crate) fn wear_per_mesh_cycle_from(
                             // groove wears where the load presses (opposite the contact, so
                             // its depth opens this contact's gap as the pin's own wear would,
                             // read at the same angle) and the pin all round.
-                            let groove = weight * p.force * u.abs() * dphi;
+                            let groove = film * weight * p.force * u.abs() * dphi;
                             for even in [false, true] {
                                 pin_out.push(PinSample {
                                     beta,
@@ -477,12 +517,13 @@ mod tests {
                 // The previous evaluation: 1 % less wear (a couple of profile updates).
                 let before = at(0.99);
                 let (_, prev) =
-                    wear_per_mesh_cycle_from(&before, &inputs, torque, None, None).unwrap();
+                    wear_per_mesh_cycle_from(&before, &inputs, torque, 0.0, None, None).unwrap();
                 let profile = at(1.0);
                 let (cold, cold_sol) =
-                    wear_per_mesh_cycle_from(&profile, &inputs, torque, None, None).unwrap();
+                    wear_per_mesh_cycle_from(&profile, &inputs, torque, 0.0, None, None).unwrap();
                 let (warm, warm_sol) =
-                    wear_per_mesh_cycle_from(&profile, &inputs, torque, Some(&prev), None).unwrap();
+                    wear_per_mesh_cycle_from(&profile, &inputs, torque, 0.0, Some(&prev), None)
+                        .unwrap();
                 assert_eq!(cold_sol.len(), warm_sol.len(), "{name}");
                 // Each map within 1e-7 of its largest value.
                 for (a, b) in [(&cold.disc, &warm.disc), (&cold.pin, &warm.pin)] {

@@ -25,14 +25,15 @@
 //! The crank bearings' wear, as growth of their radial clearance: [`bearings`].
 
 mod bearings;
-mod mesh_cycle;
-mod pin_turning;
+pub(crate) mod mesh_cycle;
 
+pub use crate::contact::pin_turning::PinTurning;
 pub use bearings::{bearing_wear_rates, clearance_growth, BearingWearParams, BearingWearRates};
 #[cfg(test)]
 pub(crate) use mesh_cycle::wear_per_mesh_cycle;
-pub(crate) use mesh_cycle::{revolution_positions, MeshCycleWear};
-pub use pin_turning::PinTurning;
+pub(crate) use mesh_cycle::{
+    contact_kinematics, entrainment_speed, revolution_positions, MeshCycleWear,
+};
 
 use std::f64::consts::TAU;
 
@@ -169,6 +170,9 @@ pub struct WearInputs<'a> {
     /// reducer with its bearings opened by `t` times these ([`bearing_wear_rates`]; zero: the
     /// assembly clearances throughout).
     pub bearing_rates: BearingWearRates,
+    /// The oil and surfaces: with [`crate::tribology::WearFilm::Lambda`] each contact's
+    /// coefficient is scaled by the asperities' share of its load (docs/model.md section 18.6).
+    pub lubrication: crate::tribology::Lubrication,
 }
 
 impl WearInputs<'_> {
@@ -277,6 +281,7 @@ fn wear_rate_from(profile: &Profile, inputs: &WearInputs, warm: &mut WearWarm) -
                     profile,
                     inputs,
                     level.torque,
+                    level.speed_rpm,
                     near,
                     field.as_ref(),
                 )?;

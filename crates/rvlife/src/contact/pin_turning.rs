@@ -1,6 +1,6 @@
 //! Pins that turn in their housing grooves: the pin's rotation from the balance of the friction
 //! moments on it, and the micro-slip of the disc contact on which it rolls (docs/model.md
-//! section 7.12).
+//! section 7.12), shared by the wear integration and the friction losses.
 //!
 //! A pin touched by the discs at contacts `i` (normal force `Q_i`, N; `w_i` the speed of the
 //! disc material along the pin's counter-clockwise tangent at the contact) turns with the
