@@ -213,7 +213,6 @@ fn bearing_loss(red: &Reducer, lub: &Lubrication, forces: &[f64], omega_in: f64)
     let omega = omega_in * red.bearing_speed_ratio().abs();
     let rpm = omega * 60.0 / TAU;
     let nu = lub.oil.kinematic_viscosity(lub.temperature_c);
-    let per_crank = 1 + red.discs();
     let moment = |b: &crate::reducer::RadialBearing, f: f64| -> f64 {
         match b.law {
             BearingLaw::Rollers {
@@ -237,14 +236,7 @@ fn bearing_loss(red: &Reducer, lub: &Lubrication, forces: &[f64], omega_in: f64)
     let total: f64 = forces
         .iter()
         .enumerate()
-        .map(|(i, &f)| {
-            let carrier = red.cranks > 0 && i % per_crank == 0;
-            if carrier {
-                moment(&red.bearings.carrier, f)
-            } else {
-                moment(&red.bearings.disc, f)
-            }
-        })
+        .map(|(i, &f)| moment(red.bearing_of_force(i), f))
         .sum();
     total * omega
 }

@@ -172,10 +172,7 @@ fn twist_at(table: &TwistTable, t: f64, from_above: bool, falling: bool) -> f64 
     } else {
         &table.negative
     };
-    let x = &table.fractions;
-    let i = x.partition_point(|&v| v <= f).clamp(1, x.len() - 1);
-    let w = (f - x[i - 1]) / (x[i] - x[i - 1]);
-    let at = |v: &[f64]| v[i - 1] + w * (v[i] - v[i - 1]);
+    let at = |v: &[f64]| on_grid(table, v, f);
     let twist = at(side);
     match &table.friction {
         None => twist,
@@ -201,17 +198,15 @@ fn twist_at(table: &TwistTable, t: f64, from_above: bool, falling: bool) -> f64 
 fn branch_at(table: &TwistTable, t: f64, from_above: bool, falling: bool) -> (f64, f64) {
     let twist = twist_at(table, t, from_above, falling);
     let tf = friction_torque_at(table, t);
-    let Some(fr) = &table.friction else {
+    let (Some(fr), Some(b)) = (&table.friction, table.branches()) else {
         return (twist, t);
     };
     let r = table.rated_torque;
-    let (last, tf_r) = (table.positive.len() - 1, fr.positive[fr.positive.len() - 1]);
-    let top = table.positive[last] - fr.positive_twist[last];
-    let bottom = table.negative[last] + fr.negative_twist[last];
-    if falling && twist > top {
-        (top, r - tf_r)
-    } else if !falling && twist < bottom {
-        (bottom, -r + fr.negative[last])
+    let last = fr.positive.len() - 1;
+    if falling && twist > b.top() {
+        (b.top(), r - fr.positive[last])
+    } else if !falling && twist < b.bottom() {
+        (b.bottom(), -r + fr.negative[last])
     } else if falling {
         (twist, t + tf)
     } else {
@@ -226,11 +221,16 @@ fn friction_torque_at(table: &TwistTable, t: f64) -> f64 {
         return 0.0;
     };
     let f = t.abs() / table.rated_torque;
-    let side = if t >= 0.0 { &fr.positive } else { &fr.negative };
+    on_grid(table, if t >= 0.0 { &fr.positive } else { &fr.negative }, f)
+}
+
+/// The values `v` of one side of `table`'s grid at the torque fraction `f`, linear between the
+/// grid's fractions (beyond the last, the last two extended).
+fn on_grid(table: &TwistTable, v: &[f64], f: f64) -> f64 {
     let x = &table.fractions;
-    let i = x.partition_point(|&v| v <= f).clamp(1, x.len() - 1);
+    let i = x.partition_point(|&a| a <= f).clamp(1, x.len() - 1);
     let w = (f - x[i - 1]) / (x[i] - x[i - 1]);
-    side[i - 1] + w * (side[i] - side[i - 1])
+    v[i - 1] + w * (v[i] - v[i - 1])
 }
 
 /// `b/a` of a twist table with `c` (rad/(N m)) added in series, N m/rad (docs/model.md

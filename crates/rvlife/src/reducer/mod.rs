@@ -281,6 +281,17 @@ impl Reducer {
         }
     }
 
+    /// The bearing whose radial force is entry `i` of `StaticAnalysis::bearing_forces`: per
+    /// crank its crank-carrier pair, then its crank-disc bearing of each disc (a single-stage
+    /// drive: each disc's eccentric bearing).
+    pub(crate) fn bearing_of_force(&self, i: usize) -> &RadialBearing {
+        if self.cranks > 0 && i % (1 + self.discs()) == 0 {
+            &self.bearings.carrier
+        } else {
+            &self.bearings.disc
+        }
+    }
+
     /// The largest half play of the bearings and meshes, m: half a bearing's radial clearance,
     /// half the meshes' backlash along the line of action (0: no play).
     pub(crate) fn max_half_play(&self) -> f64 {

@@ -56,7 +56,7 @@ pub(crate) fn friction_torques(
     (0..side.len())
         .map(|j| {
             let sol = &side[j];
-            let creep = sa.creep_rates(sol).or_else(|| differences(sa, side, j));
+            let creep = sa.creep_rates(sol).or_else(|| differences(side, j));
             match creep {
                 Some((contacts, bearings)) => friction_torque(sa, f, sol, &contacts, &bearings),
                 None => 0.0,
@@ -98,19 +98,11 @@ fn friction_torque(
         BearingLaw::Rollers { pitch_diameter, .. } => f.bearing_f1 * force * pitch_diameter,
         BearingLaw::Linear { .. } => 0.0,
     };
-    let per_crank = 1 + red.discs();
     let bearing: f64 = forces
         .iter()
         .zip(bearings)
         .enumerate()
-        .map(|(i, (&force, &rate))| {
-            let law = if red.cranks > 0 && i % per_crank == 0 {
-                &red.bearings.carrier.law
-            } else {
-                &red.bearings.disc.law
-            };
-            moment(law, force) * rate.abs()
-        })
+        .map(|(i, (&force, &rate))| moment(&red.bearing_of_force(i).law, force) * rate.abs())
         .sum();
     pins + grooves + bearing
 }
@@ -118,11 +110,7 @@ fn friction_torque(
 /// The creep rates at `side[j]` by differences of its neighbours (rigid support: one disc on a
 /// fixed centre, no bearings): `None` with fewer than two solutions.
 #[allow(clippy::type_complexity)]
-fn differences(
-    sa: &StaticAnalysis,
-    side: &[StaticSolution],
-    j: usize,
-) -> Option<(Vec<Vec<f64>>, Vec<f64>)> {
+fn differences(side: &[StaticSolution], j: usize) -> Option<(Vec<Vec<f64>>, Vec<f64>)> {
     let n = side.len();
     if n < 2 {
         return None;
@@ -154,7 +142,6 @@ fn differences(
                 .collect()
         })
         .collect();
-    let _ = sa;
     Some((contacts, Vec::new()))
 }
 
@@ -188,6 +175,16 @@ impl Branches {
             top: rp - dp,
             bottom: rn + dn,
         }
+    }
+
+    /// The twist where the rising branch reaches `+T_r` (the top turning point).
+    pub(crate) fn top(&self) -> f64 {
+        self.top
+    }
+
+    /// The twist where the falling branch reaches `-T_r` (the bottom turning point).
+    pub(crate) fn bottom(&self) -> f64 {
+        self.bottom
     }
 
     /// The rising branch's twist at level `i` of side `side` (0 positive, 1 negative).
