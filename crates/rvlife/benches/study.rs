@@ -1,5 +1,6 @@
 //! Speed: one static solve of the reducer model at the rated torque (new and 7500 h disc, with
-//! the contact geometry built once), the contact geometry of one profile, the static TE of one
+//! the contact geometry built once), the power balance at the rated point (first order and with
+//! the friction in the equilibrium), the contact geometry of one profile, the static TE of one
 //! stage, 0.8 s multibody simulations (rigid discs at 10 um and 7500 h, flexible discs at 10 um), the
 //! flexible disc, and the built-in study. Run with
 //! `cargo bench -p rvlife`.
@@ -37,6 +38,36 @@ fn benches(c: &mut Criterion) {
             sa_worn
                 .solve(black_box(0.05), model.rating.rated_torque)
                 .unwrap()
+        })
+    });
+    // The power balance at the rated point (412 N m, 15 rpm output) over a mesh cycle of 24
+    // crank angles from its frictionless loads: to first order, and with the friction in the
+    // equilibrium (the sweeps of the running equilibrium at every crank angle).
+    let loads = rvlife::efficiency::mesh_cycle_loads(&sa_new, model.rating.rated_torque, 24)
+        .expect("loads");
+    c.bench_function("efficiency_rated_point_first_order", |b| {
+        b.iter(|| {
+            rvlife::efficiency::operating_point(
+                &sa_new,
+                &new,
+                &model.lubrication,
+                &model.wear,
+                black_box(&loads),
+                15.0,
+            )
+        })
+    });
+    c.bench_function("efficiency_rated_point_in_equilibrium", |b| {
+        b.iter(|| {
+            rvlife::efficiency::running_point(
+                &sa_new,
+                &new,
+                &model.lubrication,
+                &model.wear,
+                black_box(&loads),
+                15.0,
+            )
+            .unwrap()
         })
     });
     c.bench_function("contact_geometry_worn_7500h", |b| {

@@ -3,10 +3,13 @@
 //! film, Palmgren's friction moments of the crank bearings, and ISO/TR 14179-2's loss of the
 //! sun-planet meshes, each on the loads of the frictionless static analysis over a mesh cycle.
 //!
-//! The friction forces do not change the normal loads they are computed from (the loads are
-//! the frictionless equilibrium's): the usual approach of cycloid-drive efficiency models
-//! (e.g. J. W. Sensinger, "Efficiency of high-sensitivity gear trains, such as cycloid
-//! drives", J. Mech. Des. 135(7), 2013), first order in the friction coefficient.
+//! Two ways: to first order ([`operating_point`]), the friction forces on the frictionless
+//! equilibrium's loads (the usual approach of cycloid-drive efficiency models, e.g. J. W.
+//! Sensinger, "Efficiency of high-sensitivity gear trains, such as cycloid drives", J. Mech.
+//! Des. 135(7), 2013), what the heat balance iterates; and with the friction in the
+//! equilibrium ([`running_point`], docs/model.md section 18.8), the input torque from the
+//! running reducer's equilibrium with the friction forces of its own loads, what every output
+//! reports.
 
 use std::f64::consts::TAU;
 
@@ -14,9 +17,9 @@ use serde::Serialize;
 
 use crate::error::Result;
 use crate::geometry::Profile;
-use crate::reducer::{BearingLaw, Drive, Reducer};
-use crate::statics::{StaticAnalysis, StaticSolution};
-use crate::tribology::{palmgren_moment, pin_dissipation, Lubrication, SpurMesh};
+use crate::reducer::{BearingLaw, Drive, RadialBearing, Reducer};
+use crate::statics::{ContactFriction, StaticAnalysis, StaticSolution};
+use crate::tribology::{palmgren_moment, pin_friction_forces, Lubrication, SpurMesh};
 use crate::wear::{contact_kinematics, entrainment_speed, WearParams};
 
 /// The frictionless loads of one output torque over a mesh cycle, from which the losses at
@@ -33,19 +36,17 @@ pub struct MeshCycleLoads {
     pub bearing_forces: Vec<Vec<f64>>,
 }
 
-/// The static solutions of the reducer `red` on `profile` under the output torque `torque`
-/// (N m) at `samples` crank angles of a mesh cycle, with the bearing forces.
+/// The static solutions of the analysis `sa` under the output torque `torque` (N m) at
+/// `samples` crank angles of a mesh cycle, with the bearing forces.
 ///
 /// # Errors
 /// The static analysis's.
 pub fn mesh_cycle_loads(
-    red: &Reducer,
-    profile: &Profile,
+    sa: &StaticAnalysis,
     torque: f64,
     samples: usize,
 ) -> Result<MeshCycleLoads> {
-    let sa = StaticAnalysis::new(red, profile)?;
-    let phis = crate::te::mesh_cycle_angles(red.geometry.pins, samples);
+    let phis = crate::te::mesh_cycle_angles(sa.reducer().geometry.pins, samples);
     let solutions = sa.solve_sequence(&phis, torque)?;
     let bearing_forces = solutions.iter().map(|s| sa.bearing_forces(s)).collect();
     Ok(MeshCycleLoads {
@@ -66,7 +67,9 @@ pub struct OperatingPoint {
     pub temperature_c: f64,
     /// Output power `T omega_out`, W.
     pub output_power_w: f64,
-    /// Input power: the output's plus every loss, W.
+    /// Input power, W: with the friction in the equilibrium ([`running_point`]) the input
+    /// torque that holds it times the input speed, mean over the mesh cycle; to first order
+    /// ([`operating_point`]) the output's plus every loss.
     pub input_power_w: f64,
     /// Efficiency, output over input power.
     pub efficiency: f64,
@@ -99,93 +102,252 @@ impl OperatingPoint {
     }
 }
 
+/// The losses of one configuration of the running reducer and the friction forces that make
+/// them ([`friction_at`]): powers W, the film's statistics as sums over the loaded contacts.
+#[derive(Debug, Clone, Default)]
+struct Losses {
+    pins: f64,
+    grooves: f64,
+    bearings: f64,
+    meshes: f64,
+    lambda_min: f64,
+    film_min: f64,
+    lambda_sum: f64,
+    mu_sum: f64,
+    force_sum: f64,
+}
+
+/// The running conditions of an operating point: the output speed (rpm, > 0) and the signed
+/// speeds of the forward drive (the input driving the output against its torque).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Running {
+    output_speed_rpm: f64,
+    /// Input speed, rad/s, signed: the output turns against its torque, `-sgn(T) |omega_out|`.
+    pub(crate) omega_in: f64,
+    /// Crank angle per second in the pins' frame, `|omega_out| Zc`, rad/s.
+    crank_speed: f64,
+}
+
+impl Running {
+    pub(crate) fn new(
+        red: &Reducer,
+        profile: &Profile,
+        torque: f64,
+        output_speed_rpm: f64,
+    ) -> Self {
+        let omega_out = output_speed_rpm.abs() * TAU / 60.0;
+        let zc = profile.geometry().disc_teeth() as f64;
+        Running {
+            output_speed_rpm,
+            omega_in: -torque.signum() * omega_out * red.ratio,
+            crank_speed: omega_out * zc,
+        }
+    }
+}
+
+/// The friction of the running reducer at the solution `sol` (bearing forces `forces`, N, in
+/// the order of [`StaticAnalysis::bearing_forces`]) with the oil and friction of `lub`, the pins
+/// held or turning as `wear` says (docs/model.md sections 18.4 and 18.8): the forces opposing
+/// the nominal motion and the losses they make along it.
+///
+/// Each disc-pin contact's coefficient is its film's ([`Lubrication::contact_film`] at its
+/// entrainment speed), its force as [`pin_friction_forces`] says at the disc material's
+/// speed along the nominal motion ([`StaticAnalysis::running_rates`]). A crank bearing's
+/// moment is Palmgren's at its relative speed, against it; the meshes' ISO/TR 14179-2 loss
+/// acts as a moment on the input.
+#[allow(clippy::too_many_arguments)]
+fn friction_at(
+    sa: &StaticAnalysis,
+    profile: &Profile,
+    lub: &Lubrication,
+    wear: &WearParams,
+    sol: &StaticSolution,
+    forces: &[f64],
+    run: Running,
+) -> (ContactFriction, Losses) {
+    let red = sa.reducer();
+    let geo = profile.geometry();
+    let e_star = red.contact.materials.contact_modulus();
+    let rates = sa.running_rates(sol);
+    let omega_in = run.omega_in;
+    let mut loss = Losses {
+        lambda_min: f64::INFINITY,
+        film_min: f64::INFINITY,
+        ..Default::default()
+    };
+    // Each loaded contact's friction coefficient.
+    let mu: Vec<Vec<f64>> = sol
+        .discs
+        .iter()
+        .map(|disc| {
+            let kin = contact_kinematics(profile, disc);
+            disc.pins
+                .iter()
+                .zip(kin)
+                .map(|(p, (w, v_d))| {
+                    if p.force <= 0.0 {
+                        return 0.0;
+                    }
+                    let u = entrainment_speed(geo, p.pin, disc.pose.crank_angle, w, v_d)
+                        * run.crank_speed;
+                    let (f, lambda) = lub.contact_film(p.half_width, p.max_pressure, e_star, u);
+                    let mu = lub.friction_coefficient(lambda);
+                    loss.lambda_min = loss.lambda_min.min(lambda);
+                    loss.film_min = loss.film_min.min(f.minimum);
+                    loss.lambda_sum += p.force * lambda;
+                    loss.mu_sum += p.force * mu;
+                    loss.force_sum += p.force;
+                    mu
+                })
+                .collect()
+        })
+        .collect();
+    let speeds: Vec<Vec<f64>> = rates
+        .contacts
+        .iter()
+        .map(|d| d.iter().map(|w| w * omega_in).collect())
+        .collect();
+    let (pins, pin_loss, groove_loss) = pin_friction_forces(
+        sol,
+        &speeds,
+        &mu,
+        &wear.pin_turning,
+        wear.pin_rolling_fraction,
+    );
+    loss.pins = pin_loss;
+    loss.grooves = groove_loss;
+    let bearings: Vec<f64> = forces
+        .iter()
+        .enumerate()
+        .map(|(i, &f)| {
+            let r = rates.bearings.get(i).copied().unwrap_or(0.0) * omega_in;
+            let m = bearing_moment(red.bearing_of_force(i), lub, f, r.abs());
+            loss.bearings += m * r.abs();
+            if r == 0.0 {
+                0.0
+            } else {
+                -m * r.signum()
+            }
+        })
+        .collect();
+    let output_power = sol.output_torque.abs() * (rates.output * omega_in).abs();
+    let passing = output_power + loss.pins + loss.grooves + loss.bearings;
+    loss.meshes = mesh_loss(red, lub, passing, omega_in.abs());
+    let input = if omega_in != 0.0 {
+        -loss.meshes / omega_in
+    } else {
+        0.0
+    };
+    (
+        ContactFriction {
+            pins,
+            bearings,
+            input,
+        },
+        loss,
+    )
+}
+
 /// The power balance at the output speed `output_speed_rpm` (rpm, > 0) of the loads `loads`
-/// on `profile` with the oil and friction of `lub`, the pins held or turning as `wear` says
-/// (docs/model.md section 18.4).
+/// on the analysis `sa` of `profile` with the oil and friction of `lub`, the pins held or
+/// turning as `wear` says, to first order (docs/model.md section 18.4): the losses of the
+/// frictionless equilibria ([`friction_at`]), the input power the output's plus them. What
+/// the heat balance iterates; [`running_point`] has the friction in the equilibrium.
 pub fn operating_point(
-    red: &Reducer,
+    sa: &StaticAnalysis,
     profile: &Profile,
     lub: &Lubrication,
     wear: &WearParams,
     loads: &MeshCycleLoads,
     output_speed_rpm: f64,
 ) -> OperatingPoint {
-    let geo = profile.geometry();
-    let zc = geo.disc_teeth() as f64;
-    let omega_out = output_speed_rpm.abs() * TAU / 60.0;
-    // Crank angle in the pins' frame per second: the disc turns by `-1/Zc` of it.
-    let crank_speed = omega_out * zc;
-    let omega_in = omega_out * red.ratio.abs();
-    let e_star = red.contact.materials.contact_modulus();
-    let n = loads.solutions.len().max(1) as f64;
-    let (mut pins, mut grooves, mut bearings) = (0.0, 0.0, 0.0);
-    let (mut lambda_min, mut film_min) = (f64::INFINITY, f64::INFINITY);
-    let (mut lambda_sum, mut mu_sum, mut force_sum) = (0.0, 0.0, 0.0);
-    for (sol, forces) in loads.solutions.iter().zip(&loads.bearing_forces) {
-        let kinematics: Vec<Vec<(f64, f64)>> = sol
-            .discs
-            .iter()
-            .map(|d| contact_kinematics(profile, d))
-            .collect();
-        // Each contact's film and friction coefficient.
-        let film: Vec<Vec<(f64, f64)>> = sol
-            .discs
-            .iter()
-            .zip(&kinematics)
-            .map(|(disc, kin)| {
-                disc.pins
-                    .iter()
-                    .zip(kin)
-                    .map(|(p, &(w, v_d))| {
-                        if p.force <= 0.0 {
-                            return (0.0, 0.0);
-                        }
-                        let u = entrainment_speed(geo, p.pin, disc.pose.crank_angle, w, v_d)
-                            * crank_speed;
-                        let (f, lambda) = lub.contact_film(p.half_width, p.max_pressure, e_star, u);
-                        lambda_min = lambda_min.min(lambda);
-                        film_min = film_min.min(f.minimum);
-                        let mu = lub.friction_coefficient(lambda);
-                        lambda_sum += p.force * lambda;
-                        mu_sum += p.force * mu;
-                        force_sum += p.force;
-                        (mu, lambda)
-                    })
-                    .collect()
-            })
-            .collect();
-        let speeds: Vec<Vec<(f64, f64)>> = kinematics
-            .iter()
-            .map(|k| {
-                k.iter()
-                    .map(|&(w, v)| (w * crank_speed, v * crank_speed))
-                    .collect()
-            })
-            .collect();
-        let mu: Vec<Vec<f64>> = film
-            .iter()
-            .map(|d| d.iter().map(|x| x.0).collect())
-            .collect();
-        let (p, g) = pin_dissipation(
-            sol,
-            &speeds,
-            &mu,
-            &wear.pin_turning,
-            wear.pin_rolling_fraction,
-            e_star,
-        );
-        pins += p;
-        grooves += g;
-        bearings += bearing_loss(red, lub, forces, omega_in);
+    let run = Running::new(sa.reducer(), profile, loads.torque, output_speed_rpm);
+    let losses: Vec<Losses> = loads
+        .solutions
+        .iter()
+        .zip(&loads.bearing_forces)
+        .map(|(sol, forces)| friction_at(sa, profile, lub, wear, sol, forces, run).1)
+        .collect();
+    let output_power = loads.torque.abs() * output_speed_rpm.abs() * TAU / 60.0;
+    let lost: f64 = losses
+        .iter()
+        .map(|l| l.pins + l.grooves + l.bearings + l.meshes)
+        .sum::<f64>()
+        / losses.len().max(1) as f64;
+    summarise(loads.torque, lub, run, &losses, output_power + lost)
+}
+
+/// The power balance at the output speed `output_speed_rpm` (rpm, > 0) with the friction in
+/// the equilibrium (docs/model.md section 18.8): at each crank angle of `loads` the running
+/// reducer's equilibrium with the friction forces of its own loads
+/// ([`StaticAnalysis::solve_running`] with [`friction_at`]), the input power the mean of the
+/// input torque that holds it times the input speed, the losses those of its forces along the
+/// nominal motion. The input power exceeds the output's by the losses to within the elastic
+/// energy's change over the cycle and the contact law's own work (docs/model.md section 18.8:
+/// 5e-4 of the input on the example).
+///
+/// # Errors
+/// The static analysis's; [`crate::Error::Invalid`] with rigid support.
+pub fn running_point(
+    sa: &StaticAnalysis,
+    profile: &Profile,
+    lub: &Lubrication,
+    wear: &WearParams,
+    loads: &MeshCycleLoads,
+    output_speed_rpm: f64,
+) -> Result<OperatingPoint> {
+    let run = Running::new(sa.reducer(), profile, loads.torque, output_speed_rpm);
+    let mut losses = Vec::with_capacity(loads.solutions.len());
+    let mut input = 0.0;
+    for sol in &loads.solutions {
+        let (solved, held) = running_equilibrium(sa, profile, lub, wear, sol, run)?;
+        input += sa.input_torque(&solved, &held) * run.omega_in;
+        let forces = sa.bearing_forces(&solved);
+        losses.push(friction_at(sa, profile, lub, wear, &solved, &forces, run).1);
     }
-    let (pins, grooves, bearings) = (pins / n, grooves / n, bearings / n);
-    let output_power = loads.torque.abs() * omega_out;
-    let meshes = mesh_loss(red, lub, output_power + pins + grooves + bearings, omega_in);
-    let input_power = output_power + pins + grooves + bearings + meshes;
-    let loaded = force_sum > 0.0;
+    let input_power = input / loads.solutions.len().max(1) as f64;
+    summarise(loads.torque, lub, run, &losses, input_power).checked(loads.torque, output_speed_rpm)
+}
+
+/// The running equilibrium at the configuration of `sol` ([`StaticAnalysis::solve_running`]
+/// with [`friction_at`] at the running conditions `run`): the solution and the friction forces
+/// it holds.
+///
+/// # Errors
+/// As [`StaticAnalysis::solve_running`].
+pub(crate) fn running_equilibrium(
+    sa: &StaticAnalysis,
+    profile: &Profile,
+    lub: &Lubrication,
+    wear: &WearParams,
+    sol: &StaticSolution,
+    run: Running,
+) -> Result<(StaticSolution, ContactFriction)> {
+    sa.solve_running(sol, |s| {
+        let forces = sa.bearing_forces(s);
+        Ok(friction_at(sa, profile, lub, wear, s, &forces, run).0)
+    })
+}
+
+/// The operating point of the losses `losses` (one per crank angle) and the input power
+/// `input_power` (W) at the output torque `torque` (N m).
+fn summarise(
+    torque: f64,
+    lub: &Lubrication,
+    run: Running,
+    losses: &[Losses],
+    input_power: f64,
+) -> OperatingPoint {
+    let n = losses.len().max(1) as f64;
+    let sum = |f: fn(&Losses) -> f64| losses.iter().map(f).sum::<f64>();
+    let least = |f: fn(&Losses) -> f64| losses.iter().map(f).fold(f64::INFINITY, f64::min);
+    let force_sum = sum(|l| l.force_sum);
+    // The film's statistics of the loaded contacts (none: 0).
+    let over = |x: f64| if force_sum > 0.0 { x } else { 0.0 };
+    let output_power = torque.abs() * run.output_speed_rpm.abs() * TAU / 60.0;
     OperatingPoint {
-        output_speed_rpm,
-        torque_nm: loads.torque,
+        output_speed_rpm: run.output_speed_rpm,
+        torque_nm: torque,
         temperature_c: lub.temperature_c,
         output_power_w: output_power,
         input_power_w: input_power,
@@ -194,51 +356,60 @@ pub fn operating_point(
         } else {
             0.0
         },
-        loss_disc_pins_w: pins,
-        loss_pin_grooves_w: grooves,
-        loss_crank_bearings_w: bearings,
-        loss_gear_meshes_w: meshes,
-        lambda_min: if loaded { lambda_min } else { 0.0 },
-        lambda_mean: if loaded { lambda_sum / force_sum } else { 0.0 },
-        film_min_um: if loaded { film_min * 1e6 } else { 0.0 },
-        pin_friction_coefficient: if loaded { mu_sum / force_sum } else { 0.0 },
+        loss_disc_pins_w: sum(|l| l.pins) / n,
+        loss_pin_grooves_w: sum(|l| l.grooves) / n,
+        loss_crank_bearings_w: sum(|l| l.bearings) / n,
+        loss_gear_meshes_w: sum(|l| l.meshes) / n,
+        lambda_min: over(least(|l| l.lambda_min)),
+        lambda_mean: over(sum(|l| l.lambda_sum) / force_sum),
+        film_min_um: over(least(|l| l.film_min) * 1e6),
+        pin_friction_coefficient: over(sum(|l| l.mu_sum) / force_sum),
     }
 }
 
-/// Palmgren's loss (W) of the crank bearings under the radial forces `forces` (N, in the order
-/// of [`MeshCycleLoads::bearing_forces`]) at the input speed `omega_in` (rad/s): each bearing's
-/// moment at its speed relative to its outer ring, every row of a pair with its share of the
-/// load. Bearings of the linear law (no rollers, no pitch diameter) lose nothing.
-fn bearing_loss(red: &Reducer, lub: &Lubrication, forces: &[f64], omega_in: f64) -> f64 {
-    let omega = omega_in * red.bearing_speed_ratio().abs();
-    let rpm = omega * 60.0 / TAU;
-    let nu = lub.oil.kinematic_viscosity(lub.temperature_c);
-    let moment = |b: &crate::reducer::RadialBearing, f: f64| -> f64 {
-        match b.law {
-            BearingLaw::Rollers {
-                rows,
-                pitch_diameter,
-                ..
-            } => {
-                let rows = rows.max(1) as f64;
-                rows * palmgren_moment(
-                    f / rows,
-                    pitch_diameter,
-                    rpm,
-                    nu,
-                    lub.bearing_f0,
-                    lub.bearing_f1,
-                )
-            }
-            BearingLaw::Linear { .. } => 0.0,
+impl OperatingPoint {
+    /// `self` if its input power is finite and at least its output power.
+    ///
+    /// # Errors
+    /// [`crate::Error::Numerical`] naming the torque and speed otherwise.
+    fn checked(self, torque: f64, speed_rpm: f64) -> Result<Self> {
+        if self.input_power_w.is_finite() && self.input_power_w >= self.output_power_w {
+            Ok(self)
+        } else {
+            Err(crate::Error::numerical(
+                "efficiency",
+                format!(
+                    "the running equilibrium at {torque} N m and {speed_rpm} rpm output needs an \
+                     input power of {:.6e} W for an output power of {:.6e} W",
+                    self.input_power_w, self.output_power_w
+                ),
+            ))
         }
-    };
-    let total: f64 = forces
-        .iter()
-        .enumerate()
-        .map(|(i, &f)| moment(red.bearing_of_force(i), f))
-        .sum();
-    total * omega
+    }
+}
+
+/// Palmgren's friction moment (N m) of the bearing `b` under the radial force `force` (N) at
+/// the speed `omega` (rad/s) relative to its outer ring, every row of a pair with its share of
+/// the load; none for the linear law (no rollers, no pitch diameter).
+fn bearing_moment(b: &RadialBearing, lub: &Lubrication, force: f64, omega: f64) -> f64 {
+    match b.law {
+        BearingLaw::Rollers {
+            rows,
+            pitch_diameter,
+            ..
+        } => {
+            let rows = rows.max(1) as f64;
+            rows * palmgren_moment(
+                force / rows,
+                pitch_diameter,
+                omega * 60.0 / TAU,
+                lub.oil.kinematic_viscosity(lub.temperature_c),
+                lub.bearing_f0,
+                lub.bearing_f1,
+            )
+        }
+        BearingLaw::Linear { .. } => 0.0,
+    }
 }
 
 /// ISO/TR 14179-2's load-dependent loss (W) of the sun-planet meshes passing the power `power`
@@ -261,55 +432,52 @@ fn mesh_loss(red: &Reducer, lub: &Lubrication, power: f64, omega_in: f64) -> f64
     mu * mesh.loss_factor() * power
 }
 
-/// [`operating_point`] at the oil's steady temperature when `lub` holds a heat balance (the
-/// temperature where the losses leave through the housing, iterated with the viscosity;
+/// The power balance with the friction in the equilibrium ([`running_point`]) at the oil's
+/// steady temperature when `lub` holds a heat balance (the temperature where the first-order
+/// losses ([`operating_point`]) leave through the housing, iterated with the viscosity;
 /// docs/model.md section 18.5), else at its temperature.
 ///
 /// # Errors
-/// [`crate::Error::Numerical`] if the heat balance does not settle below 150 deg C.
+/// As [`running_point`]; [`crate::Error::Numerical`] if the heat balance does not settle below
+/// 150 deg C.
 pub fn balanced_point(
-    red: &Reducer,
+    sa: &StaticAnalysis,
     profile: &Profile,
     lub: &Lubrication,
     wear: &WearParams,
     loads: &MeshCycleLoads,
     output_speed_rpm: f64,
 ) -> Result<OperatingPoint> {
-    let at = |t: f64| {
-        operating_point(
-            red,
-            profile,
-            &lub.at_temperature(t),
-            wear,
-            loads,
-            output_speed_rpm,
-        )
-    };
-    match lub.heat {
-        None => Ok(at(lub.temperature_c)),
+    let temperature = match lub.heat {
+        None => lub.temperature_c,
         Some(h) => {
             let area = h.area.unwrap_or(f64::NAN);
-            let t = h
-                .steady_temperature(area, |t| at(t).loss_w())
-                .map_err(|e| {
-                    crate::Error::numerical(
-                        "heat balance",
-                        format!(
-                            "at {} N m and {output_speed_rpm} rpm output: {e}",
-                            loads.torque
-                        ),
-                    )
-                })?;
-            Ok(at(t))
+            let first_order = |t: f64| {
+                let lub = lub.at_temperature(t);
+                operating_point(sa, profile, &lub, wear, loads, output_speed_rpm).loss_w()
+            };
+            h.steady_temperature(area, first_order).map_err(|e| {
+                crate::Error::numerical(
+                    "heat balance",
+                    format!(
+                        "at {} N m and {output_speed_rpm} rpm output: {e}",
+                        loads.torque
+                    ),
+                )
+            })?
         }
-    }
+    };
+    let lub = lub.at_temperature(temperature);
+    running_point(sa, profile, &lub, wear, loads, output_speed_rpm)
 }
 
-/// The efficiency map: the power balance at every output speed of `speeds_rpm` (rpm) and
-/// torque of `torques` (N m) at every oil temperature of `temperatures_c` (deg C), torque-major
-/// then temperature then speed; with a heat balance in `lub`, at its steady temperature
-/// instead ([`balanced_point`], `temperatures_c` unread). The static loads of each torque are
-/// solved once ([`mesh_cycle_loads`], `samples` crank angles per mesh cycle).
+/// The efficiency map: the power balance with the friction in the equilibrium
+/// ([`running_point`]) at every output speed of `speeds_rpm` (rpm) and torque of `torques`
+/// (N m) at every oil temperature of `temperatures_c` (deg C), torque-major then temperature
+/// then speed; with a heat balance in `lub`, at its steady temperature instead
+/// ([`balanced_point`], `temperatures_c` unread). The frictionless loads of each torque, from
+/// which each point's equilibria start, are solved once ([`mesh_cycle_loads`], `samples` crank
+/// angles per mesh cycle).
 ///
 /// # Errors
 /// The static analysis's.
@@ -324,19 +492,20 @@ pub fn efficiency_map(
     temperatures_c: &[f64],
     samples: usize,
 ) -> Result<Vec<OperatingPoint>> {
+    let sa = StaticAnalysis::new(red, profile)?;
     let mut out = Vec::with_capacity(torques.len() * speeds_rpm.len() * temperatures_c.len());
     for &t in torques {
-        let loads = mesh_cycle_loads(red, profile, t, samples)?;
+        let loads = mesh_cycle_loads(&sa, t, samples)?;
         if lub.heat.is_some() {
             for &s in speeds_rpm {
-                out.push(balanced_point(red, profile, lub, wear, &loads, s)?);
+                out.push(balanced_point(&sa, profile, lub, wear, &loads, s)?);
             }
             continue;
         }
         for &temp in temperatures_c {
             let lub = lub.at_temperature(temp);
             for &s in speeds_rpm {
-                out.push(operating_point(red, profile, &lub, wear, &loads, s));
+                out.push(running_point(&sa, profile, &lub, wear, &loads, s)?);
             }
         }
     }

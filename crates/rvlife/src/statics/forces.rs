@@ -22,6 +22,7 @@ impl<'a> StaticAnalysis<'a> {
             phi,
             q0,
             offsets: Vec::new(),
+            applied: [0.0; MAX_DOFS],
         }
     }
 
@@ -299,6 +300,9 @@ impl<'a> StaticAnalysis<'a> {
         let mut g = [0.0; MAX_DOFS];
         let zero = [0.0; MAX_DOFS];
         red.structural_forces(&fr.q0[..n], &z[..n], &zero[..n], &mut g[..n]);
+        for (gi, ai) in g[..n].iter_mut().zip(&fr.applied[..n]) {
+            *gi += ai;
+        }
         let mut scale: f64 = 0.0;
         let mut stiffness: f64 = 0.0;
         let mut pins = Vec::with_capacity(2);

@@ -47,10 +47,12 @@ mod first_contact;
 mod forces;
 mod newton;
 mod play;
+mod running;
 mod shares;
 mod solve;
 
 pub(crate) use play::NoLoad;
+pub use running::{ContactFriction, RunningRates};
 pub use shares::{twist_shares, TwistShare};
 
 use crate::contact::gap::GapField;
@@ -324,6 +326,18 @@ struct Frame {
     /// Gap offsets per pin of each disc (`2 x Zp`, disc-major, m; empty: none): see
     /// [`StaticAnalysis::solve_with_offsets`].
     offsets: Vec<f64>,
+    /// Constant generalised forces acting besides the output torque (N, N m; zero: none): see
+    /// [`StaticAnalysis::solve_loaded`].
+    applied: [f64; MAX_DOFS],
+}
+
+/// What a loaded solve adds to the model: the gap offsets of
+/// [`StaticAnalysis::solve_with_offsets`] and the generalised forces of
+/// [`StaticAnalysis::solve_loaded`] (each empty: none).
+#[derive(Clone, Copy, Default)]
+pub(crate) struct Extra<'s> {
+    offsets: &'s [f64],
+    applied: &'s [f64],
 }
 
 /// Everything evaluated at one configuration of the bearing-supported model.
@@ -349,7 +363,7 @@ struct Start<'s> {
     psi0: f64,
     near: Option<Near<'s>>,
     beyond: Option<f64>,
-    offsets: &'s [f64],
+    extra: Extra<'s>,
     settle: bool,
 }
 

@@ -300,11 +300,20 @@ impl<'a> StaticAnalysis<'a> {
         Ok(Some(best))
     }
 
+    /// Potential energy (J) of the configuration `z` evaluated as `ev` without the output
+    /// torque's: the elastic energy ([`StaticAnalysis::elastic_energy`]) less the work of the
+    /// frame's applied forces, `- Q_a . z`. The merit of the inner solve's line search where the
+    /// residual does not fall.
+    pub(super) fn inner_energy(&self, fr: &Frame, z: &[f64], ev: &Eval) -> f64 {
+        let n = self.red.layout().dofs();
+        let applied: f64 = (0..n).map(|i| fr.applied[i] * z[i]).sum();
+        self.elastic_energy(fr, z, ev) - applied
+    }
+
     /// Elastic energy (J) of the configuration `z` evaluated as `ev`: the meshes' and the
     /// crank bearings' ([`crate::reducer::Reducer::structural_energy`]) plus each loaded
-    /// contact's ([`crate::contact::PreparedLaw::energy_at_force`]). The merit of the inner
-    /// solve's line search where the residual does not fall.
-    pub(super) fn inner_energy(&self, fr: &Frame, z: &[f64], ev: &Eval) -> f64 {
+    /// contact's ([`crate::contact::PreparedLaw::energy_at_force`]).
+    pub(super) fn elastic_energy(&self, fr: &Frame, z: &[f64], ev: &Eval) -> f64 {
         let n = self.red.layout().dofs();
         let contacts: f64 = ev
             .pins

@@ -62,6 +62,36 @@ impl<'a> StaticAnalysis<'a> {
         near: Option<&StaticSolution>,
         offsets: &[f64],
     ) -> Result<StaticSolution> {
+        self.solve_loaded(phi, torque, psi0, near, offsets, &[])
+    }
+
+    /// [`StaticAnalysis::solve_with_offsets`] with the constant generalised forces `applied`
+    /// (N on lengths, N m on angles, in the layout of [`Layout`], or empty) acting besides the
+    /// output torque: forces that a model outside this one supplies, such as the contacts'
+    /// friction at the configuration before (docs/model.md section 18.8). Bearing support only.
+    ///
+    /// # Errors
+    /// As [`StaticAnalysis::solve_with_offsets`]; [`Error::Invalid`] if `applied` is neither
+    /// empty nor one finite value per coordinate, or is given with rigid support.
+    pub(crate) fn solve_loaded(
+        &self,
+        phi: f64,
+        torque: f64,
+        psi0: f64,
+        near: Option<&StaticSolution>,
+        offsets: &[f64],
+        applied: &[f64],
+    ) -> Result<StaticSolution> {
+        let n = self.red.layout().dofs();
+        if !(applied.is_empty() || (applied.len() == n && self.red.support == Support::Bearings))
+            || applied.iter().any(|a| !a.is_finite())
+        {
+            return Err(Error::invalid(
+                "static analysis applied forces",
+                format!("{} values", applied.len()),
+                format!("must be empty or {n} finite values, with bearing support"),
+            ));
+        }
         let zp = self.red.geometry.pins;
         if !(offsets.is_empty() || offsets.len() == 2 * zp)
             || offsets.iter().any(|o| !o.is_finite())
@@ -75,7 +105,7 @@ impl<'a> StaticAnalysis<'a> {
         let s = sense(torque);
         let (phi_free, shift) = self.play_taken_up(phi, s);
         if shift == 0.0 {
-            return self.solve_free(phi, torque, psi0, near, offsets);
+            return self.solve_free(phi, torque, psi0, near, &Extra { offsets, applied });
         }
         // The backlash-free copy at its crank angle, from `near` taken there too.
         let near = near.map(|x| {
@@ -88,7 +118,8 @@ impl<'a> StaticAnalysis<'a> {
                 ..x.clone()
             }
         });
-        let mut sol = self.solve_free(phi_free, torque, psi0 - shift, near.as_ref(), offsets)?;
+        let extra = Extra { offsets, applied };
+        let mut sol = self.solve_free(phi_free, torque, psi0 - shift, near.as_ref(), &extra)?;
         if torque != 0.0 {
             self.check_meshes_engaged(&sol, s)?;
         }
@@ -140,12 +171,12 @@ impl<'a> StaticAnalysis<'a> {
         torque: f64,
         psi0: f64,
         near: Option<&StaticSolution>,
-        offsets: &[f64],
+        extra: &Extra,
     ) -> Result<StaticSolution> {
-        match self.solve_direct(phi, torque, psi0, near, offsets) {
+        match self.solve_direct(phi, torque, psi0, near, extra) {
             Err(Error::Numerical { .. }) if torque != 0.0 => {
                 self.loaded_solves[1].fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                self.solve_in_load_steps(phi, torque, psi0, near, offsets)
+                self.solve_in_load_steps(phi, torque, psi0, near, extra)
             }
             result => result,
         }
@@ -166,7 +197,7 @@ impl<'a> StaticAnalysis<'a> {
         torque: f64,
         psi0: f64,
         near: Option<&StaticSolution>,
-        offsets: &[f64],
+        extra: &Extra,
     ) -> Result<StaticSolution> {
         let mut prev = near
             .filter(|x| {
@@ -185,7 +216,7 @@ impl<'a> StaticAnalysis<'a> {
             } else {
                 reached + step
             };
-            match self.solve_direct(phi, next, psi0, prev.as_ref(), offsets) {
+            match self.solve_direct(phi, next, psi0, prev.as_ref(), extra) {
                 Ok(sol) if next == torque => return Ok(sol),
                 Ok(sol) => {
                     reached = next;
@@ -218,7 +249,7 @@ impl<'a> StaticAnalysis<'a> {
         torque: f64,
         psi0: f64,
         near: Option<&StaticSolution>,
-        offsets: &[f64],
+        extra: &Extra,
     ) -> Result<StaticSolution> {
         let s = sense(torque);
         let n = self.red.layout().dofs();
@@ -236,7 +267,7 @@ impl<'a> StaticAnalysis<'a> {
                 direction: &x.twist_direction,
             }),
             beyond: near.map(|x| s * (x.twist - x.first_contact_twist)),
-            offsets,
+            extra: *extra,
             settle: false,
         };
         let result = match self.red.support {
@@ -434,7 +465,8 @@ impl<'a> StaticAnalysis<'a> {
         let n = red.layout().dofs();
         let zp = red.geometry.pins;
         let mut fr = self.frame(phi);
-        fr.offsets = start.offsets.to_vec();
+        fr.offsets = start.extra.offsets.to_vec();
+        fr.applied[..start.extra.applied.len()].copy_from_slice(start.extra.applied);
         let mut memory = vec![vec![PinMemory::NONE; zp]; self.red.discs()];
         let mut z = [0.0; MAX_DOFS];
         self.mode_deviation(&fr, psi0, &mut z[..n]);

@@ -263,7 +263,7 @@ fn stage_efficiency(
         bearing_forces: rated.iter().map(|s| sa.bearing_forces(s)).collect(),
     };
     crate::efficiency::balanced_point(
-        &model.reducer,
+        sa,
         profile,
         &model.lubrication,
         &model.wear,

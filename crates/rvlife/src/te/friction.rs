@@ -24,8 +24,12 @@ use super::{Accuracy, HysteresisCurve, TwistTable, PLAY_ROUND_OFF};
 use crate::geometry::{rotate, Vec2};
 use crate::reducer::BearingLaw;
 use crate::reducer::QuasiStaticFriction;
+#[cfg(test)]
+use crate::statics::ContactFriction;
 use crate::statics::{StaticAnalysis, StaticSolution};
 use crate::tribology::pin_dissipation;
+#[cfg(test)]
+use crate::tribology::pin_friction_forces;
 
 /// The friction of a twist table's grid, each side in the order of its torque fractions (the
 /// first entry at zero torque): the friction torque `T_f` (N m, `>= 0`) and the twist it
@@ -63,6 +67,74 @@ pub(crate) fn friction_torques(
             }
         })
         .collect()
+}
+
+/// The branch of the hysteresis curve through the crank angle and torque of the frictionless
+/// solution `sol` with the friction in the equilibrium (docs/model.md section 18.3): the
+/// equilibrium with every contact slipping against its creep ([`StaticAnalysis::solve_running`]
+/// with the forces of the creep rates along the solution's own twist direction,
+/// [`StaticAnalysis::creep_rates`]: the disc-pin contacts as [`pin_friction_forces`] with the
+/// coefficient `f.pin`, the bearings with Palmgren's load moment `f1 F dm`); `loading`: the
+/// twist growing in the torque's sense, else shrinking. What the first-order branches
+/// (`T_f / k` either side of `sol`) stand for, and what `tests::friction` checks them against
+/// (the curve's grid stays first order: these sweeps cost several solves per point).
+///
+/// # Errors
+/// The solver's; [`crate::Error::Invalid`] with rigid support (no twist direction).
+#[cfg(test)]
+pub(crate) fn friction_branch(
+    sa: &StaticAnalysis,
+    f: &QuasiStaticFriction,
+    sol: &StaticSolution,
+    loading: bool,
+) -> crate::error::Result<StaticSolution> {
+    let red = sa.reducer();
+    let sense = if sol.output_torque < 0.0 { -1.0 } else { 1.0 };
+    let sigma = if loading { sense } else { -sense };
+    let law = |s: &StaticSolution| -> crate::error::Result<ContactFriction> {
+        let (contacts, rates) = sa.creep_rates(s).ok_or_else(|| {
+            crate::Error::invalid(
+                "friction in the equilibrium",
+                "rigid support",
+                "needs bearing support",
+            )
+        })?;
+        let speeds: Vec<Vec<f64>> = contacts
+            .iter()
+            .map(|d| d.iter().map(|c| sigma * c).collect())
+            .collect();
+        let mu: Vec<Vec<f64>> = s.discs.iter().map(|d| vec![f.pin; d.pins.len()]).collect();
+        let (pins, _, _) =
+            pin_friction_forces(s, &speeds, &mu, &f.pin_turning, f.pin_rolling_fraction);
+        let bearings = sa
+            .bearing_forces(s)
+            .iter()
+            .zip(&rates)
+            .enumerate()
+            .map(|(i, (&force, &rate))| match red.bearing_of_force(i).law {
+                BearingLaw::Rollers { pitch_diameter, .. } => {
+                    -f.bearing_f1 * force * pitch_diameter * sign(sigma * rate)
+                }
+                BearingLaw::Linear { .. } => 0.0,
+            })
+            .collect();
+        Ok(ContactFriction {
+            pins,
+            bearings,
+            input: 0.0,
+        })
+    };
+    Ok(sa.solve_running(sol, law)?.0)
+}
+
+/// The sign of `x`, 0 at 0.
+#[cfg(test)]
+fn sign(x: f64) -> f64 {
+    if x == 0.0 {
+        0.0
+    } else {
+        x.signum()
+    }
 }
 
 /// The friction torque (N m) at `sol` with the creep rates `contacts` (per disc and pin, m/rad)

@@ -45,6 +45,8 @@ mod friction;
 mod zero_torque;
 
 pub use friction::FrictionTorques;
+#[cfg(test)]
+pub(crate) use friction::{friction_branch, friction_torques};
 
 use zero_torque::zero_twist_and_start;
 pub(crate) use zero_torque::{

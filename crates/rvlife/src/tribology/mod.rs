@@ -12,7 +12,7 @@ mod pins;
 pub use film::{composite_roughness, line_contact_film, Film};
 pub use losses::{palmgren_moment, SpurMesh};
 pub use oil::Oil;
-pub use pins::pin_dissipation;
+pub use pins::{pin_dissipation, pin_friction_forces};
 
 /// How the disc-pin contacts' friction coefficient is found (`[lubrication] friction`).
 #[derive(Debug, Clone, Copy, PartialEq)]
