@@ -17,7 +17,7 @@ use serde::Serialize;
 
 use crate::error::Result;
 use crate::geometry::Profile;
-use crate::reducer::{BearingLaw, Drive, RadialBearing, Reducer};
+use crate::reducer::{BearingLaw, Drive, RadialBearing, Reducer, Support};
 use crate::statics::{ContactFriction, StaticAnalysis, StaticSolution};
 use crate::tribology::{palmgren_moment, pin_friction_forces, Lubrication, SpurMesh};
 use crate::wear::{contact_kinematics, entrainment_speed, WearParams};
@@ -175,16 +175,21 @@ fn friction_at(
         film_min: f64::INFINITY,
         ..Default::default()
     };
+    let kinematics: Vec<Vec<(f64, f64)>> = sol
+        .discs
+        .iter()
+        .map(|disc| contact_kinematics(profile, disc))
+        .collect();
     // Each loaded contact's friction coefficient.
     let mu: Vec<Vec<f64>> = sol
         .discs
         .iter()
-        .map(|disc| {
-            let kin = contact_kinematics(profile, disc);
+        .zip(&kinematics)
+        .map(|(disc, kin)| {
             disc.pins
                 .iter()
                 .zip(kin)
-                .map(|(p, (w, v_d))| {
+                .map(|(p, &(w, v_d))| {
                     if p.force <= 0.0 {
                         return 0.0;
                     }
@@ -202,11 +207,21 @@ fn friction_at(
                 .collect()
         })
         .collect();
-    let speeds: Vec<Vec<f64>> = rates
-        .contacts
-        .iter()
-        .map(|d| d.iter().map(|w| w * omega_in).collect())
-        .collect();
+    // The disc material's speeds along the nominal motion; with rigid support (no coordinates
+    // to take the rates from) those of the contact's kinematics, whose sense the losses do not
+    // need.
+    let speeds: Vec<Vec<f64>> = if sol.deviations.is_empty() {
+        kinematics
+            .iter()
+            .map(|d| d.iter().map(|&(w, _)| w * run.crank_speed).collect())
+            .collect()
+    } else {
+        rates
+            .contacts
+            .iter()
+            .map(|d| d.iter().map(|w| w * omega_in).collect())
+            .collect()
+    };
     let (pins, pin_loss, groove_loss) = pin_friction_forces(
         sol,
         &speeds,
@@ -287,7 +302,8 @@ pub fn operating_point(
 /// 5e-4 of the input on the example).
 ///
 /// # Errors
-/// The static analysis's; [`crate::Error::Invalid`] with rigid support.
+/// The static analysis's. With rigid support (one disc on a fixed centre, no coordinates for the
+/// forces) it is the first-order point ([`operating_point`]).
 pub fn running_point(
     sa: &StaticAnalysis,
     profile: &Profile,
@@ -296,6 +312,17 @@ pub fn running_point(
     loads: &MeshCycleLoads,
     output_speed_rpm: f64,
 ) -> Result<OperatingPoint> {
+    if matches!(sa.reducer().support, Support::Rigid { .. }) {
+        // One disc on a fixed centre: no coordinates for the friction forces to act on.
+        return Ok(operating_point(
+            sa,
+            profile,
+            lub,
+            wear,
+            loads,
+            output_speed_rpm,
+        ));
+    }
     let run = Running::new(sa.reducer(), profile, loads.torque, output_speed_rpm);
     let mut losses = Vec::with_capacity(loads.solutions.len());
     let mut input = 0.0;

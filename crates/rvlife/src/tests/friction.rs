@@ -527,3 +527,29 @@ fn hysteresis_branches_in_the_equilibrium_against_first_order() {
     );
     assert!(change.iter().all(|c| *c < 0.0 && c.abs() < 0.05));
 }
+
+/// With rigid support (the paper's one disc on a fixed centre: no coordinates for the friction
+/// forces) the efficiency is the first-order one, its disc-pin loss that of the contacts'
+/// kinematics: positive, and the efficiency between the meshes' alone and 50 %.
+#[test]
+fn rigid_support_efficiency_is_first_order() {
+    let m = example_with(&[(
+        "support = \"bearings\"",
+        "support = \"rigid\"\nload_share = 0.55",
+    )]);
+    let profile = m.profile().unwrap();
+    let p = efficiency_map(
+        &m.reducer,
+        &profile,
+        &m.lubrication,
+        &m.wear,
+        &[m.rating.rated_torque],
+        &[15.0],
+        &[40.0],
+        12,
+    )
+    .unwrap()[0];
+    eprintln!("rigid support: {p:?}");
+    assert!(p.loss_disc_pins_w > 0.0 && p.efficiency > 0.5 && p.efficiency < 1.0);
+    assert!((p.input_power_w - p.output_power_w - p.loss_w()).abs() < 1e-9 * p.input_power_w);
+}
