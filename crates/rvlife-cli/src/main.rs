@@ -26,6 +26,8 @@ macro_rules! say {
 
 mod calibrate;
 mod efficiency;
+mod optimize;
+mod sweep;
 
 /// `text` with the minus sign of every number that is all zeros (`-0`, `-0.000`) removed (a
 /// space in its place where padding precedes it, so that columns stay aligned).
@@ -289,6 +291,43 @@ enum Command {
         set: Vec<String>,
         /// Results directory.
         #[arg(long, default_value = "rvlife-sweep")]
+        out: PathBuf,
+        /// Replace an existing results directory.
+        #[arg(long)]
+        force: bool,
+    },
+    /// Design search: the keys of `--vary` within their ranges that keep the reducer in
+    /// spec longest (`--objective life`, or `b10`), or the Pareto front of several goals
+    /// (`life,lost_motion_arcmin`), under constraints on any quantity at any stage; writes
+    /// every candidate (`candidates.csv`), the front (`pareto.csv`), the best design's config
+    /// (`optimum.toml`) and a report. Ctrl-C stops after the running candidate and writes
+    /// what was found.
+    Optimize {
+        /// Config file the search starts from (default: the built-in example).
+        config: Option<PathBuf>,
+        /// A varied key and its range, `KEY=LO:HI`, dotted as in the config
+        /// (`cycloid.modification.equidistant_mm=0.008:0.03`); whole-number ends on a key
+        /// that takes whole numbers (pins) search whole numbers; repeat for each key.
+        #[arg(long, required = true, allow_hyphen_values = true)]
+        vary: Vec<String>,
+        /// The goals, comma separated: `life` (the accuracy life), `b10` or `b10:SAMPLES`
+        /// (a Monte Carlo of `[tolerances]` per candidate), a quantity of stages.csv
+        /// (minimised; `max:` to maximise), a quantity optionally at a stage (`@new`,
+        /// `@last`, `@HOURS`); two or more give a Pareto front (NSGA-II).
+        #[arg(long, default_value = "life")]
+        objective: String,
+        /// A constraint, `QUANTITY[@STAGE]<=VALUE` or `>=` (`lost_motion_arcmin<=0.8`: the
+        /// new reducer; `max_pressure_mpa@last<=1500`); repeatable.
+        #[arg(long, allow_hyphen_values = true)]
+        constraint: Vec<String>,
+        /// Most candidate studies (2 to 5000).
+        #[arg(long, default_value_t = 150)]
+        evaluations: usize,
+        /// Seed of the search's random draws (and of the B10 goal's samples).
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Results directory.
+        #[arg(long, default_value = "rvlife-optimize")]
         out: PathBuf,
         /// Replace an existing results directory.
         #[arg(long)]
@@ -930,7 +969,26 @@ fn run(cli: Cli) -> Result<()> {
             set,
             out,
             force,
-        } => sweep(config.as_deref(), budget, &vary, &set, &out, force)?,
+        } => sweep::sweep(config.as_deref(), budget, &vary, &set, &out, force)?,
+        Command::Optimize {
+            config,
+            vary,
+            objective,
+            constraint,
+            evaluations,
+            seed,
+            out,
+            force,
+        } => optimize::optimize(
+            config.as_deref(),
+            budget,
+            &vary,
+            &objective,
+            &constraint,
+            rvlife::optimize::Settings { evaluations, seed },
+            &out,
+            force,
+        )?,
         Command::Calibrate {
             config,
             target_wear_um,
@@ -951,105 +1009,6 @@ fn run(cli: Cli) -> Result<()> {
         )?,
     }
     Ok(())
-}
-
-/// `rvlife sweep`: every design is built and validated, and the whole sweep's work checked,
-/// before the first study runs.
-fn sweep(
-    config: Option<&Path>,
-    budget: f64,
-    vary: &[String],
-    set: &[String],
-    out: &Path,
-    force: bool,
-) -> Result<()> {
-    use rvlife::sweep::{designs, parse_value, Vary};
-    let (text, origin, base_dir) = match config {
-        Some(p) => (
-            Config::read_text(p)?,
-            p.display().to_string(),
-            p.parent().map(Path::to_path_buf),
-        ),
-        None => (
-            rvlife::config::EXAMPLE_TOML.to_string(),
-            "<built-in>".to_string(),
-            None,
-        ),
-    };
-    let varies = vary
-        .iter()
-        .map(|v| Vary::parse("--vary", v))
-        .collect::<Result<Vec<_>>>()?;
-    let sets = set
-        .iter()
-        .map(|s| match s.split_once('=') {
-            Some((k, v)) if !k.trim().is_empty() => Ok((k.trim().to_string(), parse_value(v))),
-            _ => Err(rvlife::Error::invalid(
-                "--set",
-                s,
-                "KEY=VALUE (dynamics.enabled=false)",
-            )),
-        })
-        .collect::<Result<Vec<_>>>()?;
-    let designs = designs(&text, &origin, base_dir.as_deref(), &sets, &varies, budget)?;
-    let staging = rvlife::output::Staging::prepare(out, force)?;
-    let pb = progress_bar(designs.len() as u64);
-    pb.set_message("designs");
-    let start = std::time::Instant::now();
-    let outcomes = rvlife::sweep::run(designs, &progress_to(&pb));
-    pb.set_message("writing");
-    staging.commit(|dir| rvlife::output::sweep::write_files(dir, &varies, &outcomes))?;
-    pb.finish_and_clear();
-    let failed = outcomes.iter().filter(|o| o.study.is_err()).count();
-    say!(
-        "rvlife sweep: {} designs ({failed} failed), {:.2} s; results in {}",
-        outcomes.len(),
-        start.elapsed().as_secs_f64(),
-        out.display()
-    );
-    let keys: Vec<String> = varies
-        .iter()
-        .map(|v| format!("{:>14}", short_key(&v.key)))
-        .collect();
-    say!(
-        "{:>6} {} {:>12} {}",
-        "design",
-        keys.join(" "),
-        "life_h",
-        "limited by / status"
-    );
-    for o in &outcomes {
-        let vals: Vec<String> = o
-            .design
-            .values
-            .iter()
-            .map(|(_, v)| format!("{:>14}", v.to_string().trim_matches('"')))
-            .collect();
-        let (life, by) = match &o.study {
-            Ok(s) => match &s.life {
-                Some(l) => (
-                    l.accuracy_life_h
-                        .map_or(format!("> {:.0}", l.horizon_h), |h| format!("{h:.0}")),
-                    l.limited_by.unwrap_or("within spec").to_string(),
-                ),
-                None => ("-".to_string(), "no spec".to_string()),
-            },
-            Err(e) => ("-".to_string(), format!("failed: {e}")),
-        };
-        say!(
-            "{:>6} {} {:>12} {}",
-            o.design.index,
-            vals.join(" "),
-            life,
-            by
-        );
-    }
-    Ok(())
-}
-
-/// The last part of a dotted key (the column header of the sweep's console table).
-fn short_key(key: &str) -> &str {
-    key.rsplit('.').next().unwrap_or(key)
 }
 
 fn main() -> ExitCode {
@@ -1078,6 +1037,11 @@ fn main() -> ExitCode {
     // SIGINT, SIGTERM and SIGHUP remove this run's temporary outputs before it ends (exit 130,
     // as a shell reports an interrupted command).
     let _ = ctrlc::set_handler(|| {
+        // A design search stops at the next candidate and writes what it has.
+        if rvlife::output::take_signal() {
+            eprintln!("stopping after this candidate (again to end at once)");
+            return;
+        }
         rvlife::output::remove_pending();
         std::process::exit(130);
     });

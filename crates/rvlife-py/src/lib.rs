@@ -675,6 +675,71 @@ fn is_hysteresis_curve(csv: &str) -> bool {
     rvlife::calibration::structure::MeasuredCurve::is_curve(csv)
 }
 
+/// The design search (`rvlife optimize`): `vary` the `KEY=LO:HI` ranges, `objective` the
+/// goals, `constraints` the `Q<=V` texts; with `out`, also the command line's files (after the
+/// follow-up studies of the report). Returns `{"candidates_csv", "pareto_csv",
+/// "optimum_toml", "best", "start", "stopped"}` (`best`, `start`: row indices).
+#[pyfunction]
+#[pyo3(signature = (text, origin, base_dir, work_budget_min, vary, objective, constraints, evaluations, seed, out, force, progress = None))]
+#[allow(clippy::too_many_arguments)]
+fn optimize(
+    py: Python<'_>,
+    text: &str,
+    origin: &str,
+    base_dir: Option<PathBuf>,
+    work_budget_min: f64,
+    vary: Vec<String>,
+    objective: &str,
+    constraints: Vec<String>,
+    evaluations: usize,
+    seed: u64,
+    out: Option<PathBuf>,
+    force: bool,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Py<PyAny>> {
+    let p = progress_fn(progress);
+    let v = py.detach(|| -> PyResult<Value> {
+        let problem = rvlife::optimize::Problem::new(
+            text,
+            origin,
+            base_dir.as_deref(),
+            work_budget_min,
+            &vary,
+            objective,
+            &constraints,
+            rvlife::optimize::Settings { evaluations, seed },
+        )
+        .map_err(py_err)?;
+        let staging = staging(out.as_deref(), force)?;
+        let outcome =
+            rvlife::optimize::run(&problem, &|d, t, _| p(d, t), &|| false).map_err(py_err)?;
+        if let Some(staging) = staging {
+            let follow = rvlife::optimize::follow_up(&problem, &outcome).map_err(py_err)?;
+            staging
+                .commit(|dir| {
+                    rvlife::output::optimize::write_files(dir, &problem, &outcome, &follow)
+                })
+                .map_err(py_err)?;
+        }
+        let (candidates, front) =
+            rvlife::output::optimize::tables_csv(&problem, &outcome).map_err(py_err)?;
+        let optimum = outcome
+            .best
+            .map(|i| problem.text_of(&outcome.candidates[i].values, false))
+            .transpose()
+            .map_err(py_err)?;
+        Ok(serde_json::json!({
+            "candidates_csv": candidates,
+            "pareto_csv": front,
+            "optimum_toml": optimum,
+            "best": outcome.best,
+            "start": outcome.start,
+            "stopped": outcome.stopped,
+        }))
+    })?;
+    Ok(to_py(py, &v)?.unbind())
+}
+
 /// The designs of a sweep as config texts (`rvlife sweep`'s `--vary`, validated with the
 /// sweep's work budget): `vary` a JSON list of `[key, [values]]`.
 #[pyfunction]
@@ -784,6 +849,7 @@ fn _rvlife(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(calibrate_structure, m)?)?;
     m.add_function(wrap_pyfunction!(is_hysteresis_curve, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_designs, m)?)?;
+    m.add_function(wrap_pyfunction!(optimize, m)?)?;
     m.add_function(wrap_pyfunction!(quantities, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
     Ok(())

@@ -590,3 +590,31 @@ def test_grid_and_sweep_equal_the_command_lines_sweep(tmp):
     assert one.lost_motion_arcmin[-1] == pytest.approx(df[df.design == 3].lost_motion_arcmin.iloc[-1], abs=5e-6)
     with pytest.raises(ValueError, match=r"cycloid\.eccentricity_mm.*design 1"):
         rvlife.grid({"cycloid.eccentricity_mm": [1.3, -1.0]}, base)
+
+
+def test_optimize_equals_the_command_lines_search(tmp):
+    """rvlife.optimize runs the command line's search: the same candidates byte for byte
+    (candidates.csv), the same with the same seed, the best feasible one no worse than the base
+    design, its config the base with the keys set; a range out of the key's own range is refused
+    naming the key before any study."""
+    import pandas as pd
+
+    cfg = write(tmp, "opt.toml", short_text() + "\n[life]\nlost_motion_arcmin = 0.8\n")
+    base = rvlife.Config.from_file(cfg)
+    vary = {"cycloid.modification.equidistant_mm": (0.0, 0.006), "cycloid.eccentricity_mm": (1.25, 1.35)}
+    r = rvlife.optimize(vary, base=base, evaluations=8, seed=3)
+    assert 1 <= len(r.candidates) <= 8
+    assert r.start is not None and r.best is not None and r.optimum is not None
+    assert r.best["life_score"] >= r.start["life_score"]
+    assert r.optimum.get("cycloid.eccentricity_mm") == pytest.approx(r.best["cycloid.eccentricity_mm"], abs=1e-6)
+    again = rvlife.optimize(vary, base=base, evaluations=8, seed=3)
+    pd.testing.assert_frame_equal(r.candidates, again.candidates)
+    out = tmp / "opt_cli"
+    cli("optimize", cfg, "--vary", "cycloid.modification.equidistant_mm=0.0:0.006", "--vary",
+        "cycloid.eccentricity_mm=1.25:1.35", "--evaluations", "8", "--seed", "3", "--out", out)
+    ref = pd.read_csv(out / "candidates.csv")
+    pd.testing.assert_frame_equal(r.candidates, ref)
+    for f in ("pareto.csv", "optimum.toml", "summary.json", "report.html", "plots/convergence.svg"):
+        assert (out / f).is_file(), f
+    with pytest.raises(ValueError, match="cycloid.eccentricity_mm"):
+        rvlife.optimize({"cycloid.eccentricity_mm": (-1.0, 1.3)}, base=base, evaluations=8)

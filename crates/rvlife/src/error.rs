@@ -95,6 +95,24 @@ impl Error {
         }
     }
 
+    /// The error with `context` (`(design 3: ...)`) appended to an [`Error::Invalid`]'s
+    /// allowed range, so the message also says where the value was met; other errors as they
+    /// are.
+    pub fn in_context(self, context: impl std::fmt::Display) -> Self {
+        match self {
+            Error::Invalid {
+                field,
+                value,
+                allowed,
+            } => Error::Invalid {
+                field,
+                value,
+                allowed: format!("{allowed} {context}"),
+            },
+            other => other,
+        }
+    }
+
     /// True when the error is the user's input (bad value, bad config, missing input file):
     /// the command line exits with code 2 for these.
     pub fn is_input_error(&self) -> bool {

@@ -31,6 +31,7 @@ pub mod geometry;
 pub mod input;
 pub mod life;
 pub mod montecarlo;
+pub mod optimize;
 pub mod output;
 pub mod quantities;
 pub mod reducer;

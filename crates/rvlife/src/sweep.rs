@@ -167,18 +167,7 @@ pub fn designs(
             .collect();
         let in_design = |e: Error| -> Error {
             let others: Vec<String> = values.iter().map(|(k, v)| format!("{k} = {v}")).collect();
-            match e {
-                Error::Invalid {
-                    field,
-                    value,
-                    allowed,
-                } => Error::Invalid {
-                    field,
-                    value,
-                    allowed: format!("{allowed} (design {index}: {})", others.join(", ")),
-                },
-                other => other,
-            }
+            e.in_context(format!("(design {index}: {})", others.join(", ")))
         };
         let t = edit::set(&base, origin, &edits).map_err(in_design)?;
         let mut cfg = Config::from_toml_in(&t, origin, base_dir)?;

@@ -33,6 +33,7 @@ const LAYERS: &[&[&str]] = &[
     &["life"],
     &["study", "montecarlo"],
     &["calibration", "sensitivity", "sweep"],
+    &["optimize"],
     &["output"],
     &["api"],
 ];

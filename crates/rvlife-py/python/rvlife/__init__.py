@@ -57,7 +57,7 @@ from ._results import (
     TeResult,
     quantities,
 )
-from ._sweep import MonteCarlo, grid, sweep
+from ._sweep import MonteCarlo, OptimizeResult, grid, optimize, sweep
 
 __version__: str = _rvlife.version()
 
@@ -97,5 +97,7 @@ __all__ = [
     "grid",
     "sweep",
     "MonteCarlo",
+    "optimize",
+    "OptimizeResult",
     "tqdm_progress",
 ]

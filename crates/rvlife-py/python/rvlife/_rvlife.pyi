@@ -105,3 +105,17 @@ def calibrate_measured(
 def calibrate_structure(cfg: Loaded, csv: Optional[str], name: str, catalogue: Optional[float]) -> Dict[str, Any]: ...
 def is_hysteresis_curve(csv: str) -> bool: ...
 def sweep_designs(text: str, origin: str, base_dir: Optional[str], vary: str, work_budget_min: float) -> List[str]: ...
+def optimize(
+    text: str,
+    origin: str,
+    base_dir: Optional[str],
+    work_budget_min: float,
+    vary: List[str],
+    objective: str,
+    constraints: List[str],
+    evaluations: int,
+    seed: int,
+    out: Optional[str],
+    force: bool,
+    progress: Progress = None,
+) -> Dict[str, Any]: ...

@@ -1,15 +1,17 @@
-"""Design sweeps and distributed runs: :func:`grid` builds the product of configs,
-:func:`sweep` runs their studies (in this process, or on a ``dask.distributed`` client) into
-one tidy DataFrame, or runs a :class:`MonteCarlo` plan in shards that share one nominal wear
-history."""
+"""Design sweeps, the design search and distributed runs: :func:`grid` builds the product of
+configs, :func:`sweep` runs their studies (in this process, or on a ``dask.distributed``
+client) into one tidy DataFrame, or runs a :class:`MonteCarlo` plan in shards that share one
+nominal wear history; :func:`optimize` searches the keys' ranges for the longest accuracy life
+(``rvlife optimize``)."""
 
 from __future__ import annotations
 
+import io
 import math
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Union, overload
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union, overload
 
 import pandas as pd
 
@@ -208,3 +210,63 @@ def _montecarlo_sweep(
 
 
 __all__ = ["grid", "sweep", "MonteCarlo"]
+
+
+@dataclass
+class OptimizeResult:
+    """What :func:`optimize` found: ``candidates`` (every candidate, the columns of
+    ``candidates.csv``), ``pareto`` (the front's candidates, ``pareto.csv``), ``best`` and
+    ``start`` (the best feasible and the base design's rows, ``None`` if there is none),
+    ``optimum`` (the best design's config: the base with the varied keys set), ``stopped`` and
+    ``out`` (the results directory, if written)."""
+
+    candidates: pd.DataFrame
+    pareto: pd.DataFrame
+    best: Optional["pd.Series[Any]"]
+    start: Optional["pd.Series[Any]"]
+    optimum: Optional[Config]
+    stopped: bool
+    out: Optional[Path]
+
+
+def optimize(
+    vary: Mapping[str, Tuple[float, float]],
+    objective: str = "life",
+    *,
+    constraints: Sequence[str] = (),
+    evaluations: int = 150,
+    seed: int = 1,
+    base: Optional[Config] = None,
+    out: Optional[PathLike] = None,
+    force: bool = False,
+    progress: Optional[Progress] = None,
+) -> OptimizeResult:
+    """The design search (``rvlife optimize``, docs/model.md section 19): the values of the
+    dotted keys of ``vary`` (``{"cycloid.modification.equidistant_mm": (0.005, 0.03)}``), each
+    within its range, that keep ``base`` (default: the built-in example) in spec longest
+    (``objective="life"``, or ``"b10"``), or the Pareto front of several goals
+    (``"life,lost_motion_arcmin"``), under ``constraints`` (``"lost_motion_arcmin<=0.8"``),
+    in at most ``evaluations`` studies, reproducible with ``seed``. Runs in this process (each
+    study on every core). The ranges, goals, constraints and the whole search's work are
+    checked before any study; ``ValueError`` names the key or the argument. With ``out``, also
+    writes the command line's files (and its report's follow-up studies)."""
+    b = base if base is not None else example()
+    specs = []
+    for key, rng in vary.items():
+        lo, hi = rng
+        specs.append(f"{key}={lo!r}:{hi!r}")
+    o = _out(out, force)
+    r = _rvlife.optimize(
+        b.toml, b.origin, b.base_dir, b.work_budget_min, specs, objective, list(constraints),
+        int(evaluations), int(seed), o, force, progress,
+    )
+    candidates = pd.read_csv(io.StringIO(r["candidates_csv"]))
+    pareto = pd.read_csv(io.StringIO(r["pareto_csv"]))
+    best = None if r["best"] is None else candidates.iloc[int(r["best"])]
+    start = None if r["start"] is None else candidates.iloc[int(r["start"])]
+    optimum = None
+    if r["optimum_toml"] is not None and best is not None:
+        changes = dict(b.changes)
+        changes.update({k: best[k].item() if hasattr(best[k], "item") else best[k] for k in vary})
+        optimum = Config(r["optimum_toml"], b.origin, b.base_dir, work_budget_min=b.work_budget_min, changes=changes)
+    return OptimizeResult(candidates, pareto, best, start, optimum, bool(r["stopped"]), None if o is None else Path(o))

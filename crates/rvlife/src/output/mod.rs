@@ -25,6 +25,8 @@ mod mc_report;
 #[cfg(feature = "files")]
 pub mod montecarlo;
 #[cfg(feature = "files")]
+pub mod optimize;
+#[cfg(feature = "files")]
 pub mod plot;
 #[cfg(feature = "files")]
 pub mod staging;
@@ -39,8 +41,8 @@ use crate::error::{Error, Result};
 
 #[cfg(feature = "files")]
 pub use staging::{
-    check_output_dir, check_output_file, interrupted, remove_pending, write_file_atomically,
-    Staging,
+    check_output_dir, check_output_file, interrupted, remove_pending, stop_on_signal,
+    stop_requested, take_signal, write_file_atomically, Staging,
 };
 #[cfg(feature = "files")]
 pub use study::{write_dynamics_files, write_files};

@@ -42,6 +42,32 @@ pub fn interrupted() -> bool {
     INTERRUPTED.load(std::sync::atomic::Ordering::SeqCst)
 }
 
+/// Set by [`stop_on_signal`]: the next signal asks the running work to stop and keep what it
+/// has (a design search), instead of ending the process.
+static STOP_ON_SIGNAL: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Set by [`take_signal`] when a signal asked the running work to stop.
+static STOP_REQUESTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Makes the next SIGINT/SIGTERM ask the running work to stop ([`stop_requested`]) instead
+/// of ending the process; a second signal ends it as before ([`take_signal`]).
+pub fn stop_on_signal(on: bool) {
+    STOP_ON_SIGNAL.store(on, std::sync::atomic::Ordering::SeqCst);
+}
+
+/// Whether a signal has asked the running work to stop ([`stop_on_signal`]).
+pub fn stop_requested() -> bool {
+    STOP_REQUESTED.load(std::sync::atomic::Ordering::SeqCst)
+}
+
+/// What a signal handler calls first: `true` if the signal is taken as a request to stop
+/// ([`stop_on_signal`] on and no request yet), so the process goes on; `false` if it should
+/// end (remove the pending outputs and exit).
+pub fn take_signal() -> bool {
+    STOP_ON_SIGNAL.load(std::sync::atomic::Ordering::SeqCst)
+        && !STOP_REQUESTED.swap(true, std::sync::atomic::Ordering::SeqCst)
+}
+
 /// Removes every temporary output of this process that is not yet in place (a signal handler
 /// calls it before the process exits, so that an interrupted run leaves nothing behind).
 ///

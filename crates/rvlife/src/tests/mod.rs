@@ -13,6 +13,7 @@ mod flexible_dynamics;
 mod friction;
 mod life;
 mod measured;
+mod optimize;
 mod parts;
 mod physics;
 mod pin_wear;

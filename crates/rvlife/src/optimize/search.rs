@@ -1,0 +1,274 @@
+//! The single-goal search (docs/model.md section 19.2): a Latin hypercube over the unit box
+//! (with the base design); CMA-ES (Hansen's covariance matrix adaptation, the cmaes crate)
+//! from the best point with half of the evaluations left, which learns the
+//! directions of narrow valleys (the equidistant and offset modifications together); then a
+//! compass search (a generalised pattern search: Kolda, Lewis and Torczon, SIAM Review 45(3),
+//! 2003) with at most half of the rest, each key moved either way, an improving move followed
+//! with the step doubled, the step halved where no move improves, down to 1e-4 of the ranges, which walks onto a wall of refused candidates or
+//! a face of the box along a key, where a simplex stalls; then a Nelder-Mead polish (argmin's
+//! `NelderMead`) from the best with the rest, restarted there with a simplex half as large each
+//! time it settles.
+//!
+//! Both move in `R^d`: a point outside the box is evaluated at its projection on the box with
+//! [`BOX_PENALTY`] times its distance from it added, which brings the search back. A candidate
+//! the config refuses (a wall inside the box) ranks last; CMA-ES ranks its points, so a wall
+//! does not distort its steps.
+//! Points are ranked by [`Point::merit`]; a failed candidate counts as [`FAILED_MERIT`].
+
+use std::cell::RefCell;
+use std::collections::HashMap;
+
+use argmin::core::{CostFunction, Executor};
+use argmin::solver::neldermead::NelderMead;
+use rand::seq::SliceRandom;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use super::point::{Point, Settings};
+
+/// Merit of a point outside the box, per unit distance from it (merits are of order 1).
+pub const BOX_PENALTY: f64 = 10.0;
+
+/// Merit of a candidate whose evaluation failed (worse than any design's).
+pub const FAILED_MERIT: f64 = 1e6;
+
+/// CMA-ES's initial step size, as a fraction of each range.
+#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
+const CMA_STEP: f64 = 0.2;
+
+/// CMA-ES's tolerance on the spread of its points, as a fraction of each range.
+#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
+const CMA_TOL_X: f64 = 3e-3;
+
+/// The polish's first simplex edge, as a fraction of each range.
+const FIRST_STEP: f64 = 0.05;
+
+/// The simplex's edge below which the polish has converged.
+const LAST_STEP: f64 = 1e-3;
+
+/// The compass search's first step, as a fraction of each range.
+const COMPASS_STEP: f64 = 0.02;
+
+/// The compass search's step below which the search has converged.
+const COMPASS_LAST_STEP: f64 = 1e-4;
+
+/// Spread of the simplex's merits at which one Nelder-Mead run ends.
+const SD_TOLERANCE: f64 = 1e-6;
+
+/// Evaluates a point of the unit box in a named phase; `None`: no more evaluations (the budget
+/// is spent or the user stopped the search).
+pub type Evaluate<'a> = dyn FnMut(&[f64], &str) -> Option<Point> + 'a;
+
+/// Points of the Latin hypercube of a `dim`-key search with `evaluations` in all: `4 + 2 dim`,
+/// at most a third of the evaluations (at least 2).
+pub fn hypercube_points(dim: usize, evaluations: usize) -> usize {
+    (4 + 2 * dim).min(evaluations / 3).max(2)
+}
+
+/// A Latin hypercube of `n` points in `[0, 1]^dim` from `rng`: each coordinate's `n` values
+/// one in each of `n` equal slices, in random order.
+fn hypercube(dim: usize, n: usize, rng: &mut ChaCha8Rng) -> Vec<Vec<f64>> {
+    let mut pts = vec![vec![0.0; dim]; n];
+    for k in 0..dim {
+        let mut slots: Vec<usize> = (0..n).collect();
+        slots.shuffle(rng);
+        for (p, s) in pts.iter_mut().zip(slots) {
+            p[k] = (s as f64 + rng.random::<f64>()) / n as f64;
+        }
+    }
+    pts
+}
+
+/// The search's memory: every merit evaluated (by the point's bits, projected), the best.
+struct Memory<'a, 'f> {
+    evaluate: &'a mut Evaluate<'f>,
+    seen: HashMap<Vec<u64>, f64>,
+    best: Option<(f64, Vec<f64>)>,
+    stopped: bool,
+    phase: String,
+    /// Most points of the phase running (new points beyond it are refused).
+    limit: usize,
+}
+
+impl Memory<'_, '_> {
+    /// The merit of `x` (projected on the box, [`BOX_PENALTY`] for the distance); `None` once
+    /// the evaluations are spent.
+    fn merit(&mut self, x: &[f64]) -> Option<f64> {
+        let p: Vec<f64> = x.iter().map(|v| v.clamp(0.0, 1.0)).collect();
+        let out = x
+            .iter()
+            .zip(&p)
+            .map(|(a, b)| (a - b) * (a - b))
+            .sum::<f64>()
+            .sqrt();
+        let key: Vec<u64> = p.iter().map(|v| v.to_bits()).collect();
+        let m = match self.seen.get(&key) {
+            Some(m) => *m,
+            None => {
+                if self.stopped || self.seen.len() >= self.limit {
+                    return None;
+                }
+                let Some(point) = (self.evaluate)(&p, &self.phase) else {
+                    self.stopped = true;
+                    return None;
+                };
+                let m = point.merit();
+                let m = if m.is_finite() { m } else { FAILED_MERIT };
+                self.seen.insert(key, m);
+                if self.best.as_ref().is_none_or(|b| m < b.0) {
+                    self.best = Some((m, p.clone()));
+                }
+                m
+            }
+        };
+        Some(m + BOX_PENALTY * out)
+    }
+}
+
+/// argmin's view of the memory.
+struct Cost<'m, 'a, 'f>(&'m RefCell<Memory<'a, 'f>>);
+
+impl CostFunction for Cost<'_, '_, '_> {
+    type Param = Vec<f64>;
+    type Output = f64;
+    fn cost(&self, x: &Vec<f64>) -> Result<f64, argmin::core::Error> {
+        self.0
+            .borrow_mut()
+            .merit(x)
+            .ok_or_else(|| argmin::core::Error::msg("the evaluations are spent"))
+    }
+}
+
+/// Minimises [`Point::merit`] over `[0, 1]^dim` with at most `settings.evaluations` calls of
+/// `evaluate` (module docs): `start` (if given) and the Latin hypercube of
+/// [`hypercube_points`] points (seeded by `settings.seed`), then Nelder-Mead from the best.
+/// Returns the best point and its merit (`None` if nothing was evaluated).
+pub fn minimise(
+    dim: usize,
+    settings: &Settings,
+    start: Option<&[f64]>,
+    evaluate: &mut Evaluate<'_>,
+) -> Option<(Vec<f64>, f64)> {
+    let mut rng = ChaCha8Rng::seed_from_u64(settings.seed);
+    let memory = RefCell::new(Memory {
+        evaluate,
+        seen: HashMap::new(),
+        best: None,
+        stopped: false,
+        phase: "start".into(),
+        limit: usize::MAX,
+    });
+    if let Some(s) = start {
+        let _ = memory.borrow_mut().merit(s);
+    }
+    memory.borrow_mut().phase = "hypercube".into();
+    for p in hypercube(dim, hypercube_points(dim, settings.evaluations), &mut rng) {
+        if memory.borrow_mut().merit(&p).is_none() {
+            break;
+        }
+    }
+    let spent = |m: &RefCell<Memory>| m.borrow().seen.len();
+    // CMA-ES from the best point so far, with half of the evaluations left (natively).
+    #[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
+    {
+        let left = settings.evaluations.saturating_sub(spent(&memory));
+        let cma_budget = left - left / 2;
+        let best = memory.borrow().best.clone();
+        if let Some((_, best)) = best.filter(|_| cma_budget >= 2 * (4 + dim)) {
+            memory.borrow_mut().phase = "cma-es".into();
+            let objective = |x: &cmaes::DVector<f64>| -> f64 {
+                memory
+                    .borrow_mut()
+                    .merit(x.as_slice())
+                    .unwrap_or(FAILED_MERIT)
+            };
+            let built = cmaes::CMAESOptions::new(best, CMA_STEP)
+                .max_function_evals(cma_budget)
+                .tol_x(CMA_TOL_X)
+                .seed(settings.seed)
+                .build(objective);
+            if let Ok(mut cma) = built {
+                while !memory.borrow().stopped && cma.next().is_none() {}
+            }
+        }
+    }
+    // A compass search from the best: each key moved by the step either way (onto the box's
+    // face where the step would leave it), the first move that improves kept and followed
+    // with the step doubled while it improves, the step halved where no move improves; it
+    // walks onto a wall of refused candidates or a face of the box along a key, where the
+    // simplex stalls; with half of the evaluations left at most.
+    let compass_end = spent(&memory) + settings.evaluations.saturating_sub(spent(&memory)) / 2;
+    memory.borrow_mut().phase = "compass".into();
+    memory.borrow_mut().limit = compass_end;
+    let mut step = COMPASS_STEP;
+    while !memory.borrow().stopped && step >= COMPASS_LAST_STEP && spent(&memory) < compass_end {
+        let Some((m0, x0)) = memory.borrow().best.clone() else {
+            break;
+        };
+        let mut improved = false;
+        'keys: for k in 0..dim {
+            for sign in [1.0, -1.0] {
+                let mut y = x0.clone();
+                y[k] = (y[k] + sign * step).clamp(0.0, 1.0);
+                if y[k] == x0[k] {
+                    continue;
+                }
+                let m = memory.borrow_mut().merit(&y);
+                match m {
+                    Some(m) if m < m0 => {
+                        // On along the improving direction, the step doubled while it improves.
+                        let (mut at, mut best, mut s) = (y, m, step);
+                        loop {
+                            s *= 2.0;
+                            let mut z = at.clone();
+                            z[k] = (z[k] + sign * s).clamp(0.0, 1.0);
+                            if z[k] == at[k] {
+                                break;
+                            }
+                            let mz = memory.borrow_mut().merit(&z);
+                            match mz {
+                                Some(mz) if mz < best => (at, best) = (z, mz),
+                                _ => break,
+                            }
+                        }
+                        improved = true;
+                        break 'keys;
+                    }
+                    Some(_) => {}
+                    None => break 'keys,
+                }
+            }
+        }
+        if !improved {
+            step *= 0.5;
+        }
+    }
+    // Nelder-Mead from the best with the rest, restarted with a simplex half as large each
+    // time it settles.
+    memory.borrow_mut().limit = usize::MAX;
+    let mut step = FIRST_STEP;
+    let mut round = 0;
+    while !memory.borrow().stopped && step >= LAST_STEP {
+        let Some((_, best)) = memory.borrow().best.clone() else {
+            break;
+        };
+        round += 1;
+        memory.borrow_mut().phase = format!("simplex {round}");
+        let mut simplex = vec![best.clone()];
+        for k in 0..dim {
+            let mut v = best.clone();
+            v[k] += if best[k] + step <= 1.0 { step } else { -step };
+            simplex.push(v);
+        }
+        let solver = NelderMead::new(simplex)
+            .with_sd_tolerance(SD_TOLERANCE)
+            .expect("a non-negative tolerance");
+        // Ends when the simplex settles, after 50 d steps, or when the evaluations are spent
+        // (the cost's error).
+        let _ = Executor::new(Cost(&memory), solver)
+            .configure(|s| s.max_iters(50 * dim as u64))
+            .run();
+        step *= 0.5;
+    }
+    memory.into_inner().best.map(|(m, p)| (p, m))
+}
