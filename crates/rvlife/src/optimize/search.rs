@@ -18,7 +18,9 @@
 use std::cell::RefCell;
 use std::collections::HashMap;
 
+#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
 use argmin::core::{CostFunction, Executor};
+#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
 use argmin::solver::neldermead::NelderMead;
 use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
@@ -41,9 +43,11 @@ const CMA_STEP: f64 = 0.2;
 const CMA_TOL_X: f64 = 3e-3;
 
 /// The polish's first simplex edge, as a fraction of each range.
+#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
 const FIRST_STEP: f64 = 0.05;
 
 /// The simplex's edge below which the polish has converged.
+#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
 const LAST_STEP: f64 = 1e-3;
 
 /// The compass search's first step, as a fraction of each range.
@@ -53,6 +57,7 @@ const COMPASS_STEP: f64 = 0.02;
 const COMPASS_LAST_STEP: f64 = 1e-4;
 
 /// Spread of the simplex's merits at which one Nelder-Mead run ends.
+#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
 const SD_TOLERANCE: f64 = 1e-6;
 
 /// Evaluates a point of the unit box in a named phase; `None`: no more evaluations (the budget
@@ -126,8 +131,10 @@ impl Memory<'_, '_> {
 }
 
 /// argmin's view of the memory.
+#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
 struct Cost<'m, 'a, 'f>(&'m RefCell<Memory<'a, 'f>>);
 
+#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
 impl CostFunction for Cost<'_, '_, '_> {
     type Param = Vec<f64>;
     type Output = f64;
@@ -245,30 +252,33 @@ pub fn minimise(
     }
     // Nelder-Mead from the best with the rest, restarted with a simplex half as large each
     // time it settles.
-    memory.borrow_mut().limit = usize::MAX;
-    let mut step = FIRST_STEP;
-    let mut round = 0;
-    while !memory.borrow().stopped && step >= LAST_STEP {
-        let Some((_, best)) = memory.borrow().best.clone() else {
-            break;
-        };
-        round += 1;
-        memory.borrow_mut().phase = format!("simplex {round}");
-        let mut simplex = vec![best.clone()];
-        for k in 0..dim {
-            let mut v = best.clone();
-            v[k] += if best[k] + step <= 1.0 { step } else { -step };
-            simplex.push(v);
+    #[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
+    {
+        memory.borrow_mut().limit = usize::MAX;
+        let mut step = FIRST_STEP;
+        let mut round = 0;
+        while !memory.borrow().stopped && step >= LAST_STEP {
+            let Some((_, best)) = memory.borrow().best.clone() else {
+                break;
+            };
+            round += 1;
+            memory.borrow_mut().phase = format!("simplex {round}");
+            let mut simplex = vec![best.clone()];
+            for k in 0..dim {
+                let mut v = best.clone();
+                v[k] += if best[k] + step <= 1.0 { step } else { -step };
+                simplex.push(v);
+            }
+            let solver = NelderMead::new(simplex)
+                .with_sd_tolerance(SD_TOLERANCE)
+                .expect("a non-negative tolerance");
+            // Ends when the simplex settles, after 50 d steps, or when the evaluations are spent
+            // (the cost's error).
+            let _ = Executor::new(Cost(&memory), solver)
+                .configure(|s| s.max_iters(50 * dim as u64))
+                .run();
+            step *= 0.5;
         }
-        let solver = NelderMead::new(simplex)
-            .with_sd_tolerance(SD_TOLERANCE)
-            .expect("a non-negative tolerance");
-        // Ends when the simplex settles, after 50 d steps, or when the evaluations are spent
-        // (the cost's error).
-        let _ = Executor::new(Cost(&memory), solver)
-            .configure(|s| s.max_iters(50 * dim as u64))
-            .run();
-        step *= 0.5;
     }
     memory.into_inner().best.map(|(m, p)| (p, m))
 }
