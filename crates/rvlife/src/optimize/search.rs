@@ -146,6 +146,14 @@ impl CostFunction for Cost<'_, '_, '_> {
     }
 }
 
+/// `x` with key `k` moved by `by` onto the box (`None` where that does not move it: `x` on the
+/// face already).
+fn moved(x: &[f64], k: usize, by: f64) -> Option<Vec<f64>> {
+    let mut y = x.to_vec();
+    y[k] = (y[k] + by).clamp(0.0, 1.0);
+    (y[k] != x[k]).then_some(y)
+}
+
 /// Minimises [`Point::merit`] over `[0, 1]^dim` with at most `settings.evaluations` calls of
 /// `evaluate` (module docs): `start` (if given) and the Latin hypercube of
 /// [`hypercube_points`] points (seeded by `settings.seed`), then Nelder-Mead from the best.
@@ -215,11 +223,9 @@ pub fn minimise(
         let mut improved = false;
         'keys: for k in 0..dim {
             for sign in [1.0, -1.0] {
-                let mut y = x0.clone();
-                y[k] = (y[k] + sign * step).clamp(0.0, 1.0);
-                if y[k] == x0[k] {
+                let Some(y) = moved(&x0, k, sign * step) else {
                     continue;
-                }
+                };
                 let m = memory.borrow_mut().merit(&y);
                 match m {
                     Some(m) if m < m0 => {
@@ -227,11 +233,9 @@ pub fn minimise(
                         let (mut at, mut best, mut s) = (y, m, step);
                         loop {
                             s *= 2.0;
-                            let mut z = at.clone();
-                            z[k] = (z[k] + sign * s).clamp(0.0, 1.0);
-                            if z[k] == at[k] {
+                            let Some(z) = moved(&at, k, sign * s) else {
                                 break;
-                            }
+                            };
                             let mz = memory.borrow_mut().merit(&z);
                             match mz {
                                 Some(mz) if mz < best => (at, best) = (z, mz),
