@@ -250,7 +250,7 @@ enum Command {
         #[arg(long)]
         full_wear: bool,
         /// Crank angles per mesh cycle of the hysteresis curves and the revolution TE.
-        #[arg(long, default_value_t = 4, allow_negative_numbers = true, value_parser = whole::<usize>)]
+        #[arg(long, default_value_t = rvlife::montecarlo::DEFAULT_SAMPLES_PER_MESH_CYCLE, allow_negative_numbers = true, value_parser = whole::<usize>)]
         samples_per_mesh_cycle: usize,
         /// Results directory.
         #[arg(long, default_value = "rvlife-montecarlo")]

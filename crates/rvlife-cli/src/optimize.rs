@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use rvlife::optimize::{Candidate, Goal, Problem, Settings, Status};
+use rvlife::optimize::{Candidate, Goal, Problem, Settings};
 use rvlife::Result;
 
 use crate::{progress_bar, sweep::config_text};
@@ -46,7 +46,7 @@ pub(crate) fn optimize(
             let mut b = best
                 .lock()
                 .unwrap_or_else(std::sync::PoisonError::into_inner);
-            if c.status == Status::Ok && c.point.feasible() && c.point.merit() < *b {
+            if c.feasible() && c.point.merit() < *b {
                 *b = c.point.merit();
                 pb.set_message(format!("best {}", goal_text(&problem, c)));
             }
@@ -69,11 +69,7 @@ pub(crate) fn optimize(
         } else {
             ""
         },
-        outcome
-            .candidates
-            .iter()
-            .filter(|c| c.status == Status::Ok && c.point.feasible())
-            .count(),
+        outcome.candidates.iter().filter(|c| c.feasible()).count(),
         start.elapsed().as_secs_f64(),
         out.display()
     );

@@ -675,54 +675,61 @@ fn is_hysteresis_curve(csv: &str) -> bool {
     rvlife::calibration::structure::MeasuredCurve::is_curve(csv)
 }
 
-/// The design search (`rvlife optimize`): `vary` the `KEY=LO:HI` ranges, `objective` the
-/// goals, `constraints` the `Q<=V` texts; with `out`, also the command line's files (after the
-/// follow-up studies of the report). Returns `{"candidates_csv", "pareto_csv",
-/// "optimum_toml", "best", "start", "stopped"}` (`best`, `start`: row indices).
+/// The design search (`rvlife optimize`) of `problem` ([`OptimizeProblem`]: the ranges, goals,
+/// constraints and settings, validated); with `out`, also the command line's files (after the
+/// follow-up studies of the report); with `batch`, a callable given the jobs the search asks
+/// for together (`[(unit point, index, phase)]`) that returns their candidates as JSON texts
+/// in that order ([`optimize_candidate`]'s, on a cluster's workers). Returns
+/// `{"candidates_csv", "pareto_csv", "optimum_toml", "best", "start", "stopped"}` (`best`,
+/// `start`: row indices).
 #[pyfunction]
-#[pyo3(signature = (text, origin, base_dir, work_budget_min, vary, objective, constraints, evaluations, seed, out, force, progress = None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (problem, out, force, progress = None, batch = None))]
 fn optimize(
     py: Python<'_>,
-    text: &str,
-    origin: &str,
-    base_dir: Option<PathBuf>,
-    work_budget_min: f64,
-    vary: Vec<String>,
-    objective: &str,
-    constraints: Vec<String>,
-    evaluations: usize,
-    seed: u64,
+    problem: &OptimizeProblem,
     out: Option<PathBuf>,
     force: bool,
     progress: Option<Py<PyAny>>,
+    batch: Option<Py<PyAny>>,
 ) -> PyResult<Py<PyAny>> {
     let p = progress_fn(progress);
+    let on_cluster =
+        |jobs: &[rvlife::optimize::Job]| -> rvlife::Result<Vec<rvlife::optimize::Candidate>> {
+            let failed = |e: String| rvlife::Error::numerical("optimize (batch)", e);
+            let texts: Vec<String> = Python::attach(|py| {
+                let cb = batch.as_ref().expect("called only with a batch");
+                cb.bind(py)
+                    .call1((jobs.to_vec(),))
+                    .and_then(|r| r.extract())
+                    .map_err(|e| failed(e.to_string()))
+            })?;
+            texts
+                .iter()
+                .map(|t| serde_json::from_str(t).map_err(|e| failed(e.to_string())))
+                .collect()
+        };
+    let problem = &problem.0;
     let v = py.detach(|| -> PyResult<Value> {
-        let problem = rvlife::optimize::Problem::new(
-            text,
-            origin,
-            base_dir.as_deref(),
-            work_budget_min,
-            &vary,
-            objective,
-            &constraints,
-            rvlife::optimize::Settings { evaluations, seed },
+        let staging = staging(out.as_deref(), force)?;
+        let outcome = rvlife::optimize::run_batched(
+            problem,
+            batch
+                .is_some()
+                .then_some(&on_cluster as &rvlife::optimize::Batch),
+            &|d, t, _| p(d, t),
+            &|| false,
         )
         .map_err(py_err)?;
-        let staging = staging(out.as_deref(), force)?;
-        let outcome =
-            rvlife::optimize::run(&problem, &|d, t, _| p(d, t), &|| false).map_err(py_err)?;
         if let Some(staging) = staging {
-            let follow = rvlife::optimize::follow_up(&problem, &outcome).map_err(py_err)?;
+            let follow = rvlife::optimize::follow_up(problem, &outcome).map_err(py_err)?;
             staging
                 .commit(|dir| {
-                    rvlife::output::optimize::write_files(dir, &problem, &outcome, &follow)
+                    rvlife::output::optimize::write_files(dir, problem, &outcome, &follow)
                 })
                 .map_err(py_err)?;
         }
         let (candidates, front) =
-            rvlife::output::optimize::tables_csv(&problem, &outcome).map_err(py_err)?;
+            rvlife::output::optimize::tables_csv(problem, &outcome).map_err(py_err)?;
         let optimum = outcome
             .best
             .map(|i| problem.text_of(&outcome.candidates[i].values, false))
@@ -738,6 +745,67 @@ fn optimize(
         }))
     })?;
     Ok(to_py(py, &v)?.unbind())
+}
+
+/// A design search's problem: `vary` the `KEY=LO:HI` ranges, `objective` the goals,
+/// `constraints` the `Q<=V` texts, validated with the whole search's work before any study
+/// (`ValueError` naming the key or argument); [`optimize`] runs it, and a cluster's worker
+/// builds it once and evaluates its candidates.
+#[pyclass(frozen, module = "rvlife._rvlife")]
+struct OptimizeProblem(rvlife::optimize::Problem);
+
+#[pymethods]
+impl OptimizeProblem {
+    /// The problem of these arguments (`rvlife optimize`'s options).
+    #[new]
+    #[pyo3(signature = (text, origin, base_dir, work_budget_min, vary, objective, constraints, evaluations, seed))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        text: &str,
+        origin: &str,
+        base_dir: Option<PathBuf>,
+        work_budget_min: f64,
+        vary: Vec<String>,
+        objective: &str,
+        constraints: Vec<String>,
+        evaluations: usize,
+        seed: u64,
+    ) -> PyResult<Self> {
+        py.detach(|| {
+            rvlife::optimize::Problem::new(
+                text,
+                origin,
+                base_dir.as_deref(),
+                work_budget_min,
+                &vary,
+                objective,
+                &constraints,
+                rvlife::optimize::Settings { evaluations, seed },
+            )
+        })
+        .map(OptimizeProblem)
+        .map_err(py_err)
+    }
+
+    /// The candidate at `unit` (the unit box) as the search evaluates it: its JSON text, which
+    /// [`optimize`]'s `batch` returns.
+    fn evaluate(
+        &self,
+        py: Python<'_>,
+        unit: Vec<f64>,
+        index: usize,
+        phase: &str,
+    ) -> PyResult<String> {
+        if unit.len() != self.0.variables.len() || unit.iter().any(|u| !(0.0..=1.0).contains(u)) {
+            return Err(PyValueError::new_err(format!(
+                "invalid unit = {unit:?}: {} numbers in [0, 1]",
+                self.0.variables.len()
+            )));
+        }
+        let c = py.detach(|| rvlife::optimize::evaluate(&self.0, &unit, index, phase));
+        serde_json::to_string(&c).map_err(|e| PyValueError::new_err(e.to_string()))
+    }
 }
 
 /// The designs of a sweep as config texts (`rvlife sweep`'s `--vary`, validated with the
@@ -828,6 +896,7 @@ fn _rvlife(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(example_toml, m)?)?;
     m.add_function(wrap_pyfunction!(presets, m)?)?;
     m.add_class::<Loaded>()?;
+    m.add_class::<OptimizeProblem>()?;
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(toml_from_json, m)?)?;
     m.add_function(wrap_pyfunction!(profile, m)?)?;

@@ -321,6 +321,25 @@ def test_dask_sweep_equals_the_serial_run(tmp):
     assert studies.equals(local), (studies, local)
 
 
+def test_dask_optimize_equals_the_local_search(tmp):
+    """rvlife.optimize on a Dask cluster (each generation of NSGA-II sent to the workers at
+    once, the problem built once per worker) finds the local search's candidates, byte for
+    byte."""
+    import pandas as pd
+    from dask.distributed import Client, LocalCluster
+
+    base = rvlife.Config.from_toml(short_text() + "\n[life]\nlost_motion_arcmin = 0.8\n")
+    vary = {"cycloid.modification.equidistant_mm": (0.0, 0.006), "cycloid.eccentricity_mm": (1.25, 1.35)}
+    args = dict(objective="life,max:torsional_stiffness_nm_per_arcmin@new", base=base, evaluations=12, seed=5)
+    local = rvlife.optimize(vary, **args)
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        with Client(cluster) as client:
+            dask = rvlife.optimize(vary, client=client, **args)
+    assert len(local.candidates) == 12
+    pd.testing.assert_frame_equal(local.candidates, dask.candidates)
+    pd.testing.assert_frame_equal(local.pareto, dask.pareto)
+
+
 # --- configs as values ----------------------------------------------------------------------
 
 

@@ -528,9 +528,6 @@ pub fn dynamics(
     }))
 }
 
-/// Crank angles per mesh cycle of Monte Carlo's hysteresis curves: the command line's default.
-const MC_SAMPLES_PER_MESH_CYCLE: usize = 4;
-
 /// The Monte Carlo accuracy life of `samples` reducers drawn from `[tolerances]` with `seed`
 /// (`rvlife montecarlo --samples N --seed S`; dynamics and the FE disc off): JSON `{samples_csv,
 /// stages_csv, life, percentiles, records, horizon_h}` with the command line's `samples.csv`
@@ -554,7 +551,7 @@ pub fn montecarlo(
         seed,
         None,
         false,
-        MC_SAMPLES_PER_MESH_CYCLE,
+        rvlife::montecarlo::DEFAULT_SAMPLES_PER_MESH_CYCLE,
         Spelling::Python,
     )
     .map_err(err)?;

@@ -35,9 +35,10 @@ pub const MIN_MINUTES: f64 = 0.1;
 
 /// Static solves of one Monte Carlo sample at one working-hour point: the revolution TE's
 /// touching pins and the hysteresis at the measuring and rated torque, both directions, at
-/// each crank angle (1 000 samples of the example, 7 stages, 4 crank angles: estimated
-/// 2.1 min, measured 1.0 min wall on 2 cores).
-pub(crate) const MONTE_CARLO_SOLVES_PER_ANGLE: f64 = 20.0;
+/// each crank angle, with the bearings' play and the life's bracket beyond the stages (100
+/// samples of the example, 7 stages and 3 points beyond, 4 crank angles: 68.8 s of one core's
+/// computing, 34.9 s wall on 2 cores, with the nominal wear's 1.5 s; estimated 1.1 min).
+pub(crate) const MONTE_CARLO_SOLVES_PER_ANGLE: f64 = 75.0;
 
 /// [`DEFAULT_MINUTES`] (the serde default of [`crate::config::Config::work_budget_minutes`]).
 pub(crate) fn default_minutes() -> f64 {

@@ -2,7 +2,7 @@
 (:func:`load`: TOML text, origin, base folder) and passed to every command; results are the command line's JSON objects as dicts, lists
 of floats as numpy float64 arrays. Bad input raises ValueError naming the key."""
 
-from typing import Any, Callable, Dict, List, Optional, Tuple
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 Progress = Optional[Callable[[int, int], None]]
 
@@ -106,16 +106,26 @@ def calibrate_structure(cfg: Loaded, csv: Optional[str], name: str, catalogue: O
 def is_hysteresis_curve(csv: str) -> bool: ...
 def sweep_designs(text: str, origin: str, base_dir: Optional[str], vary: str, work_budget_min: float) -> List[str]: ...
 def optimize(
-    text: str,
-    origin: str,
-    base_dir: Optional[str],
-    work_budget_min: float,
-    vary: List[str],
-    objective: str,
-    constraints: List[str],
-    evaluations: int,
-    seed: int,
+    problem: OptimizeProblem,
     out: Optional[str],
     force: bool,
     progress: Progress = None,
+    batch: Optional[Callable[[List[Tuple[List[float], int, str]]], List[str]]] = None,
 ) -> Dict[str, Any]: ...
+
+class OptimizeProblem:
+    """A design search's problem on a cluster's worker, built and validated once."""
+
+    def __init__(
+        self,
+        text: str,
+        origin: str,
+        base_dir: Optional[str],
+        work_budget_min: float,
+        vary: Sequence[str],
+        objective: str,
+        constraints: Sequence[str],
+        evaluations: int,
+        seed: int,
+    ) -> None: ...
+    def evaluate(self, unit: List[float], index: int, phase: str) -> str: ...

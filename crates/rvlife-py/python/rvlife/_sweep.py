@@ -11,7 +11,7 @@ import math
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union, overload
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union, overload
 
 import pandas as pd
 
@@ -229,6 +229,18 @@ class OptimizeResult:
     out: Optional[Path]
 
 
+_PROBLEMS: Dict[tuple, Any] = {}
+
+
+def _candidate_task(problem: tuple, unit: List[float], index: int, phase: str) -> str:
+    """One candidate of a design search on a worker: the problem built once per worker
+    process (its validation is not repeated for each candidate)."""
+    p = _PROBLEMS.get(problem)
+    if p is None:
+        p = _PROBLEMS[problem] = _rvlife.OptimizeProblem(*problem)
+    return str(p.evaluate(unit, index, phase))
+
+
 def optimize(
     vary: Mapping[str, Tuple[float, float]],
     objective: str = "life",
@@ -240,6 +252,7 @@ def optimize(
     out: Optional[PathLike] = None,
     force: bool = False,
     progress: Optional[Progress] = None,
+    client: Any = None,
 ) -> OptimizeResult:
     """The design search (``rvlife optimize``, docs/model.md section 19): the values of the
     dotted keys of ``vary`` (``{"cycloid.modification.equidistant_mm": (0.005, 0.03)}``), each
@@ -247,7 +260,10 @@ def optimize(
     (``objective="life"``, or ``"b10"``), or the Pareto front of several goals
     (``"life,lost_motion_arcmin"``), under ``constraints`` (``"lost_motion_arcmin<=0.8"``),
     in at most ``evaluations`` studies, reproducible with ``seed``. Runs in this process (each
-    study on every core). The ranges, goals, constraints and the whole search's work are
+    study on every core), or with a ``dask.distributed`` ``client`` sends the candidates the
+    search asks for together (its Latin hypercube, each generation of NSGA-II) to the workers
+    at once, the others one at a time: the same candidates either way. The ranges, goals,
+    constraints and the whole search's work are
     checked before any study; ``ValueError`` names the key or the argument. With ``out``, also
     writes the command line's files (and its report's follow-up studies)."""
     b = base if base is not None else example()
@@ -255,11 +271,19 @@ def optimize(
     for key, rng in vary.items():
         lo, hi = rng
         specs.append(f"{key}={lo!r}:{hi!r}")
+    args = (b.toml, b.origin, None if b.base_dir is None else str(b.base_dir), b.work_budget_min, tuple(specs), objective, tuple(constraints), int(evaluations), int(seed))
+    problem = _rvlife.OptimizeProblem(*args)
     o = _out(out, force)
-    r = _rvlife.optimize(
-        b.toml, b.origin, b.base_dir, b.work_budget_min, specs, objective, list(constraints),
-        int(evaluations), int(seed), o, force, progress,
-    )
+    batch: Optional[Callable[[List[Tuple[List[float], int, str]]], List[str]]] = None
+    if client is not None:
+
+        def on_cluster(jobs: List[Tuple[List[float], int, str]]) -> List[str]:
+            futures = [client.submit(_candidate_task, args, list(u), i, ph, pure=False) for u, i, ph in jobs]
+            return [str(t) for t in client.gather(futures)]
+
+        batch = on_cluster
+
+    r = _rvlife.optimize(problem, o, force, progress, batch)
     candidates = pd.read_csv(io.StringIO(r["candidates_csv"]))
     pareto = pd.read_csv(io.StringIO(r["pareto_csv"]))
     best = None if r["best"] is None else candidates.iloc[int(r["best"])]

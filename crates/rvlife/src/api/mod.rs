@@ -683,20 +683,11 @@ pub fn montecarlo_plan(
         full_wear,
         samples_per_mesh_cycle: per_cycle,
     };
-    let last = model.wear.stage_hours.last().copied().unwrap_or(0.0);
-    let (beyond, horizon) = if model.life.any() && last > 0.0 {
-        let max_h = model.life.max_hours.unwrap_or(10.0 * last);
-        (
-            ((max_h / last).ln() / 1.5f64.ln()).ceil().max(0.0) as usize,
-            max_h / last,
-        )
-    } else {
-        (0, 1.0)
-    };
+    let (points, horizon) = crate::montecarlo::life_points(model);
     crate::montecarlo::check_work(
         model,
         plan.indices().len(),
-        model.wear.stage_hours.len() + beyond / 2,
+        points,
         plan.samples_per_mesh_cycle,
         plan.full_wear,
         horizon,

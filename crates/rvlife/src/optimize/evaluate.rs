@@ -9,7 +9,7 @@ use crate::quantities::AccuracyPoint;
 use crate::study::Study;
 
 /// How a candidate's evaluation ended.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Status {
     /// Its study ran.
     Ok,
@@ -30,8 +30,8 @@ impl Status {
     }
 }
 
-/// One evaluated candidate.
-#[derive(Debug, Clone)]
+/// One evaluated candidate (serialised: a cluster's workers send it back).
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Candidate {
     /// Its place in the order of evaluation (0-based).
     pub index: usize,
@@ -56,6 +56,14 @@ pub struct Candidate {
     pub limited_by: Option<String>,
     /// How the evaluation ended.
     pub status: Status,
+}
+
+impl Candidate {
+    /// Whether its study ran and every constraint holds (a refused or failed candidate is
+    /// never feasible, constraints or not).
+    pub fn feasible(&self) -> bool {
+        self.status == Status::Ok && self.point.feasible()
+    }
 }
 
 /// The life's score (docs/model.md section 19) and the life (h; `None` within spec to the
@@ -95,7 +103,8 @@ fn b10_score(model: &Model, records: &[crate::montecarlo::SampleRecord]) -> (f64
 }
 
 /// Evaluates the candidate at `u` (unit box) of `problem`: validates its config, runs its
-/// study (and, for a B10 goal, its Monte Carlo with the problem's seed: every candidate
+/// study when a goal or constraint reads it (and, for a B10 goal, its Monte Carlo at
+/// [`crate::montecarlo::DEFAULT_SAMPLES_PER_MESH_CYCLE`] with the problem's seed: every candidate
 /// draws the same random numbers), reads the goals and constraints. A config refused or a
 /// study that fails gives a candidate of that status whose point is infeasible and worst
 /// (objectives `+inf`), so the search goes on.
@@ -121,12 +130,18 @@ pub fn evaluate(problem: &Problem, u: &[f64], index: usize, phase: &str) -> Cand
         Ok(m) => m,
         Err(e) => return failed(Status::Invalid(e.to_string())),
     };
-    let study = match crate::study::run(&model, &|_, _| {}) {
-        Ok(s) => s,
-        Err(e) => return failed(Status::Failed(e.to_string())),
+    // A B10 goal alone reads only its Monte Carlo (`Problem::needs_study`).
+    let study = if problem.needs_study() {
+        match crate::study::run(&model, &|_, _| {}) {
+            Ok(s) => Some(s),
+            Err(e) => return failed(Status::Failed(e.to_string())),
+        }
+    } else {
+        None
     };
-    let hours: Vec<f64> = study.stages.iter().map(|s| s.hours).collect();
     let at = |q: &crate::quantities::Quantity, at: &StageAt| {
+        let study = study.as_ref()?;
+        let hours: Vec<f64> = study.stages.iter().map(|s| s.hours).collect();
         at.index(&hours)
             .and_then(|i| study.stages[i].summary.value(q).number())
     };
@@ -136,7 +151,7 @@ pub fn evaluate(problem: &Problem, u: &[f64], index: usize, phase: &str) -> Cand
     let mut limited_by = None;
     for g in &problem.goals {
         let (value, score, objective) = match g {
-            Goal::Life => match life_score(&model, &study) {
+            Goal::Life => match study.as_ref().and_then(|st| life_score(&model, st)) {
                 Some((score, life, by)) => {
                     limited_by = by;
                     (life, Some(score), -score)
@@ -149,7 +164,7 @@ pub fn evaluate(problem: &Problem, u: &[f64], index: usize, phase: &str) -> Cand
                     seed: problem.settings.seed,
                     shard: (1, 1),
                     full_wear: false,
-                    samples_per_mesh_cycle: model.te.samples,
+                    samples_per_mesh_cycle: crate::montecarlo::DEFAULT_SAMPLES_PER_MESH_CYCLE,
                 };
                 match crate::montecarlo::run(&model, &plan, &|_, _| {}) {
                     Ok(records) => {

@@ -1,4 +1,4 @@
-//! What a design search's report shows beyond its candidates (docs/model.md section 19.4):
+//! What a design search's report shows beyond its candidates (docs/model.md section 19.5):
 //! the best design's and the base design's studies at every stage, and the sensitivity of
 //! the best design's goal to each varied key.
 

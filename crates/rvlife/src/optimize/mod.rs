@@ -28,7 +28,7 @@ pub use evaluate::{evaluate, life_score, Candidate, Status};
 pub use follow::{follow_up, FollowUp, Sensitivity, SENSITIVITY_STEP};
 pub use goal::{Constraint, Goal, Sense, StageAt};
 pub use point::{pareto_front, Point, Settings, PENALTY};
-pub use run::{run, Outcome};
+pub use run::{run, run_batched, Batch, Job, Outcome};
 
 use serde_json::Value as Json;
 
@@ -295,41 +295,65 @@ impl Problem {
                 }
             }
         }
-        let total = work * p.settings.evaluations as f64;
+        // The candidates, then the follow-up (docs/model.md section 19.5): the sensitivity's
+        // two candidates per key and the best and base designs' studies.
+        let follow = 2.0 * p.variables.len() as f64 * work + 2.0 * p.study_work(&p.base);
+        let total = work * p.settings.evaluations as f64 + follow;
         let budget = crate::budget::solves_in_minutes(budget_min);
         if total > budget {
             return Err(Error::invalid(
                 "--evaluations",
                 p.settings.evaluations.to_string(),
                 format!(
-                    "the search's estimated work, {:.1} min ({:.2} min a candidate), exceeds the \
-                     work budget of {budget_min:.1} min (--work-budget-min): fewer \
-                     evaluations, or a larger budget",
+                    "the search's estimated work, {:.1} min ({:.2} min a candidate, and the \
+                     follow-up's {:.1} min), exceeds the work budget of {budget_min:.1} min \
+                     (--work-budget-min): at most {} evaluations fit, or a larger budget",
                     crate::budget::minutes(total),
                     crate::budget::minutes(work),
+                    crate::budget::minutes(follow),
+                    ((budget - follow) / work).floor().max(0.0),
                 ),
             ));
         }
         Ok(p)
     }
 
-    /// The estimated work of one candidate (static solves, [`crate::budget`]): its study's,
-    /// and with a B10 goal its Monte Carlo's (the nominal wear again, then per sample the
-    /// stages and half as many points beyond them, as `rvlife montecarlo` counts them).
-    fn candidate_work(&self, model: &Model) -> f64 {
+    /// Whether a candidate needs its study: a goal other than B10, or a constraint, reads
+    /// its stages (a B10 goal alone reads only its Monte Carlo).
+    pub fn needs_study(&self) -> bool {
+        !self.constraints.is_empty() || self.goals.iter().any(|g| !matches!(g, Goal::B10 { .. }))
+    }
+
+    /// The estimated work of one study of `model` (static solves, [`crate::budget`]).
+    fn study_work(&self, model: &Model) -> f64 {
         let (w, s) = crate::study::study_work(model);
-        let points = 1.5 * model.wear.stage_hours.len() as f64;
-        let per_sample =
-            points * model.te.samples as f64 * crate::budget::MONTE_CARLO_SOLVES_PER_ANGLE;
+        w + s
+    }
+
+    /// The estimated work of one candidate (static solves, [`crate::budget`]): its study's
+    /// when it needs one ([`Self::needs_study`]), and with a B10 goal its Monte Carlo's (the
+    /// nominal wear, then per sample its points at the Monte Carlo's crank angles, as
+    /// `rvlife montecarlo` counts them).
+    fn candidate_work(&self, model: &Model) -> f64 {
+        let (wear, _) = crate::study::study_work(model);
+        let (points, _) = crate::montecarlo::life_points(model);
+        let per_sample = points as f64
+            * crate::montecarlo::DEFAULT_SAMPLES_PER_MESH_CYCLE as f64
+            * crate::budget::MONTE_CARLO_SOLVES_PER_ANGLE;
         let monte_carlo: f64 = self
             .goals
             .iter()
             .map(|g| match g {
-                Goal::B10 { samples } => w + *samples as f64 * per_sample,
+                Goal::B10 { samples } => wear + *samples as f64 * per_sample,
                 _ => 0.0,
             })
             .sum();
-        w + s + monte_carlo
+        let study = if self.needs_study() {
+            self.study_work(model)
+        } else {
+            0.0
+        };
+        study + monte_carlo
     }
 
     /// The values of the varied keys at `u` (unit box).

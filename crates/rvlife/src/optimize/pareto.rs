@@ -29,6 +29,45 @@ struct Memory<'a, 'f> {
 }
 
 impl Memory<'_, '_> {
+    /// Evaluates the rows of `genes` not seen yet together (a generation, which a cluster
+    /// evaluates at once), recording each; [`Self::point`] then finds them.
+    fn prefetch(&mut self, genes: &Array2<f64>) {
+        if self.stopped {
+            return;
+        }
+        let mut fresh: Vec<(Vec<u64>, Vec<f64>)> = Vec::new();
+        for row in genes.rows() {
+            let key: Vec<u64> = row.iter().map(|v| v.to_bits()).collect();
+            if !self.seen.contains_key(&key) && !fresh.iter().any(|f| f.0 == key) {
+                fresh.push((key, row.iter().map(|v| v.clamp(0.0, 1.0)).collect()));
+            }
+        }
+        let phase = format!("generation {}", self.generation);
+        let points: Vec<Vec<f64>> = fresh.iter().map(|f| f.1.clone()).collect();
+        let got = self.evaluate.many(&points, &phase);
+        for ((key, _), p) in fresh.into_iter().zip(got) {
+            match p {
+                Some(p) => {
+                    self.seen.insert(key, self.finite(p));
+                }
+                None => {
+                    self.stopped = true;
+                    return;
+                }
+            }
+        }
+    }
+
+    /// `p` with non-finite objectives (a failed candidate's) set to the worst merit.
+    fn finite(&self, mut p: Point) -> Point {
+        for o in &mut p.objectives {
+            if !o.is_finite() {
+                *o = super::search::FAILED_MERIT;
+            }
+        }
+        p
+    }
+
     /// The point of `genes` (evaluated once); a worst, infeasible point once the evaluations
     /// are spent.
     fn point(&mut self, genes: &[f64]) -> Point {
@@ -45,15 +84,8 @@ impl Memory<'_, '_> {
         }
         let phase = format!("generation {}", self.generation);
         let clamped: Vec<f64> = genes.iter().map(|v| v.clamp(0.0, 1.0)).collect();
-        let p = match (self.evaluate)(&clamped, &phase) {
-            Some(mut p) => {
-                for o in &mut p.objectives {
-                    if !o.is_finite() {
-                        *o = super::search::FAILED_MERIT;
-                    }
-                }
-                p
-            }
+        let p = match self.evaluate.one(&clamped, &phase) {
+            Some(p) => self.finite(p),
             None => {
                 self.stopped = true;
                 worst
@@ -119,6 +151,7 @@ pub fn nsga2(
     });
     let fitness = |genes: &Array2<f64>| -> Array2<f64> {
         let mut m = memory.borrow_mut();
+        m.prefetch(genes);
         let mut out = Array2::zeros((genes.nrows(), goals));
         for (i, row) in genes.rows().into_iter().enumerate() {
             let p = m.point(&row.to_vec());

@@ -20,10 +20,12 @@ impl Default for Settings {
 }
 
 /// One point of a search in the unit box: what it minimises and by how much it violates each
-/// constraint (relative to the limit's size; `<= 0` satisfied).
-#[derive(Debug, Clone, PartialEq)]
+/// constraint (relative to the limit's size; `<= 0` satisfied). Serialised (a cluster's
+/// workers send it back) with an infinite objective, a failed candidate's, as `null`.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Point {
     /// The values to minimise, one per goal.
+    #[serde(with = "unbounded")]
     pub objectives: Vec<f64>,
     /// The constraints' violations, one per constraint (`<= 0`: satisfied).
     pub violations: Vec<f64>,
@@ -63,4 +65,24 @@ pub fn pareto_front(points: &[&Point]) -> Vec<usize> {
                     .any(|j| j != i && points[j].feasible() && dominates(points[j], points[i]))
         })
         .collect()
+}
+
+/// Objectives on the wire: `+inf` (a failed candidate's) as `null`, which JSON has no number
+/// for.
+mod unbounded {
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    pub fn serialize<S: Serializer>(v: &[f64], s: S) -> Result<S::Ok, S::Error> {
+        v.iter()
+            .map(|x| x.is_finite().then_some(*x))
+            .collect::<Vec<Option<f64>>>()
+            .serialize(s)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<f64>, D::Error> {
+        Ok(Vec::<Option<f64>>::deserialize(d)?
+            .into_iter()
+            .map(|x| x.unwrap_or(f64::INFINITY))
+            .collect())
+    }
 }

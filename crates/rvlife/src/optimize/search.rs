@@ -60,9 +60,38 @@ const COMPASS_LAST_STEP: f64 = 1e-4;
 #[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
 const SD_TOLERANCE: f64 = 1e-6;
 
-/// Evaluates a point of the unit box in a named phase; `None`: no more evaluations (the budget
-/// is spent or the user stopped the search).
-pub type Evaluate<'a> = dyn FnMut(&[f64], &str) -> Option<Point> + 'a;
+/// Evaluates points of the unit box in a named phase: one at a time, or several the search
+/// asks for together (the Latin hypercube, a generation of NSGA-II), which a cluster can
+/// evaluate at once. `None`: no more evaluations (the budget is spent or the user stopped the
+/// search). A closure `FnMut(&[f64], &str) -> Option<Point>` is one, evaluating a batch in
+/// order.
+pub trait Evaluator {
+    /// The point at `x`.
+    fn one(&mut self, x: &[f64], phase: &str) -> Option<Point>;
+    /// The points at `xs` (distinct), in order; `None` from the first one not evaluated on.
+    fn many(&mut self, xs: &[Vec<f64>], phase: &str) -> Vec<Option<Point>> {
+        let mut out = Vec::with_capacity(xs.len());
+        for x in xs {
+            let p = self.one(x, phase);
+            let end = p.is_none();
+            out.push(p);
+            if end {
+                break;
+            }
+        }
+        out.resize(xs.len(), None);
+        out
+    }
+}
+
+impl<F: FnMut(&[f64], &str) -> Option<Point>> Evaluator for F {
+    fn one(&mut self, x: &[f64], phase: &str) -> Option<Point> {
+        self(x, phase)
+    }
+}
+
+/// The evaluator a search is given.
+pub type Evaluate<'a> = dyn Evaluator + 'a;
 
 /// Points of the Latin hypercube of a `dim`-key search with `evaluations` in all: `4 + 2 dim`,
 /// at most a third of the evaluations (at least 2).
@@ -113,20 +142,54 @@ impl Memory<'_, '_> {
                 if self.stopped || self.seen.len() >= self.limit {
                     return None;
                 }
-                let Some(point) = (self.evaluate)(&p, &self.phase) else {
+                let Some(point) = self.evaluate.one(&p, &self.phase) else {
                     self.stopped = true;
                     return None;
                 };
-                let m = point.merit();
-                let m = if m.is_finite() { m } else { FAILED_MERIT };
-                self.seen.insert(key, m);
-                if self.best.as_ref().is_none_or(|b| m < b.0) {
-                    self.best = Some((m, p.clone()));
-                }
-                m
+                self.record(key, &p, &point)
             }
         };
         Some(m + BOX_PENALTY * out)
+    }
+
+    /// Records the point at `p` (in the box, `key` its bits); its merit.
+    fn record(&mut self, key: Vec<u64>, p: &[f64], point: &Point) -> f64 {
+        let m = point.merit();
+        let m = if m.is_finite() { m } else { FAILED_MERIT };
+        self.seen.insert(key, m);
+        if self.best.as_ref().is_none_or(|b| m < b.0) {
+            self.best = Some((m, p.to_vec()));
+        }
+        m
+    }
+
+    /// Evaluates together those of `xs` (in the box) not seen yet, as many as the phase
+    /// allows, in order: [`Self::merit`] then finds them recorded.
+    fn prefetch(&mut self, xs: &[Vec<f64>]) {
+        let mut fresh: Vec<(Vec<u64>, Vec<f64>)> = Vec::new();
+        for x in xs {
+            let key: Vec<u64> = x.iter().map(|v| v.to_bits()).collect();
+            if !self.seen.contains_key(&key) && !fresh.iter().any(|f| f.0 == key) {
+                fresh.push((key, x.clone()));
+            }
+        }
+        fresh.truncate(self.limit.saturating_sub(self.seen.len()));
+        if self.stopped || fresh.is_empty() {
+            return;
+        }
+        let points: Vec<Vec<f64>> = fresh.iter().map(|f| f.1.clone()).collect();
+        let got = self.evaluate.many(&points, &self.phase);
+        for ((key, p), point) in fresh.into_iter().zip(got) {
+            match point {
+                Some(point) => {
+                    self.record(key, &p, &point);
+                }
+                None => {
+                    self.stopped = true;
+                    return;
+                }
+            }
+        }
     }
 }
 
@@ -177,7 +240,9 @@ pub fn minimise(
         let _ = memory.borrow_mut().merit(s);
     }
     memory.borrow_mut().phase = "hypercube".into();
-    for p in hypercube(dim, hypercube_points(dim, settings.evaluations), &mut rng) {
+    let points = hypercube(dim, hypercube_points(dim, settings.evaluations), &mut rng);
+    memory.borrow_mut().prefetch(&points);
+    for p in points {
         if memory.borrow_mut().merit(&p).is_none() {
             break;
         }

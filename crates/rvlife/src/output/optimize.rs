@@ -58,7 +58,7 @@ fn row(p: &Problem, c: &Candidate) -> Vec<String> {
         c.index.to_string(),
         c.phase.clone(),
         c.status.text(),
-        c.point.feasible().to_string(),
+        c.feasible().to_string(),
     ];
     r.extend(p.variables.iter().zip(&c.values).map(|(v, x)| {
         if v.integer {
@@ -88,7 +88,7 @@ fn candidate_json(p: &Problem, c: &Candidate) -> Json {
         "candidate": c.index,
         "phase": c.phase,
         "status": c.status.text(),
-        "feasible": c.point.feasible(),
+        "feasible": c.feasible(),
         "values": p.variables.iter().zip(&c.values).map(|(v, x)| (v.key.clone(), json!(x))).collect::<serde_json::Map<_, _>>(),
         "goals": p.goals.iter().zip(&c.goals).map(|(g, x)| (g.name(), json!(x))).collect::<serde_json::Map<_, _>>(),
         "scores": p.goals.iter().zip(&c.scores).map(|(g, x)| (g.name(), json!(x))).collect::<serde_json::Map<_, _>>(),
@@ -233,7 +233,7 @@ fn report(dir: &Path, p: &Problem, o: &Outcome, follow: &FollowUp) -> Result<()>
     let mut best = f64::INFINITY;
     let mut conv = Vec::new();
     for c in &o.candidates {
-        if c.point.feasible() && c.point.objectives[0].is_finite() {
+        if c.feasible() && c.point.objectives[0].is_finite() {
             best = best.min(c.point.objectives[0]);
         }
         if best.is_finite() {
@@ -280,7 +280,7 @@ fn report(dir: &Path, p: &Problem, o: &Outcome, follow: &FollowUp) -> Result<()>
         let others: Vec<(f64, f64)> = o
             .candidates
             .iter()
-            .filter(|c| c.point.feasible() && !o.front.contains(&c.index))
+            .filter(|c| c.feasible() && !o.front.contains(&c.index))
             .filter_map(xy)
             .collect();
         if let Some(s) = o.start.and_then(|i| xy(&o.candidates[i])) {

@@ -31,10 +31,15 @@ fn single_goal_search_finds_a_quadratic_minimum() {
         evaluations: 150,
         seed: 7,
     };
-    let (x, m) = minimise(3, &settings, Some(&[0.5, 0.5, 0.5]), &mut |u, _| {
-        n += 1;
-        (n <= 150).then(|| plain(f(u)))
-    })
+    let (x, m) = minimise(
+        3,
+        &settings,
+        Some(&[0.5, 0.5, 0.5]),
+        &mut |u: &[f64], _: &str| {
+            n += 1;
+            (n <= 150).then(|| plain(f(u)))
+        },
+    )
     .unwrap();
     let err = x
         .iter()
@@ -69,7 +74,7 @@ fn single_goal_search_respects_a_constraint() {
         seed: 3,
     };
     let mut n = 0;
-    let (x, _) = minimise(3, &settings, None, &mut |u, _| {
+    let (x, _) = minimise(3, &settings, None, &mut |u: &[f64], _: &str| {
         n += 1;
         (n <= 150).then(|| f(u))
     })
@@ -131,7 +136,7 @@ fn nsga2_approaches_the_zdt1_front() {
         evaluations: 1200,
         seed: 11,
     };
-    nsga2(n, 2, 0, &settings, &mut |x, _| {
+    nsga2(n, 2, 0, &settings, &mut |x: &[f64], _: &str| {
         if points.len() >= 1200 {
             return None;
         }
@@ -243,4 +248,79 @@ fn candidates_out_of_range_are_refused_by_name() {
     ] {
         assert!(e.contains(want), "{want}: {e}");
     }
+}
+
+/// Evaluates a batch in order, at most `left` points in all, and records each batch's size
+/// and phase.
+struct Batches<F: FnMut(&[f64]) -> Point> {
+    f: F,
+    left: usize,
+    sizes: Vec<(usize, String)>,
+}
+
+impl<F: FnMut(&[f64]) -> Point> crate::optimize::search::Evaluator for Batches<F> {
+    fn one(&mut self, x: &[f64], phase: &str) -> Option<Point> {
+        self.many(&[x.to_vec()], phase).pop().flatten()
+    }
+    fn many(&mut self, xs: &[Vec<f64>], phase: &str) -> Vec<Option<Point>> {
+        self.sizes.push((xs.len(), phase.to_string()));
+        xs.iter()
+            .map(|x| {
+                self.left = self.left.checked_sub(1)?;
+                Some((self.f)(x))
+            })
+            .collect()
+    }
+}
+
+/// The searches ask for the points they know together (a cluster evaluates them at once):
+/// the Latin hypercube in one batch, each NSGA-II generation in one batch of its population;
+/// and batches change nothing: the same points in the same order as one at a time.
+#[test]
+fn searches_ask_for_known_points_together_and_find_the_same() {
+    let f = |x: &[f64]| plain((x[0] - 0.3).powi(2) + (x[1] - 0.6).powi(2));
+    let settings = Settings {
+        evaluations: 40,
+        seed: 3,
+    };
+    let mut order = Vec::new();
+    let one = minimise(2, &settings, None, &mut |x: &[f64], _: &str| {
+        order.push(x.to_vec());
+        (order.len() <= 40).then(|| f(x))
+    });
+    let mut seen = Vec::new();
+    let mut b = Batches {
+        f: |x: &[f64]| {
+            seen.push(x.to_vec());
+            f(x)
+        },
+        left: 40,
+        sizes: Vec::new(),
+    };
+    let batched = minimise(2, &settings, None, &mut b);
+    let sizes = b.sizes;
+    assert_eq!(one, batched);
+    let hyper = crate::optimize::search::hypercube_points(2, 40);
+    assert_eq!(sizes[0], (hyper, "hypercube".to_string()));
+    assert!(sizes[1..].iter().all(|s| s.0 == 1), "{sizes:?}");
+    assert_eq!(order[..seen.len()], seen[..]);
+
+    let two = |x: &[f64]| Point {
+        objectives: vec![x[0], 1.0 - x[0] + x[1]],
+        violations: vec![],
+    };
+    let settings = Settings {
+        evaluations: 48,
+        seed: 3,
+    };
+    let mut b = Batches {
+        f: two,
+        left: 48,
+        sizes: Vec::new(),
+    };
+    nsga2(2, 2, 0, &settings, &mut b).unwrap();
+    let pop = crate::optimize::pareto::population(48);
+    assert!(b.sizes.len() >= 2, "{:?}", b.sizes);
+    assert_eq!(b.sizes[0], (pop, "generation 0".to_string()));
+    assert!(b.sizes.iter().all(|s| s.0 <= pop), "{:?}", b.sizes);
 }
