@@ -27,6 +27,7 @@ const state = {
   tab: 'profile',
   study: null as null | { summary: any; verdict: string; files: string[] },
   montecarlo: null as null | any,
+  optimize: null as null | any,
 };
 
 // ---------------------------------------------------------------- status and progress
@@ -101,10 +102,10 @@ async function setText(text: string, rebuild: boolean) {
     if (row) { row.classList.add('bad'); row.querySelector('.msg')!.textContent = message; }
   }
   history.replaceState(null, '', `#config=${await encodeConfig(text)}`);
-  state.study = null; state.montecarlo = null;
+  state.study = null; state.montecarlo = null; state.optimize = null;
   document.body.dataset.configValid = String(state.valid);
   // The views whose results came from the previous config.
-  if (['profile', 'life', 'montecarlo'].includes(state.tab)) renderTab();
+  if (['profile', 'life', 'montecarlo', 'optimize'].includes(state.tab)) renderTab();
 }
 
 function valueText(v: unknown): string {
@@ -275,6 +276,14 @@ function fmt(v: number): string {
   return a !== 0 && (a < 1e-3 || a >= 1e6) ? v.toExponential(4) : Number(v.toPrecision(5)).toString();
 }
 
+/** A paragraph of explanation under a view's controls. */
+function noteOf(text: string): HTMLElement {
+  const p = document.createElement('p');
+  p.className = 'note';
+  p.textContent = text;
+  return p;
+}
+
 function chartBox(id: string): HTMLCanvasElement {
   const c = document.createElement('canvas');
   c.id = id;
@@ -298,6 +307,7 @@ const tabs: Record<string, { title: string; render: (panel: HTMLElement) => void
   dynamics: { title: 'Dynamics', render: renderDynamics },
   life: { title: 'Accuracy life', render: renderLife },
   montecarlo: { title: 'Monte Carlo', render: renderMonteCarlo },
+  optimize: { title: 'Design search', render: renderOptimize },
 };
 
 function buildTabs() {
@@ -380,12 +390,7 @@ function analysisView(panel: HTMLElement, spec: {
 }) {
   const out = document.createElement('div');
   const c = chartBox(spec.chart);
-  if (spec.note) {
-    const note = document.createElement('p');
-    note.className = 'note';
-    note.textContent = spec.note;
-    panel.append(note);
-  }
+  if (spec.note) panel.append(noteOf(spec.note));
   panel.append(form(spec.fields, spec.action, async (v) => {
     const [cmd, args] = spec.call(v);
     const r = await job(spec.label, (p) => jobs.call(cmd, [state.text, ...args], p));
@@ -544,9 +549,7 @@ function renderLife(panel: HTMLElement) {
     state.study = JSON.parse(r);
     show();
   };
-  const note = document.createElement('p');
-  note.className = 'note';
-  note.textContent = 'The study of rvlife run without dynamics and the FE disc: wear over the stages of [wear], the accuracy quantities at each, the accuracy life against [life].';
+  const note = noteOf('The study of rvlife run without dynamics and the FE disc: wear over the stages of [wear], the accuracy quantities at each, the accuracy life against [life].');
   panel.append(run, note, out);
   if (state.study) show();
 }
@@ -579,6 +582,94 @@ function renderMonteCarlo(panel: HTMLElement) {
     show();
   }), out);
   if (state.montecarlo) show();
+}
+
+/** The design search's inputs as the user last wrote them (the example's keys and spec). */
+const searchInputs: Record<string, string> = {
+  'opt-vary': 'cycloid.modification.equidistant_mm=0.005:0.03\ncycloid.modification.offset_mm=-0.01:0.02\nreducer.bearings.crank_disc_clearance_um=0:6',
+  'opt-objective': 'life',
+  'opt-constraints': 'lost_motion_arcmin<=1.0',
+  'opt-evaluations': '20',
+  'opt-seed': '1',
+};
+
+function renderOptimize(panel: HTMLElement) {
+  const out = document.createElement('div');
+  out.id = 'optimize-results';
+  const c = chartBox('chart-convergence');
+  const lines = (s: string) => s.split('\n').map((l) => l.trim()).filter(Boolean);
+  const show = () => {
+    const o = state.optimize;
+    const t = document.createElement('table');
+    t.className = 'numbers';
+    const head = t.insertRow();
+    for (const h of ['', 'base design', 'best design']) head.insertCell().textContent = h;
+    // The goals' names with their unit (the life and B10 in hours).
+    const label = (k: string) => (k === 'life' ? 'accuracy life, h' : k.startsWith('b10') ? `${k.toUpperCase()} life, h` : k);
+    const rows = (pick: (x: any) => Record<string, unknown> | undefined) => {
+      const keys = Object.keys(pick(o.best ?? o.start) ?? {});
+      for (const k of keys) {
+        const tr = t.insertRow();
+        tr.insertCell().textContent = label(k);
+        for (const x of [o.start, o.best]) {
+          const v = x ? pick(x)?.[k] : undefined;
+          const cell = tr.insertCell();
+          cell.textContent = typeof v === 'number' ? fmt(v) : v === null ? 'beyond the horizon' : '';
+          if (typeof v === 'number') cell.dataset.value = String(v);
+        }
+      }
+    };
+    rows((x) => x.values);
+    rows((x) => x.goals);
+    rows((x) => x.constraints);
+    const note = noteOf(o.best
+      ? `The best feasible design is candidate ${o.best.candidate} (${o.best.phase}); optimum.toml is the config with its values.`
+      : 'No candidate is feasible: widen the ranges or relax the constraints.');
+    const files: Record<string, string> = { 'candidates.csv': o.candidates_csv, 'pareto.csv': o.pareto_csv };
+    if (o.optimum_toml) files['optimum.toml'] = o.optimum_toml;
+    const load = document.createElement('button');
+    load.textContent = 'Load the best design into the editor';
+    load.id = 'load-optimum';
+    load.hidden = !o.optimum_toml;
+    load.onclick = async () => { $<HTMLSelectElement>('preset').value = ''; await setText(o.optimum_toml, true); };
+    out.replaceChildren(t, note, load, wrap(c), downloadList(files));
+    lineChart(c, [{ label: 'best feasible score so far', data: o.convergence.map(([x, y]: number[]) => ({ x, y })) }],
+      { x: 'candidates evaluated', y: 'score of the goal', title: 'Convergence of the search' });
+  };
+  const f = document.createElement('form');
+  f.className = 'args search';
+  const field = (id: string, label: string, multi: boolean) => {
+    const l = document.createElement('label');
+    const i = multi ? document.createElement('textarea') : document.createElement('input');
+    i.id = id; i.name = id; i.value = searchInputs[id];
+    if (i instanceof HTMLTextAreaElement) { i.rows = 3; i.cols = 60; } else i.size = 24;
+    i.oninput = () => { searchInputs[id] = i.value; };
+    l.append(`${label} `, i);
+    return l;
+  };
+  const b = document.createElement('button');
+  b.type = 'submit'; b.textContent = 'Search'; b.id = 'run-optimize';
+  f.append(
+    field('opt-vary', 'vary (KEY=LO:HI, one a line)', true),
+    field('opt-objective', 'goal (life, b10, [max:]QUANTITY[@STAGE])', false),
+    field('opt-constraints', 'constraints (QUANTITY<=VALUE, one a line)', true),
+    field('opt-evaluations', 'candidates', false),
+    field('opt-seed', 'seed', false),
+    b,
+  );
+  f.onsubmit = async (ev) => {
+    ev.preventDefault();
+    const v = searchInputs;
+    const args = [state.text, JSON.stringify(lines(v['opt-vary'])), v['opt-objective'].trim(),
+      JSON.stringify(lines(v['opt-constraints'])), Number(v['opt-evaluations']), Number(v['opt-seed'])];
+    const r = await job('Design search', (p) => jobs.call('optimize', args, p));
+    if (!r) return;
+    state.optimize = JSON.parse(r);
+    show();
+  };
+  const note = noteOf('rvlife optimize with one goal: the values of the varied keys, each within its range, that keep the reducer in spec longest (a Latin hypercube and a compass search here; the command line adds CMA-ES and Nelder-Mead, and the Pareto search of several goals), each candidate a study without dynamics and the FE disc. The ranges, goal, constraints and the whole search\'s work are checked before the first study.');
+  panel.append(note, f, out);
+  if (state.optimize) show();
 }
 
 // ---------------------------------------------------------------- start

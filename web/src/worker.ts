@@ -64,6 +64,8 @@ const commands: Record<string, (p: Progress, ...a: any[]) => unknown> = {
   },
   montecarlo: (p, text: string, samples: number, seed: number) =>
     rv.montecarlo(text, samples, BigInt(seed), p),
+  optimize: (p, text: string, vary: string, objective: string, constraints: string, evaluations: number,
+    seed: number) => rv.optimize(text, vary, objective, constraints, evaluations, BigInt(seed), p),
 };
 
 self.onmessage = async (ev: MessageEvent<Call>) => {

@@ -314,6 +314,32 @@ try {
   const mc = await page2.waitForSelector('#chart-reliability', { timeout: 300000 }).then(() => true, () => false);
   check('Monte Carlo cancels, then runs', cancelled && mc);
 
+  // The design search against `rvlife optimize`: one key, three candidates (the base and the
+  // Latin hypercube's two, which the page and the command line draw alike), the same
+  // candidates.csv within the module's libm.
+  await page2.click('button[data-tab="optimize"]');
+  await page2.fill('#opt-vary', 'reducer.bearings.crank_disc_clearance_um=0:6');
+  await page2.fill('#opt-evaluations', '3');
+  await page2.click('#run-optimize');
+  const searched = await page2.waitForSelector('#optimize-results table.numbers', { timeout: 300000 }).then(() => true, () => false);
+  let searchDetail = 'no results';
+  let searchOk = false;
+  if (searched) {
+    const [dc] = await Promise.all([page2.waitForEvent('download'), page2.click('button[data-file="candidates.csv"]')]);
+    const mine = path.join(tmp, 'page-candidates.csv');
+    await dc.saveAs(mine);
+    const optOut = path.join(tmp, 'optimize');
+    const cliOpt = spawnSync(bin, ['optimize', shared, '--vary', 'reducer.bearings.crank_disc_clearance_um=0:6', '--constraint', 'lost_motion_arcmin<=1.0', '--evaluations', '3', '--out', optOut], { encoding: 'utf8' });
+    const theirs = cliOpt.status === 0 ? fs.readFileSync(path.join(optOut, 'candidates.csv'), 'utf8') : '';
+    const nums = (s) => (s.match(/-?\d+\.\d+(e-?\d+)?/g) ?? []).map(Number);
+    const a = nums(fs.readFileSync(mine, 'utf8')), b = nums(theirs);
+    const w = a.length === b.length && a.length > 0 ? Math.max(...a.map((x, i) => Math.abs(x - b[i]) / Math.max(Math.abs(b[i]), 1e-6))) : Infinity;
+    const rows = theirs.trim().split('\n').length - 1;
+    searchOk = w <= 1e-6 && rows === 3;
+    searchDetail = `${rows} candidates, ${a.length} numbers, worst relative difference ${w.toExponential(2)}${cliOpt.status ? `; rvlife optimize exit ${cliOpt.status}: ${cliOpt.stderr.trim()}` : ''}`;
+  }
+  check('the design search\'s candidates equal rvlife optimize\'s', searchOk, searchDetail);
+
   check('no request outside the page\'s origin', outside.length === 0, outside.slice(0, 5).join(' '));
   check('no console error', consoleErrors.length === 0, consoleErrors.slice(0, 5).join(' | '));
 } finally {

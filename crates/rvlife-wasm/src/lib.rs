@@ -580,3 +580,71 @@ pub fn montecarlo(
         "horizon_h": m.life.horizon_h(&m.wear.stage_hours),
     }))
 }
+
+/// The design search (`rvlife optimize`, one goal: a Latin hypercube and a compass search in
+/// the browser) of the config `text`: `vary` a JSON list of `"KEY=LO:HI"` texts, `objective`
+/// the goal (`life`, `b10[:N]`, `[max:]QUANTITY[@STAGE]`), `constraints` a JSON list of
+/// `"Q<=V"` texts, at most `evaluations` candidates with `seed`, the config's own work budget.
+/// JSON `{candidates_csv, pareto_csv, optimum_toml, best, start, convergence}`: the command
+/// line's tables, the best design's config (`null`: none feasible), the best and base
+/// candidates (`{candidate, values, goals, scores, ...}` or `null`) and `[[evaluated, best
+/// score so far]]`.
+///
+/// # Errors
+/// The config's message; a range, goal, constraint or the search's work refused by name
+/// (`--vary`, `--objective`, `--constraint`, `--evaluations` or the key).
+#[wasm_bindgen]
+pub fn optimize(
+    text: &str,
+    vary: &str,
+    objective: &str,
+    constraints: &str,
+    evaluations: usize,
+    seed: u64,
+    progress: Option<js_sys::Function>,
+) -> Result<String, JsError> {
+    let list = |name: &str, json: &str| -> Result<Vec<String>, JsError> {
+        serde_json::from_str(json).map_err(|e| {
+            err(rvlife::Error::invalid(
+                name,
+                json,
+                format!("a JSON list of texts ({e})"),
+            ))
+        })
+    };
+    let budget = rvlife::config::Config::from_toml_in(text, "page", None)
+        .map_err(err)?
+        .work_budget_minutes;
+    let problem = rvlife::optimize::Problem::new(
+        text,
+        "page",
+        None,
+        budget,
+        &list("--vary", vary)?,
+        objective,
+        &list("--constraint", constraints)?,
+        rvlife::optimize::Settings { evaluations, seed },
+    )
+    .map_err(err)?;
+    let p = Progress(progress);
+    let outcome =
+        rvlife::optimize::run(&problem, &|d, t, _| p.call(d, t), &|| false).map_err(err)?;
+    let (candidates_csv, pareto_csv) =
+        rvlife::output::candidates::tables_csv(&problem, &outcome).map_err(err)?;
+    let optimum = outcome
+        .best
+        .map(|i| problem.text_of(&outcome.candidates[i].values, false))
+        .transpose()
+        .map_err(err)?;
+    let of = |i: Option<usize>| {
+        i.map(|i| rvlife::output::candidates::candidate_json(&problem, &outcome.candidates[i]))
+    };
+    to_json(&json!({
+        "candidates_csv": candidates_csv,
+        "pareto_csv": pareto_csv,
+        "optimum_toml": optimum,
+        "best": of(outcome.best),
+        "start": of(outcome.start),
+        "convergence": rvlife::output::candidates::convergence(&problem, &outcome),
+    }))
+}

@@ -201,11 +201,11 @@ struct Cost<'m, 'a, 'f>(&'m RefCell<Memory<'a, 'f>>);
 impl CostFunction for Cost<'_, '_, '_> {
     type Param = Vec<f64>;
     type Output = f64;
+    /// Once the evaluations are spent, the worst merit without an evaluation: argmin's
+    /// Nelder-Mead unwraps the costs of its first simplex, so an error there would panic; the
+    /// run then ends within its iteration limit, evaluating nothing more.
     fn cost(&self, x: &Vec<f64>) -> Result<f64, argmin::core::Error> {
-        self.0
-            .borrow_mut()
-            .merit(x)
-            .ok_or_else(|| argmin::core::Error::msg("the evaluations are spent"))
+        Ok(self.0.borrow_mut().merit(x).unwrap_or(FAILED_MERIT))
     }
 }
 
@@ -326,7 +326,8 @@ pub fn minimise(
         memory.borrow_mut().limit = usize::MAX;
         let mut step = FIRST_STEP;
         let mut round = 0;
-        while !memory.borrow().stopped && step >= LAST_STEP {
+        while !memory.borrow().stopped && step >= LAST_STEP && spent(&memory) < settings.evaluations
+        {
             let Some((_, best)) = memory.borrow().best.clone() else {
                 break;
             };
@@ -341,8 +342,8 @@ pub fn minimise(
             let solver = NelderMead::new(simplex)
                 .with_sd_tolerance(SD_TOLERANCE)
                 .expect("a non-negative tolerance");
-            // Ends when the simplex settles, after 50 d steps, or when the evaluations are spent
-            // (the cost's error).
+            // Ends when the simplex settles or after 50 d steps (once the evaluations are spent
+            // its costs are the worst merit and nothing more is evaluated).
             let _ = Executor::new(Cost(&memory), solver)
                 .configure(|s| s.max_iters(50 * dim as u64))
                 .run();

@@ -16,6 +16,7 @@
 
 #[cfg(feature = "files")]
 pub mod calibration;
+pub mod candidates;
 pub mod efficiency;
 pub mod export;
 #[cfg(feature = "files")]

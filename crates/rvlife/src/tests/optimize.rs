@@ -324,3 +324,34 @@ fn searches_ask_for_known_points_together_and_find_the_same() {
     assert_eq!(b.sizes[0], (pop, "generation 0".to_string()));
     assert!(b.sizes.iter().all(|s| s.0 <= pop), "{:?}", b.sizes);
 }
+
+/// Every budget of evaluations, however small against the phases, ends the search without a
+/// panic and with exactly that many evaluations (argmin's Nelder-Mead unwraps the costs of its
+/// first simplex: a search whose evaluations ran out there panicked).
+#[test]
+fn every_small_budget_is_spent_exactly() {
+    for dim in 1..=3 {
+        for evaluations in 2..=16 {
+            let settings = Settings {
+                evaluations,
+                seed: 2,
+            };
+            let mut n = 0;
+            let found = minimise(
+                dim,
+                &settings,
+                Some(&vec![0.5; dim]),
+                &mut |u: &[f64], _: &str| {
+                    n += 1;
+                    (n <= evaluations).then(|| plain(u.iter().map(|x| (x - 0.2).powi(2)).sum()))
+                },
+            );
+            assert!(found.is_some());
+            assert_eq!(
+                n.min(evaluations),
+                evaluations,
+                "dim {dim}, {evaluations} evaluations"
+            );
+        }
+    }
+}
