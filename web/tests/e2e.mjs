@@ -63,6 +63,15 @@ class Worst {
   }
 }
 
+// The numbers of two texts with decimals, in order: how many, and the worst difference
+// relative to the second's (floor 1e-6); Infinity when their counts differ.
+function numbersDiffer(mine, theirs) {
+  const nums = (s) => (s.match(/-?\d+\.\d+(e-?\d+)?/g) ?? []).map(Number);
+  const a = nums(mine), b = nums(theirs);
+  const worst = a.length === b.length ? Math.max(...a.map((x, i) => Math.abs(x - b[i]) / Math.max(Math.abs(b[i]), 1e-6))) : Infinity;
+  return { count: a.length, worst };
+}
+
 if (!fs.existsSync(path.join(dist, 'index.html'))) throw new Error('web/dist missing: run scripts/web first');
 if (!fs.existsSync(bin)) throw new Error(`no rvlife binary at ${bin} (set RVLIFE_BIN)`);
 
@@ -201,10 +210,8 @@ try {
       check(`download ${name} equals rvlife run's`, same && w.ok() && text.length === 0, detail);
     } else if (!sameBytes) {
       // Numbers may differ in their last printed digit (parallel sums on two cores, one in the page).
-      const nums = (s) => (s.match(/-?\d+\.\d+(e-?\d+)?/g) ?? []).map(Number);
-      const a = nums(mine), b = nums(theirs);
-      const w = a.length === b.length ? Math.max(...a.map((x, i) => Math.abs(x - b[i]) / Math.max(Math.abs(b[i]), 1e-6))) : Infinity;
-      detail = `${a.length} numbers, worst relative difference ${w.toExponential(2)}`;
+      const { count, worst: w } = numbersDiffer(mine, theirs);
+      detail = `${count} numbers, worst relative difference ${w.toExponential(2)}`;
       check(`download ${name} equals rvlife run's`, w <= 1e-7 || (name.endsWith('.csv') && w <= 1e-6), detail);
     } else check(`download ${name} equals rvlife run's`, true, detail);
   }
@@ -331,12 +338,10 @@ try {
     const optOut = path.join(tmp, 'optimize');
     const cliOpt = spawnSync(bin, ['optimize', shared, '--vary', 'reducer.bearings.crank_disc_clearance_um=0:6', '--constraint', 'lost_motion_arcmin<=1.0', '--evaluations', '3', '--out', optOut], { encoding: 'utf8' });
     const theirs = cliOpt.status === 0 ? fs.readFileSync(path.join(optOut, 'candidates.csv'), 'utf8') : '';
-    const nums = (s) => (s.match(/-?\d+\.\d+(e-?\d+)?/g) ?? []).map(Number);
-    const a = nums(fs.readFileSync(mine, 'utf8')), b = nums(theirs);
-    const w = a.length === b.length && a.length > 0 ? Math.max(...a.map((x, i) => Math.abs(x - b[i]) / Math.max(Math.abs(b[i]), 1e-6))) : Infinity;
+    const { count, worst: w } = numbersDiffer(fs.readFileSync(mine, 'utf8'), theirs);
     const rows = theirs.trim().split('\n').length - 1;
-    searchOk = w <= 1e-6 && rows === 3;
-    searchDetail = `${rows} candidates, ${a.length} numbers, worst relative difference ${w.toExponential(2)}${cliOpt.status ? `; rvlife optimize exit ${cliOpt.status}: ${cliOpt.stderr.trim()}` : ''}`;
+    searchOk = count > 0 && w <= 1e-6 && rows === 3;
+    searchDetail = `${rows} candidates, ${count} numbers, worst relative difference ${w.toExponential(2)}${cliOpt.status ? `; rvlife optimize exit ${cliOpt.status}: ${cliOpt.stderr.trim()}` : ''}`;
   }
   check('the design search\'s candidates equal rvlife optimize\'s', searchOk, searchDetail);
 

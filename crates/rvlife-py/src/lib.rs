@@ -679,7 +679,7 @@ fn is_hysteresis_curve(csv: &str) -> bool {
 /// constraints and settings, validated); with `out`, also the command line's files (after the
 /// follow-up studies of the report); with `batch`, a callable given the jobs the search asks
 /// for together (`[(unit point, index, phase)]`) that returns their candidates as JSON texts
-/// in that order ([`optimize_candidate`]'s, on a cluster's workers). Returns
+/// in that order ([`OptimizeProblem::evaluate`]'s, on a cluster's workers). Returns
 /// `{"candidates_csv", "pareto_csv", "optimum_toml", "best", "start", "stopped"}` (`best`,
 /// `start`: row indices).
 #[pyfunction]
@@ -729,7 +729,7 @@ fn optimize(
                 .map_err(py_err)?;
         }
         let (candidates, front) =
-            rvlife::output::optimize::tables_csv(problem, &outcome).map_err(py_err)?;
+            rvlife::output::candidates::tables_csv(problem, &outcome).map_err(py_err)?;
         let optimum = outcome
             .best
             .map(|i| problem.text_of(&outcome.candidates[i].values, false))

@@ -237,6 +237,8 @@ def _candidate_task(problem: tuple, unit: List[float], index: int, phase: str) -
     process (its validation is not repeated for each candidate)."""
     p = _PROBLEMS.get(problem)
     if p is None:
+        if len(_PROBLEMS) >= 4:
+            _PROBLEMS.clear()  # a long-lived worker keeps only the last few searches' problems
         p = _PROBLEMS[problem] = _rvlife.OptimizeProblem(*problem)
     return str(p.evaluate(unit, index, phase))
 

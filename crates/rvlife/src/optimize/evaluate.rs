@@ -139,9 +139,12 @@ pub fn evaluate(problem: &Problem, u: &[f64], index: usize, phase: &str) -> Cand
     } else {
         None
     };
+    let hours: Vec<f64> = study
+        .iter()
+        .flat_map(|st| st.stages.iter().map(|s| s.hours))
+        .collect();
     let at = |q: &crate::quantities::Quantity, at: &StageAt| {
         let study = study.as_ref()?;
-        let hours: Vec<f64> = study.stages.iter().map(|s| s.hours).collect();
         at.index(&hours)
             .and_then(|i| study.stages[i].summary.value(q).number())
     };

@@ -297,7 +297,8 @@ impl Problem {
         }
         // The candidates, then the follow-up (docs/model.md section 19.5): the sensitivity's
         // two candidates per key and the best and base designs' studies.
-        let follow = 2.0 * p.variables.len() as f64 * work + 2.0 * p.study_work(&p.base);
+        let (base_wear, base_stages) = crate::study::study_work(&p.base);
+        let follow = 2.0 * p.variables.len() as f64 * work + 2.0 * (base_wear + base_stages);
         let total = work * p.settings.evaluations as f64 + follow;
         let budget = crate::budget::solves_in_minutes(budget_min);
         if total > budget {
@@ -324,18 +325,12 @@ impl Problem {
         !self.constraints.is_empty() || self.goals.iter().any(|g| !matches!(g, Goal::B10 { .. }))
     }
 
-    /// The estimated work of one study of `model` (static solves, [`crate::budget`]).
-    fn study_work(&self, model: &Model) -> f64 {
-        let (w, s) = crate::study::study_work(model);
-        w + s
-    }
-
     /// The estimated work of one candidate (static solves, [`crate::budget`]): its study's
     /// when it needs one ([`Self::needs_study`]), and with a B10 goal its Monte Carlo's (the
     /// nominal wear, then per sample its points at the Monte Carlo's crank angles, as
     /// `rvlife montecarlo` counts them).
     fn candidate_work(&self, model: &Model) -> f64 {
-        let (wear, _) = crate::study::study_work(model);
+        let (wear, stages) = crate::study::study_work(model);
         let (points, _) = crate::montecarlo::life_points(model);
         let per_sample = points as f64
             * crate::montecarlo::DEFAULT_SAMPLES_PER_MESH_CYCLE as f64
@@ -349,7 +344,7 @@ impl Problem {
             })
             .sum();
         let study = if self.needs_study() {
-            self.study_work(model)
+            wear + stages
         } else {
             0.0
         };

@@ -15,7 +15,7 @@ use moors::{
 use ndarray::Array2;
 
 use super::point::{Point, Settings};
-use super::search::Evaluate;
+use super::search::{bits, unseen, Evaluate};
 use crate::error::{Error, Result};
 
 /// What a population's goals and constraints were, by the genes' bits.
@@ -35,13 +35,17 @@ impl Memory<'_, '_> {
         if self.stopped {
             return;
         }
-        let mut fresh: Vec<(Vec<u64>, Vec<f64>)> = Vec::new();
-        for row in genes.rows() {
-            let key: Vec<u64> = row.iter().map(|v| v.to_bits()).collect();
-            if !self.seen.contains_key(&key) && !fresh.iter().any(|f| f.0 == key) {
-                fresh.push((key, row.iter().map(|v| v.clamp(0.0, 1.0)).collect()));
-            }
-        }
+        // Keyed by the genes, evaluated on the box (as `point` does).
+        let fresh = unseen(
+            genes.rows().into_iter().map(|row| {
+                let genes = row.to_vec();
+                (
+                    bits(&genes),
+                    genes.iter().map(|v| v.clamp(0.0, 1.0)).collect(),
+                )
+            }),
+            &self.seen,
+        );
         let phase = format!("generation {}", self.generation);
         let points: Vec<Vec<f64>> = fresh.iter().map(|f| f.1.clone()).collect();
         let got = self.evaluate.many(&points, &phase);
@@ -71,7 +75,7 @@ impl Memory<'_, '_> {
     /// The point of `genes` (evaluated once); a worst, infeasible point once the evaluations
     /// are spent.
     fn point(&mut self, genes: &[f64]) -> Point {
-        let key: Vec<u64> = genes.iter().map(|v| v.to_bits()).collect();
+        let key = bits(genes);
         if let Some(p) = self.seen.get(&key) {
             return p.clone();
         }

@@ -93,6 +93,26 @@ impl<F: FnMut(&[f64], &str) -> Option<Point>> Evaluator for F {
 /// The evaluator a search is given.
 pub type Evaluate<'a> = dyn Evaluator + 'a;
 
+/// The bits of `x`, by which the searches remember the points they evaluated.
+pub(super) fn bits(x: &[f64]) -> Vec<u64> {
+    x.iter().map(|v| v.to_bits()).collect()
+}
+
+/// Those of `items` (`(key, point)`) whose key `seen` does not hold, each key once, in order:
+/// what a batch has to evaluate.
+pub(super) fn unseen<V>(
+    items: impl IntoIterator<Item = (Vec<u64>, Vec<f64>)>,
+    seen: &HashMap<Vec<u64>, V>,
+) -> Vec<(Vec<u64>, Vec<f64>)> {
+    let mut fresh: Vec<(Vec<u64>, Vec<f64>)> = Vec::new();
+    for (key, x) in items {
+        if !seen.contains_key(&key) && !fresh.iter().any(|f| f.0 == key) {
+            fresh.push((key, x));
+        }
+    }
+    fresh
+}
+
 /// Points of the Latin hypercube of a `dim`-key search with `evaluations` in all: `4 + 2 dim`,
 /// at most a third of the evaluations (at least 2).
 pub fn hypercube_points(dim: usize, evaluations: usize) -> usize {
@@ -135,7 +155,7 @@ impl Memory<'_, '_> {
             .map(|(a, b)| (a - b) * (a - b))
             .sum::<f64>()
             .sqrt();
-        let key: Vec<u64> = p.iter().map(|v| v.to_bits()).collect();
+        let key = bits(&p);
         let m = match self.seen.get(&key) {
             Some(m) => *m,
             None => {
@@ -166,13 +186,7 @@ impl Memory<'_, '_> {
     /// Evaluates together those of `xs` (in the box) not seen yet, as many as the phase
     /// allows, in order: [`Self::merit`] then finds them recorded.
     fn prefetch(&mut self, xs: &[Vec<f64>]) {
-        let mut fresh: Vec<(Vec<u64>, Vec<f64>)> = Vec::new();
-        for x in xs {
-            let key: Vec<u64> = x.iter().map(|v| v.to_bits()).collect();
-            if !self.seen.contains_key(&key) && !fresh.iter().any(|f| f.0 == key) {
-                fresh.push((key, x.clone()));
-            }
-        }
+        let mut fresh = unseen(xs.iter().map(|x| (bits(x), x.clone())), &self.seen);
         fresh.truncate(self.limit.saturating_sub(self.seen.len()));
         if self.stopped || fresh.is_empty() {
             return;

@@ -19,8 +19,7 @@ use std::path::Path;
 
 use serde_json::json;
 
-pub use super::candidates::tables_csv;
-use super::candidates::{candidate_json, goal_columns, row};
+use super::candidates::{candidate_json, goal_columns, row, tables_csv};
 use super::html::{esc, inline_svg, page_head};
 use super::write_json;
 use crate::error::{Error, Result};
