@@ -12,6 +12,8 @@ export type Series = {
   dash?: number[];
   color?: string;
   points?: boolean;
+  /** Joined by a line (default); false: markers alone (a cloud of candidates). */
+  line?: boolean;
 };
 
 export type Axes = { x: string; y: string; title?: string; equal?: boolean; zoom?: boolean };
@@ -43,10 +45,9 @@ export function lineChart(canvas: HTMLCanvasElement, series: Series[], axes: Axe
         backgroundColor: s.color ?? COLOURS[i % COLOURS.length],
         borderDash: s.dash ?? [],
         borderWidth: 1.5,
-        pointRadius: s.points ? 3 : 0,
-        showLine: true,
+        pointRadius: s.line === false ? 5 : s.points ? 3 : 0,
+        showLine: s.line ?? true,
         tension: 0,
-        parsing: false,
       })),
     },
     options: {

@@ -426,10 +426,19 @@ function renderTe(panel: HTMLElement) {
     ],
     call: (v) => ['te', [v.hours || undefined, v.torque]],
     show: (x, out, c) => {
-      out.replaceChildren(numbers(x, ['max_wear_um', 'te_mean_arcmin', 'te_peak_to_peak_arcmin', 'backlash_arcmin', 'lost_motion_arcmin', 'angular_te_arcmin', 'torsional_stiffness_nm_per_arcmin']));
-      const s: Series[] = [{ label: 'static TE (forward)', data: curve(x.input_deg, x.te_arcmin) }];
-      if (x.loaded) s.push({ label: `loaded TE at ${x.loaded.torque_nm} N m`, data: curve(x.input_deg, x.loaded.loaded_te_arcmin), dash: [6, 3] });
-      lineChart(c, s, { x: 'input angle, deg (one mesh cycle)', y: 'TE, arcmin', title: 'Transmission error' });
+      out.replaceChildren(numbers(x, ['max_wear_um', 'te_mean_arcmin', 'te_peak_to_peak_arcmin', 'loaded_te_mean_arcmin', 'loaded_te_peak_to_peak_arcmin', 'backlash_arcmin', 'lost_motion_arcmin', 'angular_te_arcmin', 'torsional_stiffness_nm_per_arcmin']));
+      // The curves run over the output revolution at samples_per_mesh_cycle points a mesh
+      // cycle: the first mesh cycle (its last point the next one's first), then the whole.
+      const series = (n: number): Series[] => {
+        const cut = (a: number[]) => a.slice(0, n);
+        const s: Series[] = [{ label: 'static TE (forward)', data: curve(cut(x.input_deg), cut(x.te_arcmin)) }];
+        if (x.loaded_te_arcmin) s.push({ label: `loaded TE at ${x.torque_nm} N m`, data: curve(cut(x.input_deg), cut(x.loaded_te_arcmin)), dash: [6, 3] });
+        return s;
+      };
+      lineChart(c, series(x.samples_per_mesh_cycle + 1), { x: 'input angle, deg', y: 'TE, arcmin', title: 'Transmission error over one mesh cycle' });
+      const whole = chartBox('chart-te-revolution');
+      out.append(wrap(whole));
+      lineChart(whole, series(x.input_deg.length), { x: 'input angle, deg', y: 'TE, arcmin', title: 'Transmission error over the output revolution (angular TE)' });
     },
   });
 }
@@ -584,6 +593,12 @@ function renderMonteCarlo(panel: HTMLElement) {
   if (state.montecarlo) show();
 }
 
+/** One plot of the design search's report (rvlife::output::candidates::Plot). */
+type SearchPlot = {
+  stem: string; title: string; x_label: string; y_label: string; against_hours: boolean; caption: string;
+  curves: { name: string; points: [number, number][]; joined: boolean }[];
+};
+
 /** The design search's inputs as the user last wrote them (the example's keys and spec). */
 const searchInputs: Record<string, string> = {
   'opt-vary': 'cycloid.modification.equidistant_mm=0.005:0.03\ncycloid.modification.offset_mm=-0.01:0.02\nreducer.bearings.crank_disc_clearance_um=0:6',
@@ -596,7 +611,6 @@ const searchInputs: Record<string, string> = {
 function renderOptimize(panel: HTMLElement) {
   const out = document.createElement('div');
   out.id = 'optimize-results';
-  const c = chartBox('chart-convergence');
   const lines = (s: string) => s.split('\n').map((l) => l.trim()).filter(Boolean);
   const show = () => {
     const o = state.optimize;
@@ -622,8 +636,9 @@ function renderOptimize(panel: HTMLElement) {
     rows((x) => x.values);
     rows((x) => x.goals);
     rows((x) => x.constraints);
+    const front = o.front.length > 1 ? ` The Pareto front holds ${o.front.length} designs (pareto.csv).` : '';
     const note = noteOf(o.best
-      ? `The best feasible design is candidate ${o.best.candidate} (${o.best.phase}); optimum.toml is the config with its values.`
+      ? `The best feasible design is candidate ${o.best.candidate} (${o.best.phase}); optimum.toml is the config with its values.${front}`
       : 'No candidate is feasible: widen the ranges or relax the constraints.');
     const files: Record<string, string> = { 'candidates.csv': o.candidates_csv, 'pareto.csv': o.pareto_csv };
     if (o.optimum_toml) files['optimum.toml'] = o.optimum_toml;
@@ -632,9 +647,17 @@ function renderOptimize(panel: HTMLElement) {
     load.id = 'load-optimum';
     load.hidden = !o.optimum_toml;
     load.onclick = async () => { $<HTMLSelectElement>('preset').value = ''; await setText(o.optimum_toml, true); };
-    out.replaceChildren(t, note, load, wrap(c), downloadList(files));
-    lineChart(c, [{ label: 'best feasible score so far', data: o.convergence.map(([x, y]: number[]) => ({ x, y })) }],
-      { x: 'candidates evaluated', y: 'score of the goal', title: 'Convergence of the search' });
+    // The report's plots, as the library declares them (rvlife::output::candidates::plots).
+    const charts: [SearchPlot, HTMLCanvasElement][] = (o.plots as SearchPlot[]).map((p) => {
+      const c = chartBox(`chart-${p.stem}`);
+      c.setAttribute('aria-label', p.caption);
+      return [p, c];
+    });
+    out.replaceChildren(t, note, load, ...charts.map(([, c]) => wrap(c)), downloadList(files));
+    for (const [p, c] of charts) {
+      lineChart(c, p.curves.map((k) => ({ label: k.name, data: k.points.map(([x, y]) => ({ x, y })), line: k.joined, points: true })),
+        { x: p.x_label, y: p.y_label, title: p.title });
+    }
   };
   const f = document.createElement('form');
   f.className = 'args search';
@@ -651,7 +674,7 @@ function renderOptimize(panel: HTMLElement) {
   b.type = 'submit'; b.textContent = 'Search'; b.id = 'run-optimize';
   f.append(
     field('opt-vary', 'vary (KEY=LO:HI, one a line)', true),
-    field('opt-objective', 'goal (life, b10, [max:]QUANTITY[@STAGE])', false),
+    field('opt-objective', 'goals (life, b10, [max:]QUANTITY[@STAGE]; two or more, comma-separated: a Pareto front)', false),
     field('opt-constraints', 'constraints (QUANTITY<=VALUE, one a line)', true),
     field('opt-evaluations', 'candidates', false),
     field('opt-seed', 'seed', false),
@@ -667,7 +690,7 @@ function renderOptimize(panel: HTMLElement) {
     state.optimize = JSON.parse(r);
     show();
   };
-  const note = noteOf('rvlife optimize with one goal: the values of the varied keys, each within its range, that keep the reducer in spec longest (a Latin hypercube and a compass search here; the command line adds CMA-ES and Nelder-Mead, and the Pareto search of several goals), each candidate a study without dynamics and the FE disc. The ranges, goal, constraints and the whole search\'s work are checked before the first study.');
+  const note = noteOf('rvlife optimize: the values of the varied keys, each within its range, that keep the reducer in spec longest (one goal: a Latin hypercube, CMA-ES, a compass search and Nelder-Mead), or the Pareto front of several goals (NSGA-II), each candidate a study without dynamics and the FE disc; then the best and base designs\' accuracy against hours and the sensitivity at the best. The same candidates as the command line. The ranges, goals, constraints and the whole search\'s work are checked before the first study.');
   panel.append(note, f, out);
   if (state.optimize) show();
 }

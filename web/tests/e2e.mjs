@@ -238,6 +238,43 @@ try {
   const meanRel = Math.max(dDiffs[0], dDiffs[2]);
   const extremeRel = Math.max(dDiffs[1], dDiffs[3]);
   check('the page\'s DTE equals rvlife dynamics --json (mean and RMS within the integrator\'s tolerance 2e-4, extremes within the peaks\' uncertainty 0.5 %)', meanRel <= 2e-4 && extremeRel <= 5e-3, `mean and RMS ${meanRel.toExponential(2)}, extremes ${extremeRel.toExponential(2)}; ${dte.steps} steps against ${refDyn.steps}`);
+  // Every point of a chart is drawn (Chart.js draws only a range of points it believes sorted
+  // by x; a hysteresis loop and a closed outline are not).
+  const drawnWhole = (id) => page.$eval(`#${id}`, (c) => c.chart.data.datasets.map((d, i) => {
+    const m = c.chart.getDatasetMeta(i);
+    return [m.controller._drawCount ?? m.data.length, m.data.length];
+  }));
+  // The hysteresis view: the whole loop (0 -> +rated -> -rated -> +rated) drawn, its numbers
+  // the command line's.
+  await page.click('button[data-tab="hysteresis"]');
+  await page.click('#run-hysteresis');
+  await page.waitForSelector('#panel table.numbers', { timeout: 300000 });
+  await page.waitForFunction(() => document.querySelector('#chart-hysteresis')?.chart);
+  const loop = await drawnWhole('chart-hysteresis');
+  const torques = await page.$eval('#chart-hysteresis', (c) => c.chart.data.datasets[0].data.map((p) => p.x));
+  const hyst = await page.$$eval('#panel table.numbers td[data-value]', (tds) => Object.fromEntries(tds.map((td) => [td.previousElementSibling.textContent, Number(td.dataset.value)])));
+  const cliHyst = JSON.parse(spawnSync(bin, ['hysteresis', exported, '--levels', '21', '--crank-deg', '0', '--json'], { encoding: 'utf8', maxBuffer: 1 << 28 }).stdout || '{}');
+  const hKeys = ['lost_motion_arcmin', 'backlash_arcmin', 'hysteresis_loss_arcmin', 'torsional_stiffness_nm_per_arcmin'];
+  const hRel = Math.max(...hKeys.map((k) => Math.abs(hyst[k] - cliHyst[k]) / Math.max(Math.abs(cliHyst[k]), 1e-6)));
+  check('the hysteresis loop is drawn whole (both torque signs) and equals rvlife hysteresis --json',
+    loop.every(([n, all]) => n === all) && Math.min(...torques) < 0 && Math.max(...torques) > 0 && hRel <= 1e-7,
+    `${loop.map(([n, all]) => `${n} of ${all}`).join(', ')} points drawn; torque ${Math.min(...torques)} to ${Math.max(...torques)} N m; worst relative difference ${hRel.toExponential(2)}`);
+  // The TE view: the static and the loaded TE over one mesh cycle and over the revolution,
+  // its numbers the command line's.
+  await page.click('button[data-tab="te"]');
+  await page.click('#run-te');
+  await page.waitForSelector('#chart-te-revolution', { timeout: 300000 });
+  await page.waitForFunction(() => document.querySelector('#chart-te-revolution')?.chart);
+  const teNums = await page.$$eval('#panel table.numbers td[data-value]', (tds) => Object.fromEntries(tds.map((td) => [td.previousElementSibling.textContent, Number(td.dataset.value)])));
+  const cliTe = JSON.parse(spawnSync(bin, ['te', exported, '--torque-nm', '412', '--json'], { encoding: 'utf8', maxBuffer: 1 << 28 }).stdout || '{}');
+  const tKeys = ['te_mean_arcmin', 'te_peak_to_peak_arcmin', 'loaded_te_mean_arcmin', 'loaded_te_peak_to_peak_arcmin', 'angular_te_arcmin'];
+  const tRel = Math.max(...tKeys.map((k) => Math.abs(teNums[k] - cliTe[k]) / Math.max(Math.abs(cliTe[k]), 1e-6)));
+  const cycle = await page.$eval('#chart-te', (c) => c.chart.data.datasets.map((d) => `${d.label}: ${d.data.length}`));
+  const revolution = await page.$eval('#chart-te-revolution', (c) => c.chart.data.datasets.map((d) => `${d.label}: ${d.data.length}`));
+  const spm = cliTe.samples_per_mesh_cycle;
+  check('the TE view shows the static and the loaded TE over a mesh cycle and the revolution, equal to rvlife te --json',
+    cycle.length === 2 && cycle.every((c) => c.endsWith(`: ${spm + 1}`)) && revolution.length === 2 && revolution.every((c) => c.endsWith(`: ${cliTe.input_deg?.length}`)) && tRel <= 1e-7,
+    `mesh cycle [${cycle.join('; ')}], revolution [${revolution.join('; ')}]; worst relative difference ${tRel.toExponential(2)}`);
   await page.click('button[data-tab="life"]');
   await page.waitForSelector('#verdict');
   await page.waitForFunction(() => document.querySelector('#chart-lost_motion_arcmin')?.chart);
@@ -321,29 +358,53 @@ try {
   const mc = await page2.waitForSelector('#chart-reliability', { timeout: 300000 }).then(() => true, () => false);
   check('Monte Carlo cancels, then runs', cancelled && mc);
 
-  // The design search against `rvlife optimize`: one key, three candidates (the base and the
-  // Latin hypercube's two, which the page and the command line draw alike), the same
-  // candidates.csv within the module's libm.
+  // The design search against `rvlife optimize` on a lighter config (three stages, nine
+  // crank steps, eight TE angles), imported into the page: one key and 26 candidates (the
+  // base, the Latin hypercube, CMA-ES, the compass search and Nelder-Mead), then two goals
+  // and 16 candidates (NSGA-II: two generations); the same candidates.csv and pareto.csv
+  // within the module's libm, and the report's plots drawn.
+  const light = path.join(tmp, 'light.toml');
+  fs.writeFileSync(light, fs.readFileSync(shared, 'utf8')
+    .replace(/^stage_hours = .*$/m, 'stage_hours = [0.0, 3750.0, 7500.0]')
+    .replace(/^crank_steps_per_mesh_cycle = \d+/m, 'crank_steps_per_mesh_cycle = 9')
+    .replace(/^samples_per_mesh_cycle = \d+/m, 'samples_per_mesh_cycle = 8'));
+  await page2.setInputFiles('#import-file', light);
+  await page2.waitForFunction(() => document.querySelector('#preset').value === '');
+  await page2.waitForSelector('body[data-config-valid="true"]');
   await page2.click('button[data-tab="optimize"]');
-  await page2.fill('#opt-vary', 'reducer.bearings.crank_disc_clearance_um=0:6');
-  await page2.fill('#opt-evaluations', '3');
-  await page2.click('#run-optimize');
-  const searched = await page2.waitForSelector('#optimize-results table.numbers', { timeout: 300000 }).then(() => true, () => false);
-  let searchDetail = 'no results';
-  let searchOk = false;
-  if (searched) {
-    const [dc] = await Promise.all([page2.waitForEvent('download'), page2.click('button[data-file="candidates.csv"]')]);
-    const mine = path.join(tmp, 'page-candidates.csv');
-    await dc.saveAs(mine);
-    const optOut = path.join(tmp, 'optimize');
-    const cliOpt = spawnSync(bin, ['optimize', shared, '--vary', 'reducer.bearings.crank_disc_clearance_um=0:6', '--constraint', 'lost_motion_arcmin<=1.0', '--evaluations', '3', '--out', optOut], { encoding: 'utf8' });
-    const theirs = cliOpt.status === 0 ? fs.readFileSync(path.join(optOut, 'candidates.csv'), 'utf8') : '';
-    const { count, worst: w } = numbersDiffer(fs.readFileSync(mine, 'utf8'), theirs);
-    const rows = theirs.trim().split('\n').length - 1;
-    searchOk = count > 0 && w <= 1e-6 && rows === 3;
-    searchDetail = `${rows} candidates, ${count} numbers, worst relative difference ${w.toExponential(2)}${cliOpt.status ? `; rvlife optimize exit ${cliOpt.status}: ${cliOpt.stderr.trim()}` : ''}`;
-  }
-  check('the design search\'s candidates equal rvlife optimize\'s', searchOk, searchDetail);
+  const vary = 'reducer.bearings.crank_disc_clearance_um=0:6';
+  const search = async (name, objective, constraint, evaluations, plots) => {
+    await page2.fill('#opt-vary', vary);
+    await page2.fill('#opt-objective', objective);
+    await page2.fill('#opt-constraints', constraint ?? '');
+    await page2.fill('#opt-evaluations', String(evaluations));
+    await page2.evaluate(() => document.querySelector('#optimize-results')?.replaceChildren());
+    await page2.click('#run-optimize');
+    const done = await page2.waitForSelector('#optimize-results table.numbers', { timeout: 600000 }).then(() => true, () => false);
+    if (!done) { check(name, false, 'no results'); return; }
+    const args = ['optimize', light, '--vary', vary, '--objective', objective, '--evaluations', String(evaluations), '--out', path.join(tmp, name)];
+    if (constraint) args.push('--constraint', constraint);
+    const cli = spawnSync(bin, args, { encoding: 'utf8' });
+    let count = 0; let w = 0; let rows = 0; let phases = '';
+    for (const file of ['candidates.csv', 'pareto.csv']) {
+      const [dl] = await Promise.all([page2.waitForEvent('download'), page2.click(`button[data-file="${file}"]`)]);
+      const mine = path.join(tmp, `page-${name}-${file}`);
+      await dl.saveAs(mine);
+      const theirs = cli.status === 0 ? fs.readFileSync(path.join(tmp, name, file), 'utf8') : '';
+      const d = numbersDiffer(fs.readFileSync(mine, 'utf8'), theirs);
+      count += d.count; w = Math.max(w, d.worst);
+      if (file === 'candidates.csv') {
+        const body = theirs.trim().split('\n').slice(1);
+        rows = body.length;
+        phases = [...new Set(body.map((r) => r.split(',')[1].replace(/ \d+$/, '')))].join(' ');
+      }
+    }
+    const drawn = await page2.evaluate((ids) => ids.filter((id) => !document.getElementById(`chart-${id}`)), plots);
+    check(name, count > 0 && w <= 1e-6 && rows === evaluations && drawn.length === 0,
+      `${rows} candidates (${phases}), ${count} numbers, worst relative difference ${w.toExponential(2)}${drawn.length ? `; plots missing: ${drawn.join(' ')}` : ''}${cli.status ? `; rvlife optimize exit ${cli.status}: ${cli.stderr.trim()}` : ''}`);
+  };
+  await search('the design search (one goal) equals rvlife optimize', 'life', 'lost_motion_arcmin<=1.0', 26, ['convergence', 'accuracy', 'sensitivity']);
+  await search('the Pareto search equals rvlife optimize', 'life,max_pressure_mpa', '', 16, ['convergence', 'pareto', 'accuracy', 'sensitivity']);
 
   check('no request outside the page\'s origin', outside.length === 0, outside.slice(0, 5).join(' '));
   check('no console error', consoleErrors.length === 0, consoleErrors.slice(0, 5).join(' | '));

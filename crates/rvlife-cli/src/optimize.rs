@@ -56,7 +56,10 @@ pub(crate) fn optimize(
     rvlife::output::stop_on_signal(false);
     let outcome = outcome?;
     pb.set_message("follow-up");
-    let follow = rvlife::optimize::follow_up(&problem, &outcome)?;
+    let follow = rvlife::optimize::follow_up(&problem, &outcome, &|done, total| {
+        pb.set_length(total as u64);
+        pb.set_position(done as u64);
+    })?;
     pb.set_message("writing");
     staging
         .commit(|dir| rvlife::output::optimize::write_files(dir, &problem, &outcome, &follow))?;

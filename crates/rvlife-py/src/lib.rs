@@ -721,7 +721,8 @@ fn optimize(
         )
         .map_err(py_err)?;
         if let Some(staging) = staging {
-            let follow = rvlife::optimize::follow_up(problem, &outcome).map_err(py_err)?;
+            let follow =
+                rvlife::optimize::follow_up(problem, &outcome, &|_, _| {}).map_err(py_err)?;
             staging
                 .commit(|dir| {
                     rvlife::output::optimize::write_files(dir, problem, &outcome, &follow)

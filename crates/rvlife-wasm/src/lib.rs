@@ -581,18 +581,23 @@ pub fn montecarlo(
     }))
 }
 
-/// The design search (`rvlife optimize`, one goal: a Latin hypercube and a compass search in
-/// the browser) of the config `text`: `vary` a JSON list of `"KEY=LO:HI"` texts, `objective`
-/// the goal (`life`, `b10[:N]`, `[max:]QUANTITY[@STAGE]`), `constraints` a JSON list of
+/// The design search (`rvlife optimize`: one goal by the Latin hypercube, CMA-ES, the compass
+/// search and Nelder-Mead; several by NSGA-II; docs/model.md section 19) of the config
+/// `text`, then its follow-up (the best and base designs' studies and the sensitivity at the
+/// best): `vary` a JSON list of `"KEY=LO:HI"` texts, `objective` the goals (`life`,
+/// `b10[:N]`, `[max:]QUANTITY[@STAGE]`, comma-separated), `constraints` a JSON list of
 /// `"Q<=V"` texts, at most `evaluations` candidates with `seed`, the config's own work budget.
-/// JSON `{candidates_csv, pareto_csv, optimum_toml, best, start, convergence}`: the command
+/// `progress(done, total)` counts the candidates, then the follow-up's steps.
+/// JSON `{candidates_csv, pareto_csv, optimum_toml, best, start, front, plots}`: the command
 /// line's tables, the best design's config (`null`: none feasible), the best and base
-/// candidates (`{candidate, values, goals, scores, ...}` or `null`) and `[[evaluated, best
-/// score so far]]`.
+/// candidates (`{candidate, values, goals, scores, ...}` or `null`), the front's candidate
+/// numbers and the report's plots (`[{stem, title, x_label, y_label, against_hours, caption,
+/// curves: [{name, points: [[x, y]], joined}]}]`, `rvlife::output::candidates::plots`).
 ///
 /// # Errors
 /// The config's message; a range, goal, constraint or the search's work refused by name
-/// (`--vary`, `--objective`, `--constraint`, `--evaluations` or the key).
+/// (`--vary`, `--objective`, `--constraint`, `--evaluations` or the key); a follow-up study's
+/// failure.
 #[wasm_bindgen]
 pub fn optimize(
     text: &str,
@@ -629,6 +634,9 @@ pub fn optimize(
     let p = Progress(progress);
     let outcome =
         rvlife::optimize::run(&problem, &|d, t, _| p.call(d, t), &|| false).map_err(err)?;
+    let n = outcome.candidates.len();
+    let follow = rvlife::optimize::follow_up(&problem, &outcome, &|d, t| p.call(n + d, n + t))
+        .map_err(err)?;
     let (candidates_csv, pareto_csv) =
         rvlife::output::candidates::tables_csv(&problem, &outcome).map_err(err)?;
     let optimum = outcome
@@ -645,6 +653,7 @@ pub fn optimize(
         "optimum_toml": optimum,
         "best": of(outcome.best),
         "start": of(outcome.start),
-        "convergence": rvlife::output::candidates::convergence(&problem, &outcome),
+        "front": outcome.front,
+        "plots": rvlife::output::candidates::plots(&problem, &outcome, &follow),
     }))
 }

@@ -37,17 +37,31 @@ pub struct FollowUp {
 
 /// Runs the follow-up of `outcome` (module docs): the studies of the best and base
 /// candidates again (their results are not kept by the search) and `2 d` candidates around
-/// the best, [`SENSITIVITY_STEP`] of each range either side.
+/// the best, [`SENSITIVITY_STEP`] of each range either side. `progress(done, total)` after
+/// each of its `2 + 2 d` steps (a study or a candidate; those with nothing to do count too).
 ///
 /// # Errors
 /// The studies' failures.
-pub fn follow_up(problem: &Problem, outcome: &Outcome) -> Result<FollowUp> {
+pub fn follow_up(
+    problem: &Problem,
+    outcome: &Outcome,
+    progress: &dyn Fn(usize, usize),
+) -> Result<FollowUp> {
+    let total = 2 + 2 * problem.variables.len();
+    let done = std::cell::Cell::new(0);
+    let step = || {
+        done.set(done.get() + 1);
+        progress(done.get(), total);
+    };
     let study_of = |i: Option<usize>| -> Result<Option<Study>> {
         let Some(c) = i.map(|i| &outcome.candidates[i]) else {
+            step();
             return Ok(None);
         };
         let model = problem.model(&c.unit)?;
-        Ok(Some(crate::study::run(&model, &|_, _| {})?))
+        let s = crate::study::run(&model, &|_, _| {})?;
+        step();
+        Ok(Some(s))
     };
     let best = study_of(outcome.best)?;
     let start = study_of(outcome.start)?;
@@ -63,14 +77,18 @@ pub fn follow_up(problem: &Problem, outcome: &Outcome) -> Result<FollowUp> {
             for d in [-SENSITIVITY_STEP, 0.0, SENSITIVITY_STEP] {
                 let mut u = b.unit.clone();
                 u[k] = (u[k] + d).clamp(0.0, 1.0);
-                if d != 0.0 && u[k] == b.unit[k] {
+                if d == 0.0 {
+                    if let Some(s) = score(b) {
+                        points.push((b.values[k], s));
+                    }
                     continue;
                 }
-                let c = if d == 0.0 {
-                    b.clone()
-                } else {
-                    evaluate(problem, &u, usize::MAX, "sensitivity")
-                };
+                if u[k] == b.unit[k] {
+                    step();
+                    continue;
+                }
+                let c = evaluate(problem, &u, usize::MAX, "sensitivity");
+                step();
                 if let Some(s) = score(&c) {
                     points.push((c.values[k], s));
                 }
@@ -88,6 +106,9 @@ pub fn follow_up(problem: &Problem, outcome: &Outcome) -> Result<FollowUp> {
                 slope,
             });
         }
+    }
+    while done.get() < total {
+        step();
     }
     Ok(FollowUp {
         best,

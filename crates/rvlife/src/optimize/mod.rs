@@ -18,7 +18,6 @@
 mod evaluate;
 mod follow;
 mod goal;
-#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
 pub mod pareto;
 mod point;
 mod run;
@@ -207,13 +206,6 @@ impl Problem {
             .iter()
             .map(|c| Constraint::parse(c))
             .collect::<Result<Vec<_>>>()?;
-        if goals.len() > 1 && cfg!(all(target_arch = "wasm32", target_os = "unknown")) {
-            return Err(Error::invalid(
-                "--objective",
-                goals.len().to_string(),
-                "one goal in the browser (the Pareto search runs natively)",
-            ));
-        }
         let uses = |m: crate::quantities::Models| {
             goals.iter().any(|g| g.uses(m)) || constraints.iter().any(|c| c.quantity.models == m)
         };

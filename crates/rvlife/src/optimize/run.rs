@@ -201,19 +201,16 @@ pub fn run_batched(
     if problem.goals.len() == 1 {
         search::minimise(dim, &problem.settings, start.as_deref(), &mut recorder);
     } else {
-        #[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
-        {
-            if let Some(s) = &start {
-                let _ = search::Evaluator::one(&mut recorder, s, "start");
-            }
-            super::pareto::nsga2(
-                dim,
-                problem.goals.len(),
-                problem.constraints.len(),
-                &problem.settings,
-                &mut recorder,
-            )?;
+        if let Some(s) = &start {
+            let _ = search::Evaluator::one(&mut recorder, s, "start");
         }
+        super::pareto::nsga2(
+            dim,
+            problem.goals.len(),
+            problem.constraints.len(),
+            &problem.settings,
+            &mut recorder,
+        )?;
     }
     if let Some(e) = recorder.error {
         return Err(e);

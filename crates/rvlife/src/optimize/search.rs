@@ -18,9 +18,7 @@
 use std::cell::RefCell;
 use std::collections::HashMap;
 
-#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
 use argmin::core::{CostFunction, Executor};
-#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
 use argmin::solver::neldermead::NelderMead;
 use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
@@ -35,19 +33,15 @@ pub const BOX_PENALTY: f64 = 10.0;
 pub const FAILED_MERIT: f64 = 1e6;
 
 /// CMA-ES's initial step size, as a fraction of each range.
-#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
 const CMA_STEP: f64 = 0.2;
 
 /// CMA-ES's tolerance on the spread of its points, as a fraction of each range.
-#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
 const CMA_TOL_X: f64 = 3e-3;
 
 /// The polish's first simplex edge, as a fraction of each range.
-#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
 const FIRST_STEP: f64 = 0.05;
 
 /// The simplex's edge below which the polish has converged.
-#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
 const LAST_STEP: f64 = 1e-3;
 
 /// The compass search's first step, as a fraction of each range.
@@ -57,7 +51,6 @@ const COMPASS_STEP: f64 = 0.02;
 const COMPASS_LAST_STEP: f64 = 1e-4;
 
 /// Spread of the simplex's merits at which one Nelder-Mead run ends.
-#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
 const SD_TOLERANCE: f64 = 1e-6;
 
 /// Evaluates points of the unit box in a named phase: one at a time, or several the search
@@ -208,10 +201,8 @@ impl Memory<'_, '_> {
 }
 
 /// argmin's view of the memory.
-#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
 struct Cost<'m, 'a, 'f>(&'m RefCell<Memory<'a, 'f>>);
 
-#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
 impl CostFunction for Cost<'_, '_, '_> {
     type Param = Vec<f64>;
     type Output = f64;
@@ -262,8 +253,7 @@ pub fn minimise(
         }
     }
     let spent = |m: &RefCell<Memory>| m.borrow().seen.len();
-    // CMA-ES from the best point so far, with half of the evaluations left (natively).
-    #[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
+    // CMA-ES from the best point so far, with half of the evaluations left.
     {
         let left = settings.evaluations.saturating_sub(spent(&memory));
         let cma_budget = left - left / 2;
@@ -335,7 +325,6 @@ pub fn minimise(
     }
     // Nelder-Mead from the best with the rest, restarted with a simplex half as large each
     // time it settles.
-    #[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
     {
         memory.borrow_mut().limit = usize::MAX;
         let mut step = FIRST_STEP;

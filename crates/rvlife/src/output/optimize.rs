@@ -19,11 +19,11 @@ use std::path::Path;
 
 use serde_json::json;
 
-use super::candidates::{candidate_json, goal_columns, row, tables_csv};
+use super::candidates::{candidate_json, goal_columns, plots, row, tables_csv};
 use super::html::{esc, inline_svg, page_head};
 use super::write_json;
 use crate::error::{Error, Result};
-use crate::optimize::{Candidate, FollowUp, Goal, Outcome, Problem};
+use crate::optimize::{FollowUp, Goal, Outcome, Problem};
 
 /// Writes the search's files (module documentation) into the existing, empty `dir`.
 ///
@@ -75,14 +75,8 @@ pub fn write_files(dir: &Path, p: &Problem, o: &Outcome, follow: &FollowUp) -> R
 /// `report.html` and its plots.
 fn report(dir: &Path, p: &Problem, o: &Outcome, follow: &FollowUp) -> Result<()> {
     use crate::output::plot::{curves_against, curves_against_hours};
-    let plots = dir.join("plots");
-    std::fs::create_dir_all(&plots).map_err(|e| Error::io(&plots, e))?;
-    let goal0 = &p.goals[0];
-    let score_label = match goal0 {
-        Goal::Life => "life score (life / horizon; 1 + margin within spec)".to_string(),
-        Goal::B10 { .. } => "B10 score (B10 / horizon)".to_string(),
-        Goal::Quantity { .. } => goal0.name(),
-    };
+    let dir_plots = dir.join("plots");
+    std::fs::create_dir_all(&dir_plots).map_err(|e| Error::io(&dir_plots, e))?;
     let mut h = String::new();
     page_head(&mut h, "rvlife design search");
     let _ = writeln!(
@@ -142,134 +136,29 @@ fn report(dir: &Path, p: &Problem, o: &Outcome, follow: &FollowUp) -> Result<()>
         h.push_str("</tr>\n");
     }
     h.push_str("</table>\n");
-    // Convergence: the best feasible first goal so far.
-    let conv = super::candidates::convergence(p, o);
-    if !conv.is_empty() {
-        curves_against(
-            &plots,
-            "convergence",
-            "best feasible design so far",
-            ("candidates evaluated", &score_label),
-            &[("best so far".to_string(), conv)],
-        )?;
-        inline_svg(
-            &mut h,
-            &plots.join("convergence.svg"),
-            "the first goal of the best feasible candidate so far against the candidates evaluated",
-        )?;
-    }
-    // The Pareto front of the first two goals.
-    if p.goals.len() >= 2 && !o.front.is_empty() {
-        let xy = |c: &Candidate| -> Option<(f64, f64)> {
-            let v = |k: usize| match &p.goals[k] {
-                Goal::Quantity { .. } => c.goals[k],
-                _ => c.goals[k].or(c.scores[k]
-                    .map(|s| s.min(1.0) * p.base.life.horizon_h(&p.base.wear.stage_hours))),
-            };
-            Some((v(1)?, v(0)?))
-        };
-        let mut curves = vec![(
-            "Pareto front".to_string(),
-            o.front
-                .iter()
-                .filter_map(|&i| xy(&o.candidates[i]))
-                .collect(),
-        )];
-        let others: Vec<(f64, f64)> = o
-            .candidates
+    for plot in plots(p, o, follow) {
+        let curves: Vec<(String, Vec<(f64, f64)>)> = plot
+            .curves
             .iter()
-            .filter(|c| c.feasible() && !o.front.contains(&c.index))
-            .filter_map(xy)
+            .map(|c| (c.name.clone(), c.points.clone()))
             .collect();
-        if let Some(s) = o.start.and_then(|i| xy(&o.candidates[i])) {
-            curves.push(("base design".to_string(), vec![s]));
+        if plot.against_hours {
+            curves_against_hours(&dir_plots, plot.stem, plot.title, &plot.y_label, &curves)?;
+        } else {
+            let joined: Vec<bool> = plot.curves.iter().map(|c| c.joined).collect();
+            curves_against(
+                &dir_plots,
+                plot.stem,
+                plot.title,
+                (&plot.x_label, &plot.y_label),
+                &curves,
+                &joined,
+            )?;
         }
-        curves.push(("other feasible candidates".to_string(), others));
-        curves.retain(|c| !c.1.is_empty());
-        let unit = |k: usize| match &p.goals[k] {
-            Goal::Life => "accuracy life (h; the horizon within spec)".to_string(),
-            Goal::B10 { .. } => "B10 life (h)".to_string(),
-            g => g.name(),
-        };
-        curves_against(
-            &plots,
-            "pareto",
-            "Pareto front",
-            (&unit(1), &unit(0)),
-            &curves,
-        )?;
         inline_svg(
             &mut h,
-            &plots.join("pareto.svg"),
-            "the first goal against the second: the front of the feasible candidates, the base \
-             design and the other feasible candidates",
-        )?;
-    }
-    // Accuracy against hours, best beside base.
-    let mut curves = Vec::new();
-    for (name, s) in [("best", &follow.best), ("base", &follow.start)] {
-        let Some(s) = s else { continue };
-        curves.push((
-            format!("{name}: lost motion"),
-            s.stages
-                .iter()
-                .map(|x| (x.hours, x.summary.lost_motion_arcmin))
-                .collect(),
-        ));
-        curves.push((
-            format!("{name}: backlash"),
-            s.stages
-                .iter()
-                .map(|x| (x.hours, x.summary.backlash_arcmin))
-                .collect(),
-        ));
-    }
-    if !curves.is_empty() {
-        curves_against_hours(
-            &plots,
-            "accuracy",
-            "accuracy of the best and the base design",
-            "arcmin",
-            &curves,
-        )?;
-        inline_svg(
-            &mut h,
-            &plots.join("accuracy.svg"),
-            "lost motion and backlash against working hours, the best design beside the base",
-        )?;
-    }
-    // Sensitivity at the best design.
-    let sens: Vec<(String, Vec<(f64, f64)>)> = follow
-        .sensitivity
-        .iter()
-        .zip(&p.variables)
-        .filter(|(s, _)| s.points.len() >= 2)
-        .map(|(s, v)| {
-            let best = o.best.map_or(0.0, |i| {
-                o.candidates[i].values[p.variables.iter().position(|w| w.key == v.key).unwrap_or(0)]
-            });
-            (
-                s.key.clone(),
-                s.points
-                    .iter()
-                    .map(|(x, y)| ((x - best) / (v.hi - v.lo), *y))
-                    .collect(),
-            )
-        })
-        .collect();
-    if !sens.is_empty() {
-        curves_against(
-            &plots,
-            "sensitivity",
-            "sensitivity at the best design",
-            ("key's change (fraction of its range)", &score_label),
-            &sens,
-        )?;
-        inline_svg(
-            &mut h,
-            &plots.join("sensitivity.svg"),
-            "the first goal with one key moved 5 % of its range either side of the best design, \
-             the others held",
+            &dir_plots.join(format!("{}.svg", plot.stem)),
+            plot.caption,
         )?;
     }
     h.push_str(

@@ -206,6 +206,7 @@ fn report(dir: &Path, varies: &[Vary], outcomes: &[Outcome], verdicts: &[String]
             &format!("{what} of each design"),
             (&varies[0].key, &format!("{what} ({unit})")),
             &curves,
+            &[],
         )?;
     }
     let mut h = String::new();

@@ -355,3 +355,96 @@ fn every_small_budget_is_spent_exactly() {
         }
     }
 }
+
+/// The report's plots (docs/model.md section 19.5) follow the search they draw: the front
+/// sorted along the second goal and joined, the base design and the other feasible candidates
+/// as markers (a refused candidate nowhere), a life beyond the horizon drawn at the horizon,
+/// no accuracy plot without the follow-up's studies, and the sensitivity against the move as
+/// a fraction of the key's range from the best design.
+#[test]
+fn report_plots_follow_the_search() {
+    use crate::optimize::{Candidate, FollowUp, Outcome, Sensitivity, Status};
+    use crate::output::candidates::plots;
+    let problem = Problem::new(
+        crate::config::EXAMPLE_TOML,
+        "<built-in>",
+        None,
+        1e6,
+        &["reducer.bearings.crank_disc_clearance_um=0:6".to_string()],
+        "life,max_pressure_mpa",
+        &[],
+        Settings {
+            evaluations: 8,
+            seed: 1,
+        },
+    )
+    .unwrap();
+    let horizon = problem.base.life.horizon_h(&problem.base.wear.stage_hours);
+    // (clearance um, life h or beyond the horizon, pressure MPa, status)
+    let rows = [
+        (2.0, Some(2000.0), 1115.0, Status::Ok),
+        (0.5, None, 1118.0, Status::Ok),
+        (4.0, Some(100.0), 1113.0, Status::Ok),
+        (3.0, Some(500.0), 1116.0, Status::Ok),
+        (5.0, None, 0.0, Status::Invalid("refused".into())),
+    ];
+    let candidates: Vec<Candidate> = rows
+        .iter()
+        .enumerate()
+        .map(|(i, (x, life, p, status))| Candidate {
+            index: i,
+            phase: if i == 0 { "start" } else { "generation 0" }.into(),
+            unit: vec![x / 6.0],
+            values: vec![*x],
+            goals: vec![*life, Some(*p)],
+            scores: vec![Some(life.map_or(1.5, |l| l / horizon)), Some(*p)],
+            constraints: vec![],
+            point: Point {
+                objectives: vec![-life.map_or(1.5, |l| l / horizon), *p],
+                violations: vec![],
+            },
+            limited_by: None,
+            status: status.clone(),
+        })
+        .collect();
+    let outcome = Outcome {
+        candidates,
+        best: Some(1),
+        front: vec![1, 2, 0],
+        start: Some(0),
+        stopped: false,
+    };
+    let follow = FollowUp {
+        best: None,
+        start: None,
+        sensitivity: vec![Sensitivity {
+            key: "reducer.bearings.crank_disc_clearance_um".into(),
+            points: vec![(0.2, 1.4), (0.5, 1.5), (0.8, 1.3)],
+            slope: Some(-0.1 / 0.6),
+        }],
+    };
+    let all = plots(&problem, &outcome, &follow);
+    let stems: Vec<&str> = all.iter().map(|p| p.stem).collect();
+    assert_eq!(stems, ["convergence", "pareto", "sensitivity"]);
+    let pareto = &all[1];
+    let front = &pareto.curves[0];
+    assert!(front.joined);
+    assert_eq!(
+        front.points,
+        vec![(1113.0, 100.0), (1115.0, 2000.0), (1118.0, horizon)]
+    );
+    assert_eq!(pareto.curves[1].name, "base design");
+    assert_eq!(pareto.curves[1].points, vec![(1115.0, 2000.0)]);
+    assert!(!pareto.curves[1].joined && !pareto.curves[2].joined);
+    assert_eq!(pareto.curves[2].points, vec![(1116.0, 500.0)]);
+    let sens = &all[2].curves[0].points;
+    let moved: Vec<f64> = sens.iter().map(|p| p.0).collect();
+    for (m, want) in moved.iter().zip([-0.05, 0.0, 0.05]) {
+        assert!((m - want).abs() < 1e-12, "{moved:?}");
+    }
+    // The convergence: the best feasible life score so far, from the first candidate on.
+    let conv = &all[0].curves[0].points;
+    assert_eq!(conv.len(), 5);
+    assert!((conv[0].1 - 2000.0 / horizon).abs() < 1e-12);
+    assert!(conv[1..].iter().all(|p| p.1 == 1.5));
+}

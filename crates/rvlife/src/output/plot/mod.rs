@@ -286,11 +286,12 @@ const AXIS_LABEL_PX: u32 = 16;
 /// default 1000 px width).
 const TICK_PX: u32 = 14;
 
-/// Draws each curve of `curves` on `chart` as a line with markers in its own colour; returns
-/// their legend.
+/// Draws each curve of `curves` on `chart` as a line with markers in its own colour (markers
+/// alone where `joined[k]` is false; missing entries are true); returns their legend.
 fn marked_curves<DB: DrawingBackend>(
     chart: &mut Chart<'_, DB>,
     curves: &[(String, Vec<(f64, f64)>)],
+    joined: &[bool],
 ) -> std::result::Result<Legend, Box<dyn std::error::Error>>
 where
     DB::ErrorType: 'static,
@@ -299,7 +300,9 @@ where
     let mut legend = Legend::new();
     for (k, (label, pts)) in curves.iter().enumerate() {
         let c = colours[k % colours.len()];
-        chart.draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?;
+        if joined.get(k).copied().unwrap_or(true) {
+            chart.draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?;
+        }
         chart.draw_series(pts.iter().map(|p| Circle::new(*p, 4, c.filled())))?;
         legend.push((label.clone(), Key::Marker(c)));
     }
@@ -330,7 +333,7 @@ pub fn curves_against_hours(
         |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
             let (plot, strip) = with_legend_strip(root);
             let mut chart = hours_axes(&plot, title, y_desc, h_max, (lo.min(0.0), hi))?;
-            let legend = marked_curves(&mut chart, curves)?;
+            let legend = marked_curves(&mut chart, curves, &[])?;
             draw_legend(&strip, 60, &legend)?;
             Ok(())
         }
@@ -339,8 +342,9 @@ pub fn curves_against_hours(
 
 /// Named curves `(label, points (x, y))` against any quantity `x`, written to
 /// `<stem>.{svg,png}` in `dir` with the caption `title` and the axis titles `(x_desc,
-/// y_desc)`: one line with markers per curve, each in its own colour and listed in the legend
-/// (a design sweep's accuracy life against a varied key).
+/// y_desc)`: one line with markers per curve (markers alone where `joined[k]` is false; missing
+/// entries are true), each in its own colour and listed in the legend (a design sweep's
+/// accuracy life against a varied key).
 ///
 /// # Errors
 /// [`Error::Io`] if a file cannot be written.
@@ -350,6 +354,7 @@ pub(crate) fn curves_against(
     title: &str,
     axes: (&str, &str),
     curves: &[(String, Vec<(f64, f64)>)],
+    joined: &[bool],
 ) -> Result<()> {
     let (x0, x1) = series_range(curves.iter().flat_map(|c| c.1.iter().map(|p| p.0)));
     let (lo, hi) = series_range(curves.iter().flat_map(|c| c.1.iter().map(|p| p.1)));
@@ -359,7 +364,7 @@ pub(crate) fn curves_against(
         |root: &DrawingArea<_, Shift>| -> std::result::Result<(), Box<dyn std::error::Error>> {
             let (plot, strip) = with_legend_strip(root);
             let mut chart = panel(&plot, title, axes, x0..x1, lo.min(0.0)..hi, false)?;
-            let legend = marked_curves(&mut chart, curves)?;
+            let legend = marked_curves(&mut chart, curves, joined)?;
             draw_legend(&strip, 60, &legend)?;
             Ok(())
         }
