@@ -228,15 +228,28 @@ function downloadList(files: Record<string, string | (() => Promise<string>)>): 
 
 // ---------------------------------------------------------------- views
 
-type Field = { id: string; label: string; value: string; unit: string };
+/** A number to enter, or with `choices` one of them (its index). */
+type Field = { id: string; label: string; value: string; unit: string; choices?: string[] };
+
+/** The disc models of the dynamics (`rvlife dynamics --disc`). */
+const DISCS = ['rigid', 'flexible'];
 
 function form(fields: Field[], action: string, run: (v: Record<string, number | undefined>) => void): HTMLElement {
   const f = document.createElement('form');
   f.className = 'args';
   for (const x of fields) {
     const l = document.createElement('label');
-    const i = document.createElement('input');
-    i.id = x.id; i.name = x.id; i.value = x.value; i.size = 8;
+    let i: HTMLInputElement | HTMLSelectElement;
+    if (x.choices) {
+      const sel = document.createElement('select');
+      x.choices.forEach((c, k) => { const o = document.createElement('option'); o.value = String(k); o.textContent = c; sel.append(o); });
+      i = sel;
+    } else {
+      const inp = document.createElement('input');
+      inp.size = 8;
+      i = inp;
+    }
+    i.id = x.id; i.name = x.id; i.value = x.value;
     l.append(`${x.label} `, i, ` ${x.unit}`);
     f.append(l);
   }
@@ -247,7 +260,7 @@ function form(fields: Field[], action: string, run: (v: Record<string, number | 
     ev.preventDefault();
     const v: Record<string, number | undefined> = {};
     for (const x of fields) {
-      const s = (f.querySelector<HTMLInputElement>(`#${x.id}`)!).value.trim();
+      const s = (f.querySelector<HTMLInputElement | HTMLSelectElement>(`#${x.id}`)!).value.trim();
       v[x.id] = s === '' ? undefined : Number(s);
     }
     run(v);
@@ -465,12 +478,13 @@ function renderHysteresis(panel: HTMLElement) {
 function renderDynamics(panel: HTMLElement) {
   analysisView(panel, {
     chart: 'chart-dte', action: 'Simulate', label: 'Dynamics',
-    note: 'The multibody model of the whole reducer with rigid discs (rvlife dynamics --disc rigid); the flexible disc runs on the command line.',
+    note: 'The multibody model of the whole reducer (rvlife dynamics --disc rigid or flexible: the flexible disc is the FE disc\'s modes).',
     fields: [
       { id: 'hours', label: 'worn at', value: '0', unit: 'h' },
       { id: 'torque', label: 'constant output torque', value: String(ratedTorque()), unit: 'N m' },
+      { id: 'disc', label: 'discs', value: '0', unit: '', choices: DISCS },
     ],
-    call: (v) => ['dynamics', [v.hours || undefined, v.torque]],
+    call: (v) => ['dynamics', [v.hours || undefined, v.torque, DISCS[v.disc ?? 0]]],
     show: (x, out, c) => {
       out.replaceChildren(numbers(x.summary, ['max_wear_um', 'te_mean_arcmin', 'te_peak_to_peak_arcmin', 'te_rms_arcmin', 'max_pin_force_n', 'output_speed_deg_s', 'steps']));
       lineChart(c, [{ label: 'dynamic TE', data: curve(x.time_s, x.te_arcmin) }],

@@ -32,8 +32,8 @@ const commands: Record<string, (p: Progress, ...a: any[]) => unknown> = {
     rv.te(text, hours, undefined, torqueNm, p),
   hysteresis: (p, text: string, crankDeg: number, levels: number, hours: number | undefined) =>
     rv.hysteresis(text, crankDeg, levels, hours, undefined, p),
-  dynamics: (p, text: string, hours: number | undefined, torqueNm: number | undefined) =>
-    rv.dynamics(text, hours, undefined, torqueNm, p),
+  dynamics: (p, text: string, hours: number | undefined, torqueNm: number | undefined, disc: string) =>
+    rv.dynamics(text, hours, undefined, torqueNm, disc, p),
   study: (p, text: string) => {
     lastStudy?.free();
     lastStudy = null;

@@ -238,6 +238,18 @@ try {
   const meanRel = Math.max(dDiffs[0], dDiffs[2]);
   const extremeRel = Math.max(dDiffs[1], dDiffs[3]);
   check('the page\'s DTE equals rvlife dynamics --json (mean and RMS within the integrator\'s tolerance 2e-4, extremes within the peaks\' uncertainty 0.5 %)', meanRel <= 2e-4 && extremeRel <= 5e-3, `mean and RMS ${meanRel.toExponential(2)}, extremes ${extremeRel.toExponential(2)}; ${dte.steps} steps against ${refDyn.steps}`);
+  // The flexible disc (the FE disc's modes) in the page against `rvlife dynamics --disc
+  // flexible`, within the same bounds.
+  await page.selectOption('#disc', { label: 'flexible' });
+  await page.click('#run-dynamics');
+  await page.waitForFunction(() => document.querySelector('#status').textContent.startsWith('Dynamics: done'), null, { timeout: 300000 });
+  const flexMs = Number(await page.evaluate(() => document.body.dataset.lastJobMs));
+  const flex = await page.$$eval('#panel table.numbers td[data-value]', (tds) => Object.fromEntries(tds.map((td) => [td.previousElementSibling.textContent, Number(td.dataset.value)])));
+  const refFlex = JSON.parse(spawnSync(bin, ['dynamics', exported, '--disc', 'flexible', '--load', 'constant', '--torque-nm', '412', '--json'], { encoding: 'utf8', maxBuffer: 1 << 28 }).stdout || '{}');
+  const fDiffs = dKeys.map((k) => Math.abs(flex[k] - refFlex[k]) / Math.abs(refFlex[k]));
+  figure(`dynamics (flexible discs, 0.8 s): page ${(flexMs / 1000).toFixed(2)} s, native ${refFlex.wall_time_s?.toFixed?.(2)} s; relative differences ${dKeys.map((k, i) => `${k} ${fDiffs[i].toExponential(1)}`).join(', ')}`);
+  check('the page\'s flexible-disc DTE equals rvlife dynamics --disc flexible --json (the same bounds)', Math.max(fDiffs[0], fDiffs[2]) <= 2e-4 && Math.max(fDiffs[1], fDiffs[3]) <= 5e-3 && flex.steps > 0,
+    `mean and RMS ${Math.max(fDiffs[0], fDiffs[2]).toExponential(2)}, extremes ${Math.max(fDiffs[1], fDiffs[3]).toExponential(2)}; ${flex.steps} steps against ${refFlex.steps}`);
   // Every point of a chart is drawn (Chart.js draws only a range of points it believes sorted
   // by x; a hysteresis loop and a closed outline are not).
   const drawnWhole = (id) => page.$eval(`#${id}`, (c) => c.chart.data.datasets.map((d, i) => {

@@ -485,28 +485,29 @@ impl StudyWear {
     }
 }
 
-/// The multibody simulation with rigid discs (`rvlife dynamics --disc rigid --json`), worn
-/// after `hours` or by `wear_um`, under a constant output torque `torque_nm` if given (else the
-/// config's `[dynamics.load]`): JSON `{summary, time_s, te_arcmin, output_speed_deg_s}` with
-/// the command line's summary and the time series at the output interval. The flexible disc
-/// is left to the command line: building its FE model reads the system clock
-/// (`std::time::Instant`, for its timing notes), which `wasm32-unknown-unknown` does not have.
+/// The multibody simulation (`rvlife dynamics --disc DISC --json`) with `disc` `"rigid"` or
+/// `"flexible"` discs (the FE disc's modes, docs/model.md section 9; `None`: the config's
+/// `[fem]` choice), worn after `hours` or by `wear_um`, under a constant output torque
+/// `torque_nm` if given (else the config's `[dynamics.load]`): JSON `{summary, time_s,
+/// te_arcmin, output_speed_deg_s}` with the command line's summary and the time series at the
+/// output interval.
 ///
 /// # Errors
-/// The config's message (`[dynamics]` checked as if enabled), or the argument's; the
-/// simulation's failures.
+/// The config's message (`[dynamics]` checked as if enabled), or the argument's (`--disc`
+/// not rigid or flexible); the simulation's failures.
 #[wasm_bindgen]
 pub fn dynamics(
     text: &str,
     hours: Option<f64>,
     wear_um: Option<f64>,
     torque_nm: Option<f64>,
+    disc: Option<String>,
     progress: Option<js_sys::Function>,
 ) -> Result<String, JsError> {
     let opts = api::DynamicsOptions {
         load: torque_nm.map(|_| "constant".to_string()),
         torque_nm,
-        disc: Some("rigid".to_string()),
+        disc,
     };
     let m = api::dynamics_model(&parsed(text)?, &opts, Spelling::Python).map_err(err)?;
     let p = Progress(progress);
