@@ -36,11 +36,21 @@ function status(text: string) { $('status').textContent = text; }
 
 let jobGeneration = 0;
 
+/** Cancels what runs. The first worker keeps the last study's results (its downloads): if it
+ *  was restarted they are gone, so the study's view is cleared rather than left offering
+ *  files that no longer exist. */
+function cancelJobs() {
+  if (jobs.cancel().includes(0) && state.study) {
+    state.study = null;
+    if (state.tab === 'life') renderTab();
+  }
+}
+
 async function job<T>(label: string, run: (p: (d: number, t: number) => void) => Promise<T>): Promise<T | undefined> {
   const bar = $<HTMLProgressElement>('progress');
   const cancel = $('cancel');
   // One analysis at a time: a new one replaces the one running.
-  if (jobs.busy) jobs.cancel();
+  if (jobs.busy) cancelJobs();
   const mine = ++jobGeneration;
   const current = () => mine === jobGeneration;
   bar.hidden = false; cancel.hidden = false; bar.removeAttribute('value');
@@ -406,6 +416,7 @@ function analysisView(panel: HTMLElement, spec: {
   if (spec.note) panel.append(noteOf(spec.note));
   panel.append(form(spec.fields, spec.action, async (v) => {
     const [cmd, args] = spec.call(v);
+    out.replaceChildren();
     const r = await job(spec.label, (p) => jobs.call(cmd, [state.text, ...args], p));
     if (r) spec.show(JSON.parse(r), out, c);
   }), out, wrap(c));
@@ -567,6 +578,9 @@ function renderLife(panel: HTMLElement) {
   run.textContent = 'Run the study (static analyses)';
   run.onclick = async () => {
     const text = state.text;
+    // The old results go at once: a run cancelled leaves no result that is not its config's.
+    state.study = null;
+    out.replaceChildren();
     const r = await job('Accuracy-life study', (p) => study(jobs, text, p));
     if (!r || text !== state.text) return;
     state.study = JSON.parse(r);
@@ -583,22 +597,24 @@ function renderMonteCarlo(panel: HTMLElement) {
   const c = chartBox('chart-reliability');
   const show = () => {
     const m = state.montecarlo;
-    const lives: number[] = m.records.filter((r: any) => r.status === 'ok').map((r: any) => r.accuracy_life_h ?? Infinity).sort((a: number, b: number) => a - b);
-    const n = lives.length;
-    const horizon = Math.max(m.horizon_h, ...lives.filter(Number.isFinite));
-    const pts = [{ x: 0, y: 1 }];
-    lives.forEach((l, i) => { if (Number.isFinite(l)) { pts.push({ x: l, y: 1 - i / n }); pts.push({ x: l, y: 1 - (i + 1) / n }); } });
-    pts.push({ x: horizon, y: pts[pts.length - 1].y });
-    const summary = numbers({ samples: m.records.length, ok: n, ...m.life, censored_fraction: m.life.censored_fraction }, ['samples', 'ok', 'censored_fraction', 'b10_h', 'b50_h', 'p5_h', 'p95_h']);
+    const ok = m.records.filter((r: { status: string }) => r.status === 'ok').length;
+    // The verdict and the reliability curve as the library gives them (the report's).
+    const verdict = noteOf(m.verdict);
+    verdict.id = 'mc-verdict';
+    const pts = (m.reliability as [number, number][]).map(([x, y]) => ({ x, y }));
+    const summary = numbers({ samples: m.records.length, analysed: ok, ...m.life, censored_fraction: m.life.censored_fraction }, ['samples', 'analysed', 'censored_fraction', 'b10_h', 'b50_h', 'p5_h', 'p95_h']);
+    summary.id = 'mc-numbers';
     const lim = document.createElement('p');
     lim.textContent = `limited by: ${Object.entries(m.life.limited_by).map(([k, v]) => `${k} ${v}`).join(', ') || 'none within the horizon'}`;
-    out.replaceChildren(summary, lim, wrap(c), downloadList({ 'samples.csv': m.samples_csv, 'stages.csv': m.stages_csv }));
-    lineChart(c, [{ label: `reliability: fraction within spec (${n} samples)`, data: pts }], { x: 'working hours, h', y: 'fraction within spec', title: 'Reliability of the accuracy life' });
+    out.replaceChildren(verdict, summary, lim, wrap(c), downloadList({ 'samples.csv': m.samples_csv, 'stages.csv': m.stages_csv }));
+    lineChart(c, [{ label: `reliability: fraction within spec (${ok} of ${m.records.length} samples analysed)`, data: pts }], { x: 'working hours, h', y: 'fraction within spec', title: 'Reliability of the accuracy life' });
   };
   panel.append(form([
     { id: 'samples', label: 'samples', value: '4', unit: '' },
     { id: 'seed', label: 'seed', value: '1', unit: '' },
   ], 'Run Monte Carlo', async (v) => {
+    state.montecarlo = null;
+    out.replaceChildren();
     const r = await job('Monte Carlo', (p) => jobs.call('montecarlo', [state.text, v.samples ?? 4, v.seed ?? 1], p));
     if (!r) return;
     state.montecarlo = JSON.parse(r);
@@ -699,6 +715,8 @@ function renderOptimize(panel: HTMLElement) {
     const v = searchInputs;
     const args = [state.text, JSON.stringify(lines(v['opt-vary'])), v['opt-objective'].trim(),
       JSON.stringify(lines(v['opt-constraints'])), Number(v['opt-evaluations']), Number(v['opt-seed'])];
+    state.optimize = null;
+    out.replaceChildren();
     const r = await job('Design search', (p) => jobs.call('optimize', args, p));
     if (!r) return;
     state.optimize = JSON.parse(r);
@@ -729,7 +747,7 @@ async function start() {
   custom.value = ''; custom.textContent = '(imported or shared)';
   sel.append(custom);
   sel.onchange = () => { if (sel.value) loadPreset(sel.value); };
-  $('cancel').onclick = () => jobs.cancel();
+  $('cancel').onclick = () => cancelJobs();
   $('export').onclick = () => download('rvlife.toml', state.text, 'application/toml');
   $('import').onclick = () => $('import-file').click();
   $<HTMLInputElement>('import-file').onchange = async (ev) => {

@@ -60,8 +60,9 @@ export class Engine {
   }
 
   /** Stops whatever runs: every pending call rejects with `Cancelled`; the workers that had
-   *  one are terminated and fresh ones started (the others keep their state). */
-  cancel() {
+   *  one are terminated and fresh ones started (the others keep their state). Returns the
+   *  restarted workers' indices (what they kept, such as a study's results, is gone). */
+  cancel(): number[] {
     const busy = new Set([...this.pending.values()].map((p) => p.worker));
     for (const k of busy) {
       this.workers[k].terminate();
@@ -69,6 +70,7 @@ export class Engine {
     }
     for (const p of this.pending.values()) p.reject(new Cancelled());
     this.pending.clear();
+    return [...busy];
   }
 
   get busy() { return this.pending.size > 0; }

@@ -357,7 +357,11 @@ try {
   check('works offline once loaded', offline && offlineTe);
   await context.setOffline(false);
 
-  // Cancel: a Monte Carlo run stops and the page stays usable.
+  // Cancel: a Monte Carlo run stops and the page stays usable; the study whose results the
+  // cancelled worker held leaves the page with them (no verdict whose downloads would fail).
+  await page2.click('button[data-tab="life"]');
+  await page2.click('#run-life');
+  await page2.waitForSelector('#verdict', { timeout: 300000 });
   await page2.click('button[data-tab="montecarlo"]');
   await page2.fill('#samples', '64');
   await page2.click('#run-montecarlo');
@@ -365,10 +369,24 @@ try {
   await page2.waitForTimeout(500);
   await page2.click('#cancel');
   const cancelled = await page2.waitForFunction(() => document.querySelector('#status').textContent.includes('cancelled'), null, { timeout: 10000 }).then(() => true, () => false);
+  await page2.click('button[data-tab="life"]');
+  const staleVerdict = await page2.$('#verdict');
+  check('cancel clears the results it took away (the study held by the cancelled worker)', cancelled && !staleVerdict && !!(await page2.$('#run-life')));
+  await page2.click('button[data-tab="montecarlo"]');
   await page2.fill('#samples', '4');
   await page2.click('#run-montecarlo');
   const mc = await page2.waitForSelector('#chart-reliability', { timeout: 300000 }).then(() => true, () => false);
   check('Monte Carlo cancels, then runs', cancelled && mc);
+  // Its verdict (B10, B50, the samples analysed) and reliability are the library's: the
+  // verdict of rvlife montecarlo's report.html, word for word.
+  const mcVerdict = await page2.$eval('#mc-verdict', (e) => e.textContent).catch(() => '');
+  const mcSamples = await page2.$eval('#mc-numbers', (t) => Object.fromEntries([...t.rows].map((r) => [r.cells[0].textContent, Number(r.cells[1].dataset.value)]))).catch(() => ({}));
+  const mcOut = path.join(tmp, 'montecarlo');
+  spawnSync(bin, ['montecarlo', shared, '--samples', '4', '--seed', '1', '--out', mcOut], { encoding: 'utf8' });
+  const report = fs.existsSync(path.join(mcOut, 'report.html')) ? fs.readFileSync(path.join(mcOut, 'report.html'), 'utf8') : '';
+  const theirVerdict = (report.match(/<p class="verdict"><strong>(.*?)<\/strong>/)?.[1] ?? '').replace(/&lt;/g, '<').replace(/&gt;/g, '>').replace(/&quot;/g, '"').replace(/&amp;/g, '&');
+  check('Monte Carlo shows the report\'s verdict (B10, B50, samples analysed) and the sample count', mcVerdict !== '' && mcVerdict === theirVerdict && mcSamples.samples === 4 && mcVerdict.includes('B10'),
+    `page: ${mcVerdict} | rvlife montecarlo: ${theirVerdict} | samples ${mcSamples.samples}, analysed ${mcSamples.analysed}`);
 
   // The design search against `rvlife optimize` on a lighter config (three stages, nine
   // crank steps, eight TE angles), imported into the page: one key and 26 candidates (the

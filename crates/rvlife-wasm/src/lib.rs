@@ -531,10 +531,12 @@ pub fn dynamics(
 
 /// The Monte Carlo accuracy life of `samples` reducers drawn from `[tolerances]` with `seed`
 /// (`rvlife montecarlo --samples N --seed S`; dynamics and the FE disc off): JSON `{samples_csv,
-/// stages_csv, life, percentiles, records, horizon_h}` with the command line's `samples.csv`
-/// and `stages.csv` texts, the life distribution and percentiles of its `summary.json`, every
-/// sample's `{sample, status, accuracy_life_h, limited_by}`, and the horizon beyond which a
-/// life is censored (h).
+/// stages_csv, life, percentiles, records, horizon_h, verdict, reliability}` with the command
+/// line's `samples.csv` and `stages.csv` texts, the life distribution and percentiles of its
+/// `summary.json`, every sample's `{sample, status, accuracy_life_h, limited_by}`, the horizon
+/// beyond which a life is censored (h), the report's verdict sentence (B10, B50, the fraction
+/// within spec, the samples analysed: `rvlife::output::mc_verdict::verdict`) and the
+/// reliability curve `[[hours, fraction within spec]]` (`rvlife::montecarlo::reliability`).
 ///
 /// # Errors
 /// The config's message; `samples` out of range (named `samples`).
@@ -561,6 +563,7 @@ pub fn montecarlo(
     let (samples_csv, stages_csv) = rvlife::montecarlo::records_csv(&records);
     let life = rvlife::montecarlo::life_distribution(&records);
     let percentiles = rvlife::montecarlo::percentiles(&records, &m.wear.stage_hours);
+    let horizon = m.life.horizon_h(&m.wear.stage_hours);
     let list: Vec<Value> = records
         .iter()
         .map(|r| {
@@ -578,7 +581,9 @@ pub fn montecarlo(
         "life": life,
         "percentiles": percentiles,
         "records": list,
-        "horizon_h": m.life.horizon_h(&m.wear.stage_hours),
+        "horizon_h": horizon,
+        "verdict": rvlife::output::mc_verdict::verdict(&records, &m.wear.stage_hours, &m.life),
+        "reliability": rvlife::montecarlo::reliability(&records, horizon),
     }))
 }
 

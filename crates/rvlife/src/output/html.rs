@@ -27,23 +27,7 @@ pub(super) fn esc(s: &str) -> String {
     out
 }
 
-/// A number as the report prints it: up to 6 significant digits, no trailing noise.
-pub(super) fn num(v: f64) -> String {
-    if v == 0.0 {
-        return "0".into();
-    }
-    let mag = v.abs().log10().floor() as i32;
-    if !(-4..6).contains(&mag) {
-        return format!("{v:.4e}");
-    }
-    let decimals = (5 - mag).clamp(0, 9) as usize;
-    let s = format!("{v:.decimals$}");
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    }
-}
+pub(super) use super::num;
 
 /// A JSON value as table text (numbers by [`num`], arrays joined, null as a dash).
 fn json_text(v: &serde_json::Value) -> String {

@@ -4,17 +4,16 @@
 //! chart against hours with its spec line, and the last stage's histograms where the samples
 //! differ (docs/model.md section 12.3).
 
-use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
 use super::html::{esc, inline_svg, key_value_table, num, page_head};
+pub use super::mc_verdict::verdict;
+pub(crate) use super::mc_verdict::{spec_text, status_key, verdict_of};
 use crate::config::LifeThresholds;
 use crate::error::{Error, Result};
-use crate::montecarlo::{
-    life_distribution, reliability, LifeDistribution, Percentiles, Plan, SampleRecord,
-};
-use crate::quantities::{Quantity, Sense, ACCURACY, LIFE};
+use crate::montecarlo::{reliability, LifeDistribution, Percentiles, Plan, SampleRecord};
+use crate::quantities::{Quantity, ACCURACY, LIFE};
 use serde::{Deserialize, Serialize};
 
 /// `summary.json` of a Monte Carlo run.
@@ -49,30 +48,6 @@ pub struct ShardMeta {
     pub config_toml: String,
 }
 
-/// The verdict line of a whole Monte Carlo run of `records` over the stages `stage_hours`
-/// (h) against the spec `spec` (the report's first section).
-pub fn verdict(
-    records: &[SampleRecord],
-    stage_hours: &[f64],
-    spec: &crate::config::LifeThresholds,
-) -> String {
-    let mut status_counts = std::collections::BTreeMap::new();
-    for r in records {
-        *status_counts.entry(status_key(&r.status)).or_insert(0) += 1;
-    }
-    let horizon = spec.horizon_h(stage_hours);
-    verdict_of(&life_distribution(records), &status_counts, spec, horizon)
-}
-
-/// A record's status as counted: `ok`, `interference` or `failed`.
-pub(crate) fn status_key(status: &str) -> String {
-    if status.starts_with("failed") {
-        "failed".to_string()
-    } else {
-        status.to_string()
-    }
-}
-
 /// The `[life]` spec of a config's text, read from its `[life]` table alone (so that a config
 /// whose other tables name files elsewhere still gives its spec); empty without one, or where
 /// the table does not parse (the run itself validated it).
@@ -93,60 +68,6 @@ fn limit_on(spec: &LifeThresholds, q: &Quantity) -> Option<f64> {
     LIFE.iter()
         .find(|l| l.quantity.name == q.name)
         .and_then(|l| spec.threshold(l.key))
-}
-
-/// The spec as text: `lost motion 1 arcmin, backlash 1 arcmin` (empty without thresholds).
-fn spec_text(spec: &LifeThresholds) -> String {
-    LIFE.iter()
-        .filter_map(|l| {
-            spec.threshold(l.key).map(|v| {
-                let bound = if l.sense == Sense::AtLeast {
-                    "at least "
-                } else {
-                    ""
-                };
-                format!("{} {bound}{} {}", l.quantity.label, num(v), l.quantity.unit)
-            })
-        })
-        .collect::<Vec<_>>()
-        .join(", ")
-}
-
-/// The run's verdict in one sentence, from its life distribution `l`, its samples' status
-/// counts, the spec and the horizon of the life search (h).
-pub(crate) fn verdict_of(
-    l: &LifeDistribution,
-    status_counts: &BTreeMap<String, usize>,
-    spec: &LifeThresholds,
-    horizon: f64,
-) -> String {
-    let total: usize = status_counts.values().sum();
-    if l.n == 0 {
-        let counts: Vec<String> = status_counts
-            .iter()
-            .map(|(k, n)| format!("{n} {k}"))
-            .collect();
-        return format!(
-            "no sampled reducer could be analysed ({total} samples: {})",
-            counts.join(", ")
-        );
-    }
-    let spec_line = spec_text(spec);
-    if spec_line.is_empty() {
-        return format!(
-            "{} of {total} sampled reducers analysed; no accuracy spec ([life]) to judge them by",
-            l.n
-        );
-    }
-    let h = |v: Option<f64>| v.map_or(format!("beyond {horizon:.0} h"), |x| format!("{x:.0} h"));
-    format!(
-        "B10 accuracy life {} (10 % of the reducers leave the spec by then), B50 {}; {:.0} % \
-         within spec at {horizon:.0} h; spec: {spec_line}; {} of {total} samples analysed",
-        h(l.b10_h),
-        h(l.b50_h),
-        100.0 * l.censored_fraction,
-        l.n
-    )
 }
 
 /// Whether the samples' values spread (a histogram of identical values is one bar).

@@ -23,6 +23,7 @@ pub mod export;
 pub mod html;
 #[cfg(feature = "files")]
 mod mc_report;
+pub mod mc_verdict;
 #[cfg(feature = "files")]
 pub mod montecarlo;
 #[cfg(feature = "files")]
@@ -82,6 +83,24 @@ pub(crate) fn json_bytes(value: &impl serde::Serialize) -> Result<Vec<u8>> {
 #[cfg(feature = "files")]
 pub(crate) fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<()> {
     std::fs::write(path, json_bytes(value)?).map_err(|e| Error::io(path, e))
+}
+
+/// A number as the report prints it: up to 6 significant digits, no trailing noise.
+pub(crate) fn num(v: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    let mag = v.abs().log10().floor() as i32;
+    if !(-4..6).contains(&mag) {
+        return format!("{v:.4e}");
+    }
+    let decimals = (5 - mag).clamp(0, 9) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
 }
 
 pub(crate) fn f(v: f64) -> String {
