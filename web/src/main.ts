@@ -28,6 +28,9 @@ const state = {
   study: null as null | { summary: any; verdict: string; files: string[] },
   montecarlo: null as null | any,
   optimize: null as null | any,
+  /** Keys whose typed value the config refused (the box keeps what the user wrote; the
+   *  config keeps its last value, so nothing runs or exports until it is mended). */
+  refused: new Map<string, string>(),
 };
 
 // ---------------------------------------------------------------- status and progress
@@ -92,7 +95,8 @@ async function setText(text: string, rebuild: boolean) {
   // One validation gives both the message and the keys with their ranges.
   const r: { message: string | null; keys: KeyDoc[] | null } = JSON.parse(await quick.call('inspect', [text]));
   const message = r.message;
-  state.valid = message === null;
+  if (rebuild) state.refused.clear();
+  state.valid = message === null && state.refused.size === 0;
   if (r.keys && (rebuild || state.keys.length === 0)) {
     state.keys = r.keys;
     buildEditor();
@@ -111,6 +115,7 @@ async function setText(text: string, rebuild: boolean) {
     const row = k ? document.querySelector<HTMLElement>(`.key[data-key="${CSS.escape(k)}"]`) : null;
     if (row) { row.classList.add('bad'); row.querySelector('.msg')!.textContent = message; }
   }
+  for (const [key, why] of state.refused) markRefused(key, why);
   history.replaceState(null, '', `#config=${await encodeConfig(text)}`);
   state.study = null; state.montecarlo = null; state.optimize = null;
   document.body.dataset.configValid = String(state.valid);
@@ -189,16 +194,28 @@ function buildEditor() {
   }
 }
 
+/** Shows the refusal `why` at `key`'s row and the page's error box. */
+function markRefused(key: string, why: string) {
+  showError(why);
+  const row = document.querySelector<HTMLElement>(`.key[data-key="${CSS.escape(key)}"]`);
+  if (row) { row.classList.add('bad'); row.querySelector('.msg')!.textContent = why; }
+}
+
 async function edit(k: KeyDoc, json: string) {
   try {
     const text = await quick.call('setKey', [state.text, k.key, json]);
     k.value = JSON.parse(json);
+    state.refused.delete(k.key);
     await setText(text, false);
   } catch (e) {
+    // A value of the wrong type (`2.5` pins, `abc`, blank): the config cannot hold it, so the
+    // page holds nothing to run or export until the box is mended.
     const message = (e as Error).message;
-    showError(message);
-    const row = document.querySelector<HTMLElement>(`.key[data-key="${CSS.escape(k.key)}"]`);
-    if (row) { row.classList.add('bad'); row.querySelector('.msg')!.textContent = message; }
+    state.refused.set(k.key, message);
+    state.valid = false;
+    document.body.dataset.configValid = 'false';
+    markRefused(k.key, message);
+    renderTab();
   }
 }
 
@@ -748,7 +765,11 @@ async function start() {
   sel.append(custom);
   sel.onchange = () => { if (sel.value) loadPreset(sel.value); };
   $('cancel').onclick = () => cancelJobs();
-  $('export').onclick = () => download('rvlife.toml', state.text, 'application/toml');
+  $('export').onclick = () => {
+    const [key] = state.refused.keys();
+    if (key !== undefined) { status(`export refused: mend the value at ${key} first`); return; }
+    download('rvlife.toml', state.text, 'application/toml');
+  };
   $('import').onclick = () => $('import-file').click();
   $<HTMLInputElement>('import-file').onchange = async (ev) => {
     const f = (ev.target as HTMLInputElement).files?.[0];

@@ -319,6 +319,23 @@ try {
   await page.fill('[name="cycloid.eccentricity_mm"]', '1.3');
   await page.press('[name="cycloid.eccentricity_mm"]', 'Enter');
   await page.waitForSelector('body[data-config-valid="true"]');
+  // A value of the wrong type is never silently replaced: the box keeps it, the config is
+  // invalid (no view runs), export is refused, until it is mended.
+  for (const typedValue of ['2.5', 'abc', '']) {
+    await page.fill('[name="cycloid.pins"]', typedValue);
+    await page.press('[name="cycloid.pins"]', 'Enter');
+    const held = await page.waitForSelector('body[data-config-valid="false"]', { timeout: 20000 }).then(() => true, () => false);
+    const box = await page.$eval('[name="cycloid.pins"]', (i) => i.value);
+    const msg = await page.$eval('.key[data-key="cycloid.pins"] .msg', (m) => m.textContent);
+    const viewRefuses = !!(await page.$('#panel p.error'));
+    await page.click('#export');
+    const exportRefused = await page.waitForFunction(() => document.querySelector('#status').textContent.startsWith('export refused'), null, { timeout: 5000 }).then(() => true, () => false);
+    check(`a wrong-type value (${JSON.stringify(typedValue)} pins) is held, not replaced`, held && box === typedValue && msg.includes('cycloid.pins') && viewRefuses && exportRefused,
+      `box ${JSON.stringify(box)}; message: ${msg}; view refuses ${viewRefuses}; export refused ${exportRefused}`);
+  }
+  await page.fill('[name="cycloid.pins"]', '40');
+  await page.press('[name="cycloid.pins"]', 'Enter');
+  await page.waitForSelector('body[data-config-valid="true"]');
 
   // Import the exported TOML: the same config back (the editor, the address and the text).
   await page.setInputFiles('#import-file', exported);
