@@ -2,6 +2,7 @@
 // comes from rvlife's WebAssembly module in a Web Worker (rvlife.ts, worker.ts); the page only
 // lays out, plots (Chart.js) and saves.
 import './style.css';
+import { keepOffline } from './offline';
 import { Cancelled, Engine, study } from './rvlife';
 import { lineChart, Series, destroyCharts } from './charts';
 import { decodeConfig, encodeConfig } from './share';
@@ -790,6 +791,11 @@ async function start() {
 
 if ('serviceWorker' in navigator && location.protocol !== 'file:') {
   navigator.serviceWorker.register('./sw.js').catch(() => undefined);
+  // Once loaded, the page works offline (offline.ts): `data-offline="ready"` says so.
+  navigator.serviceWorker.ready
+    .then(() => Promise.all([keepOffline([location.href]), quick.call('keepOffline', [])]))
+    .then(() => { document.body.dataset.offline = 'ready'; })
+    .catch(() => undefined);
 }
 
 start().catch((e) => showError(String(e)));

@@ -4,6 +4,7 @@
 // on before it ends: the stages of a study's wear), then {id, kind: 'result', value} or {id,
 // kind: 'error', message}. Cancelling a command terminates the worker (see rvlife.ts).
 import init, * as rv from './pkg/rvlife_wasm.js';
+import { keepOffline } from './offline';
 
 type Call = { id: number; cmd: string; args: unknown[] };
 
@@ -16,10 +17,11 @@ let lastWear: rv.StudyWear | null = null;
 
 // Commands callable from the page, each given the progress callback first (with `item`, which
 // hands a piece on); every one returns text (JSON or TOML), but the parts of a study, which
-// return their bytes.
+// return their bytes (a promise of it where the command waits, as keepOffline does).
 type Progress = ((done: number, total: number) => void) & { item: (value: unknown) => void };
 const commands: Record<string, (p: Progress, ...a: any[]) => unknown> = {
   warm: () => { rv.warm(); return ''; },
+  keepOffline: async () => { await keepOffline([self.location.href]); return ''; },
   presets: () => rv.presets(),
   presetText: (_p, name: string) => rv.presetText(name),
   inspect: (_p, text: string) => rv.inspect(text),
@@ -83,7 +85,7 @@ self.onmessage = async (ev: MessageEvent<Call>) => {
         post({ kind: 'progress', done, total });
       }
     }, { item: (value: unknown) => post({ kind: 'item', value }) });
-    const value = f(progress, ...args);
+    const value = await f(progress, ...args);
     (self as unknown as Worker).postMessage({ id, kind: 'result', value });
   } catch (e) {
     const message = e instanceof Error ? e.message : String(e);

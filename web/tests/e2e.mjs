@@ -358,21 +358,23 @@ try {
   await d2.saveAs(shared);
   check('a shared link opens the same config', fs.readFileSync(shared, 'utf8') === text, `${link.length} characters`);
 
-  // Offline once loaded: the service worker answers a reload with the network gone.
-  await page2.evaluate(() => navigator.serviceWorker.ready);
-  await page2.reload();
-  await page2.waitForSelector('body[data-ready="true"]');
-  await context.setOffline(true);
-  await page2.reload();
-  const offline = await page2.waitForSelector('body[data-ready="true"]', { timeout: 30000 }).then(() => true, () => false);
+  // Offline from the first visit: a fresh browser profile opens the page once, and with the
+  // network gone a reload still loads it and runs an analysis.
+  const fresh = await browser.newContext();
+  const page3 = await fresh.newPage();
+  await page3.goto(`${origin}/`);
+  const kept = await page3.waitForSelector('body[data-offline="ready"]', { timeout: 60000 }).then(() => true, () => false);
+  await fresh.setOffline(true);
+  await page3.reload();
+  const offline = await page3.waitForSelector('body[data-ready="true"]', { timeout: 30000 }).then(() => true, () => false);
   let offlineTe = false;
   if (offline) {
-    await page2.click('button[data-tab="te"]');
-    await page2.click('#run-te');
-    offlineTe = await page2.waitForSelector('#panel table.numbers', { timeout: 60000 }).then(() => true, () => false);
+    await page3.click('button[data-tab="te"]');
+    await page3.click('#run-te');
+    offlineTe = await page3.waitForSelector('#panel table.numbers', { timeout: 60000 }).then(() => true, () => false);
   }
-  check('works offline once loaded', offline && offlineTe);
-  await context.setOffline(false);
+  check('works offline from the first visit', kept && offline && offlineTe, `kept ${kept}, loaded offline ${offline}, TE offline ${offlineTe}`);
+  await fresh.close();
 
   // Cancel: a Monte Carlo run stops and the page stays usable; the study whose results the
   // cancelled worker held leaves the page with them (no verdict whose downloads would fail).
