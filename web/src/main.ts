@@ -535,6 +535,18 @@ function specLimits(columns: string[]): Record<string, { limit: number; min: boo
   return out;
 }
 
+/** A stage quantity as the library declares it (`rvlife::api::QuantityDoc`). */
+type QuantityDoc = { name: string; unit: string; label: string; description: string; models: string; columns: string[] };
+
+/** The library's stage quantities by name, loaded when the page starts. */
+const quantityDocs = new Map<string, QuantityDoc>();
+
+/** A quantity's label with its unit (`lost motion, arcmin`), or its name if undeclared. */
+function labelOf(name: string): string {
+  const q = quantityDocs.get(name);
+  return q ? (q.unit ? `${q.label}, ${q.unit}` : q.label) : name;
+}
+
 const STAGE_COLUMNS = ['hours', 'max_wear_um', 'lost_motion_arcmin', 'backlash_arcmin', 'angular_te_arcmin', 'ste_peak_to_peak_arcmin', 'torsional_stiffness_nm_per_arcmin', 'hysteresis_loss_arcmin', 'max_pressure_mpa'];
 
 function renderLife(panel: HTMLElement) {
@@ -551,7 +563,13 @@ function renderLife(panel: HTMLElement) {
     table.id = 'stages';
     table.className = 'numbers';
     const head = table.createTHead().insertRow();
-    for (const c of STAGE_COLUMNS) { const th = document.createElement('th'); th.textContent = c; head.append(th); }
+    for (const c of STAGE_COLUMNS) {
+      const th = document.createElement('th');
+      th.textContent = labelOf(c);
+      th.title = quantityDocs.get(c)?.description ?? c;
+      th.dataset.column = c;
+      head.append(th);
+    }
     const body = table.createTBody();
     for (const st of s.summary.stages) {
       const tr = body.insertRow();
@@ -570,7 +588,7 @@ function renderLife(panel: HTMLElement) {
     const charts: HTMLElement[] = [];
     for (const [q, title] of [['lost_motion_arcmin', 'Lost motion'], ['backlash_arcmin', 'Backlash'], ['angular_te_arcmin', 'Angular transmission error'], ['torsional_stiffness_nm_per_arcmin', 'Torsional stiffness'], ['max_wear_um', 'Largest disc wear']]) {
       const c = chartBox(`chart-${q}`);
-      const series: Series[] = [{ label: q, data: hours.map((h: number, i: number) => ({ x: h, y: s.summary.stages[i][q] })), points: true }];
+      const series: Series[] = [{ label: labelOf(q), data: hours.map((h: number, i: number) => ({ x: h, y: s.summary.stages[i][q] })), points: true }];
       const lim = spec[q];
       if (lim) series.push({ label: `spec: ${lim.min ? 'at least' : 'at most'} ${lim.limit}`, data: [{ x: 0, y: lim.limit }, { x: hours[hours.length - 1], y: lim.limit }], dash: [8, 4], color: '#c0392b' });
       if (life?.accuracy_life_h != null && q === life.limited_by) {
@@ -578,7 +596,7 @@ function renderLife(panel: HTMLElement) {
         series.push({ label: `accuracy life ${fmt(life.accuracy_life_h)} h`, data: [{ x: life.accuracy_life_h, y: Math.min(...ys) }, { x: life.accuracy_life_h, y: Math.max(...ys, lim?.limit ?? -Infinity) }], dash: [2, 3], color: '#555' });
       }
       charts.push(wrap(c));
-      requestAnimationFrame(() => lineChart(c, series, { x: 'working hours, h', y: q, title }));
+      requestAnimationFrame(() => lineChart(c, series, { x: 'working hours, h', y: labelOf(q), title }));
     }
     const files: Record<string, string | (() => Promise<string>)> = {};
     for (const name of s.files) files[name] = () => jobs.call('studyFile', [name]);
@@ -755,6 +773,7 @@ async function loadPreset(name: string) {
 async function start() {
   buildTabs();
   const presets: Preset[] = JSON.parse(await quick.call('presets', []));
+  for (const q of JSON.parse(await quick.call('quantities', [])) as QuantityDoc[]) quantityDocs.set(q.name, q);
   const sel = $<HTMLSelectElement>('preset');
   for (const p of presets) {
     const o = document.createElement('option');

@@ -23,6 +23,7 @@ const commands: Record<string, (p: Progress, ...a: any[]) => unknown> = {
   warm: () => { rv.warm(); return ''; },
   keepOffline: async () => { await keepOffline([self.location.href]); return ''; },
   presets: () => rv.presets(),
+  quantities: () => rv.quantities(),
   presetText: (_p, name: string) => rv.presetText(name),
   inspect: (_p, text: string) => rv.inspect(text),
   setKey: (_p, text: string, key: string, value: string) => rv.setKey(text, key, value),

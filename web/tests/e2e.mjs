@@ -163,6 +163,12 @@ try {
   const stageWorst = new Worst();
   for (const [row, col, v] of cells) stageWorst.add(`stages[${row}].${col}`, v, summary.stages[row][col]);
   check('the page\'s stage numbers equal summary.json (relative 1e-7; arcmin quantities to 2.2e-5 arcmin)', stageWorst.compared >= 40 && stageWorst.ok(), stageWorst.detail());
+  // The stage table's headers are the library's labels with units (not raw keys), and the
+  // table fits its view (no cut-off on the right).
+  const heads = await page.$$eval('#stages th', (ths) => ths.map((th) => th.textContent));
+  const fits = await page.$eval('#stages', (t) => t.parentElement.scrollWidth <= t.parentElement.clientWidth + 1);
+  const pyLabels = ['lost motion, arcmin', 'backlash, arcmin'];
+  check('the stage table reads as the library labels it, and fits', heads.every((h) => !h.includes('_')) && pyLabels.every((l) => heads.includes(l)) && fits, `${heads.join(' | ')}; fits ${fits}`);
   const life = await page.$eval('#life-numbers td[data-value]', (td) => Number(td.dataset.value)).catch(() => null);
   const refLife = summary.accuracy_life?.accuracy_life_h ?? null;
   check('accuracy life equals summary.json', (life === null && refLife === null) || Math.abs(life - refLife) <= 1e-9 * Math.abs(refLife), `${life} h against ${refLife} h`);

@@ -857,10 +857,6 @@ fn merge(py: Python<'_>, dirs: Vec<PathBuf>, out: PathBuf, force: bool) -> PyRes
     })
 }
 
-/// The rvlife version.
-/// The table of stage quantities (`rvlife::quantities::STAGE`, the order of `summary.json` and
-/// `stages.csv`): per quantity its name (with its unit), unit, label, description, the models
-/// that produce it (`static`, `dynamics`, `flexible`, `lubrication`) and its CSV columns.
 /// One quantity for Python: name, unit, label, description, models, CSV columns.
 type QuantityRow = (
     &'static str,
@@ -871,22 +867,19 @@ type QuantityRow = (
     Vec<&'static str>,
 );
 
+/// The table of stage quantities ([`rvlife::api::quantity_table`], the order of
+/// `summary.json` and `stages.csv`): per quantity its name (with its unit), unit, label,
+/// description, the models that produce it (`static`, `dynamics`, `flexible`, `lubrication`)
+/// and its CSV columns.
 #[pyfunction]
 fn quantities() -> Vec<QuantityRow> {
-    rvlife::quantities::STAGE
-        .iter()
-        .map(|q| {
-            let models = match q.models {
-                rvlife::quantities::Models::Static => "static",
-                rvlife::quantities::Models::Dynamics => "dynamics",
-                rvlife::quantities::Models::Flexible => "flexible",
-                rvlife::quantities::Models::Lubrication => "lubrication",
-            };
-            (q.name, q.unit, q.label, q.description, models, q.columns())
-        })
+    rvlife::api::quantity_table()
+        .into_iter()
+        .map(|q| (q.name, q.unit, q.label, q.description, q.models, q.columns))
         .collect()
 }
 
+/// The rvlife version.
 #[pyfunction]
 fn version() -> &'static str {
     env!("CARGO_PKG_VERSION")

@@ -98,6 +98,17 @@ pub fn presets() -> Result<String, JsError> {
     to_json(&list)
 }
 
+/// The table of stage quantities (`rvlife.quantities()` in Python): JSON
+/// `[{name, unit, label, description, models, columns}]` ([`api::quantity_table`]), in the order
+/// of `summary.json`.
+///
+/// # Errors
+/// None in practice (the JSON of static text).
+#[wasm_bindgen]
+pub fn quantities() -> Result<String, JsError> {
+    to_json(&api::quantity_table())
+}
+
 /// The TOML text of the built-in reducer `name` (`rvlife example --preset NAME`).
 ///
 /// # Errors

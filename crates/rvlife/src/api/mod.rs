@@ -10,8 +10,8 @@ mod results;
 pub use efficiency::{efficiency, EfficiencyResult, DEFAULT_SPEEDS_RPM, DEFAULT_TORQUE_FRACTIONS};
 
 pub use results::{
-    ContactDisc, ContactPin, ContactResult, HysteresisResult, LoadedTeResult, ProfilePoints,
-    TeResult, TwistCurve, TwistShareResult,
+    quantity_table, ContactDisc, ContactPin, ContactResult, HysteresisResult, LoadedTeResult,
+    ProfilePoints, QuantityDoc, TeResult, TwistCurve, TwistShareResult,
 };
 
 use crate::config::Model;

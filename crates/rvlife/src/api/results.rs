@@ -216,3 +216,44 @@ pub struct ProfilePoints {
     /// Wear depth along the normal, um.
     pub wear_um: Vec<f64>,
 }
+
+/// One stage quantity as every front end lists it (Python's `rvlife.quantities()`, the web
+/// page's table headers and axis titles), from its declaration in
+/// [`crate::quantities::STAGE`].
+#[derive(Debug, Clone, Serialize)]
+pub struct QuantityDoc {
+    /// Its name with its unit (`lost_motion_arcmin`): the key of `summary.json`.
+    pub name: &'static str,
+    /// Its unit (`arcmin`; empty for a pure number).
+    pub unit: &'static str,
+    /// A short label (`lost motion`).
+    pub label: &'static str,
+    /// What it is, with its definition and source.
+    pub description: &'static str,
+    /// The models that produce it: `static`, `dynamics`, `flexible` or `lubrication`.
+    pub models: &'static str,
+    /// Its columns in `stages.csv` (its name, or a smallest-largest pair's two).
+    pub columns: Vec<&'static str>,
+}
+
+/// The table of stage quantities, in the order of `summary.json` and `stages.csv`
+/// ([`crate::quantities::STAGE`]), one [`QuantityDoc`] each.
+pub fn quantity_table() -> Vec<QuantityDoc> {
+    use crate::quantities::{Models, STAGE};
+    STAGE
+        .iter()
+        .map(|q| QuantityDoc {
+            name: q.name,
+            unit: q.unit,
+            label: q.label,
+            description: q.description,
+            models: match q.models {
+                Models::Static => "static",
+                Models::Dynamics => "dynamics",
+                Models::Flexible => "flexible",
+                Models::Lubrication => "lubrication",
+            },
+            columns: q.columns(),
+        })
+        .collect()
+}

@@ -108,10 +108,17 @@ impl Range {
         let open = if self.lo_open { "(" } else { "[" };
         format!(
             "must be a finite number in {open}{}, {}]{unit}",
-            short(self.lo),
-            short(self.hi)
+            short(bound(self.lo)),
+            short(bound(self.hi))
         )
     }
+}
+
+/// A range's bound rounded to 12 significant digits, so that one computed from others reads
+/// as written (`0.8 - 0.1` is `0.7`, not `0.7000000000000001`); the check itself uses the
+/// exact bound.
+fn bound(v: f64) -> f64 {
+    format!("{v:.11e}").parse().unwrap_or(v)
 }
 
 /// A bound as a reader expects it: `0.5`, `1e7`.
@@ -169,6 +176,14 @@ mod tests {
             e.to_string(),
             "invalid b = 1e300: must be a finite number in [0, 1e7] h"
         );
+        // A computed bound reads as written (0.8 - 0.1 and 3 x 19.9 in binary are not).
+        let e = check("d", 1.0, Range::positive(0.8 - 0.1, "s")).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "invalid d = 1: must be a finite number in (0, 0.7] s"
+        );
+        let e = check("e", 0.0, Range::closed(1.0, 3.0 * 19.9, "mm")).unwrap_err();
+        assert!(e.to_string().ends_with("[1, 59.7] mm"), "{e}");
         assert_eq!(whole("c", 5, 1, 10).unwrap(), 5);
         assert!(whole("c", 11, 1, 10).is_err());
     }
