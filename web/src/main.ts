@@ -25,7 +25,7 @@ const state = {
   text: '',
   valid: false,
   keys: [] as KeyDoc[],
-  tab: 'profile',
+  tab: 'life',
   study: null as null | { summary: any; verdict: string; files: string[] },
   montecarlo: null as null | any,
   optimize: null as null | any,
@@ -341,12 +341,13 @@ function ratedTorque(): number {
 }
 
 const tabs: Record<string, { title: string; render: (panel: HTMLElement) => void }> = {
+  // The answer first: the page opens on the accuracy life, its study already running.
+  life: { title: 'Accuracy life', render: renderLife },
   profile: { title: 'Profile', render: renderProfile },
   contact: { title: 'Contact', render: renderContact },
   te: { title: 'Transmission error', render: renderTe },
   hysteresis: { title: 'Hysteresis', render: renderHysteresis },
   dynamics: { title: 'Dynamics', render: renderDynamics },
-  life: { title: 'Accuracy life', render: renderLife },
   montecarlo: { title: 'Monte Carlo', render: renderMonteCarlo },
   optimize: { title: 'Design search', render: renderOptimize },
 };
@@ -806,6 +807,9 @@ async function start() {
   if (shared) { sel.value = ''; await setText(shared, true); } else { sel.value = 'rv-40e'; await loadPreset('rv-40e'); }
   renderTab();
   document.body.dataset.ready = 'true';
+  // The verdict and its limiting quantity as soon as the page opens (any edit or other run
+  // replaces this study).
+  if (state.tab === 'life' && state.valid) $('run-life').click();
 }
 
 if ('serviceWorker' in navigator && location.protocol !== 'file:') {

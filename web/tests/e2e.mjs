@@ -130,6 +130,12 @@ try {
   check('every key in the editor, with ranges', keyCount > 100 && ranged > 60, `${keyCount} keys, ${ranged} with a range`);
   const unit = await page.$eval('.key[data-key="cycloid.eccentricity_mm"] .unit', (u) => u.textContent);
   check('keys carry their unit', unit === 'mm', unit);
+  // The page opens on the answer: the accuracy life's view, its study run at once.
+  const firstTab = await page.$eval('#tabs button.active', (b) => b.dataset.tab);
+  const opened = await page.waitForSelector('#verdict', { timeout: 120000 }).then(() => true, () => false);
+  const openVerdict = opened ? await page.$eval('#verdict', (v) => v.textContent) : '';
+  check('the page opens on the verdict and its limiting quantity', firstTab === 'life' && /limited by/.test(openVerdict), `${firstTab}: ${openVerdict}`);
+  await page.click('button[data-tab="profile"]');
   await page.waitForFunction(() => document.querySelector('#chart-profile')?.chart?.data.datasets.length === 3, null, { timeout: 60000 });
 
   // The static study compared with `rvlife run`: dynamics and FE off in the editor too, so
