@@ -88,6 +88,22 @@ for (const f of fs.readdirSync(dist, { recursive: true })) {
 figure(`page ${(total / 1e6).toFixed(2)} MB, gzip ${(gzTotal / 1e6).toFixed(2)} MB; wasm module gzip ${(wasmGz / 1e6).toFixed(2)} MB`);
 check('whole page under 3 MB compressed', gzTotal < 3e6, `${(gzTotal / 1e6).toFixed(2)} MB`);
 
+// `scripts/web serve` (npm's serve) sends the page compressed: the module as Brotli or gzip.
+{
+  const servePort = port + 1;
+  const srv = spawn(path.join(web, 'node_modules/.bin/serve'), ['dist', '--listen', String(servePort), '--no-clipboard'], { cwd: web, stdio: ['ignore', 'pipe', 'pipe'] });
+  let encoding = 'no answer';
+  try {
+    const wasm = fs.readdirSync(path.join(dist, 'assets')).find((f) => f.endsWith('.wasm'));
+    for (let i = 0; i < 50 && encoding === 'no answer'; i++) {
+      await new Promise((r) => setTimeout(r, 200));
+      const res = await fetch(`http://localhost:${servePort}/assets/${wasm}`, { headers: { 'accept-encoding': 'br, gzip' } }).catch(() => null);
+      if (res) { encoding = res.headers.get('content-encoding') ?? 'none'; await res.arrayBuffer(); }
+    }
+  } finally { srv.kill(); }
+  check('scripts/web serve sends the module compressed', ['br', 'gzip'].includes(encoding), `content-encoding: ${encoding}`);
+}
+
 // A local static server: Vite's preview of web/dist.
 const server = spawn(path.join(web, 'node_modules/.bin/vite'), ['preview', '--port', String(port), '--strictPort'], { cwd: web, stdio: ['ignore', 'pipe', 'pipe'] });
 await new Promise((resolve, reject) => {
