@@ -601,7 +601,13 @@ function renderLife(panel: HTMLElement) {
     }
     const files: Record<string, string | (() => Promise<string>)> = {};
     for (const name of s.files) files[name] = () => jobs.call('studyFile', [name]);
-    files['config.toml'] = state.text;
+    // The config as the study ran it: without dynamics and the FE disc (`rvlife run` on this
+    // file repeats it), not the editor's text, which may enable them.
+    const ran = state.text;
+    files['config.toml'] = async () => {
+      const off = await quick.call('setKey', [ran, 'dynamics.enabled', 'false']);
+      return quick.call('setKey', [off, 'fem.enabled', 'false']);
+    };
     const dl = document.createElement('div');
     dl.innerHTML = '<h3>Downloads (the files of <code>rvlife run</code>)</h3>';
     dl.append(downloadList(files));

@@ -392,6 +392,15 @@ try {
   const page3 = await fresh.newPage();
   await page3.goto(`${origin}/`);
   const kept = await page3.waitForSelector('body[data-offline="ready"]', { timeout: 60000 }).then(() => true, () => false);
+  // The example enables dynamics and the FE disc; the page's study runs without them, and the
+  // config.toml it offers says so.
+  await page3.waitForSelector('button[data-file="config.toml"]', { timeout: 120000 });
+  const [dc3] = await Promise.all([page3.waitForEvent('download'), page3.click('button[data-file="config.toml"]')]);
+  const ranPath = path.join(tmp, 'page-study-config.toml');
+  await dc3.saveAs(ranPath);
+  const ran = fs.readFileSync(ranPath, 'utf8');
+  check('the study\'s config.toml is the config it ran (dynamics and FE off)', /\[dynamics\][^[]*\nenabled = false/.test(ran) && /\[fem\][^[]*\nenabled = false/.test(ran) && /\[dynamics\][^[]*\nenabled = true/.test(example),
+    ran.split('\n').filter((l) => l.startsWith('enabled')).join(' | '));
   await fresh.setOffline(true);
   await page3.reload();
   const offline = await page3.waitForSelector('body[data-ready="true"]', { timeout: 30000 }).then(() => true, () => false);
