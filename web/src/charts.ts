@@ -1,4 +1,5 @@
-// Line charts of (x, y) series with Chart.js; zoom and pan by chartjs-plugin-zoom.
+// Line charts of (x, y) series with Chart.js; zoom and pan by chartjs-plugin-zoom. Each
+// canvas keeps its chart until the next is drawn on it or the view is left.
 import {
   Chart, LineController, LineElement, PointElement, LinearScale, Legend, Title, Tooltip,
 } from 'chart.js';
@@ -6,9 +7,11 @@ import zoomPlugin from 'chartjs-plugin-zoom';
 
 Chart.register(LineController, LineElement, PointElement, LinearScale, Legend, Title, Tooltip, zoomPlugin);
 
+export type Point = { x: number; y: number };
+
 export type Series = {
   label: string;
-  data: { x: number; y: number }[];
+  data: Point[];
   dash?: number[];
   color?: string;
   points?: boolean;
@@ -23,12 +26,20 @@ const COLOURS = ['#0072B2', '#E69F00', '#009E73', '#CC79A7', '#56B4E9', '#D55E00
 
 const live: Chart[] = [];
 
+/** The chart drawn on each canvas. */
+const drawn = new WeakMap<HTMLCanvasElement, Chart>();
+
+/** The chart drawn on `canvas`, or undefined (to reset its zoom). */
+export function chartOf(canvas: HTMLCanvasElement): Chart | undefined {
+  return drawn.get(canvas);
+}
+
 export function destroyCharts() {
   while (live.length) live.pop()!.destroy();
 }
 
 export function lineChart(canvas: HTMLCanvasElement, series: Series[], axes: Axes): Chart {
-  (canvas as any).chart?.destroy();
+  drawn.get(canvas)?.destroy();
   let bounds = {};
   if (axes.equal) {
     const all = series.flatMap((s) => s.data);
@@ -70,7 +81,9 @@ export function lineChart(canvas: HTMLCanvasElement, series: Series[], axes: Axe
       },
     },
   });
-  (canvas as any).chart = chart;
+  drawn.set(canvas, chart);
+  // The end-to-end test reads what was drawn from the canvas's `chart`.
+  (canvas as HTMLCanvasElement & { chart?: Chart }).chart = chart;
   live.push(chart);
   return chart;
 }

@@ -2,11 +2,12 @@
 // its own WebAssembly module) and returns a promise; a long command can be cancelled (the
 // workers running it are terminated and fresh ones started). The accuracy-life study runs in
 // parts on all of an engine's workers (`study`).
+import type { Args, Command, Item, Reply, Result } from './protocol';
 
 export type Progress = (done: number, total: number) => void;
 
 type Pending = {
-  resolve: (v: any) => void; reject: (e: Error) => void; progress?: Progress; item?: (v: any) => void;
+  resolve: (v: unknown) => void; reject: (e: Error) => void; progress?: Progress; item?: (v: unknown) => void;
   worker: number;
 };
 
@@ -32,10 +33,10 @@ export class Engine {
   private spawn(): Worker {
     const w = new Worker(new URL('./worker.ts', import.meta.url), { type: 'module' });
     w.onmessage = (ev) => {
-      const m = ev.data as { id: number; kind: string; value?: any; message?: string; done?: number; total?: number };
+      const m = ev.data as Reply;
       const p = this.pending.get(m.id);
       if (!p) return;
-      if (m.kind === 'progress') { p.progress?.(m.done!, m.total!); return; }
+      if (m.kind === 'progress') { p.progress?.(m.done, m.total); return; }
       if (m.kind === 'item') { p.item?.(m.value); return; }
       this.pending.delete(m.id);
       if (m.kind === 'result') p.resolve(m.value); else p.reject(new Error(m.message));
@@ -44,17 +45,21 @@ export class Engine {
   }
 
   /** Runs `cmd` with `args` in the first worker; `progress` hears (done, total). */
-  call<T = string>(cmd: string, args: unknown[], progress?: Progress): Promise<T> {
-    return this.callOn<T>(0, cmd, args, progress);
+  call<K extends Command>(cmd: K, args: Args<K>, progress?: Progress): Promise<Result<K>> {
+    return this.callOn(0, cmd, args, progress);
   }
 
   /** Runs `cmd` with `args` in worker `k` (0 <= k < size); `item` hears each piece the
    *  command hands on before it ends. */
-  callOn<T = string>(k: number, cmd: string, args: unknown[], progress?: Progress,
-    item?: (v: any) => void): Promise<T> {
+  callOn<K extends Command>(k: number, cmd: K, args: Args<K>, progress?: Progress,
+    item?: (v: Item<K>) => void): Promise<Result<K>> {
     const id = this.next++;
-    return new Promise<T>((resolve, reject) => {
-      this.pending.set(id, { resolve, reject, progress, item, worker: k });
+    return new Promise<Result<K>>((resolve, reject) => {
+      // The worker answers call `id` with what `cmd` answers and hands on.
+      this.pending.set(id, {
+        resolve: (v) => resolve(v as Result<K>), reject, progress,
+        item: item && ((v) => item(v as Item<K>)), worker: k,
+      });
       this.workers[k].postMessage({ id, cmd, args });
     });
   }
@@ -76,9 +81,6 @@ export class Engine {
   get busy() { return this.pending.size > 0; }
 }
 
-/** The plan of a study in parts (the module's `studyPlan`). */
-type Plan = { ground: Uint8Array; first?: Uint8Array; wearSteps: number; stages: number };
-
 /** The accuracy-life study of `text` (`rvlife run` without dynamics and FE) on every worker of
  *  `engine`: the wear integration on the first, the unworn first stage beside it on a second;
  *  each stage, as soon as the integration hands it on, on whichever worker is free (in the
@@ -88,13 +90,13 @@ type Plan = { ground: Uint8Array; first?: Uint8Array; wearSteps: number; stages:
  *  (`studyFile`). Resolves to the results' overview JSON (the module's
  *  `StudyResults.overview`); `progress` hears the wear-rate evaluations and the stages done. */
 export async function study(engine: Engine, text: string, progress: Progress): Promise<string> {
-  const plan = await engine.call<Plan>('studyPlan', [text]);
+  const plan = await engine.call('studyPlan', [text]);
   const total = plan.wearSteps + plan.stages;
   let wearDone = 0;
   const outcomes: Uint8Array[] = [];
   const report = () => progress(Math.min(wearDone, plan.wearSteps) + outcomes.length, total);
   const analyse = async (k: number, stage: Uint8Array) => {
-    outcomes.push(await engine.callOn<Uint8Array>(k, 'studyStage', [text, plan.ground, stage]));
+    outcomes.push(await engine.callOn(k, 'studyStage', [text, plan.ground, stage]));
     report();
   };
   const apart = plan.first !== undefined && engine.size > 1;
@@ -104,7 +106,7 @@ export async function study(engine: Engine, text: string, progress: Progress): P
   const idle: (() => void)[] = [];
   let handed = 0;
   let integrated = false;
-  const wear = engine.callOn<string>(0, 'studyWear', [text, plan.ground],
+  const wear = engine.callOn(0, 'studyWear', [text, plan.ground],
     (d) => { wearDone = d; report(); },
     (stage: Uint8Array) => {
       if (handed++ === 0 && apart) return;
@@ -119,7 +121,7 @@ export async function study(engine: Engine, text: string, progress: Progress): P
     if (k === 0) await wear;
     if (k === 1) await aside;
     for (;;) {
-      if (k === 0 && !settled) settled = await engine.callOn<boolean>(0, 'studyOffer', [outcomes]);
+      if (k === 0 && !settled) settled = await engine.callOn(0, 'studyOffer', [outcomes]);
       // In the order handed on while the wear goes on (the early stages settle the accuracy
       // life's crossing), the most worn first once it has ended (they take longest).
       const s = integrated ? queue.pop() : queue.shift();
@@ -129,5 +131,5 @@ export async function study(engine: Engine, text: string, progress: Progress): P
     }
   };
   await Promise.all([wear, ...Array.from({ length: engine.size }, (_, k) => worker(k))]);
-  return engine.call<string>('studyAssemble', [outcomes]);
+  return engine.call('studyAssemble', [outcomes]);
 }

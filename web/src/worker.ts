@@ -5,8 +5,8 @@
 // kind: 'error', message}. Cancelling a command terminates the worker (see rvlife.ts).
 import init, * as rv from './pkg/rvlife_wasm.js';
 import { keepOffline } from './offline';
-
-type Call = { id: number; cmd: string; args: unknown[] };
+import type { Args, Command, Request, Result } from './protocol';
+import type { StudyPlan } from './types';
 
 const ready = init();
 
@@ -19,7 +19,9 @@ let lastWear: rv.StudyWear | null = null;
 // hands a piece on); every one returns text (JSON or TOML), but the parts of a study, which
 // return their bytes (a promise of it where the command waits, as keepOffline does).
 type Progress = ((done: number, total: number) => void) & { item: (value: unknown) => void };
-const commands: Record<string, (p: Progress, ...a: any[]) => unknown> = {
+/** A command's function: its progress callback, then the page's arguments. */
+type Run<K extends Command> = (p: Progress, ...a: Args<K>) => Result<K> | Promise<Result<K>>;
+const commands: { [K in Command]: Run<K> } = {
   warm: () => { rv.warm(); return ''; },
   keepOffline: async () => { await keepOffline([self.location.href]); return ''; },
   presets: () => rv.presets(),
@@ -43,7 +45,8 @@ const commands: Record<string, (p: Progress, ...a: any[]) => unknown> = {
     lastStudy = rv.study(text, p);
     return lastStudy.overview();
   },
-  studyPlan: (_p, text: string) => rv.studyPlan(text),
+  // The module declares a plain object: its keys are those of `StudyPlan`.
+  studyPlan: (_p, text: string) => rv.studyPlan(text) as StudyPlan,
   studyWear: (p, text: string, ground: Uint8Array) => {
     lastWear?.free();
     lastWear = null;
@@ -67,16 +70,28 @@ const commands: Record<string, (p: Progress, ...a: any[]) => unknown> = {
   },
   montecarlo: (p, text: string, samples: number, seed: number) =>
     rv.montecarlo(text, samples, BigInt(seed), p),
+  prepare: (_p, text: string) => { rv.prepare(text); return ''; },
+  montecarloWear: (p, text: string, samples: number, seed: number) =>
+    rv.montecarloWear(text, samples, BigInt(seed), p, p.item),
+  montecarloShard: (p, text: string, samples: number, seed: number, wear: Uint8Array, index: number,
+    count: number) => rv.montecarloShard(text, samples, BigInt(seed), wear, index, count, p),
+  montecarloMerge: (_p, text: string, shards: string[]) => rv.montecarloMerge(text, shards),
   optimize: (p, text: string, vary: string, objective: string, constraints: string, evaluations: number,
     seed: number) => rv.optimize(text, vary, objective, constraints, evaluations, BigInt(seed), p),
 };
 
-self.onmessage = async (ev: MessageEvent<Call>) => {
-  const { id, cmd, args } = ev.data;
+/** Runs the command `r` names on its arguments (generic, so that the name and the arguments'
+ *  types go together). */
+function run<K extends Command>(r: { cmd: K; args: Args<K> }, p: Progress): Result<K> | Promise<Result<K>> {
+  const f: Run<K> = commands[r.cmd];
+  return f(p, ...r.args);
+}
+
+self.onmessage = async (ev: MessageEvent<Request>) => {
+  const { id, cmd } = ev.data;
   try {
     await ready;
-    const f = commands[cmd];
-    if (!f) throw new Error(`unknown command ${cmd}`);
+    if (!Object.hasOwn(commands, cmd)) throw new Error(`unknown command ${cmd}`);
     let last = 0;
     const post = (m: object) => (self as unknown as Worker).postMessage({ id, ...m });
     const progress = Object.assign((done: number, total: number) => {
@@ -86,7 +101,7 @@ self.onmessage = async (ev: MessageEvent<Call>) => {
         post({ kind: 'progress', done, total });
       }
     }, { item: (value: unknown) => post({ kind: 'item', value }) });
-    const value = await f(progress, ...args);
+    const value = await run(ev.data, progress);
     (self as unknown as Worker).postMessage({ id, kind: 'result', value });
   } catch (e) {
     const message = e instanceof Error ? e.message : String(e);

@@ -492,6 +492,46 @@ try {
   await search('the design search (one goal) equals rvlife optimize', 'life', 'lost_motion_arcmin<=1.0', 26, ['convergence', 'accuracy', 'sensitivity']);
   await search('the Pareto search equals rvlife optimize', 'life,max_pressure_mpa', '', 16, ['convergence', 'pareto', 'accuracy', 'sensitivity']);
 
+  // Monte Carlo spread over the analysis workers (the address's workers=N): 16 samples of the
+  // example on one worker, then on two. The two give the same bytes (the parts merged by the
+  // library's merge), and the numbers of `rvlife montecarlo --samples 16` (samples.csv,
+  // stages.csv) within 1e-6 relative: the module's libm and glibc differ in their last bits,
+  // which the solvers' iterations carry (1.7e-8 at worst seen). The times are figures.
+  const mc16 = path.join(tmp, 'mc16');
+  const mcCli = spawnSync(bin, ['montecarlo', '--samples', '16', '--seed', '1', '--out', mc16], { encoding: 'utf8' });
+  const mcTimes = {};
+  const mcTexts = {};
+  for (const workers of [1, 2]) {
+    const p = await context.newPage();
+    await p.goto(`${origin}/?workers=${workers}`);
+    // The study the page opens with, done before the run is timed.
+    await p.waitForSelector('#verdict', { timeout: 300000 });
+    await p.click('button[data-tab="montecarlo"]');
+    await p.fill('#samples', '16');
+    const t0 = Date.now();
+    await p.click('#run-montecarlo');
+    const done = await p.waitForSelector('#chart-reliability', { timeout: 900000 }).then(() => true, () => false);
+    mcTimes[workers] = (Date.now() - t0) / 1000;
+    for (const file of ['samples.csv', 'stages.csv']) {
+      if (!done) break;
+      const [dl] = await Promise.all([p.waitForEvent('download'), p.click(`button[data-file="${file}"]`)]);
+      const mine = path.join(tmp, `mc16-${workers}-${file}`);
+      await dl.saveAs(mine);
+      mcTexts[`${workers} ${file}`] = fs.readFileSync(mine, 'utf8');
+    }
+    await p.close();
+  }
+  let mcWorst = 0; let mcCount = 0;
+  const mcSame = ['samples.csv', 'stages.csv'].every((file) => {
+    const one = mcTexts[`1 ${file}`]; const two = mcTexts[`2 ${file}`];
+    const d = numbersDiffer(two ?? '', mcCli.status === 0 ? fs.readFileSync(path.join(mc16, file), 'utf8') : '');
+    mcWorst = Math.max(mcWorst, d.worst); mcCount += d.count;
+    return one !== undefined && one === two;
+  });
+  figure(`Monte Carlo, 16 samples of the example: ${mcTimes[1].toFixed(1)} s on 1 worker, ${mcTimes[2].toFixed(1)} s on 2 workers (${(mcTimes[1] / mcTimes[2]).toFixed(2)}x)`);
+  check('Monte Carlo on 1 and on 2 workers: the same bytes, and rvlife montecarlo\'s numbers', mcCli.status === 0 && mcSame && mcCount > 0 && mcWorst <= 1e-6,
+    `same bytes ${mcSame}; ${mcCount} numbers, worst relative difference ${mcWorst.toExponential(2)}; ${mcTimes[1].toFixed(1)} s on 1 worker, ${mcTimes[2].toFixed(1)} s on 2`);
+
   check('no request outside the page\'s origin', outside.length === 0, outside.slice(0, 5).join(' '));
   check('no console error', consoleErrors.length === 0, consoleErrors.slice(0, 5).join(' | '));
 } finally {

@@ -559,21 +559,20 @@ pub fn montecarlo(
     progress: Option<js_sys::Function>,
 ) -> Result<String, JsError> {
     let m = static_model(text)?;
-    let plan = api::montecarlo_plan(
-        &m,
-        samples,
-        seed,
-        None,
-        false,
-        rvlife::montecarlo::DEFAULT_SAMPLES_PER_MESH_CYCLE,
-        Spelling::Python,
-    )
-    .map_err(err)?;
+    let plan = montecarlo_plan(&m, samples, seed, None)?;
     let p = Progress(progress);
     let records = rvlife::montecarlo::run(&m, &plan, &|d, t| p.call(d, t)).map_err(err)?;
-    let (samples_csv, stages_csv) = rvlife::montecarlo::records_csv(&records);
-    let life = rvlife::montecarlo::life_distribution(&records);
-    let percentiles = rvlife::montecarlo::percentiles(&records, &m.wear.stage_hours);
+    montecarlo_json(&m, &records)
+}
+
+/// The JSON of [`montecarlo`] from the records of a whole run.
+fn montecarlo_json(
+    m: &Model,
+    records: &[rvlife::montecarlo::SampleRecord],
+) -> Result<String, JsError> {
+    let (samples_csv, stages_csv) = rvlife::montecarlo::records_csv(records);
+    let life = rvlife::montecarlo::life_distribution(records);
+    let percentiles = rvlife::montecarlo::percentiles(records, &m.wear.stage_hours);
     let horizon = m.life.horizon_h(&m.wear.stage_hours);
     let list: Vec<Value> = records
         .iter()
@@ -593,9 +592,203 @@ pub fn montecarlo(
         "percentiles": percentiles,
         "records": list,
         "horizon_h": horizon,
-        "verdict": rvlife::output::mc_verdict::verdict(&records, &m.wear.stage_hours, &m.life),
-        "reliability": rvlife::montecarlo::reliability(&records, horizon),
+        "verdict": rvlife::output::mc_verdict::verdict(records, &m.wear.stage_hours, &m.life),
+        "reliability": rvlife::montecarlo::reliability(records, horizon),
     }))
+}
+
+/// The plan of [`montecarlo`]'s run of `samples` with `seed`, or of its part `shard` (`I/N`):
+/// the whole run's work checked against the config's budget.
+fn montecarlo_plan(
+    m: &Model,
+    samples: usize,
+    seed: u64,
+    shard: Option<&str>,
+) -> Result<rvlife::montecarlo::Plan, JsError> {
+    api::montecarlo_plan(
+        m,
+        samples,
+        seed,
+        shard,
+        false,
+        rvlife::montecarlo::DEFAULT_SAMPLES_PER_MESH_CYCLE,
+        Spelling::Python,
+    )
+    .map_err(err)
+}
+
+/// Validates the config `text` and keeps its model in this worker for the parts of a run that
+/// follow (a study's stages, a Monte Carlo run's samples): a worker waiting for its first
+/// part validates meanwhile.
+///
+/// # Errors
+/// The config's message.
+#[wasm_bindgen]
+pub fn prepare(text: &str) -> Result<(), JsError> {
+    static_model_kept(text).map(|_| ())
+}
+
+/// The first part of [`montecarlo`] run on several workers: the nominal reducer's wear history
+/// of the config `text` (`rvlife::montecarlo::nominal_wear`), which every sample is analysed
+/// on, as bytes for [`montecarlo_shard`]. Checks the whole run of `samples` with `seed` first.
+/// `progress(done, total)` hears the wear integration's steps, and `early(bytes)` the
+/// history's early part up to the last stage as soon as it is integrated, when points beyond
+/// it follow (`rvlife::montecarlo::NominalWear::partial`): the samples' stages can be analysed
+/// on it meanwhile.
+///
+/// # Errors
+/// The config's message; `samples` out of range or beyond the work budget (named
+/// `samples`); the wear integration's failure.
+#[wasm_bindgen(js_name = montecarloWear)]
+pub fn montecarlo_wear(
+    text: &str,
+    samples: usize,
+    seed: u64,
+    progress: Option<js_sys::Function>,
+    early: Option<js_sys::Function>,
+) -> Result<Vec<u8>, JsError> {
+    let m = static_model_kept(text)?;
+    montecarlo_plan(&m, samples, seed, None)?;
+    let p = Progress(progress);
+    let whole = rvlife::montecarlo::nominal_wear_reporting(&m, &|d, t| p.call(d, t), &|w| {
+        if let (Some(f), Ok(bytes)) = (&early, cbor(&w)) {
+            // A callback that throws does not stop the integration.
+            let _ = f.call1(&JsValue::NULL, &js_sys::Uint8Array::from(bytes.as_slice()));
+        }
+    })
+    .map_err(err)?;
+    cbor(&whole)
+}
+
+/// A part of a Monte Carlo run whose samples wait for the whole nominal history
+/// ([`montecarlo_shard`]), kept in the worker that analysed their stages.
+struct KeptPart {
+    /// The run and the part: config text, samples, seed, index, count.
+    key: (String, usize, u64, usize, usize),
+    /// The part's samples done.
+    done: Vec<rvlife::montecarlo::SampleRecord>,
+    /// Those waiting.
+    waiting: Vec<rvlife::montecarlo::SampleStages>,
+}
+
+thread_local! {
+    /// The parts of the current Monte Carlo run whose samples wait in this worker.
+    static KEPT_PARTS: std::cell::RefCell<Vec<KeptPart>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// The part `index` of `count` (1-based: the samples `[(index-1) S/count, index S/count)`) of
+/// [`montecarlo`]'s run of `samples` reducers with `seed`, on the nominal wear history `wear`
+/// ([`montecarlo_wear`]'s bytes, its early part or the whole): JSON `{meta, samples_csv,
+/// stages_csv}`, the shard's meta-data (`rvlife::output::mc_shards::ShardMeta`) and its
+/// records as the command line's tables, for [`montecarlo_merge`]. On the early part, a
+/// sample whose life lies beyond its stages waits in this worker, and the answer is
+/// `{"waiting": N}`: the same call on the same worker with the whole history then finishes the
+/// part. `progress(done, total)` counts this part's samples analysed.
+///
+/// # Errors
+/// The config's message; `samples` or the part out of range; bytes that are not this
+/// config's nominal wear history.
+#[wasm_bindgen(js_name = montecarloShard)]
+pub fn montecarlo_shard(
+    text: &str,
+    samples: usize,
+    seed: u64,
+    wear: &[u8],
+    index: usize,
+    count: usize,
+    progress: Option<js_sys::Function>,
+) -> Result<String, JsError> {
+    use rvlife::montecarlo::{sample_beyond, sample_on, SampleStep, SharedWear};
+    let m = static_model_kept(text)?;
+    let plan = montecarlo_plan(&m, samples, seed, Some(&format!("{index}/{count}")))?;
+    let wear: rvlife::montecarlo::NominalWear = from_cbor(wear, "nominal wear history")?;
+    let shared = SharedWear::of(&m, &wear).map_err(err)?;
+    let key = (text.to_string(), samples, seed, index, count);
+    // Only this run's parts are kept: a new run drops the others.
+    let kept = KEPT_PARTS.with_borrow_mut(|k| {
+        k.retain(|p| (&p.key.0, p.key.1, p.key.2) == (&key.0, key.1, key.2));
+        k.iter()
+            .position(|p| p.key == key)
+            .map(|i| k.swap_remove(i))
+    });
+    let p = Progress(progress);
+    let (mut done, waiting) = match kept {
+        Some(part) => (part.done, part.waiting),
+        None => {
+            let mut done = Vec::new();
+            let mut waiting = Vec::new();
+            let idx = plan.indices();
+            let total = idx.len();
+            for (k, i) in idx.enumerate() {
+                match sample_on(&m, &plan, &shared, i) {
+                    SampleStep::Done(r) => done.push(r),
+                    SampleStep::Beyond(w) => waiting.push(*w),
+                }
+                p.call(k + 1, total);
+            }
+            (done, waiting)
+        }
+    };
+    if !waiting.is_empty() && shared.partial {
+        let n = waiting.len();
+        KEPT_PARTS.with_borrow_mut(|k| k.push(KeptPart { key, done, waiting }));
+        return to_json(&json!({ "waiting": n }));
+    }
+    for w in waiting {
+        done.push(sample_beyond(&m, &plan, &shared, w).map_err(err)?);
+    }
+    done.sort_by_key(|r| r.sample);
+    let (samples_csv, stages_csv) = rvlife::montecarlo::records_csv(&done);
+    let meta = rvlife::output::mc_shards::ShardMeta {
+        rvlife_version: env!("CARGO_PKG_VERSION").into(),
+        plan,
+        stage_hours: m.wear.stage_hours.clone(),
+        config_toml: text.to_string(),
+    };
+    to_json(&json!({"meta": meta, "samples_csv": samples_csv, "stages_csv": stages_csv}))
+}
+
+/// The parts of [`montecarlo`]'s run of the config `text` ([`montecarlo_shard`]'s JSON, one
+/// per part) merged by the library's merge (`rvlife::output::mc_shards::merge_parts`, as
+/// `rvlife merge` does): [`montecarlo`]'s JSON, the same bytes as the run in one part.
+///
+/// # Errors
+/// The config's message; parts that are not one run's (another config, seed or count, a
+/// missing or repeated part; named `shards`) or not [`montecarlo_shard`]'s JSON.
+#[wasm_bindgen(js_name = montecarloMerge)]
+pub fn montecarlo_merge(text: &str, shards: Vec<String>) -> Result<String, JsError> {
+    use rvlife::output::mc_shards::{merge_parts, parse_records, Part, ShardMeta};
+    #[derive(serde::Deserialize)]
+    struct Shard {
+        meta: ShardMeta,
+        samples_csv: String,
+        stages_csv: String,
+    }
+    let m = static_model_kept(text)?;
+    let parts = shards
+        .iter()
+        .enumerate()
+        .map(|(k, json)| {
+            let origin = format!("part {}", k + 1);
+            let s: Shard =
+                serde_json::from_str(json).map_err(|e| JsError::new(&format!("{origin}: {e}")))?;
+            let records = parse_records(
+                (&format!("{origin} samples.csv"), &s.samples_csv),
+                (&format!("{origin} stages.csv"), &s.stages_csv),
+            )
+            .map_err(err)?;
+            Ok(Part {
+                origin,
+                meta: s.meta,
+                records,
+            })
+        })
+        .collect::<Result<Vec<_>, JsError>>()?;
+    let (meta, records) = merge_parts(parts).map_err(err)?;
+    if meta.config_toml != text {
+        return Err(JsError::new("the parts are another config's run"));
+    }
+    montecarlo_json(&m, &records)
 }
 
 /// The design search (`rvlife optimize`: one goal by the Latin hypercube, CMA-ES, the compass

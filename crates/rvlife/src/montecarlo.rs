@@ -166,6 +166,8 @@ pub struct SharedWear {
     /// Index in `hours` of each point beyond the last stage where the accuracy life is looked
     /// for.
     pub extension_index: Vec<usize>,
+    /// The history's early part only ([`NominalWear::partial`]).
+    pub partial: bool,
 }
 
 /// Stages and their subdivisions, then (with life thresholds) the points beyond the last
@@ -222,6 +224,12 @@ pub struct NominalWear {
     pub stage_index: Vec<usize>,
     /// Index in `hours` of each point beyond the last stage where the life is looked for.
     pub extension_index: Vec<usize>,
+    /// Whether this is the history's early part, up to the last stage, handed on while the
+    /// points beyond it are integrated ([`nominal_wear_reporting`]): a sample whose accuracy
+    /// life lies beyond its stages waits for the whole ([`SampleStep::Beyond`]). Absent in
+    /// JSON: false.
+    #[serde(default)]
+    pub partial: bool,
 }
 
 /// The wear history of `model` at its stages and the points that split each interval between
@@ -233,6 +241,22 @@ pub struct NominalWear {
 /// Wear integration failures; [`Error::Invalid`] naming `wear.stage_hours` if the wear
 /// model's validity ends before the last stage.
 pub fn nominal_wear(model: &Model) -> Result<NominalWear> {
+    nominal_wear_reporting(model, &|_, _| {}, &|_| {})
+}
+
+/// [`nominal_wear`], `progress(done, total)` hearing the wear integration's steps
+/// ([`crate::wear::integrate`]'s) and `early` the history's early part as soon as the
+/// integration has passed the last stage, when points beyond it follow
+/// ([`NominalWear::partial`]; the same maps as the whole history's at those hours): the
+/// samples' stages can be analysed while the rest is integrated.
+///
+/// # Errors
+/// As [`nominal_wear`].
+pub fn nominal_wear_reporting(
+    model: &Model,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    early: &dyn Fn(NominalWear),
+) -> Result<NominalWear> {
     let (mut hours, stage_index, mut extension_index) = dense_hours(model);
     let mut m = model.clone();
     m.wear.stage_hours = hours.clone();
@@ -241,8 +265,31 @@ pub fn nominal_wear(model: &Model) -> Result<NominalWear> {
         bearing_rates,
         ..m.wear_inputs()
     };
-    let hist = crate::wear::integrate(&inputs, &|_, _| {})?;
     let last_stage = stage_index.last().copied().unwrap_or(0);
+    let seen = std::sync::Mutex::new((Vec::new(), Vec::new()));
+    let hist = crate::wear::integrate_with_stages(&inputs, progress, &|sw| {
+        if extension_index.is_empty() || sw.index > last_stage {
+            return;
+        }
+        let Ok(mut seen) = seen.lock() else {
+            return;
+        };
+        seen.0.push(sw.map.to_vec());
+        seen.1.push(sw.pin_map.to_vec());
+        if sw.index == last_stage && seen.0.len() == last_stage + 1 {
+            let (maps, pin_maps) = std::mem::take(&mut *seen);
+            early(NominalWear {
+                hours: hours[..=last_stage].to_vec(),
+                maps,
+                pin_maps,
+                bearing_rate_disc: bearing_rates.disc,
+                bearing_rate_carrier: bearing_rates.carrier,
+                stage_index: stage_index.clone(),
+                extension_index: Vec::new(),
+                partial: true,
+            });
+        }
+    })?;
     if let Some(l) = &hist.limit {
         if hist.maps.len() <= last_stage {
             return Err(Error::invalid(
@@ -267,6 +314,7 @@ pub fn nominal_wear(model: &Model) -> Result<NominalWear> {
         bearing_rate_carrier: bearing_rates.carrier,
         stage_index,
         extension_index,
+        partial: false,
     })
 }
 
@@ -292,7 +340,7 @@ impl SharedWear {
         let maps = w
             .maps
             .iter()
-            .map(|map| wear_map(model, map))
+            .map(|map| Ok(crate::wear::profile_maps(model.wear.model, map)?.1))
             .collect::<Result<_>>()?;
         Ok(SharedWear {
             hours: w.hours.clone(),
@@ -304,6 +352,7 @@ impl SharedWear {
             },
             stage_index: w.stage_index.clone(),
             extension_index: w.extension_index.clone(),
+            partial: w.partial,
         })
     }
 }
@@ -314,15 +363,6 @@ impl SharedWear {
 /// As [`nominal_wear`].
 pub(crate) fn shared_wear(model: &Model) -> Result<SharedWear> {
     SharedWear::of(model, &nominal_wear(model)?)
-}
-
-fn wear_map(model: &Model, map: &[f64]) -> Result<Option<WearMap>> {
-    let max = map.iter().copied().fold(0.0, f64::max);
-    Ok(match model.wear.model {
-        _ if max <= 0.0 => None,
-        crate::wear::WearModelKind::Paper => Some(WearMap::uniform(map.len(), max)?),
-        crate::wear::WearModelKind::Flodin => Some(WearMap::new(map.to_vec())?),
-    })
 }
 
 /// The sampled reducer `index` of `seed`: `model` with its part errors and modification drawn
@@ -412,7 +452,7 @@ fn accuracy_at(
 }
 
 /// Runs one sampled reducer through the study (module documentation). `shared`: the nominal
-/// wear history, or `None` to integrate the sample's own.
+/// wear history (whole), or `None` to integrate the sample's own.
 pub(crate) fn run_sample(
     model: &Model,
     plan: &Plan,
@@ -439,27 +479,107 @@ pub(crate) fn run_sample(
             }
         },
     };
-    let per_cycle = plan.samples_per_mesh_cycle;
+    match stages_of(model, plan, wear, m, index) {
+        SampleStep::Done(r) => r,
+        SampleStep::Beyond(s) => beyond_stages(model, plan, wear, *s),
+    }
+}
+
+/// A sampled reducer analysed at its stages, all within the spec, waiting for the nominal
+/// wear history beyond the last stage to find its accuracy life ([`sample_beyond`]): its
+/// model, its stages' points and where its next analysis starts.
+#[derive(Debug, Clone)]
+pub struct SampleStages {
+    index: usize,
+    model: Model,
+    points: Vec<AccuracyPoint>,
+    warm: Starts,
+}
+
+impl SampleStages {
+    /// The sample's index.
+    pub fn index(&self) -> usize {
+        self.index
+    }
+}
+
+/// One sample on a nominal history that may be partial ([`sample_on`]).
+#[derive(Debug, Clone)]
+pub enum SampleStep {
+    /// Its record.
+    Done(SampleRecord),
+    /// Its stages analysed, its life beyond them: it needs the whole history.
+    Beyond(Box<SampleStages>),
+}
+
+/// Sample `index` of `plan` on the nominal history `shared`: what [`run_on`] gives for it
+/// when `shared` is whole; on an early part ([`NominalWear::partial`]) a sample whose stages
+/// all lie within the spec waits ([`SampleStep::Beyond`]) for [`sample_beyond`] on the whole,
+/// which then gives the same record as [`run_on`].
+pub fn sample_on(model: &Model, plan: &Plan, shared: &SharedWear, index: usize) -> SampleStep {
+    stages_of(
+        model,
+        plan,
+        shared,
+        sample_model(model, plan.seed, index),
+        index,
+    )
+}
+
+/// The record of a sample that waited ([`SampleStep::Beyond`]), on the whole nominal history
+/// `shared`.
+///
+/// # Errors
+/// [`Error::Invalid`] naming `shared_wear` if `shared` is an early part again.
+pub fn sample_beyond(
+    model: &Model,
+    plan: &Plan,
+    shared: &SharedWear,
+    waiting: SampleStages,
+) -> Result<SampleRecord> {
+    if shared.partial {
+        return Err(Error::invalid(
+            "shared_wear",
+            "an early part",
+            "the whole nominal wear history, with its points beyond the last stage",
+        ));
+    }
+    Ok(beyond_stages(model, plan, shared, waiting))
+}
+
+/// The accuracy point of the sampled reducer `m` at map `i` of `wear`, its analyses started
+/// from `warm` (the sample's last state) and leaving theirs there.
+fn point_at(
+    m: &Model,
+    wear: &SharedWear,
+    i: usize,
+    per_cycle: usize,
+    angular_te: bool,
+    warm: &mut Starts,
+) -> Result<AccuracyPoint> {
+    let pins = wear.pin_maps.get(i).map_or(&[][..], |p| &p[..]);
+    let parts = crate::wear::WornState::parts(wear.bearing_rates, wear.hours[i], pins);
+    accuracy_at(
+        &m.worn(&parts),
+        wear.maps[i].clone(),
+        wear.hours[i],
+        per_cycle,
+        angular_te,
+        warm,
+    )
+}
+
+/// The sampled reducer `m` (sample `index`) at its stages, then its accuracy life, unless
+/// that lies beyond the stages and `wear` is an early part.
+fn stages_of(model: &Model, plan: &Plan, wear: &SharedWear, m: Model, index: usize) -> SampleStep {
     // A stage reports every quantity; a trial of the life search solves the angular TE only
     // where the spec bounds it. The stages and trials are solved in order, each revolution
     // started from the last one's.
-    let warm = std::cell::RefCell::new(Starts::default());
-    let at = |i: usize, angular_te: bool| {
-        let pins = wear.pin_maps.get(i).map_or(&[][..], |p| &p[..]);
-        let worn = crate::config::worn_parts(&m, wear.bearing_rates, wear.hours[i], pins);
-        accuracy_at(
-            &worn,
-            wear.maps[i].clone(),
-            wear.hours[i],
-            per_cycle,
-            angular_te,
-            &mut warm.borrow_mut(),
-        )
-    };
+    let mut warm = Starts::default();
     let mut points = Vec::new();
     let mut status = "ok".to_string();
     for &i in &wear.stage_index {
-        match at(i, true) {
+        match point_at(&m, wear, i, plan.samples_per_mesh_cycle, true, &mut warm) {
             Ok(p) => points.push(p),
             Err(e) => {
                 status = format!("failed: {e}");
@@ -467,35 +587,81 @@ pub(crate) fn run_sample(
             }
         }
     }
-    // Bisection over the shared maps between the stages: `at` by hours maps to the nearest
-    // map (the bisection's trial hours are the maps' own: the bracket halves over indices).
-    let life = if points.is_empty() || status != "ok" {
-        None
-    } else {
-        let mut lookup = |h: f64| -> Result<AccuracyPoint> {
-            let i = wear
-                .hours
-                .iter()
-                .position(|&x| (x - h).abs() <= 1e-9 * h.max(1.0))
-                .ok_or_else(|| Error::numerical("accuracy life", "no wear map at those hours"))?;
-            at(i, model.life.angular_te_arcmin.is_some())
-        };
-        let ext: Vec<f64> = wear
-            .extension_index
-            .iter()
-            .map(|&i| wear.hours[i])
-            .collect();
-        bracket_life(&model.life, &points, &wear.hours, &ext, &mut lookup)
-            .ok()
-            .flatten()
+    let waiting = SampleStages {
+        index,
+        model: m,
+        points,
+        warm,
     };
+    if waiting.points.is_empty() || status != "ok" {
+        return SampleStep::Done(SampleRecord {
+            sample: index,
+            status,
+            points: waiting.points,
+            accuracy_life_h: None,
+            limited_by: None,
+        });
+    }
+    if wear.partial && first_outside(&model.life, &waiting.points).is_none() {
+        return SampleStep::Beyond(Box::new(waiting));
+    }
+    SampleStep::Done(beyond_stages(model, plan, wear, waiting))
+}
+
+/// The record of a sample analysed at its stages (`waiting`, every stage analysed): its
+/// accuracy life by bisection over the shared maps between the stages, or at the points
+/// beyond them.
+fn beyond_stages(
+    model: &Model,
+    plan: &Plan,
+    wear: &SharedWear,
+    waiting: SampleStages,
+) -> SampleRecord {
+    let SampleStages {
+        index,
+        model: m,
+        points,
+        mut warm,
+    } = waiting;
+    // `at` by hours maps to the nearest map (the bisection's trial hours are the maps' own:
+    // the bracket halves over indices).
+    let mut lookup = |h: f64| -> Result<AccuracyPoint> {
+        let i = wear
+            .hours
+            .iter()
+            .position(|&x| (x - h).abs() <= 1e-9 * h.max(1.0))
+            .ok_or_else(|| Error::numerical("accuracy life", "no wear map at those hours"))?;
+        point_at(
+            &m,
+            wear,
+            i,
+            plan.samples_per_mesh_cycle,
+            model.life.angular_te_arcmin.is_some(),
+            &mut warm,
+        )
+    };
+    let ext: Vec<f64> = wear
+        .extension_index
+        .iter()
+        .map(|&i| wear.hours[i])
+        .collect();
+    let life = bracket_life(&model.life, &points, &wear.hours, &ext, &mut lookup)
+        .ok()
+        .flatten();
     SampleRecord {
         sample: index,
-        status,
+        status: "ok".to_string(),
         points,
         accuracy_life_h: life.as_ref().and_then(|l| l.accuracy_life_h),
         limited_by: life.and_then(|l| l.limited_by.map(str::to_string)),
     }
+}
+
+/// The first of `points` outside the spec `th` (a margin that is not at least zero).
+fn first_outside(th: &crate::config::LifeThresholds, points: &[AccuracyPoint]) -> Option<usize> {
+    points
+        .iter()
+        .position(|p| !crate::life::margins(th, p).iter().all(|m| m.1 >= 0.0))
 }
 
 /// The accuracy life from the stage points, the crossing bracket narrowed by bisection over
@@ -512,7 +678,7 @@ fn bracket_life(
     }
     let inside = |p: &AccuracyPoint| crate::life::margins(th, p).iter().all(|m| m.1 >= 0.0);
     let mut horizon_h = points.last().map_or(0.0, |p| p.hours);
-    let (pa, pb) = match points.iter().position(|p| !inside(p)) {
+    let (pa, pb) = match first_outside(th, points) {
         Some(0) => {
             return accuracy_life(
                 th,

@@ -198,15 +198,15 @@ pub fn worn_for<'a>(
                     ),
                 ));
             }
-            let pins = hist.pin_maps.first().cloned().unwrap_or_default();
-            let map = hist.maps.into_iter().next().unwrap_or_default();
-            let profile = model.cycloid.profile(if map.iter().any(|&x| x > 0.0) {
-                Some(WearMap::new(map)?)
-            } else {
-                None
-            })?;
-            let staged = crate::config::worn_parts(base, rates, h, &pins);
-            return Ok((staged, profile));
+            let worn = crate::wear::WornState::new(
+                model.wear.model,
+                rates,
+                h,
+                hist.maps.first().map_or(&[][..], |m| &m[..]),
+                hist.pin_maps.first().map_or(&[][..], |m| &m[..]),
+            )?;
+            let profile = model.cycloid.profile(worn.disc_profile.clone())?;
+            return Ok((base.worn(&worn), profile));
         }
         (None, None) => None,
     };

@@ -63,7 +63,7 @@ pub use life::{LifeConfig, LifeThresholds};
 pub use load::{LoadConfig, LoadParams};
 pub use lubrication::LubricationConfig;
 pub use materials::{MaterialConfig, MaterialParams, MaterialsConfig};
-pub(crate) use model::{bearing_rates, worn_parts};
+pub(crate) use model::bearing_rates;
 pub use model::{Model, Section};
 pub use presets::{preset_text, Preset, PRESETS};
 pub use reducer::{BearingsConfig, GearsConfig, OutputPinsConfig, Rating, ReducerConfig};

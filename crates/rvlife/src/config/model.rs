@@ -90,16 +90,18 @@ impl Model {
         }
     }
 
-    /// This model with its crank bearings' radial clearances grown by `disc` and `carrier`
-    /// (m; the wear of docs/model.md section 7.9), in the reducer of the static analysis and in
-    /// the dynamic analysis's copy.
-    pub(crate) fn with_grown_clearances(&self, disc: f64, carrier: f64) -> Model {
-        let mut m = self.clone();
-        for red in [&mut m.reducer, &mut m.dynamics.params.reducer] {
-            red.bearings.disc.clearance += disc;
-            red.bearings.carrier.clearance += carrier;
+    /// This model with the parts of `state` worn: the crank bearings' clearances grown (in
+    /// the static and the dynamic reducer alike) and the pins worn (the static analysis sees
+    /// them, [`crate::reducer::PinWear`]); itself when neither wears. The disc's wear is in
+    /// the profile made from `state.disc_profile`.
+    pub fn worn(&self, state: &crate::wear::WornState) -> std::borrow::Cow<'_, Model> {
+        if !state.bearings_worn() && !state.pins_worn() {
+            return std::borrow::Cow::Borrowed(self);
         }
-        m
+        let mut m = self.clone();
+        state.grow_bearings(&mut m.dynamics.params.reducer);
+        m.reducer = state.reducer(&self.reducer).into_owned();
+        std::borrow::Cow::Owned(m)
     }
 
     /// The unworn profile (with the modifications and measured deviation).
@@ -358,31 +360,6 @@ fn elastic_disc(model: &mut Model, profile: &Profile) -> Result<()> {
     model.reducer.set_series(series);
     model.dynamics.params.reducer.set_series(series);
     Ok(())
-}
-
-/// `model` with its crank bearings worn for `hours` at `rates` and its pins worn by the map
-/// `pin_map` (m around the pin, [`crate::reducer::PinWear`]; the static analysis sees it);
-/// itself when neither wears.
-pub(crate) fn worn_parts<'a>(
-    model: &'a Model,
-    rates: crate::wear::BearingWearRates,
-    hours: f64,
-    pin_map: &[f64],
-) -> std::borrow::Cow<'a, Model> {
-    let bearings = rates != crate::wear::BearingWearRates::default() && hours > 0.0;
-    let pins = pin_map.iter().any(|&d| d > 0.0);
-    if !bearings && !pins {
-        return std::borrow::Cow::Borrowed(model);
-    }
-    let mut m = if bearings {
-        model.with_grown_clearances(rates.disc * hours, rates.carrier * hours)
-    } else {
-        model.clone()
-    };
-    if pins {
-        m.reducer.pin_wear = crate::reducer::PinWear::new(pin_map.to_vec());
-    }
-    std::borrow::Cow::Owned(m)
 }
 
 /// The crank bearings' clearance growth of `model`, m/h (zero unless

@@ -8,13 +8,14 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::html::{esc, inline_svg, key_value_table, num, page_head};
+pub use super::mc_shards::ShardMeta;
 pub use super::mc_verdict::verdict;
 pub(crate) use super::mc_verdict::{spec_text, status_key, verdict_of};
 use crate::config::LifeThresholds;
 use crate::error::{Error, Result};
 use crate::montecarlo::{reliability, LifeDistribution, Percentiles, Plan, SampleRecord};
 use crate::quantities::{Quantity, ACCURACY, LIFE};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 /// `summary.json` of a Monte Carlo run.
 #[derive(Debug, Clone, Serialize)]
@@ -33,19 +34,6 @@ pub struct McSummary {
     /// quantity's spread: `sqrt(p (1-p) / n) / f(x_p)`; for a normal quantity this is
     /// `1.25 sigma / sqrt(n)` at the median and `2.11 sigma / sqrt(n)` at 5 and 95 %.
     pub percentile_standard_error_note: &'static str,
-}
-
-/// The meta-data a shard carries so that merging can check the shards belong together.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ShardMeta {
-    /// rvlife version.
-    pub rvlife_version: String,
-    /// The plan (with this shard's `(I, N)`).
-    pub plan: Plan,
-    /// The stages, h.
-    pub stage_hours: Vec<f64>,
-    /// The config text the run read (`<built-in>` example: its text).
-    pub config_toml: String,
 }
 
 /// The `[life]` spec of a config's text, read from its `[life]` table alone (so that a config

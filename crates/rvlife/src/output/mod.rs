@@ -3,7 +3,8 @@
 //! when complete), and the plots and the HTML report.
 //!
 //! - [`study`]: the results directory of `rvlife run` and of `rvlife dynamics --out`;
-//! - [`montecarlo`]: Monte Carlo's records, percentiles and summary, shards and their merge;
+//! - [`montecarlo`]: Monte Carlo's records, percentiles and summary, shards and their merge
+//!   (the merge itself, without files, in [`mc_shards`]);
 //! - [`calibration`]: the fit of `rvlife calibrate --measured`;
 //! - [`export`]: a profile as CSV, DXF or SVG;
 //! - [`plot`] and [`html`]: the plots (SVG and PNG) and `report.html`.
@@ -23,6 +24,7 @@ pub mod export;
 pub mod html;
 #[cfg(feature = "files")]
 mod mc_report;
+pub mod mc_shards;
 pub mod mc_verdict;
 #[cfg(feature = "files")]
 pub mod montecarlo;

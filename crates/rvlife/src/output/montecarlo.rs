@@ -6,11 +6,11 @@
 use std::path::Path;
 
 use super::mc_report::status_key;
-pub use super::mc_report::{verdict, McSummary, ShardMeta};
+pub use super::mc_report::{verdict, McSummary};
+pub use super::mc_shards::{merge_parts, parse_records, Part, ShardMeta};
 use crate::error::{Error, Result};
 pub use crate::montecarlo::records_csv;
 use crate::montecarlo::{life_distribution, percentiles, SampleRecord};
-use crate::quantities::{AccuracyPoint, ACCURACY};
 
 /// Writes `samples.csv` (one row per sample) and `stages.csv` (one row per sample and stage)
 /// into `dir`; floats in Rust's shortest round-trip form, so reading them back gives the same
@@ -29,70 +29,26 @@ fn write(dir: &Path, name: &str, text: &str) -> Result<()> {
     std::fs::write(&p, text).map_err(|e| Error::io(&p, e))
 }
 
-/// Reads the records written by [`write_records`].
+/// Reads the records written by [`write_records`] ([`parse_records`]).
 ///
 /// # Errors
 /// [`Error::Invalid`] naming the file if it is missing or malformed.
 pub(crate) fn read_records(dir: &Path) -> Result<Vec<SampleRecord>> {
-    let bad = |p: &Path, what: String| {
-        Error::invalid(
-            p.display().to_string(),
-            what,
-            "must be a samples.csv / stages.csv written by rvlife montecarlo",
-        )
+    let read = |name: &str| -> Result<(String, String)> {
+        let p = dir.join(name);
+        let shown = p.display().to_string();
+        let text = crate::input::read_text(&p).map_err(|e| {
+            Error::invalid(
+                shown.as_str(),
+                e,
+                "must be a samples.csv / stages.csv written by rvlife montecarlo",
+            )
+        })?;
+        Ok((shown, text))
     };
-    // Checked like computed values: a number that is not finite (`nan`, `inf`) is refused.
-    let finite = |p: &Path, f: &str| -> Result<f64> {
-        match f.trim().parse::<f64>() {
-            Ok(x) if x.is_finite() => Ok(x),
-            Ok(_) => Err(bad(p, format!("{f}: not a finite number"))),
-            Err(e) => Err(bad(p, format!("{f}: {e}"))),
-        }
-    };
-    let sp = dir.join("samples.csv");
-    let mut rd = csv::Reader::from_reader(crate::input::open(&sp).map_err(|e| bad(&sp, e))?);
-    let mut records = Vec::new();
-    for row in rd.records() {
-        let row = row.map_err(|e| bad(&sp, e.to_string()))?;
-        let num = |i: usize| -> Result<Option<f64>> {
-            let f = row.get(i).unwrap_or("");
-            if f.is_empty() {
-                Ok(None)
-            } else {
-                finite(&sp, f).map(Some)
-            }
-        };
-        records.push(SampleRecord {
-            sample: row
-                .get(0)
-                .unwrap_or("")
-                .parse()
-                .map_err(|e| bad(&sp, format!("sample: {e}")))?,
-            status: row.get(1).unwrap_or("").to_string(),
-            points: Vec::new(),
-            accuracy_life_h: num(2)?,
-            limited_by: row.get(3).filter(|s| !s.is_empty()).map(str::to_string),
-        });
-    }
-    let tp = dir.join("stages.csv");
-    let mut rd = csv::Reader::from_reader(crate::input::open(&tp).map_err(|e| bad(&tp, e))?);
-    for row in rd.records() {
-        let row = row.map_err(|e| bad(&tp, e.to_string()))?;
-        let v: Vec<f64> = row.iter().map(|f| finite(&tp, f)).collect::<Result<_>>()?;
-        if v.len() != 2 + ACCURACY.len() {
-            return Err(bad(&tp, format!("{} columns", v.len())));
-        }
-        if v[0] < 0.0 || v[0].fract() != 0.0 {
-            return Err(bad(&tp, format!("sample {}: not a sample index", v[0])));
-        }
-        let sample = v[0] as usize;
-        let r = records
-            .iter_mut()
-            .find(|r| r.sample == sample)
-            .ok_or_else(|| bad(&tp, format!("sample {sample} not in samples.csv")))?;
-        r.points.push(AccuracyPoint::from_accuracy(v[1], &v[2..]));
-    }
-    Ok(records)
+    let (sp, s) = read("samples.csv")?;
+    let (tp, t) = read("stages.csv")?;
+    parse_records((&sp, &s), (&tp, &t))
 }
 
 /// Writes the results of a whole run (all samples, sorted by index) into `dir`: the records,
@@ -146,15 +102,13 @@ pub fn write_shard(dir: &Path, meta: &ShardMeta, records: &[SampleRecord]) -> Re
     write(dir, "shard.json", &(json + "\n"))
 }
 
-/// Reads shards written by [`write_shard`] and checks that they are the parts of one run:
-/// same version, samples, seed, options, stages and config, every shard of `1..=N` present
-/// once, and every sample index once.
+/// Reads shards written by [`write_shard`] and merges them ([`merge_parts`]: the parts of one
+/// run, every shard and every sample index once) into exactly the unsharded run's records.
 ///
 /// # Errors
 /// [`Error::Invalid`] naming the directory and what does not match.
 pub fn merge(dirs: &[std::path::PathBuf]) -> Result<(ShardMeta, Vec<SampleRecord>)> {
-    let mut metas: Vec<ShardMeta> = Vec::new();
-    let mut records = Vec::new();
+    let mut parts = Vec::with_capacity(dirs.len());
     for d in dirs {
         let p = d.join("shard.json");
         let text = crate::input::read_text(&p).map_err(|e| {
@@ -171,44 +125,11 @@ pub fn merge(dirs: &[std::path::PathBuf]) -> Result<(ShardMeta, Vec<SampleRecord
                 "must be a shard.json of rvlife",
             )
         })?;
-        if let Some(first) = metas.first() {
-            let mut a = first.clone();
-            a.plan.shard.0 = meta.plan.shard.0;
-            if a != meta {
-                return Err(Error::invalid(
-                    d.display().to_string(),
-                    format!("shard {}/{}", meta.plan.shard.0, meta.plan.shard.1),
-                    format!(
-                        "belongs to another run than {} (samples, seed, options, stages, \
-                         config and version must match)",
-                        dirs[0].display()
-                    ),
-                ));
-            }
-        }
-        records.extend(read_records(d)?);
-        metas.push(meta);
+        parts.push(Part {
+            origin: d.display().to_string(),
+            meta,
+            records: read_records(d)?,
+        });
     }
-    let n = metas[0].plan.shard.1;
-    let mut seen: Vec<usize> = metas.iter().map(|m| m.plan.shard.0).collect();
-    seen.sort_unstable();
-    if seen != (1..=n).collect::<Vec<_>>() {
-        return Err(Error::invalid(
-            "shards",
-            format!("{seen:?} of {n}"),
-            format!("must be every shard 1..={n} once"),
-        ));
-    }
-    records.sort_by_key(|r| r.sample);
-    let total = metas[0].plan.samples;
-    if records.len() != total || records.iter().enumerate().any(|(i, r)| r.sample != i) {
-        return Err(Error::invalid(
-            "shards",
-            format!("{} sample records", records.len()),
-            format!("must hold every sample 0..{total} once"),
-        ));
-    }
-    let mut meta = metas.swap_remove(0);
-    meta.plan.shard = (1, 1);
-    Ok((meta, records))
+    merge_parts(parts)
 }

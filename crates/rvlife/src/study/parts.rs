@@ -18,7 +18,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::results::Study;
-use super::stage::{no_load, stage_maps, static_part, Failure, NoLoad, Stage, UnwornPlay};
+use super::stage::{no_load, static_part, Failure, NoLoad, Stage, UnwornPlay};
 use super::trials::{study_life, LifeTrials};
 use crate::config::Model;
 use crate::error::{Error, Result};
@@ -404,7 +404,7 @@ pub fn assemble_ahead(
         .zip(&wear.maps)
         .map(|(slot, map)| {
             slot.map(|o| match o.result {
-                Ok(mut r) => stage_maps(model, map)
+                Ok(mut r) => crate::wear::profile_maps(model.wear.model, map)
                     .and_then(|(wear_map, te_map)| {
                         r.play.split(&mut r.summary, new_play()?);
                         Ok(Stage {

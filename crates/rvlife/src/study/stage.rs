@@ -16,7 +16,7 @@ use crate::te::{
     LoadedTe, RevolutionTe, StaticTe, TwistTable, HYSTERESIS_LEVELS, PLAY_ROUND_OFF,
 };
 use crate::units::ARCMIN_PER_RAD;
-use crate::wear::{BearingWearRates, WearModelKind};
+use crate::wear::BearingWearRates;
 
 /// Full results of one stage.
 #[derive(Debug, Clone)]
@@ -393,26 +393,6 @@ fn split_play(s: &mut StageSummary, new: NoLoad, bearings: NoLoad, parts: NoLoad
             + s.angular_te_pin_wear_arcmin);
 }
 
-/// The wear map of a stage from the wear integration's depths `map` (m per grid point; empty
-/// or zero: unworn), and the map its profile is made with (the uniform one at the map's
-/// largest depth in the paper's wear model, section 3.1 of the paper); `None` when unworn.
-///
-/// # Errors
-/// [`Error::Invalid`] for a map [`WearMap::new`] refuses.
-pub(super) fn stage_maps(model: &Model, map: &[f64]) -> Result<(Option<WearMap>, Option<WearMap>)> {
-    let max = map.iter().copied().fold(0.0, f64::max);
-    let wear_map = if max > 0.0 {
-        Some(WearMap::new(map.to_vec())?)
-    } else {
-        None
-    };
-    let te_map = match (&wear_map, model.wear.model) {
-        (Some(_), WearModelKind::Paper) => Some(WearMap::uniform(map.len(), max)?),
-        (w, _) => w.clone(),
-    };
-    Ok((wear_map, te_map))
-}
-
 /// Why a stage of a study has no static results.
 #[derive(Debug)]
 pub(super) enum Failure {
@@ -458,13 +438,14 @@ pub(super) fn static_part<'a>(
     // The crank bearings as worn by this stage's hours (their rates are constant in time),
     // and the pins as worn by then.
     let base_model = model;
-    let staged = crate::config::worn_parts(model, rates, hours, pin_map);
+    let worn = crate::wear::WornState::new(model.wear.model, rates, hours, map, pin_map)
+        .map_err(Failure::Prepare)?;
+    let staged = model.worn(&worn);
     let model: &Model = &staged;
     let max = map.iter().copied().fold(0.0, f64::max);
-    let (wear_map, te_map) = stage_maps(model, map).map_err(Failure::Prepare)?;
     let (profile, a) = model
         .cycloid
-        .profile(te_map)
+        .profile(worn.disc_profile.clone())
         .and_then(|p| analyse_profile(model, &p, hours).map(|a| (p, a)))
         .map_err(|e| Failure::Static(e, max))?;
     // The unworn disc's play on this stage's bearings, then on its bearings and pins (the new
@@ -476,7 +457,7 @@ pub(super) fn static_part<'a>(
                 parts: None,
             });
         }
-        let bearings_only = crate::config::worn_parts(base_model, rates, hours, &[]);
+        let bearings_only = base_model.worn(&worn.bearings_only());
         let bearings = if std::ptr::eq(&*bearings_only, base_model) {
             None
         } else {
@@ -492,7 +473,7 @@ pub(super) fn static_part<'a>(
     let play = unworn().map_err(|e| Failure::Static(e, max))?;
     let stage = Stage {
         hours,
-        wear: wear_map,
+        wear: worn.disc.clone(),
         profile,
         ste: a.ste,
         loaded: a.loaded,

@@ -2,7 +2,7 @@
 //! stages, each trial the study's wear replayed to its hours, and the search beyond the last
 //! stage, the wear integration continued.
 
-use super::stage::{accuracy_point, stage_maps};
+use super::stage::accuracy_point;
 use crate::config::Model;
 use crate::error::Result;
 use crate::quantities::{AccuracyPoint, StageSummary};
@@ -40,7 +40,7 @@ pub(crate) fn study_life(
     };
     let mut trials = match ahead {
         Some(t) if wear.limit.is_none() && (t.start == start || t.within_stages) => t,
-        _ => LifeTrials::new(model, wear, start)?,
+        _ => LifeTrials::new(wear, start),
     };
     crate::life::accuracy_life(&model.life, &points, |h| trials.at(model, h), &beyond)
 }
@@ -61,20 +61,17 @@ pub(crate) struct LifeTrials {
 }
 
 impl LifeTrials {
-    /// No trials yet, on the study's wear integration `wear` whose last stage's point is
-    /// `start`.
-    ///
-    /// # Errors
-    /// Those of [`crate::config::bearing_rates`].
-    fn new(model: &Model, wear: &WearHistory, start: AccuracyPoint) -> Result<Self> {
-        Ok(LifeTrials {
+    /// No trials yet, on the study's wear integration `wear` (its bearings' growth included)
+    /// whose last stage's point is `start`.
+    fn new(wear: &WearHistory, start: AccuracyPoint) -> Self {
+        LifeTrials {
             start,
             within_stages: false,
-            rates: crate::config::bearing_rates(model)?,
+            rates: wear.bearing_rates,
             history: wear.clone(),
             seen: Vec::new(),
             starts: Vec::new(),
-        })
+        }
     }
 
     /// The trials beyond the stages ([`crate::life::beyond_stages`]) from the last stage's
@@ -82,7 +79,7 @@ impl LifeTrials {
     /// the spec (the search beyond the stages then likely follows; the study waits for them).
     /// Their failures are left to the search itself, which meets them again.
     pub(crate) fn ahead(model: &Model, wear: &WearHistory, start: AccuracyPoint) -> Option<Self> {
-        let mut trials = LifeTrials::new(model, wear, start).ok()?;
+        let mut trials = LifeTrials::new(wear, start);
         crate::life::beyond_stages(&model.life, start, &mut |h| trials.at(model, h), &|_, _| {});
         Some(trials)
     }
@@ -123,9 +120,7 @@ impl LifeTrials {
         if points.len() < 2 || !crate::life::outside(&model.life, &last) || !claim() {
             return Some(None);
         }
-        let Ok(mut trials) = LifeTrials::new(model, wear, last) else {
-            return Some(None);
-        };
+        let mut trials = LifeTrials::new(wear, last);
         trials.within_stages = true;
         let _ =
             crate::life::accuracy_life(&model.life, &points, |h| trials.at(model, h), &|_, _| {});
@@ -172,14 +167,9 @@ impl LifeTrials {
                 state
             }
         };
-        let (_, te_map) = stage_maps(model, &map)?;
-        let profile = model.cycloid.profile(te_map)?;
-        let p = accuracy_point(
-            &crate::config::worn_parts(model, rates, h, &pins),
-            &profile,
-            h,
-            &mut self.starts,
-        )?;
+        let worn = crate::wear::WornState::new(model.wear.model, rates, h, &map, &pins)?;
+        let profile = model.cycloid.profile(worn.disc_profile.clone())?;
+        let p = accuracy_point(&model.worn(&worn), &profile, h, &mut self.starts)?;
         self.seen.push(p);
         Ok(p)
     }

@@ -162,3 +162,54 @@ fn stage_failure_in_parts_is_the_validity_limit() {
         .to_string()
         .contains("stage 2 was not analysed"));
 }
+
+/// Monte Carlo in parts as the web page runs it: the samples' stages analysed on the nominal
+/// history's early part (handed on once the integration passes the last stage), the samples
+/// whose life lies beyond finished on the whole history, both through the bytes a worker
+/// sends: the same records, bit for bit, as the run on one machine.
+#[test]
+fn monte_carlo_on_the_early_history_equals_the_run_on_the_whole() {
+    use crate::montecarlo::{self, NominalWear, Plan, SampleStep, SharedWear};
+    // The example: of six samples of seed 1, three outlast the last stage (7 500 h).
+    let m = model(false);
+    let plan = Plan {
+        samples: 6,
+        seed: 1,
+        shard: (1, 1),
+        full_wear: false,
+        samples_per_mesh_cycle: 4,
+    };
+    let whole_run = montecarlo::run(&m, &plan, &|_, _| {}).unwrap();
+    let early = std::sync::Mutex::new(None);
+    let whole = montecarlo::nominal_wear_reporting(&m, &|_, _| {}, &|w: NominalWear| {
+        *early.lock().unwrap() = Some(crossed(&w));
+    })
+    .unwrap();
+    let early = early
+        .into_inner()
+        .unwrap()
+        .expect("the early part is handed on");
+    assert!(early.partial && !whole.partial);
+    assert_eq!(early.maps[..], whole.maps[..early.maps.len()]);
+    let (early, whole) = (
+        SharedWear::of(&m, &early).unwrap(),
+        SharedWear::of(&m, &crossed(&whole)).unwrap(),
+    );
+    let mut waited = 0;
+    for (i, want) in whole_run.iter().enumerate() {
+        let got = match montecarlo::sample_on(&m, &plan, &early, i) {
+            SampleStep::Done(r) => r,
+            SampleStep::Beyond(s) => {
+                waited += 1;
+                assert_eq!(s.index(), i);
+                montecarlo::sample_beyond(&m, &plan, &whole, *s).unwrap()
+            }
+        };
+        assert!(&got == want, "sample {i}: {got:?} against {want:?}");
+    }
+    assert!(
+        (1..whole_run.len()).contains(&waited),
+        "{waited} of {} samples waited for the whole history: both ways are checked",
+        whole_run.len()
+    );
+}

@@ -55,20 +55,6 @@ pub struct BearingWearRates {
     pub carrier: f64,
 }
 
-impl BearingWearRates {
-    /// `red` with its crank bearings' clearances opened by `hours` of these rates; `None`
-    /// when the bearings do not wear.
-    pub fn grown(&self, red: &Reducer, hours: f64) -> Option<Reducer> {
-        if *self == BearingWearRates::default() || hours <= 0.0 {
-            return None;
-        }
-        let mut r = red.clone();
-        r.bearings.disc.clearance += self.disc * hours;
-        r.bearings.carrier.clearance += self.carrier * hours;
-        Some(r)
-    }
-}
-
 /// Clearance growth (m/s) of `bearing` carrying the radial load `force` (N) per row at the
 /// relative ring speed `omega` (rad/s), Archard coefficient `archard` (m^2/N) and slip
 /// `slip`: the raceways' `k xi Q_max Z |omega| / (2 pi l)` plus the rollers'

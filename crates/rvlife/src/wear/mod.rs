@@ -26,6 +26,7 @@
 
 mod bearings;
 pub(crate) mod mesh_cycle;
+mod worn;
 
 pub use crate::contact::pin_turning::PinTurning;
 pub use bearings::{bearing_wear_rates, clearance_growth, BearingWearParams, BearingWearRates};
@@ -34,6 +35,7 @@ pub(crate) use mesh_cycle::wear_per_mesh_cycle;
 pub(crate) use mesh_cycle::{
     contact_kinematics, entrainment_speed, revolution_positions, MeshCycleWear,
 };
+pub use worn::{profile_maps, WornState};
 
 use std::f64::consts::TAU;
 
@@ -433,6 +435,10 @@ pub struct WearHistory {
     /// Set when the integration stopped before the last stage because the worn profile left
     /// the model's validity; `hours` and `maps` then hold the stages before it.
     pub limit: Option<ValidityLimit>,
+    /// The crank bearings' clearance growth the integration ran with, m/h
+    /// ([`WearInputs::bearing_rates`]): the worn states at its hours grow them so.
+    #[serde(skip)]
+    pub bearing_rates: BearingWearRates,
     /// The unfiltered wear state at each profile update and the rates held until the next
     /// ([`WearHistory::replay`]).
     #[serde(skip)]
@@ -734,9 +740,10 @@ fn integrate_from(
         }
         // Rate from the current worn profile (on the bearings and pins worn to this hour),
         // held until the next update.
-        let grown = worn_parts(inputs, t, &hp);
+        let grown = WornState::parts(inputs.bearing_rates, t, &hp);
+        let grown = grown.reducer(inputs.reducer);
         let at_hours = WearInputs {
-            reducer: grown.as_ref().unwrap_or(inputs.reducer),
+            reducer: &grown,
             ..*inputs
         };
         let worn = h.iter().any(|&x| x > 0.0);
@@ -847,6 +854,7 @@ fn integrate_from(
         pin_maps,
         update_hours,
         limit,
+        bearing_rates: inputs.bearing_rates,
         segments,
         warm,
     })
@@ -879,18 +887,6 @@ fn depth_limit(inputs: &WearInputs, hours: f64, map: &[f64]) -> Option<ValidityL
             a * 1e6
         ),
     })
-}
-
-/// The reducer of `inputs` with its crank bearings worn to `t` hours and its pins worn by the
-/// map `pin` (m, [`crate::reducer::PinWear`]); `None` when neither wears.
-fn worn_parts(inputs: &WearInputs, t: f64, pin: &[f64]) -> Option<Reducer> {
-    let grown = inputs.bearing_rates.grown(inputs.reducer, t);
-    if pin.iter().all(|&d| d == 0.0) {
-        return grown;
-    }
-    let mut red = grown.unwrap_or_else(|| inputs.reducer.clone());
-    red.pin_wear = crate::reducer::PinWear::new(pin.to_vec());
-    Some(red)
 }
 
 /// Checks, once the largest wear rate `max_rate` (m/h) of the unworn profile is known, the

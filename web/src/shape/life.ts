@@ -1,0 +1,74 @@
+// The accuracy-life view's data: the stage table's headers (the library's labels with units)
+// and rows, the spec of `[life]`, and each accuracy quantity's series against working hours
+// with its spec limit and the accuracy life.
+import type { Series } from '../charts';
+import { fmt } from '../format';
+import type { KeyDoc, QuantityDoc, StageSummary, StudySummary } from '../types';
+
+/** The stage table's columns, in order. */
+export const STAGE_COLUMNS = ['hours', 'max_wear_um', 'lost_motion_arcmin', 'backlash_arcmin', 'angular_te_arcmin', 'ste_peak_to_peak_arcmin', 'torsional_stiffness_nm_per_arcmin', 'hysteresis_loss_arcmin', 'max_pressure_mpa'];
+
+/** The quantities charted against working hours, with the chart's title. */
+export const LIFE_CHARTS: [string, string][] = [
+  ['lost_motion_arcmin', 'Lost motion'], ['backlash_arcmin', 'Backlash'],
+  ['angular_te_arcmin', 'Angular transmission error'], ['torsional_stiffness_nm_per_arcmin', 'Torsional stiffness'],
+  ['max_wear_um', 'Largest disc wear'],
+];
+
+/** A quantity's label with its unit (`lost motion, arcmin`), or its name if undeclared. */
+export function labelOf(name: string, docs: ReadonlyMap<string, QuantityDoc>): string {
+  const q = docs.get(name);
+  return q ? (q.unit ? `${q.label}, ${q.unit}` : q.label) : name;
+}
+
+export interface StageHead { column: string; label: string; title: string }
+export interface StageCell { column: string; text: string; value: number | undefined }
+
+/** The stage table: a header a column (its label, its description as the title) and a row a
+ *  stage; a value the study did not produce is left blank. */
+export function stageTable(stages: readonly StageSummary[], docs: ReadonlyMap<string, QuantityDoc>): { head: StageHead[]; rows: StageCell[][] } {
+  const head = STAGE_COLUMNS.map((c) => ({ column: c, label: labelOf(c, docs), title: docs.get(c)?.description ?? c }));
+  const rows = stages.map((st) => STAGE_COLUMNS.map((c) => {
+    const v = st[c];
+    return { column: c, text: v === undefined ? '' : fmt(v), value: v };
+  }));
+  return { head, rows };
+}
+
+/** A limit of the spec: at most `limit`, or with `min` at least. */
+export interface Limit { limit: number; min: boolean }
+
+/** The spec of `[life]` by stage column: `life.lost_motion_arcmin` a maximum of the column of
+ *  that name, `life.torsional_stiffness_min_nm_per_arcmin` a minimum of the stiffness. */
+export function specLimits(keys: readonly KeyDoc[], columns: readonly string[]): Record<string, Limit> {
+  const out: Record<string, Limit> = {};
+  for (const k of keys) {
+    if (k.section !== 'life' || typeof k.value !== 'number') continue;
+    const name = k.key.slice('life.'.length);
+    if (name === 'torsional_stiffness_min_nm_per_arcmin') out.torsional_stiffness_nm_per_arcmin = { limit: k.value, min: true };
+    else if (columns.includes(name)) out[name] = { limit: k.value, min: false };
+  }
+  return out;
+}
+
+/** Whether the verdict is good news: no life set, or none within the horizon. */
+export function withinSpec(s: StudySummary): boolean {
+  return !s.accuracy_life || s.accuracy_life.accuracy_life_h == null;
+}
+
+/** Quantity `q` at each stage, then its spec limit across the stages, then, where `q` limits
+ *  the life, a vertical line at the accuracy life spanning the values and the limit. */
+export function lifeSeries(s: StudySummary, q: string, spec: Record<string, Limit>, docs: ReadonlyMap<string, QuantityDoc>): Series[] {
+  const hours = s.stages.map((x) => x.hours);
+  // A value the study did not produce leaves a gap.
+  const ys = s.stages.map((x) => x[q] ?? NaN);
+  const series: Series[] = [{ label: labelOf(q, docs), data: hours.map((h, i) => ({ x: h, y: ys[i] })), points: true }];
+  const lim = spec[q];
+  if (lim) series.push({ label: `spec: ${lim.min ? 'at least' : 'at most'} ${lim.limit}`, data: [{ x: 0, y: lim.limit }, { x: hours[hours.length - 1], y: lim.limit }], dash: [8, 4], color: '#c0392b' });
+  const life = s.accuracy_life;
+  if (life?.accuracy_life_h != null && q === life.limited_by) {
+    const at = life.accuracy_life_h;
+    series.push({ label: `accuracy life ${fmt(at)} h`, data: [{ x: at, y: Math.min(...ys) }, { x: at, y: Math.max(...ys, lim?.limit ?? -Infinity) }], dash: [2, 3], color: '#555' });
+  }
+  return series;
+}
