@@ -2,7 +2,7 @@
 // message at the key it names, and each edit made by the module (`setKey`, which keeps the
 // text's comments and layout) and validated (`inspect`).
 import { callJson, quick } from './engines';
-import { OPEN_SECTIONS, keyNote, keyOf, placeholder, sections, shortKey, typed, valueText } from './keys';
+import { OPEN_SECTIONS, keyNote, keyOf, placeholder, sections, shortKey, toleranceMeaning, typed, valueText } from './keys';
 import { encodeConfig } from './share';
 import { renderTab, state } from './state';
 import { showError } from './status';
@@ -53,8 +53,8 @@ export async function loadPreset(name: string) {
   await setText(text, true);
 }
 
-/** A row of the editor: the key's short name, its box (a checkbox for a boolean), unit,
- *  range, note and message. */
+/** A row of the editor: the key's short name, its box (a checkbox for a boolean), unit, a
+ *  tolerance's meaning, range, note and message. */
 function keyRow(k: KeyDoc): HTMLElement {
   const row = document.createElement('div');
   row.className = 'key';
@@ -82,12 +82,16 @@ function keyRow(k: KeyDoc): HTMLElement {
   const range = document.createElement('div');
   range.className = 'range';
   range.textContent = k.allowed ?? '';
+  // A tolerance's distribution in words (its box holds the TOML, `normal = 1`).
+  const meaning = document.createElement('div');
+  meaning.className = 'meaning';
+  meaning.textContent = toleranceMeaning(k.value, k.unit) ?? '';
   const note = document.createElement('div');
   note.className = 'note';
   note.textContent = keyNote(k);
   const msg = document.createElement('div');
   msg.className = 'msg';
-  row.append(label, input, unit, range, note, msg);
+  row.append(label, input, unit, meaning, range, note, msg);
   return row;
 }
 
@@ -117,6 +121,8 @@ async function edit(k: KeyDoc, json: string) {
   try {
     const text = await quick.call('setKey', [state.text, k.key, json]);
     k.value = JSON.parse(json);
+    const meaning = document.querySelector<HTMLElement>(`.key[data-key="${CSS.escape(k.key)}"] .meaning`);
+    if (meaning) meaning.textContent = toleranceMeaning(k.value, k.unit) ?? '';
     state.refused.accept(k.key);
     await setText(text, false);
   } catch (e) {

@@ -1,6 +1,7 @@
 // The config's keys as the editor shows and edits them, without the page: what a box shows
 // for a value, what the user typed as the JSON the module's `setKey` takes, the key an error
 // message names, the sections, and the values the config refused.
+import { fmt } from './format';
 import type { KeyDoc } from './types';
 
 /** The sections open when the editor is built (the reducer, its disc and the spec). */
@@ -14,11 +15,44 @@ export function keyOf(message: string): string | null {
   return m ? m[1].replace(/\[\d+\]$/, '') : null;
 }
 
-/** What a text box shows for a key's value: a string as it is, anything else as JSON, nothing
- *  for an unset key. */
+/** What a text box shows for a key's value: a string as it is, a tolerance as its TOML
+ *  (`normal = 1`), anything else as JSON, nothing for an unset key. */
 export function valueText(v: unknown): string {
   if (v === null || v === undefined) return '';
+  const t = toleranceOf(v);
+  if (t) return `${t.kind} = ${t.value}`;
   return typeof v === 'string' ? v : JSON.stringify(v);
+}
+
+/** The distributions a `[tolerances]` key takes: `{ normal = sigma }`, `{ uniform = limit }`
+ *  or `{ iso_grade = 5..11 }`. */
+const TOLERANCE_KINDS = ['normal', 'uniform', 'iso_grade'] as const;
+type ToleranceKind = typeof TOLERANCE_KINDS[number];
+
+/** A tolerance's one distribution and its number, or null if `v` is not one. */
+export function toleranceOf(v: unknown): { kind: ToleranceKind; value: number } | null {
+  if (v === null || typeof v !== 'object' || Array.isArray(v)) return null;
+  const entries = Object.entries(v);
+  if (entries.length !== 1) return null;
+  const [kind, value] = entries[0];
+  return (TOLERANCE_KINDS as readonly string[]).includes(kind) && typeof value === 'number' ? { kind: kind as ToleranceKind, value } : null;
+}
+
+/** A tolerance in words with what it means for the Monte Carlo (docs/config.md `[tolerances]`:
+ *  each pin and crank draws its own error about zero), `unit` the key's; null if `v` is not
+ *  one. */
+export function toleranceMeaning(v: unknown, unit: string): string | null {
+  const t = toleranceOf(v);
+  if (!t) return null;
+  const u = unit ? ` ${unit}` : '';
+  switch (t.kind) {
+    case 'normal':
+      return `normal, 1 sigma = ${t.value}${u}: each part's error drawn about zero with standard deviation ${t.value}${u} (99.7 % within +-${fmt(3 * t.value)}${u})`;
+    case 'uniform':
+      return `uniform within +-${t.value}${u}: each part's error drawn evenly between -${t.value} and +${t.value}${u} (1 sigma = ${fmt(t.value / Math.sqrt(3))}${u})`;
+    case 'iso_grade':
+      return `normal, 1 sigma = IT${t.value}/12 of the feature's size (ISO 286-1 grade ${t.value}): the process's +-3 sigma fills the diameter's tolerance zone, halved for a radius or a position`;
+  }
 }
 
 /** What the user typed, as the JSON value of a key whose value is like `like`: blank removes
@@ -28,6 +62,15 @@ export function typed(raw: string, like: unknown): string {
   const t = raw.trim();
   if (t === '') return 'null';
   if (typeof like === 'string') return JSON.stringify(raw);
+  // A tolerance as its box shows it (`normal = 1`, also with braces or a colon).
+  const tol = /^\{?\s*(normal|uniform|iso_grade)\s*[=:]\s*([-+0-9.eE]+)\s*\}?$/.exec(t);
+  if (tol && Number.isFinite(Number(tol[2]))) {
+    // A deviation or a limit is a float in the file (`1.0`), a grade a whole number: the JSON
+    // says which, so the TOML written is the file's.
+    const x = Number(tol[2]);
+    const number = tol[1] !== 'iso_grade' && Number.isInteger(x) ? x.toFixed(1) : String(x);
+    return `{"${tol[1]}":${number}}`;
+  }
   try { return JSON.stringify(JSON.parse(t)); } catch { return JSON.stringify(raw); }
 }
 

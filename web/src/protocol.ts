@@ -43,7 +43,9 @@ export interface Commands {
   studyWear: { args: [text: string, ground: Uint8Array]; result: string; item: Uint8Array };
   studyStage: { args: [text: string, ground: Uint8Array, stage: Uint8Array]; result: Uint8Array };
   studyOffer: { args: [outcomes: Uint8Array[]]; result: boolean };
-  studyAssemble: { args: [outcomes: Uint8Array[]]; result: string; json: StudyOverview };
+  /** Hands on each step of the accuracy life's search beyond the last stage, as a line of
+   *  text (each a wear integration: it can take as long as the study). */
+  studyAssemble: { args: [outcomes: Uint8Array[]]; result: string; json: StudyOverview; item: string };
   /** A data file of the last study's results, as text. */
   studyFile: { args: [name: string]; result: string };
   montecarlo: { args: [text: string, samples: number, seed: number]; result: string; json: MonteCarloResult };

@@ -88,8 +88,11 @@ export class Engine {
  *  life's trials between two stages on the first once the stages show where they go; the study
  *  assembled on the first, which keeps its results
  *  (`studyFile`). Resolves to the results' overview JSON (the module's
- *  `StudyResults.overview`); `progress` hears the wear-rate evaluations and the stages done. */
-export async function study(engine: Engine, text: string, progress: Progress): Promise<string> {
+ *  `StudyResults.overview`); `progress` hears the wear-rate evaluations and the stages done,
+ *  `notice` each step of the accuracy life's search beyond the last stage (the library's
+ *  line, as `rvlife run` prints it). */
+export async function study(engine: Engine, text: string, progress: Progress,
+  notice: (text: string) => void = () => undefined): Promise<string> {
   const plan = await engine.call('studyPlan', [text]);
   const total = plan.wearSteps + plan.stages;
   let wearDone = 0;
@@ -131,5 +134,5 @@ export async function study(engine: Engine, text: string, progress: Progress): P
     }
   };
   await Promise.all([wear, ...Array.from({ length: engine.size }, (_, k) => worker(k))]);
-  return engine.call('studyAssemble', [outcomes]);
+  return engine.callOn(0, 'studyAssemble', [outcomes], undefined, notice);
 }

@@ -167,6 +167,20 @@ export interface HysteresisResult extends TwistCurve {
   samples_per_mesh_cycle: number;
   mesh_cycle_mean: TwistCurve;
   twist_shares: TwistShare[];
+  /** The module's only (not the command line's): where the mean curve's lost motion and
+   *  torsional stiffness are read. */
+  catalogue_points: CataloguePoints;
+}
+
+/** The points of the mean hysteresis curve the catalogue quantities are read between, each
+ *  [torque N m, twist arcmin], from the library (docs/model.md section 6.3). */
+export interface CataloguePoints {
+  /** The curve's midpoints at -T_m and +T_m (the measuring torque): their twists differ by
+   *  the lost motion. */
+  lost_motion: [[number, number], [number, number]];
+  /** The secant b/a from the loading branch at +T_m to the rated torque: torque over twist
+   *  between them is the torsional stiffness. */
+  torsional_stiffness: [[number, number], [number, number]];
 }
 
 /** The command line's summary of a multibody simulation (`rvlife dynamics --json`). */

@@ -55,11 +55,11 @@ const commands: { [K in Command]: Run<K> } = {
   },
   studyStage: (_p, text: string, ground: Uint8Array, stage: Uint8Array) => rv.studyStage(text, ground, stage),
   studyOffer: (_p, outcomes: Uint8Array[]) => (lastWear ? lastWear.offer(outcomes) : true),
-  studyAssemble: (_p, outcomes: Uint8Array[]) => {
+  studyAssemble: (p, outcomes: Uint8Array[]) => {
     if (!lastWear) throw new Error('the study\'s wear integration is gone (an analysis was cancelled since): run the study again');
     lastStudy?.free();
     lastStudy = null;
-    lastStudy = lastWear.assemble(outcomes);
+    lastStudy = lastWear.assemble(outcomes, p.item);
     lastWear.free();
     lastWear = null;
     return lastStudy.overview();

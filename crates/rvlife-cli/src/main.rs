@@ -108,8 +108,15 @@ enum Command {
         /// Config file (default: the built-in example).
         config: Option<PathBuf>,
         /// Output file; the format follows the extension (.csv, .dxf, .svg).
-        #[arg(long)]
-        out: PathBuf,
+        #[arg(long, required_unless_present = "json")]
+        out: Option<PathBuf>,
+        /// Print the points as JSON instead (x, y in mm, mesh angle in deg, wear depth along
+        /// the normal in um; the web page's `profile`).
+        #[arg(long, conflicts_with = "out")]
+        json: bool,
+        /// Points per tooth of `--json` (default: the export's).
+        #[arg(long, requires = "json")]
+        points_per_tooth: Option<usize>,
         /// Ignore the config's modifications (the nominal profile).
         #[arg(long)]
         nominal: bool,
@@ -684,11 +691,35 @@ fn run(cli: Cli) -> Result<()> {
         }
         Command::Profile {
             config,
+            out: None,
+            json: true,
+            points_per_tooth,
+            nominal,
+            wear,
+            ..
+        } => {
+            let model = validated(&load_config(config.as_deref(), budget)?)?;
+            let pb = spinner("wear");
+            let points = rvlife::api::profile_points(
+                &model,
+                wear.get(),
+                nominal,
+                points_per_tooth.unwrap_or(0),
+                Spelling::Cli,
+                &progress_to(&pb),
+            );
+            pb.finish_and_clear();
+            print_json(&points?)?;
+        }
+        Command::Profile {
+            config,
             out,
             nominal,
             force,
             wear,
+            ..
         } => {
+            let out = out.expect("--out or --json");
             let format = ProfileFormat::from_path(&out)?;
             rvlife::output::check_output_file(&out, force)?;
             let model = validated(&load_config(config.as_deref(), budget)?)?;

@@ -583,6 +583,34 @@ fn calibrate_negative_target_is_refused_by_the_range_check() {
     );
 }
 
+/// `profile --json` prints the points the web page draws (its `profile`): `--points-per-tooth`
+/// a tooth, each column that many a tooth; uniform wear is the same depth at every point.
+#[test]
+fn profile_json_prints_the_points() {
+    let o = rvlife([
+        "profile",
+        "--json",
+        "--points-per-tooth",
+        "12",
+        "--wear-um",
+        "5",
+    ]);
+    ok(&o, "profile --json");
+    let v: Value = serde_json::from_slice(&o.stdout).expect("profile --json is JSON");
+    assert_eq!(v["points_per_tooth"], 12);
+    let wear = v["wear_um"].as_array().unwrap();
+    assert_eq!(wear.len() % 12, 0);
+    assert_eq!(v["x_mm"].as_array().unwrap().len(), wear.len());
+    assert!(
+        wear.iter()
+            .all(|w| (w.as_f64().unwrap() - 5.0).abs() < 1e-9),
+        "{wear:?}"
+    );
+    // A file or the JSON, not both.
+    let o = rvlife(["profile", "--json", "--out", "p.csv"]);
+    assert!(!o.status.success());
+}
+
 /// `profile --out FILE` follows the rules of `run --out`, checked before any work: an existing
 /// file is kept (exit 2) unless `--force`; a directory or a missing folder is refused (exit 2)
 /// and nothing is left behind.

@@ -15,6 +15,7 @@
 
 use rvlife::api::{self, Spelling, Wear};
 use rvlife::config::{Config, Model};
+use rvlife::units::ARCMIN_PER_RAD;
 use serde::Serialize;
 use serde_json::{json, Value};
 use wasm_bindgen::prelude::*;
@@ -217,7 +218,9 @@ pub fn te(
 }
 
 /// The hysteresis curve at `crank_deg` with `levels` torque levels (`rvlife hysteresis
-/// --json`), worn after `hours` or by `wear_um`. JSON [`rvlife::api::HysteresisResult`].
+/// --json`), worn after `hours` or by `wear_um`. JSON [`rvlife::api::HysteresisResult`] with
+/// `catalogue_points`: where the mean curve's lost motion and torsional stiffness are read
+/// ([`CataloguePointsJson`]), for the page to mark them on the curve.
 ///
 /// # Errors
 /// The config's message, or the argument's.
@@ -231,15 +234,46 @@ pub fn hysteresis(
     progress: Option<js_sys::Function>,
 ) -> Result<String, JsError> {
     command(text, progress, |m, p| {
-        api::hysteresis_curve(
+        let (result, mean) = api::hysteresis_curve_and_table(
             m,
             wear(hours, wear_um),
             crank_deg,
             levels,
             Spelling::Python,
             p,
-        )
+        )?;
+        let points = mean.catalogue_points();
+        let arcmin = |[[t0, psi0], [t1, psi1]]: [[f64; 2]; 2]| {
+            [[t0, psi0 * ARCMIN_PER_RAD], [t1, psi1 * ARCMIN_PER_RAD]]
+        };
+        Ok(HysteresisJson {
+            result,
+            catalogue_points: CataloguePointsJson {
+                lost_motion: arcmin(points.lost_motion),
+                torsional_stiffness: arcmin(points.torsional_stiffness),
+            },
+        })
     })
+}
+
+/// The page's hysteresis result: the command line's JSON and the catalogue's points.
+#[derive(Serialize)]
+struct HysteresisJson {
+    #[serde(flatten)]
+    result: rvlife::api::HysteresisResult,
+    catalogue_points: CataloguePointsJson,
+}
+
+/// The mean curve's points the catalogue quantities are read between
+/// ([`rvlife::te::TwistTable::catalogue_points`]), each `[torque N m, twist arcmin]`.
+#[derive(Serialize)]
+struct CataloguePointsJson {
+    /// The midpoints at `-T_m` and at `+T_m`, the measuring torque: their twists differ by
+    /// the lost motion.
+    lost_motion: [[f64; 2]; 2],
+    /// The secant `b/a` from the loading branch at `+T_m` to `+T_r`: torque over twist
+    /// between them is the torsional stiffness.
+    torsional_stiffness: [[f64; 2]; 2],
 }
 
 /// A study's results, kept in the module for the page to read: its summary at once, the
@@ -474,12 +508,18 @@ impl StudyWear {
     }
 
     /// The study from this wear and the stages' outcomes ([`study_stage`]'s bytes, one for
-    /// each stage, in any order): the results of [`study`].
+    /// each stage, in any order): the results of [`study`]. `notice(text)` hears each step of
+    /// the accuracy life's search beyond the last stage (a wear integration each, which can
+    /// take as long as the study: `rvlife run` prints the same lines).
     ///
     /// # Errors
     /// Outcomes that are not this study's; the stages' failures and the accuracy life's, as
     /// [`study`] reports them.
-    pub fn assemble(&mut self, outcomes: Vec<js_sys::Uint8Array>) -> Result<StudyResults, JsError> {
+    pub fn assemble(
+        &mut self,
+        outcomes: Vec<js_sys::Uint8Array>,
+        notice: Option<js_sys::Function>,
+    ) -> Result<StudyResults, JsError> {
         let outcomes = outcomes
             .iter()
             .map(|o| from_cbor(&o.to_vec(), "study stage outcome"))
@@ -489,7 +529,12 @@ impl StudyWear {
             self.wear.clone(),
             outcomes,
             self.ahead.take(),
-            &|_| {},
+            &|text| {
+                if let Some(f) = &notice {
+                    // A callback that throws does not stop the search.
+                    let _ = f.call1(&JsValue::NULL, &JsValue::from_str(text));
+                }
+            },
         )
         .map_err(err)?;
         Ok(StudyResults::new(study))

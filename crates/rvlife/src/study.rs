@@ -18,17 +18,12 @@ use std::sync::{Mutex, OnceLock};
 
 use crate::budget;
 use crate::config::Model;
-use crate::dynamics::{simulate_discs, DynamicsSummary};
 use crate::error::{Error, Result};
-use crate::fem::flex::{analyse_stage, FlexibleStage};
-use crate::fem::mesh::Mesh;
 use crate::fem::DiscSet;
-use crate::geometry::Profile;
 use crate::quantities::{AccuracyPoint, StageSummary};
-use crate::te::CurveStats;
-use crate::units::ARCMIN_PER_RAD;
-use crate::wear::{BearingWearRates, WearHistory};
+use crate::wear::WearHistory;
 
+mod executor;
 pub mod parts;
 mod results;
 mod stage;
@@ -40,8 +35,9 @@ pub(crate) use trials::LifeTrials;
 #[cfg(test)]
 pub(crate) use {results::is_papers_reducer, stage::analyse_profile, trials::study_life};
 
+use executor::{record_row, Bookkeeping, Outcome, StageRunner};
 use parts::{finish, until_limit};
-use stage::{arcmin, no_load, static_part, Failure, NoLoad, UnwornPlay};
+use stage::{no_load, NoLoad};
 
 /// The validated model of `cfg` ([`crate::config::Config::validate`]) whose study fits the
 /// work budget ([`check_work`]): what every command and every design of a sweep runs on.
@@ -132,120 +128,9 @@ pub(crate) fn check_work(model: &Model) -> Result<()> {
     ))
 }
 
-/// A stage's dynamics and flexible analysis: the DTE summary and the flexible results.
-type StageRow = (Option<DynamicsSummary>, Option<(FlexibleStage, Mesh)>);
-
-/// What [`run`] made of one stage.
-enum Outcome {
-    /// No static results.
-    Failed(Failure),
-    /// Not analysed: an earlier stage's static analysis failed.
-    Skipped,
-    /// Analysed, with the unworn disc's play on its parts (its play not yet split against
-    /// the new reducer's) and its dynamics and flexible analysis (or their error).
-    Done(Box<(Stage, UnwornPlay, Result<StageRow>)>),
-}
-
-/// Stage `i` of a study at `hours` with the wear depth `map` and the pins' wear `pin_map`: its
-/// static part ([`static_part`]), then its dynamics and flexible analysis
-/// ([`dynamics_and_flexible`]). Skipped when a stage before it has failed its static analysis
-/// (`failed`: the lowest such index, which a failure here lowers); `tick` after each
-/// analysis, `on_static` with the static part's summary.
-#[allow(clippy::too_many_arguments)]
-fn run_stage(
-    model: &Model,
-    rates: BearingWearRates,
-    i: usize,
-    hours: f64,
-    map: &[f64],
-    pin_map: &[f64],
-    base: Option<&DiscSet>,
-    base_profile: &Profile,
-    failed: &AtomicUsize,
-    tick: &(dyn Fn() + Sync),
-    on_static: &dyn Fn(&StageSummary),
-) -> Outcome {
-    if i > failed.load(Ordering::Relaxed) {
-        return Outcome::Skipped;
-    }
-    let (stage, staged, play) = match static_part(model, rates, hours, map, pin_map, base_profile) {
-        Ok(x) => x,
-        Err(f) => {
-            if matches!(f, Failure::Static(..)) {
-                failed.fetch_min(i, Ordering::Relaxed);
-            }
-            return Outcome::Failed(f);
-        }
-    };
-    on_static(&stage.summary);
-    tick();
-    let rest = if i > failed.load(Ordering::Relaxed) {
-        Ok((None, None))
-    } else {
-        dynamics_and_flexible(&staged, &stage.profile, base, base_profile, tick)
-    };
-    Outcome::Done(Box::new((stage, play, rest)))
-}
-
 /// Whether stage `i` of `wear` is unworn (no wear of the disc or the pins).
 fn unworn(wear: &WearHistory, i: usize) -> bool {
     parts::unworn(&wear.maps[i], wear.pin_maps.get(i).map_or(&[], |m| m))
-}
-
-/// The multibody simulation and the flexible analysis of the stage of `profile`, side by side
-/// (each if enabled), on the FE disc (the unworn `base` moved onto a worn profile's outline);
-/// `tick` after each.
-///
-/// # Errors
-/// Failures of either analysis or of the FE disc.
-fn dynamics_and_flexible(
-    model: &Model,
-    profile: &Profile,
-    base: Option<&DiscSet>,
-    base_profile: &Profile,
-    tick: &(dyn Fn() + Sync),
-) -> Result<StageRow> {
-    if !(model.dynamics.enabled || model.fem.enabled) {
-        return Ok((None, None));
-    }
-    let own = match base {
-        Some(b) if profile.wear().is_some() => Some(DiscSet::build_morphed(
-            profile,
-            &model.fem.params,
-            &model.reducer,
-            b,
-            base_profile,
-        )?),
-        _ => None,
-    };
-    let disc = own.as_ref().or(base);
-    let (dynamics, flexible) = rayon::join(
-        || -> Result<Option<DynamicsSummary>> {
-            if !model.dynamics.enabled {
-                return Ok(None);
-            }
-            let r = simulate_discs(
-                profile,
-                &model.dynamics.params,
-                &model.fem.params,
-                disc,
-                false,
-            )?;
-            tick();
-            Ok(Some(r.summary))
-        },
-        || -> Result<Option<FlexibleStage>> {
-            let (true, Some(disc)) = (model.fem.enabled, disc) else {
-                return Ok(None);
-            };
-            let fl = analyse_stage(profile, &model.reducer, disc, model.rating.rated_torque)?;
-            tick();
-            Ok(Some(fl))
-        },
-    );
-    let flexible = flexible?;
-    let mesh = disc.map(|d| d.models[0].fe.mesh.clone());
-    Ok((dynamics?, flexible.zip(mesh)))
 }
 
 /// The hysteresis curve of `model`'s new reducer, mean over a mesh cycle (`model.te.samples`
@@ -331,19 +216,15 @@ fn run_inner(
     let make_new_play = || {
         let _ = new_play.set(no_load(model, &base_profile));
     };
-    // Progress: the wear-rate evaluations so far plus the stage analyses done.
-    let (wear_done, done) = (AtomicUsize::new(0), AtomicUsize::new(0));
-    let report = || {
-        progress(
-            wear_done.load(Ordering::Relaxed) + done.load(Ordering::Relaxed),
-            total,
-        )
+    // Progress (the wear-rate evaluations so far plus the stage analyses done) and the first
+    // stage that failed.
+    let books = Bookkeeping::new(total, progress);
+    let runner = StageRunner {
+        model,
+        rates,
+        base_profile: &base_profile,
+        books: &books,
     };
-    let tick = || {
-        done.fetch_add(1, Ordering::Relaxed);
-        report();
-    };
-    let failed = AtomicUsize::new(usize::MAX);
     // A first stage at 0 h needs no wear: it is analysed beside the wear integration (on the
     // unworn disc's FE models).
     let unworn_first = w.stage_hours.first() == Some(&0.0);
@@ -406,24 +287,11 @@ fn run_inner(
         }
     };
     let stage = |i: usize, hours: f64, map: &[f64], pin_map: &[f64], base: Option<&DiscSet>| {
-        run_stage(
-            model,
-            rates,
-            i,
-            hours,
-            map,
-            pin_map,
-            base,
-            &base_profile,
-            &failed,
-            &tick,
-            &|summary| on_static(i, summary),
-        )
+        runner.run(i, hours, map, pin_map, base, &|summary| {
+            on_static(i, summary)
+        })
     };
-    let wear_progress = |d: usize, _: usize| {
-        wear_done.fetch_max(d, Ordering::Relaxed);
-        report();
-    };
+    let wear_progress = |d: usize, _: usize| books.wear(d);
     if model.fem.enabled || flexible_dynamics {
         // The FE disc is built beside the wear integration, then the stages in parallel, the
         // most worn first (they take longest, so the cores finish together): the static
@@ -525,40 +393,8 @@ fn run_inner(
         rows.push(rest?);
         stages.push(stage);
     }
-    for (st, (dynamics, flexible)) in stages.iter_mut().zip(rows) {
-        if let Some(d) = dynamics {
-            st.summary.dte_mean_arcmin = Some(d.te_mean_arcmin);
-            st.summary.dte_peak_to_peak_arcmin = Some(d.te_peak_to_peak_arcmin);
-            st.summary.dte_rms_arcmin = Some(d.te_rms_arcmin);
-            st.summary.dte_range_arcmin = Some([d.te_min_arcmin, d.te_max_arcmin]);
-            st.dynamics = Some(d);
-        }
-        if let Some((fl, mesh)) = flexible {
-            let ste = CurveStats::of(&fl.flexible_ste);
-            let loaded = CurveStats::of(&fl.flexible_loaded_te);
-            let rigid = CurveStats::of(&fl.rigid_loaded_te);
-            let s = &mut st.summary;
-            s.flexible_ste_mean_arcmin = Some(arcmin(ste.mean));
-            s.flexible_ste_peak_to_peak_arcmin = Some(arcmin(ste.peak_to_peak));
-            s.flexible_loaded_te_mean_arcmin = Some(arcmin(loaded.mean));
-            s.flexible_loaded_te_peak_to_peak_arcmin = Some(arcmin(loaded.peak_to_peak));
-            s.rigid_loaded_te_revolution_mean_arcmin = Some(arcmin(rigid.mean));
-            s.flexible_torsional_stiffness_nm_per_arcmin =
-                Some(fl.torsional_stiffness / ARCMIN_PER_RAD);
-            let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
-            let gap = |a: &[f64], b: &[f64]| {
-                let d: Vec<f64> = a.iter().zip(b).map(|(x, y)| x - y).collect();
-                arcmin(mean(&d))
-            };
-            s.flexible_ste_reverse_mean_arcmin = Some(arcmin(mean(&fl.flexible_ste_reverse)));
-            s.flexible_loaded_te_reverse_mean_arcmin =
-                Some(arcmin(mean(&fl.flexible_loaded_te_reverse)));
-            s.flexible_backlash_arcmin = Some(gap(&fl.rigid_ste, &fl.rigid_ste_reverse));
-            s.flexible_lost_motion_arcmin = Some(gap(&fl.flexible_ste, &fl.flexible_ste_reverse));
-            s.max_von_mises_mpa = Some(fl.stress.max_von_mises * 1e-6);
-            s.max_root_stress_mpa = Some(fl.stress.max_root_stress * 1e-6);
-            st.flexible = Some((fl, mesh));
-        }
+    for (st, row) in stages.iter_mut().zip(rows) {
+        record_row(st, row);
     }
     let ahead = ahead.into_inner().ok().flatten();
     finish(model, wear, stages, ahead, notice, shares)

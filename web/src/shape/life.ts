@@ -64,11 +64,29 @@ export function lifeSeries(s: StudySummary, q: string, spec: Record<string, Limi
   const ys = s.stages.map((x) => x[q] ?? NaN);
   const series: Series[] = [{ label: labelOf(q, docs), data: hours.map((h, i) => ({ x: h, y: ys[i] })), points: true }];
   const lim = spec[q];
-  if (lim) series.push({ label: `spec: ${lim.min ? 'at least' : 'at most'} ${lim.limit}`, data: [{ x: 0, y: lim.limit }, { x: hours[hours.length - 1], y: lim.limit }], dash: [8, 4], color: '#c0392b' });
   const life = s.accuracy_life;
+  // The spec line runs on to an accuracy life found beyond the last stage, so that the chart
+  // shows where the quantity meets it.
+  const end = Math.max(hours[hours.length - 1] ?? 0, life?.accuracy_life_h ?? 0);
+  if (lim) series.push({ label: `spec: ${lim.min ? 'at least' : 'at most'} ${lim.limit}`, data: [{ x: 0, y: lim.limit }, { x: end, y: lim.limit }], dash: [8, 4], color: '#c0392b' });
   if (life?.accuracy_life_h != null && q === life.limited_by) {
     const at = life.accuracy_life_h;
     series.push({ label: `accuracy life ${fmt(at)} h`, data: [{ x: at, y: Math.min(...ys) }, { x: at, y: Math.max(...ys, lim?.limit ?? -Infinity) }], dash: [2, 3], color: '#555' });
   }
   return series;
+}
+
+/** What the charts, which end at the last stage, do not show: where the accuracy life or the
+ *  search for it lies beyond the last stage, a sentence saying so (the search's points are not
+ *  kept: each is a wear integration on from the last stage); otherwise none. */
+export function beyondStages(s: StudySummary): string | undefined {
+  const last = s.stages[s.stages.length - 1]?.hours;
+  const life = s.accuracy_life;
+  if (last === undefined || !life) return undefined;
+  if (life.accuracy_life_h != null) {
+    if (life.accuracy_life_h <= last) return undefined;
+    return `The spec is met at every stage (to ${fmt(last)} h): the accuracy life, ${fmt(life.accuracy_life_h)} h, was found by integrating the wear on beyond the last stage, a wear integration per step, which is why this study took longer; the charts mark it after their last stage.`;
+  }
+  if (life.horizon_h <= last) return undefined;
+  return `The spec is met at every stage (to ${fmt(last)} h) and on to the search's horizon, ${fmt(life.horizon_h)} h (life.max_hours): the wear was integrated on beyond the last stage step by step to look for the accuracy life, which is why this study took longer; the charts show the stages only.`;
 }

@@ -23,8 +23,13 @@ export function outlineSeries(r: Profiles, hours: number | undefined): Series[] 
   return series;
 }
 
-/** The wear depth of the first tooth against its mesh angle (deg, 0 root, 180 tip; um). */
-export function flankWearSeries(worn: ProfilePoints, hours: number | undefined): Series[] {
+/** The wear of the first tooth as gear metrology draws a profile deviation: the depth of
+ *  material removed normal to the flank (um, the result's `wear_um`) against the mesh angle
+ *  (deg, 0 at the root, 180 at the tip), over the first `points_per_tooth` points; null when
+ *  that tooth is unworn (every depth zero), where a chart would be empty. */
+export function flankWearSeries(worn: ProfilePoints, hours: number | undefined): Series[] | null {
   const per = worn.points_per_tooth;
-  return [{ label: `wear depth of tooth 1 at ${hours} h`, data: curve(worn.mesh_angle_deg.slice(0, per), worn.wear_um) }];
+  const wear = worn.wear_um.slice(0, per);
+  if (wear.every((w) => w === 0)) return null;
+  return [{ label: `wear depth of tooth 1 at ${hours} h (max ${fmt(Math.max(...wear))} um)`, data: curve(worn.mesh_angle_deg.slice(0, per), wear) }];
 }

@@ -1,7 +1,8 @@
 // The hysteresis view: twist against output torque (mean over a mesh cycle and at one crank
 // angle) with lost motion, backlash, hysteresis loss and torsional stiffness.
 import { lineChart } from '../charts';
-import { hysteresisSeries } from '../shape/hysteresis';
+import { fmt } from '../format';
+import { catalogueMarks, hysteresisSeries } from '../shape/hysteresis';
 import { numbers } from '../ui';
 import { analysisView } from './analysis';
 
@@ -17,7 +18,7 @@ export function renderHysteresis(panel: HTMLElement) {
     args: (text, v) => [text, v.crank ?? 0, v.levels ?? 21, v.hours || undefined],
     show: (x, out, c) => {
       out.replaceChildren(numbers(x, ['max_wear_um', 'lost_motion_arcmin', 'backlash_arcmin', 'hysteresis_loss_arcmin', 'torsional_stiffness_nm_per_arcmin']));
-      lineChart(c, hysteresisSeries(x), { x: 'output torque, N m', y: 'twist, arcmin', title: 'Hysteresis curve (catalogue lost motion at +-3 % of rated torque)' });
+      lineChart(c, [...hysteresisSeries(x), ...catalogueMarks(x)], { x: 'output torque, N m', y: 'twist, arcmin', title: `Hysteresis curve: lost motion between the midpoints at +-${fmt(100 * x.measuring_torque_fraction)} % of rated torque, torsional stiffness b/a` });
     },
   });
 }

@@ -6,8 +6,9 @@ import { type Files, downloadList } from '../downloads';
 import { jobs, quick } from '../engines';
 import { job } from '../job';
 import { study } from '../rvlife';
-import { LIFE_CHARTS, labelOf, lifeSeries, specLimits, stageTable, withinSpec } from '../shape/life';
+import { LIFE_CHARTS, beyondStages, labelOf, lifeSeries, specLimits, stageTable, withinSpec } from '../shape/life';
 import { quantityDocs, state } from '../state';
+import { status } from '../status';
 import type { AccuracyLife, StudyOverview } from '../types';
 import { chartBox, noteOf, numbers, wrap } from '../ui';
 
@@ -63,6 +64,10 @@ export function renderLife(panel: HTMLElement) {
     verdict.textContent = s.verdict;
     const lifeBox = numbers<Partial<AccuracyLife>>(s.summary.accuracy_life ?? {}, ['accuracy_life_h', 'horizon_h']);
     lifeBox.id = 'life-numbers';
+    // Beyond the last stage: why the study took longer, and what the charts leave out.
+    const beyond = beyondStages(s.summary);
+    const notes = beyond ? [noteOf(beyond)] : [];
+    notes.forEach((n) => { n.id = 'life-beyond'; });
     const spec = specLimits(state.keys, Object.keys(s.summary.stages[0] ?? {}));
     const charts: HTMLElement[] = [];
     for (const [q, title] of LIFE_CHARTS) {
@@ -77,7 +82,7 @@ export function renderLife(panel: HTMLElement) {
     const scroll = document.createElement('div');
     scroll.className = 'scroll';
     scroll.append(stagesTable(s));
-    out.replaceChildren(verdict, lifeBox, scroll, ...charts, dl);
+    out.replaceChildren(verdict, lifeBox, ...notes, scroll, ...charts, dl);
   };
   const run = document.createElement('button');
   run.id = 'run-life';
@@ -87,7 +92,9 @@ export function renderLife(panel: HTMLElement) {
     // The old results go at once: a run cancelled leaves no result that is not its config's.
     state.study = null;
     out.replaceChildren();
-    const r = await job('Accuracy-life study', (p) => study(jobs, text, p));
+    // The library's line for each step of the life's search beyond the last stage, in the
+    // status line while it runs.
+    const r = await job('Accuracy-life study', (p) => study(jobs, text, p, (line) => status(`Accuracy-life study: ${line}`)));
     if (!r || text !== state.text) return;
     const overview = JSON.parse(r) as StudyOverview;
     state.study = overview;

@@ -1,12 +1,13 @@
 // The profile view: the disc outline nominal, modified and worn at some hours (zoom and pan),
-// and the wear depth along a tooth's flank.
+// and below it the wear of one tooth as a profile deviation (tens of um, invisible on the
+// outline).
 import { chartOf, lineChart } from '../charts';
 import { callJson, jobs } from '../engines';
 import { job } from '../job';
 import { lastStageHours } from '../keys';
 import { flankWearSeries, outlineSeries } from '../shape/profile';
 import { state } from '../state';
-import { chartBox, form, wrap } from '../ui';
+import { chartBox, form, noteOf, wrap } from '../ui';
 
 /** The hours last drawn at, kept while the page is open (blank: not worn); the last stage's
  *  at first. */
@@ -15,6 +16,8 @@ let profileHours = '';
 export function renderProfile(panel: HTMLElement) {
   const outline = chartBox('chart-profile');
   const wear = chartBox('chart-wear');
+  // The wear of one tooth, or a note where there is none.
+  const wearBox = document.createElement('div');
   const draw = async (hours: number | undefined) => {
     const text = state.text;
     const r = await job('Profile', async (p) => {
@@ -25,7 +28,13 @@ export function renderProfile(panel: HTMLElement) {
     });
     if (!r || text !== state.text) return;
     lineChart(outline, outlineSeries(r, hours), { x: 'x, mm', y: 'y, mm', equal: true, zoom: true, title: 'Disc profile (wheel or pinch to zoom, drag to pan)' });
-    if (r.worn) lineChart(wear, flankWearSeries(r.worn, hours), { x: 'mesh angle, deg (0 root, 180 tip)', y: 'wear, um', title: 'Wear along the flank' });
+    const flank = r.worn ? flankWearSeries(r.worn, hours) : null;
+    if (flank) {
+      wearBox.replaceChildren(wrap(wear));
+      lineChart(wear, flank, { x: 'mesh angle, deg (0 root, 180 tip)', y: 'wear depth normal to the flank, um', title: 'Wear: deviation normal to the flank over one tooth' });
+    } else {
+      wearBox.replaceChildren(noteOf(hours ? `Unworn at ${hours} h: no wear to draw.` : 'Unworn: give the hours worn to draw the wear of a tooth.'));
+    }
   };
   if (!profileHours) profileHours = String(lastStageHours(state.keys));
   const f = form([{ id: 'profile-hours', label: 'worn at', value: profileHours, unit: 'h' }], 'Draw', (v) => {
@@ -35,6 +44,6 @@ export function renderProfile(panel: HTMLElement) {
   const reset = document.createElement('button');
   reset.textContent = 'Reset zoom';
   reset.onclick = () => chartOf(outline)?.resetZoom();
-  panel.append(f, reset, wrap(outline, 'square'), wrap(wear));
+  panel.append(f, reset, wrap(outline, 'square'), wearBox);
   draw(profileHours === '' ? undefined : Number(profileHours));
 }

@@ -2,7 +2,7 @@
 // a message names, the sections, and the values the config refused.
 import { describe, expect, it } from 'vitest';
 import {
-  Refusals, keyNote, keyOf, lastStageHours, placeholder, ratedTorque, sections, shortKey, typed, valueText,
+  Refusals, keyNote, keyOf, lastStageHours, placeholder, ratedTorque, sections, shortKey, toleranceMeaning, toleranceOf, typed, valueText,
 } from '../../src/keys';
 import type { KeyDoc } from '../../src/types';
 
@@ -32,6 +32,36 @@ describe('typed: what the user wrote as the JSON value of a key', () => {
       expect(JSON.parse(typed(valueText(v), v))).toEqual(v);
     }
     expect(valueText(null)).toBe('');
+  });
+});
+
+describe('tolerances: shown as their TOML with their meaning, and typed back', () => {
+  it('shows a tolerance as its TOML, not as JSON', () => {
+    expect(valueText({ normal: 1 })).toBe('normal = 1');
+    expect(valueText({ uniform: 4 })).toBe('uniform = 4');
+    expect(valueText({ iso_grade: 5 })).toBe('iso_grade = 5');
+    // Not one distribution: as JSON still.
+    expect(valueText({ normal: 1, uniform: 2 })).toBe('{"normal":1,"uniform":2}');
+    expect(toleranceOf({ sigma: 1 })).toBeNull();
+  });
+  it('says what each distribution means, in the key\'s unit', () => {
+    expect(toleranceMeaning({ normal: 1 }, 'um')).toBe('normal, 1 sigma = 1 um: each part\'s error drawn about zero with standard deviation 1 um (99.7 % within +-3 um)');
+    expect(toleranceMeaning({ uniform: 4 }, 'um')).toBe('uniform within +-4 um: each part\'s error drawn evenly between -4 and +4 um (1 sigma = 2.3094 um)');
+    expect(toleranceMeaning({ iso_grade: 5 }, 'um')).toMatch(/^normal, 1 sigma = IT5\/12 of the feature's size \(ISO 286-1 grade 5\)/);
+    expect(toleranceMeaning(40, '')).toBeNull();
+  });
+  it('round-trips what the box shows to the same value, and reads the TOML typed', () => {
+    for (const v of [{ normal: 1 }, { normal: 0.5 }, { uniform: 4 }, { iso_grade: 5 }]) {
+      expect(JSON.parse(typed(valueText(v), v))).toEqual(v);
+    }
+    expect(typed('{ normal = 1.5 }', null)).toBe('{"normal":1.5}');
+    // A deviation or a limit written as a float (the file's `2.0`), a grade as a whole number.
+    expect(typed('uniform: 2', { normal: 1 })).toBe('{"uniform":2.0}');
+    expect(typed('normal = 1', { normal: 1 })).toBe('{"normal":1.0}');
+    expect(typed('iso_grade = 6', { normal: 1 })).toBe('{"iso_grade":6}');
+    expect(typed('{"iso_grade":6}', { normal: 1 })).toBe('{"iso_grade":6}');
+    // Not a number: a string, which the config then refuses.
+    expect(typed('normal = x', { normal: 1 })).toBe('"normal = x"');
   });
 });
 

@@ -1,7 +1,7 @@
 // The accuracy-life view's data: the stage table with the library's labels and units, the
 // spec of [life], and the series against working hours.
 import { describe, expect, it } from 'vitest';
-import { LIFE_CHARTS, STAGE_COLUMNS, labelOf, lifeSeries, specLimits, stageTable, withinSpec } from '../../src/shape/life';
+import { LIFE_CHARTS, STAGE_COLUMNS, beyondStages, labelOf, lifeSeries, specLimits, stageTable, withinSpec } from '../../src/shape/life';
 import type { KeyDoc, QuantityDoc, StageSummary, StudySummary } from '../../src/types';
 
 const doc = (name: string, label: string, unit: string): QuantityDoc =>
@@ -94,5 +94,23 @@ describe('the series against working hours', () => {
     expect(withinSpec(summary)).toBe(false);
     expect(withinSpec({ ...summary, accuracy_life: { horizon_h: 7500 } })).toBe(true);
     expect(withinSpec({ ...summary, accuracy_life: undefined })).toBe(true);
+  });
+});
+
+describe('the accuracy life beyond the last stage', () => {
+  const beyond = { ...summary, accuracy_life: { accuracy_life_h: 10543, limited_by: 'lost_motion_arcmin', horizon_h: 11250 } };
+  it('runs the spec line on to a life found beyond the stages', () => {
+    const [, limit, life] = lifeSeries(beyond, 'lost_motion_arcmin', { lost_motion_arcmin: { limit: 1, min: false } }, docs);
+    expect(limit.data).toEqual([{ x: 0, y: 1 }, { x: 10543, y: 1 }]);
+    expect(life.data[0].x).toBe(10543);
+  });
+  it('says why the study took longer and what the charts leave out', () => {
+    expect(beyondStages(summary)).toBeUndefined();
+    expect(beyondStages(beyond)).toContain('10543 h');
+    const never = beyondStages({ ...summary, accuracy_life: { horizon_h: 75000 } });
+    expect(never).toContain('75000 h');
+    expect(never).toContain('took longer');
+    expect(beyondStages({ ...summary, accuracy_life: { horizon_h: 7500 } })).toBeUndefined();
+    expect(beyondStages({ ...summary, accuracy_life: undefined })).toBeUndefined();
   });
 });

@@ -2,7 +2,7 @@
 import { describe, expect, it } from 'vitest';
 import { pinForceSeries } from '../../src/shape/contact';
 import { DISCS, dteSeries } from '../../src/shape/dynamics';
-import { hysteresisSeries } from '../../src/shape/hysteresis';
+import { catalogueMarks, hysteresisSeries } from '../../src/shape/hysteresis';
 import { flankWearSeries, outlineSeries } from '../../src/shape/profile';
 import { meshCyclePoints, teSeries } from '../../src/shape/te';
 import type { ContactResult, DynamicsResult, HysteresisResult, ProfilePoints, TeResult, TwistCurve } from '../../src/types';
@@ -18,6 +18,7 @@ describe('hysteresis', () => {
     ...mean, max_wear_um: 0, support: 'bearings', rated_torque_nm: 412, measuring_torque_fraction: 0.03,
     torsional_stiffness_definition: 'b/a', crank_deg: 15, at_crank_angle: curve([0, 412, -412], [0, 4.1, -4.1]),
     samples_per_mesh_cycle: 8, mesh_cycle_mean: mean, twist_shares: [],
+    catalogue_points: { lost_motion: [[-12.36, -0.25], [12.36, 0.25]], torsional_stiffness: [[12.36, 0.26], [412, 2.6]] },
   };
   it('gives the mean curve, then the curve at the crank angle, twist against torque in sweep order', () => {
     const [m, at] = hysteresisSeries(x);
@@ -27,6 +28,15 @@ describe('hysteresis', () => {
     expect(at.label).toBe('at crank 15 deg');
     expect(at.data).toEqual([{ x: 0, y: 0 }, { x: 412, y: 4.1 }, { x: -412, y: -4.1 }]);
     expect(at.dash).toBeDefined();
+  });
+  it('marks the lost motion and the torsional stiffness at the library\'s points, labelled with their values', () => {
+    const [lm, ba] = catalogueMarks(x);
+    expect(lm.label).toBe('lost motion 0.5 arcmin');
+    expect(lm.data).toEqual([{ x: -12.36, y: -0.25 }, { x: 12.36, y: 0.25 }]);
+    expect(ba.label).toBe('torsional stiffness b/a = 100 N m/arcmin');
+    expect(ba.data).toEqual([{ x: 12.36, y: 0.26 }, { x: 412, y: 2.6 }]);
+    // Drawn as joined points, apart from the curves' colours.
+    expect(lm.points && ba.points && lm.color !== ba.color).toBe(true);
   });
 });
 
@@ -65,10 +75,18 @@ describe('profile', () => {
     expect(s[0].data[1]).toEqual({ x: 2, y: 1 });
     expect(outlineSeries({ ...r, worn: null }, undefined)).toHaveLength(2);
   });
-  it('gives the first tooth\'s wear along its flank', () => {
-    const [w] = flankWearSeries(r.worn, 7500);
-    expect(w.label).toBe('wear depth of tooth 1 at 7500 h');
+  it('gives the first tooth\'s wear normal to the flank against its mesh angle, one tooth only', () => {
+    const s = flankWearSeries(r.worn, 7500);
+    expect(s).toHaveLength(1);
+    const [w] = s ?? [];
+    expect(w.label).toBe('wear depth of tooth 1 at 7500 h (max 3.1416 um)');
+    // x the mesh angle, y the wear depth, from the result; the second tooth left out.
     expect(w.data).toEqual([{ x: 0, y: 3.14159 }, { x: 180, y: 1 }]);
+  });
+  it('gives no wear chart for an unworn tooth', () => {
+    expect(flankWearSeries(r.modified, 0)).toBeNull();
+    // Worn elsewhere only (the second tooth): the first is unworn.
+    expect(flankWearSeries(points(1, [0, 0, 2, 1]), 100)).toBeNull();
   });
 });
 

@@ -392,6 +392,23 @@ pub fn hysteresis_curve(
     spelling: Spelling,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<HysteresisResult> {
+    hysteresis_curve_and_table(model, wear, crank_deg, levels, spelling, progress).map(|(r, _)| r)
+}
+
+/// [`hysteresis_curve`] with the twist table averaged over the mesh cycle that its mean curve
+/// and catalogue quantities come from (rad; [`TwistTable::catalogue_points`] gives the points
+/// they are read between).
+///
+/// # Errors
+/// As [`hysteresis_curve`].
+pub fn hysteresis_curve_and_table(
+    model: &Model,
+    wear: Wear,
+    crank_deg: f64,
+    levels: usize,
+    spelling: Spelling,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<(HysteresisResult, TwistTable)> {
     finite(spelling, "crank_deg", crank_deg)?;
     if !(1..=1000).contains(&levels) {
         return Err(Error::invalid(
@@ -426,8 +443,9 @@ pub fn hysteresis_curve(
         })
         .collect();
     // The mean over the mesh cycle only (not the extra crank angle).
-    let mean = describe_twist(&TwistTable::mean_of(&tables));
-    Ok(HysteresisResult {
+    let mean_table = TwistTable::mean_of(&tables);
+    let mean = describe_twist(&mean_table);
+    let result = HysteresisResult {
         max_wear_um: profile.wear().map_or(0.0, |w| w.max_depth()) * 1e6,
         support: support_name(model),
         rated_torque_nm: model.rating.rated_torque,
@@ -445,7 +463,8 @@ pub fn hysteresis_curve(
         torsional_stiffness_nm_per_arcmin: mean.torsional_stiffness_nm_per_arcmin,
         mesh_cycle_mean: mean,
         twist_shares,
-    })
+    };
+    Ok((result, mean_table))
 }
 
 /// A hysteresis curve and its catalogue quantities (torque N m, twist and the accuracy

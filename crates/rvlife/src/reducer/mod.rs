@@ -26,6 +26,7 @@ mod bearing;
 mod bearing_eval;
 mod bearing_table;
 pub mod errors;
+pub(crate) mod estimates;
 mod pin_wear;
 mod play;
 pub mod structure;

@@ -41,9 +41,11 @@ use crate::reducer::{Reducer, Support};
 use crate::statics::{StaticAnalysis, StaticSolution, TouchingPin};
 use crate::units::ARCMIN_PER_RAD;
 
+mod catalogue;
 mod friction;
 mod zero_torque;
 
+pub use catalogue::CataloguePoints;
 pub use friction::FrictionTorques;
 #[cfg(test)]
 pub(crate) use friction::{friction_branch, friction_torques};

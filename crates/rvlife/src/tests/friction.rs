@@ -77,6 +77,81 @@ fn one_coulomb_contact_against_the_closed_form() {
     assert_eq!(bare.accuracy().hysteresis_loss, 0.0);
 }
 
+/// The catalogue's points of a hysteresis curve (`TwistTable::catalogue_points`) are those
+/// its quantities are read between: on a table whose two senses differ (a stiffer negative
+/// side, an offset), with and without friction, the midpoints' twists differ by the lost
+/// motion and sit at `+-T_m`, each the mean of the curve's twists at its torque on the loop
+/// (the first loading left out); the secant's torque over twist is the torsional stiffness
+/// `b/a`, from the loading branch at `+T_m` to `+T_r`.
+#[test]
+fn catalogue_points_give_the_catalogue_quantities() {
+    let (k, rated, f) = (2.0e5, 100.0, 5.0);
+    let fractions: Vec<f64> = [0.0, 0.03]
+        .into_iter()
+        .chain((1..=10).map(|i| i as f64 / 10.0))
+        .collect();
+    let n = fractions.len();
+    let positive: Vec<f64> = fractions.iter().map(|x| 1e-4 + x * rated / k).collect();
+    let negative: Vec<f64> = fractions
+        .iter()
+        .map(|x| -2e-4 - x * rated / (1.5 * k))
+        .collect();
+    let bare = TwistTable {
+        fractions: fractions.clone(),
+        rated_torque: rated,
+        measuring_fraction: 0.03,
+        positive,
+        negative,
+        friction: None,
+    };
+    let rubbing = TwistTable {
+        friction: Some(FrictionTorques {
+            positive: vec![f; n],
+            negative: vec![f; n],
+            positive_twist: vec![f / k; n],
+            negative_twist: vec![f / k; n],
+        }),
+        ..bare.clone()
+    };
+    for table in [&bare, &rubbing] {
+        let acc = table.accuracy();
+        let p = table.catalogue_points();
+        let [[tn, psi_n], [tp, psi_p]] = p.lost_motion;
+        assert_eq!((tn, tp), (-0.03 * rated, 0.03 * rated));
+        assert!((psi_p - psi_n - acc.lost_motion).abs() < 1e-15 * acc.lost_motion.abs().max(1e-3));
+        // Each midpoint: the mean of the loop's twists at its torque.
+        let c = table.curve();
+        let mean_at = |t: f64| {
+            let at: Vec<f64> = (n - 1..c.torque.len())
+                .filter(|&i| (c.torque[i] - t).abs() < 1e-12)
+                .map(|i| c.twist[i])
+                .collect();
+            at.iter().sum::<f64>() / at.len() as f64
+        };
+        assert!(
+            (mean_at(tp) - psi_p).abs() < 1e-15,
+            "{} {psi_p}",
+            mean_at(tp)
+        );
+        assert!(
+            (mean_at(tn) - psi_n).abs() < 1e-15,
+            "{} {psi_n}",
+            mean_at(tn)
+        );
+        let [[t0, psi0], [t1, psi1]] = p.torsional_stiffness;
+        assert_eq!((t0, t1), (0.03 * rated, rated));
+        let secant = (t1 - t0) / (psi1 - psi0);
+        assert!((secant - acc.torsional_stiffness).abs() < 1e-9 * acc.torsional_stiffness);
+        // The secant starts on the loading branch: the last loading's twist at +T_m.
+        let last = c
+            .torque
+            .iter()
+            .rposition(|&t| (t - t0).abs() < 1e-12)
+            .unwrap();
+        assert!((c.twist[last] - psi0).abs() < 1e-15);
+    }
+}
+
 /// The friction's work over the sweep `+T_r -> -T_r -> +T_r` (the loop's area, from the two
 /// branches at the grid's torques) equals the work the contacts' and bearings' friction does
 /// along the path swept, `oint T_f |dpsi|` (each level's friction torque from its contacts'

@@ -1,0 +1,241 @@
+//! The study's stages as they run on the workers ([`super::run`]): what each stage is analysed
+//! with ([`StageRunner`]), its outcome, and the bookkeeping beside the analyses (progress and
+//! the first failure, [`Bookkeeping`]), kept apart from the loop over the stages and its
+//! threads.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use super::stage::arcmin;
+use super::stage::{static_part, Failure, UnwornPlay};
+use super::Stage;
+use crate::config::Model;
+use crate::dynamics::{simulate_discs, DynamicsSummary};
+use crate::error::Result;
+use crate::fem::flex::{analyse_stage, FlexibleStage};
+use crate::fem::mesh::Mesh;
+use crate::fem::DiscSet;
+use crate::geometry::Profile;
+use crate::quantities::StageSummary;
+use crate::te::CurveStats;
+use crate::units::ARCMIN_PER_RAD;
+use crate::wear::BearingWearRates;
+
+/// A stage's dynamics and flexible analysis: the DTE summary and the flexible results.
+pub(super) type StageRow = (Option<DynamicsSummary>, Option<(FlexibleStage, Mesh)>);
+
+/// What [`run`] made of one stage.
+pub(super) enum Outcome {
+    /// No static results.
+    Failed(Failure),
+    /// Not analysed: an earlier stage's static analysis failed.
+    Skipped,
+    /// Analysed, with the unworn disc's play on its parts (its play not yet split against
+    /// the new reducer's) and its dynamics and flexible analysis (or their error).
+    Done(Box<(Stage, UnwornPlay, Result<StageRow>)>),
+}
+
+/// The study's bookkeeping while its analyses run on the workers: the progress (the
+/// wear-rate evaluations so far plus the analyses done, out of `total`) and the lowest stage
+/// whose static analysis failed (the stages after it are skipped, as the study reports only
+/// the stages before a failure).
+pub(super) struct Bookkeeping<'a> {
+    total: usize,
+    wear_done: AtomicUsize,
+    done: AtomicUsize,
+    failed: AtomicUsize,
+    progress: &'a (dyn Fn(usize, usize) + Sync),
+}
+
+impl<'a> Bookkeeping<'a> {
+    /// Nothing done yet of `total` steps; `progress(done, total)` hears each.
+    pub(super) fn new(total: usize, progress: &'a (dyn Fn(usize, usize) + Sync)) -> Self {
+        Bookkeeping {
+            total,
+            wear_done: AtomicUsize::new(0),
+            done: AtomicUsize::new(0),
+            failed: AtomicUsize::new(usize::MAX),
+            progress,
+        }
+    }
+
+    fn report(&self) {
+        (self.progress)(
+            self.wear_done.load(Ordering::Relaxed) + self.done.load(Ordering::Relaxed),
+            self.total,
+        )
+    }
+
+    /// The wear integration has made `done` rate evaluations.
+    pub(super) fn wear(&self, done: usize) {
+        self.wear_done.fetch_max(done, Ordering::Relaxed);
+        self.report();
+    }
+
+    /// One more analysis done.
+    pub(super) fn tick(&self) {
+        self.done.fetch_add(1, Ordering::Relaxed);
+        self.report();
+    }
+
+    /// Whether stage `i` is skipped: a stage before it failed its static analysis.
+    fn skips(&self, i: usize) -> bool {
+        i > self.failed.load(Ordering::Relaxed)
+    }
+
+    /// Stage `i` failed its static analysis.
+    fn failed_at(&self, i: usize) {
+        self.failed.fetch_min(i, Ordering::Relaxed);
+    }
+}
+
+/// What every stage of one study is analysed with: the model, the bearings' clearance growth,
+/// the unworn profile (against which the FE disc is moved) and the bookkeeping.
+pub(super) struct StageRunner<'a> {
+    pub(super) model: &'a Model,
+    pub(super) rates: BearingWearRates,
+    pub(super) base_profile: &'a Profile,
+    pub(super) books: &'a Bookkeeping<'a>,
+}
+
+impl StageRunner<'_> {
+    /// Stage `i` at `hours` with the wear depth `map` and the pins' wear `pin_map`: its static
+    /// part ([`static_part`]), then its dynamics and flexible analysis
+    /// ([`dynamics_and_flexible`], on the FE disc `base` moved onto its outline). Skipped when
+    /// a stage before it has failed its static analysis; a tick after each analysis,
+    /// `on_static` with the static part's summary.
+    pub(super) fn run(
+        &self,
+        i: usize,
+        hours: f64,
+        map: &[f64],
+        pin_map: &[f64],
+        base: Option<&DiscSet>,
+        on_static: &dyn Fn(&StageSummary),
+    ) -> Outcome {
+        let books = self.books;
+        if books.skips(i) {
+            return Outcome::Skipped;
+        }
+        let (stage, staged, play) = match static_part(
+            self.model,
+            self.rates,
+            hours,
+            map,
+            pin_map,
+            self.base_profile,
+        ) {
+            Ok(x) => x,
+            Err(f) => {
+                if matches!(f, Failure::Static(..)) {
+                    books.failed_at(i);
+                }
+                return Outcome::Failed(f);
+            }
+        };
+        on_static(&stage.summary);
+        books.tick();
+        let rest = if books.skips(i) {
+            Ok((None, None))
+        } else {
+            dynamics_and_flexible(&staged, &stage.profile, base, self.base_profile, &|| {
+                books.tick()
+            })
+        };
+        Outcome::Done(Box::new((stage, play, rest)))
+    }
+}
+
+/// The multibody simulation and the flexible analysis of the stage of `profile`, side by side
+/// (each if enabled), on the FE disc (the unworn `base` moved onto a worn profile's outline);
+/// `tick` after each.
+///
+/// # Errors
+/// Failures of either analysis or of the FE disc.
+fn dynamics_and_flexible(
+    model: &Model,
+    profile: &Profile,
+    base: Option<&DiscSet>,
+    base_profile: &Profile,
+    tick: &(dyn Fn() + Sync),
+) -> Result<StageRow> {
+    if !(model.dynamics.enabled || model.fem.enabled) {
+        return Ok((None, None));
+    }
+    let own = match base {
+        Some(b) if profile.wear().is_some() => Some(DiscSet::build_morphed(
+            profile,
+            &model.fem.params,
+            &model.reducer,
+            b,
+            base_profile,
+        )?),
+        _ => None,
+    };
+    let disc = own.as_ref().or(base);
+    let (dynamics, flexible) = rayon::join(
+        || -> Result<Option<DynamicsSummary>> {
+            if !model.dynamics.enabled {
+                return Ok(None);
+            }
+            let r = simulate_discs(
+                profile,
+                &model.dynamics.params,
+                &model.fem.params,
+                disc,
+                false,
+            )?;
+            tick();
+            Ok(Some(r.summary))
+        },
+        || -> Result<Option<FlexibleStage>> {
+            let (true, Some(disc)) = (model.fem.enabled, disc) else {
+                return Ok(None);
+            };
+            let fl = analyse_stage(profile, &model.reducer, disc, model.rating.rated_torque)?;
+            tick();
+            Ok(Some(fl))
+        },
+    );
+    let flexible = flexible?;
+    let mesh = disc.map(|d| d.models[0].fe.mesh.clone());
+    Ok((dynamics?, flexible.zip(mesh)))
+}
+
+/// Writes a stage's dynamics and flexible results `row` into the stage and its summary (the
+/// DTE statistics; the flexible TE, stiffness, play and stresses in the summary's units).
+pub(super) fn record_row(st: &mut Stage, row: StageRow) {
+    let (dynamics, flexible) = row;
+    if let Some(d) = dynamics {
+        st.summary.dte_mean_arcmin = Some(d.te_mean_arcmin);
+        st.summary.dte_peak_to_peak_arcmin = Some(d.te_peak_to_peak_arcmin);
+        st.summary.dte_rms_arcmin = Some(d.te_rms_arcmin);
+        st.summary.dte_range_arcmin = Some([d.te_min_arcmin, d.te_max_arcmin]);
+        st.dynamics = Some(d);
+    }
+    if let Some((fl, mesh)) = flexible {
+        let ste = CurveStats::of(&fl.flexible_ste);
+        let loaded = CurveStats::of(&fl.flexible_loaded_te);
+        let rigid = CurveStats::of(&fl.rigid_loaded_te);
+        let s = &mut st.summary;
+        s.flexible_ste_mean_arcmin = Some(arcmin(ste.mean));
+        s.flexible_ste_peak_to_peak_arcmin = Some(arcmin(ste.peak_to_peak));
+        s.flexible_loaded_te_mean_arcmin = Some(arcmin(loaded.mean));
+        s.flexible_loaded_te_peak_to_peak_arcmin = Some(arcmin(loaded.peak_to_peak));
+        s.rigid_loaded_te_revolution_mean_arcmin = Some(arcmin(rigid.mean));
+        s.flexible_torsional_stiffness_nm_per_arcmin =
+            Some(fl.torsional_stiffness / ARCMIN_PER_RAD);
+        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
+        let gap = |a: &[f64], b: &[f64]| {
+            let d: Vec<f64> = a.iter().zip(b).map(|(x, y)| x - y).collect();
+            arcmin(mean(&d))
+        };
+        s.flexible_ste_reverse_mean_arcmin = Some(arcmin(mean(&fl.flexible_ste_reverse)));
+        s.flexible_loaded_te_reverse_mean_arcmin =
+            Some(arcmin(mean(&fl.flexible_loaded_te_reverse)));
+        s.flexible_backlash_arcmin = Some(gap(&fl.rigid_ste, &fl.rigid_ste_reverse));
+        s.flexible_lost_motion_arcmin = Some(gap(&fl.flexible_ste, &fl.flexible_ste_reverse));
+        s.max_von_mises_mpa = Some(fl.stress.max_von_mises * 1e-6);
+        s.max_root_stress_mpa = Some(fl.stress.max_root_stress * 1e-6);
+        st.flexible = Some((fl, mesh));
+    }
+}
