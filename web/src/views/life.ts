@@ -66,8 +66,7 @@ export function renderLife(panel: HTMLElement) {
     lifeBox.id = 'life-numbers';
     // Beyond the last stage: why the study took longer, and what the charts leave out.
     const beyond = beyondStages(s.summary);
-    const notes = beyond ? [noteOf(beyond)] : [];
-    notes.forEach((n) => { n.id = 'life-beyond'; });
+    const notes = beyond ? [Object.assign(noteOf(beyond), { id: 'life-beyond' })] : [];
     const spec = specLimits(state.keys, Object.keys(s.summary.stages[0] ?? {}));
     const charts: HTMLElement[] = [];
     for (const [q, title] of LIFE_CHARTS) {

@@ -100,7 +100,7 @@ impl Model {
         }
         let mut m = self.clone();
         state.grow_bearings(&mut m.dynamics.params.reducer);
-        m.reducer = state.reducer(&self.reducer).into_owned();
+        state.wear_parts(&mut m.reducer);
         std::borrow::Cow::Owned(m)
     }
 

@@ -120,11 +120,16 @@ impl WornState {
             return Cow::Borrowed(red);
         }
         let mut r = red.clone();
-        self.grow_bearings(&mut r);
-        if self.pins_worn() {
-            r.pin_wear = PinWear::new(self.pins.clone());
-        }
+        self.wear_parts(&mut r);
         Cow::Owned(r)
+    }
+
+    /// Wears `red`'s crank bearings and pins to this state, in place.
+    pub fn wear_parts(&self, red: &mut Reducer) {
+        self.grow_bearings(red);
+        if self.pins_worn() {
+            red.pin_wear = PinWear::new(self.pins.clone());
+        }
     }
 
     /// Opens `red`'s crank bearings' clearances by this state's growth.
