@@ -3,9 +3,10 @@
 // answer with JSON text, what that text parses to. A new command is an entry here and its
 // function in worker.ts's table.
 import type {
-  ContactResult, DynamicsResult, HysteresisResult, Inspection, MonteCarloResult, OptimizeResult,
-  Preset, ProfilePoints, QuantityDoc, StudyOverview, StudyPlan, TeResult,
+  ContactResult, DynamicsView, HysteresisView, Inspection, MonteCarloView, OptimizeView,
+  Preset, ProfilePoints, QuantityDoc, StudyOverview, StudyPlan, TeView,
 } from './types';
+import type { PageCommand } from './generated/commands';
 
 /** Each command: `args` as the page passes them, `result` as the worker answers (text, bytes
  *  or a flag), `json` the value of a JSON answer, `item` each piece it hands on before it
@@ -28,14 +29,14 @@ export interface Commands {
     args: [text: string, crankDeg: number, torqueNm: number, hours: number | undefined];
     result: string; json: ContactResult;
   };
-  te: { args: [text: string, hours: number | undefined, torqueNm: number | undefined]; result: string; json: TeResult };
+  te: { args: [text: string, hours: number | undefined, torqueNm: number | undefined]; result: string; json: TeView };
   hysteresis: {
     args: [text: string, crankDeg: number, levels: number, hours: number | undefined];
-    result: string; json: HysteresisResult;
+    result: string; json: HysteresisView;
   };
   dynamics: {
     args: [text: string, hours: number | undefined, torqueNm: number | undefined, disc: string];
-    result: string; json: DynamicsResult;
+    result: string; json: DynamicsView;
   };
   study: { args: [text: string]; result: string; json: StudyOverview };
   studyPlan: { args: [text: string]; result: StudyPlan };
@@ -48,7 +49,7 @@ export interface Commands {
   studyAssemble: { args: [outcomes: Uint8Array[]]; result: string; json: StudyOverview; item: string };
   /** A data file of the last study's results, as text. */
   studyFile: { args: [name: string]; result: string };
-  montecarlo: { args: [text: string, samples: number, seed: number]; result: string; json: MonteCarloResult };
+  montecarlo: { args: [text: string, samples: number, seed: number]; result: string; json: MonteCarloView };
   /** Validates a config and keeps its model in that worker for the parts that follow. */
   prepare: { args: [text: string]; result: string };
   /** The nominal reducer's wear history of a Monte Carlo run, as bytes for its parts; hands
@@ -63,10 +64,10 @@ export interface Commands {
     result: string;
   };
   /** The parts merged by the library's merge: the same JSON as `montecarlo`. */
-  montecarloMerge: { args: [text: string, shards: string[]]; result: string; json: MonteCarloResult };
+  montecarloMerge: { args: [text: string, shards: string[]]; result: string; json: MonteCarloView };
   optimize: {
     args: [text: string, vary: string, objective: string, constraints: string, evaluations: number, seed: number];
-    result: string; json: OptimizeResult;
+    result: string; json: OptimizeView;
   };
 }
 
@@ -94,3 +95,8 @@ export type Reply =
   | { id: number; kind: 'item'; value: unknown }
   | { id: number; kind: 'result'; value: unknown }
   | { id: number; kind: 'error'; message: string };
+
+/** The commands the library declares for the page that the table above lacks: none, or the
+ *  type check fails here, naming them (`PageCommand`, generated from `rvlife::api::commands`). */
+type Undeclared = Exclude<PageCommand, Command>;
+export const EVERY_DECLARED_COMMAND: [Undeclared] extends [never] ? true : Undeclared = true;

@@ -3,7 +3,7 @@
 // the open view through `renderTab`, which main.ts points at the tab table (which imports
 // them).
 import { Refusals } from './keys';
-import type { KeyDoc, MonteCarloResult, OptimizeResult, QuantityDoc, StudyOverview } from './types';
+import type { KeyDoc, MonteCarloView, OptimizeView, QuantityDoc, StudyOverview } from './types';
 
 /** The views, by the id of their tab. */
 export type TabId = 'life' | 'profile' | 'contact' | 'te' | 'hysteresis' | 'dynamics' | 'montecarlo' | 'optimize';
@@ -14,8 +14,8 @@ export const state = {
   keys: [] as KeyDoc[],
   tab: 'life' as TabId,
   study: null as StudyOverview | null,
-  montecarlo: null as MonteCarloResult | null,
-  optimize: null as OptimizeResult | null,
+  montecarlo: null as MonteCarloView | null,
+  optimize: null as OptimizeView | null,
   /** Keys whose typed value the config refused (the box keeps what the user wrote; the
    *  config keeps its last value, so nothing runs or exports until it is mended). */
   refused: new Refusals(),

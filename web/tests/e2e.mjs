@@ -311,7 +311,7 @@ try {
   const loop = await drawnWhole('chart-hysteresis');
   const torques = await page.$eval('#chart-hysteresis', (c) => c.chart.data.datasets[0].data.map((p) => p.x));
   const hyst = await page.$$eval('#panel table.numbers td[data-value]', (tds) => Object.fromEntries(tds.map((td) => [td.previousElementSibling.textContent, Number(td.dataset.value)])));
-  const cliHyst = JSON.parse(spawnSync(bin, ['hysteresis', exported, '--levels', '21', '--crank-deg', '0', '--json'], { encoding: 'utf8', maxBuffer: 1 << 28 }).stdout || '{}');
+  const cliHyst = JSON.parse(spawnSync(bin, ['hysteresis', exported, '--levels', '10', '--crank-deg', '0', '--json'], { encoding: 'utf8', maxBuffer: 1 << 28 }).stdout || '{}');
   const hKeys = ['lost_motion_arcmin', 'backlash_arcmin', 'hysteresis_loss_arcmin', 'torsional_stiffness_nm_per_arcmin'];
   const hRel = Math.max(...hKeys.map((k) => Math.abs(hyst[k] - cliHyst[k]) / Math.max(Math.abs(cliHyst[k]), 1e-6)));
   check('the hysteresis loop is drawn whole (both torque signs) and equals rvlife hysteresis --json',

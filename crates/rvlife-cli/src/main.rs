@@ -7,12 +7,12 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
+use console::{print_all_quantities, print_sensitivity, print_stage_table};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use rvlife::api::{Spelling, Wear};
+use rvlife::api::{commands, Spelling, Wear};
 use rvlife::config::{Config, Model};
 use rvlife::geometry::Profile;
 use rvlife::output::export::{write_profile, ProfileFormat};
-use rvlife::quantities::{self, ConsoleColumn, StageSummary, CONSOLE, STAGE};
 use rvlife::Result;
 use serde_json::{json, Value};
 
@@ -25,6 +25,9 @@ macro_rules! say {
 }
 
 mod calibrate;
+mod console;
+#[cfg(test)]
+mod declared;
 mod efficiency;
 mod optimize;
 mod sweep;
@@ -56,6 +59,13 @@ fn unsigned_zeros(text: &str) -> String {
     String::from_utf8(out).unwrap_or_else(|_| text.to_string())
 }
 
+/// The results directory command `name` writes by default (`rvlife::api::commands`).
+fn out_dir(name: &str) -> &'static str {
+    commands::command(name)
+        .and_then(|c| c.out_dir)
+        .unwrap_or("rvlife-results")
+}
+
 #[derive(Parser)]
 #[command(
     name = "rvlife",
@@ -82,7 +92,7 @@ enum Command {
     /// Print a built-in config, fully commented: the built-in RV-40E-class reducer by default.
     Example {
         /// Which built-in reducer (`--list` shows them).
-        #[arg(long, default_value = "rv-40e")]
+        #[arg(long, default_value = commands::PRESET)]
         preset: String,
         /// List the built-in reducers with their sources.
         #[arg(long)]
@@ -93,7 +103,7 @@ enum Command {
         /// Config file (default: the built-in example).
         config: Option<PathBuf>,
         /// Results directory (created; must not exist or be empty unless --force).
-        #[arg(long, default_value = "rvlife-results")]
+        #[arg(long, default_value = out_dir("run"))]
         out: PathBuf,
         /// Replace an existing results directory.
         #[arg(long)]
@@ -166,7 +176,7 @@ enum Command {
         #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
         crank_deg: f64,
         /// Torque levels per side beyond the measuring torque.
-        #[arg(long, default_value_t = 10, allow_negative_numbers = true, value_parser = whole::<u32>)]
+        #[arg(long, default_value_t = commands::HYSTERESIS_LEVELS, allow_negative_numbers = true, value_parser = whole::<u32>)]
         levels: u32,
         /// Print one JSON object.
         #[arg(long)]
@@ -243,10 +253,10 @@ enum Command {
         /// Config file (default: the built-in example).
         config: Option<PathBuf>,
         /// Number of sampled reducers of the whole run.
-        #[arg(long, default_value_t = 100, allow_negative_numbers = true, value_parser = whole::<usize>)]
+        #[arg(long, default_value_t = commands::MONTECARLO_SAMPLES, allow_negative_numbers = true, value_parser = whole::<usize>)]
         samples: usize,
         /// Seed: same seed, same bytes.
-        #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = whole::<u64>)]
+        #[arg(long, default_value_t = commands::SEED, allow_negative_numbers = true, value_parser = whole::<u64>)]
         seed: u64,
         /// `I/N`: run only the I-th (1-based) of N disjoint parts of the samples; `/N` takes I
         /// from SLURM_ARRAY_TASK_ID (cluster job arrays with `--array=1-N`); `rvlife merge`
@@ -260,7 +270,7 @@ enum Command {
         #[arg(long, default_value_t = rvlife::montecarlo::DEFAULT_SAMPLES_PER_MESH_CYCLE, allow_negative_numbers = true, value_parser = whole::<usize>)]
         samples_per_mesh_cycle: usize,
         /// Results directory.
-        #[arg(long, default_value = "rvlife-montecarlo")]
+        #[arg(long, default_value = out_dir("montecarlo"))]
         out: PathBuf,
         /// Replace an existing results directory.
         #[arg(long)]
@@ -297,7 +307,7 @@ enum Command {
         #[arg(long, allow_hyphen_values = true)]
         set: Vec<String>,
         /// Results directory.
-        #[arg(long, default_value = "rvlife-sweep")]
+        #[arg(long, default_value = out_dir("sweep"))]
         out: PathBuf,
         /// Replace an existing results directory.
         #[arg(long)]
@@ -321,20 +331,20 @@ enum Command {
         /// (a Monte Carlo of `[tolerances]` per candidate), a quantity of stages.csv
         /// (minimised; `max:` to maximise), a quantity optionally at a stage (`@new`,
         /// `@last`, `@HOURS`); two or more give a Pareto front (NSGA-II).
-        #[arg(long, default_value = "life")]
+        #[arg(long, default_value = commands::OPTIMIZE_OBJECTIVE)]
         objective: String,
         /// A constraint, `QUANTITY[@STAGE]<=VALUE` or `>=` (`lost_motion_arcmin<=0.8`: the
         /// new reducer; `max_pressure_mpa@last<=1500`); repeatable.
         #[arg(long, allow_hyphen_values = true)]
         constraint: Vec<String>,
         /// Most candidate studies (2 to 5000).
-        #[arg(long, default_value_t = 150)]
+        #[arg(long, default_value_t = commands::OPTIMIZE_EVALUATIONS)]
         evaluations: usize,
         /// Seed of the search's random draws (and of the B10 goal's samples).
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = commands::SEED)]
         seed: u64,
         /// Results directory.
-        #[arg(long, default_value = "rvlife-optimize")]
+        #[arg(long, default_value = out_dir("optimize"))]
         out: PathBuf,
         /// Replace an existing results directory.
         #[arg(long)]
@@ -346,7 +356,7 @@ enum Command {
         /// Config file (default: the built-in example).
         config: Option<PathBuf>,
         /// Target maximum wear depth at the last stage, um.
-        #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
+        #[arg(long, default_value_t = commands::CALIBRATE_TARGET_WEAR_UM, allow_negative_numbers = true)]
         target_wear_um: f64,
         /// Measurements CSV: a column `hours` (h) and one or more of `lost_motion_arcmin`,
         /// `backlash_arcmin`, `angular_te_arcmin`, `max_wear_um` (empty cell: not measured). Fits the Archard
@@ -1093,89 +1103,6 @@ fn main() -> ExitCode {
                 ExitCode::from(1)
             }
         }
-    }
-}
-
-/// Prints the stage table: units in a line above it, then one row per stage; the DTE columns
-/// appear when the dynamic model ran, the flexible-disc columns when the FE disc did
-/// ([`rvlife::quantities::CONSOLE`]).
-/// The sensitivity table of `rvlife hysteresis --sensitivity`, to stdout.
-fn print_sensitivity(t: &rvlife::sensitivity::SensitivityTable) {
-    say!(
-        "sensitivity of the new reducer (b/a {:.1} N m/arcmin, lost motion {:.4} arcmin) to each \
-         estimate moved by -+{:.0} %:",
-        t.stiffness_nm_per_arcmin,
-        t.lost_motion_arcmin,
-        100.0 * t.fraction
-    );
-    say!(
-        "  {:48} {:>10} {:>19} {:>19} {:>19}",
-        "key",
-        "value",
-        "tried",
-        "b/a change %",
-        "lost motion %"
-    );
-    for r in &t.rows {
-        say!(
-            "  {:48} {:>10.4} {:>9.4} {:>9.4} {:>+9.2} {:>+9.2} {:>+9.2} {:>+9.2}",
-            r.key,
-            r.value,
-            r.tried[0],
-            r.tried[1],
-            100.0 * r.stiffness_change[0],
-            100.0 * r.stiffness_change[1],
-            100.0 * r.lost_motion_change[0],
-            100.0 * r.lost_motion_change[1]
-        );
-    }
-}
-
-fn print_stage_table(stages: &[StageSummary]) {
-    // A column is shown when every stage has its value.
-    let shown: Vec<&ConsoleColumn> = CONSOLE
-        .iter()
-        .filter(|c| stages.iter().all(|s| c.cell(s).is_some()))
-        .collect();
-    let flexible = shown.iter().any(|c| c.header.starts_with("flex"));
-    let dynamic = shown.iter().any(|c| c.header.starts_with("DTE"));
-    say!("units: hours h, wear um (largest depth), Fmax N, pmax MPa, every other column arcmin");
-    say!(
-        "STE, STE_pp: no-load mean and peak-to-peak; LM: lost motion (+-3 % of rated torque); \
-         loadTE: loaded TE{}{}",
-        if dynamic { "; DTE: dynamic run" } else { "" },
-        if flexible { "; flex*: FE disc" } else { "" }
-    );
-    let header: Vec<String> = shown
-        .iter()
-        .map(|c| format!("{:>w$}", c.header, w = c.width))
-        .collect();
-    say!("{}", header.join(" "));
-    for st in stages {
-        let row: Vec<String> = shown
-            .iter()
-            .map(|c| format!("{:>w$}", c.cell(st).unwrap_or_default(), w = c.width))
-            .collect();
-        say!("{}", row.join(" "));
-    }
-}
-
-/// Prints every quantity of the stage table ([`rvlife::quantities::STAGE`]), one row per
-/// quantity (its name with its unit) and one column per stage (`-` where it is absent).
-fn print_all_quantities(stages: &[StageSummary]) {
-    let width = STAGE.iter().map(|q| q.name.len()).max().unwrap_or(0);
-    say!("every quantity of the stages (stages.csv, summary.json):");
-    for q in STAGE {
-        let cells: Vec<String> = stages
-            .iter()
-            .map(|s| match s.value(q) {
-                quantities::Value::Number(v) => format!("{v:>12.6}"),
-                quantities::Value::Count(n) => format!("{n:>12}"),
-                quantities::Value::Pair([a, b]) => format!("{:>12}", format!("{a:.4}..{b:.4}")),
-                quantities::Value::Absent => format!("{:>12}", "-"),
-            })
-            .collect();
-        say!("  {:w$} {}", q.name, cells.join(" "), w = width);
     }
 }
 

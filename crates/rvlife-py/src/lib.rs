@@ -571,10 +571,7 @@ fn config_to_dict(py: Python<'_>, text: &str, origin: &str) -> PyResult<Py<PyAny
 #[pyo3(signature = (cfg, progress = None))]
 fn accuracy_life(py: Python<'_>, cfg: &Loaded, progress: Option<Py<PyAny>>) -> PyResult<Py<PyAny>> {
     command(py, progress, |p| {
-        let mut m = cfg.model.clone();
-        m.dynamics.enabled = false;
-        m.fem.enabled = false;
-        let study = rvlife::study::run(&m, p)?;
+        let study = rvlife::study::run(&cfg.model.clone().static_only(), p)?;
         let s = study.summary();
         let last = s.stages.last();
         Ok(serde_json::json!({
@@ -879,6 +876,13 @@ fn quantities() -> Vec<QuantityRow> {
         .collect()
 }
 
+/// Every command as the library declares it ([`rvlife::api::commands::COMMANDS`]), JSON:
+/// what the package's test checks its functions' signatures against.
+#[pyfunction]
+fn commands() -> String {
+    rvlife::api::commands::commands_json()
+}
+
 /// The rvlife version.
 #[pyfunction]
 fn version() -> &'static str {
@@ -915,5 +919,6 @@ fn _rvlife(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(optimize, m)?)?;
     m.add_function(wrap_pyfunction!(quantities, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
+    m.add_function(wrap_pyfunction!(commands, m)?)?;
     Ok(())
 }

@@ -13,6 +13,10 @@
 
 #![warn(missing_docs)]
 
+mod answers;
+#[cfg(test)]
+mod typescript;
+
 use rvlife::api::{self, Spelling, Wear};
 use rvlife::config::{Config, Model};
 use rvlife::units::ARCMIN_PER_RAD;
@@ -67,10 +71,7 @@ fn model(text: &str) -> Result<Model, JsError> {
 
 /// The model of `text` for the static accuracy-life study: dynamics and the FE disc off.
 fn static_model(text: &str) -> Result<Model, JsError> {
-    let mut m = model(text)?;
-    m.dynamics.enabled = false;
-    m.fem.enabled = false;
-    Ok(m)
+    Ok(model(text)?.static_only())
 }
 
 fn wear(hours: Option<f64>, wear_um: Option<f64>) -> Wear {
@@ -92,9 +93,12 @@ fn command<T: Serialize>(
 /// The built-in reducers: JSON `[{name, summary}]` (`rvlife example --list`).
 #[wasm_bindgen]
 pub fn presets() -> Result<String, JsError> {
-    let list: Vec<Value> = rvlife::config::PRESETS
+    let list: Vec<answers::Preset> = rvlife::config::PRESETS
         .iter()
-        .map(|p| json!({"name": p.name, "summary": p.summary}))
+        .map(|p| answers::Preset {
+            name: p.name,
+            summary: p.summary,
+        })
         .collect();
     to_json(&list)
 }
@@ -131,7 +135,7 @@ pub fn inspect(text: &str) -> Result<String, JsError> {
         Ok((keys, validated)) => (Some(keys), validated.err().map(|e| e.to_string())),
         Err(e) => (None, Some(e.to_string())),
     };
-    to_json(&json!({"message": message, "keys": keys}))
+    to_json(&answers::Inspection { message, keys })
 }
 
 /// `text` with the dotted `key` set to the JSON `value_json` (`null` removes the key),
@@ -246,34 +250,14 @@ pub fn hysteresis(
         let arcmin = |[[t0, psi0], [t1, psi1]]: [[f64; 2]; 2]| {
             [[t0, psi0 * ARCMIN_PER_RAD], [t1, psi1 * ARCMIN_PER_RAD]]
         };
-        Ok(HysteresisJson {
+        Ok(answers::HysteresisView {
             result,
-            catalogue_points: CataloguePointsJson {
+            catalogue_points: answers::CataloguePoints {
                 lost_motion: arcmin(points.lost_motion),
                 torsional_stiffness: arcmin(points.torsional_stiffness),
             },
         })
     })
-}
-
-/// The page's hysteresis result: the command line's JSON and the catalogue's points.
-#[derive(Serialize)]
-struct HysteresisJson {
-    #[serde(flatten)]
-    result: rvlife::api::HysteresisResult,
-    catalogue_points: CataloguePointsJson,
-}
-
-/// The mean curve's points the catalogue quantities are read between
-/// ([`rvlife::te::TwistTable::catalogue_points`]), each `[torque N m, twist arcmin]`.
-#[derive(Serialize)]
-struct CataloguePointsJson {
-    /// The midpoints at `-T_m` and at `+T_m`, the measuring torque: their twists differ by
-    /// the lost motion.
-    lost_motion: [[f64; 2]; 2],
-    /// The secant `b/a` from the loading branch at `+T_m` to `+T_r`: torque over twist
-    /// between them is the torsional stiffness.
-    torsional_stiffness: [[f64; 2]; 2],
 }
 
 /// A study's results, kept in the module for the page to read: its summary at once, the
@@ -301,11 +285,11 @@ impl StudyResults {
     pub fn overview(&self) -> Result<String, JsError> {
         let mut files = rvlife::output::study::table_names(&self.study);
         files.extend(rvlife::output::study::profile_files(&self.study));
-        to_json(&json!({
-            "summary": self.study.summary(),
-            "verdict": self.study.verdict(),
-            "files": files,
-        }))
+        to_json(&answers::StudyOverview {
+            summary: self.study.summary(),
+            verdict: self.study.verdict(),
+            files,
+        })
     }
 
     /// The text of the data file `name` (one of `overview`'s `files`), byte for byte what
@@ -577,12 +561,12 @@ pub fn dynamics(
     .map_err(err)?;
     let series =
         |f: fn(&rvlife::dynamics::Sample) -> f64| -> Vec<f64> { r.samples.iter().map(f).collect() };
-    to_json(&json!({
-        "summary": r.summary,
-        "time_s": series(|s| s.time_s),
-        "te_arcmin": series(|s| s.te_arcmin),
-        "output_speed_deg_s": series(|s| s.output_speed_deg_s),
-    }))
+    to_json(&answers::DynamicsView {
+        time_s: series(|s| s.time_s),
+        te_arcmin: series(|s| s.te_arcmin),
+        output_speed_deg_s: series(|s| s.output_speed_deg_s),
+        summary: r.summary,
+    })
 }
 
 /// The Monte Carlo accuracy life of `samples` reducers drawn from `[tolerances]` with `seed`
@@ -619,27 +603,25 @@ fn montecarlo_json(
     let life = rvlife::montecarlo::life_distribution(records);
     let percentiles = rvlife::montecarlo::percentiles(records, &m.wear.stage_hours);
     let horizon = m.life.horizon_h(&m.wear.stage_hours);
-    let list: Vec<Value> = records
+    let list = records
         .iter()
-        .map(|r| {
-            json!({
-                "sample": r.sample,
-                "status": r.status,
-                "accuracy_life_h": r.accuracy_life_h,
-                "limited_by": r.limited_by,
-            })
+        .map(|r| answers::SampleLife {
+            sample: r.sample,
+            status: r.status.clone(),
+            accuracy_life_h: r.accuracy_life_h,
+            limited_by: r.limited_by.clone(),
         })
         .collect();
-    to_json(&json!({
-        "samples_csv": samples_csv,
-        "stages_csv": stages_csv,
-        "life": life,
-        "percentiles": percentiles,
-        "records": list,
-        "horizon_h": horizon,
-        "verdict": rvlife::output::mc_verdict::verdict(records, &m.wear.stage_hours, &m.life),
-        "reliability": rvlife::montecarlo::reliability(records, horizon),
-    }))
+    to_json(&answers::MonteCarloView {
+        samples_csv,
+        stages_csv,
+        life,
+        percentiles,
+        records: list,
+        horizon_h: horizon,
+        verdict: rvlife::output::mc_verdict::verdict(records, &m.wear.stage_hours, &m.life),
+        reliability: rvlife::montecarlo::reliability(records, horizon),
+    })
 }
 
 /// The plan of [`montecarlo`]'s run of `samples` with `seed`, or of its part `shard` (`I/N`):
@@ -902,13 +884,13 @@ pub fn optimize(
     let of = |i: Option<usize>| {
         i.map(|i| rvlife::output::candidates::candidate_json(&problem, &outcome.candidates[i]))
     };
-    to_json(&json!({
-        "candidates_csv": candidates_csv,
-        "pareto_csv": pareto_csv,
-        "optimum_toml": optimum,
-        "best": of(outcome.best),
-        "start": of(outcome.start),
-        "front": outcome.front,
-        "plots": rvlife::output::candidates::plots(&problem, &outcome, &follow),
-    }))
+    to_json(&answers::OptimizeView {
+        candidates_csv,
+        pareto_csv,
+        optimum_toml: optimum,
+        best: of(outcome.best),
+        start: of(outcome.start),
+        plots: rvlife::output::candidates::plots(&problem, &outcome, &follow),
+        front: outcome.front,
+    })
 }

@@ -19,13 +19,16 @@ pub(crate) const LIFE_TOLERANCE: f64 = 0.005;
 
 /// The accuracy life found.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
 pub struct AccuracyLife {
     /// Working hours at which the first threshold is crossed, h; `None` when none is crossed
     /// within the horizon (the life exceeds `horizon_h`; absent from JSON).
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
     pub accuracy_life_h: Option<f64>,
     /// The threshold crossed first (its `[life]` key).
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
     pub limited_by: Option<&'static str>,
     /// The last working hours studied, h: the last stage, or beyond it as far as the
     /// integration was stepped to find the crossing (`life.max_hours`).

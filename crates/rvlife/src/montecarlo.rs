@@ -796,6 +796,7 @@ pub fn run_on(
 
 /// Percentiles of one quantity at one stage over the samples that reached it.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
 pub struct Percentiles {
     /// Working hours, h.
     pub hours: f64,
@@ -864,6 +865,7 @@ pub fn percentiles(records: &[SampleRecord], stage_hours: &[f64]) -> Vec<Percent
 
 /// The accuracy-life distribution over the records with status `ok`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
 pub struct LifeDistribution {
     /// Samples counted.
     pub n: usize,
@@ -873,15 +875,19 @@ pub struct LifeDistribution {
     /// B10 life: the hours by which 10 % have left the spec, h (absent: fewer than 10 % within
     /// the horizon).
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
     pub b10_h: Option<f64>,
     /// B50 (median) life, h (absent: fewer than half within the horizon).
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
     pub b50_h: Option<f64>,
     /// 5th percentile of the life, h (absent: fewer than 5 % within the horizon).
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
     pub p5_h: Option<f64>,
     /// 95th percentile of the life, h (absent: fewer than 95 % within the horizon).
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
     pub p95_h: Option<f64>,
     /// How many samples each threshold limited.
     pub limited_by: std::collections::BTreeMap<String, usize>,

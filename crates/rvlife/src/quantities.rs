@@ -11,6 +11,9 @@
 
 use serde::ser::{Serialize, SerializeMap, Serializer};
 
+#[cfg(feature = "ts")]
+pub mod typescript;
+
 /// The models that produce a quantity.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Models {

@@ -3,13 +3,13 @@
 // with its spec limit and the accuracy life.
 import type { Series } from '../charts';
 import { fmt } from '../format';
-import type { KeyDoc, QuantityDoc, StageSummary, StudySummary } from '../types';
+import type { KeyDoc, QuantityDoc, QuantityName, StageSummary, StudySummary } from '../types';
 
 /** The stage table's columns, in order. */
-export const STAGE_COLUMNS = ['hours', 'max_wear_um', 'lost_motion_arcmin', 'backlash_arcmin', 'angular_te_arcmin', 'ste_peak_to_peak_arcmin', 'torsional_stiffness_nm_per_arcmin', 'hysteresis_loss_arcmin', 'max_pressure_mpa'];
+export const STAGE_COLUMNS: readonly QuantityName[] = ['hours', 'max_wear_um', 'lost_motion_arcmin', 'backlash_arcmin', 'angular_te_arcmin', 'ste_peak_to_peak_arcmin', 'torsional_stiffness_nm_per_arcmin', 'hysteresis_loss_arcmin', 'max_pressure_mpa'];
 
 /** The quantities charted against working hours, with the chart's title. */
-export const LIFE_CHARTS: [string, string][] = [
+export const LIFE_CHARTS: readonly [QuantityName, string][] = [
   ['lost_motion_arcmin', 'Lost motion'], ['backlash_arcmin', 'Backlash'],
   ['angular_te_arcmin', 'Angular transmission error'], ['torsional_stiffness_nm_per_arcmin', 'Torsional stiffness'],
   ['max_wear_um', 'Largest disc wear'],
@@ -21,6 +21,13 @@ export function labelOf(name: string, docs: ReadonlyMap<string, QuantityDoc>): s
   return q ? (q.unit ? `${q.label}, ${q.unit}` : q.label) : name;
 }
 
+/** Quantity `q` of a stage as one number (a smallest-largest pair as its range, as the
+ *  library's `Value::number`), or undefined where its model did not run. */
+export function stageValue(st: StageSummary, q: QuantityName): number | undefined {
+  const v = st[q];
+  return Array.isArray(v) ? v[1] - v[0] : v;
+}
+
 export interface StageHead { column: string; label: string; title: string }
 export interface StageCell { column: string; text: string; value: number | undefined }
 
@@ -29,7 +36,7 @@ export interface StageCell { column: string; text: string; value: number | undef
 export function stageTable(stages: readonly StageSummary[], docs: ReadonlyMap<string, QuantityDoc>): { head: StageHead[]; rows: StageCell[][] } {
   const head = STAGE_COLUMNS.map((c) => ({ column: c, label: labelOf(c, docs), title: docs.get(c)?.description ?? c }));
   const rows = stages.map((st) => STAGE_COLUMNS.map((c) => {
-    const v = st[c];
+    const v = stageValue(st, c);
     return { column: c, text: v === undefined ? '' : fmt(v), value: v };
   }));
   return { head, rows };
@@ -58,10 +65,10 @@ export function withinSpec(s: StudySummary): boolean {
 
 /** Quantity `q` at each stage, then its spec limit across the stages, then, where `q` limits
  *  the life, a vertical line at the accuracy life spanning the values and the limit. */
-export function lifeSeries(s: StudySummary, q: string, spec: Record<string, Limit>, docs: ReadonlyMap<string, QuantityDoc>): Series[] {
+export function lifeSeries(s: StudySummary, q: QuantityName, spec: Record<string, Limit>, docs: ReadonlyMap<string, QuantityDoc>): Series[] {
   const hours = s.stages.map((x) => x.hours);
   // A value the study did not produce leaves a gap.
-  const ys = s.stages.map((x) => x[q] ?? NaN);
+  const ys = s.stages.map((x) => stageValue(x, q) ?? NaN);
   const series: Series[] = [{ label: labelOf(q, docs), data: hours.map((h, i) => ({ x: h, y: ys[i] })), points: true }];
   const lim = spec[q];
   const life = s.accuracy_life;

@@ -4,7 +4,7 @@
 import type { Series } from '../charts';
 import { fmt } from '../format';
 import type { Args } from '../protocol';
-import type { Candidate, OptimizeResult, SearchPlot } from '../types';
+import type { CandidateSummary, OptimizeView, SearchPlot } from '../types';
 import { pairs } from './series';
 
 /** The search's inputs by field id: the example's varied keys, goal, constraint and work. */
@@ -41,10 +41,10 @@ export interface Cell { text: string; value?: number }
 /** The base and best designs side by side: a row for each varied key, goal and constraint,
  *  named as the best design (or, without one, the base) names them. A goal beyond the horizon
  *  reads so. */
-export function comparisonRows(o: OptimizeResult): { label: string; cells: Cell[] }[] {
+export function comparisonRows(o: OptimizeView): { label: string; cells: Cell[] }[] {
   const ref = o.best ?? o.start;
   const out: { label: string; cells: Cell[] }[] = [];
-  const parts: ((x: Candidate) => Record<string, number | null>)[] = [(x) => x.values, (x) => x.goals, (x) => x.constraints];
+  const parts: ((x: CandidateSummary) => Record<string, number | null>)[] = [(x) => x.values, (x) => x.goals, (x) => x.constraints];
   for (const pick of parts) {
     for (const k of ref ? Object.keys(pick(ref)) : []) {
       const cells = [o.start, o.best].map((x): Cell => {
@@ -58,7 +58,7 @@ export function comparisonRows(o: OptimizeResult): { label: string; cells: Cell[
 }
 
 /** The sentence under the table: the best design and the Pareto front, or why there is none. */
-export function searchNote(o: OptimizeResult): string {
+export function searchNote(o: OptimizeView): string {
   const front = o.front.length > 1 ? ` The Pareto front holds ${o.front.length} designs (pareto.csv).` : '';
   return o.best
     ? `The best feasible design is candidate ${o.best.candidate} (${o.best.phase}); optimum.toml is the config with its values.${front}`
@@ -66,7 +66,7 @@ export function searchNote(o: OptimizeResult): string {
 }
 
 /** The search's files: its tables, and the best design's config when there is one. */
-export function searchFiles(o: OptimizeResult): Record<string, string> {
+export function searchFiles(o: OptimizeView): Record<string, string> {
   const files: Record<string, string> = { 'candidates.csv': o.candidates_csv, 'pareto.csv': o.pareto_csv };
   if (o.optimum_toml) files['optimum.toml'] = o.optimum_toml;
   return files;

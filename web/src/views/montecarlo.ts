@@ -7,14 +7,15 @@ import { montecarlo } from '../montecarlo-run';
 import { job } from '../job';
 import { limitedByText, mcNumbers, reliabilitySeries } from '../shape/montecarlo';
 import { state } from '../state';
-import type { MonteCarloResult } from '../types';
+import type { MonteCarloView } from '../types';
+import { declaredDefault } from '../declared';
 import { chartBox, form, noteOf, numbersTable, wrap } from '../ui';
 
 export function renderMonteCarlo(panel: HTMLElement) {
   const out = document.createElement('div');
   out.id = 'mc-results';
   const c = chartBox('chart-reliability');
-  const show = (m: MonteCarloResult) => {
+  const show = (m: MonteCarloView) => {
     // The verdict and the reliability curve as the library gives them (the report's).
     const verdict = noteOf(m.verdict);
     verdict.id = 'mc-verdict';
@@ -26,14 +27,14 @@ export function renderMonteCarlo(panel: HTMLElement) {
     lineChart(c, reliabilitySeries(m), { x: 'working hours, h', y: 'fraction within spec', title: 'Reliability of the accuracy life' });
   };
   panel.append(form([
-    { id: 'samples', label: 'samples', value: '4', unit: '' },
-    { id: 'seed', label: 'seed', value: '1', unit: '' },
+    { id: 'samples', label: 'samples', value: declaredDefault('montecarlo', 'samples'), unit: '' },
+    { id: 'seed', label: 'seed', value: declaredDefault('montecarlo', 'seed'), unit: '' },
   ], 'Run Monte Carlo', async (v) => {
     state.montecarlo = null;
     out.replaceChildren();
     // Spread over the analysis workers, merged by the library: the same bytes as one worker.
     const m = await job('Monte Carlo', async (p) =>
-      JSON.parse(await montecarlo(jobs, state.text, v.samples ?? 4, v.seed ?? 1, p)) as MonteCarloResult);
+      JSON.parse(await montecarlo(jobs, state.text, v.samples ?? Number(declaredDefault('montecarlo', 'samples')), v.seed ?? Number(declaredDefault('montecarlo', 'seed')), p)) as MonteCarloView);
     if (!m) return;
     state.montecarlo = m;
     show(m);

@@ -8,14 +8,14 @@ import { callJson, jobs } from '../engines';
 import { job } from '../job';
 import { SEARCH_DEFAULTS, type SearchField, comparisonRows, plotSeries, searchArgs, searchFiles, searchNote } from '../shape/optimize';
 import { state } from '../state';
-import type { OptimizeResult } from '../types';
+import type { OptimizeView } from '../types';
 import { $, chartBox, noteOf, wrap } from '../ui';
 
 /** The search's inputs as the user last wrote them, kept while the page is open. */
 const searchInputs: Record<SearchField, string> = { ...SEARCH_DEFAULTS };
 
 /** The base and best designs side by side. */
-function comparisonTable(o: OptimizeResult): HTMLTableElement {
+function comparisonTable(o: OptimizeView): HTMLTableElement {
   const t = document.createElement('table');
   t.className = 'numbers';
   const head = t.insertRow();
@@ -46,7 +46,7 @@ function field(id: SearchField, label: string, multi: boolean): HTMLElement {
 export function renderOptimize(panel: HTMLElement) {
   const out = document.createElement('div');
   out.id = 'optimize-results';
-  const show = (o: OptimizeResult) => {
+  const show = (o: OptimizeView) => {
     const load = document.createElement('button');
     load.textContent = 'Load the best design into the editor';
     load.id = 'load-optimum';

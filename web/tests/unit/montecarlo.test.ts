@@ -2,9 +2,9 @@
 // limited the lives.
 import { describe, expect, it } from 'vitest';
 import { analysed, limitedByText, mcNumbers, reliabilitySeries } from '../../src/shape/montecarlo';
-import type { MonteCarloResult } from '../../src/types';
+import type { MonteCarloView } from '../../src/types';
 
-const run: MonteCarloResult = {
+const run: MonteCarloView = {
   samples_csv: 'sample,...\n', stages_csv: 'sample,hours,...\n',
   life: { n: 3, censored_fraction: 1 / 3, b10_h: 4200, b50_h: 5600, limited_by: { lost_motion_arcmin: 2 } },
   percentiles: [],

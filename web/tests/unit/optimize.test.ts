@@ -2,15 +2,15 @@
 // note and files.
 import { describe, expect, it } from 'vitest';
 import { SEARCH_DEFAULTS, comparisonRows, goalLabel, plotSeries, searchArgs, searchFiles, searchNote } from '../../src/shape/optimize';
-import type { Candidate, OptimizeResult } from '../../src/types';
+import type { CandidateSummary, OptimizeView } from '../../src/types';
 
-const candidate = (n: number, values: Record<string, number>, life: number | null): Candidate => ({
+const candidate = (n: number, values: Record<string, number>, life: number | null): CandidateSummary => ({
   candidate: n, phase: n ? 'simplex' : 'start', status: 'ok', feasible: true, values,
   goals: { life }, scores: { life: life === null ? null : life / 7500 }, constraints: { 'lost_motion_arcmin<=1.0': 0.8 },
   limited_by: null,
 });
 
-const result: OptimizeResult = {
+const result: OptimizeView = {
   candidates_csv: 'candidate,...\n', pareto_csv: 'candidate,...\n', optimum_toml: '[reducer]\n',
   start: candidate(0, { 'reducer.bearings.crank_disc_clearance_um': 3 }, 5000),
   best: candidate(17, { 'reducer.bearings.crank_disc_clearance_um': 0.5 }, null),

@@ -5,7 +5,7 @@ import { DISCS, dteSeries } from '../../src/shape/dynamics';
 import { catalogueMarks, hysteresisSeries } from '../../src/shape/hysteresis';
 import { flankWearSeries, outlineSeries } from '../../src/shape/profile';
 import { meshCyclePoints, teSeries } from '../../src/shape/te';
-import type { ContactResult, DynamicsResult, HysteresisResult, ProfilePoints, TeResult, TwistCurve } from '../../src/types';
+import type { ContactResult, DynamicsView, HysteresisView, ProfilePoints, TeView, TwistCurve } from '../../src/types';
 
 const curve = (torque: number[], twist: number[]): TwistCurve => ({
   torque_nm: torque, twist_arcmin: twist, backlash_arcmin: 0.1, lost_motion_arcmin: 0.5,
@@ -14,7 +14,7 @@ const curve = (torque: number[], twist: number[]): TwistCurve => ({
 
 describe('hysteresis', () => {
   const mean = curve([0, 412, 0, -412, 0, 412], [0, 4, 0.3, -4, -0.3, 4]);
-  const x: HysteresisResult = {
+  const x: HysteresisView = {
     ...mean, max_wear_um: 0, support: 'bearings', rated_torque_nm: 412, measuring_torque_fraction: 0.03,
     torsional_stiffness_definition: 'b/a', crank_deg: 15, at_crank_angle: curve([0, 412, -412], [0, 4.1, -4.1]),
     samples_per_mesh_cycle: 8, mesh_cycle_mean: mean, twist_shares: [],
@@ -41,7 +41,7 @@ describe('hysteresis', () => {
 });
 
 describe('transmission error', () => {
-  const base: TeResult = {
+  const base: TeView = {
     max_wear_um: 0, angular_te_arcmin: 0.4, support: 'bearings', te_mean_arcmin: 0.1, te_peak_to_peak_arcmin: 0.05,
     te_reverse_mean_arcmin: -0.1, backlash_arcmin: 0.2, backlash_max_arcmin: 0.25, lost_motion_arcmin: 0.6,
     measuring_torque_nm: 12.36, torsional_stiffness_nm_per_arcmin: 100, samples_per_mesh_cycle: 4,
@@ -56,7 +56,7 @@ describe('transmission error', () => {
   });
   it('adds the loaded TE, labelled with its torque, only when computed', () => {
     expect(teSeries(base, 9)).toHaveLength(1);
-    const loaded: TeResult = { ...base, torque_nm: 412, loaded_te_arcmin: base.te_arcmin.map((v) => v + 4) };
+    const loaded: TeView = { ...base, torque_nm: 412, loaded_te_arcmin: base.te_arcmin.map((v) => v + 4) };
     const [, l] = teSeries(loaded, 5);
     expect(l.label).toBe('loaded TE at 412 N m');
     expect(l.data.map((p) => p.y)).toEqual([4, 4.1, 4.2, 4.1, 4]);
@@ -99,7 +99,7 @@ describe('contact and dynamics', () => {
     expect(s[0].data).toEqual([{ x: 0, y: 0 }, { x: 1, y: 10 }, { x: 2, y: 20 }]);
   });
   it('gives the DTE against time, and offers rigid discs first', () => {
-    const x = { time_s: [0, 0.01], te_arcmin: [0.1, 0.2], output_speed_deg_s: [1, 1] } as DynamicsResult;
+    const x = { time_s: [0, 0.01], te_arcmin: [0.1, 0.2], output_speed_deg_s: [1, 1] } as DynamicsView;
     expect(dteSeries(x)[0].data).toEqual([{ x: 0, y: 0.1 }, { x: 0.01, y: 0.2 }]);
     expect(DISCS[0]).toBe('rigid');
   });

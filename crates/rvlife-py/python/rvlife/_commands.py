@@ -302,7 +302,7 @@ def _mc_result(data: Dict[str, str], out: Optional[PathLike]) -> MonteCarloResul
 def montecarlo(
     config: Optional[Config] = None,
     *,
-    samples: int,
+    samples: int = 100,
     seed: int = 1,
     shard: Optional[str] = None,
     full_wear: bool = False,

@@ -4,6 +4,7 @@
 //! same object. Arguments are checked here, and an error names the argument as the caller
 //! spells it ([`Spelling`]: `--crank-deg` on the command line, `crank_deg` in Python).
 
+pub mod commands;
 mod efficiency;
 mod results;
 

@@ -9,6 +9,7 @@ use serde::Serialize;
 /// `rvlife contact --json`: the static equilibrium at one crank angle under an output torque,
 /// input locked (docs/model.md section 5).
 #[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
 pub struct ContactResult {
     /// Crank angle, deg.
     pub crank_deg: f64,
@@ -40,6 +41,7 @@ pub struct ContactResult {
 
 /// One disc of a [`ContactResult`].
 #[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
 pub struct ContactDisc {
     /// Translation of the disc centre from its nominal position, um (x, y).
     pub translation_um: [f64; 2],
@@ -59,6 +61,7 @@ pub struct ContactDisc {
 
 /// One pin of a [`ContactDisc`].
 #[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
 pub struct ContactPin {
     /// Pin index `j`.
     pub pin: usize,
@@ -79,6 +82,7 @@ pub struct ContactPin {
 /// `rvlife te --json`: the static TE over a mesh cycle and an output revolution, the catalogue
 /// quantities, and with a torque the loaded TE (docs/model.md section 6).
 #[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
 pub struct TeResult {
     /// Largest wear depth of the profile (less a measured deviation), um.
     pub max_wear_um: f64,
@@ -105,8 +109,11 @@ pub struct TeResult {
     pub torsional_stiffness_nm_per_arcmin: f64,
     /// Crank angles per mesh cycle.
     pub samples_per_mesh_cycle: usize,
-    /// The loaded TE, with a torque.
+    /// The loaded TE, with a torque. (Its keys are the object's own: TypeScript has no
+    /// flattened option, so the page's type adds them, `TeView`.)
     #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
+    #[cfg_attr(feature = "ts", ts(skip))]
     pub loaded: Option<LoadedTeResult>,
     /// Input angle over the output revolution, deg.
     pub input_deg: Vec<f64>,
@@ -116,6 +123,7 @@ pub struct TeResult {
 
 /// The loaded TE of a [`TeResult`] at one output torque.
 #[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
 pub struct LoadedTeResult {
     /// Output torque, N m.
     pub torque_nm: f64,
@@ -134,6 +142,7 @@ pub struct LoadedTeResult {
 /// A hysteresis curve (output torque 0 -> +rated -> -rated -> +rated, input locked) and its
 /// catalogue quantities.
 #[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
 pub struct TwistCurve {
     /// Output torque along the sweep, N m.
     pub torque_nm: Vec<f64>,
@@ -152,6 +161,7 @@ pub struct TwistCurve {
 /// `rvlife hysteresis --json`: the curve averaged over a mesh cycle (also at the top level) and
 /// at one crank angle (docs/model.md section 6).
 #[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
 pub struct HysteresisResult {
     /// Largest wear depth of the profile, um.
     pub max_wear_um: f64,
@@ -190,6 +200,7 @@ pub struct HysteresisResult {
 
 /// One part's share of the elastic twist ([`crate::statics::twist_shares`]).
 #[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
 pub struct TwistShareResult {
     /// The part ([`crate::statics::TwistShare::part`]).
     pub part: &'static str,
@@ -202,6 +213,7 @@ pub struct TwistShareResult {
 /// The points of a profile (`rvlife profile` writes them as CSV), one list per column, each
 /// `Zc points_per_tooth` long.
 #[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
 pub struct ProfilePoints {
     /// Points per tooth.
     pub points_per_tooth: usize,
@@ -221,6 +233,7 @@ pub struct ProfilePoints {
 /// page's table headers and axis titles), from its declaration in
 /// [`crate::quantities::STAGE`].
 #[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
 pub struct QuantityDoc {
     /// Its name with its unit (`lost_motion_arcmin`): the key of `summary.json`.
     pub name: &'static str,

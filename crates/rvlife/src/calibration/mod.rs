@@ -126,13 +126,11 @@ impl Reference {
 /// dynamics and the flexible disc off, within a `MAX_PASSES`-th of the work budget (so that
 /// the whole calibration stays within it).
 fn reference_model(model: &Model, archard: f64, horizon: f64, stages: usize) -> Model {
-    let mut m = model.clone();
+    let mut m = model.clone().static_only();
     m.work_budget = model.work_budget / MAX_PASSES as f64;
     m.wear.archard = archard;
     // Steady: the fit applies the running-in as a warp of the hours.
     m.wear.running_in.factor = 1.0;
-    m.dynamics.enabled = false;
-    m.fem.enabled = false;
     m.wear.stage_hours = (0..=stages)
         .map(|i| horizon * i as f64 / stages as f64)
         .collect();

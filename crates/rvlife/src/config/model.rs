@@ -82,6 +82,16 @@ impl Model {
         }
     }
 
+    /// This model for the static accuracy-life study alone: the multibody dynamics and the
+    /// flexible disc off (they do not enter the accuracy life; docs/model.md section 12).
+    /// What the page's study and Monte Carlo, Python's `accuracy_life` and the calibration's
+    /// reference passes run.
+    pub fn static_only(mut self) -> Model {
+        self.dynamics.enabled = false;
+        self.fem.enabled = false;
+        self
+    }
+
     /// The work budget and the cost of the stages' analyses besides the wear.
     pub fn budget(&self) -> Budget {
         Budget {

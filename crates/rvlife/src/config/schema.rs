@@ -16,6 +16,7 @@ use crate::error::Result;
 
 /// One key of a config, for a form.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
 pub struct KeyDoc {
     /// The section's dotted name (`cycloid.modification`; empty for top-level keys).
     pub section: String,

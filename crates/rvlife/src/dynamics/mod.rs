@@ -65,6 +65,7 @@ pub struct Sample {
 
 /// Summary of one simulation over the TE window.
 #[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
 pub struct DynamicsSummary {
     /// Largest wear depth of the disc profile simulated, um.
     pub max_wear_um: f64,
@@ -105,6 +106,7 @@ pub struct DynamicsSummary {
     /// can stall at a non-smooth contact event (its step size then falls below 1e-13 s); the
     /// run is then repeated with Tsitouras 5(4) at the same tolerance.
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
     pub integrator_fallback: Option<String>,
 }
 

@@ -4,7 +4,7 @@
 //! ([`plots`]: convergence, Pareto front, accuracy against hours, sensitivity), which the
 //! HTML report draws with plotters and the page with its charts.
 
-use serde_json::{json, Value as Json};
+use std::collections::BTreeMap;
 
 use super::f;
 use crate::error::{Error, Result};
@@ -68,19 +68,62 @@ pub(crate) fn row(p: &Problem, c: &Candidate) -> Vec<String> {
     r
 }
 
-/// A candidate as JSON (values by key, goals and scores by goal name).
-pub fn candidate_json(p: &Problem, c: &Candidate) -> Json {
-    json!({
-        "candidate": c.index,
-        "phase": c.phase,
-        "status": c.status.text(),
-        "feasible": c.feasible(),
-        "values": p.variables.iter().zip(&c.values).map(|(v, x)| (v.key.clone(), json!(x))).collect::<serde_json::Map<_, _>>(),
-        "goals": p.goals.iter().zip(&c.goals).map(|(g, x)| (g.name(), json!(x))).collect::<serde_json::Map<_, _>>(),
-        "scores": p.goals.iter().zip(&c.scores).map(|(g, x)| (g.name(), json!(x))).collect::<serde_json::Map<_, _>>(),
-        "constraints": p.constraints.iter().zip(&c.constraints).map(|(k, x)| (k.text.clone(), json!(x))).collect::<serde_json::Map<_, _>>(),
-        "limited_by": c.limited_by,
-    })
+/// A candidate as the search's results report it (`summary.json`'s `best` and `start` of
+/// `rvlife optimize`, the page's): values by key, goals and scores by goal name, constraints
+/// by their text; a goal beyond the horizon, a score or a constraint not evaluated is `null`.
+#[derive(Debug, Clone, serde::Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
+pub struct CandidateSummary {
+    /// Its number, from 0 in the order evaluated.
+    pub candidate: usize,
+    /// The search phase that proposed it (`start`, `sample`, `simplex`, `generation 3`).
+    pub phase: String,
+    /// `ok` or why its evaluation failed.
+    pub status: String,
+    /// Evaluated and within every constraint.
+    pub feasible: bool,
+    /// The varied keys' values, in the keys' units.
+    pub values: BTreeMap<String, f64>,
+    /// Each goal's value (h for a life or B10, the quantity's unit).
+    pub goals: BTreeMap<String, Option<f64>>,
+    /// Each goal's score (what the search minimises).
+    pub scores: BTreeMap<String, Option<f64>>,
+    /// Each constraint's value.
+    pub constraints: BTreeMap<String, Option<f64>>,
+    /// The `[life]` key of the threshold crossed first, if one is.
+    pub limited_by: Option<String>,
+}
+
+/// Candidate `c` of the search `p` as [`CandidateSummary`].
+pub fn candidate_json(p: &Problem, c: &Candidate) -> CandidateSummary {
+    let by_goal = |xs: &[Option<f64>]| -> BTreeMap<String, Option<f64>> {
+        p.goals
+            .iter()
+            .zip(xs)
+            .map(|(g, x)| (g.name(), *x))
+            .collect()
+    };
+    CandidateSummary {
+        candidate: c.index,
+        phase: c.phase.clone(),
+        status: c.status.text(),
+        feasible: c.feasible(),
+        values: p
+            .variables
+            .iter()
+            .zip(&c.values)
+            .map(|(v, x)| (v.key.clone(), *x))
+            .collect(),
+        goals: by_goal(&c.goals),
+        scores: by_goal(&c.scores),
+        constraints: p
+            .constraints
+            .iter()
+            .zip(&c.constraints)
+            .map(|(k, x)| (k.text.clone(), *x))
+            .collect(),
+        limited_by: c.limited_by.clone(),
+    }
 }
 
 /// The texts of `candidates.csv` and `pareto.csv` (module documentation).
@@ -124,6 +167,7 @@ pub fn convergence(p: &Problem, o: &Outcome) -> Vec<(f64, f64)> {
 /// One curve of a search's plot: its legend, its points `(x, y)` in the plot's units and
 /// whether the points are joined by a line (false: a cloud of candidates).
 #[derive(Debug, Clone, serde::Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS), ts(rename = "SearchCurve"))]
 pub struct Curve {
     /// Legend text.
     pub name: String,
@@ -135,6 +179,7 @@ pub struct Curve {
 
 /// One plot of a search's report (declared once here for the HTML report and the page).
 #[derive(Debug, Clone, serde::Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS), ts(rename = "SearchPlot"))]
 pub struct Plot {
     /// File stem in `plots/` (`convergence`, `pareto`, `accuracy`, `sensitivity`).
     pub stem: &'static str,

@@ -27,6 +27,7 @@ pub struct Study {
 
 /// Comparison with the paper's headline numbers (docs/model.md section 16).
 #[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
 pub struct PaperComparison {
     /// Slope of the mean STE against the maximum wear, arcmin per 10 um (least squares through
     /// the origin over the stages).
@@ -52,6 +53,7 @@ pub struct PaperComparison {
 
 /// `summary.json`.
 #[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS), ts(rename = "StudySummary"))]
 pub struct Summary {
     /// rvlife version.
     pub rvlife_version: &'static str,
@@ -74,9 +76,11 @@ pub struct Summary {
     /// Where the model leaves its validity, when it does before the last stage: the stages
     /// from there on are not reported.
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
     pub validity_limit: Option<ValidityLimit>,
     /// The accuracy life against `[life]` (when thresholds are set).
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
     pub accuracy_life: Option<crate::life::AccuracyLife>,
     /// Each part's share of the new reducer's elastic twist at the rated torque
     /// (docs/model.md section 5.9): part, share (0..1), twist (arcmin).
@@ -84,10 +88,12 @@ pub struct Summary {
     /// The measured profile's fit (when `cycloid.measured_profile` is set): file, points, RMS
     /// and largest residual, um.
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
     pub measured_profile_fit: Option<serde_json::Value>,
     /// Against the paper: only for the paper's reducer as printed (its stage, unmodified, no
     /// measured profile), like for like.
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
     pub paper_comparison: Option<PaperComparison>,
 }
 

@@ -51,6 +51,7 @@ use crate::reducer::{Reducer, PIN_MAP_POINTS};
 /// Wear model choice (`wear.model`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
 pub enum WearModelKind {
     /// Archard with sliding distance `2 b |v_d - v_p| / v_d` from the real kinematics
     /// (Flodin and Andersson 1997), contact from true gaps, profile updates.
@@ -409,6 +410,7 @@ impl BandSmoother {
 /// contact leaves the range of the line-contact law or of the static analysis, or the worn
 /// flank folds over itself).
 #[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
 pub struct ValidityLimit {
     /// Working hours at which the worn profile could not be analysed, h.
     pub hours: f64,

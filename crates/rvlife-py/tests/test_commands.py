@@ -1,0 +1,68 @@
+"""The Python functions against the library's declaration of the commands
+(``rvlife::api::commands::COMMANDS``, read through the binding): every declared command is a
+function, with every option the declaration gives Python as a keyword of the declared default,
+and no keyword the declaration does not name."""
+
+import inspect
+import json
+
+import pytest
+
+import rvlife
+from rvlife import _rvlife
+
+#: What a function takes besides the command's options: the config (or the configs of a sweep
+#: and the base of a search), the progress callback, the Dask client.
+PLUMBING = {"config", "progress", "client", "base", "configs_or_samples"}
+
+#: The package's functions that are no command of the command line, and why.
+NOT_COMMANDS = {
+    "accuracy_life": "the study's accuracy life alone (rvlife run's summary)",
+    "calibrate_structure": "rvlife calibrate --measured CURVE or --catalogue-stiffness-nm-per-arcmin",
+    "presets": "rvlife example --list",
+    "quantities": "the table of stage quantities",
+    "grid": "builds the designs of a sweep",
+    "tqdm_progress": "a progress bar",
+}
+
+COMMANDS = json.loads(_rvlife.commands())
+
+
+def expected_default(d):
+    """The Python default of a declared default."""
+    if d == "absent":
+        return None
+    if d == "required":
+        return inspect.Parameter.empty
+    if d == "off":
+        return False
+    ((kind, value),) = d.items()
+    return value
+
+
+@pytest.mark.parametrize("decl", [c for c in COMMANDS if c["python"]], ids=lambda c: c["name"])
+def test_every_declared_option_is_a_keyword_with_its_default(decl):
+    fn = getattr(rvlife, decl["python"])
+    params = {n: p for n, p in inspect.signature(fn).parameters.items() if n not in PLUMBING}
+    options = {}
+    for o in decl["options"]:
+        if "python" in o["fronts"]:
+            name = o["python_name"] or o["name"]
+            options[name] = o["python_default"] if o["python_default"] is not None else o["default"]
+    assert set(params) == set(options), f"rvlife.{decl['python']}: keywords and declared options differ"
+    for name, d in options.items():
+        got = params[name].default
+        if got == ():
+            got = None  # an empty sequence: none given
+        assert got == expected_default(d), f"rvlife.{decl['python']}({name}=...): default"
+
+
+def test_every_function_is_a_declared_command_or_says_why_not():
+    declared = {c["python"] for c in COMMANDS if c["python"]}
+    functions = {
+        n
+        for n in rvlife.__all__
+        if n[0].islower() and callable(getattr(rvlife, n)) and not inspect.isclass(getattr(rvlife, n))
+    }
+    assert functions - declared - set(NOT_COMMANDS) == set()
+    assert declared <= functions

@@ -1,0 +1,23 @@
+// The page's forms start from the library's declared defaults (generated/commands.ts).
+import { describe, expect, it } from 'vitest';
+import { declaredDefault } from '../../src/declared';
+import { COMMANDS } from '../../src/generated/commands';
+
+describe('the declared defaults', () => {
+  it('are the command line\'s defaults, as a form shows them', () => {
+    expect(declaredDefault('montecarlo', 'samples')).toBe('100');
+    expect(declaredDefault('montecarlo', 'seed')).toBe('1');
+    expect(declaredDefault('hysteresis', 'levels')).toBe('10');
+    expect(declaredDefault('hysteresis', 'crank_deg')).toBe('0');
+    expect(declaredDefault('optimize', 'objective')).toBe('life');
+  });
+  it('leave blank an option that is absent unless given', () => {
+    expect(declaredDefault('te', 'torque_nm')).toBe('');
+  });
+  it('refuse an option the library does not declare', () => {
+    expect(() => declaredDefault('hysteresis', 'level')).toThrow(/no option level/);
+  });
+  it('name a page command for every command the page runs', () => {
+    expect(COMMANDS.filter((c) => c.page !== null).map((c) => c.name)).toContain('montecarlo');
+  });
+});
