@@ -47,6 +47,9 @@ export interface Commands {
   /** Hands on each step of the accuracy life's search beyond the last stage, as a line of
    *  text (each a wear integration: it can take as long as the study). */
   studyAssemble: { args: [outcomes: Uint8Array[]]; result: string; json: StudyOverview; item: string };
+  /** The flexible disc's analysis of every stage of the last study (`[fem]`), then its
+   *  overview with the `flexible_*` quantities. */
+  studyFlexible: { args: []; result: string; json: StudyOverview };
   /** A data file of the last study's results, as text. */
   studyFile: { args: [name: string]; result: string };
   montecarlo: { args: [text: string, samples: number, seed: number]; result: string; json: MonteCarloView };

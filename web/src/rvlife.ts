@@ -90,9 +90,11 @@ export class Engine {
  *  (`studyFile`). Resolves to the results' overview JSON (the module's
  *  `StudyResults.overview`); `progress` hears the wear-rate evaluations and the stages done,
  *  `notice` each step of the accuracy life's search beyond the last stage (the library's
- *  line, as `rvlife run` prints it). */
+ *  line, as `rvlife run` prints it). With `flexible`, then the flexible disc's analysis of
+ *  every stage on the first worker (`rvlife run` with `[fem] enabled`; `text` must enable
+ *  it, so that its `[fem]` is validated). */
 export async function study(engine: Engine, text: string, progress: Progress,
-  notice: (text: string) => void = () => undefined): Promise<string> {
+  notice: (text: string) => void = () => undefined, flexible = false): Promise<string> {
   const plan = await engine.call('studyPlan', [text]);
   const total = plan.wearSteps + plan.stages;
   let wearDone = 0;
@@ -134,5 +136,8 @@ export async function study(engine: Engine, text: string, progress: Progress,
     }
   };
   await Promise.all([wear, ...Array.from({ length: engine.size }, (_, k) => worker(k))]);
-  return engine.callOn(0, 'studyAssemble', [outcomes], undefined, notice);
+  const overview = await engine.callOn(0, 'studyAssemble', [outcomes], undefined, notice);
+  if (!flexible) return overview;
+  // The flexible disc on the worker that keeps the results: the FE disc, then each stage.
+  return engine.callOn(0, 'studyFlexible', [], (d, t) => progress(total + d, total + t));
 }

@@ -14,6 +14,9 @@ export const state = {
   keys: [] as KeyDoc[],
   tab: 'life' as TabId,
   study: null as StudyOverview | null,
+  /** The config the last study ran: the editor's text with the dynamics off and `[fem]`
+   *  as chosen (`rvlife run` on it repeats the study). */
+  studyConfig: '',
   montecarlo: null as MonteCarloView | null,
   optimize: null as OptimizeView | null,
   /** Keys whose typed value the config refused (the box keeps what the user wrote; the

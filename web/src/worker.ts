@@ -64,6 +64,10 @@ const commands: { [K in Command]: Run<K> } = {
     lastWear = null;
     return lastStudy.overview();
   },
+  studyFlexible: (p) => {
+    if (!lastStudy) throw new Error('the study results are gone (an analysis was cancelled since): run the study again');
+    return lastStudy.flexible(p);
+  },
   studyFile: (_p, name: string) => {
     if (!lastStudy) throw new Error('the study results are gone (an analysis was cancelled since): run the study again');
     return lastStudy.file(name);

@@ -262,6 +262,41 @@ try {
     } else check(`download ${name} equals rvlife run's`, true, detail);
   }
 
+  // The study with the flexible disc (ticked: [fem] on, dynamics off) against `rvlife run` on
+  // the config it ran (its config.toml download): every flexible_* quantity of every stage,
+  // and the time the FE disc adds.
+  await page.click('#life-flexible');
+  await page.click('#run-life');
+  await page.waitForSelector('#verdict', { timeout: 600000 });
+  const flexStudyMs = Number(await page.evaluate(() => document.body.dataset.lastJobMs));
+  const [flexCfg] = await Promise.all([page.waitForEvent('download'), page.click('button[data-file="config.toml"]')]);
+  const flexToml = path.join(tmp, 'flexible.toml');
+  await flexCfg.saveAs(flexToml);
+  const [flexSum] = await Promise.all([page.waitForEvent('download'), page.click('button[data-file="summary.json"]')]);
+  const flexPage = path.join(tmp, 'page-flexible-summary.json');
+  await flexSum.saveAs(flexPage);
+  const tf = performance.now();
+  const flexCli = spawnSync(bin, ['run', flexToml, '--out', path.join(tmp, 'cli-flexible')], { encoding: 'utf8' });
+  const flexStudyNativeMs = performance.now() - tf;
+  const flexRef = flexCli.status === 0 ? JSON.parse(fs.readFileSync(path.join(tmp, 'cli-flexible/summary.json'), 'utf8')) : { stages: [] };
+  const flexMine = JSON.parse(fs.readFileSync(flexPage, 'utf8'));
+  // The flexible TE, play and stiffness within 1e-6 (or 2.2e-5 arcmin); the stresses, maxima
+  // over the FE body of a contact solve that stops at its tolerance, within 1e-2.
+  const fw = new Worst(1e-6);
+  const sw = new Worst(1e-2);
+  let flexExact = 0;
+  flexRef.stages.forEach((st, i) => {
+    for (const [k, v] of Object.entries(st)) {
+      const stress = k === 'max_von_mises_mpa' || k === 'max_root_stress_mpa';
+      if (!k.startsWith('flexible_') && !stress) continue;
+      (stress ? sw : fw).add(`stages[${i}].${k}`, flexMine.stages[i]?.[k], v);
+      if (flexMine.stages[i]?.[k] === v) flexExact++;
+    }
+  });
+  check('the study with the flexible disc equals rvlife run with [fem] on (TE 1e-6, stresses 1e-2)', /\[fem\][^[]*enabled = true/.test(fs.readFileSync(flexToml, 'utf8')) && fw.compared >= 40 && fw.ok() && sw.ok(), `TE, play, stiffness: ${fw.detail()}; stresses: ${sw.detail()}; ${flexExact} of ${fw.compared + sw.compared} equal to the last bit`);
+  figure(`study with the flexible disc: page ${(flexStudyMs / 1000).toFixed(2)} s, native rvlife run ${(flexStudyNativeMs / 1000).toFixed(2)} s; flexible TE: ${fw.detail()}; stresses: ${sw.detail()}`);
+  await page.click('#life-flexible');
+
   // The multibody simulation (rigid discs) against `rvlife dynamics --json`.
   await page.click('button[data-tab="dynamics"]');
   await page.click('#run-dynamics');

@@ -292,6 +292,21 @@ impl StudyResults {
         })
     }
 
+    /// The flexible disc's analysis of every stage of this study (`rvlife::study::parts::
+    /// flexible`: the FE disc of `[fem]` moved onto each stage's worn outline, as `rvlife run`
+    /// with `[fem] enabled` and the dynamics off), then [`StudyResults::overview`] with the
+    /// `flexible_*` quantities in every stage. `progress(done, total)` hears the FE disc's
+    /// build and each stage.
+    ///
+    /// # Errors
+    /// The FE disc's failures and the flexible analysis's.
+    pub fn flexible(&mut self, progress: Option<js_sys::Function>) -> Result<String, JsError> {
+        let p = Progress(progress);
+        rvlife::study::parts::flexible(&mut self.study, &|d, t| p.call(d, t)).map_err(err)?;
+        self.tables = std::cell::OnceCell::new();
+        self.overview()
+    }
+
     /// The text of the data file `name` (one of `overview`'s `files`), byte for byte what
     /// `rvlife run` writes.
     ///

@@ -106,12 +106,24 @@ fn benches(c: &mut Criterion) {
         .measurement_time(Duration::from_secs(40));
     group.bench_function("simulate_0p8s_10um_sinusoidal", |b| {
         b.iter(|| {
-            rvlife::dynamics::simulate(black_box(&worn10), &model.dynamics.params, false).unwrap()
+            rvlife::dynamics::simulate(
+                black_box(&worn10),
+                &model.reducer,
+                &model.dynamics.params,
+                false,
+            )
+            .unwrap()
         })
     });
     group.bench_function("simulate_0p8s_7500h_sinusoidal", |b| {
         b.iter(|| {
-            rvlife::dynamics::simulate(black_box(&worn), &model.dynamics.params, false).unwrap()
+            rvlife::dynamics::simulate(
+                black_box(&worn),
+                &model.reducer,
+                &model.dynamics.params,
+                false,
+            )
+            .unwrap()
         })
     });
     // Flexible discs: the FE disc, its modal reduction and the 0.8 s run.
@@ -128,6 +140,7 @@ fn benches(c: &mut Criterion) {
         b.iter(|| {
             rvlife::dynamics::simulate_discs(
                 black_box(&worn10),
+                &model.reducer,
                 &flexible,
                 &model.fem.params,
                 None,

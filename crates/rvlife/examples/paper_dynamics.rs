@@ -85,7 +85,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             p.load = load;
             for (f, flexible) in [None, Some(fd)].into_iter().enumerate() {
                 let t = Instant::now();
-                let r = simulate_with(profile, &p, flexible, false)?;
+                let r = simulate_with(profile, &m.reducer, &p, flexible, false)?;
                 let wall = t.elapsed().as_secs_f64() + if f == 1 { build_s } else { 0.0 };
                 let s = &r.summary;
                 let disc_name = if f == 0 { "rigid" } else { "flexible" };

@@ -1,6 +1,7 @@
-// The accuracy-life view: the static study (`rvlife run` without dynamics and the FE disc) on
-// every analysis worker, its verdict against `[life]`, the stage table, the accuracy
-// quantities against working hours with their spec, and the results' files.
+// The accuracy-life view: the study (`rvlife run` without dynamics; the flexible disc of
+// `[fem]` when ticked) on every analysis worker, its verdict against `[life]`, the stage
+// table, the accuracy quantities against working hours with their spec, and the results'
+// files.
 import { lineChart } from '../charts';
 import { type Files, downloadList } from '../downloads';
 import { jobs, quick } from '../engines';
@@ -44,13 +45,10 @@ function stagesTable(s: StudyOverview): HTMLTableElement {
 function studyFiles(s: StudyOverview): Files {
   const files: Files = {};
   for (const name of s.files) files[name] = () => jobs.call('studyFile', [name]);
-  // The config as the study ran it: without dynamics and the FE disc (`rvlife run` on this
-  // file repeats it), not the editor's text, which may enable them.
-  const ran = state.text;
-  files['config.toml'] = async () => {
-    const off = await quick.call('setKey', [ran, 'dynamics.enabled', 'false']);
-    return quick.call('setKey', [off, 'fem.enabled', 'false']);
-  };
+  // The config as the study ran it: without dynamics, the FE disc as chosen (`rvlife run` on
+  // this file repeats it), not the editor's text.
+  const ran = state.studyConfig;
+  files['config.toml'] = () => Promise.resolve(ran);
   return files;
 }
 
@@ -86,20 +84,28 @@ export function renderLife(panel: HTMLElement) {
   const run = document.createElement('button');
   run.id = 'run-life';
   run.textContent = 'Run the study (static analyses)';
+  const flexBox = document.createElement('label');
+  const flex = document.createElement('input');
+  flex.type = 'checkbox';
+  flex.id = 'life-flexible';
+  flexBox.append(flex, ' with the flexible disc ([fem]: the FE disc at every stage, flexible_* quantities; slower)');
   run.onclick = async () => {
     const text = state.text;
     // The old results go at once: a run cancelled leaves no result that is not its config's.
     state.study = null;
     out.replaceChildren();
+    const ran = await quick.call('setKey', [
+      await quick.call('setKey', [text, 'dynamics.enabled', 'false']), 'fem.enabled', String(flex.checked)]);
     // The library's line for each step of the life's search beyond the last stage, in the
     // status line while it runs.
-    const r = await job('Accuracy-life study', (p) => study(jobs, text, p, (line) => status(`Accuracy-life study: ${line}`)));
+    const r = await job('Accuracy-life study', (p) => study(jobs, ran, p, (line) => status(`Accuracy-life study: ${line}`), flex.checked));
     if (!r || text !== state.text) return;
+    state.studyConfig = ran;
     const overview = JSON.parse(r) as StudyOverview;
     state.study = overview;
     show(overview);
   };
-  const note = noteOf('The study of rvlife run without dynamics and the FE disc: wear over the stages of [wear], the accuracy quantities at each, the accuracy life against [life].');
-  panel.append(run, note, out);
+  const note = noteOf('The study of rvlife run without dynamics (and without the FE disc unless ticked): wear over the stages of [wear], the accuracy quantities at each, the accuracy life against [life].');
+  panel.append(run, flexBox, note, out);
   if (state.study) show(state.study);
 }

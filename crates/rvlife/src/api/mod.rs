@@ -611,6 +611,7 @@ pub fn dynamics(
     let model: &Model = &staged;
     crate::dynamics::simulate_discs(
         &profile,
+        &model.reducer,
         &model.dynamics.params,
         &model.fem.params,
         None,

@@ -14,7 +14,7 @@ use super::range::{check, Range};
 use crate::dynamics::params::{
     disc_inertia, Drive, DynamicsParams, Impact, ImpactLaw, Inertias, LoadProfile, Method,
 };
-use crate::dynamics::ModalSettings;
+use crate::dynamics::{Damping, ModalSettings};
 use crate::error::{Error, Result};
 use crate::geometry::Profile;
 use crate::reducer::Reducer;
@@ -394,7 +394,7 @@ impl DynamicsConfig {
             ));
         }
         let inertia = self.inertia.validate(reducer, profile)?;
-        let red = damped(reducer, damping, &inertia);
+        let damping = damping_of(reducer, damping, &inertia);
         // Impact contact: by default the stage's contact law at every mesh angle; the damping
         // from the linearised stiffness at Li's largest pin force at the rated torque, on the
         // flank point of largest lever arm (Li: cos t = K1).
@@ -406,7 +406,7 @@ impl DynamicsConfig {
         let flexible = self.flexible_settings(&impact)?;
         Ok(DynamicsParams {
             flexible,
-            reducer: red,
+            damping,
             contact: impact,
             inertia,
             drive,
@@ -528,19 +528,21 @@ struct Timing {
     integrator: Method,
 }
 
-/// `reducer` with the damping of its meshes and bearings from the damping ratios `(mesh,
-/// bearings)` and the body masses of `inertia`.
-fn damped(reducer: &Reducer, (zeta_m, zeta_b): (f64, f64), inertia: &Inertias) -> Reducer {
+/// The damping of `reducer`'s meshes and bearings from the damping ratios `(mesh, bearings)`
+/// and the body masses of `inertia`.
+fn damping_of(reducer: &Reducer, (zeta_m, zeta_b): (f64, f64), inertia: &Inertias) -> Damping {
     let mesh0 = reducer.mesh;
     let r_bp = mesh0.planet_base_radius;
     let m_eq = inertia.crank / (r_bp * r_bp);
-    let mut red = reducer.clone();
-    red.mesh.damping = 2.0 * zeta_m * (mesh0.stiffness * m_eq).sqrt();
-    red.bearings.carrier.damping =
-        2.0 * zeta_b * (reducer.bearings.carrier.reference_stiffness() * inertia.crank_mass).sqrt();
-    red.bearings.disc.damping =
-        2.0 * zeta_b * (reducer.bearings.disc.reference_stiffness() * inertia.disc_mass).sqrt();
-    red
+    Damping {
+        mesh: 2.0 * zeta_m * (mesh0.stiffness * m_eq).sqrt(),
+        carrier: 2.0
+            * zeta_b
+            * (reducer.bearings.carrier.reference_stiffness() * inertia.crank_mass).sqrt(),
+        disc: 2.0
+            * zeta_b
+            * (reducer.bearings.disc.reference_stiffness() * inertia.disc_mass).sqrt(),
+    }
 }
 
 impl InertiaConfig {

@@ -100,16 +100,15 @@ impl Model {
         }
     }
 
-    /// This model with the parts of `state` worn: the crank bearings' clearances grown (in
-    /// the static and the dynamic reducer alike) and the pins worn (the static analysis sees
-    /// them, [`crate::reducer::PinWear`]); itself when neither wears. The disc's wear is in
+    /// This model with the parts of `state` worn: the crank bearings' clearances grown and
+    /// the pins worn (the static analysis sees them, [`crate::reducer::PinWear`]; the
+    /// multibody model runs on the same reducer); itself when neither wears. The disc's wear is in
     /// the profile made from `state.disc_profile`.
     pub fn worn(&self, state: &crate::wear::WornState) -> std::borrow::Cow<'_, Model> {
         if !state.bearings_worn() && !state.pins_worn() {
             return std::borrow::Cow::Borrowed(self);
         }
         let mut m = self.clone();
-        state.grow_bearings(&mut m.dynamics.params.reducer);
         state.wear_parts(&mut m.reducer);
         std::borrow::Cow::Owned(m)
     }
@@ -368,7 +367,6 @@ fn elastic_disc(model: &mut Model, profile: &Profile) -> Result<()> {
         ..model.reducer.series
     };
     model.reducer.set_series(series);
-    model.dynamics.params.reducer.set_series(series);
     Ok(())
 }
 

@@ -32,12 +32,13 @@ use crate::error::{Error, Result};
 use crate::fem::modal::ModalDisc;
 use crate::fem::{DiscSet, FemParams, Mount};
 use crate::geometry::Profile;
+use crate::reducer::Reducer;
 use crate::units::ARCMIN_PER_RAD;
 
 pub use crate::contact::gap::{Band, GapField};
 pub use crate::fem::modal::ModalSettings;
-pub use params::DynamicsParams;
 use params::Method;
+pub use params::{Damping, DynamicsParams};
 pub use system::{PinForce, System};
 
 /// One sample of the time series (engineering units, as written to `dynamics.csv`).
@@ -134,10 +135,11 @@ pub struct DynamicsResult {
 /// underflow) or a state becomes non-finite.
 pub fn simulate(
     profile: &Profile,
+    reducer: &Reducer,
     params: &DynamicsParams,
     pin_forces: bool,
 ) -> Result<DynamicsResult> {
-    simulate_with(profile, params, None, pin_forces)
+    simulate_with(profile, reducer, params, None, pin_forces)
 }
 
 /// Flexible discs of the multibody model: the modal FE disc and how each of the two discs sits
@@ -183,30 +185,33 @@ impl<'a> FlexibleDiscs<'a> {
 /// [`FlexibleDiscs::new`]'s.
 pub fn simulate_discs(
     profile: &Profile,
+    reducer: &Reducer,
     params: &DynamicsParams,
     fem: &FemParams,
     discs: Option<&DiscSet>,
     pin_forces: bool,
 ) -> Result<DynamicsResult> {
     let Some(settings) = &params.flexible else {
-        return simulate_with(profile, params, None, pin_forces);
+        return simulate_with(profile, reducer, params, None, pin_forces);
     };
     let built;
     let discs = match discs {
         Some(d) => d,
         None => {
-            built = DiscSet::build(profile, fem, &params.reducer)?;
+            built = DiscSet::build(profile, fem, reducer)?;
             &built
         }
     };
     let modal = ModalDisc::build(&discs.models[0], settings)?;
     let flexible = FlexibleDiscs::new(&modal, discs)?;
     // The FE disc is the disc's body: not again in series with the bearings.
-    let params = DynamicsParams {
-        reducer: params.reducer.without_disc_body(),
-        ..params.clone()
-    };
-    simulate_with(profile, &params, Some(flexible), pin_forces)
+    simulate_with(
+        profile,
+        &reducer.without_disc_body(),
+        params,
+        Some(flexible),
+        pin_forces,
+    )
 }
 
 /// [`simulate`] with rigid discs (`flexible` = `None`) or with flexible discs: each disc the
@@ -219,16 +224,17 @@ pub fn simulate_discs(
 /// [`Error::Numerical`] also if a flexible contact problem fails to converge.
 pub fn simulate_with(
     profile: &Profile,
+    reducer: &Reducer,
     params: &DynamicsParams,
     flexible: Option<FlexibleDiscs>,
     pin_forces: bool,
 ) -> Result<DynamicsResult> {
-    let field = params.gap_field(profile)?;
+    let field = params.gap_field(profile, reducer)?;
     let sys = match flexible {
-        Some(fd) => System::flexible(params, [&field, &field], fd)?,
-        None => System::new(params, [&field, &field]),
+        Some(fd) => System::flexible(params, reducer, [&field, &field], fd)?,
+        None => System::new(params, reducer, [&field, &field]),
     };
-    let zp = params.reducer.geometry.pins;
+    let zp = reducer.geometry.pins;
     let n_out = (params.end_time / params.output_interval).round() as usize;
     let times: Vec<f64> = (0..=n_out)
         .map(|i| (i as f64 * params.output_interval).min(params.end_time))
@@ -299,7 +305,7 @@ pub fn simulate_with(
             other => break other?,
         }
     };
-    let mut summary = summarize(&samples, params, stats);
+    let mut summary = summarize(&samples, params, reducer.ratio, stats);
     summary.integrator = match method {
         Method::Esdirk34 => "esdirk34",
         Method::Tsit45 => "tsit45",
@@ -324,7 +330,12 @@ pub fn simulate_with(
     })
 }
 
-fn summarize(samples: &[Sample], p: &DynamicsParams, stats: ode::Stats) -> DynamicsSummary {
+fn summarize(
+    samples: &[Sample],
+    p: &DynamicsParams,
+    ratio: f64,
+    stats: ode::Stats,
+) -> DynamicsSummary {
     let (w0, w1) = p.window;
     let eps = 1e-9 * p.end_time;
     let win: Vec<&Sample> = samples
@@ -343,7 +354,7 @@ fn summarize(samples: &[Sample], p: &DynamicsParams, stats: ode::Stats) -> Dynam
             let dt = b.time_s - a.time_s;
             (
                 (b.output_angle_deg - a.output_angle_deg) / dt,
-                (b.input_angle_deg - a.input_angle_deg) / dt / p.reducer.ratio,
+                (b.input_angle_deg - a.input_angle_deg) / dt / ratio,
             )
         }
         _ => (0.0, 0.0),

@@ -182,11 +182,36 @@ pub struct Impact {
     pub friction_velocity: f64,
 }
 
-/// Checked SI parameters of one dynamic simulation.
+/// The damping of the reducer's meshes and crank bearings in the multibody model, N s/m: what
+/// the dynamics add to the model's reducer (one reducer for every analysis; the static ones
+/// are undamped).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Damping {
+    /// Each sun-planet mesh, along its line of action.
+    pub mesh: f64,
+    /// Each crank-carrier bearing.
+    pub carrier: f64,
+    /// Each crank-disc bearing.
+    pub disc: f64,
+}
+
+impl Damping {
+    /// `reducer` with this damping in its meshes and bearings.
+    pub fn on(&self, reducer: &Reducer) -> Reducer {
+        let mut red = reducer.clone();
+        red.mesh.damping = self.mesh;
+        red.bearings.carrier.damping = self.carrier;
+        red.bearings.disc.damping = self.disc;
+        red
+    }
+}
+
+/// Checked SI parameters of one dynamic simulation of a reducer (the model's,
+/// [`crate::config::Model::reducer`], which every simulation is given).
 #[derive(Debug, Clone, PartialEq)]
 pub struct DynamicsParams {
-    /// The reducer's mechanical model (with the damping of its meshes and bearings).
-    pub reducer: Reducer,
+    /// The damping of the reducer's meshes and bearings.
+    pub damping: Damping,
     /// Disc-pin impact contact.
     pub contact: Impact,
     /// Inertias.
@@ -219,8 +244,12 @@ impl DynamicsParams {
     ///
     /// # Errors
     /// As [`GapField::new`].
-    pub(crate) fn gap_field(&self, profile: &Profile) -> crate::error::Result<GapField> {
-        GapField::new(profile, self.gap_points, Some(self.reducer.contact_band()))
+    pub(crate) fn gap_field(
+        &self,
+        profile: &Profile,
+        reducer: &Reducer,
+    ) -> crate::error::Result<GapField> {
+        GapField::new(profile, self.gap_points, Some(reducer.contact_band()))
     }
 }
 

@@ -37,7 +37,7 @@ use super::params::{Drive, DynamicsParams, LoadProfile};
 use crate::contact::gap::{GapEval, GapField};
 pub use crate::reducer::Layout;
 pub(crate) use crate::reducer::MAX_DOFS;
-use crate::reducer::{perp, BearingEval};
+use crate::reducer::{perp, BearingEval, Reducer};
 
 /// A disc's pose for its pin contacts: centre `c` (m) and its speed
 /// `cd` (m/s), angular speed `wpsi` (rad/s), the base of the pins' contact-parameter guesses
@@ -146,6 +146,8 @@ pub struct PinForce {
 /// The assembled reducer: parameters, gap fields and the constant kinematic data.
 pub struct System<'a> {
     p: &'a DynamicsParams,
+    /// The model's reducer with the damping of `p` ([`super::Damping::on`]).
+    reducer: Reducer,
     gaps: [&'a GapField; 2],
     layout: Layout,
     /// Inverse masses per coordinate.
@@ -213,9 +215,11 @@ struct FlexPin {
 }
 
 impl<'a> System<'a> {
-    /// Assembles the system for `params` with the gap fields of the two discs.
-    pub fn new(p: &'a DynamicsParams, gaps: [&'a GapField; 2]) -> Self {
-        let red = &p.reducer;
+    /// Assembles the system of the model's reducer `reducer` for `params` (its damping
+    /// added) with the gap fields of the two discs.
+    pub fn new(p: &'a DynamicsParams, reducer: &Reducer, gaps: [&'a GapField; 2]) -> Self {
+        let reducer = p.damping.on(reducer);
+        let red = &reducer;
         let layout = red.layout();
         let n = layout.dofs();
         let mut mass = vec![0.0; n];
@@ -252,6 +256,7 @@ impl<'a> System<'a> {
             contact_law: red.contact.prepared(),
             flex: None,
             kept: RefCell::new(KeptContacts::default()),
+            reducer,
         }
     }
 
@@ -267,11 +272,12 @@ impl<'a> System<'a> {
     /// definite).
     pub fn flexible(
         p: &'a DynamicsParams,
+        reducer: &Reducer,
         gaps: [&'a GapField; 2],
         discs: super::FlexibleDiscs<'a>,
     ) -> crate::error::Result<Self> {
         let modal = discs.modal;
-        let mut sys = System::new(p, gaps);
+        let mut sys = System::new(p, reducer, gaps);
         let m = modal.modes();
         let mr = Matrix3::from_diagonal(&Vector3::new(
             p.inertia.disc_mass,
@@ -317,7 +323,7 @@ impl<'a> System<'a> {
             shift: [0, 1].map(|d| TAU * discs.mounts[d].teeth as f64),
             participation,
             law: FlexibleLaw {
-                model: p.reducer.contact,
+                model: sys.reducer.contact,
                 patch: modal.disc.params.patch,
             },
             schur_inv,
@@ -394,7 +400,7 @@ impl<'a> System<'a> {
         let n = self.layout.dofs();
         let motion = self.input_motion(t);
         let (th_s, w_s, a_s) = motion.unwrap_or((z[Layout::SUN], z[n + Layout::SUN], 0.0));
-        self.p.reducer.nominal(
+        self.reducer.nominal(
             th_s,
             w_s,
             a_s,
@@ -467,8 +473,7 @@ impl<'a> System<'a> {
                 let a = g[Layout::SUN] * self.inv_mass[Layout::SUN];
                 let (mut q2, mut qd2) = ([0.0; MAX_DOFS], [0.0; MAX_DOFS]);
                 let (th_s, w_s) = (q[Layout::SUN], qd[Layout::SUN]);
-                self.p
-                    .reducer
+                self.reducer
                     .nominal(th_s, w_s, a, &mut q2[..n], &mut qd2[..n], &mut qdd[..n]);
                 a
             }
@@ -535,7 +540,7 @@ impl<'a> System<'a> {
         if let Drive::Torque { .. } = p.drive {
             g[Layout::SUN] += p.drive.torque(t);
         }
-        p.reducer.structural_forces_with(
+        self.reducer.structural_forces_with(
             &k.q0[..n],
             &k.dq[..n],
             &k.qd[..n],
@@ -707,7 +712,7 @@ impl<'a> System<'a> {
         if ct.friction > 0.0 {
             let wn = w / w.norm();
             let tau = perp(wn);
-            let xc = rel - wn * self.p.reducer.geometry.pin_radius;
+            let xc = rel - wn * self.reducer.geometry.pin_radius;
             let v = cd + perp(xc) * wpsi;
             let vt = v.dot(&tau);
             let ff = tau * (-ct.friction * fnorm * (vt / ct.friction_velocity).tanh());
@@ -908,7 +913,7 @@ impl<'a> System<'a> {
         for ((m, v), _) in self.mass.iter().zip(qd).zip(0..n) {
             e += 0.5 * m * v * v;
         }
-        e += p.reducer.structural_energy(&k.q0[..n], &k.dq[..n]);
+        e += self.reducer.structural_energy(&k.q0[..n], &k.dq[..n]);
         let ct = &p.contact;
         for d in 0..2 {
             let id = lay.disc(d);
@@ -921,7 +926,9 @@ impl<'a> System<'a> {
                 let tg = base - 2.0 * PI * j as f64 * self.zc / self.zp as f64;
                 let ge = self.gaps[d].eval(&ql, tg).0;
                 if ge.gap < 0.0 {
-                    e += ct.law.potential(&p.reducer.contact, -ge.gap, ge.curvature);
+                    e += ct
+                        .law
+                        .potential(&self.reducer.contact, -ge.gap, ge.curvature);
                 }
             }
         }
@@ -941,9 +948,9 @@ impl<'a> System<'a> {
                 .unwrap_or((z[Layout::SUN], z[n + Layout::SUN], 0.0));
         [
             th_s,
-            th_s / self.p.reducer.ratio + z[Layout::OUT],
+            th_s / self.reducer.ratio + z[Layout::OUT],
             w_s,
-            w_s / self.p.reducer.ratio + z[n + Layout::OUT],
+            w_s / self.reducer.ratio + z[n + Layout::OUT],
         ]
     }
 }
@@ -1030,9 +1037,9 @@ impl super::ode::OdeSystem for System<'_> {
     fn absolute_tolerances(&self, rtol: f64) -> Vec<f64> {
         let n = self.layout.dofs();
         let len = 1e-4 * rtol;
-        let ang = len / self.p.reducer.geometry.pin_circle_radius;
+        let ang = len / self.reducer.geometry.pin_circle_radius;
         let mut a = vec![0.0; self.states()];
-        for k in 0..self.p.reducer.cranks {
+        for k in 0..self.reducer.cranks {
             let i = self.layout.crank(k);
             a[i..i + 3].copy_from_slice(&[len, len, ang]);
         }

@@ -179,6 +179,7 @@ fn dynamics_and_flexible(
             }
             let r = simulate_discs(
                 profile,
+                &model.reducer,
                 &model.dynamics.params,
                 &model.fem.params,
                 disc,
@@ -238,4 +239,41 @@ pub(super) fn record_row(st: &mut Stage, row: StageRow) {
         s.max_root_stress_mpa = Some(fl.stress.max_root_stress * 1e-6);
         st.flexible = Some((fl, mesh));
     }
+}
+
+/// The flexible disc's analysis of every stage of `study` (docs/model.md section 9), after its
+/// static stages: the FE disc built on the unworn profile, moved onto each stage's outline
+/// and analysed on the stage's worn parts, as [`super::run`] does with `[fem] enabled` and
+/// the dynamics off; the same numbers recorded in each stage and its summary. `progress(done,
+/// total)` after the FE disc and after each stage. `study.model` then has `[fem] enabled`.
+///
+/// # Errors
+/// The FE disc's failures and the flexible analysis's, as [`super::run`] reports them.
+pub(super) fn flexible_pass(
+    study: &mut super::Study,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<()> {
+    let mut model = study.model.clone();
+    model.fem.enabled = true;
+    model.dynamics.enabled = false;
+    let total = study.stages.len() + 1;
+    let base_profile = model.profile()?;
+    let base = DiscSet::build(&base_profile, &model.fem.params, &model.reducer)?;
+    progress(1, total);
+    let wear = &study.wear;
+    for (i, st) in study.stages.iter_mut().enumerate() {
+        let worn = crate::wear::WornState::new(
+            model.wear.model,
+            wear.bearing_rates,
+            st.hours,
+            &wear.maps[i],
+            &wear.pin_maps[i],
+        )?;
+        let staged = model.worn(&worn);
+        let row = dynamics_and_flexible(&staged, &st.profile, Some(&base), &base_profile, &|| {})?;
+        record_row(st, row);
+        progress(i + 2, total);
+    }
+    study.model = model;
+    Ok(())
 }

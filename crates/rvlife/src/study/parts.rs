@@ -7,7 +7,9 @@
 //!    [`unworn_first`], the 0 h stage, needs none and can be analysed beside it;
 //! 3. [`static_stage`] for every stage of [`stage_wears`], on any worker, in any order;
 //! 4. [`assemble`]: the study from the wear history and the stages' outcomes, with its
-//!    accuracy life, on the worker that integrated the wear.
+//!    accuracy life, on the worker that integrated the wear;
+//! 5. with `[fem] enabled`, [`flexible`] on that worker: the flexible disc's analysis of
+//!    every stage.
 //!
 //! What crosses between workers ([`Ground`], [`StageWear`], [`StageOutcome`]) is plain data
 //! (serde). A study assembled from parts equals [`super::run`]'s with dynamics and FE off: the
@@ -331,6 +333,17 @@ pub fn assemble(
     notice: &dyn Fn(&str),
 ) -> Result<Study> {
     assemble_ahead(model, wear, outcomes, None, notice)
+}
+
+/// The flexible disc's analysis of every stage of the assembled `study` (docs/model.md section
+/// 9), as [`super::run`] makes it with `[fem] enabled` and the dynamics off: the same
+/// `flexible_*` quantities in every stage. `progress(done, total)` hears the FE disc's build
+/// and each stage.
+///
+/// # Errors
+/// The FE disc's failures and the flexible analysis's.
+pub fn flexible(study: &mut Study, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<()> {
+    super::executor::flexible_pass(study, progress)
 }
 
 /// The accuracy life's trials between two stages, made before the assembly

@@ -32,7 +32,7 @@ fn output_speed_follows_the_ratio() {
         .cycloid
         .profile(Some(WearMap::uniform(720, 10e-6).unwrap()))
         .unwrap();
-    let r = simulate(&profile, &m.dynamics.params, false).unwrap();
+    let r = simulate(&profile, &m.reducer, &m.dynamics.params, false).unwrap();
     let w = r.summary.output_speed_deg_s;
     let expected = 9000.0 / 81.0;
     eprintln!("speed: {w} deg/s");
@@ -55,12 +55,11 @@ fn unloaded_perfect_reducer_has_no_te_beyond_inertia_deflections() {
         c.dynamics.window_s = [0.1, 0.3];
     });
     let profile = m.profile().unwrap();
-    let r = simulate(&profile, &m.dynamics.params, false).unwrap();
-    let p = &m.dynamics.params;
+    let r = simulate(&profile, &m.reducer, &m.dynamics.params, false).unwrap();
     let f = r.summary.max_pin_force_n;
     let lever = 0.05 * m.cycloid.geometry.disc_pitch_radius();
-    let bound = (p.reducer.contact.approach(f.max(1e-3), 0.0)
-        + f / p.reducer.bearings.disc.reference_stiffness())
+    let bound = (m.reducer.contact.approach(f.max(1e-3), 0.0)
+        + f / m.reducer.bearings.disc.reference_stiffness())
         / lever
         * ARCMIN_PER_RAD;
     let worst = r
@@ -149,7 +148,7 @@ fn slow_dte_matches_static(m: &Model, profile: &crate::geometry::Profile, what: 
     ] {
         *v *= 100.0;
     }
-    let r = simulate(profile, &p, true).unwrap();
+    let r = simulate(profile, &m.reducer, &p, true).unwrap();
     let qs = loaded_te(&m.reducer, profile, 412.0, 24).unwrap();
     let expected = qs.stats().mean * ARCMIN_PER_RAD;
     let got = r.summary.te_mean_arcmin;
@@ -253,7 +252,7 @@ fn energy_is_conserved_without_damping() {
     assert_eq!(m.dynamics.params.load, LoadProfile::None);
     let profile = m.profile().unwrap();
     let field = GapField::new(&profile, 1024, None).unwrap();
-    let sys = System::new(&m.dynamics.params, [&field, &field]);
+    let sys = System::new(&m.dynamics.params, &m.reducer, [&field, &field]);
     // Rigid spin plus an output speed deviation of 0.05 rad/s: the output rattles through the
     // 2 x 0.34 arcmin of backlash and strikes the pins on both flanks.
     let mut z0 = sys.initial_state();
@@ -314,10 +313,12 @@ fn fast_integrator_matches_a_tight_reference_at_every_stage() {
             _ => WearMap::new(map.clone()).unwrap(),
         };
         let profile = m.cycloid.profile((max > 0.0).then_some(wear)).unwrap();
-        let fast = simulate(&profile, &m.dynamics.params, false)
+        let fast = simulate(&profile, &m.reducer, &m.dynamics.params, false)
             .unwrap()
             .summary;
-        let reference = simulate(&profile, &tight, false).unwrap().summary;
+        let reference = simulate(&profile, &m.reducer, &tight, false)
+            .unwrap()
+            .summary;
         eprintln!(
             "{:6.0} h: mean {:.5} / {:.5}, p-p {:.5} / {:.5}, RMS {:.5} / {:.5} arcmin; steps {} / {}",
             hours,
@@ -371,8 +372,8 @@ fn open_pin_skip_and_warm_starts_leave_the_rhs_unchanged() {
         .cycloid
         .profile(Some(WearMap::uniform(hist.maps[0].len(), max).unwrap()))
         .unwrap();
-    let field = m.dynamics.params.gap_field(&profile).unwrap();
-    let sys = System::new(&m.dynamics.params, [&field, &field]);
+    let field = m.dynamics.params.gap_field(&profile, &m.reducer).unwrap();
+    let sys = System::new(&m.dynamics.params, &m.reducer, [&field, &field]);
     let times: Vec<f64> = (0..=800).map(|k| k as f64 * 1e-3).collect();
     let (mut warm, mut cold) = (vec![0.0; sys.states()], vec![0.0; sys.states()]);
     let mut worst: f64 = 0.0;

@@ -96,7 +96,7 @@ fn slow_flexible_dte_equals_the_static_flexible_analysis() {
         let t0 = std::time::Instant::now();
         // Samples at step ends (`pin_forces`), not from the dense output.
         let fd = FlexibleDiscs::new(&modal, &discs).unwrap();
-        let r = simulate_with(&profile, &p, Some(fd), true).unwrap();
+        let r = simulate_with(&profile, &m.reducer, &p, Some(fd), true).unwrap();
         eprintln!(
             "{hours} h: {} modes ({:.0}..{:.0} Hz at density x 100), {} steps, {:.1} s",
             modal.modes(),
@@ -175,10 +175,10 @@ fn stiff_flexible_disc_gives_the_rigid_dte() {
         s.cutoff_hz *= 100.0;
         let modal = ModalDisc::build(&discs.models[0], &s).unwrap();
         let fd = FlexibleDiscs::new(&modal, &discs).unwrap();
-        let flex = simulate_with(&profile, &m.dynamics.params, Some(fd), false)
+        let flex = simulate_with(&profile, &m.reducer, &m.dynamics.params, Some(fd), false)
             .unwrap()
             .summary;
-        let rigid = simulate_with(&profile, &m.dynamics.params, None, false)
+        let rigid = simulate_with(&profile, &m.reducer, &m.dynamics.params, None, false)
             .unwrap()
             .summary;
         eprintln!(
@@ -227,7 +227,7 @@ fn dte_converges_in_the_number_of_modes() {
             s.cutoff_hz = cutoff_hz;
             let modal = ModalDisc::build(&discs.models[0], &s).unwrap();
             let fd = FlexibleDiscs::new(&modal, &discs).unwrap();
-            let r = simulate_with(&profile, &m.dynamics.params, Some(fd), false)
+            let r = simulate_with(&profile, &m.reducer, &m.dynamics.params, Some(fd), false)
                 .unwrap()
                 .summary;
             (modal.modes(), r)
@@ -354,10 +354,10 @@ fn jacobian_columns_equal_those_of_full_right_hand_sides() {
         .cycloid
         .profile(Some(WearMap::uniform(720, 10e-6).unwrap()))
         .unwrap();
-    let field = m.dynamics.params.gap_field(&profile).unwrap();
+    let field = m.dynamics.params.gap_field(&profile, &m.reducer).unwrap();
     let rtol = m.dynamics.params.rtol;
     // Rigid discs, speed drive.
-    let sys = System::new(&m.dynamics.params, [&field, &field]);
+    let sys = System::new(&m.dynamics.params, &m.reducer, [&field, &field]);
     let states = run_states(&sys, rtol, 0.17);
     let rigid = column_error(&sys, rtol, &states);
     // Rigid discs, torque drive from the same states' speeds.
@@ -367,7 +367,7 @@ fn jacobian_columns_equal_those_of_full_right_hand_sides() {
         ramp: 0.0,
         initial_speed: 9000f64.to_radians(),
     };
-    let sys_t = System::new(&torque, [&field, &field]);
+    let sys_t = System::new(&torque, &m.reducer, [&field, &field]);
     let n = sys_t.layout().dofs();
     let moved: Vec<(f64, Vec<f64>)> = states
         .iter()
@@ -384,7 +384,7 @@ fn jacobian_columns_equal_those_of_full_right_hand_sides() {
     let discs = DiscSet::build(&profile, &m.fem.params, &m.reducer).unwrap();
     let modal = ModalDisc::build(&discs.models[0], &m.dynamics.params.flexible.unwrap()).unwrap();
     let fd = FlexibleDiscs::new(&modal, &discs).unwrap();
-    let sys_f = System::flexible(&m.dynamics.params, [&field, &field], fd).unwrap();
+    let sys_f = System::flexible(&m.dynamics.params, &m.reducer, [&field, &field], fd).unwrap();
     let flex = column_error(&sys_f, rtol, &run_states(&sys_f, rtol, 0.13));
     eprintln!(
         "right-hand sides from Jacobian columns against full ones (cold caches): rigid {:.2e}, \

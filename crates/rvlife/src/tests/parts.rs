@@ -108,6 +108,41 @@ fn study_in_parts_is_the_study() {
     }
 }
 
+/// The flexible disc after the static stages in parts (`parts::flexible`, what the page runs
+/// with `[fem] enabled`) against the study with it on one machine: the same files, the
+/// flexible quantities among them.
+#[test]
+fn flexible_disc_in_parts_is_the_studys() {
+    let mut cfg = Config::example();
+    cfg.dynamics.enabled = false;
+    let fem = cfg.validate().unwrap();
+    let whole = crate::study::run(&fem, &|_, _| {}).unwrap();
+    let mut parted = in_parts(&fem.clone().static_only());
+    let steps = std::sync::Mutex::new(Vec::new());
+    parts::flexible(&mut parted, &|d, t| steps.lock().unwrap().push((d, t))).unwrap();
+    let n = parted.stages.len() + 1;
+    assert_eq!(
+        steps.into_inner().unwrap(),
+        (1..=n).map(|d| (d, n)).collect::<Vec<_>>()
+    );
+    let (a, b) = (
+        crate::output::study::data_files(&whole).unwrap(),
+        crate::output::study::data_files(&parted).unwrap(),
+    );
+    assert_eq!(
+        a.iter().map(|f| &f.0).collect::<Vec<_>>(),
+        b.iter().map(|f| &f.0).collect::<Vec<_>>()
+    );
+    for ((name, x), (_, y)) in a.iter().zip(&b) {
+        assert!(x == y, "{name} differs");
+    }
+    let last = &parted.stages.last().unwrap().summary;
+    assert!(last
+        .flexible_ste_peak_to_peak_arcmin
+        .is_some_and(|v| v > 0.0));
+    assert!(last.max_von_mises_mpa.is_some_and(|v| v > 0.0));
+}
+
 #[test]
 fn stage_failure_in_parts_is_the_validity_limit() {
     let m = model(false);
