@@ -280,9 +280,13 @@ try {
   const flexStudyNativeMs = performance.now() - tf;
   const flexRef = flexCli.status === 0 ? JSON.parse(fs.readFileSync(path.join(tmp, 'cli-flexible/summary.json'), 'utf8')) : { stages: [] };
   const flexMine = JSON.parse(fs.readFileSync(flexPage, 'utf8'));
-  // The flexible TE, play and stiffness within 1e-6 (or 2.2e-5 arcmin); the stresses, maxima
-  // over the FE body of a contact solve that stops at its tolerance, within 1e-2.
-  const fw = new Worst(1e-6);
+  // The flexible contact solve is a fixed point that stops when the pins' gap offsets change
+  // by less than 1e-3 of the largest (FLEX_OFFSET_TOLERANCE, docs in fem/flex.rs): the page's
+  // arithmetic (no fused multiply-add, no SIMD) stops it at another point of that band, where
+  // the TE peak-to-peak values move by up to 5e-4 of themselves and the stress maxima, read at
+  // one element, by more. Bounds: the TE, play and stiffness 5e-4 (or 2.2e-5 arcmin), the
+  // stresses 1e-2.
+  const fw = new Worst(5e-4);
   const sw = new Worst(1e-2);
   let flexExact = 0;
   flexRef.stages.forEach((st, i) => {
@@ -293,7 +297,7 @@ try {
       if (flexMine.stages[i]?.[k] === v) flexExact++;
     }
   });
-  check('the study with the flexible disc equals rvlife run with [fem] on (TE 1e-6, stresses 1e-2)', /\[fem\][^[]*enabled = true/.test(fs.readFileSync(flexToml, 'utf8')) && fw.compared >= 40 && fw.ok() && sw.ok(), `TE, play, stiffness: ${fw.detail()}; stresses: ${sw.detail()}; ${flexExact} of ${fw.compared + sw.compared} equal to the last bit`);
+  check('the study with the flexible disc equals rvlife run with [fem] on (TE 5e-4, stresses 1e-2)', /\[fem\][^[]*enabled = true/.test(fs.readFileSync(flexToml, 'utf8')) && fw.compared >= 40 && fw.ok() && sw.ok(), `TE, play, stiffness: ${fw.detail()}; stresses: ${sw.detail()}; ${flexExact} of ${fw.compared + sw.compared} equal to the last bit`);
   figure(`study with the flexible disc: page ${(flexStudyMs / 1000).toFixed(2)} s, native rvlife run ${(flexStudyNativeMs / 1000).toFixed(2)} s; flexible TE: ${fw.detail()}; stresses: ${sw.detail()}`);
   await page.click('#life-flexible');
 
