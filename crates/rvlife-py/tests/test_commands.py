@@ -66,3 +66,42 @@ def test_every_function_is_a_declared_command_or_says_why_not():
     }
     assert functions - declared - set(NOT_COMMANDS) == set()
     assert declared <= functions
+
+
+def _stubs():
+    """The native module's stub (``_rvlife.pyi``): its functions' parameters with their
+    defaults (as source text), and its classes."""
+    import ast
+    from pathlib import Path
+
+    tree = ast.parse((Path(rvlife.__file__).parent / "_rvlife.pyi").read_text())
+    functions = {}
+    for node in tree.body:
+        if isinstance(node, ast.FunctionDef):
+            a = node.args
+            params = a.args + a.kwonlyargs
+            defaults = [None] * (len(a.args) - len(a.defaults)) + list(a.defaults) + list(a.kw_defaults)
+            functions[node.name] = [(p.arg, None if d is None else ast.unparse(d)) for p, d in zip(params, defaults)]
+    classes = {n.name for n in tree.body if isinstance(n, ast.ClassDef)}
+    return functions, classes
+
+
+def test_the_native_stub_is_the_native_module():
+    """The hand-written stub against the native module's own signatures (PyO3's
+    ``__text_signature__``): the same functions, parameters in the same order, the same
+    defaults."""
+    functions, classes = _stubs()
+    native = {n for n in dir(_rvlife) if not n.startswith("_")}
+    assert native - set(functions) - classes == set(), "native functions without a stub"
+    assert set(functions) - native == set(), "stubs of no native function"
+    for name, params in functions.items():
+        sig = inspect.signature(getattr(_rvlife, name))
+        got = [(p.name, None if p.default is inspect.Parameter.empty else repr(p.default)) for p in sig.parameters.values()]
+        assert [p for p, _ in got] == [p for p, _ in params], f"_rvlife.{name}: parameters"
+        for (p, d), (_, stub) in zip(got, params):
+            if d is None:
+                continue
+            assert stub is not None, f"_rvlife.{name}({p}=...): the stub has no default"
+            # `...`: a default PyO3 cannot write as Python (a Rust constant).
+            if d != "Ellipsis":
+                assert eval(stub) == eval(d), f"_rvlife.{name}({p}=...): default {stub} against {d}"

@@ -15,6 +15,7 @@ describe('the declared defaults', () => {
     expect(declaredDefault('te', 'torque_nm')).toBe('');
   });
   it('refuse an option the library does not declare', () => {
+    // @ts-expect-error: the type check refuses it first.
     expect(() => declaredDefault('hysteresis', 'level')).toThrow(/no option level/);
   });
   it('name a page command for every command the page runs', () => {
