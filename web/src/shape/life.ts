@@ -8,6 +8,9 @@ import type { KeyDoc, QuantityDoc, QuantityName, StageSummary, StudySummary } fr
 /** The stage table's columns, in order. */
 export const STAGE_COLUMNS: readonly QuantityName[] = ['hours', 'max_wear_um', 'lost_motion_arcmin', 'backlash_arcmin', 'angular_te_arcmin', 'ste_peak_to_peak_arcmin', 'torsional_stiffness_nm_per_arcmin', 'hysteresis_loss_arcmin', 'max_pressure_mpa'];
 
+/** The flexible disc's columns, shown when the study ran it (`[fem]`). */
+export const FLEXIBLE_COLUMNS: readonly QuantityName[] = ['flexible_lost_motion_arcmin', 'flexible_backlash_arcmin', 'flexible_ste_peak_to_peak_arcmin', 'flexible_loaded_te_peak_to_peak_arcmin', 'flexible_torsional_stiffness_nm_per_arcmin', 'max_von_mises_mpa'];
+
 /** The quantities charted against working hours, with the chart's title. */
 export const LIFE_CHARTS: readonly [QuantityName, string][] = [
   ['lost_motion_arcmin', 'Lost motion'], ['backlash_arcmin', 'Backlash'],
@@ -32,10 +35,13 @@ export interface StageHead { column: string; label: string; title: string }
 export interface StageCell { column: string; text: string; value: number | undefined }
 
 /** The stage table: a header a column (its label, its description as the title) and a row a
- *  stage; a value the study did not produce is left blank. */
+ *  stage, the flexible disc's columns after the others when the study ran it; a value the
+ *  study did not produce is left blank. */
 export function stageTable(stages: readonly StageSummary[], docs: ReadonlyMap<string, QuantityDoc>): { head: StageHead[]; rows: StageCell[][] } {
-  const head = STAGE_COLUMNS.map((c) => ({ column: c, label: labelOf(c, docs), title: docs.get(c)?.description ?? c }));
-  const rows = stages.map((st) => STAGE_COLUMNS.map((c) => {
+  // The flexible disc's columns where the study ran it.
+  const columns = [...STAGE_COLUMNS, ...FLEXIBLE_COLUMNS.filter((c) => stages[0]?.[c] !== undefined)];
+  const head = columns.map((c) => ({ column: c, label: labelOf(c, docs), title: docs.get(c)?.description ?? c }));
+  const rows = stages.map((st) => columns.map((c) => {
     const v = stageValue(st, c);
     return { column: c, text: v === undefined ? '' : fmt(v), value: v };
   }));

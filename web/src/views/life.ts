@@ -83,7 +83,7 @@ export function renderLife(panel: HTMLElement) {
   };
   const run = document.createElement('button');
   run.id = 'run-life';
-  run.textContent = 'Run the study (static analyses)';
+  run.textContent = 'Run the study';
   const flexBox = document.createElement('label');
   const flex = document.createElement('input');
   flex.type = 'checkbox';

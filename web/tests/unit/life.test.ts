@@ -59,6 +59,13 @@ describe('the stage table', () => {
     expect(pressure).toEqual({ column: 'max_pressure_mpa', text: '1234.6', value: 1234.5678 });
     expect(rows[0].find((c) => c.column === 'ste_peak_to_peak_arcmin')!.text).toBe('0.12346');
   });
+  it('adds the flexible disc\'s columns after the others when the study ran it', () => {
+    const flexible = { ...stage(0, 0.5, 120), flexible_lost_motion_arcmin: 0.61, max_von_mises_mpa: 55.3 } as StageSummary;
+    const { head, rows } = stageTable([flexible], docs);
+    expect(head.map((h) => h.column).slice(STAGE_COLUMNS.length)).toEqual(['flexible_lost_motion_arcmin', 'max_von_mises_mpa']);
+    expect(rows[0].at(-1)).toEqual({ column: 'max_von_mises_mpa', text: '55.3', value: 55.3 });
+    expect(stageTable(summary.stages, docs).head.length).toBe(STAGE_COLUMNS.length);
+  });
   it('leaves blank a value the study did not produce', () => {
     const partial = { ...stage(0, 0.5, 120), hysteresis_loss_arcmin: undefined } as unknown as StageSummary;
     const cell = stageTable([partial], docs).rows[0].find((c) => c.column === 'hysteresis_loss_arcmin')!;
