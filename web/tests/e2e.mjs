@@ -26,6 +26,15 @@ const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'rvlife-e2e-'));
 
 let failures = 0;
 const results = [];
+// Clicks `selector` on `page` and saves the download it starts under `name` in the test's
+// folder; returns its path.
+async function saveDownload(page, selector, name) {
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click(selector)]);
+  const to = path.join(tmp, name);
+  await download.saveAs(to);
+  return to;
+}
+
 function check(name, ok, detail = '') {
   results.push(`${ok ? 'ok  ' : 'FAIL'} ${name}${detail ? ': ' + detail : ''}`);
   console.log(results[results.length - 1]);
@@ -180,9 +189,7 @@ try {
     await page.waitForFunction((k) => document.querySelector(`[name="${k}"]`) && location.hash.length > 10, k);
   }
   await page.waitForTimeout(300);
-  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#export')]);
-  const exported = path.join(tmp, 'exported.toml');
-  await download.saveAs(exported);
+  const exported = await saveDownload(page, '#export', 'exported.toml');
   const text = fs.readFileSync(exported, 'utf8');
   check('export: dynamics and FE off in the file', /\[dynamics\][^[]*enabled = false/.test(text) && /\[fem\][^[]*enabled = false/.test(text));
   const example = spawnSync(bin, ['example'], { encoding: 'utf8' }).stdout;
@@ -216,9 +223,7 @@ try {
   check('the verdict is the command line\'s', cli.stdout.includes(verdict) || cli.stderr.includes(verdict), verdict);
   // The downloads are the command line's files.
   for (const name of ['summary.json', 'stages.csv', 'wear.csv', 'profiles/worn_7500h.dxf']) {
-    const [d] = await Promise.all([page.waitForEvent('download'), page.click(`button[data-file="${name}"]`)]);
-    const p = path.join(tmp, 'page-' + name.replace('/', '_'));
-    await d.saveAs(p);
+    const p = await saveDownload(page, `button[data-file="${name}"]`, 'page-' + name.replace('/', '_'));
     const mine = fs.readFileSync(p, 'utf8');
     const theirs = fs.readFileSync(path.join(tmp, 'cli', name), 'utf8');
     const sameBytes = mine === theirs;
@@ -270,12 +275,8 @@ try {
   await page.waitForSelector('#verdict', { timeout: 600000 });
   const flexStudyMs = Number(await page.evaluate(() => document.body.dataset.lastJobMs));
   const flexColumns = await page.$$eval('#stages th', (ths) => ths.map((th) => th.dataset.column).filter((c) => c.startsWith('flexible_') || c === 'max_von_mises_mpa'));
-  const [flexCfg] = await Promise.all([page.waitForEvent('download'), page.click('button[data-file="config.toml"]')]);
-  const flexToml = path.join(tmp, 'flexible.toml');
-  await flexCfg.saveAs(flexToml);
-  const [flexSum] = await Promise.all([page.waitForEvent('download'), page.click('button[data-file="summary.json"]')]);
-  const flexPage = path.join(tmp, 'page-flexible-summary.json');
-  await flexSum.saveAs(flexPage);
+  const flexToml = await saveDownload(page, 'button[data-file="config.toml"]', 'flexible.toml');
+  const flexPage = await saveDownload(page, 'button[data-file="summary.json"]', 'page-flexible-summary.json');
   const tf = performance.now();
   const flexCli = spawnSync(bin, ['run', flexToml, '--out', path.join(tmp, 'cli-flexible')], { encoding: 'utf8' });
   const flexStudyNativeMs = performance.now() - tf;
@@ -442,9 +443,7 @@ try {
   await page.setInputFiles('#import-file', exported);
   await page.waitForFunction(() => document.querySelector('#preset').value === '');
   await page.waitForTimeout(300);
-  const [again] = await Promise.all([page.waitForEvent('download'), page.click('#export')]);
-  const back = path.join(tmp, 'back.toml');
-  await again.saveAs(back);
+  const back = await saveDownload(page, '#export', 'back.toml');
   check('import then export gives the same TOML', fs.readFileSync(back, 'utf8') === text);
 
   // The address holds the config: a fresh page opened on it has the same config.
@@ -454,9 +453,7 @@ try {
   page2.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
   await page2.goto(link);
   await page2.waitForSelector('body[data-ready="true"]');
-  const [d2] = await Promise.all([page2.waitForEvent('download'), page2.click('#export')]);
-  const shared = path.join(tmp, 'shared.toml');
-  await d2.saveAs(shared);
+  const shared = await saveDownload(page2, '#export', 'shared.toml');
   check('a shared link opens the same config', fs.readFileSync(shared, 'utf8') === text, `${link.length} characters`);
 
   // Offline from the first visit: a fresh browser profile opens the page once, and with the
@@ -468,9 +465,7 @@ try {
   // The example enables dynamics and the FE disc; the page's study runs without them, and the
   // config.toml it offers says so.
   await page3.waitForSelector('button[data-file="config.toml"]', { timeout: 120000 });
-  const [dc3] = await Promise.all([page3.waitForEvent('download'), page3.click('button[data-file="config.toml"]')]);
-  const ranPath = path.join(tmp, 'page-study-config.toml');
-  await dc3.saveAs(ranPath);
+  const ranPath = await saveDownload(page3, 'button[data-file="config.toml"]', 'page-study-config.toml');
   const ran = fs.readFileSync(ranPath, 'utf8');
   check('the study\'s config.toml is the config it ran (dynamics and FE off)', /\[dynamics\][^[]*\nenabled = false/.test(ran) && /\[fem\][^[]*\nenabled = false/.test(ran) && /\[dynamics\][^[]*\nenabled = true/.test(example),
     ran.split('\n').filter((l) => l.startsWith('enabled')).join(' | '));
@@ -546,9 +541,7 @@ try {
     const cli = spawnSync(bin, args, { encoding: 'utf8' });
     let count = 0; let w = 0; let rows = 0; let phases = '';
     for (const file of ['candidates.csv', 'pareto.csv']) {
-      const [dl] = await Promise.all([page2.waitForEvent('download'), page2.click(`button[data-file="${file}"]`)]);
-      const mine = path.join(tmp, `page-${name}-${file}`);
-      await dl.saveAs(mine);
+      const mine = await saveDownload(page2, `button[data-file="${file}"]`, `page-${name}-${file}`);
       const theirs = cli.status === 0 ? fs.readFileSync(path.join(tmp, name, file), 'utf8') : '';
       const d = numbersDiffer(fs.readFileSync(mine, 'utf8'), theirs);
       count += d.count; w = Math.max(w, d.worst);
@@ -615,9 +608,7 @@ try {
     mcTimes[workers] = (Date.now() - t0) / 1000;
     for (const file of ['samples.csv', 'stages.csv']) {
       if (!done) break;
-      const [dl] = await Promise.all([p.waitForEvent('download'), p.click(`button[data-file="${file}"]`)]);
-      const mine = path.join(tmp, `mc16-${workers}-${file}`);
-      await dl.saveAs(mine);
+      const mine = await saveDownload(p, `button[data-file="${file}"]`, `mc16-${workers}-${file}`);
       mcTexts[`${workers} ${file}`] = fs.readFileSync(mine, 'utf8');
     }
     await p.close();
@@ -645,9 +636,7 @@ try {
   const tolMeaning2 = await page.$eval(`${tolKey} .meaning`, (m) => m.textContent);
   const exportTo = async (name) => {
     await page.waitForTimeout(300);
-    const [d] = await Promise.all([page.waitForEvent('download'), page.click('#export')]);
-    const p = path.join(tmp, name);
-    await d.saveAs(p);
+    const p = await saveDownload(page, '#export', name);
     return fs.readFileSync(p, 'utf8');
   };
   const tolLine = (await exportTo('tolerance-edited.toml')).split('\n').find((l) => l.startsWith('pin_radial_um')) ?? '';

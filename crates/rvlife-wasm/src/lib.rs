@@ -224,7 +224,8 @@ pub fn te(
 /// The hysteresis curve at `crank_deg` with `levels` torque levels (`rvlife hysteresis
 /// --json`), worn after `hours` or by `wear_um`. JSON [`rvlife::api::HysteresisResult`] with
 /// `catalogue_points`: where the mean curve's lost motion and torsional stiffness are read
-/// ([`CataloguePointsJson`]), for the page to mark them on the curve.
+/// (`lost_motion` and `torsional_stiffness`, each two `[torque N m, twist arcmin]` points),
+/// for the page to mark them on the curve.
 ///
 /// # Errors
 /// The config's message, or the argument's.

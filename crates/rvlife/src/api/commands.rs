@@ -92,14 +92,6 @@ pub struct OptionDecl {
 }
 
 impl OptionDecl {
-    /// Its name in the front end `front`.
-    pub fn name_in(&self, front: Front) -> &'static str {
-        match (front, self.python_name) {
-            (Front::Python, Some(n)) => n,
-            _ => self.name,
-        }
-    }
-
     /// Its default in the front end `front`.
     pub fn default_in(&self, front: Front) -> Default {
         match (front, self.python_default) {

@@ -124,19 +124,15 @@ impl WornState {
         Cow::Owned(r)
     }
 
-    /// Wears `red`'s crank bearings and pins to this state, in place.
+    /// Wears `red`'s crank bearings (their clearances opened by this state's growth) and pins
+    /// to this state, in place.
     pub fn wear_parts(&self, red: &mut Reducer) {
-        self.grow_bearings(red);
-        if self.pins_worn() {
-            red.pin_wear = PinWear::new(self.pins.clone());
-        }
-    }
-
-    /// Opens `red`'s crank bearings' clearances by this state's growth.
-    pub fn grow_bearings(&self, red: &mut Reducer) {
         if self.bearings_worn() {
             red.bearings.disc.clearance += self.bearing_disc;
             red.bearings.carrier.clearance += self.bearing_carrier;
+        }
+        if self.pins_worn() {
+            red.pin_wear = PinWear::new(self.pins.clone());
         }
     }
 }
