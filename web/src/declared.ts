@@ -2,6 +2,7 @@
 // `rvlife::api::commands`): the page's forms start from the declared defaults, so that the
 // page, the command line and Python run the same command when nothing is changed.
 import { COMMANDS } from './generated/commands';
+import type { Field } from './ui';
 
 type Declared = (typeof COMMANDS)[number];
 /** A command's name on the command line. */
@@ -22,4 +23,25 @@ export function declaredDefault<C extends CommandName>(command: C, option: Optio
     return typeof v === 'number' || typeof v === 'string' ? String(v) : '';
   }
   return '';
+}
+
+/** A form's field for option `option` of command `command`: its unit and its help (the
+ *  command line's `--help` text, shown as the field's tooltip) from the declaration, its
+ *  value the declared default unless the page gives one (`value`: the page's own start, such
+ *  as the config's rated torque). */
+export function declaredField<C extends CommandName>(
+  command: C,
+  option: OptionOf<C>,
+  field: { id: string; label: string; value?: string; choices?: string[] },
+): Field {
+  const c = COMMANDS.find((x) => x.name === command);
+  const o = c?.options.find((x) => x.name === option);
+  if (!o) throw new Error(`rvlife ${command} has no option ${option}`);
+  if (!(o.fronts as readonly string[]).includes('page')) throw new Error(`rvlife ${command} --${option} is not the page's`);
+  return {
+    ...field,
+    value: field.value ?? declaredDefault(command, option),
+    unit: o.unit,
+    help: o.help,
+  };
 }

@@ -47,8 +47,8 @@ export function numbers<T extends object>(obj: T, keys: readonly (keyof T & stri
   return numbersTable(namedNumbers(obj, keys));
 }
 
-/** A number to enter, or with `choices` one of them (its index). */
-export type Field = { id: string; label: string; value: string; unit: string; choices?: string[] };
+/** A number to enter, or with `choices` one of them (its index); `help` its tooltip. */
+export type Field = { id: string; label: string; value: string; unit: string; choices?: string[]; help?: string };
 
 /** The numbers entered, by field id; a blank field is undefined. */
 export type FormValues = Record<string, number | undefined>;
@@ -71,6 +71,7 @@ export function form(fields: Field[], action: string, run: (v: FormValues) => vo
     }
     i.id = x.id; i.name = x.id; i.value = x.value;
     l.append(`${x.label} `, i, ` ${x.unit}`);
+    if (x.help) l.title = x.help;
     f.append(l);
   }
   const b = document.createElement('button');

@@ -282,12 +282,18 @@ try {
   const flexStudyNativeMs = performance.now() - tf;
   const flexRef = flexCli.status === 0 ? JSON.parse(fs.readFileSync(path.join(tmp, 'cli-flexible/summary.json'), 'utf8')) : { stages: [] };
   const flexMine = JSON.parse(fs.readFileSync(flexPage, 'utf8'));
-  // The flexible contact solve is a fixed point that stops when the pins' gap offsets change
-  // by less than 1e-3 of the largest (FLEX_OFFSET_TOLERANCE, docs in fem/flex.rs): the page's
-  // arithmetic (no fused multiply-add, no SIMD) stops it at another point of that band, where
-  // the TE peak-to-peak values move by up to 5e-4 of themselves and the stress maxima, read at
-  // one element, by more. Bounds: the TE, play and stiffness 5e-4 (or 2.2e-5 arcmin), the
+  // The page's arithmetic is not the native binary's: the FE disc's sparse factorisation runs
+  // with SIMD and fused multiply-add natively (faer's runtime dispatch) and without them in the
+  // module, and the elementary functions come from another libm. The FE stiffness is
+  // ill-conditioned, so its last-bit differences reach about 1e-7..1e-6 of the flexible TE
+  // means, play and stiffness, already on the unworn disc. Tightening the flexible contact's
+  // fixed point (FLEX_OFFSET_TOLERANCE 1e-3 -> 1e-10) left every difference as it was: they are
+  // the platforms', not the solver's stopping point. A peak-to-peak value is the difference of
+  // two extremes over the mesh cycle, each where a pin enters or leaves contact, so it moves by
+  // more (8e-5 measured), and a stress maximum, read at one element, by more again. Bounds: the
+  // means, play and stiffness 1e-5, the peak-to-peak values 5e-4 (or 2.2e-5 arcmin), the
   // stresses 1e-2.
+  const fm = new Worst(1e-5);
   const fw = new Worst(5e-4);
   const sw = new Worst(1e-2);
   let flexExact = 0;
@@ -295,12 +301,12 @@ try {
     for (const [k, v] of Object.entries(st)) {
       const stress = k === 'max_von_mises_mpa' || k === 'max_root_stress_mpa';
       if (!k.startsWith('flexible_') && !stress) continue;
-      (stress ? sw : fw).add(`stages[${i}].${k}`, flexMine.stages[i]?.[k], v);
+      (stress ? sw : k.includes('peak_to_peak') ? fw : fm).add(`stages[${i}].${k}`, flexMine.stages[i]?.[k], v);
       if (flexMine.stages[i]?.[k] === v) flexExact++;
     }
   });
-  check('the study with the flexible disc equals rvlife run with [fem] on (TE 5e-4, stresses 1e-2)', /\[fem\][^[]*enabled = true/.test(fs.readFileSync(flexToml, 'utf8')) && flexColumns.length >= 5 && fw.compared >= 40 && fw.ok() && sw.ok(), `TE, play, stiffness: ${fw.detail()}; stresses: ${sw.detail()}; ${flexExact} of ${fw.compared + sw.compared} equal to the last bit; the table's flexible columns: ${flexColumns.join(', ')}`);
-  figure(`study with the flexible disc: page ${(flexStudyMs / 1000).toFixed(2)} s, native rvlife run ${(flexStudyNativeMs / 1000).toFixed(2)} s; flexible TE: ${fw.detail()}; stresses: ${sw.detail()}`);
+  check('the study with the flexible disc equals rvlife run with [fem] on (means, play, stiffness 1e-5; peak-to-peak 5e-4; stresses 1e-2)', /\[fem\][^[]*enabled = true/.test(fs.readFileSync(flexToml, 'utf8')) && flexColumns.length >= 5 && fm.compared >= 30 && fw.compared >= 10 && fm.ok() && fw.ok() && sw.ok(), `means, play, stiffness: ${fm.detail()}; peak-to-peak: ${fw.detail()}; stresses: ${sw.detail()}; ${flexExact} of ${fm.compared + fw.compared + sw.compared} equal to the last bit; the table's flexible columns: ${flexColumns.join(', ')}`);
+  figure(`study with the flexible disc: page ${(flexStudyMs / 1000).toFixed(2)} s, native rvlife run ${(flexStudyNativeMs / 1000).toFixed(2)} s; flexible TE means, play, stiffness: ${fm.detail()}; peak-to-peak: ${fw.detail()}; stresses: ${sw.detail()}`);
   await page.click('#life-flexible');
 
   // The multibody simulation (rigid discs) against `rvlife dynamics --json`.
@@ -353,6 +359,11 @@ try {
   const torques = await page.$eval('#chart-hysteresis', (c) => c.chart.data.datasets[0].data.map((p) => p.x));
   const hyst = await page.$$eval('#panel table.numbers td[data-value]', (tds) => Object.fromEntries(tds.map((td) => [td.previousElementSibling.textContent, Number(td.dataset.value)])));
   const cliHyst = JSON.parse(spawnSync(bin, ['hysteresis', exported, '--levels', '10', '--crank-deg', '0', '--json'], { encoding: 'utf8', maxBuffer: 1 << 28 }).stdout || '{}');
+  // The form's fields carry the command line's help for the same options (one declaration in
+  // the library): each tooltip is a line of `rvlife hysteresis --help`.
+  const tips = await page.$$eval('#panel form.args label', (ls) => ls.map((l) => l.title));
+  const cliHelp = spawnSync(bin, ['hysteresis', '--help'], { encoding: 'utf8' }).stdout.replace(/\s+/g, ' ');
+  check('the hysteresis form\'s tooltips are rvlife hysteresis --help\'s help of the same options', tips.length === 3 && tips.every((t) => t.length > 10 && cliHelp.includes(t)), tips.join(' | '));
   const hKeys = ['lost_motion_arcmin', 'backlash_arcmin', 'hysteresis_loss_arcmin', 'torsional_stiffness_nm_per_arcmin'];
   const hRel = Math.max(...hKeys.map((k) => Math.abs(hyst[k] - cliHyst[k]) / Math.max(Math.abs(cliHyst[k]), 1e-6)));
   check('the hysteresis loop is drawn whole (both torque signs) and equals rvlife hysteresis --json',

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, FromArgMatches, Parser, Subcommand};
 use console::{print_all_quantities, print_sensitivity, print_stage_table};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rvlife::api::{commands, Spelling, Wear};
@@ -26,7 +26,6 @@ macro_rules! say {
 
 mod calibrate;
 mod console;
-#[cfg(test)]
 mod declared;
 mod efficiency;
 mod optimize;
@@ -87,302 +86,188 @@ struct Cli {
     command: Command,
 }
 
+/// The subcommands. Their descriptions and their options' help are not written here: they
+/// come from the library's declaration of the commands (`rvlife::api::commands`), set on the
+/// parser by `declared::cli`.
 #[derive(Subcommand)]
 enum Command {
-    /// Print a built-in config, fully commented: the built-in RV-40E-class reducer by default.
     Example {
-        /// Which built-in reducer (`--list` shows them).
         #[arg(long, default_value = commands::PRESET)]
         preset: String,
-        /// List the built-in reducers with their sources.
         #[arg(long)]
         list: bool,
     },
-    /// Run the accuracy-life study and write the results directory.
     Run {
         /// Config file (default: the built-in example).
         config: Option<PathBuf>,
-        /// Results directory (created; must not exist or be empty unless --force).
         #[arg(long, default_value = out_dir("run"))]
         out: PathBuf,
-        /// Replace an existing results directory.
         #[arg(long)]
         force: bool,
-        /// Also print every quantity of every stage (all of `stages.csv`), one row per
-        /// quantity.
         #[arg(long)]
         all: bool,
     },
-    /// Export the disc profile (nominal, modified or worn) to CSV, DXF or SVG.
     Profile {
         /// Config file (default: the built-in example).
         config: Option<PathBuf>,
-        /// Output file; the format follows the extension (.csv, .dxf, .svg).
         #[arg(long, required_unless_present = "json")]
         out: Option<PathBuf>,
-        /// Print the points as JSON instead (x, y in mm, mesh angle in deg, wear depth along
-        /// the normal in um; the web page's `profile`).
         #[arg(long, conflicts_with = "out")]
         json: bool,
-        /// Points per tooth of `--json` (default: the export's).
         #[arg(long, requires = "json")]
         points_per_tooth: Option<usize>,
-        /// Ignore the config's modifications (the nominal profile).
         #[arg(long)]
         nominal: bool,
-        /// Replace an existing output file.
         #[arg(long)]
         force: bool,
         #[command(flatten)]
         wear: WearArgs,
     },
-    /// Static equilibrium of the reducer at one crank angle under an output torque (input
-    /// locked): pin forces on each disc, disc translations, twist.
     Contact {
         /// Config file (default: the built-in example).
         config: Option<PathBuf>,
-        /// Crank angle, degrees (0: eccentric towards pin 0).
         #[arg(long, allow_hyphen_values = true)]
         crank_deg: f64,
-        /// Torque on the output, N m (positive counter-clockwise).
         #[arg(long, allow_hyphen_values = true)]
         torque_nm: f64,
-        /// Print one JSON object.
         #[arg(long)]
         json: bool,
         #[command(flatten)]
         wear: WearArgs,
     },
-    /// Static TE, backlash and lost motion over a mesh cycle (and loaded TE with --torque-nm).
     Te {
         /// Config file (default: the built-in example).
         config: Option<PathBuf>,
-        /// Also the loaded TE at this output torque, N m.
         #[arg(long, allow_hyphen_values = true)]
         torque_nm: Option<f64>,
-        /// Print one JSON object.
         #[arg(long)]
         json: bool,
         #[command(flatten)]
         wear: WearArgs,
     },
-    /// Hysteresis curve (output torque 0 -> +rated -> -rated -> +rated, input locked) with
-    /// backlash, lost motion, hysteresis loss and torsional stiffness.
     Hysteresis {
         /// Config file (default: the built-in example).
         config: Option<PathBuf>,
-        /// Crank angle of the single-crank-angle curve, degrees (the mean over a mesh cycle is
-        /// always reported).
         #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
         crank_deg: f64,
-        /// Torque levels per side beyond the measuring torque.
         #[arg(long, default_value_t = commands::HYSTERESIS_LEVELS, allow_negative_numbers = true, value_parser = whole::<u32>)]
         levels: u32,
-        /// Print one JSON object.
         #[arg(long)]
         json: bool,
-        /// Also how `b/a` and the lost motion of the new reducer move when each estimated
-        /// dimension or count of its structure and bearings changes by this fraction both ways
-        /// (0.2 when given without a value; in (0, 0.5]); `--json` as `sensitivity`.
         #[arg(long, num_args = 0..=1, default_missing_value = "0.2", allow_negative_numbers = true)]
         sensitivity: Option<f64>,
         #[command(flatten)]
         wear: WearArgs,
     },
-    /// Power losses and efficiency over output speed, torque and oil temperature: the disc-pin
-    /// contacts (the oil film's friction), crank bearings and sun-planet meshes.
     Efficiency {
         /// Config file (default: the built-in example).
         config: Option<PathBuf>,
-        /// Output speeds, rpm, comma-separated (default 5,10,15,20,30,40,50).
         #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
         speeds_rpm: Option<Vec<f64>>,
-        /// Output torques, N m, comma-separated (default 1/4, 1/2, 3/4 and all of the rated
-        /// torque).
         #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
         torques_nm: Option<Vec<f64>>,
-        /// Oil temperatures, deg C, comma-separated (default `[lubrication] temperature_c`).
         #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
         temperatures_c: Option<Vec<f64>>,
-        /// Also write the map as CSV to this file (must not exist unless --force).
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Replace an existing --out file.
         #[arg(long)]
         force: bool,
-        /// Print one JSON object.
         #[arg(long)]
         json: bool,
         #[command(flatten)]
         wear: WearArgs,
     },
-    /// Simulate the whole reducer (multibody model, impact contact) and report the dynamic TE.
     Dynamics {
         /// Config file (default: the built-in example).
         config: Option<PathBuf>,
-        /// Output load, overriding `[dynamics.load] kind` (its other keys still apply).
         #[arg(long, value_parser = ["none", "constant", "sinusoidal", "table"])]
         load: Option<String>,
-        /// Constant torque on the output, N m (with --load constant; default: rated torque;
-        /// positive counter-clockwise, a load resisting forward rotation is negative).
         #[arg(long, allow_hyphen_values = true)]
         torque_nm: Option<f64>,
-        /// Results directory: `dynamics.csv`, `summary.json`, plots (created; must not exist or
-        /// be empty unless --force).
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Replace an existing results directory.
         #[arg(long)]
         force: bool,
-        /// Also write every pin force at every sample (`pin_forces.csv`).
         #[arg(long)]
         pin_forces: bool,
-        /// Print the summary as one JSON object.
         #[arg(long)]
         json: bool,
-        /// The discs, overriding `[dynamics] disc`: rigid, or the FE disc of `[fem]` modally
-        /// reduced (`[dynamics.flexible]`).
         #[arg(long, value_parser = ["rigid", "flexible"])]
         disc: Option<String>,
         #[command(flatten)]
         wear: WearArgs,
     },
-    /// Monte Carlo over the part tolerances (`[tolerances]`): sampled reducers through the
-    /// accuracy-life study; per-sample results, percentiles, the accuracy life's distribution.
     Montecarlo {
         /// Config file (default: the built-in example).
         config: Option<PathBuf>,
-        /// Number of sampled reducers of the whole run.
         #[arg(long, default_value_t = commands::MONTECARLO_SAMPLES, allow_negative_numbers = true, value_parser = whole::<usize>)]
         samples: usize,
-        /// Seed: same seed, same bytes.
         #[arg(long, default_value_t = commands::SEED, allow_negative_numbers = true, value_parser = whole::<u64>)]
         seed: u64,
-        /// `I/N`: run only the I-th (1-based) of N disjoint parts of the samples; `/N` takes I
-        /// from SLURM_ARRAY_TASK_ID (cluster job arrays with `--array=1-N`); `rvlife merge`
-        /// combines the parts.
         #[arg(long, allow_hyphen_values = true)]
         shard: Option<String>,
-        /// Integrate every sample's own wear instead of sharing the nominal reducer's.
         #[arg(long)]
         full_wear: bool,
-        /// Crank angles per mesh cycle of the hysteresis curves and the revolution TE.
         #[arg(long, default_value_t = rvlife::montecarlo::DEFAULT_SAMPLES_PER_MESH_CYCLE, allow_negative_numbers = true, value_parser = whole::<usize>)]
         samples_per_mesh_cycle: usize,
-        /// Results directory.
         #[arg(long, default_value = out_dir("montecarlo"))]
         out: PathBuf,
-        /// Replace an existing results directory.
         #[arg(long)]
         force: bool,
-        /// Accept a run in which most samples cannot be assembled, fail, or start out of spec
-        /// (by default such a run writes its results and exits with code 2, naming
-        /// `[tolerances]`).
         #[arg(long)]
         keep_going: bool,
     },
-    /// Combine the shards of a Monte Carlo run into exactly the files the unsharded run writes.
     Merge {
-        /// The shards' results directories.
         #[arg(required = true)]
         shards: Vec<PathBuf>,
-        /// Results directory.
         #[arg(long)]
         out: PathBuf,
-        /// Replace an existing results directory.
         #[arg(long)]
         force: bool,
     },
-    /// Design sweep: the product of values of config keys (`--vary`), one accuracy-life
-    /// study per design; writes the tidy table of every design and stage (`sweep.csv`), each
-    /// design's verdict (`designs.csv`), its config, and a report.
     Sweep {
         /// Config file the designs start from (default: the built-in example).
         config: Option<PathBuf>,
-        /// A varied key: `KEY=LO:HI:N` (N values from LO to HI) or `KEY=A,B,C`, the key dotted
-        /// as in the config (`cycloid.eccentricity_mm=1.2:1.4:3`); repeat for a product.
         #[arg(long, required = true, allow_hyphen_values = true)]
         vary: Vec<String>,
-        /// A key set in every design, `KEY=VALUE` (`dynamics.enabled=false`); repeatable.
         #[arg(long, allow_hyphen_values = true)]
         set: Vec<String>,
-        /// Results directory.
         #[arg(long, default_value = out_dir("sweep"))]
         out: PathBuf,
-        /// Replace an existing results directory.
         #[arg(long)]
         force: bool,
     },
-    /// Design search: the keys of `--vary` within their ranges that keep the reducer in
-    /// spec longest (`--objective life`, or `b10`), or the Pareto front of several goals
-    /// (`life,lost_motion_arcmin`), under constraints on any quantity at any stage; writes
-    /// every candidate (`candidates.csv`), the front (`pareto.csv`), the best design's config
-    /// (`optimum.toml`) and a report. Ctrl-C stops after the running candidate and writes
-    /// what was found.
     Optimize {
         /// Config file the search starts from (default: the built-in example).
         config: Option<PathBuf>,
-        /// A varied key and its range, `KEY=LO:HI`, dotted as in the config
-        /// (`cycloid.modification.equidistant_mm=0.008:0.03`); whole-number ends on a key
-        /// that takes whole numbers (pins) search whole numbers; repeat for each key.
         #[arg(long, required = true, allow_hyphen_values = true)]
         vary: Vec<String>,
-        /// The goals, comma separated: `life` (the accuracy life), `b10` or `b10:SAMPLES`
-        /// (a Monte Carlo of `[tolerances]` per candidate), a quantity of stages.csv
-        /// (minimised; `max:` to maximise), a quantity optionally at a stage (`@new`,
-        /// `@last`, `@HOURS`); two or more give a Pareto front (NSGA-II).
         #[arg(long, default_value = commands::OPTIMIZE_OBJECTIVE)]
         objective: String,
-        /// A constraint, `QUANTITY[@STAGE]<=VALUE` or `>=` (`lost_motion_arcmin<=0.8`: the
-        /// new reducer; `max_pressure_mpa@last<=1500`); repeatable.
         #[arg(long, allow_hyphen_values = true)]
         constraint: Vec<String>,
-        /// Most candidate studies (2 to 5000).
         #[arg(long, default_value_t = commands::OPTIMIZE_EVALUATIONS)]
         evaluations: usize,
-        /// Seed of the search's random draws (and of the B10 goal's samples).
         #[arg(long, default_value_t = commands::SEED)]
         seed: u64,
-        /// Results directory.
         #[arg(long, default_value = out_dir("optimize"))]
         out: PathBuf,
-        /// Replace an existing results directory.
         #[arg(long)]
         force: bool,
     },
-    /// Find the Archard coefficient that gives a target maximum wear at the last stage, or
-    /// (with --measured) fit it to measured lost motion, backlash or wear against hours.
     Calibrate {
         /// Config file (default: the built-in example).
         config: Option<PathBuf>,
-        /// Target maximum wear depth at the last stage, um.
         #[arg(long, default_value_t = commands::CALIBRATE_TARGET_WEAR_UM, allow_negative_numbers = true)]
         target_wear_um: f64,
-        /// Measurements CSV: a column `hours` (h) and one or more of `lost_motion_arcmin`,
-        /// `backlash_arcmin`, `angular_te_arcmin`, `max_wear_um` (empty cell: not measured). Fits the Archard
-        /// coefficient by weighted least squares with a 95 % confidence interval (Gauss-Newton,
-        /// Student-t) instead of aiming at --target-wear-um; with `[wear] running_in_factor` > 1
-        /// in the config it fits that factor too (`running_in_hours` kept). Or a measured
-        /// hysteresis curve of the new reducer, columns `torque_nm,twist_arcmin` in the bench's
-        /// order (0 -> +rated -> -rated -> +rated): fits `[reducer.structure]
-        /// compliance_arcmin_per_knm` with its 95 % interval.
         #[arg(long, conflicts_with_all = ["target_wear_um", "catalogue_stiffness_nm_per_arcmin"])]
         measured: Option<PathBuf>,
-        /// A catalogue torsional stiffness b/a, N m/arcmin: sets `[reducer.structure]
-        /// compliance_arcmin_per_knm` so that the new reducer's b/a equals it.
         #[arg(long, conflicts_with = "target_wear_um")]
         catalogue_stiffness_nm_per_arcmin: Option<f64>,
-        /// Also fit a running-in play b0 (arcmin) added to backlash and lost motion (the
-        /// assembly play of a new reducer beyond the model's own).
         #[arg(long, requires = "measured")]
         fit_running_in: bool,
-        /// Results directory: calibrated.toml (the config with the fitted values set, ready for
-        /// `rvlife run`) and, for a fit to measurements, calibration.json, residuals.csv,
-        /// calibration.svg/png (created; must not exist or be empty unless --force). Without
-        /// it, calibrated.toml is written in the current directory, where it must not exist.
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Replace an existing results directory.
         #[arg(long, requires = "out")]
         force: bool,
     },
@@ -390,10 +275,8 @@ enum Command {
 
 #[derive(Args)]
 struct WearArgs {
-    /// Uniform wear depth along the whole profile, um (the paper's conservative model).
     #[arg(long, conflicts_with = "hours", allow_hyphen_values = true)]
     wear_um: Option<f64>,
-    /// Wear map from the config's wear model after this many working hours.
     #[arg(long, allow_hyphen_values = true)]
     hours: Option<f64>,
 }
@@ -651,17 +534,18 @@ fn run(cli: Cli) -> Result<()> {
             let staging = rvlife::output::Staging::prepare(&out, force)?;
             let pb = progress_bar(1);
             let start = std::time::Instant::now();
-            let study = rvlife::study::run_with_notices(
-                &model,
-                &|done, total| {
-                    pb.set_length(total as u64);
-                    pb.set_position(done as u64);
-                },
-                &|line| {
-                    pb.set_message("life search");
-                    pb.suspend(|| eprintln!("{line}"));
-                },
-            )?;
+            let bar = rvlife::study::Progress(|done, total| {
+                pb.set_length(total as u64);
+                pb.set_position(done as u64);
+            });
+            let notices = rvlife::study::Notices(|line: &str| {
+                pb.set_message("life search");
+                pb.suspend(|| eprintln!("{line}"));
+            });
+            let study = rvlife::study::Executor::new(&model)
+                .observe(&bar)
+                .observe(&notices)
+                .run()?;
             pb.set_message("writing");
             staging.commit(|dir| rvlife::output::write_files(&study, dir))?;
             pb.finish_and_clear();
@@ -1086,7 +970,7 @@ fn main() -> ExitCode {
         rvlife::output::remove_pending();
         std::process::exit(130);
     });
-    let cli = Cli::parse();
+    let cli = Cli::from_arg_matches(&declared::cli().get_matches()).unwrap_or_else(|e| e.exit());
     let result = run(cli);
     // A signal arrived: its handler is removing the temporary outputs and ends the process
     // with 130; an error met meanwhile (a file removed under a writer) is not reported.

@@ -105,3 +105,21 @@ def test_the_native_stub_is_the_native_module():
             # `...`: a default PyO3 cannot write as Python (a Rust constant).
             if d != "Ellipsis":
                 assert eval(stub) == eval(d), f"_rvlife.{name}({p}=...): default {stub} against {d}"
+
+
+@pytest.mark.parametrize("decl", [c for c in COMMANDS if c["python"]], ids=lambda c: c["name"])
+def test_every_declared_option_is_documented_from_the_declaration(decl):
+    """Each command function's docstring carries each of its Python options' declared help (the
+    command line's ``--help`` text, its flags in Python's spelling) under the option's name."""
+    from rvlife._declared import python_text
+
+    doc = getattr(rvlife, decl["python"]).__doc__ or ""
+    names = {o["name"]: o["python_name"] or o["name"] for o in decl["options"]}
+    for o in decl["options"]:
+        if "python" not in o["fronts"]:
+            continue
+        name = o["python_name"] or o["name"]
+        assert o["help"], f"rvlife.{decl['python']}({name}=...): no help declared"
+        assert f"- ``{name}``" in doc and python_text(o["help"], names) in doc, (
+            f"rvlife.{decl['python']}({name}=...): its declared help is not in the docstring"
+        )

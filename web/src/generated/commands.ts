@@ -8,6 +8,7 @@ export const COMMANDS = [
     "python": "example",
     "page": "presetText",
     "summary": "a built-in config, fully commented",
+    "about": "Print a built-in config, fully commented: the built-in RV-40E-class reducer by default",
     "out_dir": null,
     "options": [
       {
@@ -23,7 +24,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "Which built-in reducer (`--list` shows them)"
       },
       {
         "name": "list",
@@ -34,7 +36,8 @@ export const COMMANDS = [
         "python_default": null,
         "fronts": [
           "cli"
-        ]
+        ],
+        "help": "List the built-in reducers with their sources"
       }
     ]
   },
@@ -43,6 +46,7 @@ export const COMMANDS = [
     "python": "run_study",
     "page": "study",
     "summary": "the accuracy-life study and its results directory",
+    "about": "Run the accuracy-life study and write the results directory",
     "out_dir": "rvlife-results",
     "options": [
       {
@@ -55,7 +59,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Results directory (created; must not exist or be empty unless --force)"
       },
       {
         "name": "force",
@@ -67,7 +72,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Replace an existing results directory"
       },
       {
         "name": "all",
@@ -78,7 +84,8 @@ export const COMMANDS = [
         "python_default": null,
         "fronts": [
           "cli"
-        ]
+        ],
+        "help": "Also print every quantity of every stage (all of `stages.csv`), one row per quantity"
       }
     ]
   },
@@ -87,6 +94,7 @@ export const COMMANDS = [
     "python": "profile",
     "page": "profile",
     "summary": "the disc profile's points or its export",
+    "about": "Export the disc profile (nominal, modified or worn) to CSV, DXF or SVG",
     "out_dir": null,
     "options": [
       {
@@ -98,7 +106,8 @@ export const COMMANDS = [
         "python_default": null,
         "fronts": [
           "cli"
-        ]
+        ],
+        "help": "Output file; the format follows the extension (.csv, .dxf, .svg)"
       },
       {
         "name": "json",
@@ -109,7 +118,8 @@ export const COMMANDS = [
         "python_default": null,
         "fronts": [
           "cli"
-        ]
+        ],
+        "help": "Print the points as JSON instead (x, y in mm, mesh angle in deg, wear depth along the normal in um; the web page's `profile`)"
       },
       {
         "name": "points_per_tooth",
@@ -124,7 +134,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "Points per tooth of `--json` (default: the export's)"
       },
       {
         "name": "nominal",
@@ -137,7 +148,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "Ignore the config's modifications (the nominal profile)"
       },
       {
         "name": "force",
@@ -148,7 +160,8 @@ export const COMMANDS = [
         "python_default": null,
         "fronts": [
           "cli"
-        ]
+        ],
+        "help": "Replace an existing output file"
       },
       {
         "name": "wear_um",
@@ -160,7 +173,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Uniform wear depth along the whole profile, um (the paper's conservative model)"
       },
       {
         "name": "hours",
@@ -173,7 +187,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "Wear map from the config's wear model after this many working hours"
       }
     ]
   },
@@ -182,6 +197,7 @@ export const COMMANDS = [
     "python": "contact",
     "page": "contact",
     "summary": "the static equilibrium at one crank angle under an output torque",
+    "about": "Static equilibrium of the reducer at one crank angle under an output torque (input locked): pin forces on each disc, disc translations, twist",
     "out_dir": null,
     "options": [
       {
@@ -195,7 +211,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "Crank angle, degrees (0: eccentric towards pin 0)"
       },
       {
         "name": "torque_nm",
@@ -208,7 +225,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "Torque on the output, N m (positive counter-clockwise)"
       },
       {
         "name": "json",
@@ -219,7 +237,8 @@ export const COMMANDS = [
         "python_default": null,
         "fronts": [
           "cli"
-        ]
+        ],
+        "help": "Print one JSON object"
       },
       {
         "name": "wear_um",
@@ -231,7 +250,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Uniform wear depth along the whole profile, um (the paper's conservative model)"
       },
       {
         "name": "hours",
@@ -244,7 +264,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "Wear map from the config's wear model after this many working hours"
       }
     ]
   },
@@ -253,6 +274,7 @@ export const COMMANDS = [
     "python": "te",
     "page": "te",
     "summary": "static and loaded transmission error, backlash and lost motion",
+    "about": "Static TE, backlash and lost motion over a mesh cycle (and loaded TE with --torque-nm)",
     "out_dir": null,
     "options": [
       {
@@ -266,7 +288,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "Also the loaded TE at this output torque, N m"
       },
       {
         "name": "json",
@@ -277,7 +300,8 @@ export const COMMANDS = [
         "python_default": null,
         "fronts": [
           "cli"
-        ]
+        ],
+        "help": "Print one JSON object"
       },
       {
         "name": "wear_um",
@@ -289,7 +313,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Uniform wear depth along the whole profile, um (the paper's conservative model)"
       },
       {
         "name": "hours",
@@ -302,7 +327,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "Wear map from the config's wear model after this many working hours"
       }
     ]
   },
@@ -311,6 +337,7 @@ export const COMMANDS = [
     "python": "hysteresis",
     "page": "hysteresis",
     "summary": "the hysteresis curve and its catalogue quantities",
+    "about": "Hysteresis curve (output torque 0 -> +rated -> -rated -> +rated, input locked) with backlash, lost motion, hysteresis loss and torsional stiffness",
     "out_dir": null,
     "options": [
       {
@@ -326,7 +353,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "Crank angle of the single-crank-angle curve, degrees (the mean over a mesh cycle is always reported)"
       },
       {
         "name": "levels",
@@ -341,7 +369,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "Torque levels per side beyond the measuring torque"
       },
       {
         "name": "json",
@@ -352,7 +381,8 @@ export const COMMANDS = [
         "python_default": null,
         "fronts": [
           "cli"
-        ]
+        ],
+        "help": "Print one JSON object"
       },
       {
         "name": "sensitivity",
@@ -363,7 +393,8 @@ export const COMMANDS = [
         "python_default": null,
         "fronts": [
           "cli"
-        ]
+        ],
+        "help": "Also how `b/a` and the lost motion of the new reducer move when each estimated dimension or count of its structure and bearings changes by this fraction both ways (0.2 when given without a value; in (0, 0.5]); `--json` as `sensitivity`"
       },
       {
         "name": "wear_um",
@@ -375,7 +406,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Uniform wear depth along the whole profile, um (the paper's conservative model)"
       },
       {
         "name": "hours",
@@ -388,7 +420,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "Wear map from the config's wear model after this many working hours"
       }
     ]
   },
@@ -397,6 +430,7 @@ export const COMMANDS = [
     "python": "efficiency",
     "page": null,
     "summary": "losses and efficiency over speed, torque and oil temperature",
+    "about": "Power losses and efficiency over output speed, torque and oil temperature: the disc-pin contacts (the oil film's friction), crank bearings and sun-planet meshes",
     "out_dir": null,
     "options": [
       {
@@ -409,7 +443,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Output speeds, rpm, comma-separated (default 5,10,15,20,30,40,50)"
       },
       {
         "name": "torques_nm",
@@ -421,7 +456,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Output torques, N m, comma-separated (default 1/4, 1/2, 3/4 and all of the rated torque)"
       },
       {
         "name": "temperatures_c",
@@ -433,7 +469,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Oil temperatures, deg C, comma-separated (default `[lubrication] temperature_c`)"
       },
       {
         "name": "out",
@@ -444,7 +481,8 @@ export const COMMANDS = [
         "python_default": null,
         "fronts": [
           "cli"
-        ]
+        ],
+        "help": "Also write the map as CSV to this file (must not exist unless --force)"
       },
       {
         "name": "force",
@@ -455,7 +493,8 @@ export const COMMANDS = [
         "python_default": null,
         "fronts": [
           "cli"
-        ]
+        ],
+        "help": "Replace an existing --out file"
       },
       {
         "name": "json",
@@ -466,7 +505,8 @@ export const COMMANDS = [
         "python_default": null,
         "fronts": [
           "cli"
-        ]
+        ],
+        "help": "Print one JSON object"
       },
       {
         "name": "wear_um",
@@ -478,7 +518,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Uniform wear depth along the whole profile, um (the paper's conservative model)"
       },
       {
         "name": "hours",
@@ -490,7 +531,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Wear map from the config's wear model after this many working hours"
       }
     ]
   },
@@ -499,6 +541,7 @@ export const COMMANDS = [
     "python": "dynamics",
     "page": "dynamics",
     "summary": "the multibody simulation and its dynamic transmission error",
+    "about": "Simulate the whole reducer (multibody model, impact contact) and report the dynamic TE",
     "out_dir": null,
     "options": [
       {
@@ -511,7 +554,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Output load, overriding `[dynamics.load] kind` (its other keys still apply)"
       },
       {
         "name": "torque_nm",
@@ -524,7 +568,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "Constant torque on the output, N m (with --load constant; default: rated torque; positive counter-clockwise, a load resisting forward rotation is negative)"
       },
       {
         "name": "out",
@@ -536,7 +581,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Results directory: `dynamics.csv`, `summary.json`, plots (created; must not exist or be empty unless --force)"
       },
       {
         "name": "force",
@@ -548,7 +594,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Replace an existing results directory"
       },
       {
         "name": "pin_forces",
@@ -560,7 +607,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Also write every pin force at every sample (`pin_forces.csv`)"
       },
       {
         "name": "json",
@@ -571,7 +619,8 @@ export const COMMANDS = [
         "python_default": null,
         "fronts": [
           "cli"
-        ]
+        ],
+        "help": "Print the summary as one JSON object"
       },
       {
         "name": "disc",
@@ -584,7 +633,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "The discs, overriding `[dynamics] disc`: rigid, or the FE disc of `[fem]` modally reduced (`[dynamics.flexible]`)"
       },
       {
         "name": "wear_um",
@@ -596,7 +646,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Uniform wear depth along the whole profile, um (the paper's conservative model)"
       },
       {
         "name": "hours",
@@ -609,7 +660,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "Wear map from the config's wear model after this many working hours"
       }
     ]
   },
@@ -618,6 +670,7 @@ export const COMMANDS = [
     "python": "montecarlo",
     "page": "montecarlo",
     "summary": "Monte Carlo over the part tolerances: the accuracy life's distribution",
+    "about": "Monte Carlo over the part tolerances (`[tolerances]`): sampled reducers through the accuracy-life study; per-sample results, percentiles, the accuracy life's distribution",
     "out_dir": "rvlife-montecarlo",
     "options": [
       {
@@ -633,7 +686,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "Number of sampled reducers of the whole run"
       },
       {
         "name": "seed",
@@ -648,7 +702,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "Seed: same seed, same bytes"
       },
       {
         "name": "shard",
@@ -660,7 +715,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "`I/N`: run only the I-th (1-based) of N disjoint parts of the samples; `/N` takes I from SLURM_ARRAY_TASK_ID (cluster job arrays with `--array=1-N`); `rvlife merge` combines the parts"
       },
       {
         "name": "full_wear",
@@ -672,7 +728,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Integrate every sample's own wear instead of sharing the nominal reducer's"
       },
       {
         "name": "samples_per_mesh_cycle",
@@ -686,7 +743,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Crank angles per mesh cycle of the hysteresis curves and the revolution TE"
       },
       {
         "name": "out",
@@ -698,7 +756,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Results directory"
       },
       {
         "name": "force",
@@ -710,7 +769,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Replace an existing results directory"
       },
       {
         "name": "keep_going",
@@ -721,7 +781,8 @@ export const COMMANDS = [
         "python_default": null,
         "fronts": [
           "cli"
-        ]
+        ],
+        "help": "Accept a run in which most samples cannot be assembled, fail, or start out of spec (by default such a run writes its results and exits with code 2, naming `[tolerances]`)"
       },
       {
         "name": "threads",
@@ -732,7 +793,8 @@ export const COMMANDS = [
         "python_default": null,
         "fronts": [
           "python"
-        ]
+        ],
+        "help": "The threads this process runs the samples on (default: one per core; Python only)"
       }
     ]
   },
@@ -741,6 +803,7 @@ export const COMMANDS = [
     "python": "merge",
     "page": "montecarloMerge",
     "summary": "the parts of a Monte Carlo run combined",
+    "about": "Combine the shards of a Monte Carlo run into exactly the files the unsharded run writes",
     "out_dir": null,
     "options": [
       {
@@ -753,7 +816,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "The shards' results directories"
       },
       {
         "name": "out",
@@ -765,7 +829,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Results directory"
       },
       {
         "name": "force",
@@ -777,7 +842,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Replace an existing results directory"
       }
     ]
   },
@@ -786,6 +852,7 @@ export const COMMANDS = [
     "python": "sweep",
     "page": null,
     "summary": "one accuracy-life study per design of a product of key values",
+    "about": "Design sweep: the product of values of config keys (`--vary`), one accuracy-life study per design; writes the tidy table of every design and stage (`sweep.csv`), each design's verdict (`designs.csv`), its config, and a report",
     "out_dir": "rvlife-sweep",
     "options": [
       {
@@ -797,7 +864,8 @@ export const COMMANDS = [
         "python_default": null,
         "fronts": [
           "cli"
-        ]
+        ],
+        "help": "A varied key: `KEY=LO:HI:N` (N values from LO to HI) or `KEY=A,B,C`, the key dotted as in the config (`cycloid.eccentricity_mm=1.2:1.4:3`); repeat for a product"
       },
       {
         "name": "set",
@@ -808,7 +876,8 @@ export const COMMANDS = [
         "python_default": null,
         "fronts": [
           "cli"
-        ]
+        ],
+        "help": "A key set in every design, `KEY=VALUE` (`dynamics.enabled=false`); repeatable"
       },
       {
         "name": "out",
@@ -820,7 +889,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Results directory"
       },
       {
         "name": "force",
@@ -832,7 +902,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Replace an existing results directory"
       },
       {
         "name": "tasks",
@@ -843,7 +914,8 @@ export const COMMANDS = [
         "python_default": null,
         "fronts": [
           "python"
-        ]
+        ],
+        "help": "Shards of a Monte Carlo run handed to the Dask workers (default: four per worker thread; Python only)"
       }
     ]
   },
@@ -852,6 +924,7 @@ export const COMMANDS = [
     "python": "optimize",
     "page": "optimize",
     "summary": "the design that stays in spec longest, or the Pareto front of several goals",
+    "about": "Design search: the keys of `--vary` within their ranges that keep the reducer in spec longest (`--objective life`, or `b10`), or the Pareto front of several goals (`life,lost_motion_arcmin`), under constraints on any quantity at any stage; writes every candidate (`candidates.csv`), the front (`pareto.csv`), the best design's config (`optimum.toml`) and a report. Ctrl-C stops after the running candidate and writes what was found",
     "out_dir": "rvlife-optimize",
     "options": [
       {
@@ -865,7 +938,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "A varied key and its range, `KEY=LO:HI`, dotted as in the config (`cycloid.modification.equidistant_mm=0.008:0.03`); whole-number ends on a key that takes whole numbers (pins) search whole numbers; repeat for each key"
       },
       {
         "name": "objective",
@@ -880,7 +954,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "The goals, comma separated: `life` (the accuracy life), `b10` or `b10:SAMPLES` (a Monte Carlo of `[tolerances]` per candidate), a quantity of stages.csv (minimised; `max:` to maximise), a quantity optionally at a stage (`@new`, `@last`, `@HOURS`); two or more give a Pareto front (NSGA-II)"
       },
       {
         "name": "constraint",
@@ -893,7 +968,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "A constraint, `QUANTITY[@STAGE]<=VALUE` or `>=` (`lost_motion_arcmin<=0.8`: the new reducer; `max_pressure_mpa@last<=1500`); repeatable"
       },
       {
         "name": "evaluations",
@@ -908,7 +984,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "Most candidate studies (2 to 5000)"
       },
       {
         "name": "seed",
@@ -923,7 +1000,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "Seed of the search's random draws (and of the B10 goal's samples)"
       },
       {
         "name": "out",
@@ -935,7 +1013,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Results directory"
       },
       {
         "name": "force",
@@ -947,7 +1026,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Replace an existing results directory"
       }
     ]
   },
@@ -956,6 +1036,7 @@ export const COMMANDS = [
     "python": "calibrate",
     "page": null,
     "summary": "the Archard coefficient for a target wear or fitted to measurements",
+    "about": "Find the Archard coefficient that gives a target maximum wear at the last stage, or (with --measured) fit it to measured lost motion, backlash or wear against hours",
     "out_dir": null,
     "options": [
       {
@@ -970,7 +1051,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Target maximum wear depth at the last stage, um"
       },
       {
         "name": "measured",
@@ -983,7 +1065,8 @@ export const COMMANDS = [
           "cli",
           "python",
           "page"
-        ]
+        ],
+        "help": "Measurements CSV: a column `hours` (h) and one or more of `lost_motion_arcmin`, `backlash_arcmin`, `angular_te_arcmin`, `max_wear_um` (empty cell: not measured). Fits the Archard coefficient by weighted least squares with a 95 % confidence interval (Gauss-Newton, Student-t) instead of aiming at --target-wear-um; with `[wear] running_in_factor` > 1 in the config it fits that factor too (`running_in_hours` kept). Or a measured hysteresis curve of the new reducer, columns `torque_nm,twist_arcmin` in the bench's order (0 -> +rated -> -rated -> +rated): fits `[reducer.structure] compliance_arcmin_per_knm` with its 95 % interval"
       },
       {
         "name": "catalogue_stiffness_nm_per_arcmin",
@@ -994,7 +1077,8 @@ export const COMMANDS = [
         "python_default": null,
         "fronts": [
           "cli"
-        ]
+        ],
+        "help": "A catalogue torsional stiffness b/a, N m/arcmin: sets `[reducer.structure] compliance_arcmin_per_knm` so that the new reducer's b/a equals it"
       },
       {
         "name": "fit_running_in",
@@ -1006,7 +1090,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Also fit a running-in play b0 (arcmin) added to backlash and lost motion (the assembly play of a new reducer beyond the model's own)"
       },
       {
         "name": "out",
@@ -1018,7 +1103,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Results directory: calibrated.toml (the config with the fitted values set, ready for `rvlife run`) and, for a fit to measurements, calibration.json, residuals.csv, calibration.svg/png (created; must not exist or be empty unless --force). Without it, calibrated.toml is written in the current directory, where it must not exist"
       },
       {
         "name": "force",
@@ -1030,7 +1116,8 @@ export const COMMANDS = [
         "fronts": [
           "cli",
           "python"
-        ]
+        ],
+        "help": "Replace an existing results directory"
       }
     ]
   }

@@ -6,14 +6,15 @@ import { pinForceSeries } from '../shape/contact';
 import { state } from '../state';
 import { numbers } from '../ui';
 import { analysisView } from './analysis';
+import { declaredField } from '../declared';
 
 export function renderContact(panel: HTMLElement) {
   analysisView(panel, {
     chart: 'chart-contact', action: 'Solve', label: 'Contact',
     fields: [
-      { id: 'crank', label: 'crank angle', value: '0', unit: 'deg' },
-      { id: 'torque', label: 'output torque', value: String(ratedTorque(state.keys)), unit: 'N m' },
-      { id: 'hours', label: 'worn at', value: '', unit: 'h' },
+      declaredField('contact', 'crank_deg', { id: 'crank', label: 'crank angle', value: '0' }),
+      declaredField('contact', 'torque_nm', { id: 'torque', label: 'output torque', value: String(ratedTorque(state.keys)) }),
+      declaredField('contact', 'hours', { id: 'hours', label: 'worn at', value: '' }),
     ],
     command: 'contact',
     args: (text, v) => [text, v.crank ?? 0, v.torque ?? 0, v.hours],

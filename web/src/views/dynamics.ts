@@ -6,15 +6,16 @@ import { DISCS, dteSeries } from '../shape/dynamics';
 import { state } from '../state';
 import { numbers } from '../ui';
 import { analysisView } from './analysis';
+import { declaredField } from '../declared';
 
 export function renderDynamics(panel: HTMLElement) {
   analysisView(panel, {
     chart: 'chart-dte', action: 'Simulate', label: 'Dynamics',
     note: 'The multibody model of the whole reducer (rvlife dynamics --disc rigid or flexible: the flexible disc is the FE disc\'s modes).',
     fields: [
-      { id: 'hours', label: 'worn at', value: '0', unit: 'h' },
-      { id: 'torque', label: 'constant output torque', value: String(ratedTorque(state.keys)), unit: 'N m' },
-      { id: 'disc', label: 'discs', value: '0', unit: '', choices: DISCS },
+      declaredField('dynamics', 'hours', { id: 'hours', label: 'worn at', value: '0' }),
+      declaredField('dynamics', 'torque_nm', { id: 'torque', label: 'constant output torque', value: String(ratedTorque(state.keys)) }),
+      declaredField('dynamics', 'disc', { id: 'disc', label: 'discs', value: '0', choices: DISCS }),
     ],
     command: 'dynamics',
     args: (text, v) => [text, v.hours || undefined, v.torque, DISCS[v.disc ?? 0]],

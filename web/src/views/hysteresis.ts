@@ -1,7 +1,7 @@
 // The hysteresis view: twist against output torque (mean over a mesh cycle and at one crank
 // angle) with lost motion, backlash, hysteresis loss and torsional stiffness.
 import { lineChart } from '../charts';
-import { declaredDefault } from '../declared';
+import { declaredDefault, declaredField } from '../declared';
 import { fmt } from '../format';
 import { catalogueMarks, hysteresisSeries } from '../shape/hysteresis';
 import { numbers } from '../ui';
@@ -11,9 +11,9 @@ export function renderHysteresis(panel: HTMLElement) {
   analysisView(panel, {
     chart: 'chart-hysteresis', action: 'Compute', label: 'Hysteresis',
     fields: [
-      { id: 'crank', label: 'crank angle', value: declaredDefault('hysteresis', 'crank_deg'), unit: 'deg' },
-      { id: 'levels', label: 'torque levels', value: declaredDefault('hysteresis', 'levels'), unit: '' },
-      { id: 'hours', label: 'worn at', value: '0', unit: 'h' },
+      declaredField('hysteresis', 'crank_deg', { id: 'crank', label: 'crank angle' }),
+      declaredField('hysteresis', 'levels', { id: 'levels', label: 'torque levels' }),
+      declaredField('hysteresis', 'hours', { id: 'hours', label: 'worn at', value: '0' }),
     ],
     command: 'hysteresis',
     args: (text, v) => [text, v.crank ?? 0, v.levels ?? Number(declaredDefault('hysteresis', 'levels')), v.hours || undefined],

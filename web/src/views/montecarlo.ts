@@ -8,7 +8,7 @@ import { job } from '../job';
 import { limitedByText, mcNumbers, reliabilitySeries } from '../shape/montecarlo';
 import { state } from '../state';
 import type { MonteCarloView } from '../types';
-import { declaredDefault } from '../declared';
+import { declaredDefault, declaredField } from '../declared';
 import { chartBox, form, noteOf, numbersTable, wrap } from '../ui';
 
 export function renderMonteCarlo(panel: HTMLElement) {
@@ -27,8 +27,8 @@ export function renderMonteCarlo(panel: HTMLElement) {
     lineChart(c, reliabilitySeries(m), { x: 'working hours, h', y: 'fraction within spec', title: 'Reliability of the accuracy life' });
   };
   panel.append(form([
-    { id: 'samples', label: 'samples', value: declaredDefault('montecarlo', 'samples'), unit: '' },
-    { id: 'seed', label: 'seed', value: declaredDefault('montecarlo', 'seed'), unit: '' },
+    declaredField('montecarlo', 'samples', { id: 'samples', label: 'samples' }),
+    declaredField('montecarlo', 'seed', { id: 'seed', label: 'seed' }),
   ], 'Run Monte Carlo', async (v) => {
     state.montecarlo = null;
     out.replaceChildren();

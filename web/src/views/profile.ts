@@ -8,6 +8,7 @@ import { lastStageHours } from '../keys';
 import { flankWearSeries, outlineSeries } from '../shape/profile';
 import { state } from '../state';
 import { chartBox, form, noteOf, wrap } from '../ui';
+import { declaredField } from '../declared';
 
 /** The hours last drawn at, kept while the page is open (blank: not worn); the last stage's
  *  at first. */
@@ -37,7 +38,7 @@ export function renderProfile(panel: HTMLElement) {
     }
   };
   if (!profileHours) profileHours = String(lastStageHours(state.keys));
-  const f = form([{ id: 'profile-hours', label: 'worn at', value: profileHours, unit: 'h' }], 'Draw', (v) => {
+  const f = form([declaredField('profile', 'hours', { id: 'profile-hours', label: 'worn at', value: profileHours })], 'Draw', (v) => {
     profileHours = v['profile-hours'] === undefined ? '' : String(v['profile-hours']);
     draw(v['profile-hours']);
   });

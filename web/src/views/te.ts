@@ -6,13 +6,14 @@ import { meshCyclePoints, teSeries } from '../shape/te';
 import { state } from '../state';
 import { chartBox, numbers, wrap } from '../ui';
 import { analysisView } from './analysis';
+import { declaredField } from '../declared';
 
 export function renderTe(panel: HTMLElement) {
   analysisView(panel, {
     chart: 'chart-te', action: 'Compute', label: 'Transmission error',
     fields: [
-      { id: 'hours', label: 'worn at', value: '0', unit: 'h' },
-      { id: 'torque', label: 'loaded at', value: String(ratedTorque(state.keys)), unit: 'N m' },
+      declaredField('te', 'hours', { id: 'hours', label: 'worn at', value: '0' }),
+      declaredField('te', 'torque_nm', { id: 'torque', label: 'loaded at', value: String(ratedTorque(state.keys)) }),
     ],
     command: 'te',
     // 0 h is the new reducer: no wear asked for.

@@ -1,6 +1,6 @@
 // The page's forms start from the library's declared defaults (generated/commands.ts).
 import { describe, expect, it } from 'vitest';
-import { declaredDefault } from '../../src/declared';
+import { declaredDefault, declaredField } from '../../src/declared';
 import { COMMANDS } from '../../src/generated/commands';
 
 describe('the declared defaults', () => {
@@ -20,5 +20,19 @@ describe('the declared defaults', () => {
   });
   it('name a page command for every command the page runs', () => {
     expect(COMMANDS.filter((c) => c.page !== null).map((c) => c.name)).toContain('montecarlo');
+  });
+});
+
+describe('the declared fields', () => {
+  it('take their unit and help from the declaration, the value from the page or the default', () => {
+    const torque = declaredField('contact', 'torque_nm', { id: 'torque', label: 'output torque', value: '412' });
+    const decl = COMMANDS.find((c) => c.name === 'contact')!.options.find((o) => o.name === 'torque_nm')!;
+    expect(torque).toEqual({ id: 'torque', label: 'output torque', value: '412', unit: 'N m', help: decl.help });
+    expect(torque.help).toMatch(/N m/);
+    expect(declaredField('hysteresis', 'levels', { id: 'levels', label: 'torque levels' }).value).toBe('10');
+    expect(declaredField('te', 'hours', { id: 'hours', label: 'worn at' }).unit).toBe('h');
+  });
+  it('refuse an option the page does not take', () => {
+    expect(() => declaredField('te', 'json', { id: 'json', label: 'json' })).toThrow(/not the page's/);
   });
 });

@@ -61,6 +61,10 @@ from ._sweep import MonteCarlo, OptimizeResult, grid, optimize, sweep
 
 __version__: str = _rvlife.version()
 
+from ._declared import document as _document  # noqa: E402
+
+_document(globals())
+
 __all__ = [
     "Config",
     "DEFAULT_WORK_BUDGET_MIN",

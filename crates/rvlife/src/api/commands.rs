@@ -4,12 +4,12 @@
 //!
 //! The front ends are checked against this table, each by a test of its own that fails when
 //! it misses a command or an option, names one the table does not, or gives an option another
-//! default: the command line's parser (`crates/rvlife-cli/tests/commands.rs`), the Python
+//! default: the command line's parser (`crates/rvlife-cli/src/declared.rs`), the Python
 //! functions' signatures (`crates/rvlife-py/tests/test_commands.py`, reading
 //! [`commands_json`] through the binding) and the page's command table (the generated
 //! `PageCommand` type in `web/src/generated/results.ts`, which `web/src/protocol.ts` must
 //! cover for the page's type check to pass). The defaults the front ends share are the
-//! constants named here. docs/architecture.md ("Add a command") says what a new command
+//! constants named here. docs/architecture.md ("A command") says what a new command
 //! touches.
 
 use serde::Serialize;
@@ -89,6 +89,9 @@ pub struct OptionDecl {
     pub python_default: Option<Default>,
     /// The front ends that take it.
     pub fronts: &'static [Front],
+    /// What it means, one paragraph: the command line's `--help` and the Python function's
+    /// docstring show it.
+    pub help: &'static str,
 }
 
 impl OptionDecl {
@@ -114,6 +117,7 @@ const fn opt(name: &'static str, kind: Kind, unit: &'static str) -> OptionDecl {
         },
         python_default: None,
         fronts: ALL,
+        help: "",
     }
 }
 
@@ -137,6 +141,11 @@ impl OptionDecl {
         self.python_name = Some(name);
         self
     }
+
+    const fn help(mut self, text: &'static str) -> Self {
+        self.help = text;
+        self
+    }
 }
 
 /// One command.
@@ -150,6 +159,8 @@ pub struct CommandDecl {
     pub page: Option<&'static str>,
     /// What it does, one line.
     pub summary: &'static str,
+    /// What it does and writes, one paragraph: the command line's `--help` shows it.
+    pub about: &'static str,
     /// The results directory the command line writes when `--out` is not given (`None`:
     /// none, or `--out` has no default).
     pub out_dir: Option<&'static str>,
@@ -174,8 +185,11 @@ pub const PRESET: &str = "rv-40e";
 pub const CALIBRATE_TARGET_WEAR_UM: f64 = 60.0;
 
 /// How worn the analysed profile is: a uniform depth or the wear model's hours.
-const WEAR_UM: OptionDecl = opt("wear_um", Kind::Number, "um").only(NATIVE);
-const HOURS: OptionDecl = opt("hours", Kind::Number, "h");
+const WEAR_UM: OptionDecl = opt("wear_um", Kind::Number, "um")
+    .only(NATIVE)
+    .help("Uniform wear depth along the whole profile, um (the paper's conservative model)");
+const HOURS: OptionDecl = opt("hours", Kind::Number, "h")
+    .help("Wear map from the config's wear model after this many working hours");
 const OUT: OptionDecl = opt("out", Kind::Path, "").only(NATIVE);
 const FORCE: OptionDecl = opt("force", Kind::Flag, "").only(NATIVE);
 const JSON: OptionDecl = opt("json", Kind::Flag, "").only(CLI);
@@ -187,10 +201,11 @@ pub const COMMANDS: &[CommandDecl] = &[
         python: Some("example"),
         page: Some("presetText"),
         summary: "a built-in config, fully commented",
+        about: "Print a built-in config, fully commented: the built-in RV-40E-class reducer by default",
         out_dir: None,
         options: &[
-            opt("preset", Kind::Text, "").default(Default::Text(PRESET)),
-            opt("list", Kind::Flag, "").only(CLI),
+            opt("preset", Kind::Text, "").default(Default::Text(PRESET)).help("Which built-in reducer (`--list` shows them)"),
+            opt("list", Kind::Flag, "").only(CLI).help("List the built-in reducers with their sources"),
         ],
     },
     CommandDecl {
@@ -198,22 +213,28 @@ pub const COMMANDS: &[CommandDecl] = &[
         python: Some("run_study"),
         page: Some("study"),
         summary: "the accuracy-life study and its results directory",
+        about: "Run the accuracy-life study and write the results directory",
         out_dir: Some("rvlife-results"),
-        options: &[OUT, FORCE, opt("all", Kind::Flag, "").only(CLI)],
+        options: &[
+            OUT.help("Results directory (created; must not exist or be empty unless --force)"),
+            FORCE.help("Replace an existing results directory"),
+            opt("all", Kind::Flag, "").only(CLI).help("Also print every quantity of every stage (all of `stages.csv`), one row per quantity"),
+        ],
     },
     CommandDecl {
         name: "profile",
         python: Some("profile"),
         page: Some("profile"),
         summary: "the disc profile's points or its export",
+        about: "Export the disc profile (nominal, modified or worn) to CSV, DXF or SVG",
         out_dir: None,
         options: &[
-            opt("out", Kind::Path, "").only(CLI),
-            JSON,
+            opt("out", Kind::Path, "").only(CLI).help("Output file; the format follows the extension (.csv, .dxf, .svg)"),
+            JSON.help("Print the points as JSON instead (x, y in mm, mesh angle in deg, wear depth along the normal in um; the web page's `profile`)"),
             // 0 in Python: the export's, as the command line's absent option.
-            opt("points_per_tooth", Kind::Count, "").python_default(Default::Count(0)),
-            opt("nominal", Kind::Flag, ""),
-            opt("force", Kind::Flag, "").only(CLI),
+            opt("points_per_tooth", Kind::Count, "").python_default(Default::Count(0)).help("Points per tooth of `--json` (default: the export's)"),
+            opt("nominal", Kind::Flag, "").help("Ignore the config's modifications (the nominal profile)"),
+            opt("force", Kind::Flag, "").only(CLI).help("Replace an existing output file"),
             WEAR_UM,
             HOURS,
         ],
@@ -223,11 +244,12 @@ pub const COMMANDS: &[CommandDecl] = &[
         python: Some("contact"),
         page: Some("contact"),
         summary: "the static equilibrium at one crank angle under an output torque",
+        about: "Static equilibrium of the reducer at one crank angle under an output torque (input locked): pin forces on each disc, disc translations, twist",
         out_dir: None,
         options: &[
-            opt("crank_deg", Kind::Number, "deg").default(Default::Required),
-            opt("torque_nm", Kind::Number, "N m").default(Default::Required),
-            JSON,
+            opt("crank_deg", Kind::Number, "deg").default(Default::Required).help("Crank angle, degrees (0: eccentric towards pin 0)"),
+            opt("torque_nm", Kind::Number, "N m").default(Default::Required).help("Torque on the output, N m (positive counter-clockwise)"),
+            JSON.help("Print one JSON object"),
             WEAR_UM,
             HOURS,
         ],
@@ -237,20 +259,27 @@ pub const COMMANDS: &[CommandDecl] = &[
         python: Some("te"),
         page: Some("te"),
         summary: "static and loaded transmission error, backlash and lost motion",
+        about: "Static TE, backlash and lost motion over a mesh cycle (and loaded TE with --torque-nm)",
         out_dir: None,
-        options: &[opt("torque_nm", Kind::Number, "N m"), JSON, WEAR_UM, HOURS],
+        options: &[
+            opt("torque_nm", Kind::Number, "N m").help("Also the loaded TE at this output torque, N m"),
+            JSON.help("Print one JSON object"),
+            WEAR_UM,
+            HOURS,
+        ],
     },
     CommandDecl {
         name: "hysteresis",
         python: Some("hysteresis"),
         page: Some("hysteresis"),
         summary: "the hysteresis curve and its catalogue quantities",
+        about: "Hysteresis curve (output torque 0 -> +rated -> -rated -> +rated, input locked) with backlash, lost motion, hysteresis loss and torsional stiffness",
         out_dir: None,
         options: &[
-            opt("crank_deg", Kind::Number, "deg").default(Default::Number(0.0)),
-            opt("levels", Kind::Count, "").default(Default::Count(HYSTERESIS_LEVELS as u64)),
-            JSON,
-            opt("sensitivity", Kind::Number, "").only(CLI),
+            opt("crank_deg", Kind::Number, "deg").default(Default::Number(0.0)).help("Crank angle of the single-crank-angle curve, degrees (the mean over a mesh cycle is always reported)"),
+            opt("levels", Kind::Count, "").default(Default::Count(HYSTERESIS_LEVELS as u64)).help("Torque levels per side beyond the measuring torque"),
+            JSON.help("Print one JSON object"),
+            opt("sensitivity", Kind::Number, "").only(CLI).help("Also how `b/a` and the lost motion of the new reducer move when each estimated dimension or count of its structure and bearings changes by this fraction both ways (0.2 when given without a value; in (0, 0.5]); `--json` as `sensitivity`"),
             WEAR_UM,
             HOURS,
         ],
@@ -260,14 +289,15 @@ pub const COMMANDS: &[CommandDecl] = &[
         python: Some("efficiency"),
         page: None,
         summary: "losses and efficiency over speed, torque and oil temperature",
+        about: "Power losses and efficiency over output speed, torque and oil temperature: the disc-pin contacts (the oil film's friction), crank bearings and sun-planet meshes",
         out_dir: None,
         options: &[
-            opt("speeds_rpm", Kind::Numbers, "rpm").only(NATIVE),
-            opt("torques_nm", Kind::Numbers, "N m").only(NATIVE),
-            opt("temperatures_c", Kind::Numbers, "deg C").only(NATIVE),
-            opt("out", Kind::Path, "").only(CLI),
-            opt("force", Kind::Flag, "").only(CLI),
-            JSON,
+            opt("speeds_rpm", Kind::Numbers, "rpm").only(NATIVE).help("Output speeds, rpm, comma-separated (default 5,10,15,20,30,40,50)"),
+            opt("torques_nm", Kind::Numbers, "N m").only(NATIVE).help("Output torques, N m, comma-separated (default 1/4, 1/2, 3/4 and all of the rated torque)"),
+            opt("temperatures_c", Kind::Numbers, "deg C").only(NATIVE).help("Oil temperatures, deg C, comma-separated (default `[lubrication] temperature_c`)"),
+            opt("out", Kind::Path, "").only(CLI).help("Also write the map as CSV to this file (must not exist unless --force)"),
+            opt("force", Kind::Flag, "").only(CLI).help("Replace an existing --out file"),
+            JSON.help("Print one JSON object"),
             WEAR_UM,
             HOURS.only(NATIVE),
         ],
@@ -277,15 +307,16 @@ pub const COMMANDS: &[CommandDecl] = &[
         python: Some("dynamics"),
         page: Some("dynamics"),
         summary: "the multibody simulation and its dynamic transmission error",
+        about: "Simulate the whole reducer (multibody model, impact contact) and report the dynamic TE",
         out_dir: None,
         options: &[
-            opt("load", Kind::Text, "").only(NATIVE),
-            opt("torque_nm", Kind::Number, "N m"),
-            OUT,
-            FORCE,
-            opt("pin_forces", Kind::Flag, "").only(NATIVE),
-            JSON,
-            opt("disc", Kind::Text, ""),
+            opt("load", Kind::Text, "").only(NATIVE).help("Output load, overriding `[dynamics.load] kind` (its other keys still apply)"),
+            opt("torque_nm", Kind::Number, "N m").help("Constant torque on the output, N m (with --load constant; default: rated torque; positive counter-clockwise, a load resisting forward rotation is negative)"),
+            OUT.help("Results directory: `dynamics.csv`, `summary.json`, plots (created; must not exist or be empty unless --force)"),
+            FORCE.help("Replace an existing results directory"),
+            opt("pin_forces", Kind::Flag, "").only(NATIVE).help("Also write every pin force at every sample (`pin_forces.csv`)"),
+            JSON.help("Print the summary as one JSON object"),
+            opt("disc", Kind::Text, "").help("The discs, overriding `[dynamics] disc`: rigid, or the FE disc of `[fem]` modally reduced (`[dynamics.flexible]`)"),
             WEAR_UM,
             HOURS,
         ],
@@ -295,21 +326,22 @@ pub const COMMANDS: &[CommandDecl] = &[
         python: Some("montecarlo"),
         page: Some("montecarlo"),
         summary: "Monte Carlo over the part tolerances: the accuracy life's distribution",
+        about: "Monte Carlo over the part tolerances (`[tolerances]`): sampled reducers through the accuracy-life study; per-sample results, percentiles, the accuracy life's distribution",
         out_dir: Some("rvlife-montecarlo"),
         options: &[
-            opt("samples", Kind::Count, "").default(Default::Count(MONTECARLO_SAMPLES as u64)),
-            opt("seed", Kind::Count, "").default(Default::Count(SEED)),
-            opt("shard", Kind::Text, "").only(NATIVE),
-            opt("full_wear", Kind::Flag, "").only(NATIVE),
+            opt("samples", Kind::Count, "").default(Default::Count(MONTECARLO_SAMPLES as u64)).help("Number of sampled reducers of the whole run"),
+            opt("seed", Kind::Count, "").default(Default::Count(SEED)).help("Seed: same seed, same bytes"),
+            opt("shard", Kind::Text, "").only(NATIVE).help("`I/N`: run only the I-th (1-based) of N disjoint parts of the samples; `/N` takes I from SLURM_ARRAY_TASK_ID (cluster job arrays with `--array=1-N`); `rvlife merge` combines the parts"),
+            opt("full_wear", Kind::Flag, "").only(NATIVE).help("Integrate every sample's own wear instead of sharing the nominal reducer's"),
             opt("samples_per_mesh_cycle", Kind::Count, "")
                 .default(Default::Count(
                     crate::montecarlo::DEFAULT_SAMPLES_PER_MESH_CYCLE as u64,
                 ))
-                .only(NATIVE),
-            OUT,
-            FORCE,
-            opt("keep_going", Kind::Flag, "").only(CLI),
-            opt("threads", Kind::Count, "").only(&[Front::Python]),
+                .only(NATIVE).help("Crank angles per mesh cycle of the hysteresis curves and the revolution TE"),
+            OUT.help("Results directory"),
+            FORCE.help("Replace an existing results directory"),
+            opt("keep_going", Kind::Flag, "").only(CLI).help("Accept a run in which most samples cannot be assembled, fail, or start out of spec (by default such a run writes its results and exits with code 2, naming `[tolerances]`)"),
+            opt("threads", Kind::Count, "").only(&[Front::Python]).help("The threads this process runs the samples on (default: one per core; Python only)"),
         ],
     },
     CommandDecl {
@@ -317,15 +349,16 @@ pub const COMMANDS: &[CommandDecl] = &[
         python: Some("merge"),
         page: Some("montecarloMerge"),
         summary: "the parts of a Monte Carlo run combined",
+        about: "Combine the shards of a Monte Carlo run into exactly the files the unsharded run writes",
         out_dir: None,
         options: &[
             opt("shards", Kind::Texts, "")
                 .default(Default::Required)
-                .only(NATIVE),
+                .only(NATIVE).help("The shards' results directories"),
             opt("out", Kind::Path, "")
                 .default(Default::Required)
-                .only(NATIVE),
-            FORCE,
+                .only(NATIVE).help("Results directory"),
+            FORCE.help("Replace an existing results directory"),
         ],
     },
     CommandDecl {
@@ -333,15 +366,16 @@ pub const COMMANDS: &[CommandDecl] = &[
         python: Some("sweep"),
         page: None,
         summary: "one accuracy-life study per design of a product of key values",
+        about: "Design sweep: the product of values of config keys (`--vary`), one accuracy-life study per design; writes the tidy table of every design and stage (`sweep.csv`), each design's verdict (`designs.csv`), its config, and a report",
         out_dir: Some("rvlife-sweep"),
         options: &[
             opt("vary", Kind::Texts, "")
                 .default(Default::Required)
-                .only(CLI),
-            opt("set", Kind::Texts, "").only(CLI),
-            OUT,
-            FORCE,
-            opt("tasks", Kind::Count, "").only(&[Front::Python]),
+                .only(CLI).help("A varied key: `KEY=LO:HI:N` (N values from LO to HI) or `KEY=A,B,C`, the key dotted as in the config (`cycloid.eccentricity_mm=1.2:1.4:3`); repeat for a product"),
+            opt("set", Kind::Texts, "").only(CLI).help("A key set in every design, `KEY=VALUE` (`dynamics.enabled=false`); repeatable"),
+            OUT.help("Results directory"),
+            FORCE.help("Replace an existing results directory"),
+            opt("tasks", Kind::Count, "").only(&[Front::Python]).help("Shards of a Monte Carlo run handed to the Dask workers (default: four per worker thread; Python only)"),
         ],
     },
     CommandDecl {
@@ -349,16 +383,17 @@ pub const COMMANDS: &[CommandDecl] = &[
         python: Some("optimize"),
         page: Some("optimize"),
         summary: "the design that stays in spec longest, or the Pareto front of several goals",
+        about: "Design search: the keys of `--vary` within their ranges that keep the reducer in spec longest (`--objective life`, or `b10`), or the Pareto front of several goals (`life,lost_motion_arcmin`), under constraints on any quantity at any stage; writes every candidate (`candidates.csv`), the front (`pareto.csv`), the best design's config (`optimum.toml`) and a report. Ctrl-C stops after the running candidate and writes what was found",
         out_dir: Some("rvlife-optimize"),
         options: &[
-            opt("vary", Kind::Texts, "").default(Default::Required),
-            opt("objective", Kind::Text, "").default(Default::Text(OPTIMIZE_OBJECTIVE)),
-            opt("constraint", Kind::Texts, "").python("constraints"),
+            opt("vary", Kind::Texts, "").default(Default::Required).help("A varied key and its range, `KEY=LO:HI`, dotted as in the config (`cycloid.modification.equidistant_mm=0.008:0.03`); whole-number ends on a key that takes whole numbers (pins) search whole numbers; repeat for each key"),
+            opt("objective", Kind::Text, "").default(Default::Text(OPTIMIZE_OBJECTIVE)).help("The goals, comma separated: `life` (the accuracy life), `b10` or `b10:SAMPLES` (a Monte Carlo of `[tolerances]` per candidate), a quantity of stages.csv (minimised; `max:` to maximise), a quantity optionally at a stage (`@new`, `@last`, `@HOURS`); two or more give a Pareto front (NSGA-II)"),
+            opt("constraint", Kind::Texts, "").python("constraints").help("A constraint, `QUANTITY[@STAGE]<=VALUE` or `>=` (`lost_motion_arcmin<=0.8`: the new reducer; `max_pressure_mpa@last<=1500`); repeatable"),
             opt("evaluations", Kind::Count, "")
-                .default(Default::Count(OPTIMIZE_EVALUATIONS as u64)),
-            opt("seed", Kind::Count, "").default(Default::Count(SEED)),
-            OUT,
-            FORCE,
+                .default(Default::Count(OPTIMIZE_EVALUATIONS as u64)).help("Most candidate studies (2 to 5000)"),
+            opt("seed", Kind::Count, "").default(Default::Count(SEED)).help("Seed of the search's random draws (and of the B10 goal's samples)"),
+            OUT.help("Results directory"),
+            FORCE.help("Replace an existing results directory"),
         ],
     },
     CommandDecl {
@@ -366,23 +401,24 @@ pub const COMMANDS: &[CommandDecl] = &[
         python: Some("calibrate"),
         page: None,
         summary: "the Archard coefficient for a target wear or fitted to measurements",
+        about: "Find the Archard coefficient that gives a target maximum wear at the last stage, or (with --measured) fit it to measured lost motion, backlash or wear against hours",
         out_dir: None,
         options: &[
             // None in Python: the target, unless measurements are given.
             opt("target_wear_um", Kind::Number, "um")
                 .default(Default::Number(CALIBRATE_TARGET_WEAR_UM))
                 .python_default(Default::Absent)
-                .only(NATIVE),
-            opt("measured", Kind::Path, ""),
+                .only(NATIVE).help("Target maximum wear depth at the last stage, um"),
+            opt("measured", Kind::Path, "").help("Measurements CSV: a column `hours` (h) and one or more of `lost_motion_arcmin`, `backlash_arcmin`, `angular_te_arcmin`, `max_wear_um` (empty cell: not measured). Fits the Archard coefficient by weighted least squares with a 95 % confidence interval (Gauss-Newton, Student-t) instead of aiming at --target-wear-um; with `[wear] running_in_factor` > 1 in the config it fits that factor too (`running_in_hours` kept). Or a measured hysteresis curve of the new reducer, columns `torque_nm,twist_arcmin` in the bench's order (0 -> +rated -> -rated -> +rated): fits `[reducer.structure] compliance_arcmin_per_knm` with its 95 % interval"),
             opt(
                 "catalogue_stiffness_nm_per_arcmin",
                 Kind::Number,
                 "N m/arcmin",
             )
-            .only(CLI),
-            opt("fit_running_in", Kind::Flag, "").only(NATIVE),
-            OUT,
-            FORCE,
+            .only(CLI).help("A catalogue torsional stiffness b/a, N m/arcmin: sets `[reducer.structure] compliance_arcmin_per_knm` so that the new reducer's b/a equals it"),
+            opt("fit_running_in", Kind::Flag, "").only(NATIVE).help("Also fit a running-in play b0 (arcmin) added to backlash and lost motion (the assembly play of a new reducer beyond the model's own)"),
+            OUT.help("Results directory: calibrated.toml (the config with the fitted values set, ready for `rvlife run`) and, for a fit to measurements, calibration.json, residuals.csv, calibration.svg/png (created; must not exist or be empty unless --force). Without it, calibrated.toml is written in the current directory, where it must not exist"),
+            FORCE.help("Replace an existing results directory"),
         ],
     },
 ];

@@ -1,108 +1,215 @@
-//! The study's stages as they run on the workers ([`super::run`]): what each stage is analysed
-//! with ([`StageRunner`]), its outcome, and the bookkeeping beside the analyses (progress and
-//! the first failure, [`Bookkeeping`]), kept apart from the loop over the stages and its
-//! threads.
+//! The study's executor, after argmin's `Executor`: [`Executor::run`] takes a validated model,
+//! the [`Observer`]s that hear it run, and whether the twist shares are wanted, and schedules
+//! the study's work on the threads (rayon): the wear integration, each stage's analyses
+//! ([`StageRunner`]) and the accuracy life's trials, all writing into one [`StudyState`],
+//! which then becomes the [`Study`].
+//!
+//! Two schedules, by what the stages need:
+//! - **with an FE disc** (`[fem] enabled`, or the multibody model's flexible disc): the unworn
+//!   disc's FE models are built beside the wear integration (they need the unworn profile
+//!   only; every worn stage's are the same meshes moved onto its outline: one topology and
+//!   symbolic factorisation for the study, results smooth in the wear), then the stages in
+//!   parallel, the most worn first (they take longest, so the cores finish together);
+//! - **without**: each stage is analysed as soon as the wear integration has passed it,
+//!   beside the integration; the stages left when it ends are taken the most worn first (each
+//!   worker takes its latest task first).
+//!
+//! Either way the 0 h stage, which needs no wear, is analysed beside the integration, and a
+//! worker takes up the accuracy life's trials before any further stage as soon as the stages
+//! show where they go ([`StudyState::take_ahead`]).
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use super::stage::arcmin;
-use super::stage::{static_part, Failure, UnwornPlay};
-use super::Stage;
+use super::analyses::{dynamics_and_flexible, Outcome};
+use super::observer::{Observer, Observers};
+use super::parts;
+use super::stage::{static_part, Failure};
+use super::state::StudyState;
+use super::{unworn, Study};
 use crate::config::Model;
-use crate::dynamics::{simulate_discs, DynamicsSummary};
-use crate::error::Result;
-use crate::fem::flex::{analyse_stage, FlexibleStage};
-use crate::fem::mesh::Mesh;
+use crate::error::{Error, Result};
 use crate::fem::DiscSet;
 use crate::geometry::Profile;
-use crate::quantities::StageSummary;
-use crate::te::CurveStats;
-use crate::units::ARCMIN_PER_RAD;
 use crate::wear::BearingWearRates;
 
-/// A stage's dynamics and flexible analysis: the DTE summary and the flexible results.
-pub(super) type StageRow = (Option<DynamicsSummary>, Option<(FlexibleStage, Mesh)>);
-
-/// What [`run`] made of one stage.
-pub(super) enum Outcome {
-    /// No static results.
-    Failed(Failure),
-    /// Not analysed: an earlier stage's static analysis failed.
-    Skipped,
-    /// Analysed, with the unworn disc's play on its parts (its play not yet split against
-    /// the new reducer's) and its dynamics and flexible analysis (or their error).
-    Done(Box<(Stage, UnwornPlay, Result<StageRow>)>),
+/// Runs the accuracy-life study of a validated model (docs/model.md sections 7-11): the easy
+/// call is [`super::run`]; the executor adds observers and the choice of results.
+///
+/// ```no_run
+/// # fn main() -> rvlife::error::Result<()> {
+/// use rvlife::study::{Executor, Notices, Progress};
+/// let model = rvlife::config::Config::example().validate()?;
+/// let progress = Progress(|done, total| eprintln!("{done}/{total}"));
+/// let notices = Notices(|line: &str| eprintln!("{line}"));
+/// let study = Executor::new(&model).observe(&progress).observe(&notices).run()?;
+/// # Ok(())
+/// # }
+/// ```
+pub struct Executor<'a> {
+    model: &'a Model,
+    observers: Vec<&'a dyn Observer>,
+    shares: bool,
 }
 
-/// The study's bookkeeping while its analyses run on the workers: the progress (the
-/// wear-rate evaluations so far plus the analyses done, out of `total`) and the lowest stage
-/// whose static analysis failed (the stages after it are skipped, as the study reports only
-/// the stages before a failure).
-pub(super) struct Bookkeeping<'a> {
-    total: usize,
-    wear_done: AtomicUsize,
-    done: AtomicUsize,
-    failed: AtomicUsize,
-    progress: &'a (dyn Fn(usize, usize) + Sync),
-}
-
-impl<'a> Bookkeeping<'a> {
-    /// Nothing done yet of `total` steps; `progress(done, total)` hears each.
-    pub(super) fn new(total: usize, progress: &'a (dyn Fn(usize, usize) + Sync)) -> Self {
-        Bookkeeping {
-            total,
-            wear_done: AtomicUsize::new(0),
-            done: AtomicUsize::new(0),
-            failed: AtomicUsize::new(usize::MAX),
-            progress,
+impl<'a> Executor<'a> {
+    /// The study of `model` (validated: [`crate::config::Config::validate`]), with no observer
+    /// and each part's share of the twist.
+    pub fn new(model: &'a Model) -> Self {
+        Executor {
+            model,
+            observers: Vec::new(),
+            shares: true,
         }
     }
 
-    fn report(&self) {
-        (self.progress)(
-            self.wear_done.load(Ordering::Relaxed) + self.done.load(Ordering::Relaxed),
-            self.total,
-        )
+    /// Adds `observer`, told every event after the observers added before it.
+    pub fn observe(mut self, observer: &'a dyn Observer) -> Self {
+        self.observers.push(observer);
+        self
     }
 
-    /// The wear integration has made `done` rate evaluations.
-    pub(super) fn wear(&self, done: usize) {
-        self.wear_done.fetch_max(done, Ordering::Relaxed);
-        self.report();
+    /// Leaves out each part's share of the twist (`Study::twist_shares` empty): the stages and
+    /// the life alone, what the calibration's reference studies read.
+    pub(crate) fn without_shares(mut self) -> Self {
+        self.shares = false;
+        self
     }
 
-    /// One more analysis done.
-    pub(super) fn tick(&self) {
-        self.done.fetch_add(1, Ordering::Relaxed);
-        self.report();
-    }
-
-    /// Whether stage `i` is skipped: a stage before it failed its static analysis.
-    fn skips(&self, i: usize) -> bool {
-        i > self.failed.load(Ordering::Relaxed)
-    }
-
-    /// Stage `i` failed its static analysis.
-    fn failed_at(&self, i: usize) {
-        self.failed.fetch_min(i, Ordering::Relaxed);
+    /// Runs the study: the wear over working hours, every stage's analyses, the accuracy life.
+    ///
+    /// Stops at the working hours where the worn profile leaves the model's validity (see
+    /// [`crate::wear::integrate`]; also when a worn stage's analysis fails) and reports the
+    /// stages before it, with [`crate::wear::WearHistory::limit`] set.
+    ///
+    /// # Errors
+    /// Solver failures on the unworn profile; interfering modifications; [`Error::Invalid`]
+    /// naming `wear.stage_hours` when no stage lies within the validity; the work budget.
+    pub fn run(self) -> Result<Study> {
+        let model = self.model;
+        let observers = Observers(self.observers);
+        let n_stages = model.wear.stage_hours.len();
+        let per_stage = 1 + usize::from(model.dynamics.enabled) + usize::from(model.fem.enabled);
+        let total = parts::wear_steps(model) + n_stages * per_stage;
+        let base_profile = model.profile()?;
+        let state = StudyState::new(model, &observers, total, n_stages);
+        let runner = StageRunner {
+            model,
+            rates: crate::config::bearing_rates(model)?,
+            base_profile: &base_profile,
+            state: &state,
+        };
+        let flexible_dynamics = model.dynamics.enabled && model.dynamics.params.flexible.is_some();
+        if model.fem.enabled || flexible_dynamics {
+            with_fe_disc(&runner)?;
+        } else {
+            beside_wear(&runner)?;
+        }
+        // A worker that finished its last stage before the trials were asked for.
+        state.take_ahead();
+        let study = state.finish(&base_profile, self.shares)?;
+        // The count of wear-rate evaluations is an estimate (more where `wear.max_wear_step_um`
+        // asks for them, fewer where the study stops at the validity limit): the end is told
+        // as the whole.
+        observers.progress(total, total);
+        Ok(study)
     }
 }
 
+/// The schedule with an FE disc (see the module's docs).
+///
+/// # Errors
+/// Those of the wear integration and of the FE disc.
+fn with_fe_disc(runner: &StageRunner) -> Result<()> {
+    let (model, state) = (runner.model, runner.state);
+    let unworn_first = model.wear.stage_hours.first() == Some(&0.0);
+    let (wear, base) = rayon::join(
+        || parts::wear_history_with(model, runner.rates, &|d, _| state.wear_progress(d), &|_| {}),
+        || -> Result<DiscSet> {
+            state.find_new_play(runner.base_profile);
+            let base = DiscSet::build(runner.base_profile, &model.fem.params, &model.reducer)?;
+            if unworn_first {
+                state.set_first(runner.run(0, 0.0, &[], &[], Some(&base)));
+            }
+            Ok(base)
+        },
+    );
+    state.set_wear(wear?);
+    let base = base?;
+    let wear = state.wear().expect("set above");
+    let mut order: Vec<usize> = (0..wear.hours.len())
+        .filter(|&i| !(i == 0 && state.has_first() && unworn(wear, 0)))
+        .collect();
+    order.sort_by(|&a, &b| wear.hours[b].total_cmp(&wear.hours[a]));
+    let next = AtomicUsize::new(0);
+    rayon::scope(|s| {
+        for _ in 0..rayon::current_num_threads().min(order.len()) {
+            s.spawn(|_| loop {
+                state.take_ahead();
+                let Some(&i) = order.get(next.fetch_add(1, Ordering::Relaxed)) else {
+                    break;
+                };
+                let outcome = runner.run(
+                    i,
+                    wear.hours[i],
+                    &wear.maps[i],
+                    &wear.pin_maps[i],
+                    Some(&base),
+                );
+                state.set_stage(i, outcome);
+            });
+        }
+    });
+    Ok(())
+}
+
+/// The schedule without an FE disc (see the module's docs).
+///
+/// # Errors
+/// Those of the wear integration.
+fn beside_wear(runner: &StageRunner) -> Result<()> {
+    let (model, state) = (runner.model, runner.state);
+    let unworn_first = model.wear.stage_hours.first() == Some(&0.0);
+    rayon::scope(|s| {
+        s.spawn(|_| state.find_new_play(runner.base_profile));
+        if unworn_first {
+            s.spawn(|_| {
+                state.set_first(runner.run(0, 0.0, &[], &[], None));
+                state.take_ahead();
+            });
+        }
+        let wear =
+            parts::wear_history_with(model, runner.rates, &|d, _| state.wear_progress(d), &|sw| {
+                if unworn_first && sw.index == 0 && sw.is_unworn() {
+                    return;
+                }
+                s.spawn(move |_| {
+                    let i = sw.index;
+                    state.set_stage(i, runner.run(i, sw.hours, &sw.map, &sw.pin_map, None));
+                    state.take_ahead();
+                });
+            });
+        state.set_wear(wear?);
+        state.take_ahead();
+        Ok::<(), Error>(())
+    })
+}
+
 /// What every stage of one study is analysed with: the model, the bearings' clearance growth,
-/// the unworn profile (against which the FE disc is moved) and the bookkeeping.
+/// the unworn profile (against which the FE disc is moved) and the study's state (its
+/// bookkeeping).
 pub(super) struct StageRunner<'a> {
     pub(super) model: &'a Model,
     pub(super) rates: BearingWearRates,
     pub(super) base_profile: &'a Profile,
-    pub(super) books: &'a Bookkeeping<'a>,
+    pub(super) state: &'a StudyState<'a>,
 }
 
 impl StageRunner<'_> {
     /// Stage `i` at `hours` with the wear depth `map` and the pins' wear `pin_map`: its static
     /// part ([`static_part`]), then its dynamics and flexible analysis
     /// ([`dynamics_and_flexible`], on the FE disc `base` moved onto its outline). Skipped when
-    /// a stage before it has failed its static analysis; a tick after each analysis,
-    /// `on_static` with the static part's summary.
+    /// a stage before it has failed its static analysis; a tick after each analysis, the
+    /// static part's summary to [`StudyState::static_done`].
     pub(super) fn run(
         &self,
         i: usize,
@@ -110,9 +217,8 @@ impl StageRunner<'_> {
         map: &[f64],
         pin_map: &[f64],
         base: Option<&DiscSet>,
-        on_static: &dyn Fn(&StageSummary),
     ) -> Outcome {
-        let books = self.books;
+        let books = self.state;
         if books.skips(i) {
             return Outcome::Skipped;
         }
@@ -132,7 +238,7 @@ impl StageRunner<'_> {
                 return Outcome::Failed(f);
             }
         };
-        on_static(&stage.summary);
+        books.static_done(i, &stage.summary);
         books.tick();
         let rest = if books.skips(i) {
             Ok((None, None))
@@ -143,137 +249,4 @@ impl StageRunner<'_> {
         };
         Outcome::Done(Box::new((stage, play, rest)))
     }
-}
-
-/// The multibody simulation and the flexible analysis of the stage of `profile`, side by side
-/// (each if enabled), on the FE disc (the unworn `base` moved onto a worn profile's outline);
-/// `tick` after each.
-///
-/// # Errors
-/// Failures of either analysis or of the FE disc.
-fn dynamics_and_flexible(
-    model: &Model,
-    profile: &Profile,
-    base: Option<&DiscSet>,
-    base_profile: &Profile,
-    tick: &(dyn Fn() + Sync),
-) -> Result<StageRow> {
-    if !(model.dynamics.enabled || model.fem.enabled) {
-        return Ok((None, None));
-    }
-    let own = match base {
-        Some(b) if profile.wear().is_some() => Some(DiscSet::build_morphed(
-            profile,
-            &model.fem.params,
-            &model.reducer,
-            b,
-            base_profile,
-        )?),
-        _ => None,
-    };
-    let disc = own.as_ref().or(base);
-    let (dynamics, flexible) = rayon::join(
-        || -> Result<Option<DynamicsSummary>> {
-            if !model.dynamics.enabled {
-                return Ok(None);
-            }
-            let r = simulate_discs(
-                profile,
-                &model.reducer,
-                &model.dynamics.params,
-                &model.fem.params,
-                disc,
-                false,
-            )?;
-            tick();
-            Ok(Some(r.summary))
-        },
-        || -> Result<Option<FlexibleStage>> {
-            let (true, Some(disc)) = (model.fem.enabled, disc) else {
-                return Ok(None);
-            };
-            let fl = analyse_stage(profile, &model.reducer, disc, model.rating.rated_torque)?;
-            tick();
-            Ok(Some(fl))
-        },
-    );
-    let flexible = flexible?;
-    let mesh = disc.map(|d| d.models[0].fe.mesh.clone());
-    Ok((dynamics?, flexible.zip(mesh)))
-}
-
-/// Writes a stage's dynamics and flexible results `row` into the stage and its summary (the
-/// DTE statistics; the flexible TE, stiffness, play and stresses in the summary's units).
-pub(super) fn record_row(st: &mut Stage, row: StageRow) {
-    let (dynamics, flexible) = row;
-    if let Some(d) = dynamics {
-        st.summary.dte_mean_arcmin = Some(d.te_mean_arcmin);
-        st.summary.dte_peak_to_peak_arcmin = Some(d.te_peak_to_peak_arcmin);
-        st.summary.dte_rms_arcmin = Some(d.te_rms_arcmin);
-        st.summary.dte_range_arcmin = Some([d.te_min_arcmin, d.te_max_arcmin]);
-        st.dynamics = Some(d);
-    }
-    if let Some((fl, mesh)) = flexible {
-        let ste = CurveStats::of(&fl.flexible_ste);
-        let loaded = CurveStats::of(&fl.flexible_loaded_te);
-        let rigid = CurveStats::of(&fl.rigid_loaded_te);
-        let s = &mut st.summary;
-        s.flexible_ste_mean_arcmin = Some(arcmin(ste.mean));
-        s.flexible_ste_peak_to_peak_arcmin = Some(arcmin(ste.peak_to_peak));
-        s.flexible_loaded_te_mean_arcmin = Some(arcmin(loaded.mean));
-        s.flexible_loaded_te_peak_to_peak_arcmin = Some(arcmin(loaded.peak_to_peak));
-        s.rigid_loaded_te_revolution_mean_arcmin = Some(arcmin(rigid.mean));
-        s.flexible_torsional_stiffness_nm_per_arcmin =
-            Some(fl.torsional_stiffness / ARCMIN_PER_RAD);
-        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
-        let gap = |a: &[f64], b: &[f64]| {
-            let d: Vec<f64> = a.iter().zip(b).map(|(x, y)| x - y).collect();
-            arcmin(mean(&d))
-        };
-        s.flexible_ste_reverse_mean_arcmin = Some(arcmin(mean(&fl.flexible_ste_reverse)));
-        s.flexible_loaded_te_reverse_mean_arcmin =
-            Some(arcmin(mean(&fl.flexible_loaded_te_reverse)));
-        s.flexible_backlash_arcmin = Some(gap(&fl.rigid_ste, &fl.rigid_ste_reverse));
-        s.flexible_lost_motion_arcmin = Some(gap(&fl.flexible_ste, &fl.flexible_ste_reverse));
-        s.max_von_mises_mpa = Some(fl.stress.max_von_mises * 1e-6);
-        s.max_root_stress_mpa = Some(fl.stress.max_root_stress * 1e-6);
-        st.flexible = Some((fl, mesh));
-    }
-}
-
-/// The flexible disc's analysis of every stage of `study` (docs/model.md section 9), after its
-/// static stages: the FE disc built on the unworn profile, moved onto each stage's outline
-/// and analysed on the stage's worn parts, as [`super::run`] does with `[fem] enabled` and
-/// the dynamics off; the same numbers recorded in each stage and its summary. `progress(done,
-/// total)` after the FE disc and after each stage. `study.model` then has `[fem] enabled`.
-///
-/// # Errors
-/// The FE disc's failures and the flexible analysis's, as [`super::run`] reports them.
-pub(super) fn flexible_pass(
-    study: &mut super::Study,
-    progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<()> {
-    let mut model = study.model.clone();
-    model.fem.enabled = true;
-    model.dynamics.enabled = false;
-    let total = study.stages.len() + 1;
-    let base_profile = model.profile()?;
-    let base = DiscSet::build(&base_profile, &model.fem.params, &model.reducer)?;
-    progress(1, total);
-    let wear = &study.wear;
-    for (i, st) in study.stages.iter_mut().enumerate() {
-        let worn = crate::wear::WornState::new(
-            model.wear.model,
-            wear.bearing_rates,
-            st.hours,
-            &wear.maps[i],
-            &wear.pin_maps[i],
-        )?;
-        let staged = model.worn(&worn);
-        let row = dynamics_and_flexible(&staged, &st.profile, Some(&base), &base_profile, &|| {})?;
-        record_row(st, row);
-        progress(i + 2, total);
-    }
-    study.model = model;
-    Ok(())
 }

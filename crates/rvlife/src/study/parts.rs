@@ -343,7 +343,7 @@ pub fn assemble(
 /// # Errors
 /// The FE disc's failures and the flexible analysis's.
 pub fn flexible(study: &mut Study, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<()> {
-    super::executor::flexible_pass(study, progress)
+    super::analyses::flexible_pass(study, progress)
 }
 
 /// The accuracy life's trials between two stages, made before the assembly

@@ -248,3 +248,60 @@ fn monte_carlo_on_the_early_history_equals_the_run_on_the_whole() {
         whole_run.len()
     );
 }
+
+/// Records what a study's observers hear.
+#[derive(Default)]
+struct Heard {
+    progress: std::sync::Mutex<Vec<(usize, usize)>>,
+    stages: std::sync::Mutex<Vec<(usize, f64)>>,
+}
+
+impl crate::study::Observer for Heard {
+    fn progress(&self, done: usize, total: usize) {
+        self.progress.lock().unwrap().push((done, total));
+    }
+
+    fn stage(&self, index: usize, summary: &crate::quantities::StageSummary) {
+        self.stages.lock().unwrap().push((index, summary.hours));
+    }
+}
+
+/// The study's executor with observers (`study::Executor`) against the easy call
+/// (`study::run`): the same results files byte for byte, with two observers each hearing every
+/// stage's static results exactly once at the stage's hours, and the progress with one fixed
+/// total (the wear-rate evaluations as scheduled and one step a stage), never beyond it, its
+/// last report the whole (the worn parts' study stopped at 18 of 19 before that report: the
+/// scheduled count of wear-rate evaluations is an estimate).
+#[test]
+fn executor_observers_hear_every_stage_and_the_progress() {
+    for worn_parts in [false, true] {
+        let m = model(worn_parts);
+        let (first, second) = (Heard::default(), Heard::default());
+        let study = crate::study::Executor::new(&m)
+            .observe(&first)
+            .observe(&second)
+            .run()
+            .unwrap();
+        let easy = crate::study::run(&m, &|_, _| {}).unwrap();
+        let (a, b) = (
+            crate::output::study::data_files(&study).unwrap(),
+            crate::output::study::data_files(&easy).unwrap(),
+        );
+        assert!(a == b, "the files differ (worn parts: {worn_parts})");
+        let total = parts::wear_steps(&m) + m.wear.stage_hours.len();
+        for heard in [first, second] {
+            let mut stages = heard.stages.into_inner().unwrap();
+            stages.sort_by_key(|s| s.0);
+            let hours: Vec<(usize, f64)> = study
+                .stages
+                .iter()
+                .enumerate()
+                .map(|(i, s)| (i, s.hours))
+                .collect();
+            assert_eq!(stages, hours, "worn parts: {worn_parts}");
+            let progress = heard.progress.into_inner().unwrap();
+            assert!(progress.iter().all(|&(d, t)| t == total && d <= total));
+            assert_eq!(progress.last(), Some(&(total, total)), "{progress:?}");
+        }
+    }
+}
