@@ -13,7 +13,7 @@ use crate::geometry::CycloidGeometry;
 use crate::reducer::estimates::{
     carrier_seat_estimate, journal_estimates, roller_diameter_estimate,
 };
-use crate::reducer::structure::{shaft_torsion_stiffness, stiffness_of, SeriesCompliances};
+use crate::reducer::structure::{shaft_torsion_stiffness, SeriesCompliances};
 use crate::reducer::{BearingLaw, Bearings, Drive, Mesh, OutputPins, RadialBearing};
 
 /// `[reducer]`: the drive (RV with its planetary first stage, or single-stage) and the rating.
@@ -404,22 +404,21 @@ impl ReducerConfig {
             &rv_mesh,
             cranks_of_stage,
         )?;
-        // The housing ring under the pins' loads, a twist compliance taken at the seats.
-        let mut series = series;
-        if let (Some(ring), false, "rollers") =
-            (structure.housing, single, self.bearings.model.as_str())
-        {
-            let zp = geometry.pins as f64;
-            let twist_factor = (zp - 1.0) / (zp + rv_mesh.sun_planet_ratio);
-            let c = ring.twist_compliance(geometry, &disc_phases, 0.5 * twist_factor, 12);
-            series.housing = c * planets as f64 * crank_circle * crank_circle;
-        }
-        // The parts in series, summed into the bearings' and the meshes' stiffness
-        // (docs/model.md section 5.9).
-        bearings.disc.series_stiffness = stiffness_of(series.disc_side());
-        bearings.carrier.series_stiffness = stiffness_of(series.carrier_side());
+        // The housing ring under the pins' loads, a twist compliance taken at the seats, and
+        // the parts in series summed into the bearings' and the meshes' stiffness.
+        let series = match (structure.housing, single, self.bearings.model.as_str()) {
+            (Some(ring), false, "rollers") => series.with_housing(
+                &ring,
+                geometry,
+                &disc_phases,
+                rv_mesh.sun_planet_ratio,
+                planets,
+                crank_circle,
+            ),
+            _ => series,
+        };
         let mut rv_mesh = rv_mesh;
-        rv_mesh.stiffness = 1.0 / (1.0 / rv_mesh.stiffness + series.mesh_side());
+        series.put_in_series(&mut bearings.disc, &mut bearings.carrier, &mut rv_mesh);
         let (drive, cranks, crank_circle_radius, mesh) = match output_pins {
             Some(mut w) => {
                 if w.stiffness <= 0.0 {

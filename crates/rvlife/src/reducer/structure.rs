@@ -236,6 +236,43 @@ impl SeriesCompliances {
     pub fn mesh_side(&self) -> f64 {
         self.crank_torsion + self.input_shaft
     }
+
+    /// These compliances with the housing `ring` under the pins' loads (`housing`: its twist
+    /// compliance at the seats, docs/model.md section 5.9) of an RV reducer with the stage
+    /// `geometry`, discs at eccentric phases `phases` (rad), sun-to-planet ratio
+    /// `sun_planet_ratio` and `planets` cranks at `crank_circle` (m): the ring's
+    /// [`HousingRing::twist_compliance`] (each disc carrying half of `(Zp - 1)/(Zp + i_1)` of
+    /// the output torque, 12 crank angles) times `n r^2`.
+    pub fn with_housing(
+        mut self,
+        ring: &HousingRing,
+        geometry: &crate::geometry::CycloidGeometry,
+        phases: &[f64],
+        sun_planet_ratio: f64,
+        planets: usize,
+        crank_circle: f64,
+    ) -> Self {
+        let zp = geometry.pins as f64;
+        let twist_factor = (zp - 1.0) / (zp + sun_planet_ratio);
+        let c = ring.twist_compliance(geometry, phases, 0.5 * twist_factor, 12);
+        self.housing = c * planets as f64 * crank_circle * crank_circle;
+        self
+    }
+
+    /// Sums these compliances into the series stiffnesses they are the parts of
+    /// (docs/model.md section 5.9): the crank-disc bearings' (`disc`, [`Self::disc_side`]),
+    /// the crank-carrier pairs' (`carrier`, [`Self::carrier_side`]), and the sun-planet mesh's
+    /// own stiffness in series with [`Self::mesh_side`] (`mesh`).
+    pub fn put_in_series(
+        &self,
+        disc: &mut super::RadialBearing,
+        carrier: &mut super::RadialBearing,
+        mesh: &mut super::Mesh,
+    ) {
+        disc.series_stiffness = stiffness_of(self.disc_side());
+        carrier.series_stiffness = stiffness_of(self.carrier_side());
+        mesh.stiffness = 1.0 / (1.0 / mesh.stiffness + self.mesh_side());
+    }
 }
 
 /// The stiffness (N/m) of a compliance `c` (m/N): infinite for 0.
