@@ -10,14 +10,19 @@ export type CommandName = Declared['name'];
 /** The options command `C` declares. */
 export type OptionOf<C extends CommandName> = Extract<Declared, { name: C }>['options'][number]['name'];
 
+/** The declaration of option `option` of command `command`.
+ *  @throws when the command does not declare it (the types refuse it first). */
+function declaredOption<C extends CommandName>(command: C, option: OptionOf<C>) {
+  const o = COMMANDS.find((x) => x.name === command)?.options.find((x) => x.name === option);
+  if (!o) throw new Error(`rvlife ${command} has no option ${option}`);
+  return o;
+}
+
 /** The declared default of option `option` of the command line's command `command`, as a form
  *  shows it (`''`: none, the option absent unless given). Both names are typed from the
  *  declaration: a form that names what the library does not declare fails the type check. */
 export function declaredDefault<C extends CommandName>(command: C, option: OptionOf<C>): string {
-  const c = COMMANDS.find((x) => x.name === command);
-  const o = c?.options.find((x) => x.name === option);
-  if (!o) throw new Error(`rvlife ${command} has no option ${option}`);
-  const d: unknown = o.default;
+  const d: unknown = declaredOption(command, option).default;
   if (typeof d === 'object' && d !== null) {
     const v = Object.values(d)[0];
     return typeof v === 'number' || typeof v === 'string' ? String(v) : '';
@@ -34,9 +39,7 @@ export function declaredField<C extends CommandName>(
   option: OptionOf<C>,
   field: { id: string; label: string; value?: string; choices?: string[] },
 ): Field {
-  const c = COMMANDS.find((x) => x.name === command);
-  const o = c?.options.find((x) => x.name === option);
-  if (!o) throw new Error(`rvlife ${command} has no option ${option}`);
+  const o = declaredOption(command, option);
   if (!(o.fronts as readonly string[]).includes('page')) throw new Error(`rvlife ${command} --${option} is not the page's`);
   return {
     ...field,

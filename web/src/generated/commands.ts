@@ -7,7 +7,6 @@ export const COMMANDS = [
     "name": "example",
     "python": "example",
     "page": "presetText",
-    "summary": "a built-in config, fully commented",
     "about": "Print a built-in config, fully commented: the built-in RV-40E-class reducer by default",
     "out_dir": null,
     "options": [
@@ -45,7 +44,6 @@ export const COMMANDS = [
     "name": "run",
     "python": "run_study",
     "page": "study",
-    "summary": "the accuracy-life study and its results directory",
     "about": "Run the accuracy-life study and write the results directory",
     "out_dir": "rvlife-results",
     "options": [
@@ -93,7 +91,6 @@ export const COMMANDS = [
     "name": "profile",
     "python": "profile",
     "page": "profile",
-    "summary": "the disc profile's points or its export",
     "about": "Export the disc profile (nominal, modified or worn) to CSV, DXF or SVG",
     "out_dir": null,
     "options": [
@@ -196,7 +193,6 @@ export const COMMANDS = [
     "name": "contact",
     "python": "contact",
     "page": "contact",
-    "summary": "the static equilibrium at one crank angle under an output torque",
     "about": "Static equilibrium of the reducer at one crank angle under an output torque (input locked): pin forces on each disc, disc translations, twist",
     "out_dir": null,
     "options": [
@@ -273,7 +269,6 @@ export const COMMANDS = [
     "name": "te",
     "python": "te",
     "page": "te",
-    "summary": "static and loaded transmission error, backlash and lost motion",
     "about": "Static TE, backlash and lost motion over a mesh cycle (and loaded TE with --torque-nm)",
     "out_dir": null,
     "options": [
@@ -336,7 +331,6 @@ export const COMMANDS = [
     "name": "hysteresis",
     "python": "hysteresis",
     "page": "hysteresis",
-    "summary": "the hysteresis curve and its catalogue quantities",
     "about": "Hysteresis curve (output torque 0 -> +rated -> -rated -> +rated, input locked) with backlash, lost motion, hysteresis loss and torsional stiffness",
     "out_dir": null,
     "options": [
@@ -429,7 +423,6 @@ export const COMMANDS = [
     "name": "efficiency",
     "python": "efficiency",
     "page": null,
-    "summary": "losses and efficiency over speed, torque and oil temperature",
     "about": "Power losses and efficiency over output speed, torque and oil temperature: the disc-pin contacts (the oil film's friction), crank bearings and sun-planet meshes",
     "out_dir": null,
     "options": [
@@ -540,7 +533,6 @@ export const COMMANDS = [
     "name": "dynamics",
     "python": "dynamics",
     "page": "dynamics",
-    "summary": "the multibody simulation and its dynamic transmission error",
     "about": "Simulate the whole reducer (multibody model, impact contact) and report the dynamic TE",
     "out_dir": null,
     "options": [
@@ -669,7 +661,6 @@ export const COMMANDS = [
     "name": "montecarlo",
     "python": "montecarlo",
     "page": "montecarlo",
-    "summary": "Monte Carlo over the part tolerances: the accuracy life's distribution",
     "about": "Monte Carlo over the part tolerances (`[tolerances]`): sampled reducers through the accuracy-life study; per-sample results, percentiles, the accuracy life's distribution",
     "out_dir": "rvlife-montecarlo",
     "options": [
@@ -802,7 +793,6 @@ export const COMMANDS = [
     "name": "merge",
     "python": "merge",
     "page": "montecarloMerge",
-    "summary": "the parts of a Monte Carlo run combined",
     "about": "Combine the shards of a Monte Carlo run into exactly the files the unsharded run writes",
     "out_dir": null,
     "options": [
@@ -851,7 +841,6 @@ export const COMMANDS = [
     "name": "sweep",
     "python": "sweep",
     "page": null,
-    "summary": "one accuracy-life study per design of a product of key values",
     "about": "Design sweep: the product of values of config keys (`--vary`), one accuracy-life study per design; writes the tidy table of every design and stage (`sweep.csv`), each design's verdict (`designs.csv`), its config, and a report",
     "out_dir": "rvlife-sweep",
     "options": [
@@ -923,7 +912,6 @@ export const COMMANDS = [
     "name": "optimize",
     "python": "optimize",
     "page": "optimize",
-    "summary": "the design that stays in spec longest, or the Pareto front of several goals",
     "about": "Design search: the keys of `--vary` within their ranges that keep the reducer in spec longest (`--objective life`, or `b10`), or the Pareto front of several goals (`life,lost_motion_arcmin`), under constraints on any quantity at any stage; writes every candidate (`candidates.csv`), the front (`pareto.csv`), the best design's config (`optimum.toml`) and a report. Ctrl-C stops after the running candidate and writes what was found",
     "out_dir": "rvlife-optimize",
     "options": [
@@ -1035,7 +1023,6 @@ export const COMMANDS = [
     "name": "calibrate",
     "python": "calibrate",
     "page": null,
-    "summary": "the Archard coefficient for a target wear or fitted to measurements",
     "about": "Find the Archard coefficient that gives a target maximum wear at the last stage, or (with --measured) fit it to measured lost motion, backlash or wear against hours",
     "out_dir": null,
     "options": [

@@ -41,7 +41,7 @@ def options_section(decl: Dict[str, Any]) -> str:
     for o in decl["options"]:
         if "python" not in o["fronts"]:
             continue
-        name = o["python_name"] or o["name"]
+        name = names[o["name"]]
         default = o["python_default"] if o["python_default"] is not None else o["default"]
         unit = f" ({o['unit']})" if o["unit"] else ""
         lines.append(f"- ``{name}``{unit}{_default(default)}: {python_text(o['help'], names)}.")

@@ -89,8 +89,8 @@ pub struct OptionDecl {
     pub python_default: Option<Default>,
     /// The front ends that take it.
     pub fronts: &'static [Front],
-    /// What it means, one paragraph: the command line's `--help` and the Python function's
-    /// docstring show it.
+    /// What it means, one paragraph: the command line's `--help`, the Python function's
+    /// docstring and the page's form field (its tooltip) show it.
     pub help: &'static str,
 }
 
@@ -157,8 +157,6 @@ pub struct CommandDecl {
     pub python: Option<&'static str>,
     /// Its command on the page (`None`: not on the page).
     pub page: Option<&'static str>,
-    /// What it does, one line.
-    pub summary: &'static str,
     /// What it does and writes, one paragraph: the command line's `--help` shows it.
     pub about: &'static str,
     /// The results directory the command line writes when `--out` is not given (`None`:
@@ -200,7 +198,6 @@ pub const COMMANDS: &[CommandDecl] = &[
         name: "example",
         python: Some("example"),
         page: Some("presetText"),
-        summary: "a built-in config, fully commented",
         about: "Print a built-in config, fully commented: the built-in RV-40E-class reducer by default",
         out_dir: None,
         options: &[
@@ -212,7 +209,6 @@ pub const COMMANDS: &[CommandDecl] = &[
         name: "run",
         python: Some("run_study"),
         page: Some("study"),
-        summary: "the accuracy-life study and its results directory",
         about: "Run the accuracy-life study and write the results directory",
         out_dir: Some("rvlife-results"),
         options: &[
@@ -225,7 +221,6 @@ pub const COMMANDS: &[CommandDecl] = &[
         name: "profile",
         python: Some("profile"),
         page: Some("profile"),
-        summary: "the disc profile's points or its export",
         about: "Export the disc profile (nominal, modified or worn) to CSV, DXF or SVG",
         out_dir: None,
         options: &[
@@ -243,7 +238,6 @@ pub const COMMANDS: &[CommandDecl] = &[
         name: "contact",
         python: Some("contact"),
         page: Some("contact"),
-        summary: "the static equilibrium at one crank angle under an output torque",
         about: "Static equilibrium of the reducer at one crank angle under an output torque (input locked): pin forces on each disc, disc translations, twist",
         out_dir: None,
         options: &[
@@ -258,7 +252,6 @@ pub const COMMANDS: &[CommandDecl] = &[
         name: "te",
         python: Some("te"),
         page: Some("te"),
-        summary: "static and loaded transmission error, backlash and lost motion",
         about: "Static TE, backlash and lost motion over a mesh cycle (and loaded TE with --torque-nm)",
         out_dir: None,
         options: &[
@@ -272,7 +265,6 @@ pub const COMMANDS: &[CommandDecl] = &[
         name: "hysteresis",
         python: Some("hysteresis"),
         page: Some("hysteresis"),
-        summary: "the hysteresis curve and its catalogue quantities",
         about: "Hysteresis curve (output torque 0 -> +rated -> -rated -> +rated, input locked) with backlash, lost motion, hysteresis loss and torsional stiffness",
         out_dir: None,
         options: &[
@@ -288,7 +280,6 @@ pub const COMMANDS: &[CommandDecl] = &[
         name: "efficiency",
         python: Some("efficiency"),
         page: None,
-        summary: "losses and efficiency over speed, torque and oil temperature",
         about: "Power losses and efficiency over output speed, torque and oil temperature: the disc-pin contacts (the oil film's friction), crank bearings and sun-planet meshes",
         out_dir: None,
         options: &[
@@ -306,7 +297,6 @@ pub const COMMANDS: &[CommandDecl] = &[
         name: "dynamics",
         python: Some("dynamics"),
         page: Some("dynamics"),
-        summary: "the multibody simulation and its dynamic transmission error",
         about: "Simulate the whole reducer (multibody model, impact contact) and report the dynamic TE",
         out_dir: None,
         options: &[
@@ -325,7 +315,6 @@ pub const COMMANDS: &[CommandDecl] = &[
         name: "montecarlo",
         python: Some("montecarlo"),
         page: Some("montecarlo"),
-        summary: "Monte Carlo over the part tolerances: the accuracy life's distribution",
         about: "Monte Carlo over the part tolerances (`[tolerances]`): sampled reducers through the accuracy-life study; per-sample results, percentiles, the accuracy life's distribution",
         out_dir: Some("rvlife-montecarlo"),
         options: &[
@@ -348,7 +337,6 @@ pub const COMMANDS: &[CommandDecl] = &[
         name: "merge",
         python: Some("merge"),
         page: Some("montecarloMerge"),
-        summary: "the parts of a Monte Carlo run combined",
         about: "Combine the shards of a Monte Carlo run into exactly the files the unsharded run writes",
         out_dir: None,
         options: &[
@@ -365,7 +353,6 @@ pub const COMMANDS: &[CommandDecl] = &[
         name: "sweep",
         python: Some("sweep"),
         page: None,
-        summary: "one accuracy-life study per design of a product of key values",
         about: "Design sweep: the product of values of config keys (`--vary`), one accuracy-life study per design; writes the tidy table of every design and stage (`sweep.csv`), each design's verdict (`designs.csv`), its config, and a report",
         out_dir: Some("rvlife-sweep"),
         options: &[
@@ -382,7 +369,6 @@ pub const COMMANDS: &[CommandDecl] = &[
         name: "optimize",
         python: Some("optimize"),
         page: Some("optimize"),
-        summary: "the design that stays in spec longest, or the Pareto front of several goals",
         about: "Design search: the keys of `--vary` within their ranges that keep the reducer in spec longest (`--objective life`, or `b10`), or the Pareto front of several goals (`life,lost_motion_arcmin`), under constraints on any quantity at any stage; writes every candidate (`candidates.csv`), the front (`pareto.csv`), the best design's config (`optimum.toml`) and a report. Ctrl-C stops after the running candidate and writes what was found",
         out_dir: Some("rvlife-optimize"),
         options: &[
@@ -400,7 +386,6 @@ pub const COMMANDS: &[CommandDecl] = &[
         name: "calibrate",
         python: Some("calibrate"),
         page: None,
-        summary: "the Archard coefficient for a target wear or fitted to measurements",
         about: "Find the Archard coefficient that gives a target maximum wear at the last stage, or (with --measured) fit it to measured lost motion, backlash or wear against hours",
         out_dir: None,
         options: &[
@@ -423,8 +408,9 @@ pub const COMMANDS: &[CommandDecl] = &[
     },
 ];
 
-/// [`COMMANDS`] as JSON: `[{name, python, page, summary, options: [{name, python_name, kind,
-/// unit, default, fronts}]}]`, for the front ends' tests.
+/// [`COMMANDS`] as JSON: `[{name, python, page, about, out_dir, options: [{name, python_name, kind,
+/// unit, default, python_default, fronts, help}]}]`, for the front ends' tests and the Python
+/// functions' docstrings.
 pub fn commands_json() -> String {
     serde_json::to_string(COMMANDS).unwrap_or_default()
 }
