@@ -13,6 +13,7 @@ use numpy::PyArray1;
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
+use pyo3_stub_gen::derive::{gen_stub_pyclass, gen_stub_pyfunction, gen_stub_pymethods};
 use rvlife::api::{Spelling, Wear};
 use rvlife::config::{Config, Model};
 use serde_json::Value;
@@ -132,6 +133,7 @@ fn progress_fn(cb: Option<Py<PyAny>>) -> impl Fn(usize, usize) + Sync {
 }
 
 /// The text of a built-in config (`rvlife example --preset NAME`).
+#[gen_stub_pyfunction]
 #[pyfunction]
 #[pyo3(signature = (preset = "rv-40e"))]
 fn example_toml(preset: &str) -> PyResult<String> {
@@ -144,6 +146,7 @@ fn example_toml(preset: &str) -> PyResult<String> {
 }
 
 /// `(name, summary)` of every built-in config.
+#[gen_stub_pyfunction]
 #[pyfunction]
 fn presets() -> Vec<(&'static str, &'static str)> {
     rvlife::config::PRESETS
@@ -154,6 +157,7 @@ fn presets() -> Vec<(&'static str, &'static str)> {
 
 /// A validated config: the parsed TOML ([`Config`], for the commands that override keys) and
 /// its model ([`Model`]), built once and shared by every call.
+#[gen_stub_pyclass]
 #[pyclass(frozen, module = "rvlife._rvlife")]
 struct Loaded {
     text: String,
@@ -162,6 +166,7 @@ struct Loaded {
 }
 
 /// Parses and validates a config (raises `ValueError` naming the key).
+#[gen_stub_pyfunction]
 #[pyfunction]
 #[pyo3(signature = (text, origin, base_dir = None, work_budget_min = rvlife::budget::DEFAULT_MINUTES))]
 fn load(
@@ -184,6 +189,7 @@ fn load(
 }
 
 /// TOML text of a JSON object (a config given as a Python dict).
+#[gen_stub_pyfunction]
 #[pyfunction]
 fn toml_from_json(json: &str) -> PyResult<String> {
     let v: Value = serde_json::from_str(json).map_err(|e| PyValueError::new_err(e.to_string()))?;
@@ -220,7 +226,9 @@ fn staging(
 }
 
 /// `rvlife profile`: the profile's points (`x_mm`, `y_mm`, `mesh_angle_deg`, `wear_um`).
+#[gen_stub_pyfunction]
 #[pyfunction]
+#[gen_stub(override_return_type(type_repr = "dict[builtins.str, typing.Any]", imports = ("builtins", "typing")))]
 #[pyo3(signature = (cfg, wear_um, hours, nominal, points_per_tooth, progress = None))]
 #[allow(clippy::too_many_arguments)]
 fn profile(
@@ -230,6 +238,7 @@ fn profile(
     hours: Option<f64>,
     nominal: bool,
     points_per_tooth: usize,
+    #[gen_stub(override_type(type_repr = "typing.Optional[collections.abc.Callable[[builtins.int, builtins.int], None]]", imports = ("typing", "collections.abc", "builtins")))]
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Py<PyAny>> {
     let wear = Wear { wear_um, hours };
@@ -246,7 +255,9 @@ fn profile(
 }
 
 /// `rvlife contact --json`.
+#[gen_stub_pyfunction]
 #[pyfunction]
+#[gen_stub(override_return_type(type_repr = "dict[builtins.str, typing.Any]", imports = ("builtins", "typing")))]
 #[pyo3(signature = (cfg, crank_deg, torque_nm, wear_um, hours, progress = None))]
 fn contact(
     py: Python<'_>,
@@ -255,6 +266,7 @@ fn contact(
     torque_nm: f64,
     wear_um: Option<f64>,
     hours: Option<f64>,
+    #[gen_stub(override_type(type_repr = "typing.Optional[collections.abc.Callable[[builtins.int, builtins.int], None]]", imports = ("typing", "collections.abc", "builtins")))]
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Py<PyAny>> {
     let wear = Wear { wear_um, hours };
@@ -264,7 +276,9 @@ fn contact(
 }
 
 /// `rvlife te --json`.
+#[gen_stub_pyfunction]
 #[pyfunction]
+#[gen_stub(override_return_type(type_repr = "dict[builtins.str, typing.Any]", imports = ("builtins", "typing")))]
 #[pyo3(signature = (cfg, torque_nm, wear_um, hours, progress = None))]
 fn te(
     py: Python<'_>,
@@ -272,6 +286,7 @@ fn te(
     torque_nm: Option<f64>,
     wear_um: Option<f64>,
     hours: Option<f64>,
+    #[gen_stub(override_type(type_repr = "typing.Optional[collections.abc.Callable[[builtins.int, builtins.int], None]]", imports = ("typing", "collections.abc", "builtins")))]
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Py<PyAny>> {
     let wear = Wear { wear_um, hours };
@@ -281,7 +296,9 @@ fn te(
 }
 
 /// `rvlife hysteresis --json`.
+#[gen_stub_pyfunction]
 #[pyfunction]
+#[gen_stub(override_return_type(type_repr = "dict[builtins.str, typing.Any]", imports = ("builtins", "typing")))]
 #[pyo3(signature = (cfg, crank_deg, levels, wear_um, hours, progress = None))]
 fn hysteresis(
     py: Python<'_>,
@@ -290,6 +307,7 @@ fn hysteresis(
     levels: usize,
     wear_um: Option<f64>,
     hours: Option<f64>,
+    #[gen_stub(override_type(type_repr = "typing.Optional[collections.abc.Callable[[builtins.int, builtins.int], None]]", imports = ("typing", "collections.abc", "builtins")))]
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Py<PyAny>> {
     let wear = Wear { wear_um, hours };
@@ -300,7 +318,9 @@ fn hysteresis(
 
 /// `rvlife efficiency --json`: the losses and efficiency over output speed, torque and oil
 /// temperature.
+#[gen_stub_pyfunction]
 #[pyfunction]
+#[gen_stub(override_return_type(type_repr = "dict[builtins.str, typing.Any]", imports = ("builtins", "typing")))]
 #[pyo3(signature = (cfg, speeds_rpm, torques_nm, temperatures_c, wear_um, hours, progress = None))]
 #[allow(clippy::too_many_arguments)]
 fn efficiency(
@@ -311,6 +331,7 @@ fn efficiency(
     temperatures_c: Option<Vec<f64>>,
     wear_um: Option<f64>,
     hours: Option<f64>,
+    #[gen_stub(override_type(type_repr = "typing.Optional[collections.abc.Callable[[builtins.int, builtins.int], None]]", imports = ("typing", "collections.abc", "builtins")))]
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Py<PyAny>> {
     let wear = Wear { wear_um, hours };
@@ -330,7 +351,9 @@ fn efficiency(
 /// `rvlife dynamics --json` (without `wall_time_s`) with the time series as `samples`
 /// (`time_s`, `te_arcmin`, ... arrays) and, when asked, `pin_forces_n` (samples x pins of
 /// both discs); `out` also writes the results directory.
+#[gen_stub_pyfunction]
 #[pyfunction]
+#[gen_stub(override_return_type(type_repr = "dict[builtins.str, typing.Any]", imports = ("builtins", "typing")))]
 #[pyo3(signature = (cfg, load, torque_nm, disc, wear_um, hours, pin_forces, out, force, progress = None))]
 #[allow(clippy::too_many_arguments)]
 fn dynamics(
@@ -344,6 +367,7 @@ fn dynamics(
     pin_forces: bool,
     out: Option<PathBuf>,
     force: bool,
+    #[gen_stub(override_type(type_repr = "typing.Optional[collections.abc.Callable[[builtins.int, builtins.int], None]]", imports = ("typing", "collections.abc", "builtins")))]
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Py<PyAny>> {
     let p = progress_fn(progress);
@@ -398,13 +422,16 @@ fn dynamics(
 /// The accuracy-life study (`rvlife run`): its `summary.json` object with the study's
 /// `verdict` added; `out` also writes the results directory (atomically; `force` replaces an
 /// existing one).
+#[gen_stub_pyfunction]
 #[pyfunction]
+#[gen_stub(override_return_type(type_repr = "dict[builtins.str, typing.Any]", imports = ("builtins", "typing")))]
 #[pyo3(signature = (cfg, out, force, progress = None))]
 fn run_study(
     py: Python<'_>,
     cfg: &Loaded,
     out: Option<PathBuf>,
     force: bool,
+    #[gen_stub(override_type(type_repr = "typing.Optional[collections.abc.Callable[[builtins.int, builtins.int], None]]", imports = ("typing", "collections.abc", "builtins")))]
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Py<PyAny>> {
     let p = progress_fn(progress);
@@ -429,7 +456,9 @@ fn run_study(
 /// `out`, writes the command line's files (the whole run's, or the shard's for merging).
 /// Returns `{"samples_csv", "stages_csv", "shard_json"}`: the records in the files' form and
 /// the shard's meta-data (for [`merge`]).
+#[gen_stub_pyfunction]
 #[pyfunction]
+#[gen_stub(override_return_type(type_repr = "dict[builtins.str, builtins.str]", imports = ("builtins", "typing")))]
 #[pyo3(signature = (cfg, samples, seed, shard, full_wear, samples_per_mesh_cycle, out, force, progress = None, shared_wear = None, threads = None))]
 #[allow(clippy::too_many_arguments)]
 fn montecarlo(
@@ -442,6 +471,7 @@ fn montecarlo(
     samples_per_mesh_cycle: usize,
     out: Option<PathBuf>,
     force: bool,
+    #[gen_stub(override_type(type_repr = "typing.Optional[collections.abc.Callable[[builtins.int, builtins.int], None]]", imports = ("typing", "collections.abc", "builtins")))]
     progress: Option<Py<PyAny>>,
     shared_wear: Option<String>,
     threads: Option<usize>,
@@ -521,6 +551,7 @@ fn in_threads<T: Send>(
 /// The nominal reducer's wear history of a Monte Carlo run as JSON
 /// ([`rvlife::montecarlo::nominal_wear`]): computed once and given to every shard
 /// (`montecarlo(..., shared_wear=...)`), the shards write the serial run's bytes.
+#[gen_stub_pyfunction]
 #[pyfunction]
 #[pyo3(signature = (cfg, threads = None))]
 fn nominal_wear(py: Python<'_>, cfg: &Loaded, threads: Option<usize>) -> PyResult<String> {
@@ -539,6 +570,7 @@ fn json_arg(what: &str, text: &str) -> PyResult<Value> {
 
 /// `text` with the dotted keys of the JSON object `edits` set (`null`: removed), comments kept
 /// ([`rvlife::config::edit::set`]).
+#[gen_stub_pyfunction]
 #[pyfunction]
 fn config_set(text: &str, origin: &str, edits: &str) -> PyResult<String> {
     let Value::Object(m) = json_arg("replace", edits)? else {
@@ -552,13 +584,16 @@ fn config_set(text: &str, origin: &str, edits: &str) -> PyResult<String> {
 }
 
 /// `text` with the nested JSON object `patch` merged over it ([`rvlife::config::edit::merge`]).
+#[gen_stub_pyfunction]
 #[pyfunction]
 fn config_merge(text: &str, origin: &str, patch: &str) -> PyResult<String> {
     rvlife::config::edit::merge(text, origin, &json_arg("config", patch)?).map_err(py_err)
 }
 
 /// The config text as a dict of sections.
+#[gen_stub_pyfunction]
 #[pyfunction]
+#[gen_stub(override_return_type(type_repr = "dict[builtins.str, typing.Any]", imports = ("builtins", "typing")))]
 fn config_to_dict(py: Python<'_>, text: &str, origin: &str) -> PyResult<Py<PyAny>> {
     let v = rvlife::config::edit::to_json(text, origin).map_err(py_err)?;
     Ok(to_py(py, &v)?.unbind())
@@ -567,9 +602,16 @@ fn config_to_dict(py: Python<'_>, text: &str, origin: &str) -> PyResult<Py<PyAny
 /// The accuracy life of the config (`accuracy_life` of `rvlife run`'s `summary.json`, the
 /// verdict, the last stage's accuracy quantities), from the study without the dynamic and FE
 /// analyses (they do not enter the life).
+#[gen_stub_pyfunction]
 #[pyfunction]
+#[gen_stub(override_return_type(type_repr = "dict[builtins.str, typing.Any]", imports = ("builtins", "typing")))]
 #[pyo3(signature = (cfg, progress = None))]
-fn accuracy_life(py: Python<'_>, cfg: &Loaded, progress: Option<Py<PyAny>>) -> PyResult<Py<PyAny>> {
+fn accuracy_life(
+    py: Python<'_>,
+    cfg: &Loaded,
+    #[gen_stub(override_type(type_repr = "typing.Optional[collections.abc.Callable[[builtins.int, builtins.int], None]]", imports = ("typing", "collections.abc", "builtins")))]
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Py<PyAny>> {
     command(py, progress, |p| {
         let study = rvlife::study::run(&cfg.model.clone().static_only(), p)?;
         let s = study.summary();
@@ -591,7 +633,9 @@ fn accuracy_life(py: Python<'_>, cfg: &Loaded, progress: Option<Py<PyAny>>) -> P
 
 /// `rvlife calibrate`: the Archard coefficient giving `target_wear_um` of largest wear at the
 /// last stage; `{archard_coefficient_mm3_per_n_m, max_wear_um, hours}`.
+#[gen_stub_pyfunction]
 #[pyfunction]
+#[gen_stub(override_return_type(type_repr = "dict[builtins.str, typing.Any]", imports = ("builtins", "typing")))]
 #[pyo3(signature = (cfg, target_wear_um))]
 fn calibrate_target(py: Python<'_>, cfg: &Loaded, target_wear_um: f64) -> PyResult<Py<PyAny>> {
     command(py, None, |_| {
@@ -609,7 +653,9 @@ fn calibrate_target(py: Python<'_>, cfg: &Loaded, target_wear_um: f64) -> PyResu
 /// `rvlife calibrate --measured`: the fit of the Archard coefficient to the measurements CSV
 /// `csv` (its text; `name` in messages), `calibration.json` as a dict; `out` also writes the
 /// results directory.
+#[gen_stub_pyfunction]
 #[pyfunction]
+#[gen_stub(override_return_type(type_repr = "dict[builtins.str, typing.Any]", imports = ("builtins", "typing")))]
 #[pyo3(signature = (cfg, csv, name, fit_running_in, out, force, progress = None))]
 #[allow(clippy::too_many_arguments)]
 fn calibrate_measured(
@@ -620,6 +666,7 @@ fn calibrate_measured(
     fit_running_in: bool,
     out: Option<PathBuf>,
     force: bool,
+    #[gen_stub(override_type(type_repr = "typing.Optional[collections.abc.Callable[[builtins.int, builtins.int], None]]", imports = ("typing", "collections.abc", "builtins")))]
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Py<PyAny>> {
     use rvlife::calibration::{Measurements, Options};
@@ -641,7 +688,9 @@ fn calibrate_measured(
 /// structure compliance fitted to a measured hysteresis curve (`csv`, its text, columns
 /// `torque_nm,twist_arcmin`; `name` in messages) or to a catalogue `b/a` (`catalogue`,
 /// N m/arcmin), `calibration.json` as a dict (`rvlife::calibration::structure::StructureFit`).
+#[gen_stub_pyfunction]
 #[pyfunction]
+#[gen_stub(override_return_type(type_repr = "dict[builtins.str, typing.Any]", imports = ("builtins", "typing")))]
 #[pyo3(signature = (cfg, csv, name, catalogue))]
 fn calibrate_structure(
     py: Python<'_>,
@@ -667,6 +716,7 @@ fn calibrate_structure(
 
 /// Whether the CSV text `csv` is a hysteresis curve (`torque_nm,twist_arcmin`) rather than
 /// measurements against hours.
+#[gen_stub_pyfunction]
 #[pyfunction]
 fn is_hysteresis_curve(csv: &str) -> bool {
     rvlife::calibration::structure::MeasuredCurve::is_curve(csv)
@@ -679,14 +729,18 @@ fn is_hysteresis_curve(csv: &str) -> bool {
 /// in that order ([`OptimizeProblem::evaluate`]'s, on a cluster's workers). Returns
 /// `{"candidates_csv", "pareto_csv", "optimum_toml", "best", "start", "stopped"}` (`best`,
 /// `start`: row indices).
+#[gen_stub_pyfunction]
 #[pyfunction]
+#[gen_stub(override_return_type(type_repr = "dict[builtins.str, typing.Any]", imports = ("builtins", "typing")))]
 #[pyo3(signature = (problem, out, force, progress = None, batch = None))]
 fn optimize(
     py: Python<'_>,
     problem: &OptimizeProblem,
     out: Option<PathBuf>,
     force: bool,
+    #[gen_stub(override_type(type_repr = "typing.Optional[collections.abc.Callable[[builtins.int, builtins.int], None]]", imports = ("typing", "collections.abc", "builtins")))]
     progress: Option<Py<PyAny>>,
+    #[gen_stub(override_type(type_repr = "typing.Optional[collections.abc.Callable[[builtins.list[builtins.tuple[builtins.list[builtins.float], builtins.int, builtins.str]]], builtins.list[builtins.str]]]", imports = ("typing", "collections.abc", "builtins")))]
     batch: Option<Py<PyAny>>,
 ) -> PyResult<Py<PyAny>> {
     let p = progress_fn(progress);
@@ -749,9 +803,11 @@ fn optimize(
 /// `constraints` the `Q<=V` texts, validated with the whole search's work before any study
 /// (`ValueError` naming the key or argument); [`optimize`] runs it, and a cluster's worker
 /// builds it once and evaluates its candidates.
+#[gen_stub_pyclass]
 #[pyclass(frozen, module = "rvlife._rvlife")]
 struct OptimizeProblem(rvlife::optimize::Problem);
 
+#[gen_stub_pymethods]
 #[pymethods]
 impl OptimizeProblem {
     /// The problem of these arguments (`rvlife optimize`'s options).
@@ -808,6 +864,7 @@ impl OptimizeProblem {
 
 /// The designs of a sweep as config texts (`rvlife sweep`'s `--vary`, validated with the
 /// sweep's work budget): `vary` a JSON list of `[key, [values]]`.
+#[gen_stub_pyfunction]
 #[pyfunction]
 fn sweep_designs(
     text: &str,
@@ -841,6 +898,7 @@ fn sweep_designs(
 }
 
 /// Merges shard directories (`rvlife merge`) into the whole run's files in `out`.
+#[gen_stub_pyfunction]
 #[pyfunction]
 #[pyo3(signature = (dirs, out, force))]
 fn merge(py: Python<'_>, dirs: Vec<PathBuf>, out: PathBuf, force: bool) -> PyResult<()> {
@@ -868,6 +926,7 @@ type QuantityRow = (
 /// `summary.json` and `stages.csv`): per quantity its name (with its unit), unit, label,
 /// description, the models that produce it (`static`, `dynamics`, `flexible`, `lubrication`)
 /// and its CSV columns.
+#[gen_stub_pyfunction]
 #[pyfunction]
 fn quantities() -> Vec<QuantityRow> {
     rvlife::api::quantity_table()
@@ -878,15 +937,39 @@ fn quantities() -> Vec<QuantityRow> {
 
 /// Every command as the library declares it ([`rvlife::api::commands::COMMANDS`]), JSON:
 /// what the package's test checks its functions' signatures against.
+#[gen_stub_pyfunction]
 #[pyfunction]
 fn commands() -> String {
     rvlife::api::commands::commands_json()
 }
 
 /// The rvlife version.
+#[gen_stub_pyfunction]
 #[pyfunction]
 fn version() -> &'static str {
     env!("CARGO_PKG_VERSION")
+}
+
+pyo3_stub_gen::define_stub_info_gatherer!(stub_info);
+
+pyo3_stub_gen::module_doc!(
+    "rvlife._rvlife",
+    "The native module of rvlife (PyO3), generated from its functions' signatures. A config is\n\
+     loaded once (`load`: TOML text, origin, base folder) and passed to every command; results\n\
+     are the command line's JSON objects as dicts, lists of floats as numpy float64 arrays. Bad\n\
+     input raises ValueError naming the key."
+);
+
+/// The native module's stub (`python/rvlife/_rvlife.pyi`) as pyo3-stub-gen writes it from the
+/// functions' and classes' own signatures and doc comments; `tests/stub.rs` fails while the
+/// file in the tree is not this text. Errors: the crate's `pyproject.toml` unreadable, or no
+/// module `rvlife._rvlife` gathered (message).
+pub fn stub_text() -> Result<String, String> {
+    let info = stub_info().map_err(|e| e.to_string())?;
+    info.modules
+        .get("rvlife._rvlife")
+        .map(|m| m.to_string())
+        .ok_or_else(|| format!("no module rvlife._rvlife among {:?}", info.modules.keys()))
 }
 
 #[pymodule]

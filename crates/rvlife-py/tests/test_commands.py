@@ -87,9 +87,9 @@ def _stubs():
 
 
 def test_the_native_stub_is_the_native_module():
-    """The hand-written stub against the native module's own signatures (PyO3's
-    ``__text_signature__``): the same functions, parameters in the same order, the same
-    defaults."""
+    """The generated stub (pyo3-stub-gen, ``tests/stub.rs``) against the loaded native
+    module's signatures (PyO3's ``__text_signature__``): the same functions, parameters in the
+    same order, the same defaults."""
     functions, classes = _stubs()
     native = {n for n in dir(_rvlife) if not n.startswith("_")}
     assert native - set(functions) - classes == set(), "native functions without a stub"
