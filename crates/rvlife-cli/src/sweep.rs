@@ -46,7 +46,9 @@ pub(crate) fn sweep(
     let sets = set
         .iter()
         .map(|s| match s.split_once('=') {
-            Some((k, v)) if !k.trim().is_empty() => Ok((k.trim().to_string(), parse_value(v))),
+            Some((k, v)) if !k.trim().is_empty() => {
+                Ok((k.trim().to_string(), parse_value("--set", s, v)?))
+            }
             _ => Err(rvlife::Error::invalid(
                 "--set",
                 s,

@@ -235,7 +235,7 @@ pub fn check_fraction(fraction: f64, model: &Model) -> Result<()> {
 /// cranks; naming the input's key where a moved value is refused by the validation; solver
 /// failures.
 pub fn sensitivity(config: &Config, fraction: f64) -> Result<SensitivityTable> {
-    let model = config.validate()?;
+    let model = crate::study::validated(config)?;
     check_fraction(fraction, &model)?;
     let (k0, lm0) = accuracy(&model)?;
     let rows = INPUTS
@@ -249,7 +249,7 @@ pub fn sensitivity(config: &Config, fraction: f64) -> Result<SensitivityTable> {
                 }
                 let mut c = config.clone();
                 (input.set)(&mut c, x);
-                let m = c.validate().map_err(|e| {
+                let m = crate::study::validated(&c).map_err(|e| {
                     Error::invalid(
                         input.key,
                         x,

@@ -20,6 +20,7 @@ use crate::config::Model;
 use crate::error::{Error, Result};
 use crate::wear::WearHistory;
 
+pub(crate) mod admission;
 mod analyses;
 mod executor;
 mod observer;
@@ -39,15 +40,34 @@ pub(crate) use {
 };
 
 /// The validated model of `cfg` ([`crate::config::Config::validate`]) whose study fits the
-/// work budget ([`check_work`]): what every command and every design of a sweep runs on.
+/// work budget ([`check_work`]) and whose unworn stage passes the physical checks
+/// ([`admission::check_stage`], docs/model.md section 15.2): what every command and every
+/// design of a sweep runs on. In that order: the sections' ranges, the budget (so that a
+/// config too large is refused without a static analysis), the physical checks on the
+/// checked sections, then the parts the analyses add (`Config::assemble`: the friction, the
+/// FE disc's series compliance), so that a stage the checks refuse is refused by its key
+/// before the FE disc is built on it.
 ///
 /// # Errors
 /// [`Error::Invalid`] naming the key, the value and the allowed range, or the key that drives
 /// the work beyond the budget (a key the file does not set named as a default).
 pub(crate) fn validated(cfg: &crate::config::Config) -> Result<Model> {
-    let model = cfg.validate()?;
+    let model = cfg.validate_unassembled()?;
     check_work(&model).map_err(|e| cfg.explain_default(e))?;
-    Ok(model)
+    admitted(cfg, model)
+}
+
+/// The model of `cfg` whose sections are checked (`Config::validate_unassembled`) and whose
+/// work fits the budget ([`check_work`]), through the physical checks of its unworn stage
+/// ([`admission::check_stage`]) and assembled (`Config::assemble`): the end of [`validated`],
+/// for a caller that checks the work of many configs before any static analysis (a sweep).
+///
+/// # Errors
+/// Those of the physical checks and of the assembly, keys named as the file writes them.
+pub(crate) fn admitted(cfg: &crate::config::Config, model: Model) -> Result<Model> {
+    admission::check_stage(&model, &cfg.cycloid.modification)
+        .map_err(|e| cfg.explain_default(e))?;
+    cfg.assemble(model)
 }
 
 /// The estimated work of a study of `model`, in static solves ([`crate::budget`]): `(wear

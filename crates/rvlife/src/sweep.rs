@@ -31,16 +31,36 @@ fn tidy(v: f64) -> f64 {
     format!("{v:.11e}").parse().unwrap_or(v)
 }
 
-/// A value as written on the command line: a TOML value (`1.2`, `40`, `true`, `"rollers"`,
-/// `[1.0, 2.0]`), else the text as a string (`rollers`).
-pub fn parse_value(text: &str) -> Json {
+/// A value as written on the command line for `option` (`--vary`, `--set`) in the argument
+/// `spec`: a TOML value (`1.2`, `40`, `true`, `"rollers"`, `[1.0, 2.0]`), else the text as a
+/// string (`rollers`).
+///
+/// # Errors
+/// [`Error::Invalid`] naming `option` and `spec` for a number that is not finite (`nan`,
+/// `inf`, anywhere in an array), named as written: JSON, in which the designs are recorded,
+/// has no such numbers.
+pub fn parse_value(option: &str, spec: &str, text: &str) -> Result<Json> {
     let t = text.trim();
-    match format!("v = {t}").parse::<toml::Table>() {
-        Ok(mut table) => table
-            .remove("v")
-            .and_then(|v| serde_json::to_value(v).ok())
-            .unwrap_or_else(|| Json::String(t.to_string())),
-        Err(_) => Json::String(t.to_string()),
+    let v = match format!("v = {t}").parse::<toml::Table>() {
+        Ok(mut table) => table.remove("v"),
+        Err(_) => None,
+    };
+    fn finite(v: &toml::Value) -> bool {
+        match v {
+            toml::Value::Float(x) => x.is_finite(),
+            toml::Value::Array(a) => a.iter().all(finite),
+            toml::Value::Table(m) => m.values().all(finite),
+            _ => true,
+        }
+    }
+    match v {
+        Some(v) if !finite(&v) => Err(Error::invalid(
+            option,
+            spec,
+            format!("the value `{t}` is not a finite number"),
+        )),
+        Some(v) => Ok(serde_json::to_value(v).unwrap_or_else(|_| Json::String(t.to_string()))),
+        None => Ok(Json::String(t.to_string())),
     }
 }
 
@@ -86,7 +106,9 @@ impl Vary {
                 })
                 .collect()
         } else if parts.len() == 1 {
-            rest.split(',').map(parse_value).collect()
+            rest.split(',')
+                .map(|t| parse_value(option, spec, t))
+                .collect::<Result<Vec<_>>>()?
         } else {
             return Err(bad("LO:HI:N takes three parts"));
         };
@@ -109,7 +131,10 @@ pub struct Design {
 
 /// The designs of `varies` over the base config `text` (with the fixed `sets` applied
 /// first), each validated as `rvlife run` validates a file, with the work budget of the
-/// whole sweep (`budget_min`, minutes).
+/// whole sweep (`budget_min`, minutes): first every design's sections and work (no static
+/// analysis; the sum against the budget as it grows, so a sweep too large is refused after
+/// the designs that exceed it), then each design's physical checks and assembly
+/// (`study::admitted`).
 ///
 /// # Errors
 /// [`Error::Invalid`] naming a key that is not a config key or a value out of its range (with
@@ -152,7 +177,12 @@ pub fn designs(
         .map(|(k, v)| (k.clone(), Some(v.clone())))
         .collect();
     let base = edit::set(text, origin, &fixed)?;
-    let mut out = Vec::with_capacity(count);
+    // Every design's sections and work first (no static analysis), the sum against the budget
+    // as it grows: a sweep too large is refused after the designs that exceed the budget,
+    // before any design's physical checks or FE disc.
+    let budget = crate::budget::solves_in_minutes(budget_min);
+    let mut work = 0.0;
+    let mut checked = Vec::with_capacity(count);
     for index in 0..count {
         // Mixed radix, the last key fastest.
         let mut rest = index;
@@ -165,42 +195,52 @@ pub fn designs(
             .iter()
             .map(|(k, v)| (k.clone(), Some(v.clone())))
             .collect();
-        let in_design = |e: Error| -> Error {
-            let others: Vec<String> = values.iter().map(|(k, v)| format!("{k} = {v}")).collect();
-            e.in_context(format!("(design {index}: {})", others.join(", ")))
-        };
-        let t = edit::set(&base, origin, &edits).map_err(in_design)?;
+        let t = edit::set(&base, origin, &edits).map_err(|e| in_design(e, index, &values))?;
         let mut cfg = Config::from_toml_in(&t, origin, base_dir)?;
         cfg.work_budget_minutes = budget_min;
-        let model = crate::study::validated(&cfg).map_err(in_design)?;
+        let model = cfg
+            .validate_unassembled()
+            .and_then(|m| {
+                crate::study::check_work(&m).map_err(|e| cfg.explain_default(e))?;
+                Ok(m)
+            })
+            .map_err(|e| in_design(e, index, &values))?;
+        let (w, s) = crate::study::study_work(&model);
+        work += w + s;
+        if work > budget {
+            return Err(Error::invalid(
+                "--vary",
+                format!("{count} designs"),
+                format!(
+                    "the sweep's estimated work, at least {:.1} min (the first {} of {count} \
+                     designs), exceeds the work budget of {:.1} min (--work-budget-min): fewer \
+                     designs, or a larger budget",
+                    crate::budget::minutes(work),
+                    index + 1,
+                    budget_min
+                ),
+            ));
+        }
+        checked.push((index, values, t, cfg, model));
+    }
+    let mut out = Vec::with_capacity(count);
+    for (index, values, text, cfg, model) in checked {
+        let model =
+            crate::study::admitted(&cfg, model).map_err(|e| in_design(e, index, &values))?;
         out.push(Design {
             index,
             values,
-            text: t,
+            text,
             model,
         });
     }
-    let work: f64 = out
-        .iter()
-        .map(|d| {
-            let (w, s) = crate::study::study_work(&d.model);
-            w + s
-        })
-        .sum();
-    let budget = crate::budget::solves_in_minutes(budget_min);
-    if work > budget {
-        return Err(Error::invalid(
-            "--vary",
-            format!("{count} designs"),
-            format!(
-                "the sweep's estimated work, {:.1} min, exceeds the work budget of {:.1} min \
-                 (--work-budget-min): fewer designs, or a larger budget",
-                crate::budget::minutes(work),
-                budget_min
-            ),
-        ));
-    }
     Ok(out)
+}
+
+/// `e` in the context of the design `index` with its varied `values`.
+fn in_design(e: Error, index: usize, values: &[(String, Json)]) -> Error {
+    let others: Vec<String> = values.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+    e.in_context(format!("(design {index}: {})", others.join(", ")))
 }
 
 /// One design's study.
@@ -269,6 +309,44 @@ mod tests {
             let e = Vary::parse("--vary", bad).unwrap_err().to_string();
             assert!(e.contains("--vary") && e.contains(bad), "{bad}: {e}");
         }
+        // A number that is not finite is refused as written, never recorded as `null`.
+        for (bad, written) in [("k=nan,1", "nan"), ("k=1,-inf", "-inf")] {
+            let e = Vary::parse("--vary", bad).unwrap_err().to_string();
+            assert!(
+                e.contains(bad) && e.contains(&format!("`{written}` is not a finite number")),
+                "{bad}: {e}"
+            );
+            assert!(!e.contains("null"), "{bad}: {e}");
+        }
+        let e = parse_value("--set", "k=[1.0, nan]", "[1.0, nan]").unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("`[1.0, nan]` is not a finite number"),
+            "{e}"
+        );
+    }
+
+    /// A sweep whose work exceeds the budget is refused by its size (naming `--vary`) before
+    /// any design's physical checks: here every design's torque is more than the stage
+    /// carries, which the physical checks would refuse (by `reducer.rated_torque_nm`) first if
+    /// they ran before the budget.
+    #[test]
+    fn a_sweep_too_large_is_refused_before_any_physical_check() {
+        let text = crate::config::EXAMPLE_TOML;
+        let sets = [("reducer.rated_torque_nm".to_string(), Json::from(1e6))];
+        let one = [Vary::parse("--vary", "cycloid.eccentricity_mm=1.3").unwrap()];
+        let e = designs(text, "<ex>", None, &sets, &one, 1e6)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("reducer.rated_torque_nm"), "{e}");
+        let many = [Vary::parse("--vary", "cycloid.eccentricity_mm=1.25:1.35:200").unwrap()];
+        let e = designs(text, "<ex>", None, &sets, &many, 0.5)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("--vary = 200 designs") && e.contains("exceeds the work budget"),
+            "{e}"
+        );
     }
 
     #[test]

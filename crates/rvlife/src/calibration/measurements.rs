@@ -185,6 +185,8 @@ impl Measurements {
                 ),
             ));
         }
+        // Each row's hours and values (bit patterns; an empty cell as NaN's), for copies.
+        let mut seen: std::collections::HashMap<Vec<u64>, usize> = Default::default();
         for (r, rec) in rdr.records().enumerate() {
             let row = r + 2; // 1-based, after the header
             let rec = rec.map_err(|e| bad(path, format!("row {row}: {e}")))?;
@@ -207,6 +209,22 @@ impl Measurements {
                 return Err(bad(
                     path,
                     format!("row {row}, column hours = {h}: must be a finite number in [0, 1e7] h"),
+                ));
+            }
+            let mut key = vec![h.to_bits()];
+            for &i in &cols {
+                key.push(cell(i)?.unwrap_or(f64::NAN).to_bits());
+            }
+            if let Some(first) = seen.insert(key, row) {
+                return Err(bad(
+                    path,
+                    format!(
+                        "rows {first} and {row} are the same measurement (the same hours and \
+                         values): a copy adds no information but would narrow the fit's \
+                         confidence interval as if it were a new measurement; remove the copy \
+                         (repeated measurements at the same hours with different values are \
+                         kept)"
+                    ),
                 ));
             }
             for (s, &i) in series.iter_mut().zip(&cols) {
@@ -307,5 +325,44 @@ impl Measurements {
             ));
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Three copies of one point are one point: a row repeated (the same hours and values) is
+    /// refused naming both rows, while repeated measurements at the same hours with different
+    /// values, or the same values at other hours, are kept.
+    #[test]
+    fn a_copied_row_is_refused_and_repeated_measurements_are_kept() {
+        let p = Path::new("m.csv");
+        let e = Measurements::parse(
+            p,
+            "hours,lost_motion_arcmin\n1000,0.9\n1000,0.9\n1000,0.9\n",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("m.csv") && e.contains("rows 2 and 3"), "{e}");
+        let e = Measurements::parse(
+            p,
+            "hours,backlash_arcmin,lost_motion_arcmin\n500,0.5,\n1000,,0.9\n1000.0,,0.90\n",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("rows 3 and 4"), "{e}");
+        let m = Measurements::parse(
+            p,
+            "hours,lost_motion_arcmin\n1000,0.9\n1000,0.91\n2000,0.9\n",
+        )
+        .unwrap();
+        assert_eq!(m.len(), 3);
+        let m = Measurements::parse(
+            p,
+            "hours,backlash_arcmin,lost_motion_arcmin\n1000,0.5,\n1000,,0.5\n",
+        )
+        .unwrap();
+        assert_eq!(m.len(), 2);
     }
 }

@@ -1019,7 +1019,7 @@ pub(crate) fn read_load_table(path: &Path, end_time: f64) -> Result<LoadProfile>
 
 /// The largest output torque of the dynamic load in each direction, with the key that sets
 /// it (for the physical check of the unworn stage, [`super::physical`]).
-pub(super) fn load_peaks(load: &LoadProfile) -> Vec<(String, f64)> {
+pub(crate) fn load_peaks(load: &LoadProfile) -> Vec<(String, f64)> {
     match load {
         LoadProfile::None => Vec::new(),
         LoadProfile::Constant { torque, .. } => {

@@ -22,6 +22,9 @@ pub struct LoadParams {
     /// The key that sets the number of levels (`load.levels`, `load.file`; `load.kind` for a
     /// constant load), for the work budget's message.
     pub levels_key: &'static str,
+    /// The key that sets each level's torque (`load.torque_nm`, `load.amplitude_nm`, a duty
+    /// cycle's row), for the refusal of a torque the stage does not carry; one per level.
+    pub level_keys: Vec<String>,
 }
 
 /// `[load]`: the output-torque spectrum the reducer works under.
@@ -55,8 +58,7 @@ pub struct LoadConfig {
 
 impl LoadConfig {
     /// The load spectrum for the rated torque `rated` (N m, the default torque) and the input
-    /// speed `speed` (rpm), and for every level the key that sets its torque (for the physical
-    /// check); `path` resolves the duty cycle's file.
+    /// speed `speed` (rpm), with every level's key; `path` resolves the duty cycle's file.
     ///
     /// # Errors
     /// [`Error::Invalid`] naming the key or the duty cycle's row; [`Error::Config`] for an
@@ -66,14 +68,18 @@ impl LoadConfig {
         rated: f64,
         speed: f64,
         path: impl Fn(&Path) -> PathBuf,
-    ) -> Result<(LoadParams, Vec<String>)> {
-        let (levels, keys) = self.levels(rated, speed, path)?;
+    ) -> Result<LoadParams> {
+        let (levels, level_keys) = self.levels(rated, speed, path)?;
         let levels_key = match self.kind.as_str() {
             "duty_cycle" => "load.file",
             "sinusoidal" => "load.levels",
             _ => "load.kind",
         };
-        Ok((LoadParams { levels, levels_key }, keys))
+        Ok(LoadParams {
+            levels,
+            levels_key,
+            level_keys,
+        })
     }
 
     /// The load levels of [`LoadConfig::validate`] and the key of each.

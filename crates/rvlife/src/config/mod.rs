@@ -5,8 +5,9 @@
 //! parameters of the analysis that reads it; every range goes through the one helper of
 //! `range` and is written in the field's doc comment. The validated [`Model`] is composed of
 //! those parameter structs ([`model`]); the rules that span sections (sizes defaulted from the
-//! stage, the physical checks of the unworn stage) come after the sections, in
-//! [`cross_section`] and [`physical`].
+//! stage) come after the sections, in [`cross_section`]. The validators check ranges and
+//! convert; the physical checks of the unworn stage run after them, in the gate every command
+//! passes (`crate::study::admission`, docs/model.md section 15.2).
 //!
 //! | section | file | checked into |
 //! |---|---|---|
@@ -44,7 +45,6 @@ mod load;
 mod lubrication;
 mod materials;
 pub mod model;
-pub mod physical;
 mod presets;
 pub(crate) mod range;
 mod reducer;
@@ -56,10 +56,12 @@ mod wear;
 
 pub use contact::ContactConfig;
 pub use cycloid::{CycloidConfig, ModificationConfig};
+pub(crate) use dynamics::load_peaks;
 pub use dynamics::{DriveConfig, DynamicsConfig, FlexibleConfig, ImpactConfig, InertiaConfig};
 pub use errors::ErrorsConfig;
 pub use fem::FemConfig;
 pub use life::{LifeConfig, LifeThresholds};
+pub(crate) use load::MAX_TORQUE_NM;
 pub use load::{LoadConfig, LoadParams};
 pub use lubrication::LubricationConfig;
 pub use materials::{MaterialConfig, MaterialParams, MaterialsConfig};

@@ -1,6 +1,6 @@
 //! The validated configuration, [`Model`]: one parameter struct per section, composed in
 //! [`Config::validate`] after every section has been checked on its own (in its own file) and
-//! the cross-section rules applied ([`super::cross_section`], [`super::physical`]).
+//! the cross-section rules applied ([`super::cross_section`]).
 
 use super::cross_section;
 use super::range::{check, whole, Range};
@@ -126,16 +126,73 @@ impl Config {
     /// Checks every section and converts it to SI ([`Model`]): each section in its own file,
     /// then the rules that span sections ([`cross_section`]): the reducer's mechanical model,
     /// the measured profile on the wear grid, a disabled `[dynamics]` or `[fem]` checked only
-    /// as far as it is read, and the physics of the unworn stage (the modifications keep the
-    /// disc in mesh, every torque of the config is carried: [`super::physical`]). The work
-    /// budget is checked by whoever runs the work ([`crate::api::validated`]).
+    /// as far as it is read; then the parts the analyses add ([`Config::assemble`]). The work
+    /// budget and the physical checks of the unworn stage (the modifications keep the disc in
+    /// mesh, every torque of the config is carried) are the gate every command passes
+    /// ([`crate::api::validated`], docs/model.md section 15.2), not this call.
     ///
     /// # Errors
     /// [`Error::Invalid`] naming the key, the value and the allowed range. A key the file does
-    /// not set (a default) is named as such, with what its default depends on.
+    /// not set (a default) is named as such, with what its default depends on. Those of the FE
+    /// disc's series compliance.
     pub fn validate(&self) -> Result<Model> {
+        let model = self.validate_unassembled()?;
+        self.assemble(model)
+    }
+
+    /// The sections checked and converted ([`Config::validate`] without [`Config::assemble`]):
+    /// the model the physical checks of the unworn stage are made on (`study::validated`).
+    ///
+    /// # Errors
+    /// Those of [`Config::validate`].
+    pub(crate) fn validate_unassembled(&self) -> Result<Model> {
         self.validate_sections()
             .map_err(|e| self.explain_default(e))
+    }
+
+    /// The parts of `model` that the analyses add to the checked sections: the housing's
+    /// surface for the heat balance (an estimate where its outline is not given), the
+    /// quasi-static friction with `[lubrication]` enabled (docs/model.md section 18), and the
+    /// FE disc's body and bore compliances in series with the crank bearings (an RV reducer on
+    /// roller bearings with `structure.elastic_disc`; docs/model.md section 5.13).
+    ///
+    /// # Errors
+    /// Those of the FE disc's series compliance (`crate::fem::body`), keys named as in
+    /// [`Config::validate`].
+    pub(crate) fn assemble(&self, model: Model) -> Result<Model> {
+        self.assembled(model).map_err(|e| self.explain_default(e))
+    }
+
+    fn assembled(&self, model: Model) -> Result<Model> {
+        let single = matches!(model.reducer.drive, crate::reducer::Drive::SingleStage(_));
+        let structure = model.structure;
+        let mut model = model;
+        if let Some(h) = &mut model.lubrication.heat {
+            // The housing's surface: a cylinder of its outer diameter and half as long, with
+            // one free end face (an estimate where the outline is not given).
+            let d = match &structure.housing {
+                Some(ring) => 2.0 * ring.outer_radius,
+                None => 2.6 * model.cycloid.geometry.pin_circle_radius,
+            };
+            h.area.get_or_insert(0.75 * std::f64::consts::PI * d * d);
+        }
+        if model.lubrication.enabled {
+            model.reducer.friction = Some(
+                model
+                    .lubrication
+                    .quasi_static(model.wear.pin_turning, model.wear.pin_rolling_fraction),
+            );
+        }
+        if structure.elastic_disc
+            && !single
+            && model.reducer.support == crate::reducer::Support::Bearings
+            && self.reducer.bearings.model == "rollers"
+        {
+            let c = &model.cycloid;
+            let nominal_profile = Profile::new(c.geometry.clone(), c.modification, None)?;
+            elastic_disc(&mut model, &nominal_profile)?;
+        }
+        Ok(model)
     }
 
     fn validate_sections(&self) -> Result<Model> {
@@ -156,11 +213,11 @@ impl Config {
             65536,
         )?;
         let errors = self.errors.validate(geometry.pins, parts.cranks)?;
-        let (load, level_keys) =
-            self.load
-                .validate(rating.rated_torque, rating.input_speed_rpm, |p| {
-                    self.path(p)
-                })?;
+        let load = self
+            .load
+            .validate(rating.rated_torque, rating.input_speed_rpm, |p| {
+                self.path(p)
+            })?;
         let wear = self.wear.validate()?;
         let te = self.te.validate(rating.rated_torque)?;
         // Across sections.
@@ -211,36 +268,6 @@ impl Config {
             lubrication,
             work_budget,
         };
-        super::physical::check_stage(
-            &model,
-            &nominal_profile,
-            &self.cycloid.modification,
-            &level_keys,
-        )?;
-        let mut model = model;
-        if let Some(h) = &mut model.lubrication.heat {
-            // The housing's surface: a cylinder of its outer diameter and half as long, with
-            // one free end face (an estimate where the outline is not given).
-            let d = match &parts.structure.housing {
-                Some(ring) => 2.0 * ring.outer_radius,
-                None => 2.6 * model.cycloid.geometry.pin_circle_radius,
-            };
-            h.area.get_or_insert(0.75 * std::f64::consts::PI * d * d);
-        }
-        if model.lubrication.enabled {
-            model.reducer.friction = Some(
-                model
-                    .lubrication
-                    .quasi_static(model.wear.pin_turning, model.wear.pin_rolling_fraction),
-            );
-        }
-        if parts.structure.elastic_disc
-            && !parts.single
-            && model.reducer.support == crate::reducer::Support::Bearings
-            && self.reducer.bearings.model == "rollers"
-        {
-            elastic_disc(&mut model, &nominal_profile)?;
-        }
         Ok(model)
     }
 

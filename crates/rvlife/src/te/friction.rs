@@ -357,9 +357,9 @@ impl TwistTable {
         let mid = |side: usize, i: usize| 0.5 * (b.rising(side, i) + b.falling(side, i));
         let a = 0.5 * ((b.rising(0, r) - b.rising(0, m)) + (b.falling(1, m) - b.falling(1, r)));
         Accuracy {
-            backlash: zp - zn,
+            backlash: super::at_round_off_floor(zp - zn),
             lost_motion: mid(0, m) - mid(1, m),
-            hysteresis_loss: b.falling(0, 0) - b.rising(1, 0),
+            hysteresis_loss: super::at_round_off_floor(b.falling(0, 0) - b.rising(1, 0)),
             torsional_stiffness: if a > 0.0 {
                 self.rated_torque * (1.0 - self.measuring_fraction) / a
             } else {

@@ -52,7 +52,8 @@ pub(crate) use friction::{friction_branch, friction_torques};
 
 use zero_torque::zero_twist_and_start;
 pub(crate) use zero_torque::{
-    zero_torque, zero_torque_twist_from, ZeroTorque, ZeroTorqueStart, PLAY_ROUND_OFF,
+    at_round_off_floor, zero_torque, zero_torque_twist_from, ZeroTorque, ZeroTorqueStart,
+    PLAY_ROUND_OFF,
 };
 
 /// Torque levels per side of the study's hysteresis curves beyond the measuring torque (every
@@ -121,12 +122,13 @@ impl StaticTe {
         CurveStats::of(&self.forward)
     }
     /// Geometric play (the backlash at each crank angle: the width of the hysteresis curve at
-    /// zero torque), rad.
+    /// zero torque), rad, at its round-off floor (`at_round_off_floor`: never
+    /// negative by round-off).
     pub fn backlash(&self) -> Vec<f64> {
         self.forward
             .iter()
             .zip(&self.reverse)
-            .map(|(f, r)| f + r)
+            .map(|(f, r)| at_round_off_floor(f + r))
             .collect()
     }
     /// Statistics of the backlash over the mesh cycle.
@@ -567,12 +569,13 @@ impl TwistTable {
         let (rp, rn) = self.at(1.0);
         let b = self.rated_torque * (1.0 - self.measuring_fraction);
         let a = 0.5 * ((rp - mp) + (mn - rn));
+        let play = at_round_off_floor(zp - zn);
         Accuracy {
-            backlash: zp - zn,
+            backlash: play,
             lost_motion: mp - mn,
             // Loaded to +T_r and back to 0+, then to -T_r and back to 0-: frictionless, the
             // branches retrace, so the width at zero is the play.
-            hysteresis_loss: zp - zn,
+            hysteresis_loss: play,
             torsional_stiffness: if a > 0.0 { b / a } else { f64::INFINITY },
         }
     }

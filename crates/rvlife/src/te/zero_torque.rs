@@ -10,6 +10,18 @@ use crate::statics::{NoLoad, StaticAnalysis, StaticSolution};
 /// the first contacts' round-off (an unmodified, unworn disc touches both ways at zero twist).
 pub(crate) const PLAY_ROUND_OFF: f64 = 1e-9;
 
+/// A play or a loop's width (rad) at its round-off floor: a negative value within
+/// [`PLAY_ROUND_OFF`] of zero is the round-off of two twists that meet (an unmodified disc
+/// without play touches both ways at the same twist) and is zero; any other value is kept (a
+/// crossing beyond the round-off is interference or preload, which the callers report).
+pub(crate) fn at_round_off_floor(width: f64) -> f64 {
+    if (-PLAY_ROUND_OFF..0.0).contains(&width) {
+        0.0
+    } else {
+        width
+    }
+}
+
 /// Torque fraction of the rated torque at which a preloaded stage is solved each way to find
 /// its zero-torque twist (docs/model.md section 5.12): the curve through zero torque is smooth
 /// there, so the mean of the two twists is the zero-torque one to the curve's second order.

@@ -395,3 +395,57 @@ fn loaded_solves_converge_from_their_start() {
         "{fallbacks} of {solves} loaded solves took load steps"
     );
 }
+
+/// An unmodified, unworn disc on bearings without clearance touches the pins both ways at the
+/// same twist: its backlash, peak backlash and hysteresis loss are zero or positive (the two
+/// twists' round-off, -7e-9 arcmin before, is floored at zero, `te::at_round_off_floor`), with
+/// and without friction, and the peak backlash is never below the mean.
+#[test]
+fn play_and_loss_without_play_are_never_negative() {
+    use crate::api::{Spelling, Wear};
+    let text = preset_text("rv-40e").unwrap();
+    for lubrication in [true, false] {
+        let edits: Vec<(String, Option<serde_json::Value>)> = [
+            (
+                "cycloid.modification.equidistant_mm",
+                serde_json::json!(0.0),
+            ),
+            ("cycloid.modification.offset_mm", serde_json::json!(0.0)),
+            (
+                "reducer.bearings.crank_disc_clearance_um",
+                serde_json::json!(0.0),
+            ),
+            ("lubrication.enabled", serde_json::json!(lubrication)),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), Some(v)))
+        .collect();
+        let t = crate::config::edit::set(&text, "test", &edits).unwrap();
+        let m = crate::api::validated(&Config::from_toml_str(&t, "test").unwrap()).unwrap();
+        let te = crate::api::te(&m, Wear::default(), None, Spelling::Cli, &|_, _| {}).unwrap();
+        assert!(te.backlash_arcmin >= 0.0, "{}", te.backlash_arcmin);
+        assert!(te.backlash_arcmin < 1e-6, "{}", te.backlash_arcmin);
+        assert!(te.backlash_max_arcmin >= te.backlash_arcmin);
+        for crank_deg in [0.0, 2.25, 4.5, 6.75] {
+            let h = crate::api::hysteresis_curve(
+                &m,
+                Wear::default(),
+                crank_deg,
+                HYSTERESIS_LEVELS,
+                Spelling::Cli,
+                &|_, _| {},
+            )
+            .unwrap();
+            assert!(
+                h.backlash_arcmin >= 0.0,
+                "{crank_deg}: {}",
+                h.backlash_arcmin
+            );
+            assert!(
+                h.hysteresis_loss_arcmin >= 0.0,
+                "{crank_deg} deg, lubrication {lubrication}: {}",
+                h.hysteresis_loss_arcmin
+            );
+        }
+    }
+}

@@ -1,6 +1,7 @@
-//! Physical checks of a validated model, made before any analysis starts, so that a
-//! non-physical input is refused by the key the user wrote (exit 2) instead of ending as a
-//! solver failure half-way through a study.
+//! Physical checks of a validated model (docs/model.md section 15.2), made by the gate every
+//! command passes (`study::validated`, after the work budget) before any analysis starts, so
+//! that a non-physical input is refused by the key the user wrote (exit 2) instead of ending as
+//! a solver failure half-way through a study. On the model the analyses run on.
 //!
 //! - **Mesh:** with the modifications, the unworn disc must stay in mesh: turning it either way
 //!   from its nominal pose, a pin must stop it within the static analysis' twist range, and the
@@ -19,8 +20,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 
-use super::dynamics::load_peaks;
-use super::{Model, ModificationConfig};
+use crate::config::{load_peaks, Model, ModificationConfig};
 use crate::error::{Error, Result};
 use crate::geometry::Profile;
 use crate::reducer::Reducer;
@@ -261,7 +261,7 @@ impl NotCarried {
 
 /// The first of the torques `uses` (key as the user wrote it, output torque in N m) that the
 /// unworn stage of `profile` on the reducer `red` does not carry (see the module docs), if
-/// any; a torque beyond [`super::load::MAX_TORQUE_NM`] is not solved at all.
+/// any; a torque beyond [`crate::config::MAX_TORQUE_NM`] is not solved at all.
 ///
 /// # Errors
 /// Those of building the static analysis.
@@ -270,7 +270,7 @@ fn not_carried(
     sa: &StaticAnalysis,
     uses: &[(String, f64)],
 ) -> Result<Option<NotCarried>> {
-    let max = super::load::MAX_TORQUE_NM;
+    let max = crate::config::MAX_TORQUE_NM;
     let mut checked: Vec<f64> = Vec::new();
     for (key, torque) in uses {
         let t = *torque;
@@ -320,21 +320,20 @@ fn check_torques(model: &Model, sa: &StaticAnalysis, uses: &[(String, f64)]) -> 
     }
 }
 
-/// The physical checks of the unworn stage of `model` (its `profile`): the modifications
-/// `mods` (as written) keep the disc in mesh ([`check_mesh`]), and every torque the config
-/// applies is carried ([`check_torques`]): the rated torque both ways, the loaded-TE torque,
-/// the largest wear load each way (`level_keys`: the key of each load level) and, with
+/// The physical checks of the unworn stage of `model` (its nominal profile: modified, without
+/// a measured profile): the modifications `mods` (as written) keep the disc in mesh
+/// ([`check_mesh`]), and every torque the config applies is carried ([`check_torques`]): the
+/// rated torque both ways, the loaded-TE torque, the largest wear load each way (named by
+/// `model.load.level_keys`) and, with
 /// `[dynamics]` enabled, the peaks of the dynamic load. Both on the nominal parts; with part
 /// errors the torques are then checked with the errors in place ([`blame_errors`]).
 ///
 /// # Errors
 /// [`Error::Invalid`] naming the key to blame.
-pub(super) fn check_stage(
-    model: &Model,
-    profile: &Profile,
-    mods: &ModificationConfig,
-    level_keys: &[String],
-) -> Result<()> {
+pub(crate) fn check_stage(model: &Model, mods: &ModificationConfig) -> Result<()> {
+    let c = &model.cycloid;
+    let profile = &Profile::new(c.geometry.clone(), c.modification, None)?;
+    let level_keys = &model.load.level_keys;
     let nominal = Reducer {
         errors: Default::default(),
         ..model.reducer.clone()
