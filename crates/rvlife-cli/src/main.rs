@@ -312,18 +312,20 @@ fn print_montecarlo(model: &Model, records: &[rvlife::montecarlo::SampleRecord])
         );
     }
     if model.life.any() {
-        let l = rvlife::montecarlo::life_distribution(records);
-        let horizon = model.life.max_hours.unwrap_or(10.0 * last);
+        let horizon = model.life.horizon_h(&model.wear.stage_hours);
+        let l = rvlife::montecarlo::life_distribution(records, horizon);
         let h = |v: Option<f64>| v.map_or(format!("> {horizon:.0} h"), |x| format!("{x:.0} h"));
+        let life = rvlife::montecarlo::life_text;
         say!(
             "accuracy life: 5 % {}, B10 {}, B50 {}, 95 % {}; {:.1} % beyond {horizon:.0} h; limited by {:?}",
             h(l.p5_h),
-            h(l.b10_h),
-            h(l.b50_h),
+            life(l.b10_h, l.km_b10_h, horizon),
+            life(l.b50_h, l.km_b50_h, horizon),
             h(l.p95_h),
             100.0 * l.censored_fraction,
             l.limited_by
         );
+        say!("{}", l.weibull_text());
     }
 }
 

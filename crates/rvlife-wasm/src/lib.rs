@@ -616,7 +616,8 @@ fn montecarlo_json(
     records: &[rvlife::montecarlo::SampleRecord],
 ) -> Result<String, JsError> {
     let (samples_csv, stages_csv) = rvlife::montecarlo::records_csv(records);
-    let life = rvlife::montecarlo::life_distribution(records);
+    let life =
+        rvlife::montecarlo::life_distribution(records, m.life.horizon_h(&m.wear.stage_hours));
     let percentiles = rvlife::montecarlo::percentiles(records, &m.wear.stage_hours);
     let horizon = m.life.horizon_h(&m.wear.stage_hours);
     let list = records

@@ -14,7 +14,7 @@ use rvlife::api::{
 use rvlife::config::schema::KeyDoc;
 use rvlife::dynamics::DynamicsSummary;
 use rvlife::life::AccuracyLife;
-use rvlife::montecarlo::{LifeDistribution, Percentiles};
+use rvlife::montecarlo::{LifeDistribution, Percentiles, WeibullLife};
 use rvlife::output::candidates::{CandidateSummary, Curve, Plot};
 use rvlife::quantities::StageSummary;
 use rvlife::study::{PaperComparison, Summary};
@@ -80,6 +80,7 @@ fn decls() -> Vec<Decl> {
         decl::<Summary>(c),
         decl::<StudyOverview>(c),
         decl::<LifeDistribution>(c),
+        decl::<WeibullLife>(c),
         decl::<Percentiles>(c),
         decl::<SampleLife>(c),
         decl::<MonteCarloView>(c),

@@ -39,6 +39,11 @@ use crate::te::{
 };
 use crate::units::ARCMIN_PER_RAD;
 
+mod lives;
+pub mod weibull;
+
+pub use lives::{life_distribution, life_text, LifeDistribution, WeibullLife, LIFE_CONFIDENCE};
+
 /// Wear maps between two stages of the shared wear history (the accuracy life is located to
 /// an eighth of a stage interval by bisection, then interpolated).
 pub(crate) const SUBDIVISIONS: usize = 8;
@@ -863,74 +868,6 @@ pub fn percentiles(records: &[SampleRecord], stage_hours: &[f64]) -> Vec<Percent
     out
 }
 
-/// The accuracy-life distribution over the records with status `ok`.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
-pub struct LifeDistribution {
-    /// Samples counted.
-    pub n: usize,
-    /// Fraction whose life exceeds the horizon (censored: the last stage, or `life.max_hours`
-    /// beyond it, or where the wear model leaves its validity).
-    pub censored_fraction: f64,
-    /// B10 life: the hours by which 10 % have left the spec, h (absent: fewer than 10 % within
-    /// the horizon).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    #[cfg_attr(feature = "ts", ts(optional))]
-    pub b10_h: Option<f64>,
-    /// B50 (median) life, h (absent: fewer than half within the horizon).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    #[cfg_attr(feature = "ts", ts(optional))]
-    pub b50_h: Option<f64>,
-    /// 5th percentile of the life, h (absent: fewer than 5 % within the horizon).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    #[cfg_attr(feature = "ts", ts(optional))]
-    pub p5_h: Option<f64>,
-    /// 95th percentile of the life, h (absent: fewer than 95 % within the horizon).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    #[cfg_attr(feature = "ts", ts(optional))]
-    pub p95_h: Option<f64>,
-    /// How many samples each threshold limited.
-    pub limited_by: std::collections::BTreeMap<String, usize>,
-}
-
-/// The life distribution: empirical quantiles with the censored lives (beyond the last
-/// stage) counted as longer than every observed one.
-pub fn life_distribution(records: &[SampleRecord]) -> LifeDistribution {
-    let ok: Vec<&SampleRecord> = records.iter().filter(|r| r.status == "ok").collect();
-    let mut lives: Vec<f64> = ok.iter().filter_map(|r| r.accuracy_life_h).collect();
-    lives.sort_by(f64::total_cmp);
-    let n = ok.len();
-    let q = |p: f64| {
-        // Position of the p-quantile among all n (censored at the top).
-        let h = (n.saturating_sub(1)) as f64 * p;
-        if n == 0 || h.ceil() as usize >= lives.len() {
-            None
-        } else {
-            let (lo, hi) = (h.floor() as usize, h.ceil() as usize);
-            Some(lives[lo] + (h - lo as f64) * (lives[hi] - lives[lo]))
-        }
-    };
-    let mut limited_by = std::collections::BTreeMap::new();
-    for r in &ok {
-        if let Some(k) = &r.limited_by {
-            *limited_by.entry(k.clone()).or_insert(0) += 1;
-        }
-    }
-    LifeDistribution {
-        n,
-        censored_fraction: if n > 0 {
-            (n - lives.len()) as f64 / n as f64
-        } else {
-            0.0
-        },
-        b10_h: q(0.1),
-        b50_h: q(0.5),
-        p5_h: q(0.05),
-        p95_h: q(0.95),
-        limited_by,
-    }
-}
-
 /// The reliability curve of the records with status `ok`: `(hours, fraction within spec)` at
 /// 0 h and at every observed accuracy life (a step down there, both ends of each step given),
 /// ending at `horizon` (h), with the samples that never left the spec (no accuracy life up to
@@ -1077,10 +1014,14 @@ mod tests {
                 (1000.0, 0.5)
             ]
         );
-        let l = life_distribution(&records);
+        let l = life_distribution(&records, 1000.0);
         assert_eq!(l.n, 4);
         assert_eq!(l.censored_fraction, 0.5);
         assert!(l.b10_h.is_some_and(|b| b <= 200.0), "{:?}", l.b10_h);
+        assert_eq!(
+            (l.failures, l.km_b10_h, l.km_b50_h),
+            (2, Some(100.0), Some(200.0))
+        );
         assert_eq!(unusable(&records), None);
         // Tied lives step once.
         let tied = [record("ok", Some(50.0)), record("ok", Some(50.0))];
@@ -1103,5 +1044,47 @@ mod tests {
         let dead = [record("ok", Some(0.0)), record("ok", Some(5.0))];
         assert!(unusable(&dead).is_some_and(|w| w.contains("out of spec when new")));
         assert_eq!(unusable(&[record("ok", Some(5.0))]), None);
+    }
+
+    /// One of four samples out of spec at 3 477 h, three within spec at the 75 000 h horizon:
+    /// the interpolated B10 is not defined, and the run says B10 is at most 3 477 h (a quarter
+    /// of the samples had left the spec by then), never "beyond 75 000 h"; one failure fits no
+    /// Weibull law and the run says so.
+    #[test]
+    fn b10_is_bounded_by_the_samples_that_left_the_spec() {
+        let records = [
+            record("ok", Some(3477.0)),
+            record("ok", None),
+            record("ok", None),
+            record("ok", None),
+        ];
+        let l = life_distribution(&records, 75e3);
+        assert_eq!(l.b10_h, None);
+        assert_eq!(l.km_b10_h, Some(3477.0));
+        assert_eq!(l.km_b50_h, None);
+        assert!(l.weibull.is_none());
+        assert_eq!(life_text(l.b10_h, l.km_b10_h, 75e3), "at most 3477 h");
+        assert_eq!(life_text(l.b50_h, l.km_b50_h, 75e3), "beyond 75000 h");
+        assert!(
+            l.weibull_text().starts_with("no Weibull fit: 1 of 4"),
+            "{}",
+            l.weibull_text()
+        );
+        // Twelve lives from a Weibull law of shape 4 and scale 5 000 h, eight more within spec
+        // at 7 500 h: a fit with B10 and B50 inside their bounds.
+        let mut more: Vec<SampleRecord> = [
+            2200.0, 2900.0, 3300.0, 3650.0, 3900.0, 4200.0, 4500.0, 4800.0, 5200.0, 5600.0, 6100.0,
+            6900.0,
+        ]
+        .iter()
+        .map(|&t| record("ok", Some(t)))
+        .collect();
+        more.extend((0..8).map(|_| record("ok", None)));
+        let l = life_distribution(&more, 7500.0);
+        let w = l.weibull.as_ref().unwrap();
+        assert!(w.b10_lower_h < w.b10_h && w.b10_upper_h.is_some_and(|u| w.b10_h < u));
+        assert!(w.b50_lower_h < w.b50_h && w.b50_upper_h.is_some_and(|u| w.b50_h < u));
+        assert!(w.shape > 2.0 && w.shape < 8.0, "{w:?}");
+        assert!(l.weibull_text().contains("likelihood-ratio"));
     }
 }

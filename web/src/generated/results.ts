@@ -847,12 +847,12 @@ n: number,
  */
 censored_fraction: number, 
 /**
- * B10 life: the hours by which 10 % have left the spec, h (absent: fewer than 10 % within
- * the horizon).
+ * B10 life: the hours by which 10 % have left the spec, h, interpolated between the
+ * sorted lives (absent: the interpolation reaches a censored sample; see `km_b10_h`).
  */
 b10_h?: number, 
 /**
- * B50 (median) life, h (absent: fewer than half within the horizon).
+ * B50 (median) life, h (absent: the interpolation reaches a censored sample).
  */
 b50_h?: number, 
 /**
@@ -866,7 +866,73 @@ p95_h?: number,
 /**
  * How many samples each threshold limited.
  */
-limited_by: { [key in string]: number }, };
+limited_by: { [key in string]: number }, 
+/**
+ * Samples that left the spec within the horizon (the failures of the life statistics;
+ * the others are censored at the horizon).
+ */
+failures: number, 
+/**
+ * The life search's horizon, h: where the samples still within spec are censored.
+ */
+horizon_h: number, 
+/**
+ * Kaplan-Meier B10, h: the first life by which 10 % of the samples had left the spec, so
+ * that B10 is at most this (absent: fewer than 10 % by the horizon, B10 beyond it).
+ */
+km_b10_h?: number, 
+/**
+ * Kaplan-Meier B50, h (absent: fewer than half by the horizon, B50 beyond it).
+ */
+km_b50_h?: number, 
+/**
+ * The Weibull fit with its B10 and B50 and their bounds (absent: fewer than
+ * [`weibull::MIN_FAILURES`] failures, or no maximum of the likelihood).
+ */
+weibull?: WeibullLife, };
+
+/**
+ * The two-parameter Weibull distribution of the samples' lives by maximum likelihood with the
+ * censored samples, and its B10 and B50 with two-sided likelihood-ratio bounds
+ * ([`weibull::quantile_with_bounds`]; IEC 61649:2008; docs/model.md section 12.3).
+ */
+export type WeibullLife = { 
+/**
+ * Shape `beta`.
+ */
+shape: number, 
+/**
+ * Scale `eta` (the life by which 63.2 % leave the spec), h.
+ */
+scale_h: number, 
+/**
+ * Confidence of the two-sided bounds (0.9: the 5 % and 95 % bounds).
+ */
+confidence: number, 
+/**
+ * B10 of the fit, h.
+ */
+b10_h: number, 
+/**
+ * Lower bound of B10, h.
+ */
+b10_lower_h: number, 
+/**
+ * Upper bound of B10, h (absent: the samples do not bound it from above).
+ */
+b10_upper_h?: number, 
+/**
+ * B50 of the fit, h.
+ */
+b50_h: number, 
+/**
+ * Lower bound of B50, h.
+ */
+b50_lower_h: number, 
+/**
+ * Upper bound of B50, h (absent: the samples do not bound it from above).
+ */
+b50_upper_h?: number, };
 
 /**
  * Percentiles of one quantity at one stage over the samples that reached it.

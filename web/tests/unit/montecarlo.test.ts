@@ -6,7 +6,7 @@ import type { MonteCarloView } from '../../src/types';
 
 const run: MonteCarloView = {
   samples_csv: 'sample,...\n', stages_csv: 'sample,hours,...\n',
-  life: { n: 3, censored_fraction: 1 / 3, b10_h: 4200, b50_h: 5600, limited_by: { lost_motion_arcmin: 2 } },
+  life: { n: 3, censored_fraction: 1 / 3, b10_h: 4200, b50_h: 5600, limited_by: { lost_motion_arcmin: 2 }, failures: 2, horizon_h: 75000 },
   percentiles: [],
   records: [
     { sample: 0, status: 'ok', accuracy_life_h: 4000, limited_by: 'lost_motion_arcmin' },
@@ -34,6 +34,17 @@ describe('Monte Carlo', () => {
   it('lists the numbers in order, leaving out the percentiles the distribution lacks', () => {
     expect(mcNumbers(run)).toEqual([
       ['samples', 4], ['analysed', 3], ['censored_fraction', 1 / 3], ['b10_h', 4200], ['b50_h', 5600],
+    ]);
+  });
+  it('adds the Weibull fit with its bounds, leaving out an upper bound the samples do not fix', () => {
+    const weibull = {
+      shape: 2, scale_h: 6000, confidence: 0.9, b10_h: 2000, b10_lower_h: 900, b50_h: 5000,
+      b50_lower_h: 3500, b50_upper_h: 7000,
+    };
+    const fitted = { ...run, life: { ...run.life, km_b10_h: 4000, weibull } };
+    expect(mcNumbers(fitted).slice(5)).toEqual([
+      ['km_b10_h', 4000], ['weibull_shape', 2], ['weibull_b10_lower_h', 900], ['weibull_b10_h', 2000],
+      ['weibull_b50_lower_h', 3500], ['weibull_b50_h', 5000], ['weibull_b50_upper_h', 7000],
     ]);
   });
   it('says what limited the lives, or that none ended within the horizon', () => {

@@ -94,8 +94,8 @@ pub fn life_score(model: &Model, study: &Study) -> Option<(f64, Option<f64>, Opt
 /// The B10 score of a Monte Carlo's records: `B10/H` (`H` the Monte Carlo's horizon), `1 +`
 /// the fraction of samples beyond the horizon over 0.9 where B10 lies beyond it, and B10 (h).
 fn b10_score(model: &Model, records: &[crate::montecarlo::SampleRecord]) -> (f64, Option<f64>) {
-    let d = crate::montecarlo::life_distribution(records);
     let horizon = model.life.horizon_h(&model.wear.stage_hours);
+    let d = crate::montecarlo::life_distribution(records, horizon);
     match d.b10_h {
         Some(b) => ((b / horizon).min(1.0), Some(b)),
         None => (1.0 + (d.censored_fraction - 0.9).max(0.0), None),

@@ -13,7 +13,9 @@ pub use super::mc_verdict::verdict;
 pub(crate) use super::mc_verdict::{spec_text, status_key, verdict_of};
 use crate::config::LifeThresholds;
 use crate::error::{Error, Result};
-use crate::montecarlo::{reliability, LifeDistribution, Percentiles, Plan, SampleRecord};
+use crate::montecarlo::{
+    life_text, reliability, LifeDistribution, Percentiles, Plan, SampleRecord,
+};
 use crate::quantities::{Quantity, ACCURACY, LIFE};
 use serde::Serialize;
 
@@ -280,8 +282,14 @@ pub(crate) fn write(
                 "5 % of the reducers out of spec by".to_string(),
                 hh(life.p5_h),
             ),
-            ("B10 (10 %)".into(), hh(life.b10_h)),
-            ("B50 (median)".into(), hh(life.b50_h)),
+            (
+                "B10 (10 %)".into(),
+                life_text(life.b10_h, life.km_b10_h, horizon),
+            ),
+            (
+                "B50 (median)".into(),
+                life_text(life.b50_h, life.km_b50_h, horizon),
+            ),
             ("95 %".into(), hh(life.p95_h)),
             (
                 format!("within spec at {horizon:.0} h"),
@@ -296,6 +304,7 @@ pub(crate) fn write(
             rows.push((format!("limited by {label}"), format!("{n} reducers")));
         }
         key_value_table(&mut h, &rows);
+        h.push_str(&format!("<p>{}.</p>\n", esc(&life.weibull_text())));
         figures_of(&mut h, "life")?;
     }
     h.push_str("<h2>Accuracy against hours</h2>\n");

@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 
 use super::num;
 use crate::config::LifeThresholds;
-use crate::montecarlo::{life_distribution, LifeDistribution, SampleRecord};
+use crate::montecarlo::{life_distribution, life_text, LifeDistribution, SampleRecord};
 use crate::quantities::{Sense, LIFE};
 
 /// The verdict line of a whole Monte Carlo run of `records` over the stages `stage_hours`
@@ -21,7 +21,12 @@ pub fn verdict(
         *status_counts.entry(status_key(&r.status)).or_insert(0) += 1;
     }
     let horizon = spec.horizon_h(stage_hours);
-    verdict_of(&life_distribution(records), &status_counts, spec, horizon)
+    verdict_of(
+        &life_distribution(records, horizon),
+        &status_counts,
+        spec,
+        horizon,
+    )
 }
 
 /// A record's status as counted: `ok`, `interference` or `failed`.
@@ -76,12 +81,11 @@ pub(crate) fn verdict_of(
             l.n
         );
     }
-    let h = |v: Option<f64>| v.map_or(format!("beyond {horizon:.0} h"), |x| format!("{x:.0} h"));
     format!(
         "B10 accuracy life {} (10 % of the reducers leave the spec by then), B50 {}; {:.0} % \
          within spec at {horizon:.0} h; spec: {spec_line}; {} of {total} samples analysed",
-        h(l.b10_h),
-        h(l.b50_h),
+        life_text(l.b10_h, l.km_b10_h, horizon),
+        life_text(l.b50_h, l.km_b50_h, horizon),
         100.0 * l.censored_fraction,
         l.n
     )

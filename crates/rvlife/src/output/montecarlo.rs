@@ -79,7 +79,10 @@ pub fn write_results(dir: &Path, meta: &ShardMeta, records: &[SampleRecord]) -> 
         rvlife_version: env!("CARGO_PKG_VERSION"),
         plan,
         status_counts,
-        life: life_distribution(records),
+        life: life_distribution(
+            records,
+            super::mc_report::spec_of(&meta.config_toml).horizon_h(&meta.stage_hours),
+        ),
         percentiles: pct.clone(),
         percentile_standard_error_note: "standard error of a percentile p from n samples: \
             sqrt(p (1 - p) / n) / f(x_p); for a normal quantity 1.25 sigma / sqrt(n) at the \

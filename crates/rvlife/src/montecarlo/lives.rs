@@ -1,0 +1,207 @@
+//! The accuracy-life distribution of a Monte Carlo run (docs/model.md section 12.3): the
+//! empirical quantiles of the lives, the Kaplan-Meier quantiles and the Weibull fit with its
+//! likelihood-ratio bounds ([`super::weibull`]), and their sentences.
+
+use serde::Serialize;
+
+use super::weibull;
+use super::SampleRecord;
+
+/// The accuracy-life distribution over the records with status `ok`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
+pub struct LifeDistribution {
+    /// Samples counted.
+    pub n: usize,
+    /// Fraction whose life exceeds the horizon (censored: the last stage, or `life.max_hours`
+    /// beyond it, or where the wear model leaves its validity).
+    pub censored_fraction: f64,
+    /// B10 life: the hours by which 10 % have left the spec, h, interpolated between the
+    /// sorted lives (absent: the interpolation reaches a censored sample; see `km_b10_h`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
+    pub b10_h: Option<f64>,
+    /// B50 (median) life, h (absent: the interpolation reaches a censored sample).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
+    pub b50_h: Option<f64>,
+    /// 5th percentile of the life, h (absent: fewer than 5 % within the horizon).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
+    pub p5_h: Option<f64>,
+    /// 95th percentile of the life, h (absent: fewer than 95 % within the horizon).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
+    pub p95_h: Option<f64>,
+    /// How many samples each threshold limited.
+    pub limited_by: std::collections::BTreeMap<String, usize>,
+    /// Samples that left the spec within the horizon (the failures of the life statistics;
+    /// the others are censored at the horizon).
+    pub failures: usize,
+    /// The life search's horizon, h: where the samples still within spec are censored.
+    pub horizon_h: f64,
+    /// Kaplan-Meier B10, h: the first life by which 10 % of the samples had left the spec, so
+    /// that B10 is at most this (absent: fewer than 10 % by the horizon, B10 beyond it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
+    pub km_b10_h: Option<f64>,
+    /// Kaplan-Meier B50, h (absent: fewer than half by the horizon, B50 beyond it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
+    pub km_b50_h: Option<f64>,
+    /// The Weibull fit with its B10 and B50 and their bounds (absent: fewer than
+    /// [`weibull::MIN_FAILURES`] failures, or no maximum of the likelihood).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
+    pub weibull: Option<WeibullLife>,
+}
+
+/// The two-parameter Weibull distribution of the samples' lives by maximum likelihood with the
+/// censored samples, and its B10 and B50 with two-sided likelihood-ratio bounds
+/// ([`weibull::quantile_with_bounds`]; IEC 61649:2008; docs/model.md section 12.3).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
+pub struct WeibullLife {
+    /// Shape `beta`.
+    pub shape: f64,
+    /// Scale `eta` (the life by which 63.2 % leave the spec), h.
+    pub scale_h: f64,
+    /// Confidence of the two-sided bounds (0.9: the 5 % and 95 % bounds).
+    pub confidence: f64,
+    /// B10 of the fit, h.
+    pub b10_h: f64,
+    /// Lower bound of B10, h.
+    pub b10_lower_h: f64,
+    /// Upper bound of B10, h (absent: the samples do not bound it from above).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
+    pub b10_upper_h: Option<f64>,
+    /// B50 of the fit, h.
+    pub b50_h: f64,
+    /// Lower bound of B50, h.
+    pub b50_lower_h: f64,
+    /// Upper bound of B50, h (absent: the samples do not bound it from above).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "ts", ts(optional))]
+    pub b50_upper_h: Option<f64>,
+}
+
+/// Confidence of the Weibull bounds the runs report (two-sided: 5 % and 95 %).
+pub const LIFE_CONFIDENCE: f64 = 0.9;
+
+/// The life distribution of `records` whose life search ran to `horizon` (h): empirical
+/// quantiles with the censored lives (beyond the horizon) counted as longer than every observed
+/// one, the Kaplan-Meier B10 and B50, and the Weibull fit with its bounds ([`WeibullLife`]).
+pub fn life_distribution(records: &[SampleRecord], horizon: f64) -> LifeDistribution {
+    let ok: Vec<&SampleRecord> = records.iter().filter(|r| r.status == "ok").collect();
+    let mut lives: Vec<f64> = ok.iter().filter_map(|r| r.accuracy_life_h).collect();
+    lives.sort_by(f64::total_cmp);
+    let n = ok.len();
+    let q = |p: f64| {
+        // Position of the p-quantile among all n (censored at the top).
+        let h = (n.saturating_sub(1)) as f64 * p;
+        if n == 0 || h.ceil() as usize >= lives.len() {
+            None
+        } else {
+            let (lo, hi) = (h.floor() as usize, h.ceil() as usize);
+            Some(lives[lo] + (h - lo as f64) * (lives[hi] - lives[lo]))
+        }
+    };
+    let mut limited_by = std::collections::BTreeMap::new();
+    for r in &ok {
+        if let Some(k) = &r.limited_by {
+            *limited_by.entry(k.clone()).or_insert(0) += 1;
+        }
+    }
+    let censored = vec![horizon.max(lives.last().copied().unwrap_or(0.0)); n - lives.len()];
+    let km = weibull::kaplan_meier(&lives, &censored);
+    // A life of 0 h (out of spec when new) is a failure before any time the Weibull law can
+    // hold: the fit is of the positive lives.
+    let positive: Vec<f64> = lives.iter().copied().filter(|&t| t > 0.0).collect();
+    let bounded = |p: f64| weibull::quantile_with_bounds(&positive, &censored, p, LIFE_CONFIDENCE);
+    let weibull = weibull::fit(&positive, &censored).and_then(|w| {
+        let (b10, b50) = (bounded(0.1)?, bounded(0.5)?);
+        Some(WeibullLife {
+            shape: w.shape,
+            scale_h: w.scale,
+            confidence: LIFE_CONFIDENCE,
+            b10_h: b10.estimate,
+            b10_lower_h: b10.lower,
+            b10_upper_h: b10.upper,
+            b50_h: b50.estimate,
+            b50_lower_h: b50.lower,
+            b50_upper_h: b50.upper,
+        })
+    });
+    LifeDistribution {
+        n,
+        censored_fraction: if n > 0 {
+            (n - lives.len()) as f64 / n as f64
+        } else {
+            0.0
+        },
+        b10_h: q(0.1),
+        b50_h: q(0.5),
+        p5_h: q(0.05),
+        p95_h: q(0.95),
+        limited_by,
+        failures: lives.len(),
+        horizon_h: horizon,
+        km_b10_h: weibull::kaplan_meier_quantile(&km, 0.1),
+        km_b50_h: weibull::kaplan_meier_quantile(&km, 0.5),
+        weibull,
+    }
+}
+
+/// A life for a sentence: the estimate where there is one (`x h`), else at most the
+/// Kaplan-Meier quantile (`at most x h`: that many samples had left the spec by then), else
+/// beyond the horizon.
+pub fn life_text(estimate: Option<f64>, km: Option<f64>, horizon: f64) -> String {
+    match (estimate, km) {
+        (Some(x), _) => format!("{x:.0} h"),
+        (None, Some(k)) => format!("at most {k:.0} h"),
+        (None, None) => format!("beyond {horizon:.0} h"),
+    }
+}
+
+impl LifeDistribution {
+    /// The Weibull fit in a sentence: shape, scale, B10 and B50 with their bounds, or why
+    /// there is none.
+    pub fn weibull_text(&self) -> String {
+        let bound = |u: Option<f64>| u.map_or("unbounded".to_string(), |u| format!("{u:.0}"));
+        match &self.weibull {
+            Some(w) => {
+                format!(
+                "Weibull fit (maximum likelihood, {}): shape {:.2}, scale {:.0} h; B10 {:.0} h \
+                 [{:.0}, {}], B50 {:.0} h [{:.0}, {}] ({:.0} % two-sided likelihood-ratio \
+                 bounds, IEC 61649)",
+                if self.failures == self.n {
+                    format!("all {} samples out of spec within {:.0} h", self.n, self.horizon_h)
+                } else {
+                    format!(
+                        "{} of {} samples out of spec within {:.0} h, the others censored there",
+                        self.failures, self.n, self.horizon_h
+                    )
+                },
+                w.shape,
+                w.scale_h,
+                w.b10_h,
+                w.b10_lower_h,
+                bound(w.b10_upper_h),
+                w.b50_h,
+                w.b50_lower_h,
+                bound(w.b50_upper_h),
+                100.0 * w.confidence
+            )
+            }
+            None => format!(
+                "no Weibull fit: {} of {} samples out of spec within {:.0} h (at least {} with \
+                 a positive life are needed)",
+                self.failures,
+                self.n,
+                self.horizon_h,
+                weibull::MIN_FAILURES
+            ),
+        }
+    }
+}
