@@ -52,13 +52,21 @@ pub(crate) use {
 /// [`Error::Invalid`] naming the key, the value and the allowed range, or the key that drives
 /// the work beyond the budget (a key the file does not set named as a default).
 pub(crate) fn validated(cfg: &crate::config::Config) -> Result<Model> {
-    let model = cfg.validate_unassembled()?;
-    check_work(&model).map_err(|e| cfg.explain_default(e))?;
-    admitted(cfg, model)
+    admitted(cfg, budgeted(cfg)?)
 }
 
-/// The model of `cfg` whose sections are checked (`Config::validate_unassembled`) and whose
-/// work fits the budget ([`check_work`]), through the physical checks of its unworn stage
+/// The sections of `cfg` checked (`Config::validate_unassembled`) and its work against the
+/// budget ([`check_work`]): the start of [`validated`], no static analysis.
+///
+/// # Errors
+/// Those of the sections and of the work budget, keys named as the file writes them.
+pub(crate) fn budgeted(cfg: &crate::config::Config) -> Result<Model> {
+    let model = cfg.validate_unassembled()?;
+    check_work(&model).map_err(|e| cfg.explain_default(e))?;
+    Ok(model)
+}
+
+/// The model of `cfg` from [`budgeted`], through the physical checks of its unworn stage
 /// ([`admission::check_stage`]) and assembled (`Config::assemble`): the end of [`validated`],
 /// for a caller that checks the work of many configs before any static analysis (a sweep).
 ///

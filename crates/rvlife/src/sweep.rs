@@ -198,13 +198,7 @@ pub fn designs(
         let t = edit::set(&base, origin, &edits).map_err(|e| in_design(e, index, &values))?;
         let mut cfg = Config::from_toml_in(&t, origin, base_dir)?;
         cfg.work_budget_minutes = budget_min;
-        let model = cfg
-            .validate_unassembled()
-            .and_then(|m| {
-                crate::study::check_work(&m).map_err(|e| cfg.explain_default(e))?;
-                Ok(m)
-            })
-            .map_err(|e| in_design(e, index, &values))?;
+        let model = crate::study::budgeted(&cfg).map_err(|e| in_design(e, index, &values))?;
         let (w, s) = crate::study::study_work(&model);
         work += w + s;
         if work > budget {

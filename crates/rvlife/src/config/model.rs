@@ -163,10 +163,9 @@ impl Config {
         self.assembled(model).map_err(|e| self.explain_default(e))
     }
 
-    fn assembled(&self, model: Model) -> Result<Model> {
+    fn assembled(&self, mut model: Model) -> Result<Model> {
         let single = matches!(model.reducer.drive, crate::reducer::Drive::SingleStage(_));
         let structure = model.structure;
-        let mut model = model;
         if let Some(h) = &mut model.lubrication.heat {
             // The housing's surface: a cylinder of its outer diameter and half as long, with
             // one free end face (an estimate where the outline is not given).
