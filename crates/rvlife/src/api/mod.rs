@@ -326,19 +326,22 @@ pub fn te(
     // Over the output revolution: the mesh cycle tiled, or with part errors every mesh
     // cycle of the revolution.
     let rev = crate::te::revolution(&sa, model.te.samples)?;
-    let angular_te =
-        crate::te::angular_te_of(&sa, &rev, model.te.samples, model.rating.rated_torque)?;
+    let (angular_te, rev_play_max) =
+        crate::te::revolution_no_load(&sa, &rev, model.te.samples, model.rating.rated_torque)?;
     let input_deg: Vec<f64> = rev
         .crank_angle
         .iter()
         .map(|p| crate::te::input_deg(*p, model.cycloid.geometry.pins, model.reducer.ratio))
         .collect();
     let te_arcmin: Vec<f64> = rev.forward.iter().map(|v| v * ARCMIN_PER_RAD).collect();
-    let play_max = if red.errors.is_zero() {
-        play.max
-    } else {
-        rev.play_stats().max.max(0.0)
-    };
+    let play_max = crate::te::largest_play(
+        if red.errors.is_zero() {
+            play.max
+        } else {
+            rev_play_max
+        },
+        acc.backlash,
+    );
     let loaded = match torque_nm {
         Some(t) => {
             let l = loaded_te_with(&sa, t, model.te.samples)?;

@@ -196,9 +196,10 @@ pub(crate) fn analyse_profile(
         Some(rev) => {
             let (angular_te, play_max) =
                 revolution_no_load(&sa, rev, model.te.samples, model.rating.rated_torque)?;
-            (angular_te, play_max.max(0.0))
+            (angular_te, play_max)
         }
     };
+    let play_max = crate::te::largest_play(play_max, acc.backlash);
     let summary = StageSummary {
         hours,
         max_wear_um,

@@ -974,6 +974,16 @@ pub(crate) fn zero_torque_over_revolution_from(
     Ok((CurveStats::of(&forward).peak_to_peak, play))
 }
 
+/// The largest play over the output revolution (rad) reported beside the catalogue backlash
+/// `backlash` (rad): `sampled`, the largest play found at the crank angles searched, not
+/// below `backlash` nor zero. The catalogue backlash is the mean of the plays at a mesh
+/// cycle's crank angles (the mean curve's width at zero torque, docs/model.md section 6), so
+/// the largest play over the revolution is at least it; a sampled search
+/// ([`zero_torque_over_revolution_from`]) can miss the peak.
+pub(crate) fn largest_play(sampled: f64, backlash: f64) -> f64 {
+    sampled.max(backlash).max(0.0)
+}
+
 /// Angular TE (rad) of the reducer of `sa` over its output revolution: the first of
 /// [`revolution_no_load`].
 ///

@@ -157,6 +157,34 @@ fn preload_zero(u: &StaticSolution, d: &StaticSolution) -> f64 {
     d.twist + (u.twist - d.twist) * td / (tu + td)
 }
 
+/// How many times the twist its tangent stiffness gives the lightest solves each way may lie
+/// apart before the interference between them is taken as holding no torque
+/// ([`zero_twists_of_interference`]).
+const PRELOAD_HOLD_FACTOR: f64 = 3.0;
+
+/// The zero-torque twists `[psi(0+), psi(0-)]` (rad) of a crank angle whose parts interfere
+/// in the rigid kinematics, from the lightest solves each way, `u` (positive torque) and `d`
+/// (negative), docs/model.md section 5.12. Where the interference holds the discs (a
+/// preload), one equilibrium carries zero torque and both twists are the secant between them
+/// ([`preload_zero`]): they then lie apart by about the twist their torques give at their
+/// tangent stiffness. Where they lie apart by more than [`PRELOAD_HOLD_FACTOR`] times that,
+/// the interference is internal (parts over-constrained in the rigid kinematics, a pin on
+/// the line of centres whose gap the twist hardly moves, closed by the parts' elastic
+/// deformation at forces that carry no output torque) and the stage turns through its play
+/// between them: the twists are the lightest solves' own (above the no-load limits by the
+/// contacts' approach at [`PRELOAD_PROBE_FRACTION`] of the rated torque: 7e-4 arcmin on the
+/// paper's reducer with 5 um in its crank-carrier bearings).
+fn zero_twists_of_interference(u: &StaticSolution, d: &StaticSolution) -> [f64; 2] {
+    let soft = u.stiffness.min(d.stiffness);
+    let elastic = (u.output_torque - d.output_torque) / soft;
+    if soft > 0.0 && u.twist - d.twist > PRELOAD_HOLD_FACTOR * elastic {
+        [u.twist, d.twist]
+    } else {
+        let zero = preload_zero(u, d);
+        [zero, zero]
+    }
+}
+
 /// The zero-torque state of crank angle `phi`.
 ///
 /// The two limits are the no-load limits of the contact problem
@@ -220,15 +248,15 @@ fn zero_torque_from(sa: &StaticAnalysis, phi: f64, rated: f64, lim: Limits) -> R
     let (Some(u), Some(d)) = (up.last(), down.last()) else {
         unreachable!("every way holds its first level")
     };
-    let zero = preload_zero(u, d);
+    let twist = zero_twists_of_interference(u, d);
     let lightest = Some(Box::new([u.clone(), d.clone()]));
     // The loaded levels start from the heaviest solves, next to the measuring torque.
     let light = [Some(up.swap_remove(0)), Some(down.swap_remove(0))];
     Ok(ZeroTorque {
-        twist: [zero, zero],
+        twist,
         start,
         light,
-        preloaded: true,
+        preloaded: twist[0] == twist[1],
         lightest,
     })
 }
@@ -300,9 +328,9 @@ pub(super) fn zero_twist_and_start(
             sa.solve_near(phi, s * probe, lim.start[k], Some(&from[k]))
         });
         let (u, d) = (u?, d?);
-        let zero = preload_zero(&u, &d);
+        let twist = zero_twists_of_interference(&u, &d);
         warm.probes = Some(Box::new([u, d]));
-        return Ok(([zero, zero], start));
+        return Ok((twist, start));
     }
     let cold = zero_torque_from(sa, phi, rated, lim)?;
     warm.probes = cold.lightest;
