@@ -39,8 +39,11 @@ use crate::te::{
 };
 use crate::units::ARCMIN_PER_RAD;
 
+mod assembly;
 mod lives;
 pub mod weibull;
+
+pub use assembly::REJECTED;
 
 pub use lives::{life_distribution, life_text, LifeDistribution, WeibullLife, LIFE_CONFIDENCE};
 
@@ -112,7 +115,13 @@ pub(crate) fn check_work(
     full_wear: bool,
     horizon: f64,
 ) -> Result<()> {
-    let mut per_sample = points as f64 * per_cycle as f64 * budget::MONTE_CARLO_SOLVES_PER_ANGLE;
+    let grades = model
+        .tolerances
+        .selective
+        .as_ref()
+        .map_or(0, |s| s.pin_grades.len());
+    let mut per_sample =
+        (points + grades) as f64 * per_cycle as f64 * budget::MONTE_CARLO_SOLVES_PER_ANGLE;
     if full_wear {
         let w = &model.wear;
         per_sample += 8.0
@@ -464,7 +473,10 @@ pub(crate) fn run_sample(
     shared: Option<&SharedWear>,
     index: usize,
 ) -> SampleRecord {
-    let m = sample_model(model, plan.seed, index);
+    let m = match assembled(model, plan, index) {
+        Ok(m) => m,
+        Err(rejected) => return rejected,
+    };
     let own;
     let wear = match shared {
         Some(s) => s,
@@ -522,13 +534,39 @@ pub enum SampleStep {
 /// all lie within the spec waits ([`SampleStep::Beyond`]) for [`sample_beyond`] on the whole,
 /// which then gives the same record as [`run_on`].
 pub fn sample_on(model: &Model, plan: &Plan, shared: &SharedWear, index: usize) -> SampleStep {
-    stages_of(
-        model,
-        plan,
-        shared,
-        sample_model(model, plan.seed, index),
-        index,
-    )
+    match assembled(model, plan, index) {
+        Ok(m) => stages_of(model, plan, shared, m, index),
+        Err(rejected) => SampleStep::Done(rejected),
+    }
+}
+
+/// The sampled reducer `index` of `plan` as built: with `[tolerances.selective_assembly]`,
+/// the pin grade chosen ([`assembly::select_grade`]), or the record of a unit rejected at
+/// assembly.
+fn assembled(model: &Model, plan: &Plan, index: usize) -> std::result::Result<Model, SampleRecord> {
+    let m = sample_model(model, plan.seed, index);
+    let Some(sel) = &model.tolerances.selective else {
+        return Ok(m);
+    };
+    assembly::select_grade(m, sel, |unit| {
+        new_backlash(unit, plan.samples_per_mesh_cycle)
+    })
+    .map_err(|status| SampleRecord {
+        sample: index,
+        status,
+        points: Vec::new(),
+        accuracy_life_h: None,
+        limited_by: None,
+    })
+}
+
+/// The catalogue backlash (arcmin) of the unworn reducer `unit` over `per_cycle` crank angles
+/// a mesh cycle, as a sample's 0 h stage is analysed.
+///
+/// # Errors
+/// Those of the analysis.
+pub(crate) fn new_backlash(unit: &Model, per_cycle: usize) -> Result<f64> {
+    Ok(accuracy_at(unit, None, 0.0, per_cycle, false, &mut Starts::default())?.backlash_arcmin)
 }
 
 /// The record of a sample that waited ([`SampleStep::Beyond`]), on the whole nominal history
@@ -903,7 +941,18 @@ pub fn reliability(records: &[SampleRecord], horizon: f64) -> Vec<(f64, f64)> {
 /// more of the analysed ones out of spec when new (an accuracy life of 0 h). `None` for a
 /// usable run.
 pub fn unusable(records: &[SampleRecord]) -> Option<String> {
-    let total = records.len();
+    let rejected = records
+        .iter()
+        .filter(|r| r.status.starts_with(REJECTED))
+        .count();
+    if !records.is_empty() && rejected == records.len() {
+        return Some(format!(
+            "every one of the {rejected} samples was rejected at assembly \
+             ([tolerances.selective_assembly])"
+        ));
+    }
+    // Units rejected at assembly are not built: the run stands for those that were.
+    let total = records.len() - rejected;
     let ok = records.iter().filter(|r| r.status == "ok").count();
     let interfering = records
         .iter()

@@ -71,7 +71,10 @@ pub use presets::{preset_text, Preset, PRESETS};
 pub use reducer::{BearingsConfig, GearsConfig, OutputPinsConfig, Rating, ReducerConfig};
 pub use structure::{StructureConfig, StructureParams};
 pub use te::TeConfig;
-pub use tolerances::{Tolerance, ToleranceConfig, Tolerances, TolerancesConfig};
+pub use tolerances::{
+    SelectiveAssembly, SelectiveAssemblyConfig, Tolerance, ToleranceConfig, Tolerances,
+    TolerancesConfig,
+};
 pub use wear::WearConfig;
 
 use crate::error::{Error, Result};

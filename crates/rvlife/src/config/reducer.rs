@@ -5,6 +5,11 @@
 //! `[errors]` in [`super::cross_section`].
 
 use serde::{Deserialize, Serialize};
+/// Largest radial internal clearance of a crank bearing as a fraction of its pitch diameter:
+/// about the top of group C5 of ISO 5753-1 for cylindrical and needle roller bearings of 18
+/// to 30 mm bore (90 to 95 um), where robot reducers run group C2 or tighter; larger values
+/// describe no bearing that is built.
+pub const MAX_CLEARANCE_FRACTION: f64 = 0.005;
 
 use super::range::{check, whole, Range};
 use super::structure::{StructureConfig, StructureParams};
@@ -205,13 +210,18 @@ pub struct BearingsConfig {
     #[serde(default = "d_cc_angle")]
     pub crank_carrier_contact_angle_deg: f64,
     /// Radial internal clearance of both bearings, um (ISO 5753-1: the total radial play, ring
-    /// to ring), unless the bearing's own key is given. Range: [0, 1000] um.
+    /// to ring), unless the bearing's own key is given. Range: [0, 1000] um and at most
+    /// [`MAX_CLEARANCE_FRACTION`] of each bearing's pitch diameter.
     #[serde(default)]
     pub clearance_um: Option<f64>,
-    /// Radial internal clearance of each crank-disc bearing, um. Range: [0, 1000] um.
+    /// Radial internal clearance of each crank-disc bearing, um. Range: [0, 1000] um and at
+    /// most [`MAX_CLEARANCE_FRACTION`] of its pitch diameter (the journal's estimate with
+    /// `model = "linear"`): 108 um on the example.
     #[serde(default)]
     pub crank_disc_clearance_um: Option<f64>,
-    /// Radial internal clearance of each crank-carrier bearing, um. Range: [0, 1000] um.
+    /// Radial internal clearance of each crank-carrier bearing, um. Range: [0, 1000] um and
+    /// at most [`MAX_CLEARANCE_FRACTION`] of its pitch diameter (the journal's estimate with
+    /// `model = "linear"`): 95 um on the example.
     #[serde(default)]
     pub crank_carrier_clearance_um: Option<f64>,
     /// Bending stiffness of the crankshaft at one eccentric under a load there, N/um (default
@@ -652,13 +662,31 @@ impl BearingsConfig {
         cranks: usize,
     ) -> Result<(Bearings, f64, SeriesCompliances)> {
         let key = |k: &str| format!("reducer.bearings.{k}");
-        let clearance = |k: &str, own: Option<f64>| -> Result<f64> {
+        // The radial internal clearance of the bearing of pitch diameter `size` (m): within
+        // `[0, 1000]` um and at most `MAX_CLEARANCE_FRACTION` of its size.
+        let clearance = |k: &str, own: Option<f64>, size: f64| -> Result<f64> {
             let (name, v) = match (own, self.clearance_um) {
                 (Some(v), _) => (key(k), v),
                 (None, Some(v)) => (key("clearance_um"), v),
                 (None, None) => return Ok(0.0),
             };
-            Ok(check(&name, v, Range::non_negative(1e3, "um"))? * 1e-6)
+            let v = check(&name, v, Range::non_negative(1e3, "um"))?;
+            let max_um = MAX_CLEARANCE_FRACTION * size * 1e6;
+            if v > max_um {
+                return Err(Error::invalid(
+                    name,
+                    format!("{v} um"),
+                    format!(
+                        "must be at most {:.1} um: {} % of the bearing's pitch diameter \
+                         {:.2} mm, about the top of group C5 of ISO 5753-1 for roller bearings \
+                         of its size (robot reducers are built with C2 or less)",
+                        (max_um * 10.0).floor() / 10.0,
+                        MAX_CLEARANCE_FRACTION * 100.0,
+                        size * 1e3
+                    ),
+                ));
+            }
+            Ok(v * 1e-6)
         };
         let length = |k: &str, v: Option<f64>| -> Result<f64> {
             match v {
@@ -733,7 +761,7 @@ impl BearingsConfig {
                 )? * 1e6,
             },
         );
-        let (carrier_law, disc_law) = match self.model.as_str() {
+        let (carrier_law, disc_law, (carrier_size, disc_size)) = match self.model.as_str() {
             "rollers" => {
                 let angle = check(
                     &key("crank_carrier_contact_angle_deg"),
@@ -789,9 +817,14 @@ impl BearingsConfig {
                         pd,
                         0.0,
                     ),
+                    (pc, pd),
                 )
             }
-            "linear" => linear,
+            "linear" => {
+                let (crank_journal, eccentric_journal) =
+                    journal_estimates(geometry, structure.crank.as_ref());
+                (linear.0, linear.1, (crank_journal, eccentric_journal))
+            }
             other => {
                 return Err(Error::invalid(
                     key("model"),
@@ -876,13 +909,18 @@ impl BearingsConfig {
                 clearance: clearance(
                     "crank_carrier_clearance_um",
                     self.crank_carrier_clearance_um,
+                    carrier_size,
                 )?,
                 series_stiffness: f64::INFINITY,
                 damping: 0.0,
             },
             disc: RadialBearing {
                 law: disc_law,
-                clearance: clearance("crank_disc_clearance_um", self.crank_disc_clearance_um)?,
+                clearance: clearance(
+                    "crank_disc_clearance_um",
+                    self.crank_disc_clearance_um,
+                    disc_size,
+                )?,
                 series_stiffness: f64::INFINITY,
                 damping: 0.0,
             },

@@ -62,6 +62,95 @@ pub struct TolerancesConfig {
     /// Rotation modification error, arcmin.
     #[serde(default)]
     pub rotation_arcmin: Option<ToleranceConfig>,
+    /// Selective assembly: the pin grade chosen for each unit to bring its backlash into a
+    /// band (`[tolerances.selective_assembly]`; none: every unit is built as drawn).
+    #[serde(default)]
+    pub selective_assembly: Option<SelectiveAssemblyConfig>,
+}
+
+/// `[tolerances.selective_assembly]`: RV reducers are built by choosing, for each unit, one
+/// grade of pins (a set whose radius differs from nominal by the grade's offset) that brings
+/// the new unit's backlash into the factory's band; a unit that no grade brings into the band
+/// is rejected at assembly (docs/model.md section 12.4).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SelectiveAssemblyConfig {
+    /// Radius offsets of the pin grades on hand, um (each added to every pin's radius).
+    /// Range: 1 to 21 distinct values, each within [-20, 20] um.
+    pub pin_grades_um: Vec<f64>,
+    /// The band the new unit's backlash must fall in, `[low, high]`, arcmin. Range: `0 <= low
+    /// < high <= 60` arcmin.
+    pub backlash_arcmin: [f64; 2],
+}
+
+/// The validated `[tolerances.selective_assembly]` (SI).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SelectiveAssembly {
+    /// Radius offsets of the pin grades, m, ascending.
+    pub pin_grades: Vec<f64>,
+    /// The backlash band `[low, high]`, rad.
+    pub backlash: [f64; 2],
+}
+
+impl SelectiveAssemblyConfig {
+    /// Checks the grades and the band and converts them to SI.
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] naming `tolerances.selective_assembly.pin_grades_um` or
+    /// `.backlash_arcmin` with the allowed range.
+    pub fn validate(&self) -> Result<SelectiveAssembly> {
+        let key = "tolerances.selective_assembly";
+        let grades = &self.pin_grades_um;
+        if grades.is_empty() || grades.len() > 21 {
+            return Err(Error::invalid(
+                format!("{key}.pin_grades_um"),
+                format!("{} grades", grades.len()),
+                "must list 1 to 21 grades",
+            ));
+        }
+        let mut pin_grades = Vec::with_capacity(grades.len());
+        for (i, &g) in grades.iter().enumerate() {
+            pin_grades.push(
+                check(
+                    &format!("{key}.pin_grades_um[{i}]"),
+                    g,
+                    Range::closed(-20.0, 20.0, "um"),
+                )? * 1e-6,
+            );
+        }
+        pin_grades.sort_by(f64::total_cmp);
+        if pin_grades.windows(2).any(|w| w[0] == w[1]) {
+            return Err(Error::invalid(
+                format!("{key}.pin_grades_um"),
+                format!("{grades:?}"),
+                "must list distinct grades",
+            ));
+        }
+        let [lo, hi] = self.backlash_arcmin;
+        let band_key = format!("{key}.backlash_arcmin");
+        let lo = check(
+            &format!("{band_key}[0]"),
+            lo,
+            Range::closed(0.0, 60.0, "arcmin"),
+        )?;
+        let hi = check(
+            &format!("{band_key}[1]"),
+            hi,
+            Range::closed(0.0, 60.0, "arcmin"),
+        )?;
+        if lo >= hi {
+            return Err(Error::invalid(
+                band_key,
+                format!("[{lo}, {hi}]"),
+                "must be [low, high] with low < high",
+            ));
+        }
+        let arcmin = (1.0_f64 / 60.0).to_radians();
+        Ok(SelectiveAssembly {
+            pin_grades,
+            backlash: [lo * arcmin, hi * arcmin],
+        })
+    }
 }
 
 /// A validated distribution of one error about zero (SI: m or rad).
@@ -113,6 +202,8 @@ pub struct Tolerances {
     pub offset: Option<Tolerance>,
     /// Rotation modification, rad.
     pub rotation: Option<Tolerance>,
+    /// Selective assembly of the pins' grade (none: units built as drawn).
+    pub selective: Option<SelectiveAssembly>,
 }
 
 impl Tolerances {
@@ -354,6 +445,11 @@ impl TolerancesConfig {
                 arcmin,
                 None,
             )?,
+            selective: self
+                .selective_assembly
+                .as_ref()
+                .map(SelectiveAssemblyConfig::validate)
+                .transpose()?,
         })
     }
 }

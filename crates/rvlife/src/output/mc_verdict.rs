@@ -33,6 +33,8 @@ pub fn verdict(
 pub(crate) fn status_key(status: &str) -> String {
     if status.starts_with("failed") {
         "failed".to_string()
+    } else if status.starts_with(crate::montecarlo::REJECTED) {
+        crate::montecarlo::REJECTED.to_string()
     } else {
         status.to_string()
     }
@@ -81,9 +83,22 @@ pub(crate) fn verdict_of(
             l.n
         );
     }
+    let rejected = status_counts
+        .get(crate::montecarlo::REJECTED)
+        .copied()
+        .unwrap_or(0);
+    let assembly = if rejected > 0 {
+        format!(
+            "; {rejected} of {total} rejected at assembly ({:.1} %: no pin grade brings their \
+             backlash into the band)",
+            100.0 * rejected as f64 / total as f64
+        )
+    } else {
+        String::new()
+    };
     format!(
         "B10 accuracy life {} (10 % of the reducers leave the spec by then), B50 {}; {:.0} % \
-         within spec at {horizon:.0} h; spec: {spec_line}; {} of {total} samples analysed",
+         within spec at {horizon:.0} h; spec: {spec_line}; {} of {total} samples analysed{assembly}",
         life_text(l.b10_h, l.km_b10_h, horizon),
         life_text(l.b50_h, l.km_b50_h, horizon),
         100.0 * l.censored_fraction,

@@ -18,6 +18,7 @@ mod parts;
 mod physics;
 mod pin_wear;
 mod play;
+mod selective;
 mod single_stage;
 
 /// The built-in example with `[reducer.structure] compliance_arcmin_per_knm = c`, validated.
