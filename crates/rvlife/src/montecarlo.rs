@@ -45,7 +45,10 @@ pub mod weibull;
 
 pub use assembly::REJECTED;
 
-pub use lives::{life_distribution, life_text, LifeDistribution, WeibullLife, LIFE_CONFIDENCE};
+pub use lives::{
+    life_distribution, life_text, lives_and_censored, LifeDistribution, WeibullLife,
+    LIFE_CONFIDENCE,
+};
 
 /// Wear maps between two stages of the shared wear history (the accuracy life is located to
 /// an eighth of a stage interval by bisection, then interpolated).

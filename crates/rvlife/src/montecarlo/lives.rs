@@ -89,13 +89,23 @@ pub struct WeibullLife {
 /// Confidence of the Weibull bounds the runs report (two-sided: 5 % and 95 %).
 pub const LIFE_CONFIDENCE: f64 = 0.9;
 
+/// The accuracy lives (h, ascending) of the `ok` records of `records` that left the spec, and
+/// the censoring times of those that did not: the horizon `horizon` (h) of their life search,
+/// or the longest life where that lies beyond it.
+pub fn lives_and_censored(records: &[SampleRecord], horizon: f64) -> (Vec<f64>, Vec<f64>) {
+    let ok: Vec<&SampleRecord> = records.iter().filter(|r| r.status == "ok").collect();
+    let mut lives: Vec<f64> = ok.iter().filter_map(|r| r.accuracy_life_h).collect();
+    lives.sort_by(f64::total_cmp);
+    let censored = vec![horizon.max(lives.last().copied().unwrap_or(0.0)); ok.len() - lives.len()];
+    (lives, censored)
+}
+
 /// The life distribution of `records` whose life search ran to `horizon` (h): empirical
 /// quantiles with the censored lives (beyond the horizon) counted as longer than every observed
 /// one, the Kaplan-Meier B10 and B50, and the Weibull fit with its bounds ([`WeibullLife`]).
 pub fn life_distribution(records: &[SampleRecord], horizon: f64) -> LifeDistribution {
     let ok: Vec<&SampleRecord> = records.iter().filter(|r| r.status == "ok").collect();
-    let mut lives: Vec<f64> = ok.iter().filter_map(|r| r.accuracy_life_h).collect();
-    lives.sort_by(f64::total_cmp);
+    let (lives, censored) = lives_and_censored(records, horizon);
     let n = ok.len();
     let q = |p: f64| {
         // Position of the p-quantile among all n (censored at the top).
@@ -113,7 +123,6 @@ pub fn life_distribution(records: &[SampleRecord], horizon: f64) -> LifeDistribu
             *limited_by.entry(k.clone()).or_insert(0) += 1;
         }
     }
-    let censored = vec![horizon.max(lives.last().copied().unwrap_or(0.0)); n - lives.len()];
     let km = weibull::kaplan_meier(&lives, &censored);
     // A life of 0 h (out of spec when new) is a failure before any time the Weibull law can
     // hold: the fit is of the positive lives.

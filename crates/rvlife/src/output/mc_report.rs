@@ -14,8 +14,13 @@ pub(crate) use super::mc_verdict::{spec_text, status_key, verdict_of};
 use crate::config::LifeThresholds;
 use crate::error::{Error, Result};
 use crate::montecarlo::{
-    life_text, reliability, LifeDistribution, Percentiles, Plan, SampleRecord,
+    life_text, lives_and_censored, reliability, weibull, LifeDistribution, Percentiles, Plan,
+    SampleRecord,
 };
+
+/// Fractions out of spec at which the Weibull plot's confidence band is drawn.
+const WEIBULL_BAND_FRACTIONS: [f64; 11] =
+    [0.01, 0.02, 0.05, 0.1, 0.2, 0.3, 0.5, 0.632, 0.8, 0.9, 0.99];
 use crate::quantities::{Quantity, ACCURACY, LIFE};
 use serde::Serialize;
 
@@ -106,6 +111,51 @@ pub(crate) fn write(
                  % still within spec at {horizon:.0} h are counted throughout",
                 life.n,
                 100.0 * life.censored_fraction
+            ),
+        );
+    }
+    if let Some(w) = &life.weibull {
+        let (lives, censored) = lives_and_censored(records, horizon);
+        let positive: Vec<f64> = lives.into_iter().filter(|&t| t > 0.0).collect();
+        let fit = weibull::Weibull {
+            shape: w.shape,
+            scale: w.scale_h,
+        };
+        let bands: Vec<(f64, weibull::BoundedQuantile)> = WEIBULL_BAND_FRACTIONS
+            .iter()
+            .filter_map(|&p| {
+                weibull::quantile_with_bounds(&positive, &censored, p, w.confidence).map(|q| (p, q))
+            })
+            .collect();
+        crate::output::plot::weibull_plot(
+            &plots,
+            "weibull",
+            &weibull::kaplan_meier(&positive, &censored),
+            &fit,
+            &bands,
+            w.confidence,
+        )?;
+        let upper =
+            |u: Option<f64>| u.map_or("not bounded above".to_string(), |u| format!("{u:.0} h"));
+        figure(
+            "life",
+            "weibull",
+            format!(
+                "Weibull plot (IEC 61649): the {} positive lives by Kaplan-Meier with the {} \
+                 censored at {horizon:.0} h, the maximum-likelihood line (shape {:.2}, scale {:.0} \
+                 h) and its {:.0} % likelihood-ratio bounds; B10 {:.0} h [{:.0} h, {}], B50 {:.0} \
+                 h [{:.0} h, {}]",
+                positive.len(),
+                censored.len(),
+                w.shape,
+                w.scale_h,
+                100.0 * w.confidence,
+                w.b10_h,
+                w.b10_lower_h,
+                upper(w.b10_upper_h),
+                w.b50_h,
+                w.b50_lower_h,
+                upper(w.b50_upper_h),
             ),
         );
     }

@@ -86,10 +86,12 @@ mod hysteresis;
 mod mesh_cycle;
 mod stress;
 mod study;
+mod weibull;
 
 pub use dynamics::dynamics;
 pub use hysteresis::hysteresis;
 pub(crate) use study::write_all;
+pub(crate) use weibull::weibull_plot;
 
 /// Width of the legend strip at the right of every figure, px: legends never cover data.
 const LEGEND_WIDTH: u32 = 235;
