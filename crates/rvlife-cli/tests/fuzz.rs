@@ -15,9 +15,15 @@
 //! among the rest), `merge` of shards with one mutated cell, and `calibrate --measured` with a
 //! generated measurements file. Each prints its cases, outcomes and slowest refusal.
 //!
+//! A third test fuzzes the keys of the bearings, meshes, parts in series, contact law and wear
+//! model on every preset through `te` and `hysteresis`; a fourth runs `montecarlo` on every
+//! preset and fails on any sample that does not run.
+//!
 //! `RVLIFE_FUZZ_CASES` sets the number of cases (default 60, the CI run; the seed is fixed, so
 //! CI runs the same cases every time, and `RVLIFE_FUZZ_SEED` picks others);
-//! `RVLIFE_FUZZ_COMMAND_CASES` those of the newer commands (default 12).
+//! `RVLIFE_FUZZ_COMMAND_CASES` those of the newer commands (default 12),
+//! `RVLIFE_FUZZ_PART_CASES` those of the part keys (default 40) and `RVLIFE_FUZZ_MC_CASES` the
+//! Monte Carlo runs (default 5).
 
 use std::process::Command;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -573,6 +579,253 @@ fn fuzzed_newer_commands_end_with_exit_0_or_2_and_finite_outputs() {
         CMD_EXIT_2.load(Ordering::Relaxed),
         slowest_refusal(&SLOWEST_COMMAND)
     );
+    if let Err(e) = result {
+        panic!("{e}");
+    }
+}
+
+/// The built-in reducers the parts fuzz and the Monte Carlo fuzz run on.
+const PRESETS: [&str; 5] = ["rv-40e", "paper", "rv-20e", "rv-80e", "single-stage"];
+
+/// The sections whose keys the parts fuzz mutates: the bearings, the meshes, the parts in
+/// series, the contact law and the wear model.
+const PART_SECTIONS: [&str; 5] = [
+    "[reducer.gears]",
+    "[reducer.bearings]",
+    "[reducer.structure]",
+    "[contact]",
+    "[wear]",
+];
+
+/// Preset `name` as `rvlife example --preset` prints it, its dynamics, flexible disc and
+/// friction off (`enabled = false`).
+fn preset_config(name: &str) -> String {
+    let o = Command::new(env!("CARGO_BIN_EXE_rvlife"))
+        .args(["example", "--preset", name])
+        .output()
+        .expect("rvlife example --preset");
+    String::from_utf8(o.stdout)
+        .expect("utf-8")
+        .lines()
+        .map(|l| {
+            if l.split('=').next().unwrap_or("").trim() == "enabled" {
+                "enabled = false".to_string()
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+        + "\n"
+}
+
+/// The key lines of [`PART_SECTIONS`] in `text`, set (`key = value`) or left at their default
+/// (`# key = value`).
+fn part_key_lines(text: &str) -> Vec<usize> {
+    let mut section = "";
+    let mut out = Vec::new();
+    for (i, l) in text.lines().enumerate() {
+        let t = l.trim_start();
+        if t.starts_with('[') {
+            section = t.split_whitespace().next().unwrap_or("");
+            continue;
+        }
+        if !PART_SECTIONS.contains(&section) {
+            continue;
+        }
+        let body = t.strip_prefix('#').map_or(t, str::trim_start);
+        let Some((key, _)) = body.split_once('=') else {
+            continue;
+        };
+        let key = key.trim();
+        if !key.is_empty() && key.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+            out.push(i);
+        }
+    }
+    out
+}
+
+/// A mutation of one part key: line (among [`part_key_lines`]), then either a value of
+/// [`VALUES`] or the key's value scaled by a power of ten (negated with the flag).
+#[derive(Debug, Clone)]
+enum PartMutation {
+    Set(usize, usize),
+    Scale(usize, i32, bool),
+}
+
+fn part_mutation() -> impl Strategy<Value = PartMutation> {
+    prop_oneof![
+        1 => (any::<usize>(), 0..VALUES.len()).prop_map(|(l, v)| PartMutation::Set(l, v)),
+        3 => (
+            any::<usize>(),
+            prop_oneof![3 => -1..=1i32, 1 => -6..=6i32],
+            prop::bool::weighted(0.15)
+        )
+            .prop_map(|(l, p, n)| PartMutation::Scale(l, p, n)),
+    ]
+}
+
+/// `text` with `m` applied (a key left at its default is written first).
+fn apply_part(text: &str, m: &PartMutation) -> String {
+    let keys = part_key_lines(text);
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let (PartMutation::Set(l, _) | PartMutation::Scale(l, _, _)) = *m;
+    let i = keys[l % keys.len()];
+    let t = lines[i].trim_start();
+    let body = t.strip_prefix('#').map_or(t, str::trim_start).to_string();
+    let (key, rest) = body.split_once('=').expect("a key line");
+    let key = key.trim();
+    let value = rest.split('#').next().unwrap_or("").trim();
+    lines[i] = match *m {
+        PartMutation::Set(_, v) => format!("{key} = {}", VALUES[v]),
+        PartMutation::Scale(_, p, negate) => match value.parse::<f64>() {
+            Ok(x) => format!(
+                "{key} = {:e}",
+                x * 10f64.powi(p) * if negate { -1.0 } else { 1.0 }
+            ),
+            Err(_) => format!("{key} = {value}"),
+        },
+    };
+    lines.join("\n") + "\n"
+}
+
+static PART_EXIT_0: AtomicUsize = AtomicUsize::new(0);
+static PART_EXIT_2: AtomicUsize = AtomicUsize::new(0);
+static SLOWEST_PART: Mutex<(f64, String)> = Mutex::new((0.0, String::new()));
+
+/// The key an `error: invalid KEY = ...` line names, if any.
+fn named_key(err: &str) -> Option<String> {
+    let line = err.lines().find(|l| l.starts_with("error: invalid "))?;
+    let rest = line.trim_start_matches("error: invalid ");
+    Some(rest.split(" = ").next().unwrap_or(rest).trim().to_string())
+}
+
+/// `te --json` and `hysteresis --json` on the config `text`: exit 0 with finite numbers, or
+/// exit 2 with an error line that names a key the config writes (its last part, indices
+/// stripped) or a command-line flag; never a panic or another exit.
+fn check_part_case(text: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("c.toml");
+    std::fs::write(&cfg, text).unwrap();
+    for command in ["te", "hysteresis"] {
+        let start = Instant::now();
+        let o = rvlife_within(
+            240,
+            [
+                "--work-budget-min".as_ref(),
+                "1".as_ref(),
+                command.as_ref(),
+                cfg.as_os_str(),
+                "--json".as_ref(),
+            ],
+        );
+        let err = String::from_utf8_lossy(&o.stderr);
+        let case = format!("rvlife {command} on:\n{text}\nstderr:\n{err}");
+        assert!(!err.contains("panicked"), "panic\n{case}");
+        match o.status.code() {
+            Some(0) => {
+                PART_EXIT_0.fetch_add(1, Ordering::Relaxed);
+                let v: Value = serde_json::from_slice(&o.stdout)
+                    .unwrap_or_else(|e| panic!("{e}: not JSON\n{case}"));
+                assert_all_finite(&v, command);
+            }
+            Some(2) => {
+                PART_EXIT_2.fetch_add(1, Ordering::Relaxed);
+                note_refusal(&SLOWEST_PART, start.elapsed().as_secs_f64(), &case);
+                assert!(
+                    err.lines().any(|l| l.starts_with("error: ")),
+                    "exit 2 without an error line\n{case}"
+                );
+                if let Some(key) = named_key(&err) {
+                    let last = key.rsplit('.').next().unwrap_or(&key);
+                    let last = last.split('[').next().unwrap_or(last);
+                    assert!(
+                        key.starts_with("--") || text.contains(last),
+                        "the refusal names {key}, which the config does not write\n{case}"
+                    );
+                }
+                // A config refused by one command is refused by the other.
+                break;
+            }
+            other => panic!("exit {other:?}\n{case}"),
+        }
+    }
+}
+
+/// The keys of the bearings, meshes, parts in series, contact and wear on every preset, one
+/// or two at a time (values of [`VALUES`] or scaled by powers of ten), through `te` and
+/// `hysteresis` (docs/model.md section 15). `RVLIFE_FUZZ_PART_CASES` sets the number of cases
+/// (default 40, the CI run).
+#[test]
+fn fuzzed_part_keys_end_with_exit_0_or_2_in_te_and_hysteresis() {
+    let (mut runner, cases, seed) = runner("RVLIFE_FUZZ_PART_CASES", 40, 20261129, 16);
+    let bases: Vec<String> = PRESETS.iter().map(|p| preset_config(p)).collect();
+    let strategy = (
+        0..PRESETS.len(),
+        prop::collection::vec(part_mutation(), 1..=2),
+    );
+    let result = runner.run(&strategy, |(preset, mutations)| {
+        let text = mutations
+            .iter()
+            .fold(bases[preset].clone(), |t, m| apply_part(&t, m));
+        check_part_case(&format!("# preset {}\n{text}", PRESETS[preset]));
+        Ok(())
+    });
+    eprintln!(
+        "fuzz of the part keys: {cases} cases (seed {seed}): {} commands exit 0, {} exit 2; \
+         slowest refusal {}",
+        PART_EXIT_0.load(Ordering::Relaxed),
+        PART_EXIT_2.load(Ordering::Relaxed),
+        slowest_refusal(&SLOWEST_PART)
+    );
+    if let Err(e) = result {
+        panic!("{e}");
+    }
+}
+
+/// `montecarlo --samples 4` on every preset at seeds drawn by the fuzz's generator: every
+/// sample is analysed (status `ok`: none fails) and the lives are finite.
+/// `RVLIFE_FUZZ_MC_CASES` sets the number of runs (default 5, one a preset in CI).
+#[test]
+fn monte_carlo_on_every_preset_fails_no_sample() {
+    let (mut runner, cases, seed) = runner("RVLIFE_FUZZ_MC_CASES", 5, 20261130, 0);
+    let done = AtomicUsize::new(0);
+    let result = runner.run(&(any::<u32>(), 1..=1000u64), |(_, mc_seed)| {
+        let preset = PRESETS[done.fetch_add(1, Ordering::Relaxed) % PRESETS.len()];
+        let dir = tempfile::tempdir().unwrap();
+        let cfg = dir.path().join("c.toml");
+        std::fs::write(&cfg, preset_config(preset)).unwrap();
+        let out = dir.path().join("mc");
+        let o = rvlife_within(
+            600,
+            [
+                "montecarlo".as_ref(),
+                cfg.as_os_str(),
+                "--samples".as_ref(),
+                "4".as_ref(),
+                "--seed".as_ref(),
+                mc_seed.to_string().as_ref(),
+                "--keep-going".as_ref(),
+                "--out".as_ref(),
+                out.as_os_str(),
+            ],
+        );
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(0), "{preset} seed {mc_seed}\n{err}");
+        let samples = std::fs::read_to_string(out.join("samples.csv")).unwrap();
+        for row in samples.lines().skip(1) {
+            assert!(
+                row.split(',').nth(1) == Some("ok"),
+                "{preset} seed {mc_seed}: a sample did not run\n{row}"
+            );
+        }
+        let summary: Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                .unwrap();
+        assert_all_finite(&summary, "summary.json");
+        Ok(())
+    });
+    eprintln!("Monte Carlo on every preset: {cases} runs (seed {seed})");
     if let Err(e) = result {
         panic!("{e}");
     }

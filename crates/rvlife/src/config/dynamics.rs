@@ -586,6 +586,26 @@ impl InertiaConfig {
             1e4,
             "mm",
         )? * 1e-3;
+        if (crank_circle_radius + bore >= root || bore >= crank_circle_radius)
+            && ic.crank_bore_radius_mm.is_none()
+        {
+            // The bores at their default: the crank circle is what moved them.
+            return Err(Error::invalid(
+                "reducer.gears.planet_pitch_radius_mm",
+                format!("{:.3} mm", reducer.mesh.planet_pitch_radius * 1e3),
+                format!(
+                    "puts the crank circle at {:.2} mm, where the crank bores ({:.2} mm radius, \
+                     dynamics.inertia.crank_bore_radius_mm's default) leave no material round \
+                     the centre or before the tooth roots ({:.2} mm): the crank circle must lie \
+                     between {:.2} and {:.2} mm",
+                    crank_circle_radius * 1e3,
+                    bore * 1e3,
+                    root * 1e3,
+                    bore * 1e3,
+                    (root - bore) * 1e3
+                ),
+            ));
+        }
         if crank_circle_radius + bore >= root || bore >= crank_circle_radius {
             return Err(Error::invalid(
                 "dynamics.inertia.crank_bore_radius_mm",
