@@ -187,7 +187,18 @@ pub fn worn_for<'a>(
                 bearing_rates: rates,
                 ..model.wear_inputs()
             };
-            let hist = crate::wear::integrate(&inputs, progress)?;
+            // The config's own stages passed the work budget when it was validated: work
+            // beyond it now is the hours asked for.
+            let hist = crate::wear::integrate(&inputs, progress).map_err(|e| match e {
+                Error::Invalid { allowed, .. } if allowed.contains("work budget") => {
+                    Error::invalid(
+                        spelling.name("hours"),
+                        h,
+                        format!("is more wear than the work budget allows: {allowed}"),
+                    )
+                }
+                other => other,
+            })?;
             if let Some(l) = &hist.limit {
                 return Err(Error::invalid(
                     spelling.name("hours"),
