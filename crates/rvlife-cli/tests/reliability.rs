@@ -144,6 +144,23 @@ fn non_physical_modifications_are_refused_by_their_key() {
 fn horizons_and_targets_beyond_the_model_are_refused() {
     let o = rvlife_within(60, ["te", "--hours", "1e12"]);
     assert_input_error(&o, "--hours", &["--hours", "1e7"]);
+    // Far beyond the wear model's validity (the example leaves it at 1.64e6 h): refused from
+    // the unworn disc's wear rate, before the integration (27 s to find the limit at 3e6 h),
+    // and by the work it needs only after that.
+    for hours in ["4e6", "1e7"] {
+        let o = rvlife_within(60, ["te", "--hours", hours]);
+        assert_input_error(
+            &o,
+            "--hours",
+            &["invalid --hours", "far beyond the validity"],
+        );
+        let o = rvlife_within(60, ["hysteresis", "--hours", hours]);
+        assert_input_error(
+            &o,
+            "--hours",
+            &["invalid --hours", "far beyond the validity"],
+        );
+    }
     let o = rvlife_within(60, ["calibrate", "--target-wear-um", "1e9"]);
     assert_input_error(&o, "target", &["--target-wear-um", "tooth height"]);
     let o = rvlife_within(60, ["te", "--wear-um", "1e9"]);

@@ -187,6 +187,22 @@ pub fn worn_for<'a>(
                 bearing_rates: rates,
                 ..model.wear_inputs()
             };
+            if let Some((depth, rate)) = crate::wear::far_beyond_validity(&inputs, h)? {
+                return Err(Error::invalid(
+                    spelling.name("hours"),
+                    h,
+                    format!(
+                        "is far beyond the validity of the wear model: at the unworn disc's \
+                         mean wear rate, {:.3e} um/h, the flank would lose {:.0} um by then, \
+                         {:.1} times the eccentricity {:.0} um where the model ends (half the \
+                         teeth's height); give fewer hours",
+                        rate * 1e6,
+                        depth * 1e6,
+                        depth / model.cycloid.geometry.eccentricity,
+                        model.cycloid.geometry.eccentricity * 1e6
+                    ),
+                ));
+            }
             // The config's own stages passed the work budget when it was validated: work
             // beyond it now is the hours asked for.
             let hist = crate::wear::integrate(&inputs, progress).map_err(|e| match e {
