@@ -474,3 +474,47 @@ fn play_is_carried_on_other_stages() {
         }
     }
 }
+
+/// Crank bearing clearances follow the bearing's size: 1000 um (within the old flat range) is
+/// refused on every preset by the key written, naming its limit (0.5 % of the pitch diameter;
+/// on `rv-20e` with 50 um in its carrier bearings it took 16 s and named the rated torque), and
+/// every preset at its largest clearances in both bearings runs `te` and `hysteresis` (the
+/// RV-40E and RV-80E classes exited 1 there: the flexible discs' sweeps cycled on a pin at the
+/// edge of the contact zone).
+#[test]
+fn clearances_up_to_their_size_limit_run_and_beyond_it_are_refused() {
+    let limit = |text: &str, key: &str| -> String {
+        let t = set_key(text, "reducer.bearings", key, "1000");
+        let (_d, o) = run_config(&t, &["te"]);
+        let err = String::from_utf8_lossy(&o.stderr).to_string();
+        assert_input_error(
+            &o,
+            key,
+            &[&format!("reducer.bearings.{key} = 1000"), "pitch diameter"],
+        );
+        let at = err.find("at most ").expect("the limit") + "at most ".len();
+        err[at..].split_whitespace().next().unwrap().to_string()
+    };
+    for name in ["rv-40e", "paper", "rv-20e", "rv-80e", "single-stage"] {
+        let text = ok(&rvlife(["example", "--preset", name]), name);
+        let disc = limit(&text, "crank_disc_clearance_um");
+        let carrier = limit(&text, "crank_carrier_clearance_um");
+        let t = set_key(&text, "reducer.bearings", "crank_disc_clearance_um", &disc);
+        let t = set_key(
+            &t,
+            "reducer.bearings",
+            "crank_carrier_clearance_um",
+            &carrier,
+        );
+        for command in ["te", "hysteresis"] {
+            let (_d, o) = run_config(&t, &[command, "--json"]);
+            let v: Value = serde_json::from_str(&ok(
+                &o,
+                &format!("{name} {command} at {disc} / {carrier} um"),
+            ))
+            .unwrap();
+            assert_all_finite(&v, name);
+            assert!(num(&v, "backlash_arcmin") > 1.0, "{name}: {v}");
+        }
+    }
+}
