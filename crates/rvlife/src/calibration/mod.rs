@@ -62,7 +62,7 @@ pub mod structure;
 
 use std::path::Path;
 
-use argmin::core::{CostFunction, Executor};
+use argmin::core::Executor;
 use argmin::solver::brent::BrentOpt;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
@@ -70,6 +70,7 @@ use statrs::distribution::{ContinuousCDF, StudentsT};
 
 use crate::config::Model;
 use crate::error::{Error, Result};
+use crate::montecarlo::weibull::Scalar;
 use crate::quantities::StageSummary;
 use crate::wear::RunningIn;
 
@@ -451,20 +452,9 @@ fn scan_then_brent(cost: &dyn Fn(f64) -> f64, lo: f64, hi: f64, n: usize) -> Res
     })
 }
 
-/// A cost function of one variable, for argmin.
-struct Cost<'a>(&'a dyn Fn(f64) -> f64);
-
-impl CostFunction for Cost<'_> {
-    type Param = f64;
-    type Output = f64;
-    fn cost(&self, x: &f64) -> std::result::Result<f64, argmin::core::Error> {
-        Ok((self.0)(*x))
-    }
-}
-
 /// Brent's method (argmin) on `cost` between `a` and `b`: its best point, if any.
 fn brent(cost: &dyn Fn(f64) -> f64, a: f64, b: f64) -> Result<Option<f64>> {
-    let res = Executor::new(Cost(cost), BrentOpt::new(a, b).set_tolerance(1e-8, 1e-10))
+    let res = Executor::new(Scalar(cost), BrentOpt::new(a, b).set_tolerance(1e-8, 1e-10))
         .configure(|st| st.max_iters(200))
         .timer(false)
         .run()

@@ -166,8 +166,9 @@ impl Scaled {
     }
 }
 
-/// Argmin's cost function of a root search: the function itself.
-struct Scalar<'a>(&'a dyn Fn(f64) -> f64);
+/// A function of one variable as argmin's cost function (the function itself): the root
+/// searches here, the Brent minimisations of [`crate::calibration`].
+pub(crate) struct Scalar<'a>(pub(crate) &'a dyn Fn(f64) -> f64);
 
 impl CostFunction for Scalar<'_> {
     type Param = f64;
