@@ -46,8 +46,8 @@ pub mod weibull;
 pub use assembly::REJECTED;
 
 pub use lives::{
-    life_distribution, life_text, lives_and_censored, LifeDistribution, WeibullLife,
-    LIFE_CONFIDENCE,
+    life_distribution, life_text, lives_and_censored, weibull_sample, LifeDistribution,
+    WeibullLife, LIFE_CONFIDENCE,
 };
 
 /// Wear maps between two stages of the shared wear history (the accuracy life is located to

@@ -586,9 +586,8 @@ impl InertiaConfig {
             1e4,
             "mm",
         )? * 1e-3;
-        if (crank_circle_radius + bore >= root || bore >= crank_circle_radius)
-            && ic.crank_bore_radius_mm.is_none()
-        {
+        let crowded = crank_circle_radius + bore >= root || bore >= crank_circle_radius;
+        if crowded && ic.crank_bore_radius_mm.is_none() {
             // The bores at their default: the crank circle is what moved them.
             return Err(Error::invalid(
                 "reducer.gears.planet_pitch_radius_mm",
@@ -606,7 +605,7 @@ impl InertiaConfig {
                 ),
             ));
         }
-        if crank_circle_radius + bore >= root || bore >= crank_circle_radius {
+        if crowded {
             return Err(Error::invalid(
                 "dynamics.inertia.crank_bore_radius_mm",
                 bore * 1e3,

@@ -100,6 +100,19 @@ pub fn lives_and_censored(records: &[SampleRecord], horizon: f64) -> (Vec<f64>, 
     (lives, censored)
 }
 
+/// The sample the Weibull law is fitted to ([`lives_and_censored`]): the positive lives (a life
+/// of 0 h, out of spec when new, is a failure before any time the Weibull law can hold) and
+/// the censoring times.
+pub fn weibull_sample(records: &[SampleRecord], horizon: f64) -> (Vec<f64>, Vec<f64>) {
+    let (lives, censored) = lives_and_censored(records, horizon);
+    (positive(&lives), censored)
+}
+
+/// The positive ones of `lives` (h): those the Weibull law is fitted to.
+fn positive(lives: &[f64]) -> Vec<f64> {
+    lives.iter().copied().filter(|&t| t > 0.0).collect()
+}
+
 /// The life distribution of `records` whose life search ran to `horizon` (h): empirical
 /// quantiles with the censored lives (beyond the horizon) counted as longer than every observed
 /// one, the Kaplan-Meier B10 and B50, and the Weibull fit with its bounds ([`WeibullLife`]).
@@ -124,9 +137,7 @@ pub fn life_distribution(records: &[SampleRecord], horizon: f64) -> LifeDistribu
         }
     }
     let km = weibull::kaplan_meier(&lives, &censored);
-    // A life of 0 h (out of spec when new) is a failure before any time the Weibull law can
-    // hold: the fit is of the positive lives.
-    let positive: Vec<f64> = lives.iter().copied().filter(|&t| t > 0.0).collect();
+    let positive = positive(&lives);
     let bounded = |p: f64| weibull::quantile_with_bounds(&positive, &censored, p, LIFE_CONFIDENCE);
     let weibull = weibull::fit(&positive, &censored).and_then(|w| {
         let (b10, b50) = (bounded(0.1)?, bounded(0.5)?);

@@ -14,7 +14,7 @@ pub(crate) use super::mc_verdict::{spec_text, status_key, verdict_of};
 use crate::config::LifeThresholds;
 use crate::error::{Error, Result};
 use crate::montecarlo::{
-    life_text, lives_and_censored, reliability, weibull, LifeDistribution, Percentiles, Plan,
+    life_text, reliability, weibull, weibull_sample, LifeDistribution, Percentiles, Plan,
     SampleRecord,
 };
 
@@ -115,8 +115,7 @@ pub(crate) fn write(
         );
     }
     if let Some(w) = &life.weibull {
-        let (lives, censored) = lives_and_censored(records, horizon);
-        let positive: Vec<f64> = lives.into_iter().filter(|&t| t > 0.0).collect();
+        let (positive, censored) = weibull_sample(records, horizon);
         let fit = weibull::Weibull {
             shape: w.shape,
             scale: w.scale_h,
