@@ -50,10 +50,10 @@ const figure = (s) => console.log(`e2e: ${s}`);
 // of two such quantities (four limits). The module's libm and glibc differ in their last
 // bits, so the iterations may stop at different points within that.
 // The worst difference of named numbers: within `bound` relative (to the reference, or to
-// `floor` where that is larger), or, for a key in arcmin, within 2.2e-5 arcmin (the no-load
-// twists' bound).
+// `floor` where that is larger), or, for a key in arcmin, within `arcmin` arcmin (2.2e-5, the
+// no-load twists' bound, unless told otherwise).
 class Worst {
-  constructor(bound = 1e-7, floor = 0) { this.bound = bound; this.floor = floor; this.compared = 0; this.rel = 0; this.relKey = ''; this.abs = 0; this.absKey = ''; this.bad = []; }
+  constructor(bound = 1e-7, floor = 0, arcmin = 2.2e-5) { this.bound = bound; this.floor = floor; this.arcminAllowed = arcmin; this.compared = 0; this.rel = 0; this.relKey = ''; this.abs = 0; this.absKey = ''; this.bad = []; }
   add(key, mine, ref) {
     this.compared++;
     const d = Math.abs(mine - ref);
@@ -62,7 +62,7 @@ class Worst {
     const arcmin = key.endsWith('_arcmin');
     if (rel > this.rel) { this.rel = rel; this.relKey = key; }
     if (arcmin && d > this.abs) { this.abs = d; this.absKey = key; }
-    const ok = Number.isFinite(mine) && (rel <= this.bound || (arcmin && d <= 2.2e-5));
+    const ok = Number.isFinite(mine) && (rel <= this.bound || (arcmin && d <= this.arcminAllowed));
     if (!ok) this.bad.push(`${key}: ${mine} against ${ref}`);
   }
   ok() { return this.bad.length === 0; }
@@ -282,31 +282,30 @@ try {
   const flexStudyNativeMs = performance.now() - tf;
   const flexRef = flexCli.status === 0 ? JSON.parse(fs.readFileSync(path.join(tmp, 'cli-flexible/summary.json'), 'utf8')) : { stages: [] };
   const flexMine = JSON.parse(fs.readFileSync(flexPage, 'utf8'));
-  // The page's arithmetic is not the native binary's: the FE disc's sparse factorisation runs
-  // with SIMD and fused multiply-add natively (faer's runtime dispatch) and without them in the
-  // module, and the elementary functions come from another libm. The FE stiffness is
-  // ill-conditioned, so its last-bit differences reach about 1e-7..1e-6 of the flexible TE
-  // means, play and stiffness, already on the unworn disc. Tightening the flexible contact's
-  // fixed point (FLEX_OFFSET_TOLERANCE 1e-3 -> 1e-10) left every difference as it was: they are
-  // the platforms', not the solver's stopping point. A peak-to-peak value is the difference of
-  // two extremes over the mesh cycle, each where a pin enters or leaves contact, so it moves by
-  // more (8e-5 measured), and a stress maximum, read at one element, by more again. Bounds: the
-  // means, play and stiffness 1e-5, the peak-to-peak values 5e-4 (or 2.2e-5 arcmin), the
-  // stresses 1e-2.
-  const fm = new Worst(1e-5);
-  const fw = new Worst(5e-4);
-  const sw = new Worst(1e-2);
+  // The FE disc is meshed on points (the profile's closed form, the bores' and holes' centres,
+  // the circles' vertices) computed with the same elementary functions on both platforms (the
+  // libm crate's), so the page meshes the same disc as the command line, node for node; before,
+  // glibc and the module's libm differed in last bits and the mesher's refinement turned on
+  // them (20 100 nodes natively, 20 108 in the page: 1e-5 in the flexible TE). What remains is
+  // the last bits of the solves (SIMD and fused multiply-add natively, not in the page): about
+  // 1e-12. Bounds: every flexible quantity and the FE disc's von Mises stress 1e-9, with no
+  // allowance in arcmin; the gears' root stress (not the FE disc's) 1e-2.
+  const fm = new Worst(1e-9, 0, 0);
+  const fw = new Worst(1e-9, 0, 0);
+  const sw = new Worst(1e-9, 0, 0);
+  const rw = new Worst(1e-2);
   let flexExact = 0;
   flexRef.stages.forEach((st, i) => {
     for (const [k, v] of Object.entries(st)) {
-      const stress = k === 'max_von_mises_mpa' || k === 'max_root_stress_mpa';
+      const stress = k === 'max_von_mises_mpa';
+      if (k === 'max_root_stress_mpa') rw.add(`stages[${i}].${k}`, flexMine.stages[i]?.[k], v);
       if (!k.startsWith('flexible_') && !stress) continue;
       (stress ? sw : k.includes('peak_to_peak') ? fw : fm).add(`stages[${i}].${k}`, flexMine.stages[i]?.[k], v);
       if (flexMine.stages[i]?.[k] === v) flexExact++;
     }
   });
-  check('the study with the flexible disc equals rvlife run with [fem] on (means, play, stiffness 1e-5; peak-to-peak 5e-4; stresses 1e-2)', /\[fem\][^[]*enabled = true/.test(fs.readFileSync(flexToml, 'utf8')) && flexColumns.length >= 5 && fm.compared >= 30 && fw.compared >= 10 && fm.ok() && fw.ok() && sw.ok(), `means, play, stiffness: ${fm.detail()}; peak-to-peak: ${fw.detail()}; stresses: ${sw.detail()}; ${flexExact} of ${fm.compared + fw.compared + sw.compared} equal to the last bit; the table's flexible columns: ${flexColumns.join(', ')}`);
-  figure(`study with the flexible disc: page ${(flexStudyMs / 1000).toFixed(2)} s, native rvlife run ${(flexStudyNativeMs / 1000).toFixed(2)} s; flexible TE means, play, stiffness: ${fm.detail()}; peak-to-peak: ${fw.detail()}; stresses: ${sw.detail()}`);
+  check('the study with the flexible disc equals rvlife run with [fem] on (every flexible quantity and the FE disc\'s stress within 1e-9; the gears\' root stress 1e-2)', /\[fem\][^[]*enabled = true/.test(fs.readFileSync(flexToml, 'utf8')) && flexColumns.length >= 5 && fm.compared >= 30 && fw.compared >= 10 && sw.compared >= 1 && fm.ok() && fw.ok() && sw.ok() && rw.ok(), `means, play, stiffness: ${fm.detail()}; peak-to-peak: ${fw.detail()}; von Mises: ${sw.detail()}; root stress: ${rw.detail()}; ${flexExact} of ${fm.compared + fw.compared + sw.compared} equal to the last bit; the table's flexible columns: ${flexColumns.join(', ')}`);
+  figure(`study with the flexible disc: page ${(flexStudyMs / 1000).toFixed(2)} s, native rvlife run ${(flexStudyNativeMs / 1000).toFixed(2)} s; flexible TE means, play, stiffness: ${fm.detail()}; peak-to-peak: ${fw.detail()}; von Mises: ${sw.detail()}; root stress: ${rw.detail()}`);
   await page.click('#life-flexible');
 
   // The multibody simulation (rigid discs) against `rvlife dynamics --json`.
@@ -604,9 +603,13 @@ try {
   // which the solvers' iterations carry (1.7e-8 at worst seen). The times are figures.
   const mc16 = path.join(tmp, 'mc16');
   const mcCli = spawnSync(bin, ['montecarlo', '--samples', '16', '--seed', '1', '--out', mc16], { encoding: 'utf8' });
-  const mcTimes = {};
+  // Each timed twice, alternately (1, 2, 1, 2 workers), and the faster of each kept: the
+  // machine's two cores also run the browser and this script, whose bursts fall on one run or
+  // another (single runs gave 1.51x to 1.83x). Every run's files must be the same bytes.
+  const mcRuns = { 1: [], 2: [] };
   const mcTexts = {};
-  for (const workers of [1, 2]) {
+  let mcAllSame = true;
+  for (const workers of [1, 2, 1, 2]) {
     const p = await context.newPage();
     await p.goto(`${origin}/?workers=${workers}`);
     // The study the page opens with, done before the run is timed.
@@ -616,22 +619,26 @@ try {
     const t0 = Date.now();
     await p.click('#run-montecarlo');
     const done = await p.waitForSelector('#chart-reliability', { timeout: 900000 }).then(() => true, () => false);
-    mcTimes[workers] = (Date.now() - t0) / 1000;
+    mcRuns[workers].push((Date.now() - t0) / 1000);
     for (const file of ['samples.csv', 'stages.csv']) {
-      if (!done) break;
+      if (!done) { mcAllSame = false; break; }
       const mine = await saveDownload(p, `button[data-file="${file}"]`, `mc16-${workers}-${file}`);
-      mcTexts[`${workers} ${file}`] = fs.readFileSync(mine, 'utf8');
+      const text = fs.readFileSync(mine, 'utf8');
+      const key = `${workers} ${file}`;
+      if (mcTexts[key] !== undefined && mcTexts[key] !== text) mcAllSame = false;
+      mcTexts[key] = text;
     }
     await p.close();
   }
+  const mcTimes = { 1: Math.min(...mcRuns[1]), 2: Math.min(...mcRuns[2]) };
   let mcWorst = 0; let mcCount = 0;
   const mcSame = ['samples.csv', 'stages.csv'].every((file) => {
     const one = mcTexts[`1 ${file}`]; const two = mcTexts[`2 ${file}`];
     const d = numbersDiffer(two ?? '', mcCli.status === 0 ? fs.readFileSync(path.join(mc16, file), 'utf8') : '');
     mcWorst = Math.max(mcWorst, d.worst); mcCount += d.count;
-    return one !== undefined && one === two;
+    return one !== undefined && one === two && mcAllSame;
   });
-  figure(`Monte Carlo, 16 samples of the example: ${mcTimes[1].toFixed(1)} s on 1 worker, ${mcTimes[2].toFixed(1)} s on 2 workers (${(mcTimes[1] / mcTimes[2]).toFixed(2)}x)`);
+  figure(`Monte Carlo, 16 samples of the example: ${mcTimes[1].toFixed(1)} s on 1 worker, ${mcTimes[2].toFixed(1)} s on 2 workers (${(mcTimes[1] / mcTimes[2]).toFixed(2)}x; the faster of two runs each: 1 worker ${mcRuns[1].map((t) => t.toFixed(1)).join(' and ')} s, 2 workers ${mcRuns[2].map((t) => t.toFixed(1)).join(' and ')} s)`);
   check('Monte Carlo on 1 and on 2 workers: the same bytes, and rvlife montecarlo\'s numbers', mcCli.status === 0 && mcSame && mcCount > 0 && mcWorst <= 1e-6,
     `same bytes ${mcSame}; ${mcCount} numbers, worst relative difference ${mcWorst.toExponential(2)}; ${mcTimes[1].toFixed(1)} s on 1 worker, ${mcTimes[2].toFixed(1)} s on 2`);
 

@@ -189,7 +189,7 @@ impl FemConfig {
         for k in 0..cranks {
             let a = TAU * k as f64 / cranks as f64;
             bores.push(Hole {
-                centre: Vec2::new(a.cos(), a.sin()) * circle,
+                centre: crate::geometry::portable::unit(a) * circle,
                 radius: bore_r,
             });
         }
@@ -221,7 +221,7 @@ impl FemConfig {
             for k in 0..n_holes {
                 let a = phase + TAU * k as f64 / n_holes as f64;
                 holes.push(Hole {
-                    centre: Vec2::new(a.cos(), a.sin()) * pc,
+                    centre: crate::geometry::portable::unit(a) * pc,
                     radius: hole_r,
                 });
             }

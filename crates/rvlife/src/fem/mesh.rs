@@ -39,7 +39,7 @@ impl BoundaryLoop {
         let points = (0..n)
             .map(|k| {
                 let a = std::f64::consts::TAU * k as f64 / n as f64;
-                c + Vec2::new(a.cos(), a.sin()) * r
+                c + crate::geometry::portable::unit(a) * r
             })
             .collect();
         BoundaryLoop {

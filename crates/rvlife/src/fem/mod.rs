@@ -530,7 +530,10 @@ impl DiscSet {
                 None => {
                     let mut p = params.clone();
                     for h in p.bores.iter_mut().chain(p.holes.iter_mut()) {
-                        h.centre = crate::geometry::rotate(&h.centre, -turn);
+                        h.centre = crate::geometry::rotate_by(
+                            &h.centre,
+                            crate::geometry::portable::sin_cos(-turn),
+                        );
                     }
                     models.push(model(models.len(), &p)?);
                     Mount {

@@ -172,6 +172,7 @@ pub struct Modification {
 
 mod measured;
 mod params;
+pub(crate) mod portable;
 mod profile;
 mod wear_map;
 

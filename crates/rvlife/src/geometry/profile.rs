@@ -151,7 +151,8 @@ impl Profile {
     /// given offset radius `r` (the equidistant radius `rrp'`; `r = 0` gives the pin-centre path).
     pub(crate) fn closed_form(&self, t: f64, r: f64) -> (Vec2, Vec2, Vec2) {
         let k1 = self.k1;
-        let (st, ct) = t.sin_cos();
+        // The same bits on every platform: the FE disc is meshed on these points.
+        let (st, ct) = super::portable::sin_cos(t);
         let s2 = 1.0 + k1 * k1 - 2.0 * k1 * ct;
         let s = s2.sqrt();
         let s3 = s2 * s;
@@ -168,7 +169,8 @@ impl Profile {
         let ddb = -k1 * r * ddu;
         let (al, be) = (self.alpha, self.beta);
         // alpha = 1 - beta, so e^{i(alpha t + delta)} = e^{it} e^{i(-beta t + delta)}.
-        let e2 = Complex::from_polar(1.0, -be * t + self.modification.rotation);
+        let (s2t, c2t) = super::portable::sin_cos(-be * t + self.modification.rotation);
+        let e2 = Complex::new(c2t, s2t);
         let e1 = Complex::new(ct, st) * e2;
         let i = Complex::new(0.0, 1.0);
         let z = e1 * a - e2 * b;

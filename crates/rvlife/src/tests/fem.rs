@@ -780,3 +780,50 @@ fn flexible_results_follow_the_wear_smoothly() {
     assert!((a.0 / b.0 - 1.0).abs() < 1e-7);
     assert!((a.1 / b.1 - 1.0).abs() < 1e-6);
 }
+
+/// The built-in disc is meshed alike on every platform, node for node, and its flexible TE
+/// agrees to round-off: this test runs natively (`cargo test`) and in the library's WebAssembly
+/// build (`scripts/wasm-tests`), against the same recorded figures. The mesh's inputs come from
+/// `geometry::portable` (docs/model.md section 9.1); with the platform's own `sin` and `cos` the
+/// refinement turned on their last bits (20 100 nodes natively, 20 108 in WebAssembly, the
+/// flexible TE 1e-5 apart). The figures change only with the mesh or the flexible model: record
+/// them anew then.
+#[test]
+fn the_disc_is_meshed_alike_on_every_platform() {
+    let bits = |v: &[f64]| {
+        v.iter().fold(0xcbf2_9ce4_8422_2325_u64, |a, x| {
+            (a ^ x.to_bits()).wrapping_mul(0x0100_0000_01b3)
+        })
+    };
+    let mut c = Config::example();
+    c.fem.enabled = true;
+    let m = c.validate().unwrap();
+    let profile = m.profile().unwrap();
+    let d = DiscSet::build(&profile, &m.fem.params, &m.reducer).unwrap();
+    let nodes: Vec<f64> = d.models[0]
+        .fe
+        .mesh
+        .nodes
+        .iter()
+        .flat_map(|n| [n.x, n.y])
+        .collect();
+    assert_eq!(nodes.len() / 2, 20_108, "the example's node count");
+    assert_eq!(
+        bits(&nodes),
+        0xa298_54b4_2337_83ae,
+        "the example's node coordinates"
+    );
+    let st = analyse_stage(&profile, &m.reducer, &d, m.rating.rated_torque).unwrap();
+    // Recorded natively; the WebAssembly build gave the same within 3.3e-13.
+    let recorded = [
+        (st.flexible_ste[0], 1.057_002_217_473_631_3e-4),
+        (st.flexible_loaded_te[0], 8.475_158_502_233_097e-4),
+        (st.torsional_stiffness, 5.271_183_893_896_517e5),
+    ];
+    for (got, want) in recorded {
+        assert!(
+            ((got - want) / want).abs() < 1e-9,
+            "{got:e} against the recorded {want:e}"
+        );
+    }
+}
