@@ -518,3 +518,52 @@ fn clearances_up_to_their_size_limit_run_and_beyond_it_are_refused() {
         }
     }
 }
+
+/// A torque that the unworn stage does not carry because a part in series with its bearings
+/// is too compliant is refused by that part's key as the user wrote it, not by the torque
+/// (docs/model.md section 15.2): on `rv-20e`, five keys of the structure and bearings at values
+/// that each leave the rated torque (167 N m) unreachable, found by scanning every key of
+/// those sections by factors of 0.001 to 1000. Before, each was refused as
+/// `reducer.rated_torque_nm = 167`. A rated torque beyond the stage is still refused by the
+/// torque, with the torque the stage carries.
+#[test]
+fn an_unreachable_torque_is_refused_by_the_key_that_makes_it_so() {
+    let text = ok(&rvlife(["example", "--preset", "rv-20e"]), "rv-20e");
+    for (table, key, value) in [
+        ("reducer.bearings", "carrier_stiffness_n_per_um", "1.245"),
+        ("reducer.structure", "crank_diameter_mm", "1.62"),
+        ("reducer.structure", "crank_span_mm", "350"),
+        ("reducer.structure", "input_shaft_diameter_mm", "1.35"),
+        ("reducer.structure", "compliance_arcmin_per_knm", "1000"),
+    ] {
+        let written = text.lines().any(|l| {
+            !l.trim_start().starts_with('#')
+                && l.split_once('=').is_some_and(|(k, _)| k.trim() == key)
+        });
+        let t = if written {
+            set_key(&text, table, key, value)
+        } else {
+            add_line(&text, table, &format!("{key} = {value}"))
+        };
+        let (_d, o) = run_config(&t, &["te"]);
+        assert_input_error(
+            &o,
+            key,
+            &[
+                &format!("invalid {table}.{key} = {value}"),
+                "reducer.rated_torque_nm = 167 N m",
+                "at its default",
+            ],
+        );
+    }
+    let t = set_key(&text, "reducer", "rated_torque_nm", "5000");
+    let (_d, o) = run_config(&t, &["te"]);
+    assert_input_error(
+        &o,
+        "rated torque",
+        &[
+            "invalid reducer.rated_torque_nm = 5000",
+            "it carries at most",
+        ],
+    );
+}

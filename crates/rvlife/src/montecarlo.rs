@@ -46,8 +46,8 @@ pub mod weibull;
 pub use assembly::REJECTED;
 
 pub use lives::{
-    life_distribution, life_text, lives_and_censored, weibull_sample, LifeDistribution,
-    WeibullLife, LIFE_CONFIDENCE,
+    life_distribution, life_text, lives_and_censored, reliability, weibull_sample,
+    LifeDistribution, WeibullLife, LIFE_CONFIDENCE,
 };
 
 /// Wear maps between two stages of the shared wear history (the accuracy life is located to
@@ -166,6 +166,12 @@ pub struct SampleRecord {
     pub accuracy_life_h: Option<f64>,
     /// The threshold crossed first.
     pub limited_by: Option<String>,
+    /// Where a sample that did not leave the spec was censored, h: the last working hours its
+    /// life search analysed within spec (the horizon, or sooner where its analysis or the
+    /// shared wear history ended there); `None` for a sample that left the spec, was not
+    /// analysed, or under no thresholds (Lawless, *Statistical Models and Methods for Lifetime
+    /// Data*, 2003, section 1.2: right-censoring times).
+    pub censored_h: Option<f64>,
 }
 
 /// The nominal reducer's wear maps at the stages and between them.
@@ -495,6 +501,7 @@ pub(crate) fn run_sample(
                     points: Vec::new(),
                     accuracy_life_h: None,
                     limited_by: None,
+                    censored_h: None,
                 }
             }
         },
@@ -560,6 +567,7 @@ fn assembled(model: &Model, plan: &Plan, index: usize) -> std::result::Result<Mo
         points: Vec::new(),
         accuracy_life_h: None,
         limited_by: None,
+        censored_h: None,
     })
 }
 
@@ -646,6 +654,7 @@ fn stages_of(model: &Model, plan: &Plan, wear: &SharedWear, m: Model, index: usi
             points: waiting.points,
             accuracy_life_h: None,
             limited_by: None,
+            censored_h: None,
         });
     }
     if wear.partial && first_outside(&model.life, &waiting.points).is_none() {
@@ -699,6 +708,9 @@ fn beyond_stages(
         status: "ok".to_string(),
         points,
         accuracy_life_h: life.as_ref().and_then(|l| l.accuracy_life_h),
+        censored_h: life
+            .as_ref()
+            .and_then(|l| l.accuracy_life_h.is_none().then_some(l.horizon_h)),
         limited_by: life.and_then(|l| l.limited_by.map(str::to_string)),
     }
 }
@@ -909,36 +921,6 @@ pub fn percentiles(records: &[SampleRecord], stage_hours: &[f64]) -> Vec<Percent
     out
 }
 
-/// The reliability curve of the records with status `ok`: `(hours, fraction within spec)` at
-/// 0 h and at every observed accuracy life (a step down there, both ends of each step given),
-/// ending at `horizon` (h), with the samples that never left the spec (no accuracy life up to
-/// the horizon) counted within spec throughout: `R(t) = 1 - #{life <= t}/n` (the empirical
-/// survival function of censored lives; docs/model.md section 12). Empty without `ok`
-/// records.
-pub fn reliability(records: &[SampleRecord], horizon: f64) -> Vec<(f64, f64)> {
-    let ok: Vec<&SampleRecord> = records.iter().filter(|r| r.status == "ok").collect();
-    let n = ok.len();
-    if n == 0 {
-        return Vec::new();
-    }
-    let mut lives: Vec<f64> = ok.iter().filter_map(|r| r.accuracy_life_h).collect();
-    lives.sort_by(f64::total_cmp);
-    let mut out = vec![(0.0, 1.0)];
-    let mut gone = 0;
-    for (i, &t) in lives.iter().enumerate() {
-        gone += 1;
-        if lives.get(i + 1) == Some(&t) {
-            continue;
-        }
-        let before = out.last().map_or(1.0, |p| p.1);
-        out.push((t, before));
-        out.push((t, 1.0 - gone as f64 / n as f64));
-    }
-    let last = out.last().map_or(1.0, |p| p.1);
-    out.push((horizon.max(lives.last().copied().unwrap_or(0.0)), last));
-    out
-}
-
 /// Why a Monte Carlo run cannot stand for the design, if it cannot: fewer than half of the
 /// samples analysed (the others cannot be assembled without preload, or failed), or half or
 /// more of the analysed ones out of spec when new (an accuracy life of 0 h). `None` for a
@@ -992,7 +974,7 @@ fn fmt_opt(v: Option<f64>) -> String {
 /// sample and stage); floats in Rust's shortest round-trip form, so reading them back gives
 /// the same bits.
 pub fn records_csv(records: &[SampleRecord]) -> (String, String) {
-    let mut s = String::from("sample,status,accuracy_life_h,limited_by\n");
+    let mut s = String::from("sample,status,accuracy_life_h,limited_by,censored_h\n");
     let mut t = String::from("sample,hours");
     for (q, _) in quantities() {
         t.push(',');
@@ -1001,11 +983,12 @@ pub fn records_csv(records: &[SampleRecord]) -> (String, String) {
     t.push('\n');
     for r in records {
         s.push_str(&format!(
-            "{},{},{},{}\n",
+            "{},{},{},{},{}\n",
             r.sample,
             csv_field(&r.status),
             fmt_opt(r.accuracy_life_h),
-            r.limited_by.clone().unwrap_or_default()
+            r.limited_by.clone().unwrap_or_default(),
+            fmt_opt(r.censored_h)
         ));
         for p in &r.points {
             t.push_str(&format!("{},{}", r.sample, p.hours));
@@ -1037,6 +1020,7 @@ mod tests {
             points: Vec::new(),
             accuracy_life_h: life,
             limited_by: None,
+            censored_h: None,
         }
     }
 
@@ -1096,6 +1080,45 @@ mod tests {
         let dead = [record("ok", Some(0.0)), record("ok", Some(5.0))];
         assert!(unusable(&dead).is_some_and(|w| w.contains("out of spec when new")));
         assert_eq!(unusable(&[record("ok", Some(5.0))]), None);
+    }
+
+    /// A sample whose life search ended before the horizon (its analysis, or the shared wear
+    /// history, ended there) is censored there, not at the horizon. One of four samples out of
+    /// spec at 3 477 h and three followed within spec to 5 000 h only, horizon 75 000 h: B50
+    /// lies beyond 5 000 h (not "beyond 75 000 h"), the Weibull fit's sample carries 5 000 h,
+    /// the reliability curve ends there. One of them followed only to 2 000 h, before the
+    /// failure: the failure's step is the Kaplan-Meier one, 1 - 1/3 of the three at risk (not
+    /// 1 - 1/4), and the interpolated B10 is not given (that sample's life may lie below it).
+    #[test]
+    fn samples_are_censored_where_their_search_ended() {
+        let at = |h: f64| SampleRecord {
+            censored_h: Some(h),
+            ..record("ok", None)
+        };
+        let records = [record("ok", Some(3477.0)), at(5e3), at(5e3), at(5e3)];
+        let l = life_distribution(&records, 75e3);
+        assert_eq!(l.horizon_h, 5e3);
+        assert_eq!(life_text(l.b50_h, l.km_b50_h, l.horizon_h), "beyond 5000 h");
+        assert_eq!(weibull_sample(&records, 75e3).1, vec![5e3; 3]);
+        assert_eq!(reliability(&records, 75e3).last(), Some(&(5e3, 0.75)));
+        let early = [record("ok", Some(3477.0)), at(2e3), at(5e3), at(5e3)];
+        let r = reliability(&early, 75e3);
+        assert_eq!(r[1..3], [(3477.0, 1.0), (3477.0, 1.0 - 1.0 / 3.0)], "{r:?}");
+        let l = life_distribution(&early, 75e3);
+        assert_eq!((l.b10_h, l.km_b10_h), (None, Some(3477.0)));
+        // Followed to the horizon, as before: the same figures as censoring at the horizon.
+        let full = [record("ok", Some(3477.0)), at(75e3), at(75e3), at(75e3)];
+        let old = [
+            record("ok", Some(3477.0)),
+            record("ok", None),
+            record("ok", None),
+            record("ok", None),
+        ];
+        assert_eq!(
+            life_distribution(&full, 75e3),
+            life_distribution(&old, 75e3)
+        );
+        assert_eq!(reliability(&full, 75e3), reliability(&old, 75e3));
     }
 
     /// One of four samples out of spec at 3 477 h, three within spec at the 75 000 h horizon:

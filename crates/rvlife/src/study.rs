@@ -73,8 +73,12 @@ pub(crate) fn budgeted(cfg: &crate::config::Config) -> Result<Model> {
 /// # Errors
 /// Those of the physical checks and of the assembly, keys named as the file writes them.
 pub(crate) fn admitted(cfg: &crate::config::Config, model: Model) -> Result<Model> {
-    admission::check_stage(&model, &cfg.cycloid.modification)
-        .map_err(|e| cfg.explain_default(e))?;
+    admission::check_stage(
+        &model,
+        &cfg.cycloid.modification,
+        admission::Blame::Written(cfg),
+    )
+    .map_err(|e| cfg.explain_default(e))?;
     cfg.assemble(model)
 }
 

@@ -869,11 +869,13 @@ p95_h?: number,
 limited_by: { [key in string]: number }, 
 /**
  * Samples that left the spec within the horizon (the failures of the life statistics;
- * the others are censored at the horizon).
+ * the others are censored where their life search ended, `SampleRecord::censored_h`).
  */
 failures: number, 
 /**
- * The life search's horizon, h: where the samples still within spec are censored.
+ * How far the samples were followed, h: the latest of their lives and censoring times
+ * (the life search's horizon, unless every sample's search ended sooner); a B10 or B50
+ * that the samples do not reach lies beyond it.
  */
 horizon_h: number, 
 /**

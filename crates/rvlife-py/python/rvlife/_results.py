@@ -571,7 +571,7 @@ class MonteCarloResult:
 
     samples: pd.DataFrame
     """One row per sampled reducer (``samples.csv``): its status, accuracy life, what limits
-    it, and its part errors."""
+    it, where a sample within spec is censored (``censored_h``), and its part errors."""
     stages: pd.DataFrame
     """One row per sample and stage (``stages.csv``): the accuracy quantities."""
     summary: Optional[Dict[str, Any]]

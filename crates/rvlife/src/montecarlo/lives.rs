@@ -36,9 +36,11 @@ pub struct LifeDistribution {
     /// How many samples each threshold limited.
     pub limited_by: std::collections::BTreeMap<String, usize>,
     /// Samples that left the spec within the horizon (the failures of the life statistics;
-    /// the others are censored at the horizon).
+    /// the others are censored where their life search ended, `SampleRecord::censored_h`).
     pub failures: usize,
-    /// The life search's horizon, h: where the samples still within spec are censored.
+    /// How far the samples were followed, h: the latest of their lives and censoring times
+    /// (the life search's horizon, unless every sample's search ended sooner); a B10 or B50
+    /// that the samples do not reach lies beyond it.
     pub horizon_h: f64,
     /// Kaplan-Meier B10, h: the first life by which 10 % of the samples had left the spec, so
     /// that B10 is at most this (absent: fewer than 10 % by the horizon, B10 beyond it).
@@ -90,14 +92,72 @@ pub struct WeibullLife {
 pub const LIFE_CONFIDENCE: f64 = 0.9;
 
 /// The accuracy lives (h, ascending) of the `ok` records of `records` that left the spec, and
-/// the censoring times of those that did not: the horizon `horizon` (h) of their life search,
-/// or the longest life where that lies beyond it.
+/// the censoring times of those that did not (in the records' order): where each one's life
+/// search ended within spec (`censored_h`: the horizon, or sooner where its analysis or the
+/// shared wear history ended), or, for records without one (shards of earlier versions), the
+/// run's horizon `horizon` (h), or the longest life where that lies beyond it.
 pub fn lives_and_censored(records: &[SampleRecord], horizon: f64) -> (Vec<f64>, Vec<f64>) {
     let ok: Vec<&SampleRecord> = records.iter().filter(|r| r.status == "ok").collect();
     let mut lives: Vec<f64> = ok.iter().filter_map(|r| r.accuracy_life_h).collect();
     lives.sort_by(f64::total_cmp);
-    let censored = vec![horizon.max(lives.last().copied().unwrap_or(0.0)); ok.len() - lives.len()];
+    let fallback = horizon.max(lives.last().copied().unwrap_or(0.0));
+    let censored = ok
+        .iter()
+        .filter(|r| r.accuracy_life_h.is_none())
+        .map(|r| r.censored_h.unwrap_or(fallback))
+        .collect();
     (lives, censored)
+}
+
+/// How far the samples of a run were followed, h: the latest of their lives and censoring
+/// times (`lives`, `censored`), or, with no sample censored (all out of spec), the latest life
+/// or the horizon `horizon` (h), whichever is later. A quantile the Kaplan-Meier estimate does
+/// not reach lies beyond it; it is the run's horizon unless every life search ended sooner.
+pub(crate) fn followed_to(lives: &[f64], censored: &[f64], horizon: f64) -> f64 {
+    let latest = lives.iter().chain(censored).copied().reduce(f64::max);
+    match latest {
+        Some(t) if !censored.is_empty() => t,
+        _ => horizon.max(latest.unwrap_or(0.0)),
+    }
+}
+
+/// The reliability curve of the records with status `ok`: `(hours, fraction within spec)` at
+/// 0 h and at every observed accuracy life (a step down there, both ends of each step given),
+/// ending where the samples were followed to ([`followed_to`]: the horizon `horizon`,
+/// h, unless every search ended sooner). It is the Kaplan-Meier estimate of the survival
+/// with each sample that never left the spec censored where its search ended
+/// (`SampleRecord::censored_h`); with every censoring time after the last life, the usual
+/// case, that is exactly `R(t) = 1 - #{life <= t}/n`, computed so (docs/model.md section 12).
+/// Empty without `ok` records.
+pub fn reliability(records: &[SampleRecord], horizon: f64) -> Vec<(f64, f64)> {
+    let n = records.iter().filter(|r| r.status == "ok").count();
+    if n == 0 {
+        return Vec::new();
+    }
+    let (lives, censored) = lives_and_censored(records, horizon);
+    let last_life = lives.last().copied().unwrap_or(0.0);
+    let km = censored
+        .iter()
+        .any(|&c| c < last_life)
+        .then(|| weibull::kaplan_meier(&lives, &censored));
+    let mut out = vec![(0.0, 1.0)];
+    let mut gone = 0;
+    for (i, &t) in lives.iter().enumerate() {
+        gone += 1;
+        if lives.get(i + 1) == Some(&t) {
+            continue;
+        }
+        let before = out.last().map_or(1.0, |p| p.1);
+        let after = match &km {
+            Some(steps) => steps.iter().find(|s| s.0 == t).map_or(before, |s| s.1),
+            None => 1.0 - gone as f64 / n as f64,
+        };
+        out.push((t, before));
+        out.push((t, after));
+    }
+    let last = out.last().map_or(1.0, |p| p.1);
+    out.push((followed_to(&lives, &censored, horizon), last));
+    out
 }
 
 /// The sample the Weibull law is fitted to ([`lives_and_censored`]): the positive lives (a life
@@ -114,20 +174,24 @@ fn positive(lives: &[f64]) -> Vec<f64> {
 }
 
 /// The life distribution of `records` whose life search ran to `horizon` (h): empirical
-/// quantiles with the censored lives (beyond the horizon) counted as longer than every observed
-/// one, the Kaplan-Meier B10 and B50, and the Weibull fit with its bounds ([`WeibullLife`]).
+/// quantiles with the censored lives counted as longer than every observed one (a quantile
+/// only where every censored sample was followed beyond it), the Kaplan-Meier B10 and B50, and
+/// the Weibull fit with its bounds ([`WeibullLife`]), each sample censored where its search
+/// ended ([`lives_and_censored`]).
 pub fn life_distribution(records: &[SampleRecord], horizon: f64) -> LifeDistribution {
     let ok: Vec<&SampleRecord> = records.iter().filter(|r| r.status == "ok").collect();
     let (lives, censored) = lives_and_censored(records, horizon);
     let n = ok.len();
     let q = |p: f64| {
-        // Position of the p-quantile among all n (censored at the top).
+        // Position of the p-quantile among all n (censored at the top: valid where every
+        // censored sample was followed at least that far).
         let h = (n.saturating_sub(1)) as f64 * p;
         if n == 0 || h.ceil() as usize >= lives.len() {
             None
         } else {
             let (lo, hi) = (h.floor() as usize, h.ceil() as usize);
-            Some(lives[lo] + (h - lo as f64) * (lives[hi] - lives[lo]))
+            let v = lives[lo] + (h - lo as f64) * (lives[hi] - lives[lo]);
+            censored.iter().all(|&c| c >= v).then_some(v)
         }
     };
     let mut limited_by = std::collections::BTreeMap::new();
@@ -166,7 +230,7 @@ pub fn life_distribution(records: &[SampleRecord], horizon: f64) -> LifeDistribu
         p95_h: q(0.95),
         limited_by,
         failures: lives.len(),
-        horizon_h: horizon,
+        horizon_h: followed_to(&lives, &censored, horizon),
         km_b10_h: weibull::kaplan_meier_quantile(&km, 0.1),
         km_b50_h: weibull::kaplan_meier_quantile(&km, 0.5),
         weibull,

@@ -90,6 +90,8 @@ pub(crate) fn write(
     let plots = dir.join("plots");
     std::fs::create_dir_all(&plots).map_err(|e| Error::io(&plots, e))?;
     let life = &summary.life;
+    // How far the samples were followed: the horizon unless every life search ended sooner.
+    let followed = life.horizon_h;
     let mut figures: Vec<(String, String, String)> = Vec::new();
     let mut figure = |section: &str, stem: &str, caption: String| {
         figures.push((section.to_string(), stem.to_string(), caption));
@@ -108,7 +110,7 @@ pub(crate) fn write(
             "reliability",
             format!(
                 "fraction of the {} analysed reducers within spec against working hours; the {:.0} \
-                 % still within spec at {horizon:.0} h are counted throughout",
+                 % still within spec at {followed:.0} h are counted throughout",
                 life.n,
                 100.0 * life.censored_fraction
             ),
@@ -136,12 +138,22 @@ pub(crate) fn write(
         )?;
         let upper =
             |u: Option<f64>| u.map_or("not bounded above".to_string(), |u| format!("{u:.0} h"));
+        let first = censored
+            .iter()
+            .copied()
+            .reduce(f64::min)
+            .unwrap_or(followed);
+        let censored_at = if first < followed {
+            format!("where their life searches ended ({first:.0} to {followed:.0} h)")
+        } else {
+            format!("at {followed:.0} h")
+        };
         figure(
             "life",
             "weibull",
             format!(
                 "Weibull plot (IEC 61649): the {} positive lives by Kaplan-Meier with the {} \
-                 censored at {horizon:.0} h, the maximum-likelihood line (shape {:.2}, scale {:.0} \
+                 censored {censored_at}, the maximum-likelihood line (shape {:.2}, scale {:.0} \
                  h) and its {:.0} % likelihood-ratio bounds; B10 {:.0} h [{:.0} h, {}], B50 {:.0} \
                  h [{:.0} h, {}]",
                 positive.len(),
@@ -196,7 +208,7 @@ pub(crate) fn write(
             "life",
             "life_histogram",
             format!(
-                "the lives of the {} reducers that left the spec within {horizon:.0} h; {survivors} \
+                "the lives of the {} reducers that left the spec within {followed:.0} h; {survivors} \
                  more stayed within it (not drawn)",
                 lives.len()
             ),
@@ -274,12 +286,7 @@ pub(crate) fn write(
     let _ = writeln!(
         h,
         "<h2>Verdict</h2>\n<p class=\"verdict\"><strong>{}</strong></p>",
-        esc(&verdict_of(
-            &summary.life,
-            &summary.status_counts,
-            &spec,
-            horizon
-        ))
+        esc(&verdict_of(&summary.life, &summary.status_counts, &spec))
     );
     h.push_str("<h2>Spec and samples</h2>\n");
     let mut rows = vec![(
@@ -325,7 +332,7 @@ pub(crate) fn write(
         figures_of(&mut h, "reliability")?;
         h.push_str("<h2>Accuracy life</h2>\n");
         let hh =
-            |v: Option<f64>| v.map_or(format!("beyond {horizon:.0} h"), |x| format!("{x:.0} h"));
+            |v: Option<f64>| v.map_or(format!("beyond {followed:.0} h"), |x| format!("{x:.0} h"));
         let mut rows = vec![
             (
                 "5 % of the reducers out of spec by".to_string(),
@@ -333,15 +340,15 @@ pub(crate) fn write(
             ),
             (
                 "B10 (10 %)".into(),
-                life_text(life.b10_h, life.km_b10_h, horizon),
+                life_text(life.b10_h, life.km_b10_h, followed),
             ),
             (
                 "B50 (median)".into(),
-                life_text(life.b50_h, life.km_b50_h, horizon),
+                life_text(life.b50_h, life.km_b50_h, followed),
             ),
             ("95 %".into(), hh(life.p95_h)),
             (
-                format!("within spec at {horizon:.0} h"),
+                format!("within spec at {followed:.0} h"),
                 format!("{:.1} %", 100.0 * life.censored_fraction),
             ),
         ];

@@ -80,6 +80,8 @@ pub fn parse_records(samples: (&str, &str), stages: (&str, &str)) -> Result<Vec<
             points: Vec::new(),
             accuracy_life_h: num(2)?,
             limited_by: row.get(3).filter(|s| !s.is_empty()).map(str::to_string),
+            // Absent from the shards of earlier versions (censored at the run's horizon).
+            censored_h: num(4)?,
         });
     }
     let (tp, text) = stages;
@@ -186,8 +188,29 @@ mod tests {
                     .collect(),
                 accuracy_life_h: (i % 2 == 0).then_some(12_345.678_9 / (i + 1) as f64),
                 limited_by: (i % 2 == 0).then(|| "lost_motion_arcmin".to_string()),
+                censored_h: (i % 2 == 1 && i % 3 != 2).then_some(75_000.0 / (i + 1) as f64),
             })
             .collect()
+    }
+
+    /// A `samples.csv` of an earlier version, without `censored_h`, is read with no censoring
+    /// times (its samples within spec are censored at the run's horizon, as that version did).
+    #[test]
+    fn samples_without_censoring_times_are_read() {
+        let samples =
+            "sample,status,accuracy_life_h,limited_by\n0,ok,1234.5,lost_motion_arcmin\n1,ok,,\n";
+        let r = parse_records(("samples.csv", samples), ("stages.csv", "sample,hours\n")).unwrap();
+        assert_eq!(r.len(), 2);
+        assert_eq!(r[0].accuracy_life_h, Some(1234.5));
+        assert_eq!((r[1].accuracy_life_h, r[1].censored_h), (None, None));
+        // This version's records round-trip with theirs.
+        let mine = records(0..6);
+        let (s, t) = records_csv(&mine);
+        let back = parse_records(("samples.csv", &s), ("stages.csv", &t)).unwrap();
+        for (a, b) in mine.iter().zip(&back) {
+            assert_eq!(a.censored_h, b.censored_h);
+        }
+        assert!(mine.iter().any(|m| m.censored_h.is_some()));
     }
 
     fn part(k: usize, n: usize, samples: usize, seed: u64) -> Part {

@@ -20,12 +20,10 @@ pub fn verdict(
     for r in records {
         *status_counts.entry(status_key(&r.status)).or_insert(0) += 1;
     }
-    let horizon = spec.horizon_h(stage_hours);
     verdict_of(
-        &life_distribution(records, horizon),
+        &life_distribution(records, spec.horizon_h(stage_hours)),
         &status_counts,
         spec,
-        horizon,
     )
 }
 
@@ -57,14 +55,15 @@ pub(crate) fn spec_text(spec: &LifeThresholds) -> String {
         .join(", ")
 }
 
-/// The run's verdict in one sentence, from its life distribution `l`, its samples' status
-/// counts, the spec and the horizon of the life search (h).
+/// The run's verdict in one sentence, from its life distribution `l` (a life beyond what the
+/// samples show is said to lie beyond `l.horizon_h`, how far they were followed), its samples'
+/// status counts and the spec.
 pub(crate) fn verdict_of(
     l: &LifeDistribution,
     status_counts: &BTreeMap<String, usize>,
     spec: &LifeThresholds,
-    horizon: f64,
 ) -> String {
+    let horizon = l.horizon_h;
     let total: usize = status_counts.values().sum();
     if l.n == 0 {
         let counts: Vec<String> = status_counts

@@ -233,22 +233,28 @@ fn capacity(sa: &StaticAnalysis, model: &Model, sign: f64, above: f64) -> f64 {
     lo
 }
 
-/// A torque of the config that the unworn stage does not carry: its key, the torque (N m),
-/// why, and the largest torque (magnitude, N m) the stage carries that way.
+/// A torque of the config that the unworn stage does not carry: its key, the torque (N m) and
+/// why.
 struct NotCarried {
     key: String,
     torque: f64,
     reason: String,
-    capacity: f64,
 }
 
 impl NotCarried {
-    /// "it carries at most 206 N m counter-clockwise (probed at the 36 crank angles ...)".
-    fn at_most(&self, model: &Model) -> String {
+    /// "it carries at most 206 N m counter-clockwise (probed at the 36 crank angles ...)": the
+    /// capacity of the stage of `sa` that way ([`capacity`], a search of up to a second or two).
+    fn at_most(&self, sa: &StaticAnalysis, model: &Model) -> String {
+        let max = crate::config::MAX_TORQUE_NM;
         format!(
             "it carries at most {} N m {} (probed at the {} crank angles of a mesh cycle the \
              study solves)",
-            show(self.capacity),
+            show(capacity(
+                sa,
+                model,
+                self.torque.signum(),
+                self.torque.abs().min(max)
+            )),
             if self.torque > 0.0 {
                 "counter-clockwise"
             } else {
@@ -289,7 +295,6 @@ fn not_carried(
                 key: key.clone(),
                 torque: t,
                 reason,
-                capacity: capacity(sa, model, t.signum(), t.abs().min(max)),
             }));
         }
         checked.push(t);
@@ -307,17 +312,105 @@ fn not_carried(
 fn check_torques(model: &Model, sa: &StaticAnalysis, uses: &[(String, f64)]) -> Result<()> {
     match not_carried(model, sa, uses)? {
         None => Ok(()),
-        Some(n) => Err(Error::invalid(
-            n.key.as_str(),
-            show(n.torque),
-            format!(
-                "is more than the unworn stage carries: {}; {}; check the torque, or the stage \
-                 dimensions in [cycloid] and [materials]",
-                n.reason,
-                n.at_most(model)
-            ),
-        )),
+        Some(n) => Err(torque_error(model, sa, &n)),
     }
+}
+
+/// The refusal of a torque the unworn stage of `sa` does not carry, by its own key.
+fn torque_error(model: &Model, sa: &StaticAnalysis, n: &NotCarried) -> Error {
+    Error::invalid(
+        n.key.as_str(),
+        show(n.torque),
+        format!(
+            "{NOT_CARRIED}: {}; {}; check the torque, or the stage \
+             dimensions in [cycloid] and [materials]",
+            n.reason,
+            n.at_most(sa, model)
+        ),
+    )
+}
+
+/// The keys that set a part in series with the crank bearings or the meshes (docs/model.md
+/// section 5.9: the structure compliance, the carrier's pillars, the cranks' bending and
+/// torsion, the input shaft, the housing ring), in the order [`blame_written`] looks at them.
+pub(crate) const SERIES_KEYS: &[&str] = &[
+    "reducer.structure.compliance_arcmin_per_knm",
+    "reducer.bearings.carrier_stiffness_n_per_um",
+    "reducer.bearings.crank_bending_stiffness_n_per_um",
+    "reducer.bearings.crank_torsion_stiffness_nm_per_rad",
+    "reducer.structure.crank_diameter_mm",
+    "reducer.structure.crank_span_mm",
+    "reducer.structure.eccentric_spacing_mm",
+    "reducer.structure.crank_torsion_length_mm",
+    "reducer.structure.input_shaft_diameter_mm",
+    "reducer.structure.input_shaft_length_mm",
+    "reducer.structure.housing_outer_diameter_mm",
+    "reducer.structure.housing_width_mm",
+];
+
+/// The refusal of a torque the unworn stage does not carry ([`torque_error`]), its start.
+const NOT_CARRIED: &str = "is more than the unworn stage carries";
+
+/// The refusal of the torque `n` that the unworn stage of the config `cfg` does not carry,
+/// blamed on the key that makes it so where that is a part in series the user wrote
+/// ([`SERIES_KEYS`]): where the torque fails on the stage's compliance (not on the contact
+/// pressure), the first such key at whose default (the key left out: its estimate from the
+/// stage's dimensions) the stage passes every check. `None` where there is none. Costs a
+/// validation and a check of the stage per such key the config writes.
+fn blame_written(cfg: &crate::config::Config, n: &NotCarried) -> Option<Error> {
+    if n.reason.contains("Hertz pressure") || n.reason.contains("the largest torque rvlife") {
+        return None;
+    }
+    let json = serde_json::to_value(cfg).ok()?;
+    let written = |key: &str| cfg.written.as_ref().is_none_or(|w| w.contains(key));
+    SERIES_KEYS
+        .iter()
+        .copied()
+        .filter(|k| written(k))
+        .find_map(|key| {
+            let pointer = format!("/{}", key.replace('.', "/"));
+            let value = json.pointer(&pointer)?.as_f64()?;
+            let default = without_key(cfg, &json, key)?;
+            let passes = default
+                .validate_unassembled()
+                .and_then(|m| check_stage(&m, &default.cycloid.modification, Blame::Nobody))
+                .is_ok();
+            passes.then(|| {
+                Error::invalid(
+                    key,
+                    show(value),
+                    format!(
+                    "leaves the stage too compliant: the unworn stage does not carry {} = {} N m \
+                     ({}); with this key at its default (left out) it does; check this value",
+                    n.key,
+                    show(n.torque),
+                    n.reason
+                ),
+                )
+            })
+        })
+}
+
+/// `cfg` (as JSON: `json`) with `key` left out, so that it takes its default.
+fn without_key(
+    cfg: &crate::config::Config,
+    json: &serde_json::Value,
+    key: &str,
+) -> Option<crate::config::Config> {
+    let (parent, name) = key.rsplit_once('.')?;
+    let mut v = json.clone();
+    v.pointer_mut(&format!("/{}", parent.replace('.', "/")))?
+        .as_object_mut()?
+        .remove(name)?;
+    let mut c: crate::config::Config = serde_json::from_value(v).ok()?;
+    c.base_dir.clone_from(&cfg.base_dir);
+    c.work_budget_minutes = cfg.work_budget_minutes;
+    c.written = cfg.written.as_ref().map(|w| {
+        let mut w = w.clone();
+        w.remove(key);
+        w
+    });
+    Some(c)
 }
 
 /// The physical checks of the unworn stage of `model` (its nominal profile: modified, without
@@ -330,7 +423,7 @@ fn check_torques(model: &Model, sa: &StaticAnalysis, uses: &[(String, f64)]) -> 
 ///
 /// # Errors
 /// [`Error::Invalid`] naming the key to blame.
-pub(crate) fn check_stage(model: &Model, mods: &ModificationConfig) -> Result<()> {
+pub(crate) fn check_stage(model: &Model, mods: &ModificationConfig, blame: Blame) -> Result<()> {
     let c = &model.cycloid;
     let profile = &Profile::new(c.geometry.clone(), c.modification, None)?;
     let level_keys = &model.load.level_keys;
@@ -367,22 +460,41 @@ pub(crate) fn check_stage(model: &Model, mods: &ModificationConfig) -> Result<()
         uses.extend(load_peaks(&model.dynamics.params.load));
     }
     // With part errors: the nominal stage first, so that a torque it does not carry is blamed
-    // on the torque (or the stage), and one that only the errors make too much on the errors.
-    check_torques(model, &sa, &uses)?;
+    // on the key that makes it so (`blame`), else on the torque (or the stage), and one that
+    // only the errors make too much on the errors.
+    if let Some(n) = not_carried(model, &sa, &uses)? {
+        return Err(match blame {
+            Blame::Written(cfg) => {
+                blame_written(cfg, &n).unwrap_or_else(|| torque_error(model, &sa, &n))
+            }
+            Blame::Nobody => Error::invalid(n.key.as_str(), show(n.torque), NOT_CARRIED),
+        });
+    }
     if model.reducer.errors.is_zero() {
         return Ok(());
     }
-    match not_carried(model, &StaticAnalysis::new(&model.reducer, profile)?, &uses)? {
+    let with_errors = StaticAnalysis::new(&model.reducer, profile)?;
+    match not_carried(model, &with_errors, &uses)? {
         None => Ok(()),
-        Some(n) => Err(blame_errors(model, &n)),
+        Some(n) => Err(blame_errors(model, &with_errors, &n)),
     }
+}
+
+/// Whom [`check_stage`] refuses a torque the unworn nominal stage does not carry by.
+#[derive(Clone, Copy)]
+pub(crate) enum Blame<'a> {
+    /// The key of the config that makes it so where [`blame_written`] finds one, else the
+    /// torque's key.
+    Written(&'a crate::config::Config),
+    /// The torque's key without the capacity search: for a check whose message nobody reads.
+    Nobody,
 }
 
 /// The error to report when the stage with its part errors does not carry a torque that the
 /// nominal stage carries: the `[errors]` entry that moves a flank most (lengths as they are,
 /// a crank's phase error times the eccentricity, the run-out as its total indicator reading),
 /// with what is not carried and why.
-fn blame_errors(model: &Model, n: &NotCarried) -> Error {
+fn blame_errors(model: &Model, sa: &StaticAnalysis, n: &NotCarried) -> Error {
     let err = &model.reducer.errors;
     let a = model.cycloid.geometry.eccentricity;
     let um = 1e6;
@@ -423,7 +535,7 @@ fn blame_errors(model: &Model, n: &NotCarried) -> Error {
             n.key,
             show(n.torque),
             n.reason,
-            n.at_most(model)
+            n.at_most(sa, model)
         ),
     )
 }
