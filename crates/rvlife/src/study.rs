@@ -30,6 +30,7 @@ mod stage;
 mod state;
 mod trials;
 
+pub use admission::SERIES_KEYS;
 pub use executor::Executor;
 pub use observer::{Notices, Observer, Progress};
 pub use results::{PaperComparison, Study, Summary};

@@ -140,6 +140,8 @@ pub fn reliability(records: &[SampleRecord], horizon: f64) -> Vec<(f64, f64)> {
         .iter()
         .any(|&c| c < last_life)
         .then(|| weibull::kaplan_meier(&lives, &censored));
+    // The Kaplan-Meier steps are at the distinct lives, ascending: the loop's own order.
+    let mut steps = km.iter().flatten();
     let mut out = vec![(0.0, 1.0)];
     let mut gone = 0;
     for (i, &t) in lives.iter().enumerate() {
@@ -148,8 +150,8 @@ pub fn reliability(records: &[SampleRecord], horizon: f64) -> Vec<(f64, f64)> {
             continue;
         }
         let before = out.last().map_or(1.0, |p| p.1);
-        let after = match &km {
-            Some(steps) => steps.iter().find(|s| s.0 == t).map_or(before, |s| s.1),
+        let after = match steps.next() {
+            Some(&(_, s)) => s,
             None => 1.0 - gone as f64 / n as f64,
         };
         out.push((t, before));

@@ -333,7 +333,7 @@ fn torque_error(model: &Model, sa: &StaticAnalysis, n: &NotCarried) -> Error {
 /// The keys that set a part in series with the crank bearings or the meshes (docs/model.md
 /// section 5.9: the structure compliance, the carrier's pillars, the cranks' bending and
 /// torsion, the input shaft, the housing ring), in the order [`blame_written`] looks at them.
-pub(crate) const SERIES_KEYS: &[&str] = &[
+pub const SERIES_KEYS: &[&str] = &[
     "reducer.structure.compliance_arcmin_per_knm",
     "reducer.bearings.carrier_stiffness_n_per_um",
     "reducer.bearings.crank_bending_stiffness_n_per_um",
